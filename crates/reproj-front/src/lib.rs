@@ -1,0 +1,11 @@
+//! The reproj front end.
+//!
+//! Reads a WGSL fragment shader with naga and turns it into what the rest of the pipeline works on:
+//! one normalized fragment function whose output color is the root of an expression DAG (helpers
+//! inlined, local loads forwarded in straight-line code), and the list of candidate nodes of that DAG,
+//! each cacheable or culled with a reason. Results live in side tables keyed by naga
+//! `Handle<Expression>`; the IR is only rebuilt, never annotated.
+
+pub mod parse;
+
+pub use parse::{FrontError, Shader, load_file, parse_shader};
