@@ -6,6 +6,13 @@
 //! each cacheable or culled with a reason. Results live in side tables keyed by naga
 //! `Handle<Expression>`; the IR is only rebuilt, never annotated.
 
+pub mod ir;
+pub mod liveness;
+pub mod nodes;
+pub mod normalize;
 pub mod parse;
+pub mod rebuild;
 
-pub use parse::{FrontError, Shader, load_file, parse_shader};
+pub use nodes::{CullReason, Node, NodeTable, enumerate};
+pub use normalize::{Normalized, NormalizeOptions, normalize};
+pub use parse::{FrontError, Shader, load_file, parse_shader, validator};

@@ -41,6 +41,12 @@ pub enum FrontError {
     },
     #[error("{location}: unsupported: {what}")]
     Unsupported { location: String, what: String },
+    /// An unsupported construct inside the IR, before it is given a file location.
+    #[error("unsupported: {what}")]
+    UnsupportedAt { span: naga::Span, what: String },
+    /// A bug in reproj: an invariant did not hold.
+    #[error("internal error: {what}")]
+    Internal { what: String },
 }
 
 /// Validator used everywhere in reproj: every check on, every capability allowed.

@@ -1,0 +1,581 @@
+//! Candidate nodes: enumeration, culling, cost and overlap.
+//!
+//! A *node* is a float-valued expression (f32/f16 scalar, vector or matrix) of the normalized
+//! entry point. Each gets a stable id (its rank in the normalized function's expression arena,
+//! which is evaluation order), its source span and text, its type, a static cost estimate of its
+//! subtree and its *overlap*: the part of that cost the rest of the shader still needs when the node
+//! is read from a cache. A node is cacheable, or culled with exactly one [`CullReason`].
+//!
+//! Dependencies go through memory too: a `Load` of a local variable depends on every `Store` to
+//! it (and on the conditions that control those stores), so a value read after a loop has the loop
+//! as its subtree.
+
+use std::collections::{HashMap, HashSet};
+
+use naga::{Block, Expression, Handle, Statement, TypeInner};
+use serde::{Deserialize, Serialize};
+
+use crate::ir;
+use crate::normalize::Normalized;
+use crate::parse::Shader;
+
+/// Why a node cannot be cached. Serialized in kebab-case (`in-loop`, ...).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CullReason {
+    /// Evaluated inside a loop body: a different value each iteration.
+    InLoop,
+    /// Evaluated inside a branch whose condition is not uniform.
+    NonUniformBranch,
+    /// Reaches the output only through comparisons, `select` conditions, `step`, rounding,
+    /// `fract`, `sign`, `%`, integer or boolean conversions, or branch conditions.
+    Discontinuous,
+    /// Feeds `dpdx`/`dpdy`/`fwidth`, which need the neighbouring pixels' values.
+    Derivative,
+    /// Not an f32 scalar or vector of at most 4 components.
+    PayloadType,
+    /// A literal, constant, input, builtin or uniform read: cheaper than a cache lookup.
+    Trivial,
+}
+
+impl CullReason {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CullReason::InLoop => "in-loop",
+            CullReason::NonUniformBranch => "non-uniform-branch",
+            CullReason::Discontinuous => "discontinuous",
+            CullReason::Derivative => "derivative",
+            CullReason::PayloadType => "payload-type",
+            CullReason::Trivial => "trivial",
+        }
+    }
+}
+
+impl std::fmt::Display for CullReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// One candidate node.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Node {
+    pub id: u32,
+    pub cacheable: bool,
+    pub reason: Option<CullReason>,
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// Number of f32 values of the payload (0 when it is not f32 data).
+    pub components: u32,
+    /// Static cost of the node's subtree (see `docs/COST.md`).
+    pub cost: f64,
+    /// Part of `cost` the rest of the shader still computes when this node is cached.
+    pub overlap: f64,
+    /// 1-based source position; 0 when the expression has no source span (generated).
+    pub line: u32,
+    pub col: u32,
+    pub text: String,
+    /// Where the helper this expression came from was called in the entry point, if inlined.
+    pub call_line: Option<u32>,
+    pub call_col: Option<u32>,
+    /// True for the output color.
+    pub root: bool,
+    /// The expression in the normalized function (not serialized).
+    #[serde(skip)]
+    pub handle: Option<Handle<Expression>>,
+}
+
+/// All candidate nodes of one entry point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NodeTable {
+    /// Schema version of this JSON object.
+    pub version: u32,
+    pub shader: String,
+    pub entry: String,
+    /// Static cost of the whole shader.
+    pub total_cost: f64,
+    pub nodes: Vec<Node>,
+}
+
+/// Version of the [`NodeTable`] JSON schema.
+pub const NODES_VERSION: u32 = 1;
+
+impl NodeTable {
+    pub fn root(&self) -> &Node {
+        self.nodes.iter().find(|n| n.root).expect("the root is always a node")
+    }
+
+    pub fn cacheable(&self) -> impl Iterator<Item = &Node> {
+        self.nodes.iter().filter(|n| n.cacheable)
+    }
+
+    /// Look a node up by id.
+    pub fn get(&self, id: u32) -> Option<&Node> {
+        self.nodes.iter().find(|n| n.id == id)
+    }
+}
+
+/// Assumed trip count of a loop whose bound reproj cannot read.
+pub const DEFAULT_TRIP_COUNT: f64 = 8.0;
+
+/// Where an expression is evaluated.
+#[derive(Debug, Clone, Copy, Default)]
+struct Place {
+    in_loop: bool,
+    non_uniform: bool,
+    /// Product of the enclosing loops' trip counts.
+    weight: f64,
+}
+
+struct StoreInfo {
+    value: Handle<Expression>,
+    pointer: Handle<Expression>,
+    control: Vec<Handle<Expression>>,
+}
+
+/// Enumerate, cull and cost the nodes of a normalized shader.
+pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
+    let fun = norm.function();
+    let info = norm.function_info();
+    let types = &norm.module.types;
+
+    // 1. Where each expression is evaluated, and the stores.
+    let mut places: HashMap<Handle<Expression>, Place> = HashMap::new();
+    let mut stores: HashMap<Handle<naga::LocalVariable>, Vec<StoreInfo>> = HashMap::new();
+    let mut kill_conditions = Vec::new();
+    walk(
+        fun,
+        info,
+        &fun.body,
+        Place {
+            weight: 1.0,
+            ..Place::default()
+        },
+        &mut Vec::new(),
+        &mut places,
+        &mut stores,
+        &mut kill_conditions,
+    );
+
+    // 2. Dependency edges: (dependency, discontinuous).
+    let n = fun.expressions.len();
+    let mut deps: Vec<Vec<(Handle<Expression>, bool)>> = vec![Vec::new(); n];
+    let is_float = |h: Handle<Expression>| {
+        matches!(info[h].ty.inner_with(types).scalar_kind(), Some(naga::ScalarKind::Float))
+    };
+    for (h, e) in fun.expressions.iter() {
+        let ops = ir::operands(e);
+        let disc = ir::discontinuous_edges(e, is_float(h));
+        deps[h.index()].extend(ops.into_iter().zip(disc));
+        if let Expression::Load { pointer } = *e {
+            if let Some(v) = ir::root_local(&fun.expressions, pointer) {
+                for s in stores.get(&v).into_iter().flatten() {
+                    deps[h.index()].push((s.value, false));
+                    deps[h.index()].push((s.pointer, true));
+                    deps[h.index()].extend(s.control.iter().map(|c| (*c, true)));
+                }
+            }
+        }
+    }
+
+    // 3. Costs.
+    let weight: Vec<f64> = fun
+        .expressions
+        .iter()
+        .map(|(h, e)| {
+            let mult = places.get(&h).map_or(1.0, |p| p.weight);
+            op_cost(e, info[h].ty.inner_with(types), types) * mult
+        })
+        .collect();
+    let closure = |start: Handle<Expression>, avoid: Option<Handle<Expression>>| -> Vec<bool> {
+        let mut seen = vec![false; n];
+        let mut stack = vec![start];
+        while let Some(h) = stack.pop() {
+            if seen[h.index()] {
+                continue;
+            }
+            seen[h.index()] = true;
+            if Some(h) == avoid {
+                continue;
+            }
+            for &(d, _) in &deps[h.index()] {
+                if !seen[d.index()] {
+                    stack.push(d);
+                }
+            }
+        }
+        seen
+    };
+    let total_closure = {
+        let mut seen = closure(norm.root, None);
+        for &k in &kill_conditions {
+            for (i, s) in closure(k, None).into_iter().enumerate() {
+                seen[i] |= s;
+            }
+        }
+        seen
+    };
+    let total_cost: f64 = (0..n).filter(|&i| total_closure[i]).map(|i| weight[i]).sum();
+
+    // 4. Continuity from the root, and what feeds derivatives.
+    let mut continuous = vec![false; n];
+    let mut stack = vec![norm.root];
+    while let Some(h) = stack.pop() {
+        if continuous[h.index()] {
+            continue;
+        }
+        continuous[h.index()] = true;
+        for &(d, disc) in &deps[h.index()] {
+            if !disc && !continuous[d.index()] {
+                stack.push(d);
+            }
+        }
+    }
+    let mut feeds_derivative = vec![false; n];
+    for (_, e) in fun.expressions.iter() {
+        if let Expression::Derivative { expr, .. } = *e {
+            for (i, s) in closure(expr, None).into_iter().enumerate() {
+                feeds_derivative[i] |= s;
+            }
+        }
+    }
+
+    // 5. The nodes.
+    let mut nodes = Vec::new();
+    for (h, e) in fun.expressions.iter() {
+        let inner = info[h].ty.inner_with(types);
+        let Some(ty) = node_type(inner) else { continue };
+        let is_root = h == norm.root;
+        let sub = closure(h, None);
+        let cost: f64 = (0..n).filter(|&i| sub[i]).map(|i| weight[i]).sum();
+        let overlap = if is_root {
+            0.0
+        } else {
+            let mut rest = closure(norm.root, Some(h));
+            for &k in &kill_conditions {
+                for (i, s) in closure(k, Some(h)).into_iter().enumerate() {
+                    rest[i] |= s;
+                }
+            }
+            (0..n)
+                .filter(|&i| sub[i] && rest[i] && i != h.index())
+                .map(|i| weight[i])
+                .sum()
+        };
+        let place = places.get(&h).copied().unwrap_or_default();
+        let components = match inner {
+            TypeInner::Scalar(s) if s.width == 4 && s.kind == naga::ScalarKind::Float => 1,
+            TypeInner::Vector { size, scalar } if scalar.width == 4 && scalar.kind == naga::ScalarKind::Float => {
+                *size as u32
+            }
+            _ => 0,
+        };
+        let trivial = (0..n).filter(|&i| sub[i]).all(|i| weight[i] == 0.0);
+        let reason = if components == 0 {
+            Some(CullReason::PayloadType)
+        } else if trivial {
+            Some(CullReason::Trivial)
+        } else if place.in_loop {
+            Some(CullReason::InLoop)
+        } else if place.non_uniform {
+            Some(CullReason::NonUniformBranch)
+        } else if feeds_derivative[h.index()] {
+            Some(CullReason::Derivative)
+        } else if !continuous[h.index()] {
+            Some(CullReason::Discontinuous)
+        } else {
+            None
+        };
+        let span = fun.expressions.get_span(h);
+        let (line, col, text) = match (span.is_defined(), e) {
+            // Loads made by the front end (`x += ...`, a read after a loop) have no span: name the
+            // variable instead.
+            (false, Expression::Load { pointer }) => match ir::root_local(&fun.expressions, *pointer) {
+                Some(v) => {
+                    let (l, c, _) = span_text(shader, fun.local_variables.get_span(v));
+                    (l, c, fun.local_variables[v].name.clone().unwrap_or_default())
+                }
+                None => (0, 0, String::new()),
+            },
+            _ => span_text(shader, span),
+        };
+        let call = norm.call_site.get(&h).map(|s| {
+            let (l, c, _) = span_text(shader, *s);
+            (l, c)
+        });
+        nodes.push(Node {
+            id: nodes.len() as u32,
+            cacheable: reason.is_none(),
+            reason,
+            ty,
+            components,
+            cost: cost + 0.0,
+            overlap: overlap + 0.0,
+            line,
+            col,
+            text,
+            call_line: call.map(|c| c.0),
+            call_col: call.map(|c| c.1),
+            root: is_root,
+            handle: Some(h),
+        });
+    }
+    NodeTable {
+        version: NODES_VERSION,
+        shader: shader
+            .path
+            .file_name()
+            .map_or_else(|| shader.path.display().to_string(), |f| f.to_string_lossy().into_owned()),
+        entry: norm.entry.clone(),
+        total_cost,
+        nodes,
+    }
+}
+
+fn span_text(shader: &Shader, span: naga::Span) -> (u32, u32, String) {
+    if !span.is_defined() || span.to_range().is_none_or(|r| r.end > shader.source.len()) {
+        return (0, 0, String::new());
+    }
+    let loc = span.location(&shader.source);
+    let mut range = span.to_range().unwrap();
+    // Calls are spanned by their name only: extend to the closing parenthesis.
+    let src = shader.source.as_bytes();
+    let is_ident = shader.source[range.clone()]
+        .bytes()
+        .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'<' || b == b'>');
+    if is_ident {
+        let mut i = range.end;
+        while i < src.len() && src[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if i < src.len() && src[i] == b'(' {
+            let mut depth = 0usize;
+            while i < src.len() {
+                match src[i] {
+                    b'(' => depth += 1,
+                    b')' => {
+                        depth -= 1;
+                        if depth == 0 {
+                            range.end = i + 1;
+                            break;
+                        }
+                    }
+                    _ => {}
+                }
+                i += 1;
+            }
+        }
+    }
+    let text = shader.source[range]
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    (loc.line_number, loc.line_position, text)
+}
+
+/// WGSL name of a node's type, or `None` if expressions of this type are not nodes.
+fn node_type(inner: &TypeInner) -> Option<String> {
+    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, 4) => Some("f32"),
+        (naga::ScalarKind::Float, 2) => Some("f16"),
+        (naga::ScalarKind::AbstractFloat, _) => Some("f32"),
+        _ => None,
+    };
+    match inner {
+        TypeInner::Scalar(s) => scalar(s).map(str::to_owned),
+        TypeInner::Vector { size, scalar: s } => scalar(s).map(|t| format!("vec{}<{t}>", *size as u8)),
+        TypeInner::Matrix { columns, rows, scalar: s } => {
+            scalar(s).map(|t| format!("mat{}x{}<{t}>", *columns as u8, *rows as u8))
+        }
+        _ => None,
+    }
+}
+
+/// Static cost of one operation (see `docs/COST.md`): ALU operations cost per component;
+/// transcendental functions and texture fetches cost more.
+pub fn op_cost(e: &Expression, result: &TypeInner, types: &naga::UniqueArena<naga::Type>) -> f64 {
+    use naga::MathFunction as M;
+    let width = |inner: &TypeInner| -> f64 {
+        match *inner {
+            TypeInner::Vector { size, .. } => size as u8 as f64,
+            TypeInner::Matrix { columns, rows, .. } => (columns as u8 * rows as u8) as f64,
+            _ => 1.0,
+        }
+    };
+    let w = width(result);
+    let _ = types;
+    match *e {
+        Expression::Literal(_)
+        | Expression::Constant(_)
+        | Expression::Override(_)
+        | Expression::ZeroValue(_)
+        | Expression::Compose { .. }
+        | Expression::Access { .. }
+        | Expression::AccessIndex { .. }
+        | Expression::Splat { .. }
+        | Expression::Swizzle { .. }
+        | Expression::FunctionArgument(_)
+        | Expression::GlobalVariable(_)
+        | Expression::LocalVariable(_)
+        | Expression::Load { .. }
+        | Expression::CallResult(_) => 0.0,
+        Expression::ImageSample { .. } => 20.0,
+        Expression::ImageLoad { .. } => 10.0,
+        Expression::ImageQuery { .. } => 2.0,
+        Expression::Unary { .. } | Expression::Select { .. } | Expression::As { .. } | Expression::Relational { .. } => w,
+        Expression::Binary { op, .. } => match op {
+            naga::BinaryOperator::Divide | naga::BinaryOperator::Modulo => 4.0 * w,
+            _ => w,
+        },
+        Expression::Derivative { .. } => 2.0 * w,
+        Expression::Math { fun, .. } => match fun {
+            M::Dot | M::Dot4I8Packed | M::Dot4U8Packed => 4.0,
+            M::Cross => 6.0,
+            M::Length | M::Distance => 8.0,
+            M::Normalize => 4.0 * w + 4.0,
+            M::Reflect | M::FaceForward => 3.0 * w,
+            M::Refract => 6.0 * w + 4.0,
+            M::Sqrt | M::InverseSqrt => 4.0 * w,
+            M::Exp | M::Exp2 | M::Log | M::Log2 | M::Sin | M::Cos | M::Tan => 8.0 * w,
+            M::Pow => 16.0 * w,
+            M::Asin | M::Acos | M::Atan | M::Atan2 | M::Sinh | M::Cosh | M::Tanh | M::Asinh | M::Acosh | M::Atanh => {
+                10.0 * w
+            }
+            M::Mix | M::SmoothStep | M::Fma => 3.0 * w,
+            M::Inverse | M::Determinant => 20.0 * w,
+            _ => w,
+        },
+        _ => w,
+    }
+}
+
+/// Trip count of a loop whose first `if` compares a loaded counter with a literal bound.
+fn trip_count(fun: &naga::Function, body: &Block) -> f64 {
+    for stmt in body.iter() {
+        if let Statement::If { condition, accept, reject } = stmt {
+            let breaks = accept.iter().chain(reject.iter()).any(|s| matches!(s, Statement::Break));
+            if !breaks {
+                continue;
+            }
+            if let Expression::Binary { op, right, .. } = fun.expressions[*condition] {
+                let bound = match fun.expressions[right] {
+                    Expression::Literal(naga::Literal::I32(v)) => Some(v as f64),
+                    Expression::Literal(naga::Literal::U32(v)) => Some(v as f64),
+                    _ => None,
+                };
+                if let Some(b) = bound {
+                    let n = match op {
+                        naga::BinaryOperator::Less | naga::BinaryOperator::NotEqual => b,
+                        naga::BinaryOperator::LessEqual => b + 1.0,
+                        _ => DEFAULT_TRIP_COUNT,
+                    };
+                    return n.clamp(1.0, 4096.0);
+                }
+            }
+            return DEFAULT_TRIP_COUNT;
+        }
+    }
+    DEFAULT_TRIP_COUNT
+}
+
+/// Conditions that decide whether the loop keeps going: `break_if` and the conditions of `if`s
+/// that break or continue.
+fn loop_control(body: &Block, out: &mut Vec<Handle<Expression>>) {
+    for stmt in body.iter() {
+        match stmt {
+            Statement::If { condition, accept, reject } => {
+                if accept.iter().chain(reject.iter()).any(|s| matches!(s, Statement::Break | Statement::Continue)) {
+                    out.push(*condition);
+                }
+                loop_control(accept, out);
+                loop_control(reject, out);
+            }
+            Statement::Block(b) => loop_control(b, out),
+            _ => {}
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn walk(
+    fun: &naga::Function,
+    info: &naga::valid::FunctionInfo,
+    block: &Block,
+    place: Place,
+    control: &mut Vec<Handle<Expression>>,
+    places: &mut HashMap<Handle<Expression>, Place>,
+    stores: &mut HashMap<Handle<naga::LocalVariable>, Vec<StoreInfo>>,
+    kills: &mut Vec<Handle<Expression>>,
+) {
+    for stmt in block.iter() {
+        match stmt {
+            Statement::Emit(range) => {
+                for h in range.clone() {
+                    places.insert(h, place);
+                }
+            }
+            Statement::Store { pointer, value } => {
+                if let Some(v) = ir::root_local(&fun.expressions, *pointer) {
+                    stores.entry(v).or_default().push(StoreInfo {
+                        value: *value,
+                        pointer: *pointer,
+                        control: control.clone(),
+                    });
+                }
+            }
+            Statement::Kill => kills.extend(control.iter().copied()),
+            Statement::Block(b) => walk(fun, info, b, place, control, places, stores, kills),
+            Statement::If { condition, accept, reject } => {
+                let nu = info[*condition].uniformity.non_uniform_result.is_some();
+                let inner = Place {
+                    non_uniform: place.non_uniform || nu,
+                    ..place
+                };
+                control.push(*condition);
+                walk(fun, info, accept, inner, control, places, stores, kills);
+                walk(fun, info, reject, inner, control, places, stores, kills);
+                control.pop();
+            }
+            Statement::Switch { selector, cases } => {
+                let nu = info[*selector].uniformity.non_uniform_result.is_some();
+                let inner = Place {
+                    non_uniform: place.non_uniform || nu,
+                    ..place
+                };
+                control.push(*selector);
+                for c in cases {
+                    walk(fun, info, &c.body, inner, control, places, stores, kills);
+                }
+                control.pop();
+            }
+            Statement::Loop { body, continuing, break_if } => {
+                let inner = Place {
+                    in_loop: true,
+                    weight: place.weight * trip_count(fun, body),
+                    ..place
+                };
+                let mut ctl = Vec::new();
+                loop_control(body, &mut ctl);
+                ctl.extend(*break_if);
+                let depth = control.len();
+                control.extend(ctl);
+                walk(fun, info, body, inner, control, places, stores, kills);
+                walk(fun, info, continuing, inner, control, places, stores, kills);
+                control.truncate(depth);
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Set of expressions an expression depends on (for tests and the instancer).
+pub fn subtree(fun: &naga::Function, h: Handle<Expression>) -> HashSet<Handle<Expression>> {
+    let mut seen = HashSet::new();
+    let mut stack = vec![h];
+    while let Some(x) = stack.pop() {
+        if seen.insert(x) {
+            stack.extend(ir::operands(&fun.expressions[x]));
+        }
+    }
+    seen
+}

@@ -1,0 +1,138 @@
+//! Normalization: the fragment entry point as one expression DAG.
+//!
+//! Every helper the entry point calls is inlined (recursively, with its locals and arguments),
+//! local-variable loads in straight-line code are replaced by the stored value, identical pure
+//! expressions are shared, and dead code is dropped. Loops and branches stay statements; a value
+//! read after a loop stays a `Load`, whose subtree is the loop. The result is a valid module with a
+//! single fragment entry point, and the output color's expression (the *root*).
+
+use std::collections::HashMap;
+
+use naga::{Expression, Handle, Span};
+
+use crate::liveness::liveness;
+use crate::parse::{FrontError, Shader, validator};
+use crate::rebuild::{Mode, RebuildOptions, rebuild};
+
+/// A normalized shader: one fragment entry point whose result is the root of an expression DAG.
+#[derive(Debug, Clone)]
+pub struct Normalized {
+    /// Module with only the chosen entry point (index 0) and what it uses; helpers inlined away.
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+    /// Name of the entry point.
+    pub entry: String,
+    /// The output color: the `@location(0)` value of the final top-level `return`.
+    pub root: Handle<Expression>,
+    /// Expressions that came from an inlined helper, with the span of the call in the entry point.
+    pub call_site: HashMap<Handle<Expression>, Span>,
+}
+
+impl Normalized {
+    /// The normalized entry-point function.
+    pub fn function(&self) -> &naga::Function {
+        &self.module.entry_points[0].function
+    }
+
+    /// Analysis results of the normalized entry point.
+    pub fn function_info(&self) -> &naga::valid::FunctionInfo {
+        self.info.get_entry_point(0)
+    }
+}
+
+/// Options of [`normalize`].
+#[derive(Debug, Clone, Default)]
+pub struct NormalizeOptions {
+    /// Fragment entry point name; `None` picks the only one.
+    pub entry: Option<String>,
+}
+
+/// Normalize the chosen fragment entry point of `shader`.
+pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized, FrontError> {
+    let index = shader.fragment_entry(opts.entry.as_deref())?;
+    let ep = &shader.module.entry_points[index];
+    let located = |e: FrontError| match e {
+        FrontError::UnsupportedAt { span, what } => FrontError::Unsupported {
+            location: shader.location(span),
+            what,
+        },
+        e => e,
+    };
+    let first = rebuild(
+        &shader.module,
+        &ep.function,
+        &RebuildOptions {
+            mode: Some(Mode::Normalize),
+            ..Default::default()
+        },
+    )
+    .map_err(located)?;
+    let live = liveness(&first.function);
+    let second = rebuild(
+        &shader.module,
+        &first.function,
+        &RebuildOptions {
+            live: Some(&live),
+            ..Default::default()
+        },
+    )
+    .map_err(located)?;
+    let root_value = second.root.ok_or_else(|| FrontError::Unsupported {
+        location: shader.location(ep.function.body.span_iter().last().map(|(_, s)| *s).unwrap_or_default()),
+        what: "the entry point must end with a `return` of its output".into(),
+    })?;
+    let mut call_site = HashMap::new();
+    for (old, span) in &first.call_site {
+        if let Some(Some(new)) = second.map.get(old.index()) {
+            call_site.entry(*new).or_insert(*span);
+        }
+    }
+    let mut module = shader.module.clone();
+    module.entry_points = vec![naga::EntryPoint {
+        function: second.function,
+        ..ep.clone()
+    }];
+    module.functions = naga::Arena::new();
+    let before = module.entry_points[0].function.expressions.len();
+    let mut compacted = module.clone();
+    naga::compact::compact(&mut compacted, naga::compact::KeepUnused::No);
+    if compacted.entry_points[0].function.expressions.len() == before {
+        module = compacted;
+    }
+    let info = validator().validate(&module).map_err(|e| FrontError::Internal {
+        what: format!(
+            "the normalized module does not validate ({}); please report this shader",
+            e.emit_to_string(&shader.source)
+        ),
+    })?;
+    // The root is the @location(0) member when the entry point returns a struct.
+    let fun = &module.entry_points[0].function;
+    let root = match fun.result.as_ref().map(|r| &module.types[r.ty].inner) {
+        Some(naga::TypeInner::Struct { members, .. }) => {
+            let loc0 = members
+                .iter()
+                .position(|m| matches!(m.binding, Some(naga::Binding::Location { location: 0, .. })))
+                .ok_or_else(|| FrontError::Unsupported {
+                    location: shader.location(ep.function.body.span_iter().last().map(|(_, s)| *s).unwrap_or_default()),
+                    what: "the output struct has no @location(0) member".into(),
+                })?;
+            match &fun.expressions[root_value] {
+                Expression::Compose { components, .. } => components[loc0],
+                _ => {
+                    return Err(FrontError::Unsupported {
+                        location: shader.location(fun.expressions.get_span(root_value)),
+                        what: "the returned output struct must be constructed in the return".into(),
+                    });
+                }
+            }
+        }
+        _ => root_value,
+    };
+    Ok(Normalized {
+        module,
+        info,
+        entry: ep.name.clone(),
+        root,
+        call_site,
+    })
+}

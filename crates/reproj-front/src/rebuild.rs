@@ -1,0 +1,846 @@
+//! Rebuilding a function in order, with a handle map.
+//!
+//! naga requires every expression to be emitted before it is used, so reproj never edits a function
+//! in place: it walks the source function's statements in order and appends translated expressions
+//! and statements to a new [`naga::Function`]. One walker serves every rewrite:
+//!
+//! - the front end's normalization ([`Mode::Normalize`]): inline calls, forward local loads in
+//!   straight-line code, share identical pure expressions;
+//! - plain copies ([`Mode::Copy`]) that keep only live code ([`crate::liveness`]), replace one
+//!   expression by another, or stop after one expression and return it (the instancer's passes).
+
+use std::collections::{HashMap, HashSet};
+
+use naga::{Block, Expression, Function, Handle, LocalVariable, Span, Statement};
+
+use crate::ir;
+use crate::parse::FrontError;
+
+/// What a rebuild does besides copying.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Inline calls, forward loads, share identical pure expressions.
+    Normalize,
+    /// Copy as is (calls are an error: run on normalized functions).
+    Copy,
+}
+
+/// Replacement of one source expression by a read of the payload cache at this fragment's pixel:
+/// `textureLoad(image, vec2<i32>(position.xy), 0)`, narrowed to `components` floats.
+#[derive(Debug, Clone)]
+pub struct CacheRead {
+    /// The expression to replace (source handle).
+    pub target: Handle<Expression>,
+    pub image: Handle<naga::GlobalVariable>,
+    /// The `@builtin(position)` value: entry argument index and, if the argument is a struct, the
+    /// member index.
+    pub position: (u32, Option<u32>),
+    pub components: u32,
+    pub vec2i: Handle<naga::Type>,
+}
+
+/// Stop after one expression and return it, zero-padded to a `vec4<f32>` (the recompute pass).
+#[derive(Debug, Clone)]
+pub struct StopAfter {
+    pub target: Handle<Expression>,
+    pub components: u32,
+    pub vec4: Handle<naga::Type>,
+}
+
+/// Options of [`rebuild`].
+#[derive(Debug, Clone, Default)]
+pub struct RebuildOptions<'a> {
+    pub mode: Option<Mode>,
+    /// Keep only these expressions and statements (by pre-order statement index).
+    pub live: Option<&'a crate::liveness::Liveness>,
+    pub cache_read: Option<CacheRead>,
+    pub stop_after: Option<StopAfter>,
+}
+
+/// The rebuilt function and its side tables.
+#[derive(Debug)]
+pub struct Rebuilt {
+    pub function: Function,
+    /// Value of the last top-level `return` of the function, if any.
+    pub root: Option<Handle<Expression>>,
+    /// For expressions that came from an inlined helper: the span of the outermost call.
+    pub call_site: HashMap<Handle<Expression>, Span>,
+    /// Source handle → new handle, for the top-level function only.
+    pub map: Vec<Option<Handle<Expression>>>,
+}
+
+/// Rebuild `module.entry_points[entry].function` (or `fun` if given) under `opts`.
+pub fn rebuild(
+    module: &naga::Module,
+    fun: &Function,
+    opts: &RebuildOptions,
+) -> Result<Rebuilt, FrontError> {
+    let mode = opts.mode.unwrap_or(Mode::Copy);
+    let mut out = Out {
+        module,
+        mode,
+        opts,
+        fun: Function {
+            name: fun.name.clone(),
+            arguments: fun.arguments.clone(),
+            result: fun.result.clone(),
+            local_variables: naga::Arena::new(),
+            expressions: naga::Arena::new(),
+            named_expressions: Default::default(),
+            body: Block::new(),
+            diagnostic_filter_leaf: fun.diagnostic_filter_leaf,
+        },
+        emitter: naga::proc::Emitter::default(),
+        blocks: vec![Block::new()],
+        cse: vec![HashMap::new()],
+        pre_cse: HashMap::new(),
+        env: HashMap::new(),
+        stored_log: Vec::new(),
+        call_site: HashMap::new(),
+        root: None,
+        stmt_index: 0,
+        stopped: false,
+        depth: 0,
+    };
+    if let Some(stop) = &opts.stop_after {
+        out.fun.result = Some(naga::FunctionResult {
+            ty: stop.vec4,
+            binding: Some(naga::Binding::Location {
+                location: 0,
+                interpolation: None,
+                sampling: None,
+                blend_src: None,
+                per_primitive: false,
+            }),
+        });
+    }
+    out.emitter.start(&out.fun.expressions);
+    let mut ctx = Ctx::new(fun, true, None, Vec::new());
+    // Locals of the top-level function: created up front when normalizing (their initial values
+    // become stores), on first use when copying (so dead variables disappear).
+    ctx.locals = vec![None; fun.local_variables.len()];
+    if mode == Mode::Normalize {
+        for (h, _) in fun.local_variables.iter() {
+            out.local(&mut ctx, h);
+        }
+    }
+    out.init_locals(&mut ctx, fun)?;
+    out.walk_block(&mut ctx, &fun.body)?;
+    if out.stopped && opts.stop_after.is_some() && out.root.is_none() {
+        // The node was inside a branch: the other paths return zero.
+        let stop = opts.stop_after.as_ref().unwrap();
+        let z = out.append(Expression::ZeroValue(stop.vec4), Span::UNDEFINED);
+        out.push_stmt(Statement::Return { value: Some(z) }, Span::UNDEFINED);
+    }
+    out.flush();
+    let body = out.blocks.pop().unwrap();
+    out.fun.body = body;
+    Ok(Rebuilt {
+        function: out.fun,
+        root: out.root,
+        call_site: out.call_site,
+        map: ctx.map,
+    })
+}
+
+struct Ctx<'f> {
+    fun: &'f Function,
+    map: Vec<Option<Handle<Expression>>>,
+    locals: Vec<Option<Handle<LocalVariable>>>,
+    /// Values of the arguments of an inlined call.
+    args: Vec<Handle<Expression>>,
+    is_top: bool,
+    call_site: Option<Span>,
+    /// Return value of an inlined call.
+    ret: Option<Handle<Expression>>,
+}
+
+impl<'f> Ctx<'f> {
+    fn new(fun: &'f Function, is_top: bool, call_site: Option<Span>, args: Vec<Handle<Expression>>) -> Self {
+        Ctx {
+            fun,
+            map: vec![None; fun.expressions.len()],
+            locals: Vec::new(),
+            args,
+            is_top,
+            call_site,
+            ret: None,
+        }
+    }
+}
+
+struct Out<'m, 'o> {
+    module: &'m naga::Module,
+    mode: Mode,
+    opts: &'o RebuildOptions<'o>,
+    fun: Function,
+    emitter: naga::proc::Emitter,
+    blocks: Vec<Block>,
+    cse: Vec<HashMap<String, Handle<Expression>>>,
+    pre_cse: HashMap<String, Handle<Expression>>,
+    env: HashMap<Handle<LocalVariable>, Handle<Expression>>,
+    stored_log: Vec<Handle<LocalVariable>>,
+    call_site: HashMap<Handle<Expression>, Span>,
+    root: Option<Handle<Expression>>,
+    stmt_index: usize,
+    stopped: bool,
+    depth: usize,
+}
+
+fn unsupported(module_fun: &Function, span: Span, what: impl Into<String>) -> FrontError {
+    let _ = module_fun;
+    FrontError::UnsupportedAt {
+        span,
+        what: what.into(),
+    }
+}
+
+impl Out<'_, '_> {
+    fn normalize(&self) -> bool {
+        self.mode == Mode::Normalize
+    }
+
+    fn flush(&mut self) {
+        if let Some((stmt, span)) = self.emitter.finish(&self.fun.expressions) {
+            self.blocks.last_mut().unwrap().push(stmt, span);
+        }
+    }
+
+    fn push_stmt(&mut self, stmt: Statement, span: Span) {
+        self.flush();
+        self.blocks.last_mut().unwrap().push(stmt, span);
+        self.emitter.start(&self.fun.expressions);
+    }
+
+    fn enter(&mut self) {
+        self.flush();
+        self.blocks.push(Block::new());
+        self.cse.push(HashMap::new());
+        self.depth += 1;
+        self.emitter.start(&self.fun.expressions);
+    }
+
+    fn exit(&mut self) -> Block {
+        self.flush();
+        self.cse.pop();
+        self.depth -= 1;
+        let b = self.blocks.pop().unwrap();
+        self.emitter.start(&self.fun.expressions);
+        b
+    }
+
+    /// Append an expression, sharing an identical earlier one when that is safe.
+    fn append(&mut self, expr: Expression, span: Span) -> Handle<Expression> {
+        let pre = expr.needs_pre_emit();
+        let shareable = self.normalize()
+            && !matches!(
+                expr,
+                Expression::Load { .. }
+                    | Expression::CallResult(_)
+                    | Expression::AtomicResult { .. }
+                    | Expression::WorkGroupUniformLoadResult { .. }
+                    | Expression::SubgroupBallotResult
+                    | Expression::SubgroupOperationResult { .. }
+                    | Expression::RayQueryProceedResult
+            );
+        let key = shareable.then(|| format!("{expr:?}"));
+        if let Some(k) = &key {
+            if pre {
+                if let Some(&h) = self.pre_cse.get(k) {
+                    return h;
+                }
+            } else {
+                for scope in self.cse.iter().rev() {
+                    if let Some(&h) = scope.get(k) {
+                        return h;
+                    }
+                }
+            }
+        }
+        let h = if pre {
+            self.flush();
+            let h = self.fun.expressions.append(expr, span);
+            self.emitter.start(&self.fun.expressions);
+            h
+        } else {
+            self.fun.expressions.append(expr, span)
+        };
+        if let Some(k) = key {
+            if pre {
+                self.pre_cse.insert(k, h);
+            } else {
+                self.cse.last_mut().unwrap().insert(k, h);
+            }
+        }
+        h
+    }
+
+    fn is_live_expr(&self, h: Handle<Expression>) -> bool {
+        self.opts.live.is_none_or(|l| l.exprs.contains(&h))
+    }
+
+    fn init_locals(&mut self, ctx: &mut Ctx, fun: &Function) -> Result<(), FrontError> {
+        if !self.normalize() {
+            // Copy mode keeps constant initializers as they are.
+            for (h, var) in fun.local_variables.iter() {
+                if let Some(init) = var.init {
+                    let v = self.translate(ctx, init)?;
+                    let nv = self.local(ctx, h);
+                    self.fun.local_variables.get_mut(nv).init = Some(v);
+                }
+            }
+            return Ok(());
+        }
+        for (h, var) in fun.local_variables.iter() {
+            let nv = self.local(ctx, h);
+            let span = fun.local_variables.get_span(h);
+            let value = match var.init {
+                Some(init) => self.translate(ctx, init)?,
+                None => self.append(Expression::ZeroValue(var.ty), span),
+            };
+            let ptr = self.append(Expression::LocalVariable(nv), span);
+            self.store(ptr, value, span);
+        }
+        Ok(())
+    }
+
+    /// The new local variable for a source local, created on first use.
+    fn local(&mut self, ctx: &mut Ctx, v: Handle<LocalVariable>) -> Handle<LocalVariable> {
+        if let Some(nv) = ctx.locals[v.index()] {
+            return nv;
+        }
+        let var = &ctx.fun.local_variables[v];
+        let nv = self.fun.local_variables.append(
+            LocalVariable {
+                name: var.name.clone(),
+                ty: var.ty,
+                init: None,
+            },
+            ctx.fun.local_variables.get_span(v),
+        );
+        ctx.locals[v.index()] = Some(nv);
+        nv
+    }
+
+    fn store(&mut self, pointer: Handle<Expression>, value: Handle<Expression>, span: Span) {
+        if let Some(v) = ir::root_local(&self.fun.expressions, pointer) {
+            self.stored_log.push(v);
+            if matches!(self.fun.expressions[pointer], Expression::LocalVariable(_)) {
+                self.env.insert(v, value);
+            } else {
+                self.env.remove(&v);
+            }
+        }
+        self.push_stmt(Statement::Store { pointer, value }, span);
+    }
+
+    /// The value a load through `ptr` reads, when it is known in straight-line code.
+    fn forward(&mut self, ptr: Handle<Expression>, span: Span) -> Option<Handle<Expression>> {
+        match self.fun.expressions[ptr] {
+            Expression::LocalVariable(v) => self.env.get(&v).copied(),
+            Expression::AccessIndex { base, index } => {
+                let value = self.forward(base, span)?;
+                Some(self.append(Expression::AccessIndex { base: value, index }, span))
+            }
+            _ => None,
+        }
+    }
+
+    fn translate(&mut self, ctx: &mut Ctx, h: Handle<Expression>) -> Result<Handle<Expression>, FrontError> {
+        if let Some(m) = ctx.map[h.index()] {
+            return Ok(m);
+        }
+        let span = ctx.fun.expressions.get_span(h);
+        if let Some(cr) = &self.opts.cache_read {
+            if ctx.is_top && cr.target == h {
+                let cr = cr.clone();
+                let m = self.cache_read(&cr, span);
+                ctx.map[h.index()] = Some(m);
+                return Ok(m);
+            }
+        }
+        let src = &ctx.fun.expressions[h];
+        let new = match *src {
+            Expression::FunctionArgument(i) if !ctx.is_top => ctx.args[i as usize],
+            Expression::LocalVariable(v) => {
+                let nv = self.local(ctx, v);
+                self.append(Expression::LocalVariable(nv), span)
+            }
+            Expression::CallResult(_) => {
+                return Err(unsupported(ctx.fun, span, "a call result used before its call"));
+            }
+            Expression::Load { pointer } if self.normalize() => {
+                let p = self.translate(ctx, pointer)?;
+                match self.forward(p, span) {
+                    Some(v) => v,
+                    None => self.append(Expression::Load { pointer: p }, span),
+                }
+            }
+            _ => {
+                let mut e = src.clone();
+                let ops = ir::operands(&e);
+                let mut mapped = Vec::with_capacity(ops.len());
+                for o in ops {
+                    mapped.push(self.translate(ctx, o)?);
+                }
+                let mut it = mapped.into_iter();
+                ir::map_operands(&mut e, &mut |_| it.next().unwrap());
+                self.append(e, span)
+            }
+        };
+        ctx.map[h.index()] = Some(new);
+        if let Some(cs) = ctx.call_site {
+            self.call_site.entry(new).or_insert(cs);
+        }
+        if let Some(name) = ctx.fun.named_expressions.get(&h) {
+            if !self.fun.expressions[new].needs_pre_emit() && !self.fun.named_expressions.contains_key(&new) {
+                self.fun.named_expressions.insert(new, name.clone());
+            }
+        }
+        Ok(new)
+    }
+
+    fn cache_read(&mut self, cr: &CacheRead, span: Span) -> Handle<Expression> {
+        use naga::{Expression as E, SwizzleComponent as S};
+        let image = self.append(E::GlobalVariable(cr.image), span);
+        let arg = self.append(E::FunctionArgument(cr.position.0), span);
+        let pos = match cr.position.1 {
+            Some(m) => self.append(E::AccessIndex { base: arg, index: m }, span),
+            None => arg,
+        };
+        let xy = self.append(
+            E::Swizzle {
+                size: naga::VectorSize::Bi,
+                vector: pos,
+                pattern: [S::X, S::Y, S::X, S::X],
+            },
+            span,
+        );
+        let coord = self.append(
+            E::As {
+                expr: xy,
+                kind: naga::ScalarKind::Sint,
+                convert: Some(4),
+            },
+            span,
+        );
+        let level = self.append(E::Literal(naga::Literal::I32(0)), span);
+        let texel = self.append(
+            E::ImageLoad {
+                image,
+                coordinate: coord,
+                array_index: None,
+                sample: None,
+                level: Some(level),
+            },
+            span,
+        );
+        let _ = cr.vec2i;
+        match cr.components {
+            1 => self.append(E::AccessIndex { base: texel, index: 0 }, span),
+            2 => self.append(
+                E::Swizzle {
+                    size: naga::VectorSize::Bi,
+                    vector: texel,
+                    pattern: [S::X, S::Y, S::X, S::X],
+                },
+                span,
+            ),
+            3 => self.append(
+                E::Swizzle {
+                    size: naga::VectorSize::Tri,
+                    vector: texel,
+                    pattern: [S::X, S::Y, S::Z, S::X],
+                },
+                span,
+            ),
+            _ => texel,
+        }
+    }
+
+    fn payload_return(&mut self, stop: &StopAfter, value: Handle<Expression>, span: Span) {
+        let v = match stop.components {
+            4 => value,
+            n => {
+                let mut comps = vec![value];
+                for _ in n..4 {
+                    comps.push(self.append(Expression::Literal(naga::Literal::F32(0.0)), span));
+                }
+                self.append(
+                    Expression::Compose {
+                        ty: stop.vec4,
+                        components: comps,
+                    },
+                    span,
+                )
+            }
+        };
+        if self.depth == 0 {
+            self.root = Some(v);
+        }
+        self.push_stmt(Statement::Return { value: Some(v) }, span);
+    }
+
+    /// Local variables stored anywhere in `block` (source side), for loop-carried kills.
+    fn stored_in(&self, ctx: &Ctx, block: &Block, out: &mut HashSet<Handle<LocalVariable>>) {
+        let src_root = |mut p: Handle<Expression>| -> Option<Handle<LocalVariable>> {
+            loop {
+                match ctx.fun.expressions[p] {
+                    Expression::LocalVariable(v) => return ctx.locals[v.index()],
+                    Expression::FunctionArgument(i) if !ctx.is_top => {
+                        return ir::root_local(&self.fun.expressions, ctx.args[i as usize]);
+                    }
+                    Expression::Access { base, .. } | Expression::AccessIndex { base, .. } => p = base,
+                    _ => return None,
+                }
+            }
+        };
+        for stmt in block.iter() {
+            match stmt {
+                Statement::Store { pointer, .. } => out.extend(src_root(*pointer)),
+                Statement::Call { arguments, .. } => {
+                    for a in arguments {
+                        out.extend(src_root(*a));
+                    }
+                }
+                Statement::Block(b) => self.stored_in(ctx, b, out),
+                Statement::If { accept, reject, .. } => {
+                    self.stored_in(ctx, accept, out);
+                    self.stored_in(ctx, reject, out);
+                }
+                Statement::Switch { cases, .. } => {
+                    for c in cases {
+                        self.stored_in(ctx, &c.body, out);
+                    }
+                }
+                Statement::Loop { body, continuing, .. } => {
+                    self.stored_in(ctx, body, out);
+                    self.stored_in(ctx, continuing, out);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn walk_block(&mut self, ctx: &mut Ctx, block: &Block) -> Result<(), FrontError> {
+        for (stmt, span) in block.span_iter() {
+            let index = self.stmt_index;
+            self.stmt_index += 1;
+            if self.stopped {
+                self.skip(stmt);
+                continue;
+            }
+            let live = (ctx.is_top && !matches!(stmt, Statement::Emit(_)))
+                .then(|| self.opts.live.is_none_or(|l| l.stmts.contains(&index)));
+            if live == Some(false) {
+                self.skip(stmt);
+                continue;
+            }
+            self.walk_stmt(ctx, stmt, *span)?;
+        }
+        Ok(())
+    }
+
+    /// Advance the statement counter over a statement that is not copied.
+    fn skip(&mut self, stmt: &Statement) {
+        let count = |b: &Block, s: &mut Self| {
+            for st in b.iter() {
+                s.stmt_index += 1;
+                s.skip(st);
+            }
+        };
+        match stmt {
+            Statement::Block(b) => count(b, self),
+            Statement::If { accept, reject, .. } => {
+                count(accept, self);
+                count(reject, self);
+            }
+            Statement::Switch { cases, .. } => {
+                for c in cases {
+                    count(&c.body, self);
+                }
+            }
+            Statement::Loop { body, continuing, .. } => {
+                count(body, self);
+                count(continuing, self);
+            }
+            _ => {}
+        }
+    }
+
+    fn nested(&mut self, ctx: &mut Ctx, block: &Block) -> Result<Block, FrontError> {
+        self.enter();
+        self.walk_block(ctx, block)?;
+        Ok(self.exit())
+    }
+
+    fn walk_stmt(&mut self, ctx: &mut Ctx, stmt: &Statement, span: Span) -> Result<(), FrontError> {
+        match stmt {
+            Statement::Emit(range) => {
+                for h in range.clone() {
+                    if ctx.is_top && !self.is_live_expr(h) {
+                        continue;
+                    }
+                    let m = self.translate(ctx, h)?;
+                    if let Some(stop) = &self.opts.stop_after {
+                        if ctx.is_top && stop.target == h {
+                            let stop = stop.clone();
+                            self.payload_return(&stop, m, span);
+                            self.stopped = true;
+                            return Ok(());
+                        }
+                    }
+                }
+            }
+            Statement::Block(b) => {
+                let nb = self.nested(ctx, b)?;
+                self.push_stmt(Statement::Block(nb), span);
+            }
+            Statement::If {
+                condition,
+                accept,
+                reject,
+            } => {
+                let c = self.translate(ctx, *condition)?;
+                let mark = self.stored_log.len();
+                let before = self.env.clone();
+                let a = self.nested(ctx, accept)?;
+                self.env = before.clone();
+                let r = self.nested(ctx, reject)?;
+                self.env = before;
+                self.kill_since(mark);
+                self.push_stmt(
+                    Statement::If {
+                        condition: c,
+                        accept: a,
+                        reject: r,
+                    },
+                    span,
+                );
+            }
+            Statement::Switch { selector, cases } => {
+                let s = self.translate(ctx, *selector)?;
+                let mark = self.stored_log.len();
+                let before = self.env.clone();
+                let mut new_cases = Vec::with_capacity(cases.len());
+                for case in cases {
+                    self.env = before.clone();
+                    new_cases.push(naga::SwitchCase {
+                        value: case.value,
+                        body: self.nested(ctx, &case.body)?,
+                        fall_through: case.fall_through,
+                    });
+                }
+                self.env = before;
+                self.kill_since(mark);
+                self.push_stmt(
+                    Statement::Switch {
+                        selector: s,
+                        cases: new_cases,
+                    },
+                    span,
+                );
+            }
+            Statement::Loop {
+                body,
+                continuing,
+                break_if,
+            } => {
+                let mut carried = HashSet::new();
+                self.stored_in(ctx, body, &mut carried);
+                self.stored_in(ctx, continuing, &mut carried);
+                for v in &carried {
+                    self.env.remove(v);
+                }
+                let mark = self.stored_log.len();
+                let before = self.env.clone();
+                let b = self.nested(ctx, body)?;
+                self.enter();
+                self.walk_block(ctx, continuing)?;
+                let bi = match break_if {
+                    Some(h) => Some(self.translate(ctx, *h)?),
+                    None => None,
+                };
+                let c = self.exit();
+                self.env = before;
+                self.kill_since(mark);
+                self.push_stmt(
+                    Statement::Loop {
+                        body: b,
+                        continuing: c,
+                        break_if: bi,
+                    },
+                    span,
+                );
+            }
+            Statement::Break | Statement::Continue | Statement::Kill => self.push_stmt(stmt.clone(), span),
+            Statement::Return { value } => {
+                if ctx.is_top {
+                    let v = match (value, &self.opts.stop_after) {
+                        // A return before the cached node in the recompute pass: its value is not
+                        // the payload; return zero.
+                        (_, Some(stop)) => Some(self.append(Expression::ZeroValue(stop.vec4), span)),
+                        (Some(v), None) => Some(self.translate(ctx, *v)?),
+                        (None, None) => None,
+                    };
+                    if self.depth == 0 {
+                        self.root = v;
+                    }
+                    self.push_stmt(Statement::Return { value: v }, span);
+                } else {
+                    ctx.ret = match value {
+                        Some(v) => Some(self.translate(ctx, *v)?),
+                        None => None,
+                    };
+                }
+            }
+            Statement::Store { pointer, value } => {
+                let p = self.translate(ctx, *pointer)?;
+                let v = self.translate(ctx, *value)?;
+                self.store(p, v, span);
+            }
+            Statement::ImageStore {
+                image,
+                coordinate,
+                array_index,
+                value,
+            } => {
+                let image = self.translate(ctx, *image)?;
+                let coordinate = self.translate(ctx, *coordinate)?;
+                let array_index = match array_index {
+                    Some(a) => Some(self.translate(ctx, *a)?),
+                    None => None,
+                };
+                let value = self.translate(ctx, *value)?;
+                self.push_stmt(
+                    Statement::ImageStore {
+                        image,
+                        coordinate,
+                        array_index,
+                        value,
+                    },
+                    span,
+                );
+            }
+            Statement::Call {
+                function,
+                arguments,
+                result,
+            } => {
+                if !self.normalize() {
+                    return Err(unsupported(ctx.fun, span, "a function call in a normalized function"));
+                }
+                self.inline_call(ctx, *function, arguments, *result, span)?;
+            }
+            other => {
+                let what = format!("the statement {:?}", std::mem::discriminant(other));
+                let name = match other {
+                    Statement::ControlBarrier(_) | Statement::MemoryBarrier(_) => "a barrier",
+                    Statement::Atomic { .. } | Statement::ImageAtomic { .. } => "an atomic operation",
+                    Statement::WorkGroupUniformLoad { .. } => "workgroupUniformLoad",
+                    Statement::RayQuery { .. } | Statement::RayPipelineFunction(_) => "ray queries",
+                    Statement::SubgroupBallot { .. }
+                    | Statement::SubgroupGather { .. }
+                    | Statement::SubgroupCollectiveOperation { .. } => "subgroup operations",
+                    _ => what.as_str(),
+                };
+                return Err(unsupported(ctx.fun, span, format!("{name} in a fragment shader")));
+            }
+        }
+        Ok(())
+    }
+
+    fn kill_since(&mut self, mark: usize) {
+        for v in self.stored_log[mark..].to_vec() {
+            self.env.remove(&v);
+        }
+    }
+
+    fn inline_call(
+        &mut self,
+        ctx: &mut Ctx,
+        function: Handle<Function>,
+        arguments: &[Handle<Expression>],
+        result: Option<Handle<Expression>>,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        let callee = &self.module.functions[function];
+        check_single_return(callee)?;
+        let mut args = Vec::with_capacity(arguments.len());
+        for a in arguments {
+            args.push(self.translate(ctx, *a)?);
+        }
+        let mut cctx = Ctx::new(callee, false, ctx.call_site.or(Some(span)), args);
+        cctx.locals = vec![None; callee.local_variables.len()];
+        for (h, _) in callee.local_variables.iter() {
+            self.local(&mut cctx, h);
+        }
+        // Statement indices only count the top-level function.
+        let saved_index = self.stmt_index;
+        self.init_locals(&mut cctx, callee)?;
+        self.walk_block(&mut cctx, &callee.body)?;
+        self.stmt_index = saved_index;
+        if let Some(r) = result {
+            match cctx.ret {
+                Some(v) => ctx.map[r.index()] = Some(v),
+                None => {
+                    return Err(unsupported(
+                        callee,
+                        span,
+                        format!(
+                            "fn {} returns no value on its last statement",
+                            callee.name.as_deref().unwrap_or("?")
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A helper can be inlined when its only `return` is its last top-level statement.
+fn check_single_return(fun: &Function) -> Result<(), FrontError> {
+    fn find_return(block: &Block) -> Option<Span> {
+        for (s, span) in block.span_iter() {
+            let nested = match s {
+                Statement::Return { .. } => return Some(*span),
+                Statement::Block(b) => find_return(b),
+                Statement::If { accept, reject, .. } => find_return(accept).or_else(|| find_return(reject)),
+                Statement::Switch { cases, .. } => cases.iter().find_map(|c| find_return(&c.body)),
+                Statement::Loop { body, continuing, .. } => find_return(body).or_else(|| find_return(continuing)),
+                _ => None,
+            };
+            if nested.is_some() {
+                return nested;
+            }
+        }
+        None
+    }
+    let n = fun.body.len();
+    let mut stmts = fun.body.span_iter().enumerate();
+    while let Some((i, (s, span))) = stmts.next() {
+        let is_last_return = i + 1 == n && matches!(s, Statement::Return { .. });
+        if is_last_return {
+            break;
+        }
+        let early = match s {
+            Statement::Return { .. } => Some(*span),
+            Statement::Block(b) => find_return(b),
+            Statement::If { accept, reject, .. } => find_return(accept).or_else(|| find_return(reject)),
+            Statement::Switch { cases, .. } => cases.iter().find_map(|c| find_return(&c.body)),
+            Statement::Loop { body, continuing, .. } => find_return(body).or_else(|| find_return(continuing)),
+            _ => None,
+        };
+        if let Some(span) = early {
+            return Err(FrontError::UnsupportedAt {
+                span,
+                what: format!(
+                    "early return in helper fn {} (helpers are inlined; end them with a single return)",
+                    fun.name.as_deref().unwrap_or("?")
+                ),
+            });
+        }
+    }
+    Ok(())
+}
