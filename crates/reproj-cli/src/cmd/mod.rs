@@ -1,0 +1,53 @@
+//! Command implementations and the error policy: user errors exit 2, internal errors exit 1.
+
+use std::process::ExitCode;
+
+pub mod nodes;
+
+/// An error caused by the user's input (bad file, bad flag value, ...): exit code 2.
+#[derive(Debug)]
+pub struct UserError(pub String);
+
+impl std::fmt::Display for UserError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UserError {}
+
+/// Classify a front-end error.
+pub fn front_error(e: reproj_front::FrontError) -> anyhow::Error {
+    match e {
+        reproj_front::FrontError::Internal { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(UserError(e.to_string())),
+    }
+}
+
+/// Print the error (if any) and choose the exit code.
+pub fn finish(result: anyhow::Result<()>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // `reproj nodes x.wgsl | head` closes the pipe early: not an error.
+            if e
+                .downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+            {
+                return ExitCode::SUCCESS;
+            }
+            if let Some(u) = e.downcast_ref::<UserError>() {
+                let msg = u.0.trim_end();
+                if msg.starts_with("error") {
+                    eprintln!("{msg}");
+                } else {
+                    eprintln!("error: {msg}");
+                }
+                ExitCode::from(2)
+            } else {
+                eprintln!("error: {e:#}");
+                ExitCode::from(1)
+            }
+        }
+    }
+}
