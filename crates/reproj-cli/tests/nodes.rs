@@ -1,0 +1,130 @@
+//! `reproj nodes` through the real binary: snapshots of every sample shader and the error paths.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn reproj(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run reproj");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn sample_shaders() -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(root().join("shaders"))
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.unwrap().path();
+            (p.extension()? == "wgsl").then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn json_snapshots_of_every_sample_shader() {
+    let shaders = sample_shaders();
+    assert!(shaders.len() >= 5, "{shaders:?}");
+    for name in shaders {
+        let (code, out, err) = reproj(&["nodes", &format!("shaders/{name}.wgsl"), "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["entry"], "fs_main");
+        assert!(v["nodes"].as_array().unwrap().iter().all(|n| n["cacheable"] == true));
+        insta::assert_snapshot!(format!("nodes_{name}"), out);
+    }
+}
+
+#[test]
+fn table_lists_root() {
+    let (code, out, _) = reproj(&["nodes", "shaders/marble.wgsl"]);
+    assert_eq!(code, 0);
+    assert!(out.lines().next().unwrap().starts_with("marble.wgsl (fs_main): "));
+    assert!(out.contains("[root]"));
+}
+
+#[test]
+fn all_adds_culled_nodes_with_reasons() {
+    let (code, out, _) = reproj(&["nodes", "shaders/ambient_occlusion.wgsl", "--json", "--all"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let nodes = v["nodes"].as_array().unwrap();
+    let in_loop = nodes.iter().filter(|n| n["reason"] == "in-loop").count();
+    assert!(in_loop > 0);
+    for n in nodes {
+        assert_eq!(n["cacheable"].as_bool().unwrap(), n["reason"].is_null());
+    }
+}
+
+#[test]
+fn invalid_wgsl_shows_naga_diagnostic_and_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.wgsl");
+    std::fs::write(&bad, "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0, 2.0);\n}\n").unwrap();
+    let (code, out, err) = reproj(&["nodes", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty());
+    assert!(err.contains("bad.wgsl:3:"), "{err}");
+    assert!(err.contains('^'), "{err}");
+}
+
+#[test]
+fn missing_file_exits_2() {
+    let (code, _, err) = reproj(&["nodes", "no/such/file.wgsl"]);
+    assert_eq!(code, 2);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("no/such/file.wgsl"));
+}
+
+#[test]
+fn entry_point_errors_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let none = dir.path().join("none.wgsl");
+    std::fs::write(&none, "@vertex fn vs() -> @builtin(position) vec4<f32> { return vec4<f32>(0.0); }\n").unwrap();
+    let (code, _, err) = reproj(&["nodes", none.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no @fragment entry point"), "{err}");
+
+    let two = dir.path().join("two.wgsl");
+    std::fs::write(
+        &two,
+        "@fragment fn a() -> @location(0) vec4<f32> { return vec4<f32>(1.0); }\n\
+         @fragment fn b() -> @location(0) vec4<f32> { return vec4<f32>(0.5); }\n",
+    )
+    .unwrap();
+    let (code, _, err) = reproj(&["nodes", two.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("a, b") && err.contains("--entry"), "{err}");
+    let (code, out, _) = reproj(&["nodes", two.to_str().unwrap(), "--entry", "b", "--all"]);
+    assert_eq!(code, 0);
+    assert!(out.starts_with("two.wgsl (b)"));
+    let (code, _, err) = reproj(&["nodes", two.to_str().unwrap(), "--entry", "c"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("`c`"), "{err}");
+}
+
+#[test]
+fn unsupported_construct_exits_2_with_location() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("early.wgsl");
+    std::fs::write(
+        &f,
+        "fn g(x: f32) -> f32 {\n    if x > 0.0 { return 1.0; }\n    return x;\n}\n\
+         @fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> { return vec4<f32>(g(p.x)); }\n",
+    )
+    .unwrap();
+    let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("early.wgsl:2:"), "{err}");
+}

@@ -1,0 +1,245 @@
+//! Selection and Pareto frontier on synthetic fits.
+
+use reproj_models::{
+    ErrorFit, ErrorFitFailure, ErrorFitOptions, ErrorFitStatus, FrameTiming, HitRateFit, TimingFit,
+    fit_error, fit_timing,
+};
+use reproj_select::{
+    NodeRecord, OriginalReason, SelectOptions, Selection, SkipReason, candidates, check_node,
+    pareto, select,
+};
+
+const M: f64 = 500_000.0;
+/// Original shader: 10 ms per frame (0.5 ms overhead + M · 1.9e-5 ms).
+const ORIGINAL_MS: f64 = 10.0;
+
+fn error_fit(alpha: f64, lambda: f64) -> ErrorFit {
+    ErrorFit {
+        alpha: Some(alpha),
+        lambda: Some(lambda),
+        r2: Some(1.0),
+        rms_residual: Some(0.0),
+        n_samples: 7,
+        iterations: 0,
+        status: ErrorFitStatus::Ok,
+    }
+}
+
+fn node(id: u32, alpha: f64, lambda: f64, hit_ms: f64, miss_ms: f64) -> NodeRecord {
+    NodeRecord {
+        id,
+        text: format!("node{id}"),
+        error: error_fit(alpha, lambda),
+        timing: TimingFit::from_costs(hit_ms, miss_ms, 0.5, M),
+        mean_pixels: M,
+    }
+}
+
+/// A: cheap hits, high error (caches most of the shader); B: moderate; C: low error, small gain.
+fn nodes() -> Vec<NodeRecord> {
+    vec![
+        node(1, 0.08, 0.1, 1e-6, 2.0e-5),
+        node(2, 0.02, 0.05, 6e-6, 2.0e-5),
+        node(3, 0.002, 0.05, 1.4e-5, 2.0e-5),
+    ]
+}
+
+fn choice(sel: &Selection) -> &reproj_select::Choice {
+    match sel {
+        Selection::Node(c) => c,
+        Selection::Original { reason } => panic!("expected a node, got original: {reason}"),
+    }
+}
+
+#[test]
+fn tight_budget_keeps_original() {
+    let mu = HitRateFit::from_mu(0.9);
+    let sel = select(&nodes(), &mu, ORIGINAL_MS, &SelectOptions::new(1e-5));
+    match sel {
+        Selection::Original {
+            reason: OriginalReason::OverBudget { lowest_error, .. },
+        } => {
+            assert!(lowest_error > 1e-5);
+        }
+        s => panic!("{s:?}"),
+    }
+}
+
+#[test]
+fn moderate_budget_picks_a_node_within_budget() {
+    let mu = HitRateFit::from_mu(0.9);
+    let opts = SelectOptions::new(0.01);
+    let sel = select(&nodes(), &mu, ORIGINAL_MS, &opts);
+    let c = choice(&sel);
+    assert!(c.predicted_error <= 0.01);
+    assert!(c.predicted_speedup > 1.0);
+    assert!((c.predicted_speedup - ORIGINAL_MS / c.predicted_ms).abs() < 1e-12);
+    assert!(c.predicted_psnr_db.unwrap() > 40.0);
+    // It is the fastest under the budget among all candidates.
+    let best = candidates(&nodes(), &mu, 2, 50)
+        .into_iter()
+        .filter(|p| p.predicted_error <= 0.01)
+        .map(|p| p.predicted_ms)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(c.predicted_ms, best);
+    assert_eq!(c.node_text, format!("node{}", c.node_id));
+    // Node 1 fits only at Δn = 2 (6.2 ms); node 2 fits up to Δn = 14 (4.65 ms); node 3 is slower.
+    assert_eq!((c.node_id, c.delta_n), (2, 14));
+    let json = serde_json::to_string(&sel).unwrap();
+    assert!(json.contains("\"kind\":\"node\""));
+}
+
+#[test]
+fn loose_budget_picks_cheapest() {
+    let mu = HitRateFit::from_mu(0.9);
+    let sel = select(&nodes(), &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+    let c = choice(&sel);
+    // Node 1 has the cheapest hits; the highest hit rate is at the largest Δn.
+    assert_eq!((c.node_id, c.delta_n), (1, 50));
+    assert!(c.predicted_speedup > 2.0);
+}
+
+#[test]
+fn not_faster_keeps_original() {
+    let mu = HitRateFit::from_mu(0.9);
+    // Hits cost more than misses: caching only slows down.
+    let slow = vec![node(1, 0.001, 0.1, 3e-5, 2e-5)];
+    let sel = select(&slow, &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+    assert!(matches!(
+        sel,
+        Selection::Original {
+            reason: OriginalReason::NotFaster { .. }
+        }
+    ));
+}
+
+#[test]
+fn failed_fits_are_skipped() {
+    let mu = HitRateFit::from_mu(0.9);
+    let mut ns = nodes();
+    // Node 1 (the cheapest) fails its error fit; node 2 its timing fit.
+    ns[0].error.status = ErrorFitStatus::Failed {
+        reason: ErrorFitFailure::DidNotConverge { iterations: 10 },
+    };
+    ns[1].timing = fit_timing(&[FrameTiming {
+        hits: 10,
+        misses: 10,
+        time_ms: 1.0,
+    }]);
+    assert!(matches!(
+        check_node(&ns[0]),
+        Err(SkipReason::ErrorFitFailed { .. })
+    ));
+    assert_eq!(check_node(&ns[1]), Err(SkipReason::TimingNotUsable));
+    let c = choice(&select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(1.0))).clone();
+    assert_eq!(c.node_id, 3);
+    // A fit that failed on NaN input has no parameters and is skipped too.
+    ns[2].error = fit_error(&[(2.0, f64::NAN)], &ErrorFitOptions::default());
+    let sel = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+    assert_eq!(
+        sel,
+        Selection::Original {
+            reason: OriginalReason::NoUsableNodes { skipped: 3 }
+        }
+    );
+    assert!(pareto(&ns, &mu, 2, 50).is_empty());
+}
+
+#[test]
+fn ties_are_deterministic() {
+    let mu = HitRateFit::from_mu(0.9);
+    // Identical nodes 7 and 4, and timings independent of Δn (hit = miss cost): all predictions
+    // tie in time, so the lowest Δn and then the lowest id win, whatever the input order.
+    let a = node(7, 0.01, 0.1, 1e-5, 1e-5);
+    let b = node(4, 0.01, 0.1, 1e-5, 1e-5);
+    for ns in [vec![a.clone(), b.clone()], vec![b, a]] {
+        let sel = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+        let c = choice(&sel);
+        assert_eq!((c.node_id, c.delta_n), (4, 2));
+    }
+}
+
+#[test]
+fn zero_error_node_is_lossless() {
+    let mu = HitRateFit::from_mu(0.9);
+    let ns = vec![node(5, 0.0, 0.0, 1e-6, 2e-5)];
+    let sel = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(0.0));
+    let c = choice(&sel);
+    assert_eq!(c.delta_n, 50);
+    assert_eq!(c.predicted_error, 0.0);
+    assert_eq!(c.predicted_psnr_db, None);
+}
+
+#[test]
+fn invalid_inputs_keep_original() {
+    let mu = HitRateFit::from_mu(0.9);
+    let ns = nodes();
+    let reason = |s: Selection| match s {
+        Selection::Original { reason } => reason,
+        s => panic!("{s:?}"),
+    };
+    assert_eq!(
+        reason(select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(f64::NAN))),
+        OriginalReason::InvalidBudget { max_error: None }
+    );
+    let opts = SelectOptions {
+        min_delta_n: 10,
+        max_delta_n: 5,
+        ..SelectOptions::new(0.1)
+    };
+    assert!(matches!(
+        reason(select(&ns, &mu, ORIGINAL_MS, &opts)),
+        OriginalReason::InvalidDeltaNRange { .. }
+    ));
+    assert_eq!(
+        reason(select(&ns, &mu, f64::NAN, &SelectOptions::new(0.1))),
+        OriginalReason::InvalidOriginalTime
+    );
+    let failed_mu = reproj_models::fit_hit_rate(&[]);
+    assert_eq!(
+        reason(select(
+            &ns,
+            &failed_mu,
+            ORIGINAL_MS,
+            &SelectOptions::new(0.1)
+        )),
+        OriginalReason::HitRateUnavailable
+    );
+    assert_eq!(
+        reason(select(&[], &mu, ORIGINAL_MS, &SelectOptions::new(0.1))),
+        OriginalReason::NoUsableNodes { skipped: 0 }
+    );
+    // Every reason serializes (no NaN in JSON).
+    let s = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(f64::INFINITY));
+    let json = serde_json::to_string(&s).unwrap();
+    assert_eq!(serde_json::from_str::<Selection>(&json).unwrap(), s);
+}
+
+#[test]
+fn pareto_frontier_is_monotone_and_undominated() {
+    let mu = HitRateFit::from_mu(0.9);
+    let ns = nodes();
+    let front = pareto(&ns, &mu, 2, 50);
+    assert!(!front.is_empty());
+    for w in front.windows(2) {
+        assert!(w[0].predicted_ms < w[1].predicted_ms);
+        assert!(w[0].predicted_error > w[1].predicted_error);
+    }
+    let all = candidates(&ns, &mu, 2, 50);
+    assert_eq!(all.len(), 3 * 49);
+    for p in &front {
+        assert!(!all.iter().any(|q| q.predicted_ms <= p.predicted_ms
+            && q.predicted_error <= p.predicted_error
+            && (q.predicted_ms < p.predicted_ms || q.predicted_error < p.predicted_error)));
+    }
+    // Selection under any budget lands on the frontier.
+    for budget in [0.001, 0.005, 0.01, 0.03, 0.1] {
+        if let Selection::Node(c) = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(budget)) {
+            assert!(
+                front
+                    .iter()
+                    .any(|p| p.node_id == c.node_id && p.delta_n == c.delta_n)
+            );
+        }
+    }
+}
