@@ -1,8 +1,627 @@
 //! The reproj instancer.
 //!
 //! Turns a shader and one cacheable node into a *variant*: three fragment modules (reproject,
-//! recompute, shade) and a manifest that tells a host how to run them. See `docs/PASSES.md`.
+//! recompute, shade) and a manifest that tells a host how to run them (see `docs/PASSES.md`).
+//! Pass 1 is a fixed module generated from a template; passes 2 and 3 are the normalized shader
+//! rebuilt in order — sliced after the node, or with the node read from the cache — then stripped of
+//! dead code, validated, compacted, validated again and written as WGSL that survives a round trip.
+
+use std::path::{Path, PathBuf};
+
+use naga::{Handle, Module};
+use reproj_front::rebuild::{CacheRead, Mode, RebuildOptions, StopAfter, rebuild};
+use reproj_front::{Node, NodeTable, Normalized, Shader, liveness::liveness, validator};
 
 pub mod manifest;
 
 pub use manifest::*;
+
+/// The pass-1 template; `REPROJ_GROUP` and `REPROJ_PREV_CLIP` are substituted.
+const REPROJECT_TEMPLATE: &str = include_str!("reproject.wgsl");
+
+/// Highest bind group index a variant may use (WebGPU's default `maxBindGroups` is 4).
+pub const MAX_BIND_GROUPS: u32 = 4;
+
+/// Which node to cache.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeSelector {
+    Id(u32),
+    Root,
+}
+
+impl std::str::FromStr for NodeSelector {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "root" {
+            Ok(NodeSelector::Root)
+        } else {
+            s.parse()
+                .map(NodeSelector::Id)
+                .map_err(|_| format!("`{s}` is not a node id (a number from `reproj nodes`) or `root`"))
+        }
+    }
+}
+
+/// Options of [`instance`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InstanceOptions {
+    pub cache_format: CacheFormat,
+    /// Default refresh period written to the manifest (the modules take it at run time).
+    pub delta_n: u32,
+    /// Refresh block size k (1, or even so blocks align with 2×2 quads).
+    pub block: u32,
+    /// Relative depth tolerance of the hit test.
+    pub depth_epsilon: f32,
+}
+
+impl Default for InstanceOptions {
+    fn default() -> Self {
+        InstanceOptions {
+            cache_format: CacheFormat::Rgba32float,
+            delta_n: 8,
+            block: 4,
+            depth_epsilon: 0.01,
+        }
+    }
+}
+
+/// One generated pass.
+#[derive(Debug, Clone)]
+pub struct PassModule {
+    pub kind: PassKind,
+    pub module: Module,
+    pub info: naga::valid::ModuleInfo,
+    /// WGSL text: a fixed point of parse → validate → write.
+    pub wgsl: String,
+}
+
+/// A cached variant: three passes and the manifest.
+#[derive(Debug, Clone)]
+pub struct Variant {
+    pub manifest: Manifest,
+    pub passes: Vec<PassModule>,
+}
+
+/// What can go wrong while instancing.
+#[derive(Debug, thiserror::Error)]
+pub enum InstanceError {
+    #[error("no node {id}: {shader} has node ids {min}..={max} (see `reproj nodes {shader} --all`)")]
+    UnknownNode { id: u32, shader: String, min: u32, max: u32 },
+    #[error("node {id} (`{text}`, line {line}) cannot be cached: it is culled as {reason}")]
+    Culled {
+        id: u32,
+        text: String,
+        line: u32,
+        reason: reproj_front::CullReason,
+    },
+    #[error("the shader already uses every bind group slot (groups {used:?}); the variant needs a free group below {MAX_BIND_GROUPS}")]
+    NoFreeGroup { used: Vec<u32> },
+    #[error("the block size k must be 1 or even (to align with 2×2 quads), got {0}")]
+    BadBlock(u32),
+    #[error("the refresh period must be at least 1")]
+    BadDeltaN,
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Front(#[from] reproj_front::FrontError),
+    /// A bug in reproj: a generated module did not validate or round-trip.
+    #[error("internal error in the {pass:?} pass: {what}")]
+    Internal { pass: PassKind, what: String },
+}
+
+/// Build the variant of `shader` that caches `node`.
+pub fn instance(
+    shader: &Shader,
+    norm: &Normalized,
+    table: &NodeTable,
+    node: NodeSelector,
+    opts: &InstanceOptions,
+) -> Result<Variant, InstanceError> {
+    if opts.block != 1 && opts.block % 2 != 0 || opts.block == 0 {
+        return Err(InstanceError::BadBlock(opts.block));
+    }
+    if opts.delta_n == 0 {
+        return Err(InstanceError::BadDeltaN);
+    }
+    let node = pick(table, node)?;
+    let target = node.handle.expect("nodes from enumerate carry their handle");
+    let group = free_group(&shader.module)?;
+    let prev_clip_location = prev_clip_location(&norm.module);
+    let components = node.components;
+
+    let reproject = reproject_pass(group, prev_clip_location)?;
+    let recompute = recompute_pass(norm, target, components)?;
+    let shade = shade_pass(norm, target, components, group)?;
+
+    let manifest = build_manifest(
+        shader,
+        norm,
+        node,
+        opts,
+        group,
+        prev_clip_location,
+        [&reproject, &recompute, &shade],
+    );
+    Ok(Variant {
+        manifest,
+        passes: vec![reproject, recompute, shade],
+    })
+}
+
+fn pick(table: &NodeTable, sel: NodeSelector) -> Result<&Node, InstanceError> {
+    let node = match sel {
+        NodeSelector::Root => table.root(),
+        NodeSelector::Id(id) => table.get(id).ok_or_else(|| InstanceError::UnknownNode {
+            id,
+            shader: table.shader.clone(),
+            min: table.nodes.first().map_or(0, |n| n.id),
+            max: table.nodes.last().map_or(0, |n| n.id),
+        })?,
+    };
+    match node.reason {
+        Some(reason) => Err(InstanceError::Culled {
+            id: node.id,
+            text: node.text.clone(),
+            line: node.line,
+            reason,
+        }),
+        None => Ok(node),
+    }
+}
+
+/// The lowest bind group index the shader does not use.
+pub fn free_group(module: &Module) -> Result<u32, InstanceError> {
+    let mut used: Vec<u32> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| g.binding.as_ref().map(|b| b.group))
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    (0..MAX_BIND_GROUPS)
+        .find(|g| !used.contains(g))
+        .ok_or(InstanceError::NoFreeGroup { used })
+}
+
+/// One past the highest `@location` the entry point reads.
+fn prev_clip_location(module: &Module) -> u32 {
+    let fun = &module.entry_points[0].function;
+    let mut max: Option<u32> = None;
+    let mut see = |b: &Option<naga::Binding>| {
+        if let Some(naga::Binding::Location { location, .. }) = b {
+            max = Some(max.map_or(*location, |m: u32| m.max(*location)));
+        }
+    };
+    for arg in &fun.arguments {
+        see(&arg.binding);
+        if let naga::TypeInner::Struct { members, .. } = &module.types[arg.ty].inner {
+            for m in members {
+                see(&m.binding);
+            }
+        }
+    }
+    max.map_or(0, |m| m + 1)
+}
+
+fn reproject_pass(group: u32, location: u32) -> Result<PassModule, InstanceError> {
+    let text = REPROJECT_TEMPLATE
+        .replace("REPROJ_GROUP", &group.to_string())
+        .replace("REPROJ_PREV_CLIP", &location.to_string());
+    let module = naga::front::wgsl::parse_str(&text).map_err(|e| InstanceError::Internal {
+        pass: PassKind::Reproject,
+        what: e.emit_to_string(&text),
+    })?;
+    finish(PassKind::Reproject, module)
+}
+
+/// The normalized entry point rebuilt under `opts`, then with dead code removed.
+fn rebuild_entry(norm: &Normalized, module: &Module, opts: &RebuildOptions, pass: PassKind) -> Result<naga::Function, InstanceError> {
+    let internal = |e: reproj_front::FrontError| InstanceError::Internal {
+        pass,
+        what: e.to_string(),
+    };
+    let fun = norm.function();
+    let first = rebuild(module, fun, opts).map_err(internal)?;
+    let live = liveness(&first.function);
+    let second = rebuild(
+        module,
+        &first.function,
+        &RebuildOptions {
+            mode: Some(Mode::Copy),
+            live: Some(&live),
+            ..Default::default()
+        },
+    )
+    .map_err(internal)?;
+    Ok(second.function)
+}
+
+fn vec_type(module: &mut Module, size: naga::VectorSize, scalar: naga::Scalar) -> Handle<naga::Type> {
+    module.types.insert(
+        naga::Type {
+            name: None,
+            inner: naga::TypeInner::Vector { size, scalar },
+        },
+        naga::Span::UNDEFINED,
+    )
+}
+
+fn recompute_pass(norm: &Normalized, target: Handle<naga::Expression>, components: u32) -> Result<PassModule, InstanceError> {
+    let mut module = norm.module.clone();
+    let vec4 = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
+    let fun = rebuild_entry(
+        norm,
+        &module,
+        &RebuildOptions {
+            mode: Some(Mode::Copy),
+            stop_after: Some(StopAfter {
+                target,
+                components,
+                vec4,
+            }),
+            ..Default::default()
+        },
+        PassKind::Recompute,
+    )?;
+    module.entry_points[0].function = fun;
+    finish(PassKind::Recompute, module)
+}
+
+fn shade_pass(
+    norm: &Normalized,
+    target: Handle<naga::Expression>,
+    components: u32,
+    group: u32,
+) -> Result<PassModule, InstanceError> {
+    let mut module = norm.module.clone();
+    let vec4f = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
+    let vec2i = vec_type(&mut module, naga::VectorSize::Bi, naga::Scalar::I32);
+    let image_ty = module.types.insert(
+        naga::Type {
+            name: None,
+            inner: naga::TypeInner::Image {
+                dim: naga::ImageDimension::D2,
+                arrayed: false,
+                class: naga::ImageClass::Sampled {
+                    kind: naga::ScalarKind::Float,
+                    multi: false,
+                },
+            },
+        },
+        naga::Span::UNDEFINED,
+    );
+    let image = module.global_variables.append(
+        naga::GlobalVariable {
+            name: Some("reproj_cur_payload".into()),
+            space: naga::AddressSpace::Handle,
+            binding: Some(naga::ResourceBinding { group, binding: 3 }),
+            ty: image_ty,
+            init: None,
+            memory_decorations: Default::default(),
+        },
+        naga::Span::UNDEFINED,
+    );
+    let position = find_or_add_position(&mut module, vec4f);
+    let fun = rebuild_entry(
+        norm,
+        &module,
+        &RebuildOptions {
+            mode: Some(Mode::Copy),
+            cache_read: Some(CacheRead {
+                target,
+                image,
+                position,
+                components,
+                vec2i,
+            }),
+            ..Default::default()
+        },
+        PassKind::Shade,
+    )?;
+    let arguments = module.entry_points[0].function.arguments.clone();
+    module.entry_points[0].function = naga::Function { arguments, ..fun };
+    finish(PassKind::Shade, module)
+}
+
+/// The entry point's `@builtin(position)`, added as a new argument when the shader has none.
+fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32, Option<u32>) {
+    let is_pos = |b: &Option<naga::Binding>| matches!(b, Some(naga::Binding::BuiltIn(naga::BuiltIn::Position { .. })));
+    let fun = &module.entry_points[0].function;
+    for (i, arg) in fun.arguments.iter().enumerate() {
+        if is_pos(&arg.binding) {
+            return (i as u32, None);
+        }
+        if let naga::TypeInner::Struct { members, .. } = &module.types[arg.ty].inner {
+            if let Some(m) = members.iter().position(|m| is_pos(&m.binding)) {
+                return (i as u32, Some(m as u32));
+            }
+        }
+    }
+    let fun = &mut module.entry_points[0].function;
+    fun.arguments.push(naga::FunctionArgument {
+        name: Some("reproj_frag_coord".into()),
+        ty: vec4f,
+        binding: Some(naga::Binding::BuiltIn(naga::BuiltIn::Position { invariant: false })),
+    });
+    (fun.arguments.len() as u32 - 1, None)
+}
+
+/// Write WGSL. Names naga's writer invented on an earlier trip (`_e12`, `_e12_1`, ...) are dropped
+/// first, so that the writer invents them again the same way and the text reaches a fixed point.
+pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
+    fn generated(name: &str) -> bool {
+        name.strip_prefix("_e")
+            .is_some_and(|rest| !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_'))
+    }
+    let mut module = module.clone();
+    let strip = |f: &mut naga::Function| f.named_expressions.retain(|_, name| !generated(name));
+    for (_, f) in module.functions.iter_mut() {
+        strip(f);
+    }
+    for ep in &mut module.entry_points {
+        strip(&mut ep.function);
+    }
+    naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty()).map_err(|e| e.to_string())
+}
+
+/// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
+fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceError> {
+    let internal = |what: String| InstanceError::Internal { pass, what };
+    validator()
+        .validate(&module)
+        .map_err(|e| internal(format!("does not validate before compaction: {}", e.as_inner())))?;
+    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+    let info = validator()
+        .validate(&module)
+        .map_err(|e| internal(format!("does not validate after compaction: {}", e.as_inner())))?;
+    let mut text = write_wgsl(&module, &info).map_err(&internal)?;
+    // The text may change once (names, literal spellings) and must then stop changing.
+    for round in 0..2 {
+        let reparsed = naga::front::wgsl::parse_str(&text)
+            .map_err(|e| internal(format!("written WGSL does not parse: {}", e.emit_to_string(&text))))?;
+        let reinfo = validator()
+            .validate(&reparsed)
+            .map_err(|e| internal(format!("written WGSL does not validate: {}", e.emit_to_string(&text))))?;
+        let again = write_wgsl(&reparsed, &reinfo).map_err(&internal)?;
+        if again == text {
+            return Ok(PassModule {
+                kind: pass,
+                module: reparsed,
+                info: reinfo,
+                wgsl: text,
+            });
+        }
+        if round == 1 {
+            return Err(internal("the WGSL round trip does not reach a fixed point".into()));
+        }
+        text = again;
+    }
+    unreachable!()
+}
+
+/// File name of a pass's WGSL beside the manifest.
+pub fn pass_file(kind: PassKind) -> &'static str {
+    match kind {
+        PassKind::Reproject => "pass1_reproject.wgsl",
+        PassKind::Recompute => "pass2_recompute.wgsl",
+        PassKind::Shade => "pass3_shade.wgsl",
+    }
+}
+
+fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
+    use naga::TypeInner as T;
+    let t = &module.types[ty];
+    if let Some(name) = &t.name {
+        return name.clone();
+    }
+    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, 4) => "f32",
+        (naga::ScalarKind::Float, 2) => "f16",
+        (naga::ScalarKind::Sint, _) => "i32",
+        (naga::ScalarKind::Uint, _) => "u32",
+        (naga::ScalarKind::Bool, _) => "bool",
+        _ => "?",
+    };
+    match &t.inner {
+        T::Scalar(s) => scalar(s).into(),
+        T::Vector { size, scalar: s } => format!("vec{}<{}>", *size as u8, scalar(s)),
+        T::Matrix { columns, rows, scalar: s } => format!("mat{}x{}<{}>", *columns as u8, *rows as u8, scalar(s)),
+        T::Sampler { comparison } => if *comparison { "sampler_comparison" } else { "sampler" }.into(),
+        T::Image { dim, arrayed, class } => {
+            let d = match dim {
+                naga::ImageDimension::D1 => "1d",
+                naga::ImageDimension::D2 => "2d",
+                naga::ImageDimension::D3 => "3d",
+                naga::ImageDimension::Cube => "cube",
+            };
+            let a = if *arrayed { "_array" } else { "" };
+            match class {
+                naga::ImageClass::Sampled { kind, multi } => {
+                    let k = scalar(&naga::Scalar { kind: *kind, width: 4 });
+                    let m = if *multi { "multisampled_" } else { "" };
+                    format!("texture_{m}{d}{a}<{k}>")
+                }
+                naga::ImageClass::Depth { multi } => {
+                    format!("texture_depth_{}{d}{a}", if *multi { "multisampled_" } else { "" })
+                }
+                naga::ImageClass::Storage { format, access } => format!("texture_storage_{d}{a}<{format:?}, {access:?}>"),
+                naga::ImageClass::External => "texture_external".into(),
+            }
+        }
+        T::Array { base, size, .. } => match size {
+            naga::ArraySize::Constant(n) => format!("array<{}, {n}>", type_name(module, *base)),
+            _ => format!("array<{}>", type_name(module, *base)),
+        },
+        other => format!("{other:?}"),
+    }
+}
+
+fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Binding> {
+    let mut out: Vec<Binding> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            let name = g.name.clone().unwrap_or_default();
+            let space = match g.space {
+                naga::AddressSpace::Uniform => "uniform ",
+                naga::AddressSpace::Storage { .. } => "storage ",
+                _ => "",
+            };
+            let added = b.group == group;
+            let contents = if !added {
+                "the shader's own resource, as for the original shader".to_string()
+            } else {
+                match name.as_str() {
+                    "reproj_params" => "uniform ReprojParams { delta_n: u32, clock: u32, block: u32, depth_epsilon: f32 } (16 bytes); \
+                         update every frame (clock = frame index; delta_n = 1 on the first frame)"
+                        .to_string(),
+                    "reproj_prev_payload" => format!(
+                        "the previous frame's payload cache ({}), written by passes 1-2 of the previous frame",
+                        format_name(cache_format)
+                    ),
+                    "reproj_prev_depth" => "the previous frame's depth texture (depth32float), as passes 1-3 left it".to_string(),
+                    "reproj_cur_payload" => "this frame's payload cache, written by passes 1 and 2 just before".to_string(),
+                    _ => String::new(),
+                }
+            };
+            Some(Binding {
+                group: b.group,
+                binding: b.binding,
+                name,
+                ty: format!("{space}{}", type_name(module, g.ty)),
+                added,
+                contents,
+            })
+        })
+        .collect();
+    out.sort_by_key(|b| (b.group, b.binding));
+    out
+}
+
+fn format_name(f: CacheFormat) -> &'static str {
+    match f {
+        CacheFormat::Rgba32float => "rgba32float",
+        CacheFormat::Rgba16float => "rgba16float",
+    }
+}
+
+fn build_manifest(
+    shader: &Shader,
+    norm: &Normalized,
+    node: &Node,
+    opts: &InstanceOptions,
+    group: u32,
+    prev_clip_location: u32,
+    passes: [&PassModule; 3],
+) -> Manifest {
+    let payload_target = |load: &str| ColorTarget {
+        target: "current cache payload".into(),
+        format: format_name(opts.cache_format).into(),
+        load: load.into(),
+        store: "store".into(),
+    };
+    let depth = |compare: &str, write: bool, load: &str| DepthState {
+        format: "depth32float".into(),
+        compare: compare.into(),
+        write,
+        load: load.into(),
+        store: "store".into(),
+    };
+    let pass = |p: &PassModule, color: ColorTarget, depth: DepthState| Pass {
+        kind: p.kind,
+        file: pass_file(p.kind).into(),
+        entry: p.module.entry_points.iter().find(|e| e.name != "reproj_classify").map_or_else(String::new, |e| e.name.clone()),
+        bindings: bindings(&p.module, group, opts.cache_format),
+        color,
+        depth,
+    };
+    Manifest {
+        schema: "reproj.manifest".into(),
+        version: MANIFEST_VERSION,
+        shader: shader
+            .path
+            .file_name()
+            .map_or_else(|| shader.path.display().to_string(), |f| f.to_string_lossy().into_owned()),
+        entry: norm.entry.clone(),
+        node: NodeInfo {
+            id: if node.root { "root".into() } else { node.id.to_string() },
+            text: node.text.clone(),
+            line: node.line,
+            col: node.col,
+            ty: node.ty.clone(),
+            components: node.components,
+        },
+        cache_format: opts.cache_format,
+        prev_clip_location,
+        group,
+        params: Params {
+            delta_n: opts.delta_n,
+            block: opts.block,
+            depth_epsilon: opts.depth_epsilon,
+            size: 16,
+        },
+        passes: vec![
+            pass(passes[0], payload_target("clear"), depth("less", true, "clear 1.0")),
+            pass(passes[1], payload_target("load"), depth("less", true, "load")),
+            pass(
+                passes[2],
+                ColorTarget {
+                    target: "frame color".into(),
+                    format: "same as the original shader's target".into(),
+                    load: "clear".into(),
+                    store: "store".into(),
+                },
+                depth("equal", false, "load"),
+            ),
+        ],
+        notes: vec![
+            "All three passes draw the same geometry with the same vertex stage, whose clip position is @invariant.".into(),
+            format!(
+                "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position."
+            ),
+            "After each frame, swap the current and previous payload and depth textures.".into(),
+            "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
+            "Pass 1 also has the debug entry point reproj_classify (rgba8unorm target, no discard): green hit, red miss, blue refresh.".into(),
+        ],
+    }
+}
+
+/// Write the variant's WGSL files and `manifest.json` into `dir`. Each file is written to a
+/// temporary file first and renamed into place, so a failure leaves no half-written file.
+pub fn write_variant(variant: &Variant, dir: &Path) -> Result<(), InstanceError> {
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| InstanceError::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut files: Vec<(PathBuf, Vec<u8>)> = variant
+        .passes
+        .iter()
+        .map(|p| (dir.join(pass_file(p.kind)), p.wgsl.clone().into_bytes()))
+        .collect();
+    let mut manifest = serde_json::to_vec_pretty(&variant.manifest).expect("manifest serializes");
+    manifest.push(b'\n');
+    files.push((dir.join("manifest.json"), manifest));
+    // Write every temporary file before renaming any, so an error leaves the directory as it was.
+    let mut temps = Vec::new();
+    for (path, bytes) in &files {
+        let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+        if let Err(e) = std::fs::write(&tmp, bytes) {
+            for t in &temps {
+                let _ = std::fs::remove_file(t);
+            }
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io(path)(e));
+        }
+        temps.push(tmp);
+    }
+    for ((path, _), tmp) in files.iter().zip(&temps) {
+        std::fs::rename(tmp, path).map_err(io(path))?;
+    }
+    Ok(())
+}

@@ -2,6 +2,7 @@
 
 use std::process::ExitCode;
 
+pub mod instance;
 pub mod nodes;
 
 /// An error caused by the user's input (bad file, bad flag value, ...): exit code 2.
@@ -20,6 +21,15 @@ impl std::error::Error for UserError {}
 pub fn front_error(e: reproj_front::FrontError) -> anyhow::Error {
     match e {
         reproj_front::FrontError::Internal { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(UserError(e.to_string())),
+    }
+}
+
+/// Classify an instancer error: internal errors are bugs, the rest are the user's input.
+pub fn instance_error(e: reproj_instance::InstanceError) -> anyhow::Error {
+    match e {
+        reproj_instance::InstanceError::Internal { .. } => anyhow::Error::new(e),
+        reproj_instance::InstanceError::Front(f) => front_error(f),
         e => anyhow::Error::new(UserError(e.to_string())),
     }
 }

@@ -1,0 +1,46 @@
+//! `reproj instance`: write the variant that caches one node.
+
+use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
+use reproj_instance::{CacheFormat, InstanceOptions, NodeSelector, instance, write_variant};
+
+use super::{UserError, front_error, instance_error};
+use crate::{CacheFormatArg, InstanceArgs};
+
+pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
+    let selector: NodeSelector = args.node.parse().map_err(UserError)?;
+    let shader = load_file(&args.shader).map_err(front_error)?;
+    let norm = normalize(
+        &shader,
+        &NormalizeOptions {
+            entry: args.entry.clone(),
+        },
+    )
+    .map_err(front_error)?;
+    let table = enumerate(&shader, &norm);
+    let opts = InstanceOptions {
+        cache_format: match args.cache_format {
+            CacheFormatArg::Rgba32float => CacheFormat::Rgba32float,
+            CacheFormatArg::Rgba16float => CacheFormat::Rgba16float,
+        },
+        delta_n: args.delta_n,
+        block: args.block,
+        depth_epsilon: args.depth_epsilon,
+    };
+    let variant = instance(&shader, &norm, &table, selector, &opts).map_err(instance_error)?;
+    write_variant(&variant, &args.out).map_err(instance_error)?;
+    let m = &variant.manifest;
+    println!(
+        "node {} `{}` ({}, line {}:{}) -> {}",
+        m.node.id,
+        m.node.text,
+        m.node.ty,
+        m.node.line,
+        m.node.col,
+        args.out.display()
+    );
+    for p in &m.passes {
+        println!("  {:<10} {}", format!("{:?}", p.kind).to_lowercase(), p.file);
+    }
+    println!("  manifest   manifest.json (bind group {}, prev clip @location({}))", m.group, m.prev_clip_location);
+    Ok(())
+}
