@@ -1,0 +1,203 @@
+//! Instancer invariants over every sample shader, snapshots of chosen variants, and bad input.
+
+use std::path::{Path, PathBuf};
+
+use reproj_front::{NodeTable, Normalized, Shader, enumerate, load_file, normalize};
+use reproj_instance::{InstanceError, InstanceOptions, NodeSelector, PassKind, Variant, instance, write_variant};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn load(name: &str) -> (Shader, Normalized, NodeTable) {
+    let shader = load_file(&root().join("shaders").join(name)).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    (shader, norm, table)
+}
+
+fn samples() -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(root().join("shaders"))
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.unwrap().path();
+            (p.extension()? == "wgsl").then(|| p.file_name().unwrap().to_string_lossy().into_owned())
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn check_round_trip(v: &Variant) {
+    for p in &v.passes {
+        let m = naga::front::wgsl::parse_str(&p.wgsl).unwrap();
+        let info = reproj_front::validator().validate(&m).unwrap();
+        let again = reproj_instance::write_wgsl(&m, &info).unwrap();
+        assert_eq!(again, p.wgsl, "{:?} pass is not a round-trip fixed point", p.kind);
+    }
+}
+
+/// Every cacheable node of every sample: each pass validates (inside `instance`, before and after
+/// compaction) and its WGSL is a fixed point of parse → validate → write.
+#[test]
+fn every_cacheable_node_of_every_sample_instances() {
+    let opts = InstanceOptions::default();
+    let mut count = 0;
+    for name in samples() {
+        let (shader, norm, table) = load(&name);
+        let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
+        assert!(!ids.is_empty());
+        for id in ids {
+            let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
+                .unwrap_or_else(|e| panic!("{name} node {id}: {e}"));
+            assert_eq!(v.passes.len(), 3);
+            check_round_trip(&v);
+            count += 1;
+        }
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        check_round_trip(&v);
+    }
+    assert!(count > 100);
+}
+
+#[test]
+fn output_is_deterministic() {
+    for name in samples() {
+        let (shader, norm, table) = load(&name);
+        let id = table.cacheable().nth(table.cacheable().count() / 2).unwrap().id;
+        let a = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+        let (shader, norm, table) = load(&name);
+        let b = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+        for (x, y) in a.passes.iter().zip(&b.passes) {
+            assert_eq!(x.wgsl, y.wgsl);
+        }
+        assert_eq!(a.manifest, b.manifest);
+    }
+}
+
+fn node_by_text(table: &NodeTable, text: &str) -> u32 {
+    table
+        .cacheable()
+        .find(|n| n.text == text)
+        .unwrap_or_else(|| panic!("no cacheable node `{text}`"))
+        .id
+}
+
+fn pass(v: &Variant, kind: PassKind) -> &str {
+    &v.passes.iter().find(|p| p.kind == kind).unwrap().wgsl
+}
+
+#[test]
+fn shade_pass_drops_the_cached_noise_and_keeps_the_overlap() {
+    let (shader, norm, table) = load("marble.wgsl");
+    // The whole turbulence sum: no noise left in pass 3, but `p` (also used by the vein stripes) is.
+    let id = node_by_text(&table, "s3 + n4");
+    let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+    let shade = pass(&v, PassKind::Shade);
+    assert!(shade.contains("textureLoad(reproj_cur_payload"));
+    assert!(!shade.contains("bitcast"), "hash of the noise still in pass 3:\n{shade}");
+    assert!(!shade.contains("floor("), "noise lattice still in pass 3:\n{shade}");
+    assert!(shade.contains("object_pos"), "the shared input was removed:\n{shade}");
+    let recompute = pass(&v, PassKind::Recompute);
+    assert!(recompute.contains("bitcast"));
+    assert!(!recompute.contains("pow("), "pass 2 computes more than the node:\n{recompute}");
+
+    // An overlap node: `p` is shared between the noise and the stripes; caching the first octave
+    // keeps `p` and the other four octaves in pass 3.
+    let id = node_by_text(&table, "abs(gradient_noise(p))");
+    let node = table.get(id).unwrap();
+    assert!(node.overlap > 0.0);
+    let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+    let full = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap();
+    let octaves_before = pass(&full, PassKind::Recompute).matches("bitcast").count();
+    let octaves_after = pass(&v, PassKind::Shade).matches("bitcast").count();
+    assert_eq!(octaves_after * 5, octaves_before * 4, "four of five octaves remain");
+}
+
+#[test]
+fn ambient_occlusion_post_loop_sum_removes_its_loops_from_pass_3() {
+    let (shader, norm, table) = load("ambient_occlusion.wgsl");
+    let original_loops = {
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap();
+        pass(&v, PassKind::Recompute).matches("loop {").count()
+    };
+    assert!(original_loops >= 3, "{original_loops}");
+    let static_sum = table
+        .cacheable()
+        .find(|n| n.text.contains("static"))
+        .expect("a cacheable node reading the static occluders' sum");
+    let v = instance(&shader, &norm, &table, NodeSelector::Id(static_sum.id), &Default::default()).unwrap();
+    let shade = pass(&v, PassKind::Shade);
+    assert!(shade.matches("loop {").count() < original_loops, "{shade}");
+}
+
+#[test]
+fn snapshots_of_chosen_variants() {
+    let picks: &[(&str, &str)] = &[
+        ("marble.wgsl", "s3 + n4"),
+        ("marble.wgsl", "root"),
+        ("ambient_occlusion.wgsl", "root"),
+    ];
+    for (name, text) in picks {
+        let (shader, norm, table) = load(name);
+        let sel = if *text == "root" {
+            NodeSelector::Root
+        } else {
+            NodeSelector::Id(node_by_text(&table, text))
+        };
+        let v = instance(&shader, &norm, &table, sel, &Default::default()).unwrap();
+        let stem = format!(
+            "{}_{}",
+            name.trim_end_matches(".wgsl"),
+            text.replace(|c: char| !c.is_ascii_alphanumeric(), "_")
+        );
+        for p in &v.passes {
+            insta::assert_snapshot!(format!("{stem}_{:?}", p.kind).to_lowercase(), p.wgsl);
+        }
+        insta::assert_json_snapshot!(format!("{stem}_manifest"), v.manifest);
+    }
+}
+
+#[test]
+fn bad_input_gives_clear_errors() {
+    let (shader, norm, table) = load("marble.wgsl");
+    let e = instance(&shader, &norm, &table, NodeSelector::Id(99_999), &Default::default()).unwrap_err();
+    assert!(matches!(e, InstanceError::UnknownNode { .. }), "{e}");
+    let culled = table.nodes.iter().find(|n| !n.cacheable).map(|n| n.id).expect("marble has culled nodes");
+    let e = instance(&shader, &norm, &table, NodeSelector::Id(culled), &Default::default()).unwrap_err();
+    assert!(e.to_string().contains("culled as"), "{e}");
+
+    let full = "
+        @group(0) @binding(0) var<uniform> a: vec4<f32>;
+        @group(1) @binding(0) var<uniform> b: vec4<f32>;
+        @group(2) @binding(0) var<uniform> c: vec4<f32>;
+        @group(3) @binding(0) var<uniform> d: vec4<f32>;
+        @fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> { return sin(a + b + c + d) * p.x; }";
+    let shader = reproj_front::parse_shader(Path::new("full.wgsl"), full.into()).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let e = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap_err();
+    assert!(matches!(e, InstanceError::NoFreeGroup { .. }), "{e}");
+}
+
+#[test]
+fn write_variant_into_unwritable_place_fails_cleanly() {
+    let (shader, norm, table) = load("marble.wgsl");
+    let v = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a_file");
+    std::fs::write(&file, "x").unwrap();
+    let e = write_variant(&v, &file.join("sub")).unwrap_err();
+    assert!(matches!(e, InstanceError::Io { .. }));
+    let out = dir.path().join("out");
+    write_variant(&v, &out).unwrap();
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["manifest.json", "pass1_reproject.wgsl", "pass2_recompute.wgsl", "pass3_shade.wgsl"]
+    );
+}
