@@ -1,0 +1,163 @@
+//! The profile: what `reproj analyze` measured and fitted, so that `reproj emit` never renders.
+//!
+//! Serialized as `NAME.profile.json`, schema `reproj.profile` version [`PROFILE_VERSION`]. It records
+//! where the numbers come from (shader and session hashes, adapter, resolution, thread count), every
+//! measurement (per node and Δn, with per-frame counts and times), every fit with its quality, and
+//! the status of each node: usable, or set aside with the reason.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{ErrorFit, FrameTiming, HitRateFit, TimingFit};
+
+/// Version of the profile schema. Bump on any incompatible change.
+pub const PROFILE_VERSION: u32 = 1;
+
+/// A whole profile.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Profile {
+    /// Always `"reproj.profile"`.
+    pub schema: String,
+    pub version: u32,
+    pub shader: Source,
+    pub entry: String,
+    pub session: Source,
+    /// Where it was measured.
+    pub machine: Machine,
+    /// `[width, height]`.
+    pub resolution: [u32; 2],
+    /// Frames per replay.
+    pub frames: u32,
+    /// Δn used to fit the error models.
+    pub delta_n_train: Vec<u32>,
+    /// Δn used only to check the models.
+    pub delta_n_holdout: Vec<u32>,
+    /// Refresh block size k and depth tolerance used for every variant.
+    pub block: u32,
+    pub depth_epsilon: f32,
+    pub original: OriginalRecord,
+    /// Hit-rate model, one per shader and session.
+    pub hit_rate: HitRateFit,
+    pub nodes: Vec<NodeProfile>,
+    /// Wall-clock time of the analysis and where it went.
+    pub time: AnalysisTime,
+}
+
+/// A file the profile depends on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Source {
+    /// Path as given to `analyze`.
+    pub path: String,
+    /// FNV-1a 64 of the file's bytes, hex: [`content_hash`].
+    pub hash: String,
+}
+
+/// The machine and adapter the measurements come from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Machine {
+    pub adapter: String,
+    pub backend: String,
+    /// `timestamp-queries` or `cpu-wall-clock`.
+    pub timing_method: String,
+    pub cpu_cores: u32,
+    /// `LP_NUM_THREADS` when set (lavapipe's rasterizer threads).
+    pub lp_num_threads: Option<String>,
+}
+
+/// The original shader's measurements.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OriginalRecord {
+    /// Mean frame time over frames 1.. (frame 0 is shader compilation).
+    pub frame_ms: f64,
+    /// Mean shaded pixels per frame (M).
+    pub mean_pixels: f64,
+    pub frame_times_ms: Vec<f64>,
+}
+
+/// One replay of one variant at one Δn.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Measurement {
+    pub delta_n: u32,
+    /// Mean over frames of the mean per-pixel L2 RGB distance to the original.
+    pub error: f64,
+    /// Mean PSNR over frames, dB (`None` when every frame is identical to the original).
+    pub psnr: Option<f64>,
+    /// Hits / shaded pixels over the session.
+    pub hit_rate: f64,
+    pub frame_ms: f64,
+    /// Per frame (frame 0 excluded): hits, misses (incl. refreshes), time.
+    pub frames: Vec<FrameTiming>,
+}
+
+/// Whether a node can be selected.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "kebab-case")]
+pub enum NodeStatus {
+    Ok,
+    /// Set aside: a fit failed or a measurement was unusable.
+    SetAside { reason: String },
+}
+
+/// Models checked at Δn never used for fitting.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HoldoutCheck {
+    pub delta_n: u32,
+    pub measured_error: f64,
+    pub predicted_error: Option<f64>,
+    pub measured_ms: f64,
+    pub predicted_ms: Option<f64>,
+}
+
+/// Everything about one node.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NodeProfile {
+    /// Node id (`reproj nodes`); the root is included with `root: true`.
+    pub id: u32,
+    pub root: bool,
+    pub text: String,
+    pub line: u32,
+    pub col: u32,
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub cost: f64,
+    pub overlap: f64,
+    pub measurements: Vec<Measurement>,
+    pub error_fit: ErrorFit,
+    pub timing_fit: TimingFit,
+    pub holdout: Vec<HoldoutCheck>,
+    #[serde(flatten)]
+    pub status: NodeStatus,
+}
+
+/// Where the analysis time went, in seconds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct AnalysisTime {
+    pub total_s: f64,
+    pub reference_s: f64,
+    pub rendering_s: f64,
+    pub readback_and_error_s: f64,
+    pub fitting_s: f64,
+    pub instancing_s: f64,
+}
+
+/// FNV-1a 64-bit hash of some bytes, as 16 hex digits: a stable fingerprint of the shader and
+/// session a profile was measured on (not a cryptographic hash).
+pub fn content_hash(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hash_is_stable() {
+        assert_eq!(content_hash(b""), "cbf29ce484222325");
+        assert_eq!(content_hash(b"a"), "af63dc4c8601ec8c");
+        assert_ne!(content_hash(b"ab"), content_hash(b"ba"));
+    }
+}
