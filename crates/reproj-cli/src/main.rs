@@ -22,6 +22,133 @@ enum Command {
     Nodes(NodesArgs),
     /// Write the three passes and the manifest of the variant that caches one node.
     Instance(InstanceArgs),
+    /// Replay a session for the original shader or one cached variant; print error, hit rate, time.
+    Render(RenderArgs),
+    /// Profile the shader's nodes over a session, fit the models, and save a profile (and charts).
+    Analyze(AnalyzeArgs),
+    /// Select the fastest node and Δn under an error budget from a profile and write the passes.
+    Emit(EmitArgs),
+}
+
+/// Arguments of `reproj render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The WGSL shader.
+    pub shader: PathBuf,
+    /// The session file.
+    #[arg(long)]
+    pub session: PathBuf,
+    /// Render the variant caching this node (id or `root`) instead of the original.
+    #[arg(long)]
+    pub node: Option<String>,
+    /// Refresh period of the variant.
+    #[arg(long, default_value_t = 8)]
+    pub delta_n: u32,
+    /// Refresh block size k.
+    #[arg(long, default_value_t = 4)]
+    pub block: u32,
+    /// Relative depth tolerance of the cache hit test.
+    #[arg(long, default_value_t = 0.01)]
+    pub depth_epsilon: f32,
+    /// Cache texel format.
+    #[arg(long, value_enum, default_value = "rgba32float")]
+    pub cache_format: CacheFormatArg,
+    /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.
+    #[arg(long)]
+    pub frames: Option<PathBuf>,
+    /// Render only the first N frames.
+    #[arg(long)]
+    pub max_frames: Option<u32>,
+    /// Fragment entry point.
+    #[arg(long)]
+    pub entry: Option<String>,
+    /// wgpu backend (as WGPU_BACKEND): vulkan, gl, ...
+    #[arg(long)]
+    pub backend: Option<String>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `reproj analyze`.
+#[derive(Debug, Args)]
+pub struct AnalyzeArgs {
+    /// The WGSL shader.
+    pub shader: PathBuf,
+    /// The session file.
+    #[arg(long)]
+    pub session: PathBuf,
+    /// Profile file to write (default: SHADER_STEM.profile.json in the current directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Refresh periods the error model is fitted to.
+    #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50")]
+    pub delta_n: Vec<u32>,
+    /// Refresh periods used only to check the models.
+    #[arg(long, value_delimiter = ',', default_value = "6,30")]
+    pub holdout: Vec<u32>,
+    /// Profile these node ids only (the root is always added). Default: pruned by saving.
+    #[arg(long, value_delimiter = ',')]
+    pub nodes: Option<Vec<u32>>,
+    /// Most nodes to profile when pruning (the root included).
+    #[arg(long, default_value_t = 12)]
+    pub max_nodes: usize,
+    /// Smallest static saving worth profiling, as a fraction of the shader's cost.
+    #[arg(long, default_value_t = 0.05)]
+    pub min_saving: f64,
+    /// Replay only the first N frames of the session.
+    #[arg(long)]
+    pub max_frames: Option<u32>,
+    /// Refresh block size k.
+    #[arg(long, default_value_t = 4)]
+    pub block: u32,
+    /// Relative depth tolerance of the cache hit test.
+    #[arg(long, default_value_t = 0.01)]
+    pub depth_epsilon: f32,
+    /// Cache texel format.
+    #[arg(long, value_enum, default_value = "rgba32float")]
+    pub cache_format: CacheFormatArg,
+    /// Fragment entry point.
+    #[arg(long)]
+    pub entry: Option<String>,
+    /// wgpu backend (as WGPU_BACKEND).
+    #[arg(long)]
+    pub backend: Option<String>,
+    /// Do not write the charts.
+    #[arg(long)]
+    pub no_charts: bool,
+}
+
+/// Arguments of `reproj emit`.
+#[derive(Debug, Args)]
+pub struct EmitArgs {
+    /// Error budget: mean per-pixel L2 distance in linear RGB, in [0, 1].
+    #[arg(long)]
+    pub max_error: f64,
+    /// Profile from `reproj analyze` (default: the newest *.profile.json here).
+    #[arg(long)]
+    pub profile: Option<PathBuf>,
+    /// Output directory (default: out/SHADER_STEM).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Largest refresh period to consider.
+    #[arg(long, default_value_t = 50)]
+    pub max_delta_n: u32,
+    /// Cache texel format of the written passes.
+    #[arg(long, value_enum, default_value = "rgba32float")]
+    pub cache_format: CacheFormatArg,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Re-render the selection (needs --session) and report measured error and speedup.
+    #[arg(long, requires = "session")]
+    pub verify: bool,
+    /// Session to verify on.
+    #[arg(long)]
+    pub session: Option<PathBuf>,
+    /// wgpu backend for --verify.
+    #[arg(long)]
+    pub backend: Option<String>,
 }
 
 /// Arguments of `reproj nodes`.
@@ -82,6 +209,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Nodes(args) => cmd::nodes::run(&args),
         Command::Instance(args) => cmd::instance::run(&args),
+        Command::Render(args) => cmd::render::run(&args),
+        Command::Analyze(args) => cmd::analyze::run(&args),
+        Command::Emit(args) => cmd::emit::run(&args),
     };
     cmd::finish(result)
 }

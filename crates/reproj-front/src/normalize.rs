@@ -128,6 +128,20 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         }
         _ => root_value,
     };
+    // The root must be a node (f32/f16 data), or `NodeTable::root` has nothing to find.
+    let root_ty = info.get_entry_point(0)[root].ty.inner_with(&module.types);
+    if !matches!(
+        root_ty.scalar(),
+        Some(naga::Scalar {
+            kind: naga::ScalarKind::Float,
+            width: 2 | 4
+        })
+    ) {
+        return Err(FrontError::Unsupported {
+            location: shader.location(fun.expressions.get_span(root)),
+            what: "the output color must be f32 or f16 data (not integer or f64)".into(),
+        });
+    }
     Ok(Normalized {
         module,
         info,

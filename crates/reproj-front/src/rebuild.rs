@@ -101,6 +101,7 @@ pub fn rebuild(
         stmt_index: 0,
         stopped: false,
         depth: 0,
+        calls: 0,
     };
     if let Some(stop) = &opts.stop_after {
         out.fun.result = Some(naga::FunctionResult {
@@ -185,7 +186,13 @@ struct Out<'m, 'o> {
     stmt_index: usize,
     stopped: bool,
     depth: usize,
+    /// Depth of inlined calls (with `depth`, bounded by [`MAX_NESTING`]).
+    calls: usize,
 }
+
+/// Most nested blocks plus inlined helper calls the walker follows. It recurses on both (about
+/// 12 KiB of stack per level in a debug build): a chain of 300 helpers overflowed a 2 MiB thread.
+const MAX_NESTING: usize = 64;
 
 fn unsupported(module_fun: &Function, span: Span, what: impl Into<String>) -> FrontError {
     let _ = module_fun;
@@ -575,6 +582,13 @@ impl Out<'_, '_> {
     }
 
     fn walk_stmt(&mut self, ctx: &mut Ctx, stmt: &Statement, span: Span) -> Result<(), FrontError> {
+        if self.depth + self.calls > MAX_NESTING {
+            return Err(unsupported(
+                ctx.fun,
+                span,
+                format!("more than {MAX_NESTING} nested blocks and helper calls"),
+            ));
+        }
         match stmt {
             Statement::Emit(range) => {
                 for h in range.clone() {
@@ -593,7 +607,11 @@ impl Out<'_, '_> {
                 }
             }
             Statement::Block(b) => {
+                // Values stored inside the block were emitted in its scope: do not forward them
+                // past it (naga's validator does not catch an expression used out of scope).
+                let mark = self.stored_log.len();
                 let nb = self.nested(ctx, b)?;
+                self.kill_since(mark);
                 self.push_stmt(Statement::Block(nb), span);
             }
             Statement::If {
@@ -777,8 +795,10 @@ impl Out<'_, '_> {
         }
         // Statement indices only count the top-level function.
         let saved_index = self.stmt_index;
+        self.calls += 1;
         self.init_locals(&mut cctx, callee)?;
         self.walk_block(&mut cctx, &callee.body)?;
+        self.calls -= 1;
         self.stmt_index = saved_index;
         if let Some(r) = result {
             match cctx.ret {

@@ -1,10 +1,10 @@
 //! `reproj instance`: write the variant that caches one node.
 
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
-use reproj_instance::{CacheFormat, InstanceOptions, NodeSelector, instance, write_variant};
+use reproj_instance::{InstanceOptions, NodeSelector, instance, write_variant};
 
 use super::{UserError, front_error, instance_error};
-use crate::{CacheFormatArg, InstanceArgs};
+use crate::InstanceArgs;
 
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     let selector: NodeSelector = args.node.parse().map_err(UserError)?;
@@ -18,10 +18,7 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     .map_err(front_error)?;
     let table = enumerate(&shader, &norm);
     let opts = InstanceOptions {
-        cache_format: match args.cache_format {
-            CacheFormatArg::Rgba32float => CacheFormat::Rgba32float,
-            CacheFormatArg::Rgba16float => CacheFormat::Rgba16float,
-        },
+        cache_format: super::cache_format(args.cache_format),
         delta_n: args.delta_n,
         block: args.block,
         depth_epsilon: args.depth_epsilon,

@@ -2,8 +2,12 @@
 
 use std::process::ExitCode;
 
+pub mod analyze;
+pub mod charts;
+pub mod emit;
 pub mod instance;
 pub mod nodes;
+pub mod render;
 
 /// An error caused by the user's input (bad file, bad flag value, ...): exit code 2.
 #[derive(Debug)]
@@ -31,6 +35,32 @@ pub fn instance_error(e: reproj_instance::InstanceError) -> anyhow::Error {
         reproj_instance::InstanceError::Internal { .. } => anyhow::Error::new(e),
         reproj_instance::InstanceError::Front(f) => front_error(f),
         e => anyhow::Error::new(UserError(e.to_string())),
+    }
+}
+
+/// Classify a replay error: a missing driver or a GPU failure is not the user's input.
+pub fn replay_error(e: reproj_replay::ReplayError) -> anyhow::Error {
+    use reproj_replay::ReplayError as R;
+    match e {
+        R::Gpu { .. } | R::Device { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(UserError(e.to_string())),
+    }
+}
+
+/// Classify an analyze/emit error.
+pub fn analyze_error(e: reproj_analyze::AnalyzeError) -> anyhow::Error {
+    if e.is_user_error() {
+        anyhow::Error::new(UserError(e.to_string()))
+    } else {
+        anyhow::Error::new(e)
+    }
+}
+
+/// The instancer's cache format for the CLI flag.
+pub fn cache_format(f: crate::CacheFormatArg) -> reproj_instance::CacheFormat {
+    match f {
+        crate::CacheFormatArg::Rgba32float => reproj_instance::CacheFormat::Rgba32float,
+        crate::CacheFormatArg::Rgba16float => reproj_instance::CacheFormat::Rgba16float,
     }
 }
 

@@ -1,0 +1,360 @@
+//! `analyze`: replay the session for the original shader and for the variants of the chosen nodes
+//! at every training and held-out Δn, fit the models, and gather everything into a [`Profile`].
+
+use std::path::Path;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use reproj_front::{NodeTable, Normalized, Shader};
+use reproj_instance::{InstanceOptions, NodeSelector, instance};
+use reproj_models::profile::{
+    AnalysisTime, HoldoutCheck, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Source,
+};
+use reproj_models::{
+    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, PROFILE_VERSION, Profile, TimingFit, TimingStatus,
+    content_hash, fit_error, fit_hit_rate, fit_timing_with_holdout, predicted_frame_ms,
+};
+use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput};
+
+use crate::AnalyzeError;
+use crate::prune::{PruneOptions, profile_candidates};
+
+/// The paper's training periods (seeds 002 §4.2).
+pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
+/// Periods used only to check the models.
+pub const DEFAULT_HOLDOUT: [u32; 2] = [6, 30];
+
+/// Options of [`analyze`].
+#[derive(Debug, Clone)]
+pub struct AnalyzeOptions {
+    pub delta_n_train: Vec<u32>,
+    pub delta_n_holdout: Vec<u32>,
+    /// Which nodes to profile when `nodes` is `None`.
+    pub prune: PruneOptions,
+    /// Profile exactly these node ids (the root is always added).
+    pub nodes: Option<Vec<u32>>,
+    /// Cache format, block size and depth tolerance of every variant.
+    pub instance: InstanceOptions,
+    /// Replay only the first N frames of the session.
+    pub max_frames: Option<u32>,
+}
+
+impl Default for AnalyzeOptions {
+    fn default() -> Self {
+        AnalyzeOptions {
+            delta_n_train: DEFAULT_TRAIN.to_vec(),
+            delta_n_holdout: DEFAULT_HOLDOUT.to_vec(),
+            prune: PruneOptions::default(),
+            nodes: None,
+            instance: InstanceOptions::default(),
+            max_frames: None,
+        }
+    }
+}
+
+/// Progress of a long analysis, reported by [`analyze`] (the CLI draws a bar).
+pub trait Progress {
+    /// `total` replays will follow (the reference included).
+    fn start(&self, total: u64);
+    /// One replay is done; `what` says which.
+    fn step(&self, what: &str);
+    /// A line worth showing (a node set aside, ...).
+    fn note(&self, line: &str);
+    fn finish(&self);
+}
+
+/// A [`Progress`] that shows nothing.
+#[derive(Debug, Default)]
+pub struct Silent;
+
+impl Progress for Silent {
+    fn start(&self, _: u64) {}
+    fn step(&self, _: &str) {}
+    fn note(&self, _: &str) {}
+    fn finish(&self) {}
+}
+
+/// What [`analyze`] works on.
+#[derive(Debug)]
+pub struct AnalyzeInput<'a> {
+    pub shader: &'a Shader,
+    pub norm: &'a Normalized,
+    pub table: &'a NodeTable,
+    /// Session file path (recorded in the profile) and its bytes (hashed).
+    pub session_path: &'a Path,
+    pub session_bytes: &'a [u8],
+    pub session: &'a Session,
+}
+
+/// Profile the shader over the session.
+pub fn analyze(
+    input: &AnalyzeInput,
+    renderer: &Renderer,
+    opts: &AnalyzeOptions,
+    progress: &dyn Progress,
+) -> Result<Profile, AnalyzeError> {
+    let started = Instant::now();
+    check_periods(opts)?;
+    let ids = match &opts.nodes {
+        Some(ids) => {
+            let mut ids = ids.clone();
+            for id in &ids {
+                match input.table.get(*id) {
+                    None => return Err(AnalyzeError::Options(format!("no node {id} in {}", input.table.shader))),
+                    Some(n) if !n.cacheable => {
+                        return Err(AnalyzeError::Options(format!(
+                            "node {id} (`{}`) is culled as {}",
+                            n.text,
+                            n.reason.map_or("?", |r| r.as_str())
+                        )));
+                    }
+                    _ => {}
+                }
+            }
+            ids.push(input.table.root().id);
+            ids.sort_unstable();
+            ids.dedup();
+            ids
+        }
+        None => profile_candidates(input.table, &opts.prune),
+    };
+    let periods: Vec<u32> = opts.delta_n_train.iter().chain(&opts.delta_n_holdout).copied().collect();
+    progress.start(1 + (ids.len() * periods.len()) as u64);
+
+    let render_opts = RenderOptions {
+        png_dir: None,
+        max_frames: opts.max_frames,
+        classify: false,
+    };
+    let mut time = AnalysisTime::default();
+    let t = Instant::now();
+    let entry = input.shader.fragment_entry(Some(&input.norm.entry))?;
+    let reference = renderer.render_original(input.shader, entry, input.session, &render_opts)?;
+    time.reference_s = t.elapsed().as_secs_f64();
+    progress.step("original");
+    let original_frames: Vec<_> = reference.report.frames.iter().skip(1).collect();
+    let mean_pixels = mean(original_frames.iter().map(|f| f.shaded as f64));
+    let original = OriginalRecord {
+        frame_ms: finite(reference.report.frame_ms),
+        mean_pixels,
+        frame_times_ms: original_frames.iter().map(|f| finite(f.frame_ms)).collect(),
+    };
+
+    // Replays, node by node.
+    struct Raw {
+        id: u32,
+        measurements: Vec<Measurement>,
+        failure: Option<String>,
+    }
+    let mut raws = Vec::new();
+    for &id in &ids {
+        let node = input.table.get(id).expect("ids come from the table");
+        let sel = if node.root { NodeSelector::Root } else { NodeSelector::Id(id) };
+        let t = Instant::now();
+        let variant = instance(input.shader, input.norm, input.table, sel, &opts.instance);
+        time.instancing_s += t.elapsed().as_secs_f64();
+        let variant = match variant {
+            Ok(v) => v,
+            Err(e) => {
+                progress.note(&format!("node {id}: set aside: cannot instance: {e}"));
+                for _ in &periods {
+                    progress.step(&format!("node {id}"));
+                }
+                raws.push(Raw {
+                    id,
+                    measurements: Vec::new(),
+                    failure: Some(format!("cannot instance: {e}")),
+                });
+                continue;
+            }
+        };
+        let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
+        let mut measurements = Vec::new();
+        let mut failure = None;
+        for &dn in &periods {
+            if failure.is_some() {
+                progress.step(&format!("node {id} Δn={dn}"));
+                continue;
+            }
+            let input_variant = VariantInput::new(sources.clone(), variant.manifest.clone(), dn);
+            let t = Instant::now();
+            match renderer.render_variant(input.shader, input.session, &input_variant, &reference, &render_opts) {
+                Ok(report) => {
+                    let wall = t.elapsed().as_secs_f64();
+                    let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
+                    time.rendering_s += gpu.min(wall);
+                    time.readback_and_error_s += (wall - gpu).max(0.0);
+                    measurements.push(measurement(dn, &report));
+                }
+                Err(e) => {
+                    progress.note(&format!("node {id}: set aside: replay failed at Δn={dn}: {e}"));
+                    failure = Some(format!("replay failed at Δn={dn}: {e}"));
+                }
+            }
+            progress.step(&format!("node {id} Δn={dn}"));
+        }
+        raws.push(Raw { id, measurements, failure });
+    }
+    progress.finish();
+
+    // Fits.
+    let t = Instant::now();
+    let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
+    let hit_samples: Vec<(f64, f64)> = raws
+        .iter()
+        .flat_map(|r| r.measurements.iter().filter(|m| is_train(m)).map(|m| (m.delta_n as f64, m.hit_rate)))
+        .collect();
+    let hit_rate = fit_hit_rate(&hit_samples);
+    let nodes: Vec<NodeProfile> = raws
+        .par_iter()
+        .map(|raw| {
+            let node = input.table.get(raw.id).expect("ids come from the table");
+            let train: Vec<&Measurement> = raw.measurements.iter().filter(|m| is_train(m)).collect();
+            let held: Vec<&Measurement> = raw.measurements.iter().filter(|m| !is_train(m)).collect();
+            let error_fit = fit_error(
+                &train.iter().map(|m| (m.delta_n as f64, m.error)).collect::<Vec<_>>(),
+                &ErrorFitOptions::default(),
+            );
+            let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> { ms.iter().flat_map(|m| m.frames.iter().copied()).collect() };
+            let timing_fit = fit_timing_with_holdout(&frames(&train), &frames(&held));
+            let holdout = held
+                .iter()
+                .map(|m| HoldoutCheck {
+                    delta_n: m.delta_n,
+                    measured_error: m.error,
+                    predicted_error: error_fit.predict(m.delta_n as f64).filter(|v| v.is_finite()),
+                    measured_ms: m.frame_ms,
+                    predicted_ms: predicted_frame_ms(&timing_fit, &hit_rate, m.delta_n as f64, mean_pixels)
+                        .filter(|v| v.is_finite()),
+                })
+                .collect();
+            let status = status(raw.failure.as_deref(), &error_fit, &timing_fit);
+            NodeProfile {
+                id: raw.id,
+                root: node.root,
+                text: node.text.clone(),
+                line: node.line,
+                col: node.col,
+                ty: node.ty.clone(),
+                cost: node.cost,
+                overlap: node.overlap,
+                measurements: raw.measurements.clone(),
+                error_fit,
+                timing_fit,
+                holdout,
+                status,
+            }
+        })
+        .collect();
+    for n in &nodes {
+        if let NodeStatus::SetAside { reason } = &n.status {
+            if raws.iter().any(|r| r.id == n.id && r.failure.is_none()) {
+                progress.note(&format!("node {} `{}`: set aside: {reason}", n.id, n.text));
+            }
+        }
+    }
+    time.fitting_s = t.elapsed().as_secs_f64();
+    time.total_s = started.elapsed().as_secs_f64();
+
+    let adapter = renderer.adapter();
+    Ok(Profile {
+        schema: "reproj.profile".into(),
+        version: PROFILE_VERSION,
+        shader: Source {
+            path: input.shader.path.display().to_string(),
+            hash: content_hash(input.shader.source.as_bytes()),
+        },
+        entry: input.norm.entry.clone(),
+        session: Source {
+            path: input.session_path.display().to_string(),
+            hash: content_hash(input.session_bytes),
+        },
+        machine: Machine {
+            adapter: adapter.name.clone(),
+            backend: adapter.backend.clone(),
+            timing_method: match renderer.timing_method() {
+                reproj_replay::TimingMethod::GpuTimestamps => "timestamp-queries".into(),
+                reproj_replay::TimingMethod::CpuSubmitWait => "cpu-wall-clock".into(),
+            },
+            cpu_cores: std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
+            lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
+        },
+        resolution: input.session.resolution,
+        frames: reference.frames.len() as u32,
+        delta_n_train: opts.delta_n_train.clone(),
+        delta_n_holdout: opts.delta_n_holdout.clone(),
+        block: opts.instance.block,
+        depth_epsilon: opts.instance.depth_epsilon,
+        original,
+        hit_rate,
+        nodes,
+        time,
+    })
+}
+
+fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
+    if opts.delta_n_train.is_empty() {
+        return Err(AnalyzeError::Options("--delta-n needs at least one period".into()));
+    }
+    if let Some(bad) = opts.delta_n_train.iter().chain(&opts.delta_n_holdout).find(|&&d| d < 2) {
+        return Err(AnalyzeError::Options(format!(
+            "refresh periods must be at least 2 (Δn = 1 is the original shader), got {bad}"
+        )));
+    }
+    Ok(())
+}
+
+fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
+    let frames: Vec<FrameTiming> = report
+        .frames
+        .iter()
+        .skip(1)
+        .map(|f| FrameTiming {
+            hits: f.hits,
+            misses: f.recomputes,
+            time_ms: finite(f.frame_ms),
+        })
+        .collect();
+    Measurement {
+        delta_n,
+        error: finite(report.error),
+        psnr: (report.psnr.is_finite() && report.psnr < 100.0).then_some(report.psnr),
+        hit_rate: finite(report.hit_rate),
+        frame_ms: finite(report.frame_ms),
+        frames,
+    }
+}
+
+fn status(failure: Option<&str>, error: &ErrorFit, timing: &TimingFit) -> NodeStatus {
+    if let Some(f) = failure {
+        return NodeStatus::SetAside { reason: f.to_string() };
+    }
+    if let ErrorFitStatus::Failed { reason } = &error.status {
+        return NodeStatus::SetAside {
+            reason: format!("error model: {reason}"),
+        };
+    }
+    if !timing.is_usable() {
+        let why = match &timing.status {
+            TimingStatus::Failed { reason } => reason.to_string(),
+            TimingStatus::RankDeficient { undetermined, .. } => {
+                format!("rank-deficient timing system, undetermined: {undetermined:?}")
+            }
+            TimingStatus::Ok => "unusable".to_string(),
+        };
+        return NodeStatus::SetAside {
+            reason: format!("timing model: {why}"),
+        };
+    }
+    NodeStatus::Ok
+}
+
+fn mean(it: impl Iterator<Item = f64>) -> f64 {
+    let (s, n) = it.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { 0.0 } else { s / n as f64 }
+}
+
+/// NaN and infinities never reach the profile.
+fn finite(x: f64) -> f64 {
+    if x.is_finite() { x } else { 0.0 }
+}

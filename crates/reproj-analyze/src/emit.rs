@@ -1,0 +1,283 @@
+//! `emit`: select the fastest (node, Δn) under an error budget from a profile and write its passes.
+//! Needs no GPU; `verify` re-renders the selection to check the prediction.
+
+use std::path::{Path, PathBuf};
+
+use reproj_front::{NormalizeOptions, enumerate, normalize};
+use reproj_instance::{CacheFormat, InstanceOptions, NodeSelector, Variant, instance, write_variant};
+use reproj_models::profile::NodeStatus;
+use reproj_models::{Profile, content_hash, psnr_from_l2_error};
+use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
+use reproj_select::{NodeRecord, SelectOptions, Selection, select};
+use serde::{Deserialize, Serialize};
+
+use crate::AnalyzeError;
+
+/// Options of [`emit`].
+#[derive(Debug, Clone)]
+pub struct EmitOptions {
+    /// Error budget: mean per-pixel L2 RGB distance to the original.
+    pub max_error: f64,
+    pub min_delta_n: u32,
+    pub max_delta_n: u32,
+    /// Directory for the passes and the report.
+    pub out: PathBuf,
+    pub cache_format: CacheFormat,
+}
+
+/// What `emit` chose and wrote. With `--json` this is printed as is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EmitReport {
+    pub profile: String,
+    pub shader: String,
+    pub max_error: f64,
+    /// Node id, `"root"`, or `null` when the original shader is kept.
+    pub node: Option<String>,
+    pub node_text: Option<String>,
+    pub line: Option<u32>,
+    pub col: Option<u32>,
+    pub delta_n: Option<u32>,
+    pub predicted_error: Option<f64>,
+    pub predicted_psnr: Option<f64>,
+    pub predicted_ms: Option<f64>,
+    pub original_ms: f64,
+    pub predicted_speedup: Option<f64>,
+    /// Why the original shader was kept.
+    pub reason: Option<String>,
+    pub files: Vec<String>,
+    pub measured_error: Option<f64>,
+    pub measured_psnr: Option<f64>,
+    pub measured_ms: Option<f64>,
+    pub measured_original_ms: Option<f64>,
+    pub measured_speedup: Option<f64>,
+    pub adapter: String,
+}
+
+/// Read a profile, naming the field when it is malformed.
+pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
+    let bytes = std::fs::read(path).map_err(|source| AnalyzeError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let de = &mut serde_json::Deserializer::from_slice(&bytes);
+    let profile: Profile = serde_path_to_error::deserialize(de).map_err(|e| AnalyzeError::BadProfile {
+        path: path.to_owned(),
+        message: format!("at `{}`: {}", e.path(), e.inner()),
+    })?;
+    if profile.schema != "reproj.profile" || profile.version != reproj_models::PROFILE_VERSION {
+        return Err(AnalyzeError::BadProfile {
+            path: path.to_owned(),
+            message: format!(
+                "schema {} version {} (this reproj reads reproj.profile version {})",
+                profile.schema,
+                profile.version,
+                reproj_models::PROFILE_VERSION
+            ),
+        });
+    }
+    Ok(profile)
+}
+
+/// The most recently modified `*.profile.json` in `dir`.
+pub fn latest_profile(dir: &Path) -> Result<PathBuf, AnalyzeError> {
+    let entries = std::fs::read_dir(dir).map_err(|source| AnalyzeError::Io {
+        path: dir.to_owned(),
+        source,
+    })?;
+    entries
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".profile.json"))
+        .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
+        .max()
+        .map(|(_, p)| p)
+        .ok_or_else(|| AnalyzeError::Options(format!(
+            "no *.profile.json in {}: run `reproj analyze SHADER --session SESSION` first, or pass --profile",
+            dir.display()
+        )))
+}
+
+/// Find a file a profile refers to: as recorded, else beside the profile.
+pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
+    let p = PathBuf::from(recorded);
+    if p.exists() {
+        return p;
+    }
+    match (profile_path.parent(), p.file_name()) {
+        (Some(dir), Some(name)) if dir.join(name).exists() => dir.join(name),
+        _ => p,
+    }
+}
+
+/// Select under the budget and write the result into `opts.out`: the three passes and the
+/// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
+pub fn emit(profile: &Profile, profile_path: &Path, opts: &EmitOptions) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
+    let shader_path = resolve(&profile.shader.path, profile_path);
+    let shader = reproj_front::load_file(&shader_path)?;
+    if content_hash(shader.source.as_bytes()) != profile.shader.hash {
+        return Err(AnalyzeError::Stale {
+            path: shader_path,
+            what: "shader".into(),
+        });
+    }
+    let records: Vec<NodeRecord> = profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok)
+        .map(|n| NodeRecord {
+            id: n.id,
+            text: n.text.clone(),
+            error: n.error_fit.clone(),
+            timing: n.timing_fit.clone(),
+            mean_pixels: profile.original.mean_pixels,
+        })
+        .collect();
+    let select_opts = SelectOptions {
+        max_error: opts.max_error,
+        min_delta_n: opts.min_delta_n,
+        max_delta_n: opts.max_delta_n,
+    };
+    let selection = select(&records, &profile.hit_rate, profile.original.frame_ms, &select_opts);
+    let mut report = EmitReport {
+        profile: profile_path.display().to_string(),
+        shader: shader_path.display().to_string(),
+        max_error: opts.max_error,
+        node: None,
+        node_text: None,
+        line: None,
+        col: None,
+        delta_n: None,
+        predicted_error: None,
+        predicted_psnr: None,
+        predicted_ms: None,
+        original_ms: profile.original.frame_ms,
+        predicted_speedup: None,
+        reason: None,
+        files: Vec::new(),
+        measured_error: None,
+        measured_psnr: None,
+        measured_ms: None,
+        measured_original_ms: None,
+        measured_speedup: None,
+        adapter: profile.machine.adapter.clone(),
+    };
+    let variant = match selection {
+        Selection::Node(choice) => {
+            let node = profile
+                .nodes
+                .iter()
+                .find(|n| n.id == choice.node_id)
+                .expect("the selection comes from the profile's nodes");
+            let norm = normalize(
+                &shader,
+                &NormalizeOptions {
+                    entry: Some(profile.entry.clone()),
+                },
+            )?;
+            let table = enumerate(&shader, &norm);
+            let sel = if node.root { NodeSelector::Root } else { NodeSelector::Id(node.id) };
+            let variant = instance(
+                &shader,
+                &norm,
+                &table,
+                sel,
+                &InstanceOptions {
+                    cache_format: opts.cache_format,
+                    delta_n: choice.delta_n,
+                    block: profile.block,
+                    depth_epsilon: profile.depth_epsilon,
+                },
+            )?;
+            write_variant(&variant, &opts.out)?;
+            for p in &variant.manifest.passes {
+                report.files.push(opts.out.join(&p.file).display().to_string());
+            }
+            report.files.push(opts.out.join("manifest.json").display().to_string());
+            report.node = Some(if node.root { "root".into() } else { node.id.to_string() });
+            report.node_text = Some(node.text.clone());
+            report.line = Some(node.line);
+            report.col = Some(node.col);
+            report.delta_n = Some(choice.delta_n);
+            report.predicted_error = Some(choice.predicted_error);
+            report.predicted_psnr = choice.predicted_psnr_db;
+            report.predicted_ms = Some(choice.predicted_ms);
+            report.predicted_speedup = Some(choice.predicted_speedup);
+            Some(variant)
+        }
+        Selection::Original { reason } => {
+            let name = shader_path.file_name().map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
+            let dest = opts.out.join(name);
+            write_atomic(&dest, shader.source.as_bytes())?;
+            report.files.push(dest.display().to_string());
+            report.reason = Some(reason.to_string());
+            None
+        }
+    };
+    let mut json = serde_json::to_vec_pretty(&report).expect("report serializes");
+    json.push(b'\n');
+    let report_path = opts.out.join("report.json");
+    write_atomic(&report_path, &json)?;
+    report.files.push(report_path.display().to_string());
+    Ok((report, variant))
+}
+
+/// Re-render the selection over `session` and record measured error and speedup in `report`.
+pub fn verify(
+    report: &mut EmitReport,
+    variant: Option<&Variant>,
+    profile: &Profile,
+    profile_path: &Path,
+    session: &Session,
+    renderer: &Renderer,
+) -> Result<(), AnalyzeError> {
+    let shader = reproj_front::load_file(&resolve(&profile.shader.path, profile_path))?;
+    let entry = shader.fragment_entry(Some(&profile.entry))?;
+    let opts = RenderOptions {
+        png_dir: None,
+        max_frames: None,
+        classify: false,
+    };
+    let reference = renderer.render_original(&shader, entry, session, &opts)?;
+    report.measured_original_ms = Some(reference.report.frame_ms);
+    match variant {
+        None => {
+            report.measured_error = Some(0.0);
+            report.measured_ms = Some(reference.report.frame_ms);
+            report.measured_speedup = Some(1.0);
+        }
+        Some(v) => {
+            let input = VariantInput::new(
+                v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                v.manifest.clone(),
+                report.delta_n.unwrap_or(1),
+            );
+            let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
+            report.measured_error = Some(r.error);
+            report.measured_psnr = psnr_from_l2_error(r.error);
+            report.measured_ms = Some(r.frame_ms);
+            report.measured_speedup = (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);
+        }
+    }
+    let mut json = serde_json::to_vec_pretty(&*report).expect("report serializes");
+    json.push(b'\n');
+    if let Some(dir) = report.files.last().and_then(|f| Path::new(f).parent().map(Path::to_owned)) {
+        write_atomic(&dir.join("report.json"), &json)?;
+    }
+    Ok(())
+}
+
+/// Write a file through a temporary name and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), AnalyzeError> {
+    let io = |source| AnalyzeError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })?;
+    std::fs::rename(&tmp, path).map_err(io)
+}

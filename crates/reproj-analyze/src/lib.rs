@@ -1,0 +1,51 @@
+//! reproj's last two stages as a library: `analyze` (replay, measure, fit: a profile) and `emit`
+//! (select under an error budget, write the passes). The CLI's `analyze` and `emit` commands are
+//! thin wrappers over [`analyze()`] and [`emit()`].
+
+pub mod analyze;
+pub mod emit;
+pub mod prune;
+
+use std::path::PathBuf;
+
+pub use analyze::{AnalyzeInput, AnalyzeOptions, Progress, Silent, analyze};
+pub use emit::{EmitOptions, EmitReport, emit, latest_profile, load_profile, verify};
+pub use prune::{PruneOptions, profile_candidates};
+
+/// What can go wrong in `analyze` or `emit`.
+#[derive(Debug, thiserror::Error)]
+pub enum AnalyzeError {
+    #[error(transparent)]
+    Front(#[from] reproj_front::FrontError),
+    #[error(transparent)]
+    Instance(#[from] reproj_instance::InstanceError),
+    #[error(transparent)]
+    Replay(#[from] reproj_replay::ReplayError),
+    #[error("{0}")]
+    Options(String),
+    #[error("{path}: not a reproj profile: {message}")]
+    BadProfile { path: PathBuf, message: String },
+    #[error("{path}: the {what} changed since the profile was made; run `reproj analyze` again")]
+    Stale { path: PathBuf, what: String },
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl AnalyzeError {
+    /// True when the error comes from the user's input rather than a bug or the machine.
+    pub fn is_user_error(&self) -> bool {
+        match self {
+            AnalyzeError::Front(reproj_front::FrontError::Internal { .. }) => false,
+            AnalyzeError::Instance(reproj_instance::InstanceError::Internal { .. }) => false,
+            AnalyzeError::Replay(e) => !matches!(
+                e,
+                reproj_replay::ReplayError::Gpu { .. } | reproj_replay::ReplayError::Device { .. }
+            ),
+            _ => true,
+        }
+    }
+}

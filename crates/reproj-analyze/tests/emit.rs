@@ -1,0 +1,171 @@
+//! `emit` on synthetic profiles: no GPU needed.
+
+use std::path::{Path, PathBuf};
+
+use reproj_analyze::{AnalyzeError, EmitOptions, emit, load_profile};
+use reproj_instance::CacheFormat;
+use reproj_models::profile::{AnalysisTime, Machine, NodeProfile, NodeStatus, OriginalRecord, Source};
+use reproj_models::{
+    ErrorFitOptions, FrameTiming, PROFILE_VERSION, Profile, content_hash, fit_error, fit_hit_rate, fit_timing,
+};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A node whose error saturates at `alpha` and whose miss/hit costs are given (ms per pixel).
+fn node(id: u32, is_root: bool, text: &str, alpha: f64, hit: f64, miss: f64) -> NodeProfile {
+    let lambda = 0.08;
+    let train = [2u32, 10, 18, 26, 34, 42, 50];
+    let samples: Vec<(f64, f64)> = train
+        .iter()
+        .map(|&d| (d as f64, alpha * (1.0 - (-lambda * (d as f64 - 1.0)).exp())))
+        .collect();
+    let frames: Vec<FrameTiming> = (0..40)
+        .map(|i| {
+            let hits = 20_000 + 150 * i;
+            let misses = 3_000 + 97 * (i % 7);
+            FrameTiming {
+                hits,
+                misses,
+                time_ms: 1.0 + hit * hits as f64 + miss * misses as f64,
+            }
+        })
+        .collect();
+    NodeProfile {
+        id,
+        root: is_root,
+        text: text.into(),
+        line: 1,
+        col: 1,
+        ty: "f32".into(),
+        cost: 100.0,
+        overlap: 0.0,
+        measurements: Vec::new(),
+        error_fit: fit_error(&samples, &ErrorFitOptions::default()),
+        timing_fit: fit_timing(&frames),
+        holdout: Vec::new(),
+        status: NodeStatus::Ok,
+    }
+}
+
+fn profile(shader: &Path) -> Profile {
+    let source = std::fs::read(shader).unwrap();
+    let hit_samples: Vec<(f64, f64)> = [2.0, 10.0, 50.0].iter().map(|&d: &f64| (d, 0.9 * (1.0 - 1.0 / d))).collect();
+    Profile {
+        schema: "reproj.profile".into(),
+        version: PROFILE_VERSION,
+        shader: Source {
+            path: shader.display().to_string(),
+            hash: content_hash(&source),
+        },
+        entry: "fs_main".into(),
+        session: Source {
+            path: "sessions/marble.json".into(),
+            hash: "0".into(),
+        },
+        machine: Machine {
+            adapter: "synthetic".into(),
+            backend: "none".into(),
+            timing_method: "none".into(),
+            cpu_cores: 1,
+            lp_num_threads: None,
+        },
+        resolution: [256, 256],
+        frames: 40,
+        delta_n_train: vec![2, 10, 18, 26, 34, 42, 50],
+        delta_n_holdout: vec![],
+        block: 4,
+        depth_epsilon: 0.01,
+        original: OriginalRecord {
+            frame_ms: 1.0 + 25_000.0 * 0.001,
+            mean_pixels: 25_000.0,
+            frame_times_ms: vec![],
+        },
+        hit_rate: fit_hit_rate(&hit_samples),
+        nodes: vec![
+            // The turbulence sum: accurate, good saving.
+            node(473, false, "s3 + n4", 0.02, 0.0001, 0.0009),
+            // The whole pixel: lossy, the biggest saving.
+            node(521, true, "vec4<f32>(color, 1.0)", 0.2, 0.00005, 0.0011),
+        ],
+        time: AnalysisTime::default(),
+    }
+}
+
+fn opts(max_error: f64, out: &Path) -> EmitOptions {
+    EmitOptions {
+        max_error,
+        min_delta_n: 2,
+        max_delta_n: 50,
+        out: out.to_owned(),
+        cache_format: CacheFormat::Rgba32float,
+    }
+}
+
+#[test]
+fn budgets_pick_original_node_then_root() {
+    let shader = root().join("shaders/marble.wgsl");
+    let p = profile(&shader);
+    let dir = tempfile::tempdir().unwrap();
+    let pp = dir.path().join("marble.profile.json");
+
+    let (r, v) = emit(&p, &pp, &opts(0.0001, &dir.path().join("tight"))).unwrap();
+    assert!(v.is_none() && r.node.is_none() && r.reason.is_some(), "{r:?}");
+    let kept = std::fs::read_to_string(dir.path().join("tight/marble.wgsl")).unwrap();
+    assert_eq!(kept, std::fs::read_to_string(&shader).unwrap(), "the original is written unchanged");
+
+    let (r, v) = emit(&p, &pp, &opts(0.015, &dir.path().join("moderate"))).unwrap();
+    assert_eq!(r.node.as_deref(), Some("473"), "{r:?}");
+    assert!(v.is_some());
+    assert!(r.predicted_error.unwrap() <= 0.015);
+    assert!(r.predicted_speedup.unwrap() > 1.0);
+    for f in ["pass1_reproject.wgsl", "pass2_recompute.wgsl", "pass3_shade.wgsl", "manifest.json", "report.json"] {
+        assert!(dir.path().join("moderate").join(f).exists(), "{f}");
+    }
+
+    let (r, _) = emit(&p, &pp, &opts(0.5, &dir.path().join("loose"))).unwrap();
+    assert_eq!(r.node.as_deref(), Some("root"), "{r:?}");
+}
+
+#[test]
+fn emit_is_deterministic() {
+    let shader = root().join("shaders/marble.wgsl");
+    let p = profile(&shader);
+    let dir = tempfile::tempdir().unwrap();
+    let pp = dir.path().join("marble.profile.json");
+    let (a, _) = emit(&p, &pp, &opts(0.015, &dir.path().join("a"))).unwrap();
+    let (b, _) = emit(&p, &pp, &opts(0.015, &dir.path().join("b"))).unwrap();
+    assert_eq!(a.delta_n, b.delta_n);
+    for f in ["pass2_recompute.wgsl", "pass3_shade.wgsl", "manifest.json"] {
+        assert_eq!(
+            std::fs::read(dir.path().join("a").join(f)).unwrap(),
+            std::fs::read(dir.path().join("b").join(f)).unwrap()
+        );
+    }
+}
+
+#[test]
+fn stale_shader_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let shader = dir.path().join("marble.wgsl");
+    std::fs::copy(root().join("shaders/marble.wgsl"), &shader).unwrap();
+    let p = profile(&shader);
+    let mut text = std::fs::read_to_string(&shader).unwrap();
+    text.push_str("\n// edited\n");
+    std::fs::write(&shader, text).unwrap();
+    let e = emit(&p, &dir.path().join("x.profile.json"), &opts(0.015, &dir.path().join("out"))).unwrap_err();
+    assert!(matches!(e, AnalyzeError::Stale { .. }), "{e}");
+}
+
+#[test]
+fn bad_profile_names_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let shader = root().join("shaders/marble.wgsl");
+    let mut v = serde_json::to_value(profile(&shader)).unwrap();
+    v["original"]["frame_ms"] = serde_json::json!("fast");
+    let path = dir.path().join("bad.profile.json");
+    std::fs::write(&path, serde_json::to_vec(&v).unwrap()).unwrap();
+    let e = load_profile(&path).unwrap_err().to_string();
+    assert!(e.contains("original.frame_ms"), "{e}");
+}

@@ -1,0 +1,1074 @@
+//! Drawing the charts with plotters, one generic function per chart for both backends.
+//!
+//! Layout is in fixed pixels: we never ask plotters to measure text (no `caption`, no series-label
+//! box), so SVG and PNG look alike and neither needs a font to be laid out. PNG text is drawn by
+//! [`GlyphBitmap`] (skipped when no font file was found).
+
+use std::error::Error;
+
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use crate::font::{FAMILY, Fonts};
+use crate::glyph::GlyphBitmap;
+use crate::{HitRate, ModelPanel, Models, Tradeoff};
+
+/// What to draw.
+#[derive(Debug, Clone)]
+pub(crate) enum Chart {
+    Tradeoff(Tradeoff),
+    HitRate(HitRate),
+    Models(Models),
+}
+
+type DrawResult = Result<(), Box<dyn Error>>;
+
+/// The chart as an SVG document.
+pub(crate) fn render_svg(chart: &Chart, size: (u32, u32)) -> Result<String, String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        draw(&root, chart, &Theme).map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(svg)
+}
+
+/// The chart as RGB8 pixels, text drawn with `fonts` (none: no text).
+pub(crate) fn render_rgb(
+    chart: &Chart,
+    size: (u32, u32),
+    fonts: Option<&Fonts>,
+) -> Result<Vec<u8>, String> {
+    let mut rgb = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let backend = GlyphBitmap::new(BitMapBackend::with_buffer(&mut rgb, size), fonts);
+        let root = backend.into_drawing_area();
+        draw(&root, chart, &Theme).map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(rgb)
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    chart: &Chart,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    match chart {
+        Chart::Tradeoff(t) => tradeoff(root, t, theme),
+        Chart::HitRate(h) => hit_rate(root, h, theme),
+        Chart::Models(m) => models(root, m, theme),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Style.
+
+/// Node colors (Tableau 10 without its grey, then three more).
+const PALETTE: [RGBColor; 12] = [
+    RGBColor(0x1f, 0x77, 0xb4),
+    RGBColor(0xff, 0x7f, 0x0e),
+    RGBColor(0x2c, 0xa0, 0x2c),
+    RGBColor(0xd6, 0x27, 0x28),
+    RGBColor(0x94, 0x67, 0xbd),
+    RGBColor(0x8c, 0x56, 0x4b),
+    RGBColor(0xe3, 0x77, 0xc2),
+    RGBColor(0xbc, 0xbd, 0x22),
+    RGBColor(0x17, 0xbe, 0xcf),
+    RGBColor(0x39, 0x3b, 0x79),
+    RGBColor(0xb8, 0x86, 0x0b),
+    RGBColor(0x63, 0x79, 0x39),
+];
+const INK: RGBColor = RGBColor(0x20, 0x20, 0x20);
+const MUTED: RGBColor = RGBColor(0x60, 0x60, 0x60);
+const GREY: RGBColor = RGBColor(0xa8, 0xa8, 0xa8);
+const GRID_LIGHT: RGBColor = RGBColor(0xf0, 0xf0, 0xf0);
+const GRID_BOLD: RGBColor = RGBColor(0xdc, 0xdc, 0xdc);
+const WARN: RGBColor = RGBColor(0xb0, 0x30, 0x20);
+
+fn color(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Text styles.
+#[derive(Debug, Clone, Copy)]
+struct Theme;
+
+impl Theme {
+    fn style(&self, size: f64, color: RGBColor, bold: bool) -> TextStyle<'static> {
+        let font = if bold {
+            (FAMILY, size).into_font().style(FontStyle::Bold)
+        } else {
+            (FAMILY, size).into_font()
+        };
+        font.color(&color)
+    }
+    fn text(&self, size: f64) -> TextStyle<'static> {
+        self.style(size, INK, false)
+    }
+    fn muted(&self, size: f64) -> TextStyle<'static> {
+        self.style(size, MUTED, false)
+    }
+    fn bold(&self, size: f64) -> TextStyle<'static> {
+        self.style(size, INK, true)
+    }
+}
+
+fn at(style: &TextStyle<'static>, h: HPos, v: VPos) -> TextStyle<'static> {
+    style.pos(Pos::new(h, v))
+}
+
+/// Title and subtitle centered at the top of `root`.
+fn header<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    subtitle: &str,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let w = root.dim_in_pixel().0 as i32;
+    root.draw_text(
+        title,
+        &at(&theme.bold(21.0), HPos::Center, VPos::Top),
+        (w / 2, 10),
+    )?;
+    root.draw_text(
+        subtitle,
+        &at(&theme.muted(14.0), HPos::Center, VPos::Top),
+        (w / 2, 38),
+    )?;
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Axis ranges and labels.
+
+/// A non-empty range covering the finite `values`, padded by `pad` of its width on each side;
+/// `default` when there is none. A zero-width range is widened around its value (10 % of it, or
+/// half of `default`'s width at 0). `non_negative`: never below 0 when no value is.
+fn span(
+    values: impl IntoIterator<Item = f64>,
+    default: (f64, f64),
+    pad: f64,
+    non_negative: bool,
+) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.into_iter().filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return default;
+    }
+    let data_lo = lo;
+    let width = hi - lo;
+    let scale = lo.abs().max(hi.abs());
+    if width <= scale * 1e-6 {
+        let center = (lo + hi) / 2.0;
+        let half = if center.abs() > 1e-300 {
+            center.abs() * 0.1
+        } else {
+            (default.1 - default.0) / 2.0
+        };
+        lo = center - half;
+        hi = center + half;
+    } else {
+        lo -= width * pad;
+        hi += width * pad;
+    }
+    if non_negative && data_lo >= 0.0 && lo < 0.0 {
+        lo = 0.0;
+    }
+    if hi > lo && (hi - lo).is_finite() {
+        (lo, hi)
+    } else {
+        default
+    }
+}
+
+/// Tick labels rounded to the axis' resolution, trailing zeros trimmed; scientific notation for
+/// axes whose values are all tiny or huge.
+fn formatter(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
+    let magnitude = lo.abs().max(hi.abs());
+    let scientific = magnitude > 0.0 && !(1e-4..1e6).contains(&magnitude);
+    let decimals = (-((hi - lo) / 20.0).log10()).ceil().clamp(0.0, 9.0) as usize;
+    move |v: &f64| {
+        if scientific {
+            sci(*v)
+        } else {
+            let s = format!("{:.*}", decimals, v);
+            let s = if s.contains('.') {
+                s.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                s
+            };
+            if s == "-0" { "0".to_string() } else { s }
+        }
+    }
+}
+
+/// `2.5e-4`, `1e-3`.
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        return "0".to_string();
+    }
+    let s = format!("{v:.1e}");
+    s.replace(".0e", "e")
+}
+
+/// A value of a log axis (`v` = log10 of it): `0.001`, `0.02`, `1e-5`.
+fn log_label(v: &f64) -> String {
+    let x = 10f64.powf(*v);
+    if (1e-4..1e4).contains(&x) {
+        let digits = (3.0 - x.log10().floor()).clamp(0.0, 7.0) as usize;
+        let s = format!("{:.*}", digits, x);
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        sci(x)
+    }
+}
+
+/// How errors are placed on the y axis of the trade-off chart.
+#[derive(Debug, Clone, Copy)]
+enum YScale {
+    Linear,
+    /// log10, values below `floor` (zeros) drawn at `floor`.
+    Log {
+        floor: f64,
+    },
+}
+
+impl YScale {
+    fn map(self, e: f64) -> f64 {
+        match self {
+            YScale::Linear => e,
+            YScale::Log { floor } => e.max(floor).log10(),
+        }
+    }
+}
+
+/// A tick-label formatter.
+type Fmt<'a> = &'a dyn Fn(&f64) -> String;
+/// A linear f64 × f64 chart.
+type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// How to draw a chart's axes.
+struct Axes<'a> {
+    x_desc: &'a str,
+    y_desc: &'a str,
+    x_fmt: Fmt<'a>,
+    y_fmt: Fmt<'a>,
+    /// Most labels on x and y.
+    labels: (usize, usize),
+    label_size: f64,
+    /// Light grid lines between two y labels.
+    y_light_lines: usize,
+}
+
+fn mesh_style<DB: DrawingBackend>(
+    chart: &mut Chart2d<'_, DB>,
+    theme: &Theme,
+    axes: &Axes<'_>,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_mesh()
+        .x_desc(axes.x_desc)
+        .y_desc(axes.y_desc)
+        .axis_desc_style(theme.text(axes.label_size + 2.0))
+        .label_style(theme.text(axes.label_size))
+        .x_labels(axes.labels.0)
+        .y_labels(axes.labels.1)
+        .x_label_formatter(axes.x_fmt)
+        .y_label_formatter(axes.y_fmt)
+        .x_max_light_lines(2)
+        .y_max_light_lines(axes.y_light_lines)
+        .light_line_style(GRID_LIGHT)
+        .bold_line_style(GRID_BOLD)
+        .axis_style(MUTED)
+        .draw()?;
+    Ok(())
+}
+
+/// A legend row: a sample of the line/marker at `(x, y)` (vertical center), then the label.
+#[derive(Debug, Clone, Copy)]
+enum Sample {
+    Line {
+        color: RGBColor,
+        width: u32,
+        marker: bool,
+    },
+    Dashed {
+        color: RGBColor,
+        width: u32,
+        dash: i32,
+        gap: i32,
+    },
+    Dot {
+        color: RGBColor,
+        filled: bool,
+    },
+    Cross {
+        color: RGBColor,
+    },
+}
+
+fn legend_row<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (x, y): (i32, i32),
+    sample: Sample,
+    label: &str,
+    style: &TextStyle<'static>,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let (x0, x1) = (x, x + 26);
+    match sample {
+        Sample::Line {
+            color,
+            width,
+            marker,
+        } => {
+            area.draw(&PathElement::new(
+                vec![(x0, y), (x1, y)],
+                color.stroke_width(width),
+            ))?;
+            if marker {
+                area.draw(&Circle::new(((x0 + x1) / 2, y), 3, color.filled()))?;
+            }
+        }
+        Sample::Dashed {
+            color,
+            width,
+            dash,
+            gap,
+        } => {
+            area.draw(&DashedPathElement::new(
+                vec![(x0, y), (x1, y)],
+                dash,
+                gap,
+                color.stroke_width(width),
+            ))?;
+        }
+        Sample::Dot { color, filled } => {
+            let style = if filled {
+                color.filled()
+            } else {
+                color.stroke_width(2)
+            };
+            area.draw(&Circle::new(((x0 + x1) / 2, y), 4, style))?;
+        }
+        Sample::Cross { color } => {
+            area.draw(&Cross::new(((x0 + x1) / 2, y), 4, color.stroke_width(2)))?;
+        }
+    }
+    area.draw_text(label, &at(style, HPos::Left, VPos::Center), (x1 + 8, y))?;
+    Ok(())
+}
+
+/// Legend rows in a white box with a thin border; `(x, y)` is the top-left corner.
+fn legend_box<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    (x, y): (i32, i32),
+    width: i32,
+    rows: &[(Sample, String)],
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let row_h = 20;
+    let h = rows.len() as i32 * row_h + 10;
+    area.draw(&Rectangle::new(
+        [(x, y), (x + width, y + h)],
+        WHITE.mix(0.9).filled(),
+    ))?;
+    area.draw(&Rectangle::new(
+        [(x, y), (x + width, y + h)],
+        GRID_BOLD.stroke_width(1),
+    ))?;
+    let style = theme.text(13.0);
+    for (i, (sample, label)) in rows.iter().enumerate() {
+        legend_row(
+            area,
+            (x + 10, y + 15 + i as i32 * row_h),
+            *sample,
+            label,
+            &style,
+        )?;
+    }
+    Ok(())
+}
+
+/// Text in the middle of a chart's plotting area (e.g. "no data").
+fn note_center<DB: DrawingBackend, CT: CoordTranslate>(
+    area: &DrawingArea<DB, CT>,
+    lines: &[&str],
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let (xr, yr) = area.get_pixel_range();
+    let (w, h) = (xr.end - xr.start, yr.end - yr.start);
+    let root = area.strip_coord_spec();
+    let style = at(&theme.style(15.0, WARN, false), HPos::Center, VPos::Center);
+    let n = lines.len() as i32;
+    for (i, line) in lines.iter().enumerate() {
+        root.draw_text(line, &style, (w / 2, h / 2 + (2 * i as i32 - (n - 1)) * 11))?;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chart 1: error vs frame time (Fig. 7).
+
+fn tradeoff<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    t: &Tradeoff,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    header(root, &t.title, &t.subtitle, theme)?;
+    let (w, _) = root.dim_in_pixel();
+    let (_, body) = root.split_vertically(64);
+    let legend_w = 300;
+    let (plot, legend) = body.split_horizontally(w as i32 - legend_w);
+
+    let errors: Vec<f64> = t
+        .paths
+        .iter()
+        .flat_map(|p| p.points.iter().map(|q| q.2))
+        .chain(t.pareto.iter().map(|p| p.1))
+        .collect();
+    let positive: Vec<f64> = errors.iter().copied().filter(|e| *e > 0.0).collect();
+    let (pmin, pmax) = positive
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &e| (a.min(e), b.max(e)));
+    let has_zero = errors.iter().any(|e| *e <= 0.0);
+    let scale = if positive.len() >= 2 && pmax / pmin >= 30.0 {
+        YScale::Log { floor: pmin / 2.0 }
+    } else {
+        YScale::Linear
+    };
+    let xs = t
+        .paths
+        .iter()
+        .flat_map(|p| p.points.iter().map(|q| q.1))
+        .chain(t.pareto.iter().map(|p| p.0))
+        .chain(t.original_ms);
+    let (x0, x1) = span(xs, (0.0, 1.0), 0.06, true);
+    let (y0, y1) = span(
+        errors.iter().map(|e| scale.map(*e)),
+        (0.0, 0.01),
+        0.06,
+        true,
+    );
+
+    let mut chart = ChartBuilder::on(&plot)
+        .margin_top(6)
+        .margin_left(8)
+        .margin_right(18)
+        .margin_bottom(8)
+        .x_label_area_size(48)
+        .y_label_area_size(78)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    let x_fmt = formatter(x0, x1);
+    let lin_fmt = formatter(y0, y1);
+    type BoxedFmt = Box<dyn Fn(&f64) -> String>;
+    let (y_desc, y_fmt, y_labels): (String, BoxedFmt, usize) = match scale {
+        YScale::Linear => (
+            "error: mean per-pixel L2 RGB distance".to_string(),
+            Box::new(lin_fmt),
+            8,
+        ),
+        YScale::Log { .. } => (
+            format!(
+                "error: mean per-pixel L2 RGB (log scale{})",
+                if has_zero { "; 0 at bottom" } else { "" }
+            ),
+            Box::new(log_label),
+            ((y1 - y0).ceil() as usize + 1).clamp(3, 10),
+        ),
+    };
+    mesh_style(
+        &mut chart,
+        theme,
+        &Axes {
+            x_desc: "mean frame time (ms)",
+            y_desc: &y_desc,
+            x_fmt: &x_fmt,
+            y_fmt: &*y_fmt,
+            labels: (10, y_labels),
+            label_size: 13.0,
+            y_light_lines: if matches!(scale, YScale::Log { .. }) {
+                0
+            } else {
+                2
+            },
+        },
+    )?;
+
+    let pt = |q: &(u32, f64, f64)| (q.1, scale.map(q.2));
+    // Unhighlighted usable nodes, thin grey; set-aside nodes, grey dashed.
+    for p in t.paths.iter().filter(|p| p.color.is_none()) {
+        let pts: Vec<(f64, f64)> = p.points.iter().map(pt).collect();
+        if p.set_aside {
+            chart.draw_series(DashedLineSeries::new(
+                pts.clone(),
+                5,
+                4,
+                GREY.stroke_width(1),
+            ))?;
+            chart.draw_series(pts.iter().map(|&q| Circle::new(q, 2, GREY.stroke_width(1))))?;
+        } else {
+            chart.draw_series(LineSeries::new(pts.clone(), GREY.mix(0.7).stroke_width(1)))?;
+            chart.draw_series(pts.iter().map(|&q| Circle::new(q, 1, GREY.filled())))?;
+        }
+    }
+    // Predicted frontier, dotted.
+    if !t.pareto.is_empty() {
+        let pts: Vec<(f64, f64)> = t.pareto.iter().map(|p| (p.0, scale.map(p.1))).collect();
+        chart.draw_series(DashedLineSeries::new(
+            pts.clone(),
+            2,
+            4,
+            INK.stroke_width(2),
+        ))?;
+    }
+    // The original's frame time.
+    if let Some(orig) = t.original_ms {
+        chart.draw_series(DashedLineSeries::new(
+            vec![(orig, y0), (orig, y1)],
+            9,
+            6,
+            INK.stroke_width(2),
+        ))?;
+        let right = orig > x0 + 0.7 * (x1 - x0);
+        let (h, dx) = if right {
+            (HPos::Right, -6)
+        } else {
+            (HPos::Left, 6)
+        };
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((orig, y1))
+                + Text::new(
+                    format!("original {} ms", fmt_ms(orig)),
+                    (dx, 6),
+                    at(&theme.bold(13.0), h, VPos::Top),
+                ),
+        ))?;
+    }
+    // Highlighted nodes, colored, with Δn at the path ends.
+    for p in t.paths.iter().filter(|p| p.color.is_some()) {
+        let c = color(p.color.unwrap_or(0));
+        let pts: Vec<(f64, f64)> = p.points.iter().map(pt).collect();
+        chart.draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?;
+        chart.draw_series(pts.iter().map(|&q| Circle::new(q, 3, c.filled())))?;
+        let style = theme.style(11.0, c, true);
+        let ends: Vec<&(u32, f64, f64)> = match (p.points.first(), p.points.last()) {
+            (Some(a), Some(b)) if a.0 != b.0 => vec![a, b],
+            (Some(a), _) => vec![a],
+            _ => vec![],
+        };
+        for q in ends {
+            chart.draw_series(std::iter::once(
+                EmptyElement::at(pt(q))
+                    + Text::new(
+                        format!("{}", q.0),
+                        (5, -4),
+                        at(&style, HPos::Left, VPos::Bottom),
+                    ),
+            ))?;
+        }
+    }
+    if t.paths.is_empty() {
+        note_center(
+            chart.plotting_area(),
+            &["no measurements in this profile", "(no node was replayed)"],
+            theme,
+        )?;
+    }
+
+    // Legend, in its own column.
+    let mut rows: Vec<(Sample, String)> = Vec::new();
+    for p in t.paths.iter().filter(|p| p.color.is_some()) {
+        rows.push((
+            Sample::Line {
+                color: color(p.color.unwrap_or(0)),
+                width: 2,
+                marker: true,
+            },
+            p.label.clone(),
+        ));
+    }
+    if t.others > 0 {
+        rows.push((
+            Sample::Line {
+                color: GREY,
+                width: 1,
+                marker: false,
+            },
+            format!("{} other usable node{} (grey)", t.others, plural(t.others)),
+        ));
+    }
+    let aside = t.paths.iter().filter(|p| p.set_aside).count();
+    if aside > 0 && aside <= 3 {
+        for p in t.paths.iter().filter(|p| p.set_aside) {
+            rows.push((
+                Sample::Dashed {
+                    color: GREY,
+                    width: 1,
+                    dash: 5,
+                    gap: 4,
+                },
+                format!("{} (set aside)", crate::truncate(&p.label, 26)),
+            ));
+        }
+    } else if aside > 0 {
+        rows.push((
+            Sample::Dashed {
+                color: GREY,
+                width: 1,
+                dash: 5,
+                gap: 4,
+            },
+            format!("{aside} set-aside node{} (grey dashed)", plural(aside)),
+        ));
+    }
+    if !t.pareto.is_empty() {
+        rows.push((
+            Sample::Dashed {
+                color: INK,
+                width: 2,
+                dash: 2,
+                gap: 4,
+            },
+            "predicted Pareto frontier".to_string(),
+        ));
+    }
+    if let Some(orig) = t.original_ms {
+        rows.push((
+            Sample::Dashed {
+                color: INK,
+                width: 2,
+                dash: 9,
+                gap: 6,
+            },
+            format!("original shader ({} ms)", fmt_ms(orig)),
+        ));
+    }
+    let head = at(&theme.bold(14.0), HPos::Left, VPos::Top);
+    legend.draw_text("node (id: expression)", &head, (8, 8))?;
+    let style = theme.text(12.5);
+    for (i, (sample, label)) in rows.iter().enumerate() {
+        legend_row(&legend, (10, 40 + i as i32 * 22), *sample, label, &style)?;
+    }
+    let foot = 40 + rows.len() as i32 * 22 + 12;
+    let notes = [
+        "lower left is better: faster, less error;",
+        "left of the dashed line = faster than the",
+        "original; numbers on paths: Δn",
+    ];
+    for (i, line) in notes.iter().enumerate() {
+        legend.draw_text(
+            line,
+            &at(&theme.muted(12.0), HPos::Left, VPos::Top),
+            (10, foot + i as i32 * 17),
+        )?;
+    }
+    Ok(())
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
+
+/// Milliseconds with 3 significant digits or 2 decimals.
+fn fmt_ms(ms: f64) -> String {
+    if ms >= 100.0 {
+        format!("{ms:.0}")
+    } else if ms >= 10.0 {
+        format!("{ms:.1}")
+    } else {
+        format!("{ms:.2}")
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chart 2: hit rate vs Δn (Fig. 5).
+
+fn hit_rate<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    h: &HitRate,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    header(root, &h.title, &h.subtitle, theme)?;
+    let (_, body) = root.split_vertically(64);
+    let x1 = h.max_delta_n.max(2.0) * 1.03;
+    let mut chart = ChartBuilder::on(&body)
+        .margin_top(6)
+        .margin_left(8)
+        .margin_right(24)
+        .margin_bottom(8)
+        .x_label_area_size(48)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..x1, 0.0..1.05)?;
+    let x_fmt = formatter(0.0, x1);
+    let y_fmt = formatter(0.0, 1.05);
+    mesh_style(
+        &mut chart,
+        theme,
+        &Axes {
+            x_desc: "refresh period Δn (frames)",
+            y_desc: "hit rate (hits / shaded pixels)",
+            x_fmt: &x_fmt,
+            y_fmt: &y_fmt,
+            labels: (12, 11),
+            label_size: 13.0,
+            y_light_lines: 2,
+        },
+    )?;
+    let train_color = PALETTE[0];
+    let held_color = PALETTE[1];
+    let fit_color = PALETTE[3];
+    if let Some(mu) = h.mu {
+        let curve: Vec<(f64, f64)> = (0..=400)
+            .map(|i| 1.0 + (x1 - 1.0) * f64::from(i) / 400.0)
+            .map(|dn| (dn, mu * (1.0 - 1.0 / dn)))
+            .collect();
+        chart.draw_series(LineSeries::new(curve, fit_color.stroke_width(2)))?;
+        chart.draw_series(DashedLineSeries::new(
+            vec![(0.0, mu), (x1, mu)],
+            6,
+            5,
+            fit_color.mix(0.6).stroke_width(1),
+        ))?;
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((x1, mu))
+                + Text::new(
+                    format!("µ = {mu:.3}"),
+                    (-6, -4),
+                    at(
+                        &theme.style(13.0, fit_color, true),
+                        HPos::Right,
+                        VPos::Bottom,
+                    ),
+                ),
+        ))?;
+    }
+    chart.draw_series(
+        h.train
+            .iter()
+            .map(|&p| Circle::new(p, 4, train_color.mix(0.55).filled())),
+    )?;
+    chart.draw_series(
+        h.holdout
+            .iter()
+            .map(|&p| Circle::new(p, 5, held_color.stroke_width(2))),
+    )?;
+    if h.train.is_empty() && h.holdout.is_empty() {
+        note_center(
+            chart.plotting_area(),
+            &["no hit-rate measurements in this profile"],
+            theme,
+        )?;
+    }
+    let mut rows = Vec::new();
+    if !h.train.is_empty() {
+        rows.push((
+            Sample::Dot {
+                color: train_color,
+                filled: true,
+            },
+            "measured, training Δn (one per node)".to_string(),
+        ));
+    }
+    if !h.holdout.is_empty() {
+        rows.push((
+            Sample::Dot {
+                color: held_color,
+                filled: false,
+            },
+            "measured, held-out Δn".to_string(),
+        ));
+    }
+    if h.mu.is_some() {
+        rows.push((
+            Sample::Line {
+                color: fit_color,
+                width: 2,
+                marker: false,
+            },
+            "model µ(1 − 1/Δn)".to_string(),
+        ));
+    }
+    if !rows.is_empty() {
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let (bx, by) = (xr.end - 330, yr.end - 20 - (rows.len() as i32 * 20 + 10));
+        legend_box(root, (bx, by), 320, &rows, theme)?;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chart 3: model validation (Fig. 6).
+
+fn models<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    m: &Models,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    header(root, &m.title, &m.subtitle, theme)?;
+    // Legend line under the header.
+    let (w, _) = root.dim_in_pixel();
+    let rows = [
+        (
+            Sample::Line {
+                color: INK,
+                width: 2,
+                marker: false,
+            },
+            "model prediction",
+        ),
+        (
+            Sample::Dot {
+                color: INK,
+                filled: true,
+            },
+            "measured (training Δn)",
+        ),
+        (Sample::Cross { color: INK }, "measured (held-out Δn)"),
+        (
+            Sample::Dashed {
+                color: MUTED,
+                width: 1,
+                dash: 6,
+                gap: 5,
+            },
+            "original shader",
+        ),
+    ];
+    let style = theme.text(13.0);
+    let item_w = 230;
+    let start = (w as i32 - item_w * rows.len() as i32) / 2;
+    for (i, (sample, label)) in rows.iter().enumerate() {
+        legend_row(
+            root,
+            (start + i as i32 * item_w, 72),
+            *sample,
+            label,
+            &style,
+        )?;
+    }
+    let (_, body) = root.split_vertically(88);
+    let cols = m.panels.len().max(1);
+    let areas = body.split_evenly((2, cols));
+    if m.panels.is_empty() {
+        let empty = ModelPanel {
+            label: String::new(),
+            color: 0,
+            error_measured: Vec::new(),
+            error_curve: Vec::new(),
+            error_note: Some("no node has measurements".to_string()),
+            time_measured: Vec::new(),
+            time_curve: Vec::new(),
+            time_note: Some("no node has measurements".to_string()),
+        };
+        panel(
+            &areas[0],
+            &empty,
+            Quantity::Error,
+            None,
+            m.max_delta_n,
+            theme,
+        )?;
+        panel(
+            &areas[1],
+            &empty,
+            Quantity::Time,
+            m.original_ms,
+            m.max_delta_n,
+            theme,
+        )?;
+        return Ok(());
+    }
+    for (i, p) in m.panels.iter().enumerate() {
+        panel(&areas[i], p, Quantity::Error, None, m.max_delta_n, theme)?;
+        panel(
+            &areas[cols + i],
+            p,
+            Quantity::Time,
+            m.original_ms,
+            m.max_delta_n,
+            theme,
+        )?;
+    }
+    Ok(())
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Quantity {
+    Error,
+    Time,
+}
+
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    p: &ModelPanel,
+    q: Quantity,
+    original_ms: Option<f64>,
+    max_delta_n: f64,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let c = color(p.color);
+    let (measured, curve, note, desc) = match q {
+        Quantity::Error => (
+            &p.error_measured,
+            &p.error_curve,
+            &p.error_note,
+            "error (L2 RGB)",
+        ),
+        Quantity::Time => (
+            &p.time_measured,
+            &p.time_curve,
+            &p.time_note,
+            "frame time (ms)",
+        ),
+    };
+    let (pw, _) = area.dim_in_pixel();
+    let top = if q == Quantity::Error { 24 } else { 6 };
+    if q == Quantity::Error {
+        area.draw_text(
+            &p.label,
+            &at(&theme.style(13.5, c, true), HPos::Center, VPos::Top),
+            (pw as i32 / 2, 4),
+        )?;
+    }
+    let x1 = max_delta_n.max(2.0) * 1.04;
+    let ys = measured
+        .iter()
+        .map(|v| v.1)
+        .chain(curve.iter().map(|v| v.1))
+        .chain(original_ms.filter(|_| q == Quantity::Time));
+    let default = if q == Quantity::Error {
+        (0.0, 0.01)
+    } else {
+        (0.0, 1.0)
+    };
+    let (y0, y1) = span(ys, default, 0.08, true);
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(top)
+        .margin_left(4)
+        .margin_right(14)
+        .margin_bottom(6)
+        .x_label_area_size(38)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..x1, y0..y1)?;
+    let x_fmt = formatter(0.0, x1);
+    let y_fmt = formatter(y0, y1);
+    mesh_style(
+        &mut chart,
+        theme,
+        &Axes {
+            x_desc: "Δn",
+            y_desc: desc,
+            x_fmt: &x_fmt,
+            y_fmt: &y_fmt,
+            labels: (6, 6),
+            label_size: 12.0,
+            y_light_lines: 2,
+        },
+    )?;
+    if let Some(orig) = original_ms.filter(|_| q == Quantity::Time) {
+        chart.draw_series(DashedLineSeries::new(
+            vec![(0.0, orig), (x1, orig)],
+            6,
+            5,
+            MUTED.stroke_width(1),
+        ))?;
+    }
+    if !curve.is_empty() {
+        chart.draw_series(LineSeries::new(curve.iter().copied(), c.stroke_width(2)))?;
+    }
+    chart.draw_series(
+        measured
+            .iter()
+            .filter(|v| !v.2)
+            .map(|v| Circle::new((v.0, v.1), 4, c.filled())),
+    )?;
+    chart.draw_series(
+        measured
+            .iter()
+            .filter(|v| v.2)
+            .map(|v| Cross::new((v.0, v.1), 5, INK.stroke_width(2))),
+    )?;
+    if let Some(note) = note {
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let base = area.get_base_pixel();
+        area.draw_text(
+            note,
+            &at(&theme.style(12.0, WARN, false), HPos::Left, VPos::Top),
+            (xr.start - base.0 + 6, yr.start - base.1 + 6),
+        )?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_are_never_empty() {
+        assert_eq!(span([], (0.0, 1.0), 0.1, true), (0.0, 1.0));
+        let (lo, hi) = span([0.0, 0.0], (0.0, 0.01), 0.1, true);
+        assert!(lo == 0.0 && hi > 0.0);
+        let (lo, hi) = span([5.0], (0.0, 1.0), 0.1, true);
+        assert!(lo < 5.0 && hi > 5.0);
+        let (lo, hi) = span([1e6, 1e6 + 1e-9], (0.0, 1.0), 0.1, true);
+        assert!(lo < 1e6 && hi > 1e6);
+        let (lo, hi) = span([f64::NAN, 2.0, 4.0], (0.0, 1.0), 0.0, false);
+        assert_eq!((lo, hi), (2.0, 4.0));
+    }
+
+    #[test]
+    fn labels() {
+        let f = formatter(0.0, 1.0);
+        assert_eq!(f(&0.30000000000000004), "0.3");
+        assert_eq!(f(&0.0), "0");
+        let f = formatter(0.0, 2e-5);
+        assert_eq!(f(&1e-5), "1e-5");
+        assert_eq!(log_label(&-2.0), "0.01");
+        assert_eq!(log_label(&-5.0), "1e-5");
+        assert_eq!(fmt_ms(12.345), "12.3");
+    }
+}

@@ -1,0 +1,621 @@
+//! The analysis charts of a profile, as SVG and PNG, after the paper's figures (seeds 002):
+//!
+//! - `{stem}.tradeoff`: error vs frame time, one path per node over Δn (Fig. 7), the original
+//!   shader's frame time as a dashed vertical line and the models' predicted Pareto frontier
+//!   (`reproj_select::pareto`) dotted;
+//! - `{stem}.hitrate`: measured hit rate vs Δn and the fitted `µ(1 − 1/Δn)` (Fig. 5);
+//! - `{stem}.models`: for up to four nodes, predicted vs measured error and frame time over Δn,
+//!   held-out Δn marked apart (Fig. 6).
+//!
+//! Text: SVG always has it (`<text>` elements; the viewer picks the font). PNG text needs a font
+//! file, found at run time (see [`font_path`], env `REPROJ_FONT`) and drawn with ab_glyph; with
+//! none the PNGs are drawn without text and [`ChartPaths::warnings`] says so. No system font
+//! library (fontconfig, font-kit) is used.
+//!
+//! Every chart is drawn whatever the profile holds (no node, no measurement, all errors 0, one Δn,
+//! identical times): empty data give an empty, labeled chart, never a panic or an empty axis.
+
+mod draw;
+mod font;
+mod glyph;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
+use reproj_models::{HitRateStatus, Profile, predicted_frame_ms};
+use reproj_select::{DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, pareto};
+
+pub use font::{FONT_ENV, font_path};
+
+/// Files written by [`write_charts`].
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ChartPaths {
+    /// `{stem}.tradeoff.svg`, `{stem}.hitrate.svg`, `{stem}.models.svg`.
+    pub svg: Vec<PathBuf>,
+    /// The same charts as PNG.
+    pub png: Vec<PathBuf>,
+    /// Non-fatal remarks, e.g. no font was found so the PNGs have no text.
+    pub warnings: Vec<String>,
+    /// The font file used for PNG text, if any.
+    pub font: Option<PathBuf>,
+}
+
+/// Why the charts could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ChartError {
+    /// Creating the directory or writing a file failed.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// plotters failed to draw a chart.
+    #[error("cannot draw the {chart} chart: {message}")]
+    Draw {
+        /// Which chart.
+        chart: &'static str,
+        /// plotters' error.
+        message: String,
+    },
+    /// The PNG encoder failed.
+    #[error("cannot encode {path} as PNG: {message}")]
+    Png {
+        /// The file.
+        path: PathBuf,
+        /// The encoder's error.
+        message: String,
+    },
+}
+
+/// Size of the trade-off and hit-rate charts, pixels.
+const SIZE: (u32, u32) = (900, 600);
+/// Size of the model-validation chart (two rows of up to four panels), pixels.
+const MODELS_SIZE: (u32, u32) = (1200, 680);
+/// More nodes than this: only the best [`HIGHLIGHTED`] get a color and a legend entry.
+const MAX_LEGEND_NODES: usize = 12;
+/// Nodes highlighted when there are more than [`MAX_LEGEND_NODES`].
+const HIGHLIGHTED: usize = 8;
+/// Nodes in the model-validation chart.
+const MODEL_NODES: usize = 4;
+
+/// Write the analysis charts next to the profile: `{stem}.tradeoff.{svg,png}`,
+/// `{stem}.hitrate.{svg,png}`, `{stem}.models.{svg,png}` in `dir` (created if missing). Each file
+/// is written under a temporary name and renamed into place.
+pub fn write_charts(profile: &Profile, dir: &Path, stem: &str) -> Result<ChartPaths, ChartError> {
+    let font = font::font();
+    let mut paths = write_charts_with(profile, dir, stem, font.fonts.as_ref())?;
+    paths.warnings.extend(font.warnings.iter().cloned());
+    paths.font = font.path.clone();
+    Ok(paths)
+}
+
+/// [`write_charts`] with the given fonts for PNG text (none: as when no font file exists).
+fn write_charts_with(
+    profile: &Profile,
+    dir: &Path,
+    stem: &str,
+    fonts: Option<&font::Fonts>,
+) -> Result<ChartPaths, ChartError> {
+    std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let tradeoff = tradeoff(profile);
+    // A node keeps its color from chart to chart.
+    let colors: BTreeMap<u32, usize> = tradeoff
+        .paths
+        .iter()
+        .filter_map(|p| p.color.map(|c| (p.id, c)))
+        .collect();
+    let models = models(profile, &colors);
+    let charts = [
+        ("tradeoff", draw::Chart::Tradeoff(tradeoff), SIZE),
+        ("hitrate", draw::Chart::HitRate(hit_rate(profile)), SIZE),
+        ("models", draw::Chart::Models(models), MODELS_SIZE),
+    ];
+    let mut out = ChartPaths::default();
+    for (name, chart, size) in &charts {
+        let svg_path = dir.join(format!("{stem}.{name}.svg"));
+        let svg = draw::render_svg(chart, *size).map_err(|message| ChartError::Draw {
+            chart: name,
+            message,
+        })?;
+        write_atomic(&svg_path, svg.as_bytes())?;
+        out.svg.push(svg_path);
+
+        let png_path = dir.join(format!("{stem}.{name}.png"));
+        let rgb = draw::render_rgb(chart, *size, fonts).map_err(|message| ChartError::Draw {
+            chart: name,
+            message,
+        })?;
+        let png = encode_png(&rgb, *size).map_err(|message| ChartError::Png {
+            path: png_path.clone(),
+            message,
+        })?;
+        write_atomic(&png_path, &png)?;
+        out.png.push(png_path);
+    }
+    Ok(out)
+}
+
+/// Encode an RGB8 buffer as PNG.
+fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
+    use image::ImageEncoder;
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(rgb, w, h, image::ExtendedColorType::Rgb8)
+        .map_err(|e| e.to_string())?;
+    Ok(bytes)
+}
+
+/// Write `bytes` to `path` through a temporary file in the same directory, then rename.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ChartError> {
+    let io = |source| ChartError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// What each chart shows, taken from the profile (pure data; `draw` turns it into pictures).
+
+/// One node's measured path over Δn.
+#[derive(Debug, Clone)]
+pub(crate) struct NodePath {
+    pub(crate) id: u32,
+    pub(crate) label: String,
+    /// Palette index; `None`: drawn thin grey without a legend entry.
+    pub(crate) color: Option<usize>,
+    pub(crate) set_aside: bool,
+    /// `(Δn, frame ms, error)`, sorted by Δn.
+    pub(crate) points: Vec<(u32, f64, f64)>,
+}
+
+/// Chart 1 (Fig. 7).
+#[derive(Debug, Clone)]
+pub(crate) struct Tradeoff {
+    pub(crate) title: String,
+    pub(crate) subtitle: String,
+    /// Colored (legend) paths first, then the thin grey and set-aside ones.
+    pub(crate) paths: Vec<NodePath>,
+    /// Paths drawn thin grey without a legend entry (usable nodes not among the best).
+    pub(crate) others: usize,
+    /// Predicted frontier: `(ms, error, Δn, node id)`, by increasing time.
+    pub(crate) pareto: Vec<(f64, f64, u32, u32)>,
+    pub(crate) original_ms: Option<f64>,
+}
+
+/// Chart 2 (Fig. 5).
+#[derive(Debug, Clone)]
+pub(crate) struct HitRate {
+    pub(crate) title: String,
+    pub(crate) subtitle: String,
+    /// `(Δn, hit rate)` at training Δn.
+    pub(crate) train: Vec<(f64, f64)>,
+    /// `(Δn, hit rate)` at held-out Δn.
+    pub(crate) holdout: Vec<(f64, f64)>,
+    pub(crate) mu: Option<f64>,
+    pub(crate) max_delta_n: f64,
+}
+
+/// One node of chart 3 (Fig. 6).
+#[derive(Debug, Clone)]
+pub(crate) struct ModelPanel {
+    pub(crate) label: String,
+    pub(crate) color: usize,
+    /// `(Δn, value, held out)`.
+    pub(crate) error_measured: Vec<(f64, f64, bool)>,
+    pub(crate) error_curve: Vec<(f64, f64)>,
+    /// Why there is no error curve.
+    pub(crate) error_note: Option<String>,
+    pub(crate) time_measured: Vec<(f64, f64, bool)>,
+    pub(crate) time_curve: Vec<(f64, f64)>,
+    pub(crate) time_note: Option<String>,
+}
+
+/// Chart 3 (Fig. 6).
+#[derive(Debug, Clone)]
+pub(crate) struct Models {
+    pub(crate) title: String,
+    pub(crate) subtitle: String,
+    pub(crate) panels: Vec<ModelPanel>,
+    pub(crate) original_ms: Option<f64>,
+    pub(crate) max_delta_n: f64,
+}
+
+fn finite_pos(v: f64) -> Option<f64> {
+    (v.is_finite() && v > 0.0).then_some(v)
+}
+
+/// `"id: text"`, whitespace collapsed, at most `max` characters.
+pub(crate) fn node_label(node: &NodeProfile, max: usize) -> String {
+    let text: String = node.text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let root = if node.root { " (root)" } else { "" };
+    truncate(&format!("{}{root}: {text}", node.id), max)
+}
+
+/// At most `max` characters, with an ellipsis when cut.
+pub(crate) fn truncate(s: &str, max: usize) -> String {
+    if s.chars().count() <= max {
+        s.to_string()
+    } else {
+        let mut t: String = s.chars().take(max.saturating_sub(1)).collect();
+        t.push('…');
+        t
+    }
+}
+
+/// A measurement that can be drawn: finite, non-negative time and error.
+fn usable(m: &Measurement) -> bool {
+    m.frame_ms.is_finite() && m.frame_ms >= 0.0 && m.error.is_finite() && m.error >= 0.0
+}
+
+fn shader_name(profile: &Profile) -> String {
+    Path::new(&profile.shader.path)
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .filter(|n| !n.is_empty())
+        .unwrap_or_else(|| "shader".to_string())
+}
+
+fn setting(profile: &Profile) -> String {
+    let adapter = if profile.machine.adapter.is_empty() {
+        "unknown adapter".to_string()
+    } else {
+        truncate(&profile.machine.adapter, 40)
+    };
+    format!(
+        "{}×{}, {} frames, {adapter}",
+        profile.resolution[0], profile.resolution[1], profile.frames
+    )
+}
+
+/// The selector's view of the usable nodes (as `reproj emit` builds it).
+fn records(profile: &Profile) -> Vec<NodeRecord> {
+    profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok)
+        .map(|n| NodeRecord {
+            id: n.id,
+            text: n.text.clone(),
+            error: n.error_fit.clone(),
+            timing: n.timing_fit.clone(),
+            mean_pixels: profile.original.mean_pixels,
+        })
+        .collect()
+}
+
+fn tradeoff(profile: &Profile) -> Tradeoff {
+    let original_ms = finite_pos(profile.original.frame_ms);
+    let pareto: Vec<(f64, f64, u32, u32)> = pareto(
+        &records(profile),
+        &profile.hit_rate,
+        DEFAULT_MIN_DELTA_N,
+        DEFAULT_MAX_DELTA_N,
+    )
+    .into_iter()
+    .filter(|p| p.predicted_ms.is_finite() && p.predicted_error.is_finite())
+    .map(|p| {
+        (
+            p.predicted_ms,
+            p.predicted_error.max(0.0),
+            p.delta_n,
+            p.node_id,
+        )
+    })
+    .collect();
+
+    let points = |n: &NodeProfile| -> Vec<(u32, f64, f64)> {
+        let mut v: Vec<(u32, f64, f64)> = n
+            .measurements
+            .iter()
+            .filter(|m| usable(m))
+            .map(|m| (m.delta_n, m.frame_ms, m.error))
+            .collect();
+        v.sort_by_key(|p| p.0);
+        v
+    };
+    let ok: Vec<&NodeProfile> = profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok && !points(n).is_empty())
+        .collect();
+    let aside: Vec<&NodeProfile> = profile
+        .nodes
+        .iter()
+        .filter(|n| n.status != NodeStatus::Ok && !points(n).is_empty())
+        .collect();
+
+    // The best nodes: most points on the predicted and on the measured frontier, then lowest
+    // normalized distance to the lower left.
+    let chosen: BTreeSet<u32> = if ok.len() <= MAX_LEGEND_NODES {
+        ok.iter().map(|n| n.id).collect()
+    } else {
+        let all: Vec<(u32, f64, f64)> = ok
+            .iter()
+            .flat_map(|n| points(n).into_iter().map(|(_, t, e)| (n.id, t, e)))
+            .collect();
+        let mut on_front: BTreeMap<u32, usize> = BTreeMap::new();
+        for &(id, t, e) in &all {
+            let dominated = all
+                .iter()
+                .any(|&(_, t2, e2)| t2 <= t && e2 <= e && (t2 < t || e2 < e));
+            if !dominated {
+                *on_front.entry(id).or_default() += 1;
+            }
+        }
+        for p in &pareto {
+            *on_front.entry(p.3).or_default() += 1;
+        }
+        let (tmax, emax) = all
+            .iter()
+            .fold((0.0f64, 0.0f64), |(a, b), p| (a.max(p.1), b.max(p.2)));
+        let closeness = |n: &NodeProfile| -> f64 {
+            points(n)
+                .iter()
+                .map(|&(_, t, e)| {
+                    t / if tmax > 0.0 { tmax } else { 1.0 }
+                        + e / if emax > 0.0 { emax } else { 1.0 }
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut ranked: Vec<(usize, f64, u32)> = ok
+            .iter()
+            .map(|n| {
+                (
+                    on_front.get(&n.id).copied().unwrap_or(0),
+                    closeness(n),
+                    n.id,
+                )
+            })
+            .collect();
+        ranked.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+        ranked.iter().take(HIGHLIGHTED).map(|r| r.2).collect()
+    };
+
+    let mut paths = Vec::new();
+    // Colored first (in id order), so they get stable colors; then the others below them.
+    for n in ok.iter().filter(|n| chosen.contains(&n.id)) {
+        paths.push(NodePath {
+            id: n.id,
+            label: node_label(n, 38),
+            color: Some(paths.len()),
+            set_aside: false,
+            points: points(n),
+        });
+    }
+    let mut others = 0;
+    for n in ok.iter().filter(|n| !chosen.contains(&n.id)) {
+        others += 1;
+        paths.push(NodePath {
+            id: n.id,
+            label: node_label(n, 38),
+            color: None,
+            set_aside: false,
+            points: points(n),
+        });
+    }
+    for n in &aside {
+        paths.push(NodePath {
+            id: n.id,
+            label: node_label(n, 38),
+            color: None,
+            set_aside: true,
+            points: points(n),
+        });
+    }
+    let usable_nodes = profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok)
+        .count();
+    Tradeoff {
+        title: format!(
+            "Error vs frame time per cached node — {}",
+            shader_name(profile)
+        ),
+        subtitle: format!(
+            "{}; {} nodes ({usable_nodes} usable); one path per node over Δn (numbers: Δn at the ends)",
+            setting(profile),
+            profile.nodes.len()
+        ),
+        paths,
+        others,
+        pareto,
+        original_ms,
+    }
+}
+
+fn hit_rate(profile: &Profile) -> HitRate {
+    let holdout: BTreeSet<u32> = profile.delta_n_holdout.iter().copied().collect();
+    let mut train = Vec::new();
+    let mut held = Vec::new();
+    let mut max_dn = 0u32;
+    for m in profile.nodes.iter().flat_map(|n| &n.measurements) {
+        if !(m.hit_rate.is_finite() && m.delta_n >= 1) {
+            continue;
+        }
+        max_dn = max_dn.max(m.delta_n);
+        let p = (f64::from(m.delta_n), m.hit_rate.clamp(0.0, 1.0));
+        if holdout.contains(&m.delta_n) && !profile.delta_n_train.contains(&m.delta_n) {
+            held.push(p);
+        } else {
+            train.push(p);
+        }
+    }
+    let fit = &profile.hit_rate;
+    let mu = if fit.is_usable() {
+        fit.mu.filter(|m| m.is_finite())
+    } else {
+        None
+    };
+    let fit_text = match (&fit.status, mu) {
+        (HitRateStatus::Failed { reason }, _) => format!("fit failed: {reason}"),
+        (_, None) => "no fit".to_string(),
+        (status, Some(mu)) => {
+            let r2 = fit
+                .r2
+                .filter(|r| r.is_finite())
+                .map_or_else(|| "n/a".to_string(), |r| format!("{r:.3}"));
+            let clamped = if matches!(status, HitRateStatus::Clamped { .. }) {
+                " (clamped)"
+            } else {
+                ""
+            };
+            format!("µ = {mu:.3}{clamped}, R² = {r2}")
+        }
+    };
+    HitRate {
+        title: format!("Hit rate vs refresh period: γ(Δn) = µ(1 − 1/Δn), {fit_text}"),
+        subtitle: format!(
+            "{} — {}; {} measurements over {} nodes",
+            shader_name(profile),
+            setting(profile),
+            train.len() + held.len(),
+            profile
+                .nodes
+                .iter()
+                .filter(|n| !n.measurements.is_empty())
+                .count()
+        ),
+        train,
+        holdout: held,
+        mu,
+        max_delta_n: f64::from(max_dn.max(DEFAULT_MAX_DELTA_N)),
+    }
+}
+
+/// Up to [`MODEL_NODES`] nodes: among the usable ones (all, if none is usable) with the most
+/// measurements, spread evenly over the static cost; in increasing cost.
+fn model_nodes(profile: &Profile) -> Vec<&NodeProfile> {
+    let with: Vec<&NodeProfile> = profile
+        .nodes
+        .iter()
+        .filter(|n| n.measurements.iter().any(usable))
+        .collect();
+    let ok: Vec<&NodeProfile> = with
+        .iter()
+        .copied()
+        .filter(|n| n.status == NodeStatus::Ok)
+        .collect();
+    let mut pool = if ok.is_empty() { with } else { ok };
+    let count = |n: &NodeProfile| n.measurements.iter().filter(|m| usable(m)).count();
+    pool.sort_by(|a, b| count(b).cmp(&count(a)).then(a.id.cmp(&b.id)));
+    let Some(threshold) = pool
+        .get(MODEL_NODES.min(pool.len()).saturating_sub(1))
+        .map(|n| count(n))
+    else {
+        return Vec::new();
+    };
+    pool.retain(|n| count(n) >= threshold);
+    pool.sort_by(|a, b| a.cost.total_cmp(&b.cost).then(a.id.cmp(&b.id)));
+    let k = MODEL_NODES.min(pool.len());
+    if k <= 1 {
+        return pool.into_iter().take(k).collect();
+    }
+    let mut picked: Vec<usize> = (0..k).map(|i| i * (pool.len() - 1) / (k - 1)).collect();
+    picked.dedup();
+    picked.into_iter().map(|i| pool[i]).collect()
+}
+
+/// `colors`: palette index of the nodes that have one in the trade-off chart.
+fn models(profile: &Profile, colors: &BTreeMap<u32, usize>) -> Models {
+    let train: BTreeSet<u32> = profile.delta_n_train.iter().copied().collect();
+    let holdout: BTreeSet<u32> = profile.delta_n_holdout.iter().copied().collect();
+    let is_held = |dn: u32| holdout.contains(&dn) && !train.contains(&dn);
+    let nodes = model_nodes(profile);
+    let max_dn = nodes
+        .iter()
+        .flat_map(|n| n.measurements.iter().map(|m| m.delta_n))
+        .max()
+        .unwrap_or(0)
+        .max(DEFAULT_MAX_DELTA_N);
+    let grid: Vec<f64> = (0..=200)
+        .map(|i| 1.0 + (f64::from(max_dn) - 1.0) * f64::from(i) / 200.0)
+        .collect();
+    let mean_pixels = profile.original.mean_pixels;
+    let mut next_color = colors.values().max().map_or(0, |c| c + 1);
+    let panels = nodes
+        .iter()
+        .map(|n| {
+            let color = colors.get(&n.id).copied().unwrap_or_else(|| {
+                next_color += 1;
+                next_color - 1
+            });
+            let ms: Vec<&Measurement> = n.measurements.iter().filter(|m| usable(m)).collect();
+            let error_curve: Vec<(f64, f64)> = grid
+                .iter()
+                .filter_map(|&dn| {
+                    n.error_fit
+                        .predict(dn)
+                        .filter(|e| e.is_finite())
+                        .map(|e| (dn, e))
+                })
+                .collect();
+            let time_curve: Vec<(f64, f64)> = grid
+                .iter()
+                .filter_map(|&dn| {
+                    predicted_frame_ms(&n.timing_fit, &profile.hit_rate, dn, mean_pixels)
+                        .filter(|t| t.is_finite())
+                        .map(|t| (dn, t))
+                })
+                .collect();
+            let error_note = match (&n.error_fit.status, error_curve.is_empty()) {
+                (reproj_models::ErrorFitStatus::Failed { reason }, _) => {
+                    Some(truncate(&format!("error fit failed: {reason}"), 60))
+                }
+                (_, true) => Some("no error model".to_string()),
+                _ => None,
+            };
+            let time_note = if time_curve.is_empty() {
+                Some(if n.timing_fit.is_usable() {
+                    "no hit-rate model: no prediction".to_string()
+                } else {
+                    "timing fit not usable".to_string()
+                })
+            } else {
+                None
+            };
+            ModelPanel {
+                label: node_label(n, 30),
+                color,
+                error_measured: ms
+                    .iter()
+                    .map(|m| (f64::from(m.delta_n), m.error, is_held(m.delta_n)))
+                    .collect(),
+                error_curve,
+                error_note,
+                time_measured: ms
+                    .iter()
+                    .map(|m| (f64::from(m.delta_n), m.frame_ms, is_held(m.delta_n)))
+                    .collect(),
+                time_curve,
+                time_note,
+            }
+        })
+        .collect();
+    Models {
+        title: format!("Model validation — {}", shader_name(profile)),
+        subtitle: setting(profile),
+        panels,
+        original_ms: finite_pos(profile.original.frame_ms),
+        max_delta_n: f64::from(max_dn),
+    }
+}
+
+#[cfg(test)]
+mod tests;

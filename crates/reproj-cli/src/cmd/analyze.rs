@@ -1,0 +1,125 @@
+//! `reproj analyze`: profile the nodes over a session and save the profile and its charts.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use reproj_analyze::{AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze, emit::write_atomic};
+use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
+use reproj_instance::InstanceOptions;
+use reproj_replay::{Renderer, RendererOptions, Session};
+
+use super::{analyze_error, cache_format, front_error, replay_error};
+use crate::AnalyzeArgs;
+
+/// A progress bar with ETA on stderr (hidden when stderr is not a terminal).
+struct Bar(ProgressBar);
+
+impl Progress for Bar {
+    fn start(&self, total: u64) {
+        self.0.set_length(total);
+        self.0.enable_steady_tick(Duration::from_millis(250));
+    }
+    fn step(&self, what: &str) {
+        self.0.set_message(what.to_string());
+        self.0.inc(1);
+    }
+    fn note(&self, line: &str) {
+        self.0.println(line);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
+    let shader = load_file(&args.shader).map_err(front_error)?;
+    let norm = normalize(&shader, &NormalizeOptions { entry: args.entry.clone() }).map_err(front_error)?;
+    let table = enumerate(&shader, &norm);
+    let session_bytes = std::fs::read(&args.session).map_err(|e| {
+        super::UserError(format!("cannot read {}: {e}", args.session.display()))
+    })?;
+    let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
+    let renderer = Renderer::new(&RendererOptions {
+        backend: args.backend.clone(),
+        cpu_timing: false,
+    })
+    .map_err(replay_error)?;
+    let stem = args
+        .shader
+        .file_stem()
+        .map_or_else(|| "shader".to_string(), |s| s.to_string_lossy().into_owned());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{stem}.profile.json")));
+    let opts = AnalyzeOptions {
+        delta_n_train: args.delta_n.clone(),
+        delta_n_holdout: args.holdout.clone(),
+        prune: PruneOptions {
+            max_nodes: args.max_nodes.max(1),
+            min_saving: args.min_saving,
+            ..PruneOptions::default()
+        },
+        nodes: args.nodes.clone(),
+        instance: InstanceOptions {
+            cache_format: cache_format(args.cache_format),
+            delta_n: 8,
+            block: args.block,
+            depth_epsilon: args.depth_epsilon,
+        },
+        max_frames: args.max_frames,
+    };
+    eprintln!(
+        "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
+        args.shader.display(),
+        args.session.display(),
+        renderer.adapter().name,
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
+    );
+    let bar = ProgressBar::new(0).with_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} replays, ETA {eta} {msg}")
+            .expect("valid template"),
+    );
+    let input = AnalyzeInput {
+        shader: &shader,
+        norm: &norm,
+        table: &table,
+        session_path: &args.session,
+        session_bytes: &session_bytes,
+        session: &session,
+    };
+    let profile = analyze(&input, &renderer, &opts, &Bar(bar)).map_err(analyze_error)?;
+    let mut json = serde_json::to_vec_pretty(&profile)?;
+    json.push(b'\n');
+    write_atomic(&out, &json).map_err(analyze_error)?;
+    let ok = profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == reproj_models::profile::NodeStatus::Ok)
+        .count();
+    println!(
+        "profiled {} nodes ({} usable) at Δn {:?} (+ held out {:?}) over {} frames at {}x{}",
+        profile.nodes.len(),
+        ok,
+        profile.delta_n_train,
+        profile.delta_n_holdout,
+        profile.frames,
+        profile.resolution[0],
+        profile.resolution[1]
+    );
+    println!(
+        "original {:.3} ms/frame; hit-rate model µ = {}",
+        profile.original.frame_ms,
+        profile.hit_rate.mu.map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
+    );
+    let t = &profile.time;
+    println!(
+        "time {:.1} s: reference {:.1} s, rendering {:.1} s, readback+error+compile {:.1} s, fitting {:.2} s, instancing {:.2} s",
+        t.total_s, t.reference_s, t.rendering_s, t.readback_and_error_s, t.fitting_s, t.instancing_s
+    );
+    println!("wrote {}", out.display());
+    if !args.no_charts {
+        super::charts::write(&profile, &out)?;
+    }
+    println!("next: reproj emit --max-error 0.01 --profile {}", out.display());
+    Ok(())
+}

@@ -1,0 +1,86 @@
+//! `reproj emit`: pick the fastest node and Δn under an error budget and write the passes.
+
+use std::path::PathBuf;
+
+use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile, verify};
+use reproj_replay::{Renderer, RendererOptions, Session};
+
+use super::{UserError, analyze_error, cache_format, replay_error};
+use crate::EmitArgs;
+
+pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
+    if !(args.max_error.is_finite() && args.max_error >= 0.0) {
+        return Err(UserError(format!("--max-error must be a number ≥ 0, got {}", args.max_error)).into());
+    }
+    let profile_path = match &args.profile {
+        Some(p) => p.clone(),
+        None => {
+            let p = latest_profile(&PathBuf::from(".")).map_err(analyze_error)?;
+            eprintln!("using the newest profile here: {}", p.display());
+            p
+        }
+    };
+    let profile = load_profile(&profile_path).map_err(analyze_error)?;
+    let stem = std::path::Path::new(&profile.shader.path)
+        .file_stem()
+        .map_or_else(|| "shader".to_string(), |s| s.to_string_lossy().into_owned());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(&stem));
+    let opts = EmitOptions {
+        max_error: args.max_error,
+        min_delta_n: 2,
+        max_delta_n: args.max_delta_n,
+        out,
+        cache_format: cache_format(args.cache_format),
+    };
+    let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
+    if args.verify {
+        let session_path = args.session.as_ref().expect("clap requires --session with --verify");
+        let session = Session::load(session_path).map_err(|e| replay_error(e.into()))?;
+        let renderer = Renderer::new(&RendererOptions {
+            backend: args.backend.clone(),
+            cpu_timing: false,
+        })
+        .map_err(replay_error)?;
+        verify(&mut report, variant.as_ref(), &profile, &profile_path, &session, &renderer).map_err(analyze_error)?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(());
+    }
+    println!("profile  {} ({} on {})", report.profile, report.shader, report.adapter);
+    println!("budget   error ≤ {}", report.max_error);
+    match (&report.node, report.delta_n) {
+        (Some(node), Some(dn)) => {
+            println!(
+                "selected node {node} `{}` (line {}:{}) at Δn = {dn}",
+                report.node_text.as_deref().unwrap_or(""),
+                report.line.unwrap_or(0),
+                report.col.unwrap_or(0)
+            );
+            println!(
+                "predicted error {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                report.predicted_error.unwrap_or(0.0),
+                report.predicted_psnr.map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
+                report.predicted_ms.unwrap_or(0.0),
+                report.original_ms,
+                report.predicted_speedup.unwrap_or(0.0)
+            );
+        }
+        _ => {
+            println!(
+                "kept the original shader: {}",
+                report.reason.as_deref().unwrap_or("no node fits the budget")
+            );
+        }
+    }
+    if let (Some(e), Some(s)) = (report.measured_error, report.measured_speedup) {
+        println!(
+            "measured  error {e:.5}{}, {:.3} ms/frame vs {:.3} ms original: {s:.2}x",
+            report.measured_psnr.map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
+            report.measured_ms.unwrap_or(0.0),
+            report.measured_original_ms.unwrap_or(0.0),
+        );
+    }
+    println!("wrote    {}", report.files.join(", "));
+    Ok(())
+}

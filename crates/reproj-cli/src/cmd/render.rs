@@ -1,0 +1,86 @@
+//! `reproj render`: replay a session for the original shader or one variant.
+
+use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
+use reproj_instance::{InstanceOptions, NodeSelector, instance};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+
+use super::{UserError, cache_format, front_error, instance_error, replay_error};
+use crate::RenderArgs;
+
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let shader = load_file(&args.shader).map_err(front_error)?;
+    let entry = shader.fragment_entry(args.entry.as_deref()).map_err(front_error)?;
+    let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
+    let renderer = Renderer::new(&RendererOptions {
+        backend: args.backend.clone(),
+        cpu_timing: false,
+    })
+    .map_err(replay_error)?;
+    let opts = RenderOptions {
+        png_dir: args.frames.clone(),
+        max_frames: args.max_frames,
+        classify: true,
+    };
+    let reference = renderer
+        .render_original(&shader, entry, &session, &RenderOptions { classify: false, ..opts.clone() })
+        .map_err(replay_error)?;
+    let report = match &args.node {
+        None => reference.report,
+        Some(node) => {
+            let sel: NodeSelector = node.parse().map_err(UserError)?;
+            let norm = normalize(&shader, &NormalizeOptions { entry: args.entry.clone() }).map_err(front_error)?;
+            let table = enumerate(&shader, &norm);
+            let variant = instance(
+                &shader,
+                &norm,
+                &table,
+                sel,
+                &InstanceOptions {
+                    cache_format: cache_format(args.cache_format),
+                    delta_n: args.delta_n,
+                    block: args.block,
+                    depth_epsilon: args.depth_epsilon,
+                },
+            )
+            .map_err(instance_error)?;
+            let input = VariantInput::new(
+                variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                variant.manifest.clone(),
+                args.delta_n,
+            );
+            let r = renderer
+                .render_variant(&shader, &session, &input, &reference, &opts)
+                .map_err(replay_error)?;
+            // Speedup against the original measured in this same run.
+            eprintln!(
+                "original: {:.3} ms/frame; variant: {:.3} ms/frame; speedup {:.2}x",
+                reference.report.frame_ms,
+                r.frame_ms,
+                if r.frame_ms > 0.0 { reference.report.frame_ms / r.frame_ms } else { 0.0 }
+            );
+            r
+        }
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!(
+            "{} over {} ({} frames, {}x{}) on {} [{:?}]",
+            report.node.as_deref().map_or_else(|| "original".to_string(), |n| format!("node {n} at Δn = {}", args.delta_n)),
+            args.session.display(),
+            report.frames.len(),
+            report.resolution[0],
+            report.resolution[1],
+            report.adapter.name,
+            report.timing,
+        );
+        println!("  error     {:.6} (mean per-pixel L2, linear RGB)", report.error);
+        println!("  PSNR      {:.2} dB", report.psnr);
+        println!("  hit rate  {:.3}", report.hit_rate);
+        println!("  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)", report.frame_ms);
+        if let Some(dir) = &args.frames {
+            println!("  PNGs in   {}", dir.display());
+        }
+    }
+    Ok(())
+}

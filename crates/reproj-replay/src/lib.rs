@@ -1,0 +1,99 @@
+//! reproj session replay: render a WGSL fragment shader, and cached variants of it, headlessly
+//! with wgpu over a recorded *session*, and measure what the optimizer needs: per-frame error
+//! against the original, hit rate, frame time.
+//!
+//! # Pieces
+//!
+//! - [`Session`] (`session.rs`, schema in `SESSION.md`): resolution, frames, geometry, camera and
+//!   light paths, uniform values, textures, samplers, and which vertex attribute feeds each
+//!   fragment `@location`.
+//! - [`reflect`]: the fragment entry point's interface from the naga module: inputs, uniform structs
+//!   with their layouts, textures, samplers, by group and binding. Uniform fields are filled by name:
+//!   `camera_pos`, `light_pos`, `time` (seconds), `frame` and `resolution` automatically unless the
+//!   session's `uniforms` gives them; every other field from `uniforms`. A field, texture or vertex
+//!   input the session does not provide is an error naming each one ([`ReplayError::MissingResources`]).
+//! - [`vertex`]: the generated vertex stage (invariant clip position, one output per fragment input,
+//!   optionally the previous frame's clip position), with its transform uniforms in its own bind
+//!   group: the lowest group index the fragment modules do not use.
+//! - [`Renderer`]: wgpu (Vulkan) device; [`Renderer::render_original`] renders the reference frames,
+//!   [`Renderer::render_variant`] runs a three-pass cached variant (`docs/PASSES.md`) and compares it
+//!   with the reference.
+//! - [`RenderReport`]: per-frame and mean error, PSNR, hit rate, frame time, adapter, timing method.
+//! - [`output`]: PNG frames, hit maps and error maps.
+//!
+//! # Example
+//!
+//! ```no_run
+//! use reproj_replay::{Renderer, RendererOptions, RenderOptions, Session, VariantInput};
+//! let shader = reproj_front::load_file("shaders/marble.wgsl".as_ref()).unwrap();
+//! let entry = shader.fragment_entry(None).unwrap();
+//! let session = Session::load("sessions/marble.json").unwrap();
+//! let renderer = Renderer::new(&RendererOptions::default()).unwrap();
+//! let reference = renderer.render_original(&shader, entry, &session, &RenderOptions::default()).unwrap();
+//! println!("{} ms/frame on {}", reference.report.frame_ms, reference.report.adapter.name);
+//! let variant = VariantInput::from_dir("out/variant".as_ref(), 8).unwrap();
+//! let report = renderer.render_variant(&shader, &session, &variant, &reference, &RenderOptions::default()).unwrap();
+//! println!("error {} psnr {} hit rate {}", report.error, report.psnr, report.hit_rate);
+//! ```
+//!
+//! # Metrics
+//!
+//! Error is the mean over **all** pixels of the frame (background included, where it is 0) of the
+//! L2 distance between variant and reference RGB, both clamped to [0, 1] (linear RGB). PSNR is
+//! `10 log10(1 / MSE)` with MSE over all pixels and the three channels, capped at 100 dB for
+//! identical frames. Hit rate is hits / shaded pixels. Session summaries are means over frames:
+//! error and PSNR over every frame, hit rate and frame time over frames 1.. (frame 0 has no cache
+//! and pays shader compilation).
+
+pub mod mesh;
+pub mod metrics;
+pub mod output;
+pub mod reflect;
+mod render;
+pub mod session;
+pub mod textures;
+pub mod vertex;
+
+pub use metrics::{AdapterReport, FrameRecord, RenderReport, TimingMethod};
+pub use render::{Reference, RenderOptions, Renderer, RendererOptions, VariantInput};
+pub use session::{Session, SessionError};
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong replaying a session. Each variant renders as one clear message.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    #[error(
+        "no GPU adapter found for backends {backends} (on a machine without a GPU driver install Mesa's software Vulkan driver: apt-get install mesa-vulkan-drivers)"
+    )]
+    NoAdapter { backends: String },
+    #[error("cannot open the GPU device on {adapter}: {message}")]
+    Device { adapter: String, message: String },
+    #[error(transparent)]
+    Session(#[from] SessionError),
+    /// The shader declares resources the session does not provide.
+    #[error("the session provides no {what}: {}", names.join(", "))]
+    MissingResources { what: String, names: Vec<String> },
+    #[error("unsupported: {what}")]
+    Unsupported { what: String },
+    /// A texture or mesh of the session could not be built (file missing, bad image...).
+    #[error("{message}")]
+    Asset { message: String },
+    /// wgpu rejected a shader module or pipeline.
+    #[error("{what}: {message}")]
+    Gpu { what: String, message: String },
+    #[error(
+        "the reference has {reference} (frames, width, height) but the session needs {session}"
+    )]
+    ReferenceMismatch { reference: String, session: String },
+    #[error("variant: {message}")]
+    Variant { message: String },
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("cannot encode {path}: {message}")]
+    Image { path: PathBuf, message: String },
+}

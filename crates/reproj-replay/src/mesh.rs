@@ -1,0 +1,363 @@
+//! Meshes: procedural shapes and OBJ files, as one interleaved vertex layout.
+
+use std::f32::consts::{PI, TAU};
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec2, Vec3, Vec4};
+
+use crate::session::{Mesh, Session};
+
+/// One vertex: object-space position and normal, uv, object-space tangent (w = handedness).
+/// 48 bytes, the layout of the generated vertex stage's `@location(0..=3)`.
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+    pub tangent: [f32; 4],
+}
+
+/// Indexed triangle list, counter-clockwise front faces.
+#[derive(Debug, Clone, Default)]
+pub struct MeshData {
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+fn v(p: Vec3, n: Vec3, uv: Vec2, t: Vec4) -> Vertex {
+    Vertex {
+        position: p.into(),
+        normal: n.into(),
+        uv: uv.into(),
+        tangent: t.into(),
+    }
+}
+
+/// Grid of (cols+1)×(rows+1) vertices, two triangles per cell; `f(u, v)` gives a vertex for
+/// u, v ∈ [0, 1]. Triangles are wound so that the cross product of ∂/∂u and ∂/∂v faces out when
+/// `flip` is false.
+fn grid(cols: u32, rows: u32, flip: bool, mut f: impl FnMut(f32, f32) -> Vertex) -> MeshData {
+    let mut m = MeshData::default();
+    for j in 0..=rows {
+        for i in 0..=cols {
+            m.vertices
+                .push(f(i as f32 / cols as f32, j as f32 / rows as f32));
+        }
+    }
+    let w = cols + 1;
+    for j in 0..rows {
+        for i in 0..cols {
+            let a = j * w + i;
+            let b = a + 1;
+            let c = a + w;
+            let d = c + 1;
+            if flip {
+                m.indices.extend_from_slice(&[a, c, b, b, c, d]);
+            } else {
+                m.indices.extend_from_slice(&[a, b, c, b, d, c]);
+            }
+        }
+    }
+    m
+}
+
+fn sphere(radius: f32, segments: u32, rings: u32) -> MeshData {
+    // u around +Y (φ), v from the north pole (θ = 0) to the south pole.
+    grid(segments, rings, true, |u, vv| {
+        let phi = u * TAU;
+        let theta = vv * PI;
+        let n = Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.cos(),
+            -theta.sin() * phi.sin(),
+        );
+        let t = Vec3::new(-phi.sin(), 0.0, -phi.cos());
+        v(n * radius, n, Vec2::new(u, vv), t.extend(1.0))
+    })
+}
+
+fn torus(big_r: f32, r: f32, segments: u32, sides: u32) -> MeshData {
+    grid(segments, sides, false, |u, vv| {
+        let phi = u * TAU;
+        let theta = vv * TAU;
+        let dir = Vec3::new(phi.cos(), 0.0, -phi.sin());
+        let n = dir * theta.cos() + Vec3::Y * theta.sin();
+        let p = dir * big_r + n * r;
+        let t = Vec3::new(-phi.sin(), 0.0, -phi.cos());
+        v(p, n, Vec2::new(u, vv), t.extend(1.0))
+    })
+}
+
+fn plane(size: f32, subdivisions: u32, uv_scale: f32) -> MeshData {
+    grid(subdivisions, subdivisions, true, |u, vv| {
+        let p = Vec3::new((u - 0.5) * size, 0.0, (vv - 0.5) * size);
+        v(
+            p,
+            Vec3::Y,
+            Vec2::new(u, vv) * uv_scale,
+            Vec4::new(1.0, 0.0, 0.0, 1.0),
+        )
+    })
+}
+
+fn cube(size: [f32; 3]) -> MeshData {
+    let h = Vec3::from(size) * 0.5;
+    let mut m = MeshData::default();
+    // (normal, tangent (u direction), bitangent (v direction))
+    let faces = [
+        (Vec3::X, Vec3::NEG_Z, Vec3::NEG_Y),
+        (Vec3::NEG_X, Vec3::Z, Vec3::NEG_Y),
+        (Vec3::Y, Vec3::X, Vec3::Z),
+        (Vec3::NEG_Y, Vec3::X, Vec3::NEG_Z),
+        (Vec3::Z, Vec3::X, Vec3::NEG_Y),
+        (Vec3::NEG_Z, Vec3::NEG_X, Vec3::NEG_Y),
+    ];
+    for (n, t, b) in faces {
+        let base = m.vertices.len() as u32;
+        for (du, dv) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+            let p = (n + t * (2.0 * du - 1.0) + b * (2.0 * dv - 1.0)) * h;
+            // handedness: sign of dot(cross(n, t), b)
+            let w = if n.cross(t).dot(b) > 0.0 { 1.0 } else { -1.0 };
+            m.vertices.push(v(p, n, Vec2::new(du, dv), t.extend(w)));
+        }
+        // counter-clockwise seen from outside
+        let (a, bb, c, d) = (base, base + 1, base + 2, base + 3);
+        if n.dot(t.cross(b)) > 0.0 {
+            m.indices.extend_from_slice(&[a, bb, c, bb, d, c]);
+        } else {
+            m.indices.extend_from_slice(&[a, c, bb, bb, c, d]);
+        }
+    }
+    m
+}
+
+fn lathe(profile: &[[f32; 2]], segments: u32) -> MeshData {
+    // Arc length along the profile for v, smooth normals from the profile's tangent.
+    let pts: Vec<Vec2> = profile.iter().map(|p| Vec2::new(p[0], p[1])).collect();
+    let mut arc = vec![0.0f32];
+    for w in pts.windows(2) {
+        let l = arc.last().copied().unwrap_or(0.0) + (w[1] - w[0]).length();
+        arc.push(l);
+    }
+    let total = arc.last().copied().unwrap_or(1.0).max(1e-6);
+    let n_pts = pts.len();
+    let tangent2 = |i: usize| -> Vec2 {
+        let a = pts[i.saturating_sub(1)];
+        let b = pts[(i + 1).min(n_pts - 1)];
+        let d = b - a;
+        if d.length_squared() > 0.0 {
+            d.normalize()
+        } else {
+            Vec2::Y
+        }
+    };
+    let mut m = MeshData::default();
+    for (i, p) in pts.iter().enumerate() {
+        let t2 = tangent2(i);
+        // outward normal of the profile curve in (r, y): rotate the tangent by −90°.
+        let n2 = Vec2::new(t2.y, -t2.x);
+        for s in 0..=segments {
+            let u = s as f32 / segments as f32;
+            let phi = u * TAU;
+            let dir = Vec3::new(phi.cos(), 0.0, -phi.sin());
+            let pos = dir * p.x + Vec3::Y * p.y;
+            let n = (dir * n2.x + Vec3::Y * n2.y).normalize_or_zero();
+            let t = Vec3::new(-phi.sin(), 0.0, -phi.cos());
+            m.vertices
+                .push(v(pos, n, Vec2::new(u, arc[i] / total), t.extend(1.0)));
+        }
+    }
+    let w = segments + 1;
+    for j in 0..(n_pts as u32 - 1) {
+        for i in 0..segments {
+            let a = j * w + i;
+            let b = a + 1;
+            let c = a + w;
+            let d = c + 1;
+            // profile goes bottom → top (v up), u goes counter-clockwise seen from above
+            m.indices.extend_from_slice(&[a, b, c, b, d, c]);
+        }
+    }
+    m
+}
+
+/// Per-vertex tangents from uvs (accumulated per triangle, Gram–Schmidt against the normal).
+fn compute_tangents(m: &mut MeshData) {
+    let n = m.vertices.len();
+    let mut tan = vec![Vec3::ZERO; n];
+    let mut bit = vec![Vec3::ZERO; n];
+    for tri in m.indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let (pa, pb, pc) = (
+            Vec3::from(m.vertices[a].position),
+            Vec3::from(m.vertices[b].position),
+            Vec3::from(m.vertices[c].position),
+        );
+        let (ua, ub, uc) = (
+            Vec2::from(m.vertices[a].uv),
+            Vec2::from(m.vertices[b].uv),
+            Vec2::from(m.vertices[c].uv),
+        );
+        let (e1, e2) = (pb - pa, pc - pa);
+        let (d1, d2) = (ub - ua, uc - ua);
+        let det = d1.x * d2.y - d2.x * d1.y;
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let r = 1.0 / det;
+        let t = (e1 * d2.y - e2 * d1.y) * r;
+        let bt = (e2 * d1.x - e1 * d2.x) * r;
+        for i in [a, b, c] {
+            tan[i] += t;
+            bit[i] += bt;
+        }
+    }
+    for (i, vert) in m.vertices.iter_mut().enumerate() {
+        let nrm = Vec3::from(vert.normal);
+        let mut t = tan[i] - nrm * nrm.dot(tan[i]);
+        if t.length_squared() < 1e-20 {
+            t = nrm.any_orthonormal_vector();
+        }
+        let t = t.normalize();
+        let w = if nrm.cross(t).dot(bit[i]) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        vert.tangent = t.extend(w).into();
+    }
+}
+
+fn smooth_normals(m: &mut MeshData) {
+    let mut acc = vec![Vec3::ZERO; m.vertices.len()];
+    for tri in m.indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let (pa, pb, pc) = (
+            Vec3::from(m.vertices[a].position),
+            Vec3::from(m.vertices[b].position),
+            Vec3::from(m.vertices[c].position),
+        );
+        let n = (pb - pa).cross(pc - pa);
+        for i in [a, b, c] {
+            acc[i] += n;
+        }
+    }
+    for (vert, n) in m.vertices.iter_mut().zip(acc) {
+        vert.normal = n.normalize_or_zero().into();
+    }
+}
+
+fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData, String> {
+    let full = session.resolve(path);
+    let (models, _) = tobj::load_obj(
+        &full,
+        &tobj::LoadOptions {
+            triangulate: true,
+            single_index: true,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| format!("cannot load OBJ {}: {e}", full.display()))?;
+    let mut m = MeshData::default();
+    let mut need_normals = false;
+    for model in models {
+        let mesh = model.mesh;
+        let base = m.vertices.len() as u32;
+        let nv = mesh.positions.len() / 3;
+        if mesh.normals.len() != nv * 3 {
+            need_normals = true;
+        }
+        for i in 0..nv {
+            let p = Vec3::from_slice(&mesh.positions[i * 3..i * 3 + 3]) * scale;
+            let n = if mesh.normals.len() == nv * 3 {
+                Vec3::from_slice(&mesh.normals[i * 3..i * 3 + 3]).normalize_or_zero()
+            } else {
+                Vec3::ZERO
+            };
+            let uv = if mesh.texcoords.len() == nv * 2 {
+                Vec2::from_slice(&mesh.texcoords[i * 2..i * 2 + 2])
+            } else {
+                Vec2::ZERO
+            };
+            m.vertices.push(v(p, n, uv, Vec4::new(1.0, 0.0, 0.0, 1.0)));
+        }
+        m.indices.extend(mesh.indices.iter().map(|i| i + base));
+    }
+    if m.indices.is_empty() {
+        return Err(format!("OBJ {} has no triangles", full.display()));
+    }
+    if m.indices.iter().any(|&i| i as usize >= m.vertices.len()) {
+        return Err(format!("OBJ {} has out-of-range indices", full.display()));
+    }
+    if need_normals {
+        smooth_normals(&mut m);
+    }
+    compute_tangents(&mut m);
+    Ok(m)
+}
+
+/// Build the mesh of a session object. Errors are one-line messages (file problems).
+pub fn build(session: &Session, mesh: &Mesh) -> Result<MeshData, String> {
+    Ok(match mesh {
+        Mesh::Sphere {
+            radius,
+            segments,
+            rings,
+        } => sphere(*radius, *segments, rings.unwrap_or((*segments / 2).max(2))),
+        Mesh::Torus {
+            major_radius,
+            minor_radius,
+            segments,
+            sides,
+        } => torus(*major_radius, *minor_radius, *segments, *sides),
+        Mesh::Plane {
+            size,
+            subdivisions,
+            uv_scale,
+        } => plane(*size, *subdivisions, *uv_scale),
+        Mesh::Cube { size } => cube(*size),
+        Mesh::Lathe { profile, segments } => lathe(profile, *segments),
+        Mesh::Obj { path, scale } => obj(session, path, *scale)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_outward(m: &MeshData) {
+        // Every triangle's geometric normal agrees with its vertex normals (CCW front faces).
+        for tri in m.indices.chunks_exact(3) {
+            let p: Vec<Vec3> = tri
+                .iter()
+                .map(|&i| Vec3::from(m.vertices[i as usize].position))
+                .collect();
+            let gn = (p[1] - p[0]).cross(p[2] - p[0]);
+            let shortest = (p[1] - p[0])
+                .length()
+                .min((p[2] - p[0]).length())
+                .min((p[2] - p[1]).length());
+            if shortest < 1e-5 || gn.length() < 1e-9 {
+                continue;
+            }
+            let vn: Vec3 = tri
+                .iter()
+                .map(|&i| Vec3::from(m.vertices[i as usize].normal))
+                .sum();
+            assert!(gn.dot(vn) > 0.0, "inward triangle {tri:?}");
+        }
+    }
+
+    #[test]
+    fn shapes_face_outward() {
+        check_outward(&sphere(1.0, 16, 8));
+        check_outward(&torus(1.0, 0.3, 16, 8));
+        check_outward(&plane(2.0, 3, 1.0));
+        check_outward(&cube([1.0, 2.0, 3.0]));
+        check_outward(&lathe(
+            &[[0.5, 0.0], [0.4, 0.5], [0.2, 1.0], [0.0, 1.2]],
+            16,
+        ));
+    }
+}

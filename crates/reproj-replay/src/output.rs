@@ -1,0 +1,141 @@
+//! PNG output: frames (sRGB-encoded), hit maps and error heat maps. Files are written to a
+//! temporary name in the same directory and renamed, so a reader never sees a partial file.
+//!
+//! Names: `frame_NNN.png`, `hitmap_NNN.png` (green hit, red miss, blue refresh, black background),
+//! `errmap_NNN.png` (per-pixel L2 error through a black → blue → red → yellow → white ramp, full
+//! scale at [`ERRMAP_FULL_SCALE`]).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use image::ImageEncoder;
+
+use crate::ReplayError;
+
+/// Error that maps to white in error maps.
+pub const ERRMAP_FULL_SCALE: f32 = 0.1;
+
+/// Linear → sRGB transfer function.
+pub fn srgb_encode(x: f32) -> f32 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Write RGBA8 pixels as PNG atomically (temp file + rename).
+pub fn write_png_rgba8(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> Result<(), ReplayError> {
+    let io = |source| ReplayError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir).map_err(io)?;
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp: PathBuf = dir.join(format!(".{file_name}.tmp{}", std::process::id()));
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+        .map_err(|e| ReplayError::Image {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+    let mut f = std::fs::File::create(&tmp).map_err(io)?;
+    f.write_all(&bytes).map_err(io)?;
+    f.sync_all().ok();
+    drop(f);
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+/// RGBA f32 linear frame → sRGB-encoded RGBA8 (clamped, alpha forced to 255).
+pub fn frame_to_rgba8(rgba: &[f32]) -> Vec<u8> {
+    rgba.chunks_exact(4)
+        .flat_map(|p| {
+            [
+                (srgb_encode(p[0]) * 255.0 + 0.5) as u8,
+                (srgb_encode(p[1]) * 255.0 + 0.5) as u8,
+                (srgb_encode(p[2]) * 255.0 + 0.5) as u8,
+                255,
+            ]
+        })
+        .collect()
+}
+
+/// Heat-map color of an error value.
+pub fn heat(e: f32) -> [u8; 4] {
+    let t = (e / ERRMAP_FULL_SCALE).clamp(0.0, 1.0);
+    let stops: [[f32; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let x = t * 4.0;
+    let i = (x.floor() as usize).min(3);
+    let f = x - i as f32;
+    let c: Vec<u8> = (0..3)
+        .map(|k| ((stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f) * 255.0 + 0.5) as u8)
+        .collect();
+    [c[0], c[1], c[2], 255]
+}
+
+/// `frame_NNN.png` from an RGBA f32 linear frame.
+pub fn write_frame(
+    dir: &Path,
+    index: u32,
+    width: u32,
+    height: u32,
+    rgba: &[f32],
+) -> Result<PathBuf, ReplayError> {
+    let p = dir.join(format!("frame_{index:03}.png"));
+    write_png_rgba8(&p, width, height, &frame_to_rgba8(rgba))?;
+    Ok(p)
+}
+
+/// `errmap_NNN.png` from per-pixel errors.
+pub fn write_errmap(
+    dir: &Path,
+    index: u32,
+    width: u32,
+    height: u32,
+    errors: &[f32],
+) -> Result<PathBuf, ReplayError> {
+    let p = dir.join(format!("errmap_{index:03}.png"));
+    let px: Vec<u8> = errors.iter().flat_map(|e| heat(*e)).collect();
+    write_png_rgba8(&p, width, height, &px)?;
+    Ok(p)
+}
+
+/// `hitmap_NNN.png` from the RGBA8 classification map (already green / red / blue / black).
+pub fn write_hitmap(
+    dir: &Path,
+    index: u32,
+    width: u32,
+    height: u32,
+    classify_rgba8: &[u8],
+) -> Result<PathBuf, ReplayError> {
+    let p = dir.join(format!("hitmap_{index:03}.png"));
+    let px: Vec<u8> = classify_rgba8
+        .chunks_exact(4)
+        .flat_map(|c| [c[0], c[1], c[2], 255])
+        .collect();
+    write_png_rgba8(&p, width, height, &px)?;
+    Ok(p)
+}

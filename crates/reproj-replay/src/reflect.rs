@@ -1,0 +1,476 @@
+//! Reflection of a fragment entry point's interface with naga: its `@location` inputs, its output,
+//! and the resources (uniform buffers with their layouts, textures, samplers) it uses.
+
+use naga::{
+    AddressSpace, ArraySize, Binding, Handle, ImageClass, ImageDimension, Module, ScalarKind,
+    TypeInner, proc::Layouter, valid::ModuleInfo,
+};
+
+use crate::ReplayError;
+
+/// A fragment input at a `@location`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FragInput {
+    pub location: u32,
+    /// Number of f32 components (1..=4).
+    pub components: u32,
+    /// WGSL interpolation qualifier as written (`perspective`, `linear`, `flat`), if any.
+    pub interpolation: Option<String>,
+    /// WGSL sampling qualifier (`center`, `centroid`, `sample`, ...), if any.
+    pub sampling: Option<String>,
+    /// Member or argument name, for messages.
+    pub name: String,
+}
+
+/// Scalar type of a uniform leaf.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScalarTy {
+    F32,
+    I32,
+    U32,
+}
+
+/// A uniform struct member (a field the replay fills by name).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UniformField {
+    pub name: String,
+    /// Byte offset within the buffer.
+    pub offset: u32,
+    pub scalar: ScalarTy,
+    /// Components per column (1 for scalars, N for vecN, R for matCxR).
+    pub rows: u32,
+    /// Columns (1 unless a matrix).
+    pub cols: u32,
+    /// Byte stride between columns.
+    pub col_stride: u32,
+    /// Array element count (1 if not an array) and stride.
+    pub count: u32,
+    pub stride: u32,
+    /// WGSL-ish type for messages.
+    pub ty: String,
+}
+
+impl UniformField {
+    /// Number of scalars the session must provide.
+    pub fn len(&self) -> usize {
+        (self.rows * self.cols * self.count) as usize
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Write `values` (column-major, arrays flattened) into `buf`.
+    pub fn write(&self, buf: &mut [u8], values: &[f64]) {
+        let mut k = 0;
+        for e in 0..self.count {
+            for c in 0..self.cols {
+                for r in 0..self.rows {
+                    let off =
+                        (self.offset + e * self.stride + c * self.col_stride + r * 4) as usize;
+                    let x = values.get(k).copied().unwrap_or(0.0);
+                    let bytes = match self.scalar {
+                        ScalarTy::F32 => (x as f32).to_le_bytes(),
+                        ScalarTy::I32 => (x.round() as i32).to_le_bytes(),
+                        ScalarTy::U32 => (x.round().max(0.0) as u32).to_le_bytes(),
+                    };
+                    if off + 4 <= buf.len() {
+                        buf[off..off + 4].copy_from_slice(&bytes);
+                    }
+                    k += 1;
+                }
+            }
+        }
+    }
+}
+
+/// Texture dimensionality the replay can provide.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexDim {
+    D2,
+    D3,
+    Cube,
+}
+
+/// What a resource binding is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ResourceKind {
+    /// `var<uniform>`: a struct (fields filled by name) or a plain value (filled by the variable's
+    /// name, as one field at offset 0).
+    Uniform {
+        size: u32,
+        fields: Vec<UniformField>,
+    },
+    /// A float texture (`texture_2d<f32>`, `texture_cube<f32>`, `texture_3d<f32>`).
+    Texture {
+        dim: TexDim,
+    },
+    /// `texture_depth_2d`.
+    DepthTexture,
+    Sampler {
+        comparison: bool,
+    },
+    /// Something the replay cannot provide (storage buffers, storage or integer textures, arrays,
+    /// multisampled textures). The string says what.
+    Unsupported(String),
+}
+
+/// A resource the entry point uses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resource {
+    pub group: u32,
+    pub binding: u32,
+    /// Variable name.
+    pub name: String,
+    pub kind: ResourceKind,
+}
+
+/// The interface of one fragment entry point.
+#[derive(Debug, Clone)]
+pub struct Interface {
+    pub entry: String,
+    pub entry_index: usize,
+    pub inputs: Vec<FragInput>,
+    /// Resources used by the entry point (directly or through called functions).
+    pub resources: Vec<Resource>,
+}
+
+impl Interface {
+    /// Group indices used.
+    pub fn groups(&self) -> Vec<u32> {
+        let mut g: Vec<u32> = self.resources.iter().map(|r| r.group).collect();
+        g.sort_unstable();
+        g.dedup();
+        g
+    }
+}
+
+fn interp_name(i: naga::Interpolation) -> &'static str {
+    match i {
+        naga::Interpolation::Perspective => "perspective",
+        naga::Interpolation::Linear => "linear",
+        naga::Interpolation::Flat => "flat",
+        naga::Interpolation::PerVertex => "per_vertex",
+    }
+}
+
+fn sampling_name(s: naga::Sampling) -> &'static str {
+    match s {
+        naga::Sampling::Center => "center",
+        naga::Sampling::Centroid => "centroid",
+        naga::Sampling::Sample => "sample",
+        naga::Sampling::First => "first",
+        naga::Sampling::Either => "either",
+    }
+}
+
+fn float_components(module: &Module, ty: Handle<naga::Type>) -> Option<u32> {
+    match module.types[ty].inner {
+        TypeInner::Scalar(s) if s.kind == ScalarKind::Float && s.width == 4 => Some(1),
+        TypeInner::Vector { size, scalar }
+            if scalar.kind == ScalarKind::Float && scalar.width == 4 =>
+        {
+            Some(size as u32)
+        }
+        _ => None,
+    }
+}
+
+fn type_text(module: &Module, ty: Handle<naga::Type>) -> String {
+    let t = &module.types[ty];
+    if let Some(n) = &t.name {
+        return n.clone();
+    }
+    format!("{:?}", t.inner)
+}
+
+fn collect_input(
+    module: &Module,
+    name: &str,
+    ty: Handle<naga::Type>,
+    binding: &Option<Binding>,
+    out: &mut Vec<FragInput>,
+    entry: &str,
+) -> Result<(), ReplayError> {
+    match binding {
+        Some(Binding::BuiltIn(_)) => Ok(()),
+        Some(Binding::Location {
+            location,
+            interpolation,
+            sampling,
+            ..
+        }) => {
+            let components = float_components(module, ty).ok_or_else(|| ReplayError::Unsupported {
+                what: format!(
+                    "fragment input `{name}` at @location({location}) of `{entry}` has type {}; the replay feeds only f32 scalars and vectors",
+                    type_text(module, ty)
+                ),
+            })?;
+            out.push(FragInput {
+                location: *location,
+                components,
+                interpolation: interpolation.map(|i| interp_name(i).to_owned()),
+                sampling: sampling.map(|s| sampling_name(s).to_owned()),
+                name: name.to_owned(),
+            });
+            Ok(())
+        }
+        None => match &module.types[ty].inner {
+            TypeInner::Struct { members, .. } => {
+                for m in members {
+                    collect_input(
+                        module,
+                        m.name.as_deref().unwrap_or("?"),
+                        m.ty,
+                        &m.binding,
+                        out,
+                        entry,
+                    )?;
+                }
+                Ok(())
+            }
+            _ => Err(ReplayError::Unsupported {
+                what: format!("fragment argument `{name}` of `{entry}` has no binding"),
+            }),
+        },
+    }
+}
+
+fn uniform_leaf(
+    module: &Module,
+    layouter: &Layouter,
+    name: &str,
+    ty: Handle<naga::Type>,
+    offset: u32,
+) -> Result<UniformField, String> {
+    let scalar_of = |s: naga::Scalar| -> Option<ScalarTy> {
+        match (s.kind, s.width) {
+            (ScalarKind::Float, 4) => Some(ScalarTy::F32),
+            (ScalarKind::Sint, 4) => Some(ScalarTy::I32),
+            (ScalarKind::Uint, 4) => Some(ScalarTy::U32),
+            _ => None,
+        }
+    };
+    let tyname = type_text(module, ty);
+    let bad = || format!("uniform field `{name}` has type {tyname}, which the replay cannot fill");
+    let simple = |inner: &TypeInner| -> Option<(ScalarTy, u32, u32, u32)> {
+        match *inner {
+            TypeInner::Scalar(s) => Some((scalar_of(s)?, 1, 1, 0)),
+            TypeInner::Vector { size, scalar } => Some((scalar_of(scalar)?, size as u32, 1, 0)),
+            TypeInner::Matrix {
+                columns,
+                rows,
+                scalar,
+            } => {
+                let r = rows as u32;
+                let col_stride = if r == 2 { 8 } else { 16 };
+                Some((scalar_of(scalar)?, r, columns as u32, col_stride))
+            }
+            _ => None,
+        }
+    };
+    let inner = &module.types[ty].inner;
+    if let Some((scalar, rows, cols, col_stride)) = simple(inner) {
+        return Ok(UniformField {
+            name: name.to_owned(),
+            offset,
+            scalar,
+            rows,
+            cols,
+            col_stride,
+            count: 1,
+            stride: layouter[ty].size,
+            ty: tyname,
+        });
+    }
+    if let TypeInner::Array {
+        base,
+        size: ArraySize::Constant(n),
+        stride,
+    } = *inner
+        && let Some((scalar, rows, cols, col_stride)) = simple(&module.types[base].inner)
+    {
+        return Ok(UniformField {
+            name: name.to_owned(),
+            offset,
+            scalar,
+            rows,
+            cols,
+            col_stride,
+            count: n.get(),
+            stride,
+            ty: tyname,
+        });
+    }
+    Err(bad())
+}
+
+/// Reflect the fragment entry point `entry_index` of a validated module.
+pub fn reflect(
+    module: &Module,
+    info: &ModuleInfo,
+    entry_index: usize,
+) -> Result<Interface, ReplayError> {
+    let ep = module
+        .entry_points
+        .get(entry_index)
+        .ok_or_else(|| ReplayError::Unsupported {
+            what: format!("no entry point #{entry_index}"),
+        })?;
+    if ep.stage != naga::ShaderStage::Fragment {
+        return Err(ReplayError::Unsupported {
+            what: format!("entry point `{}` is not a @fragment entry point", ep.name),
+        });
+    }
+    let mut inputs = Vec::new();
+    for arg in &ep.function.arguments {
+        collect_input(
+            module,
+            arg.name.as_deref().unwrap_or("?"),
+            arg.ty,
+            &arg.binding,
+            &mut inputs,
+            &ep.name,
+        )?;
+    }
+    inputs.sort_by_key(|i| i.location);
+    // Output: one vec4<f32> at @location(0).
+    if let Some(res) = &ep.function.result {
+        let ok = match &res.binding {
+            Some(Binding::Location { location: 0, .. }) => {
+                float_components(module, res.ty) == Some(4)
+            }
+            None => match &module.types[res.ty].inner {
+                TypeInner::Struct { members, .. } => members.iter().all(|m| match &m.binding {
+                    Some(Binding::Location { location: 0, .. }) => {
+                        float_components(module, m.ty) == Some(4)
+                    }
+                    Some(Binding::BuiltIn(_)) => true,
+                    _ => false,
+                }),
+                _ => false,
+            },
+            _ => false,
+        };
+        if !ok {
+            return Err(ReplayError::Unsupported {
+                what: format!(
+                    "entry point `{}` must return one vec4<f32> at @location(0) (optionally with builtins)",
+                    ep.name
+                ),
+            });
+        }
+    }
+
+    let mut layouter = Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| ReplayError::Unsupported {
+            what: format!("layout of the module's types: {e}"),
+        })?;
+
+    let fi = info.get_entry_point(entry_index);
+    let mut resources = Vec::new();
+    for (h, gv) in module.global_variables.iter() {
+        if fi[h].is_empty() {
+            continue;
+        }
+        let Some(rb) = &gv.binding else { continue };
+        let name = gv
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("group{}_binding{}", rb.group, rb.binding));
+        let inner = &module.types[gv.ty].inner;
+        let kind = match gv.space {
+            AddressSpace::Uniform => {
+                let size = layouter[gv.ty].size;
+                match inner {
+                    TypeInner::Struct { members, .. } => {
+                        let mut fields = Vec::new();
+                        let mut err = None;
+                        for m in members {
+                            let mname = m.name.clone().unwrap_or_default();
+                            match uniform_leaf(module, &layouter, &mname, m.ty, m.offset) {
+                                Ok(f) => fields.push(f),
+                                Err(e) => {
+                                    err = Some(e);
+                                    break;
+                                }
+                            }
+                        }
+                        match err {
+                            Some(e) => ResourceKind::Unsupported(format!("`{name}`: {e}")),
+                            None => ResourceKind::Uniform { size, fields },
+                        }
+                    }
+                    _ => match uniform_leaf(module, &layouter, &name, gv.ty, 0) {
+                        Ok(f) => ResourceKind::Uniform {
+                            size,
+                            fields: vec![f],
+                        },
+                        Err(e) => ResourceKind::Unsupported(e),
+                    },
+                }
+            }
+            AddressSpace::Handle => match *inner {
+                TypeInner::Image {
+                    dim,
+                    arrayed,
+                    class,
+                } => {
+                    let d = match (dim, arrayed) {
+                        (ImageDimension::D2, false) => Some(TexDim::D2),
+                        (ImageDimension::D3, false) => Some(TexDim::D3),
+                        (ImageDimension::Cube, false) => Some(TexDim::Cube),
+                        _ => None,
+                    };
+                    match (class, d) {
+                        (
+                            ImageClass::Sampled {
+                                kind: ScalarKind::Float,
+                                multi: false,
+                            },
+                            Some(dim),
+                        ) => ResourceKind::Texture { dim },
+                        (ImageClass::Depth { multi: false }, Some(TexDim::D2)) => {
+                            ResourceKind::DepthTexture
+                        }
+                        _ => ResourceKind::Unsupported(format!(
+                            "texture `{name}` ({}): the replay provides float 2D, 3D and cube textures only",
+                            type_text(module, gv.ty)
+                        )),
+                    }
+                }
+                TypeInner::Sampler { comparison } => ResourceKind::Sampler { comparison },
+                _ => ResourceKind::Unsupported(format!(
+                    "resource `{name}` of type {}",
+                    type_text(module, gv.ty)
+                )),
+            },
+            AddressSpace::Storage { .. } => ResourceKind::Unsupported(format!(
+                "storage buffer `{name}`: the replay provides no storage buffers"
+            )),
+            _ => continue,
+        };
+        resources.push(Resource {
+            group: rb.group,
+            binding: rb.binding,
+            name,
+            kind,
+        });
+    }
+    resources.sort_by_key(|r| (r.group, r.binding));
+    Ok(Interface {
+        entry: ep.name.clone(),
+        entry_index,
+        inputs,
+        resources,
+    })
+}
+
+/// Index of the fragment entry point called `name`.
+pub fn fragment_entry_index(module: &Module, name: &str) -> Option<usize> {
+    module
+        .entry_points
+        .iter()
+        .position(|e| e.stage == naga::ShaderStage::Fragment && e.name == name)
+}

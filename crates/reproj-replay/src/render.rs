@@ -1,0 +1,1765 @@
+//! The headless wgpu renderer: original shader (reference frames) and three-pass cached variants.
+
+use std::borrow::Cow;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::num::NonZeroU64;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use reproj_front::Shader;
+use reproj_instance::{CacheFormat, Manifest, PassKind};
+
+use crate::ReplayError;
+use crate::mesh::{self, Vertex};
+use crate::metrics::{self, AdapterReport, FrameRecord, RenderReport, TimingMethod};
+use crate::output;
+use crate::reflect::{self, Interface, ResourceKind, TexDim};
+use crate::session::{Address, Cull, Filter, Session, TexFormat};
+use crate::textures;
+use crate::vertex::{self, TransformUniform, VERTEX_ENTRY};
+
+/// Maximum bind groups the replay uses (WebGPU's default limit).
+pub const MAX_BIND_GROUPS: u32 = 4;
+
+const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const CLASSIFY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Fragment entry point of the pass-1 module that writes the hit / miss / refresh map.
+pub const CLASSIFY_ENTRY: &str = "reproj_classify";
+
+/// How to open the GPU.
+#[derive(Debug, Clone, Default)]
+pub struct RendererOptions {
+    /// Backend list as for `WGPU_BACKEND` (`"vulkan"`, `"vk"`, ...). None: the `WGPU_BACKEND`
+    /// environment variable, else Vulkan.
+    pub backend: Option<String>,
+    /// Time with CPU submit + wait even if the adapter has timestamp queries.
+    pub cpu_timing: bool,
+}
+
+/// Per-render options.
+#[derive(Debug, Clone)]
+pub struct RenderOptions {
+    /// Write PNGs here (frames; for variants also hit maps and error maps).
+    pub png_dir: Option<PathBuf>,
+    /// Render only the first N frames of the session.
+    pub max_frames: Option<u32>,
+    /// Variants: render the `reproj_classify` entry point each frame (hit map and exact
+    /// hit / miss / refresh pixel counts). Ignored when the pass-1 module has no such entry point.
+    pub classify: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            png_dir: None,
+            max_frames: None,
+            classify: true,
+        }
+    }
+}
+
+/// Reference frames of the original shader: RGBA f32, row-major, top row first, one per frame.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    pub width: u32,
+    pub height: u32,
+    pub frames: Vec<Vec<f32>>,
+    pub report: RenderReport,
+}
+
+/// A cached variant to render: the three pass modules in `manifest.passes` order, the manifest,
+/// and the runtime parameters.
+#[derive(Debug, Clone)]
+pub struct VariantInput {
+    /// WGSL text of each pass, in `manifest.passes` order.
+    pub sources: Vec<String>,
+    pub manifest: Manifest,
+    /// Refresh period Δn (≥ 1).
+    pub delta_n: u32,
+    /// Refresh block size k (≥ 1).
+    pub block: u32,
+    /// Depth tolerance ε.
+    pub depth_epsilon: f32,
+    /// Label used in messages (directory or node name).
+    pub label: String,
+}
+
+impl VariantInput {
+    /// From WGSL texts and a manifest; k and ε from the manifest's defaults.
+    pub fn new(sources: Vec<String>, manifest: Manifest, delta_n: u32) -> Self {
+        let label = format!("{} node {}", manifest.shader, manifest.node.id);
+        VariantInput {
+            sources,
+            block: manifest.params.block,
+            depth_epsilon: manifest.params.depth_epsilon,
+            manifest,
+            delta_n,
+            label,
+        }
+    }
+
+    /// From naga modules (written back to WGSL with naga's writer).
+    pub fn from_modules(
+        modules: &[naga::Module],
+        manifest: Manifest,
+        delta_n: u32,
+    ) -> Result<Self, ReplayError> {
+        let mut sources = Vec::new();
+        for (i, m) in modules.iter().enumerate() {
+            let info = reproj_front::validator()
+                .validate(m)
+                .map_err(|e| ReplayError::Variant {
+                    message: format!("pass module {i} does not validate: {e}"),
+                })?;
+            let text =
+                naga::back::wgsl::write_string(m, &info, naga::back::wgsl::WriterFlags::empty())
+                    .map_err(|e| ReplayError::Variant {
+                        message: format!("pass module {i}: cannot write WGSL: {e}"),
+                    })?;
+            sources.push(text);
+        }
+        Ok(Self::new(sources, manifest, delta_n))
+    }
+
+    /// From a directory holding `manifest.json` and the pass files it names.
+    pub fn from_dir(dir: &Path, delta_n: u32) -> Result<Self, ReplayError> {
+        let mpath = dir.join("manifest.json");
+        let text = std::fs::read_to_string(&mpath).map_err(|e| ReplayError::Variant {
+            message: format!("cannot read {}: {e}", mpath.display()),
+        })?;
+        let de = &mut serde_json::Deserializer::from_str(&text);
+        let manifest: Manifest =
+            serde_path_to_error::deserialize(de).map_err(|e| ReplayError::Variant {
+                message: format!("{}: field `{}`: {}", mpath.display(), e.path(), e.inner()),
+            })?;
+        let mut sources = Vec::new();
+        for p in &manifest.passes {
+            let f = dir.join(&p.file);
+            sources.push(
+                std::fs::read_to_string(&f).map_err(|e| ReplayError::Variant {
+                    message: format!("cannot read {}: {e}", f.display()),
+                })?,
+            );
+        }
+        let mut v = Self::new(sources, manifest, delta_n);
+        v.label = dir.display().to_string();
+        Ok(v)
+    }
+}
+
+/// The GPU: instance, adapter, device and queue, plus what the adapter supports.
+pub struct Renderer {
+    _instance: wgpu::Instance,
+    adapter_info: AdapterReport,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    timestamps: bool,
+    timestamp_period: f32,
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("adapter", &self.adapter_info)
+            .field("timestamps", &self.timestamps)
+            .finish()
+    }
+}
+
+fn gpu_err(what: impl Into<String>, e: impl std::fmt::Display) -> ReplayError {
+    ReplayError::Gpu {
+        what: what.into(),
+        message: e.to_string(),
+    }
+}
+
+/// A shader module plus its reflected fragment interface.
+struct Stage {
+    shader: Shader,
+    iface: Interface,
+}
+
+/// GPU resources of a session (shared by every pipeline of one render).
+struct Scene {
+    objects: Vec<ObjectGpu>,
+    textures: HashMap<String, wgpu::TextureView>,
+    samplers: HashMap<String, wgpu::Sampler>,
+    /// Uniform buffers by variable name, with their reflected fields.
+    uniforms: BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)>,
+    vertex_bgl: wgpu::BindGroupLayout,
+}
+
+struct ObjectGpu {
+    vbuf: wgpu::Buffer,
+    ibuf: wgpu::Buffer,
+    count: u32,
+    cull: Cull,
+    xf_buf: wgpu::Buffer,
+    xf_bg: wgpu::BindGroup,
+}
+
+/// Host-owned resources of the variant's added bind group, by binding name.
+struct AddedResources<'a> {
+    params: &'a wgpu::Buffer,
+    prev_payload: &'a wgpu::TextureView,
+    prev_depth: &'a wgpu::TextureView,
+    cur_payload: &'a wgpu::TextureView,
+}
+
+/// Bind group layouts and bind groups of one fragment entry point.
+struct Bindings {
+    layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
+    groups: BTreeMap<u32, wgpu::BindGroup>,
+}
+
+/// (pipeline, bindings, color target, color load, depth load) of one variant pass.
+type PassSpec<'a> = (
+    &'a Pipe,
+    &'a Bindings,
+    &'a wgpu::TextureView,
+    wgpu::LoadOp<wgpu::Color>,
+    wgpu::LoadOp<f32>,
+);
+
+/// Occlusion counts, per-pass ms, frame span ms of one frame's queries.
+type QueryResults = (Vec<u64>, Vec<f64>, Option<f64>);
+
+/// One pipeline per cull mode used by the scene.
+struct Pipe {
+    by_cull: HashMap<Cull, wgpu::RenderPipeline>,
+}
+
+fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
+    match d {
+        TexDim::D2 => wgpu::TextureViewDimension::D2,
+        TexDim::D3 => wgpu::TextureViewDimension::D3,
+        TexDim::Cube => wgpu::TextureViewDimension::Cube,
+    }
+}
+
+fn readback_row_bytes(width: u32, bpp: u32) -> u32 {
+    let a = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    (width * bpp).div_ceil(a) * a
+}
+
+/// Lowest group index not in `used`.
+fn free_group(used: &BTreeSet<u32>) -> Result<u32, ReplayError> {
+    let g = (0..MAX_BIND_GROUPS).find(|g| !used.contains(g)).ok_or_else(|| ReplayError::Unsupported {
+        what: format!(
+            "the fragment modules use every bind group 0..{MAX_BIND_GROUPS}; the replay needs a free one for the vertex transforms"
+        ),
+    })?;
+    Ok(g)
+}
+
+impl Renderer {
+    /// Open the default adapter of the chosen backends (Vulkan unless `opts.backend` or
+    /// `WGPU_BACKEND` says otherwise) and create a device with timestamp queries when available.
+    pub fn new(opts: &RendererOptions) -> Result<Renderer, ReplayError> {
+        let backends = match &opts.backend {
+            Some(b) => wgpu::Backends::from_comma_list(b),
+            None => wgpu::Backends::VULKAN.with_env(),
+        };
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle().with_env();
+        desc.backends = backends;
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::from_env().unwrap_or_default(),
+            ..Default::default()
+        }))
+        .map_err(|_| ReplayError::NoAdapter {
+            backends: format!("{backends:?}"),
+        })?;
+        let info = adapter.get_info();
+        let adapter_info = AdapterReport {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend),
+            device_type: format!("{:?}", info.device_type),
+            driver: info.driver.clone(),
+            driver_info: info.driver_info.clone(),
+        };
+        let want_ts =
+            !opts.cpu_timing && adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let features = if want_ts {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("reproj-replay"),
+            required_features: features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| ReplayError::Device {
+            adapter: info.name.clone(),
+            message: e.to_string(),
+        })?;
+        let errors: Arc<Mutex<Vec<String>>> = Arc::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let timestamp_period = queue.get_timestamp_period();
+        Ok(Renderer {
+            _instance: instance,
+            adapter_info,
+            device,
+            queue,
+            timestamps: want_ts,
+            timestamp_period,
+            errors,
+        })
+    }
+
+    /// The adapter results are measured on.
+    pub fn adapter(&self) -> &AdapterReport {
+        &self.adapter_info
+    }
+
+    /// How frame times are measured.
+    pub fn timing_method(&self) -> TimingMethod {
+        if self.timestamps {
+            TimingMethod::GpuTimestamps
+        } else {
+            TimingMethod::CpuSubmitWait
+        }
+    }
+
+    fn check_errors(&self, what: &str) -> Result<(), ReplayError> {
+        let mut v = self
+            .errors
+            .lock()
+            .map_err(|_| gpu_err(what, "error sink poisoned"))?;
+        if v.is_empty() {
+            Ok(())
+        } else {
+            let msg = v.join("; ");
+            v.clear();
+            Err(gpu_err(what, msg))
+        }
+    }
+
+    /// Run `f` inside a validation error scope; wgpu's complaint becomes an error.
+    fn scoped<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, ReplayError> {
+        let guard = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out = f();
+        if let Some(e) = pollster::block_on(guard.pop()) {
+            return Err(gpu_err(what, e));
+        }
+        self.check_errors(what)?;
+        Ok(out)
+    }
+
+    fn wait(&self) -> Result<(), ReplayError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| gpu_err("waiting for the GPU", e))?;
+        Ok(())
+    }
+
+    fn read_buffer(&self, buf: &wgpu::Buffer) -> Result<Vec<u8>, ReplayError> {
+        let slice = buf.slice(..);
+        let status: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>> = Arc::default();
+        let s2 = status.clone();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            if let Ok(mut g) = s2.lock() {
+                *g = Some(r);
+            }
+        });
+        self.wait()?;
+        match status.lock().ok().and_then(|mut g| g.take()) {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(gpu_err("mapping a readback buffer", e)),
+            None => {
+                return Err(gpu_err(
+                    "mapping a readback buffer",
+                    "the map did not complete",
+                ));
+            }
+        }
+        let data = {
+            let view = buf
+                .get_mapped_range(..)
+                .map_err(|e| gpu_err("reading a readback buffer", e))?;
+            view.to_vec()
+        };
+        buf.unmap();
+        Ok(data)
+    }
+
+    fn make_stage(&self, path: &Path, source: String, entry: &str) -> Result<Stage, ReplayError> {
+        let shader =
+            reproj_front::parse_shader(path, source).map_err(|e| ReplayError::Variant {
+                message: e.to_string(),
+            })?;
+        let idx = reflect::fragment_entry_index(&shader.module, entry).ok_or_else(|| {
+            ReplayError::Variant {
+                message: format!("{}: no @fragment entry point `{entry}`", path.display()),
+            }
+        })?;
+        let iface = reflect::reflect(&shader.module, &shader.info, idx)?;
+        Ok(Stage { shader, iface })
+    }
+
+    fn shader_module(&self, label: &str, source: &str) -> Result<wgpu::ShaderModule, ReplayError> {
+        self.scoped(&format!("shader module {label}"), || {
+            self.device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(label),
+                    source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(source)),
+                })
+        })
+    }
+
+    /// Build every session resource the interfaces use (except `skip_group`, the variant's own
+    /// group). Missing ones are reported together, by name.
+    fn build_scene(
+        &self,
+        session: &Session,
+        ifaces: &[&Interface],
+        skip_group: Option<u32>,
+    ) -> Result<Scene, ReplayError> {
+        let mut missing_fields = Vec::new();
+        let mut missing_textures = Vec::new();
+        let mut unsupported = Vec::new();
+        let mut tex_needed: BTreeMap<String, TexDim> = BTreeMap::new();
+        let mut samp_needed: BTreeSet<String> = BTreeSet::new();
+        let mut uni_needed: BTreeMap<String, (u32, Vec<reflect::UniformField>)> = BTreeMap::new();
+        for iface in ifaces {
+            for r in &iface.resources {
+                if Some(r.group) == skip_group {
+                    continue;
+                }
+                match &r.kind {
+                    ResourceKind::Uniform { size, fields } => {
+                        for f in fields {
+                            let auto = matches!(
+                                f.name.as_str(),
+                                "camera_pos" | "light_pos" | "time" | "frame" | "resolution"
+                            );
+                            if f.name.starts_with('_') || auto {
+                                continue;
+                            }
+                            match session.uniforms.get(&f.name) {
+                                None => missing_fields.push(format!("`{}` (field of uniform `{}`)", f.name, r.name)),
+                                Some(v) if v.len() != f.len() => unsupported.push(format!(
+                                    "uniform field `{}` is {} ({} values) but the session gives {} values",
+                                    f.name,
+                                    f.ty,
+                                    f.len(),
+                                    v.len()
+                                )),
+                                Some(_) => {}
+                            }
+                        }
+                        uni_needed.insert(r.name.clone(), (*size, fields.clone()));
+                    }
+                    ResourceKind::Texture { dim } => {
+                        if !session.textures.contains_key(&r.name) {
+                            missing_textures.push(format!("`{}`", r.name));
+                        } else {
+                            tex_needed.insert(r.name.clone(), *dim);
+                        }
+                    }
+                    ResourceKind::Sampler { comparison } => {
+                        if *comparison {
+                            unsupported.push(format!("comparison sampler `{}`", r.name));
+                        }
+                        samp_needed.insert(r.name.clone());
+                    }
+                    ResourceKind::DepthTexture => {
+                        unsupported.push(format!("depth texture `{}`", r.name));
+                    }
+                    ResourceKind::Unsupported(what) => unsupported.push(what.clone()),
+                }
+            }
+        }
+        missing_textures.sort();
+        missing_textures.dedup();
+        missing_fields.sort();
+        missing_fields.dedup();
+        if !missing_textures.is_empty() || !missing_fields.is_empty() {
+            let mut names = missing_textures
+                .iter()
+                .map(|t| format!("texture {t}"))
+                .collect::<Vec<_>>();
+            names.extend(missing_fields.iter().map(|f| format!("uniform {f}")));
+            return Err(ReplayError::MissingResources {
+                what: "resources the shader declares".into(),
+                names,
+            });
+        }
+        if !unsupported.is_empty() {
+            unsupported.sort();
+            unsupported.dedup();
+            return Err(ReplayError::Unsupported {
+                what: unsupported.join("; "),
+            });
+        }
+        self.scoped(
+            "creating the session's resources",
+            || -> Result<Scene, ReplayError> {
+                let dev = &self.device;
+                // Meshes and per-object transforms.
+                let vertex_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("replay vertex transforms"),
+                    entries: &[wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: NonZeroU64::new(
+                                std::mem::size_of::<TransformUniform>() as u64,
+                            ),
+                        },
+                        count: None,
+                    }],
+                });
+                let mut objects = Vec::new();
+                for (i, o) in session.geometry.objects.iter().enumerate() {
+                    let m = mesh::build(session, &o.mesh)
+                        .map_err(|message| ReplayError::Asset { message })?;
+                    let vbuf = wgpu::util::DeviceExt::create_buffer_init(
+                        dev,
+                        &wgpu::util::BufferInitDescriptor {
+                            label: Some("vertices"),
+                            contents: bytemuck::cast_slice(&m.vertices),
+                            usage: wgpu::BufferUsages::VERTEX,
+                        },
+                    );
+                    let ibuf = wgpu::util::DeviceExt::create_buffer_init(
+                        dev,
+                        &wgpu::util::BufferInitDescriptor {
+                            label: Some("indices"),
+                            contents: bytemuck::cast_slice(&m.indices),
+                            usage: wgpu::BufferUsages::INDEX,
+                        },
+                    );
+                    let xf_buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&format!("object {i} transforms")),
+                        size: std::mem::size_of::<TransformUniform>() as u64,
+                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    let xf_bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("object transforms"),
+                        layout: &vertex_bgl,
+                        entries: &[wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: xf_buf.as_entire_binding(),
+                        }],
+                    });
+                    objects.push(ObjectGpu {
+                        vbuf,
+                        ibuf,
+                        count: m.indices.len() as u32,
+                        cull: o.cull,
+                        xf_buf,
+                        xf_bg,
+                    });
+                }
+                // Textures.
+                let mut textures = HashMap::new();
+                for (name, dim) in &tex_needed {
+                    let spec = &session.textures[name];
+                    let data = textures::build(session, name, spec, *dim)
+                        .map_err(|message| ReplayError::Asset { message })?;
+                    let format = match data.format {
+                        TexFormat::Rgba8unorm => wgpu::TextureFormat::Rgba8Unorm,
+                        TexFormat::Rgba8unormSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
+                        TexFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+                    };
+                    let tex = dev.create_texture(&wgpu::TextureDescriptor {
+                        label: Some(name),
+                        size: wgpu::Extent3d {
+                            width: data.width,
+                            height: data.height,
+                            depth_or_array_layers: data.layers,
+                        },
+                        mip_level_count: data.levels.len() as u32,
+                        sample_count: 1,
+                        dimension: if *dim == TexDim::D3 {
+                            wgpu::TextureDimension::D3
+                        } else {
+                            wgpu::TextureDimension::D2
+                        },
+                        format,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                        view_formats: &[],
+                    });
+                    for level in 0..data.levels.len() {
+                        let (w, h, l) = data.level_size(level);
+                        self.queue.write_texture(
+                            wgpu::TexelCopyTextureInfo {
+                                texture: &tex,
+                                mip_level: level as u32,
+                                origin: wgpu::Origin3d::ZERO,
+                                aspect: wgpu::TextureAspect::All,
+                            },
+                            &data.encode_level(level),
+                            wgpu::TexelCopyBufferLayout {
+                                offset: 0,
+                                bytes_per_row: Some(w * data.bytes_per_texel()),
+                                rows_per_image: Some(h),
+                            },
+                            wgpu::Extent3d {
+                                width: w,
+                                height: h,
+                                depth_or_array_layers: l,
+                            },
+                        );
+                    }
+                    let view = tex.create_view(&wgpu::TextureViewDescriptor {
+                        dimension: Some(tex_dim(*dim)),
+                        ..Default::default()
+                    });
+                    textures.insert(name.clone(), view);
+                }
+                // Samplers.
+                let mut samplers = HashMap::new();
+                for name in &samp_needed {
+                    let spec = session.samplers.get(name).cloned().unwrap_or_default();
+                    let f = |x: Filter| match x {
+                        Filter::Linear => wgpu::FilterMode::Linear,
+                        Filter::Nearest => wgpu::FilterMode::Nearest,
+                    };
+                    let mf = match spec.mipmap_filter {
+                        Filter::Linear => wgpu::MipmapFilterMode::Linear,
+                        Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
+                    };
+                    let a = match spec.address {
+                        Address::Repeat => wgpu::AddressMode::Repeat,
+                        Address::Clamp => wgpu::AddressMode::ClampToEdge,
+                        Address::Mirror => wgpu::AddressMode::MirrorRepeat,
+                    };
+                    let all_linear =
+                        spec.filter == Filter::Linear && spec.mipmap_filter == Filter::Linear;
+                    let s = dev.create_sampler(&wgpu::SamplerDescriptor {
+                        label: Some(name),
+                        address_mode_u: a,
+                        address_mode_v: a,
+                        address_mode_w: a,
+                        mag_filter: f(spec.filter),
+                        min_filter: f(spec.filter),
+                        mipmap_filter: mf,
+                        anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
+                        ..Default::default()
+                    });
+                    samplers.insert(name.clone(), s);
+                }
+                // Uniform buffers.
+                let mut uniforms = BTreeMap::new();
+                for (name, (size, fields)) in uni_needed {
+                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&name),
+                        size: size.max(16) as u64,
+                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    uniforms.insert(name, (buf, size, fields));
+                }
+                Ok(Scene {
+                    objects,
+                    textures,
+                    samplers,
+                    uniforms,
+                    vertex_bgl,
+                })
+            },
+        )?
+    }
+
+    /// Write the frame's uniform values and transforms.
+    fn write_frame_uniforms(&self, session: &Session, scene: &Scene, frame: u32) {
+        let st = session.frame_state(frame);
+        let prev = session.frame_state(frame.saturating_sub(1));
+        for (i, o) in scene.objects.iter().enumerate() {
+            let u = TransformUniform::new(
+                st.camera.view_proj,
+                prev.camera.view_proj,
+                st.models[i],
+                prev.models[i],
+            );
+            self.queue
+                .write_buffer(&o.xf_buf, 0, bytemuck::bytes_of(&u));
+        }
+        for (buf, size, fields) in scene.uniforms.values() {
+            let mut bytes = vec![0u8; (*size).max(16) as usize];
+            for f in fields {
+                let vals: Vec<f64> = if let Some(v) = session.uniforms.get(&f.name) {
+                    v.at(frame as f32)
+                } else {
+                    let pad = |mut v: Vec<f64>, w: f64| {
+                        while v.len() < f.len() {
+                            v.push(if v.len() == 3 { w } else { 0.0 });
+                        }
+                        v
+                    };
+                    match f.name.as_str() {
+                        "camera_pos" => {
+                            pad(st.camera.eye.to_array().map(|x| x as f64).to_vec(), 1.0)
+                        }
+                        "light_pos" => pad(st.light_pos.to_array().map(|x| x as f64).to_vec(), 1.0),
+                        "time" => pad(vec![st.time as f64], 0.0),
+                        "frame" => pad(vec![frame as f64], 0.0),
+                        "resolution" => pad(
+                            vec![session.resolution[0] as f64, session.resolution[1] as f64],
+                            0.0,
+                        ),
+                        _ => vec![0.0; f.len()],
+                    }
+                };
+                f.write(&mut bytes, &vals);
+            }
+            self.queue.write_buffer(buf, 0, &bytes);
+        }
+    }
+
+    /// Layouts and bind groups of one fragment interface (every group but the vertex group).
+    fn bindings(
+        &self,
+        label: &str,
+        iface: &Interface,
+        scene: &Scene,
+        added_group: Option<u32>,
+        added: Option<&AddedResources<'_>>,
+    ) -> Result<Bindings, ReplayError> {
+        let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
+        for r in &iface.resources {
+            by_group.entry(r.group).or_default().push(r);
+        }
+        let mut layouts = BTreeMap::new();
+        let mut groups = BTreeMap::new();
+        for (g, rs) in by_group {
+            let in_added = Some(g) == added_group;
+            let mut entries = Vec::new();
+            let mut bind: Vec<wgpu::BindingResource<'_>> = Vec::new();
+            for r in &rs {
+                let missing = |what: &str| ReplayError::Variant {
+                    message: format!(
+                        "{label}: {what} `{}` at @group({g}) @binding({}) is not one the replay knows",
+                        r.name, r.binding
+                    ),
+                };
+                let (ty, res) = match &r.kind {
+                    ResourceKind::Uniform { size, .. } => {
+                        let buf = if in_added {
+                            match (r.name.as_str(), added) {
+                                ("reproj_params", Some(a)) => a.params,
+                                _ => return Err(missing("uniform")),
+                            }
+                        } else {
+                            &scene
+                                .uniforms
+                                .get(&r.name)
+                                .ok_or_else(|| missing("uniform"))?
+                                .0
+                        };
+                        (
+                            wgpu::BindingType::Buffer {
+                                ty: wgpu::BufferBindingType::Uniform,
+                                has_dynamic_offset: false,
+                                min_binding_size: NonZeroU64::new(*size as u64),
+                            },
+                            buf.as_entire_binding(),
+                        )
+                    }
+                    ResourceKind::Texture { dim } => {
+                        let view = if in_added {
+                            match (r.name.as_str(), added) {
+                                ("reproj_prev_payload", Some(a)) => a.prev_payload,
+                                ("reproj_cur_payload", Some(a)) => a.cur_payload,
+                                _ => return Err(missing("texture")),
+                            }
+                        } else {
+                            scene
+                                .textures
+                                .get(&r.name)
+                                .ok_or_else(|| missing("texture"))?
+                        };
+                        (
+                            wgpu::BindingType::Texture {
+                                sample_type: wgpu::TextureSampleType::Float {
+                                    filterable: !in_added,
+                                },
+                                view_dimension: tex_dim(*dim),
+                                multisampled: false,
+                            },
+                            wgpu::BindingResource::TextureView(view),
+                        )
+                    }
+                    ResourceKind::DepthTexture => {
+                        let view = match (r.name.as_str(), added) {
+                            ("reproj_prev_depth", Some(a)) if in_added => a.prev_depth,
+                            _ => return Err(missing("depth texture")),
+                        };
+                        (
+                            wgpu::BindingType::Texture {
+                                sample_type: wgpu::TextureSampleType::Depth,
+                                view_dimension: wgpu::TextureViewDimension::D2,
+                                multisampled: false,
+                            },
+                            wgpu::BindingResource::TextureView(view),
+                        )
+                    }
+                    ResourceKind::Sampler { .. } => {
+                        let s = scene
+                            .samplers
+                            .get(&r.name)
+                            .ok_or_else(|| missing("sampler"))?;
+                        (
+                            wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                            wgpu::BindingResource::Sampler(s),
+                        )
+                    }
+                    ResourceKind::Unsupported(w) => {
+                        return Err(ReplayError::Unsupported { what: w.clone() });
+                    }
+                };
+                entries.push(wgpu::BindGroupLayoutEntry {
+                    binding: r.binding,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty,
+                    count: None,
+                });
+                bind.push(res);
+            }
+            let (layout, group) = self.scoped(&format!("{label}: bind group {g}"), || {
+                let layout =
+                    self.device
+                        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                            label: Some(label),
+                            entries: &entries,
+                        });
+                let group_entries: Vec<wgpu::BindGroupEntry<'_>> = rs
+                    .iter()
+                    .zip(bind)
+                    .map(|(r, resource)| wgpu::BindGroupEntry {
+                        binding: r.binding,
+                        resource,
+                    })
+                    .collect();
+                let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(label),
+                    layout: &layout,
+                    entries: &group_entries,
+                });
+                (layout, group)
+            })?;
+            layouts.insert(g, layout);
+            groups.insert(g, group);
+        }
+        Ok(Bindings { layouts, groups })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn pipeline(
+        &self,
+        label: &str,
+        vs: &wgpu::ShaderModule,
+        fs: &wgpu::ShaderModule,
+        entry: &str,
+        bindings: &Bindings,
+        scene: &Scene,
+        vertex_group: u32,
+        format: wgpu::TextureFormat,
+        compare: wgpu::CompareFunction,
+        depth_write: bool,
+    ) -> Result<Pipe, ReplayError> {
+        let max_group = bindings
+            .layouts
+            .keys()
+            .copied()
+            .chain([vertex_group])
+            .max()
+            .unwrap_or(0);
+        let bgls: Vec<Option<&wgpu::BindGroupLayout>> = (0..=max_group)
+            .map(|g| {
+                if g == vertex_group {
+                    Some(&scene.vertex_bgl)
+                } else {
+                    bindings.layouts.get(&g)
+                }
+            })
+            .collect();
+        let culls: BTreeSet<u8> = scene.objects.iter().map(|o| o.cull as u8).collect();
+        let mut by_cull = HashMap::new();
+        self.scoped(&format!("render pipeline {label}"), || {
+            let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &bgls,
+                immediate_size: 0,
+            });
+            let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+            for c in culls {
+                let cull = if c == Cull::Back as u8 { Cull::Back } else { Cull::None };
+                let p = self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: vs,
+                        entry_point: Some(VERTEX_ENTRY),
+                        compilation_options: Default::default(),
+                        buffers: &[Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<Vertex>() as u64,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &attrs,
+                        })],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        topology: wgpu::PrimitiveTopology::TriangleList,
+                        front_face: wgpu::FrontFace::Ccw,
+                        cull_mode: if cull == Cull::Back { Some(wgpu::Face::Back) } else { None },
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(depth_write),
+                        depth_compare: Some(compare),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: fs,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                });
+                by_cull.insert(cull, p);
+            }
+        })?;
+        Ok(Pipe { by_cull })
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipe: &Pipe,
+        bindings: &Bindings,
+        scene: &Scene,
+        vertex_group: u32,
+    ) {
+        for (g, bg) in &bindings.groups {
+            pass.set_bind_group(*g, bg, &[]);
+        }
+        for o in &scene.objects {
+            if let Some(p) = pipe.by_cull.get(&o.cull) {
+                pass.set_pipeline(p);
+            }
+            pass.set_bind_group(vertex_group, &o.xf_bg, &[]);
+            pass.set_vertex_buffer(0, o.vbuf.slice(..));
+            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.count, 0, 0..1);
+        }
+    }
+
+    fn target(
+        &self,
+        label: &str,
+        w: u32,
+        h: u32,
+        format: wgpu::TextureFormat,
+        binding: bool,
+    ) -> wgpu::Texture {
+        let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        if binding {
+            usage |= wgpu::TextureUsages::TEXTURE_BINDING;
+        }
+        self.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    }
+
+    fn buffer(&self, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// Copy a texture into a (padded) readback buffer.
+    fn copy_out(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        tex: &wgpu::Texture,
+        buf: &wgpu::Buffer,
+        w: u32,
+        h: u32,
+        bpp: u32,
+    ) {
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: tex,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: buf,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(readback_row_bytes(w, bpp)),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+
+    fn unpad(data: &[u8], w: u32, h: u32, bpp: u32) -> Vec<u8> {
+        let row = readback_row_bytes(w, bpp) as usize;
+        let tight = (w * bpp) as usize;
+        let mut out = Vec::with_capacity(tight * h as usize);
+        for y in 0..h as usize {
+            out.extend_from_slice(&data[y * row..y * row + tight]);
+        }
+        out
+    }
+
+    fn frame_count(session: &Session, opts: &RenderOptions) -> u32 {
+        opts.max_frames
+            .map_or(session.frames, |m| m.min(session.frames))
+            .max(1)
+    }
+
+    /// Render the original shader's fragment entry `entry_index` over the session: the reference
+    /// frames (kept in memory) and a report with frame times and shaded-pixel counts.
+    pub fn render_original(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        opts: &RenderOptions,
+    ) -> Result<Reference, ReplayError> {
+        session.clone().validate()?;
+        let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
+        let [w, h] = session.resolution;
+        let frames = Self::frame_count(session, opts);
+        let used: BTreeSet<u32> = iface.groups().into_iter().collect();
+        let vgroup = free_group(&used)?;
+        let scene = self.build_scene(session, &[&iface], None)?;
+        let vs_src = vertex::vertex_wgsl(vgroup, &iface.inputs, &session.inputs, None)?;
+        let vs = self.shader_module("replay vertex stage", &vs_src)?;
+        let fs = self.shader_module(&shader.path.display().to_string(), &shader.source)?;
+        let bindings = self.bindings("original", &iface, &scene, None, None)?;
+        let pipe = self.pipeline(
+            "original",
+            &vs,
+            &fs,
+            &iface.entry,
+            &bindings,
+            &scene,
+            vgroup,
+            FRAME_FORMAT,
+            wgpu::CompareFunction::Less,
+            true,
+        )?;
+
+        let color = self.target("frame color", w, h, FRAME_FORMAT, false);
+        let color_view = color.create_view(&Default::default());
+        let depth = self.target("depth", w, h, DEPTH_FORMAT, false);
+        let depth_view = depth.create_view(&Default::default());
+        let q = QueryKit::new(self, 1);
+        let frame_rb = self.buffer(
+            "frame readback",
+            readback_row_bytes(w, 16) as u64 * h as u64,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        let bg = session.background;
+        let clear = wgpu::Color {
+            r: bg[0] as f64,
+            g: bg[1] as f64,
+            b: bg[2] as f64,
+            a: bg[3] as f64,
+        };
+
+        let mut report = self.new_report("original", shader, &iface.entry, session);
+        let mut out_frames = Vec::with_capacity(frames as usize);
+        for f in 0..frames {
+            self.write_frame_uniforms(session, &scene, f);
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("original"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(clear),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: q.writes(0),
+                    occlusion_query_set: Some(&q.occlusion),
+                    multiview_mask: None,
+                });
+                pass.begin_occlusion_query(0);
+                self.draw(&mut pass, &pipe, &bindings, &scene, vgroup);
+                pass.end_occlusion_query();
+            }
+            q.resolve(&mut enc);
+            let t0 = Instant::now();
+            self.queue.submit([enc.finish()]);
+            self.wait()?;
+            let cpu_ms = t0.elapsed().as_secs_f64() * 1e3;
+            self.check_errors(&format!("rendering frame {f}"))?;
+
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            self.copy_out(&mut enc, &color, &frame_rb, w, h, 16);
+            self.queue.submit([enc.finish()]);
+            let pixels: Vec<f32> =
+                bytemuck::pod_collect_to_vec(&Self::unpad(&self.read_buffer(&frame_rb)?, w, h, 16));
+            let (occ, pass_ms, span) = q.read(self)?;
+            self.check_errors(&format!("reading frame {f}"))?;
+            let frame_ms = span.unwrap_or(cpu_ms);
+            if let Some(dir) = &opts.png_dir {
+                output::write_frame(dir, f, w, h, &pixels)?;
+            }
+            report.frames.push(FrameRecord {
+                frame: f,
+                frame_ms,
+                cpu_ms,
+                pass_ms,
+                shaded: occ[0],
+                hits: 0,
+                recomputes: occ[0],
+                hit_px: None,
+                miss_px: None,
+                refresh_px: None,
+                hit_rate: 0.0,
+                error: 0.0,
+                psnr: metrics::PSNR_CAP,
+                max_abs_diff: 0.0,
+            });
+            out_frames.push(pixels);
+        }
+        report.summarize();
+        Ok(Reference {
+            width: w,
+            height: h,
+            frames: out_frames,
+            report,
+        })
+    }
+
+    fn new_report(
+        &self,
+        kind: &str,
+        shader: &Shader,
+        entry: &str,
+        session: &Session,
+    ) -> RenderReport {
+        RenderReport {
+            kind: kind.into(),
+            shader: shader.path.display().to_string(),
+            entry: entry.into(),
+            session: session.display_name(),
+            resolution: session.resolution,
+            adapter: self.adapter_info.clone(),
+            timing: self.timing_method(),
+            node: None,
+            delta_n: None,
+            block: None,
+            depth_epsilon: None,
+            error: 0.0,
+            psnr: metrics::PSNR_CAP,
+            hit_rate: 0.0,
+            frame_ms: 0.0,
+            cpu_ms: 0.0,
+            frames: Vec::new(),
+        }
+    }
+
+    /// Render a three-pass cached variant over the session (see `docs/PASSES.md`) and compare each
+    /// frame with `reference` (from [`Renderer::render_original`] on the same session).
+    ///
+    /// Per frame: pass 1 reproject (cache target cleared to 0, depth cleared to 1, less + write),
+    /// pass 2 recompute (load both, less + write), pass 3 shade (frame target cleared to the
+    /// background, depth equal, no write), then the current payload and depth become the previous
+    /// ones. Frame 0 runs with Δn = 1; `clock` is the frame index.
+    pub fn render_variant(
+        &self,
+        shader: &Shader,
+        session: &Session,
+        variant: &VariantInput,
+        reference: &Reference,
+        opts: &RenderOptions,
+    ) -> Result<RenderReport, ReplayError> {
+        session.clone().validate()?;
+        let m = &variant.manifest;
+        let [w, h] = session.resolution;
+        let frames = Self::frame_count(session, opts);
+        if reference.width != w || reference.height != h || (reference.frames.len() as u32) < frames
+        {
+            return Err(ReplayError::ReferenceMismatch {
+                reference: format!(
+                    "{} frames, {}×{}",
+                    reference.frames.len(),
+                    reference.width,
+                    reference.height
+                ),
+                session: format!("{frames} frames, {w}×{h}"),
+            });
+        }
+        if variant.delta_n == 0 || variant.block == 0 {
+            return Err(ReplayError::Variant {
+                message: "Δn and k must be at least 1".into(),
+            });
+        }
+        if variant.sources.len() != m.passes.len() || m.passes.len() != 3 {
+            return Err(ReplayError::Variant {
+                message: format!(
+                    "the manifest lists {} passes and {} modules were given; a variant has 3",
+                    m.passes.len(),
+                    variant.sources.len()
+                ),
+            });
+        }
+        let idx = |k: PassKind| {
+            m.passes
+                .iter()
+                .position(|p| p.kind == k)
+                .ok_or_else(|| ReplayError::Variant {
+                    message: format!("the manifest has no {k:?} pass"),
+                })
+        };
+        let order = [
+            idx(PassKind::Reproject)?,
+            idx(PassKind::Recompute)?,
+            idx(PassKind::Shade)?,
+        ];
+        let mut stages = Vec::new();
+        for &i in &order {
+            let p = &m.passes[i];
+            stages.push(self.make_stage(
+                Path::new(&p.file),
+                variant.sources[i].clone(),
+                &p.entry,
+            )?);
+        }
+        let classify_stage = if opts.classify {
+            let s1 = &stages[0].shader;
+            match reflect::fragment_entry_index(&s1.module, CLASSIFY_ENTRY) {
+                Some(ci) => Some(reflect::reflect(&s1.module, &s1.info, ci)?),
+                None => None,
+            }
+        } else {
+            None
+        };
+        let mut used: BTreeSet<u32> = [m.group].into_iter().collect();
+        for s in &stages {
+            used.extend(s.iface.groups());
+        }
+        if let Some(c) = &classify_stage {
+            used.extend(c.groups());
+        }
+        let vgroup = free_group(&used)?;
+        let mut input_sets: Vec<&[reflect::FragInput]> =
+            stages.iter().map(|s| s.iface.inputs.as_slice()).collect();
+        if let Some(c) = &classify_stage {
+            input_sets.push(&c.inputs);
+        }
+        let inputs = vertex::merge_inputs(&input_sets)?;
+        let mut ifaces: Vec<&Interface> = stages.iter().map(|s| &s.iface).collect();
+        if let Some(c) = &classify_stage {
+            ifaces.push(c);
+        }
+        let scene = self.build_scene(session, &ifaces, Some(m.group))?;
+        let vs_src =
+            vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(m.prev_clip_location))?;
+        let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
+        let fsm: Vec<wgpu::ShaderModule> = stages
+            .iter()
+            .map(|s| self.shader_module(&s.shader.path.display().to_string(), &s.shader.source))
+            .collect::<Result<_, _>>()?;
+
+        let cache_format = match m.cache_format {
+            CacheFormat::Rgba32float => wgpu::TextureFormat::Rgba32Float,
+            CacheFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+        };
+        let payload = [
+            self.target("payload A", w, h, cache_format, true),
+            self.target("payload B", w, h, cache_format, true),
+        ];
+        let depth = [
+            self.target("depth A", w, h, DEPTH_FORMAT, true),
+            self.target("depth B", w, h, DEPTH_FORMAT, true),
+        ];
+        let payload_v: Vec<wgpu::TextureView> = payload
+            .iter()
+            .map(|t| t.create_view(&Default::default()))
+            .collect();
+        let depth_v: Vec<wgpu::TextureView> = depth
+            .iter()
+            .map(|t| t.create_view(&Default::default()))
+            .collect();
+        let color = self.target("frame color", w, h, FRAME_FORMAT, false);
+        let color_view = color.create_view(&Default::default());
+        let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
+        let cls_view = cls.create_view(&Default::default());
+        let cls_depth = self.target("classify depth", w, h, DEPTH_FORMAT, false);
+        let cls_depth_view = cls_depth.create_view(&Default::default());
+        let params = self.buffer(
+            "reproj_params",
+            16,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
+
+        // Bindings for each parity (cur = parity, prev = 1 − parity).
+        let mut binds: Vec<[Bindings; 4]> = Vec::new();
+        for parity in 0..2usize {
+            let added = AddedResources {
+                params: &params,
+                prev_payload: &payload_v[1 - parity],
+                prev_depth: &depth_v[1 - parity],
+                cur_payload: &payload_v[parity],
+            };
+            let b1 = self.bindings(
+                "pass 1 (reproject)",
+                &stages[0].iface,
+                &scene,
+                Some(m.group),
+                Some(&added),
+            )?;
+            let b2 = self.bindings(
+                "pass 2 (recompute)",
+                &stages[1].iface,
+                &scene,
+                Some(m.group),
+                Some(&added),
+            )?;
+            let b3 = self.bindings(
+                "pass 3 (shade)",
+                &stages[2].iface,
+                &scene,
+                Some(m.group),
+                Some(&added),
+            )?;
+            let bc = match &classify_stage {
+                Some(c) => {
+                    self.bindings("reproj_classify", c, &scene, Some(m.group), Some(&added))?
+                }
+                None => Bindings {
+                    layouts: BTreeMap::new(),
+                    groups: BTreeMap::new(),
+                },
+            };
+            binds.push([b1, b2, b3, bc]);
+        }
+        use wgpu::CompareFunction as Cf;
+        let p1 = self.pipeline(
+            "pass 1 (reproject)",
+            &vs,
+            &fsm[0],
+            &stages[0].iface.entry,
+            &binds[0][0],
+            &scene,
+            vgroup,
+            cache_format,
+            Cf::Less,
+            true,
+        )?;
+        let p2 = self.pipeline(
+            "pass 2 (recompute)",
+            &vs,
+            &fsm[1],
+            &stages[1].iface.entry,
+            &binds[0][1],
+            &scene,
+            vgroup,
+            cache_format,
+            Cf::Less,
+            true,
+        )?;
+        let p3 = self.pipeline(
+            "pass 3 (shade)",
+            &vs,
+            &fsm[2],
+            &stages[2].iface.entry,
+            &binds[0][2],
+            &scene,
+            vgroup,
+            FRAME_FORMAT,
+            Cf::Equal,
+            false,
+        )?;
+        let pc = match &classify_stage {
+            Some(_) => Some(self.pipeline(
+                "reproj_classify",
+                &vs,
+                &fsm[0],
+                CLASSIFY_ENTRY,
+                &binds[0][3],
+                &scene,
+                vgroup,
+                CLASSIFY_FORMAT,
+                Cf::Less,
+                true,
+            )?),
+            None => None,
+        };
+
+        let q = QueryKit::new(self, 3);
+        let frame_rb = self.buffer(
+            "frame readback",
+            readback_row_bytes(w, 16) as u64 * h as u64,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        let cls_rb = self.buffer(
+            "classify readback",
+            readback_row_bytes(w, 4) as u64 * h as u64,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        let bg = session.background;
+        let clear = wgpu::Color {
+            r: bg[0] as f64,
+            g: bg[1] as f64,
+            b: bg[2] as f64,
+            a: bg[3] as f64,
+        };
+
+        // The "previous" cache before frame 0: payload 0, depth 1.
+        {
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            for i in 0..2 {
+                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("clear cache"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &payload_v[i],
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_v[i],
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    ..Default::default()
+                });
+            }
+            self.queue.submit([enc.finish()]);
+            self.wait()?;
+            self.check_errors("clearing the cache")?;
+        }
+
+        let mut report = self.new_report("variant", shader, &m.entry, session);
+        report.node = Some(m.node.id.clone());
+        report.delta_n = Some(variant.delta_n);
+        report.block = Some(variant.block);
+        report.depth_epsilon = Some(variant.depth_epsilon);
+        let clear_payload = wgpu::Color::TRANSPARENT;
+        for f in 0..frames {
+            let cur = (f % 2) as usize;
+            let b = &binds[cur];
+            self.write_frame_uniforms(session, &scene, f);
+            let dn = if f == 0 { 1 } else { variant.delta_n };
+            let mut pbytes = [0u8; 16];
+            pbytes[0..4].copy_from_slice(&dn.to_le_bytes());
+            pbytes[4..8].copy_from_slice(&f.to_le_bytes());
+            pbytes[8..12].copy_from_slice(&variant.block.to_le_bytes());
+            pbytes[12..16].copy_from_slice(&variant.depth_epsilon.to_le_bytes());
+            self.queue.write_buffer(&params, 0, &pbytes);
+
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            let passes: [PassSpec<'_>; 3] = [
+                (
+                    &p1,
+                    &b[0],
+                    &payload_v[cur],
+                    wgpu::LoadOp::Clear(clear_payload),
+                    wgpu::LoadOp::Clear(1.0),
+                ),
+                (
+                    &p2,
+                    &b[1],
+                    &payload_v[cur],
+                    wgpu::LoadOp::Load,
+                    wgpu::LoadOp::Load,
+                ),
+                (
+                    &p3,
+                    &b[2],
+                    &color_view,
+                    wgpu::LoadOp::Clear(clear),
+                    wgpu::LoadOp::Load,
+                ),
+            ];
+            for (i, (pipe, bind, target, cload, dload)) in passes.into_iter().enumerate() {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(["pass 1 reproject", "pass 2 recompute", "pass 3 shade"][i]),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: target,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: cload,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_v[cur],
+                        depth_ops: Some(wgpu::Operations {
+                            load: dload,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: q.writes(i as u32),
+                    occlusion_query_set: Some(&q.occlusion),
+                    multiview_mask: None,
+                });
+                pass.begin_occlusion_query(i as u32);
+                self.draw(&mut pass, pipe, bind, &scene, vgroup);
+                pass.end_occlusion_query();
+            }
+            q.resolve(&mut enc);
+            let t0 = Instant::now();
+            self.queue.submit([enc.finish()]);
+            self.wait()?;
+            let cpu_ms = t0.elapsed().as_secs_f64() * 1e3;
+            self.check_errors(&format!("rendering variant frame {f}"))?;
+
+            // Readback (and the untimed classification pass).
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            self.copy_out(&mut enc, &color, &frame_rb, w, h, 16);
+            if let Some(pc) = &pc {
+                {
+                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("reproj_classify"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &cls_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: &cls_depth_view,
+                            depth_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(1.0),
+                                store: wgpu::StoreOp::Store,
+                            }),
+                            stencil_ops: None,
+                        }),
+                        ..Default::default()
+                    });
+                    self.draw(&mut pass, pc, &b[3], &scene, vgroup);
+                }
+                self.copy_out(&mut enc, &cls, &cls_rb, w, h, 4);
+            }
+            self.queue.submit([enc.finish()]);
+            let pixels: Vec<f32> =
+                bytemuck::pod_collect_to_vec(&Self::unpad(&self.read_buffer(&frame_rb)?, w, h, 16));
+            let cls_px = match &pc {
+                Some(_) => Some(Self::unpad(&self.read_buffer(&cls_rb)?, w, h, 4)),
+                None => None,
+            };
+            let (occ, pass_ms, span) = q.read(self)?;
+            self.check_errors(&format!("reading variant frame {f}"))?;
+
+            let refr = &reference.frames[f as usize];
+            let (error, psnr, max_abs_diff) = metrics::compare(&pixels, refr);
+            let (mut hit_px, mut miss_px, mut refresh_px) = (None, None, None);
+            if let Some(c) = &cls_px {
+                let (mut hi, mut mi, mut re) = (0u64, 0u64, 0u64);
+                for p in c.chunks_exact(4) {
+                    if p[1] > 127 {
+                        hi += 1;
+                    } else if p[0] > 127 {
+                        mi += 1;
+                    } else if p[2] > 127 {
+                        re += 1;
+                    }
+                }
+                hit_px = Some(hi);
+                miss_px = Some(mi);
+                refresh_px = Some(re);
+            }
+            let hit_rate = match (hit_px, miss_px, refresh_px) {
+                (Some(hi), Some(mi), Some(re)) if hi + mi + re > 0 => {
+                    hi as f64 / (hi + mi + re) as f64
+                }
+                _ if occ[2] > 0 => (occ[0] as f64 / occ[2] as f64).min(1.0),
+                _ => 0.0,
+            };
+            let frame_ms = span.unwrap_or(cpu_ms);
+            if let Some(dir) = &opts.png_dir {
+                output::write_frame(dir, f, w, h, &pixels)?;
+                output::write_errmap(dir, f, w, h, &metrics::pixel_errors(&pixels, refr))?;
+                if let Some(c) = &cls_px {
+                    output::write_hitmap(dir, f, w, h, c)?;
+                }
+            }
+            report.frames.push(FrameRecord {
+                frame: f,
+                frame_ms,
+                cpu_ms,
+                pass_ms,
+                shaded: occ[2],
+                hits: occ[0],
+                recomputes: occ[1],
+                hit_px,
+                miss_px,
+                refresh_px,
+                hit_rate,
+                error,
+                psnr,
+                max_abs_diff,
+            });
+            // Swap happens through the parity of the next frame.
+        }
+        report.summarize();
+        Ok(report)
+    }
+}
+
+/// Occlusion and timestamp query sets for `passes` passes, with their resolve and readback buffers.
+struct QueryKit {
+    passes: u32,
+    occlusion: wgpu::QuerySet,
+    occ_resolve: wgpu::Buffer,
+    occ_read: wgpu::Buffer,
+    ts: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
+    period_ns: f32,
+}
+
+impl QueryKit {
+    fn new(r: &Renderer, passes: u32) -> QueryKit {
+        let size = 8 * passes as u64;
+        let occlusion = r.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("occlusion"),
+            ty: wgpu::QueryType::Occlusion,
+            count: passes,
+        });
+        let occ_resolve = r.buffer(
+            "occlusion resolve",
+            size,
+            wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let occ_read = r.buffer(
+            "occlusion read",
+            size,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        let ts = r.timestamps.then(|| {
+            let qs = r.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * passes,
+            });
+            let res = r.buffer(
+                "timestamp resolve",
+                2 * size,
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            );
+            let read = r.buffer(
+                "timestamp read",
+                2 * size,
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            );
+            (qs, res, read)
+        });
+        QueryKit {
+            passes,
+            occlusion,
+            occ_resolve,
+            occ_read,
+            ts,
+            period_ns: r.timestamp_period,
+        }
+    }
+
+    fn writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        self.ts
+            .as_ref()
+            .map(|(qs, _, _)| wgpu::RenderPassTimestampWrites {
+                query_set: qs,
+                beginning_of_pass_write_index: Some(2 * pass),
+                end_of_pass_write_index: Some(2 * pass + 1),
+            })
+    }
+
+    fn resolve(&self, enc: &mut wgpu::CommandEncoder) {
+        enc.resolve_query_set(&self.occlusion, 0..self.passes, &self.occ_resolve, 0);
+        enc.copy_buffer_to_buffer(
+            &self.occ_resolve,
+            0,
+            &self.occ_read,
+            0,
+            Some(8 * self.passes as u64),
+        );
+        if let Some((qs, res, read)) = &self.ts {
+            enc.resolve_query_set(qs, 0..2 * self.passes, res, 0);
+            enc.copy_buffer_to_buffer(res, 0, read, 0, Some(16 * self.passes as u64));
+        }
+    }
+
+    /// (occlusion counts per pass, per-pass ms, first-begin-to-last-end ms); times empty / None
+    /// without timestamps.
+    fn read(&self, r: &Renderer) -> Result<QueryResults, ReplayError> {
+        let occ: Vec<u64> = bytemuck::pod_collect_to_vec(&r.read_buffer(&self.occ_read)?);
+        let mut ms = Vec::new();
+        let mut span = None;
+        if let Some((_, _, read)) = &self.ts {
+            let t: Vec<u64> = bytemuck::pod_collect_to_vec(&r.read_buffer(read)?);
+            for p in 0..self.passes as usize {
+                ms.push(t[2 * p + 1].saturating_sub(t[2 * p]) as f64 * self.period_ns as f64 / 1e6);
+            }
+            span = Some(
+                t[2 * self.passes as usize - 1].saturating_sub(t[0]) as f64 * self.period_ns as f64
+                    / 1e6,
+            );
+        }
+        Ok((occ, ms, span))
+    }
+}

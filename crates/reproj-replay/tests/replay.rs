@@ -1,0 +1,269 @@
+//! End-to-end replay tests. They need a Vulkan adapter: on machines without a GPU, Mesa's
+//! lavapipe (`apt-get install mesa-vulkan-drivers`). They are small (64×64, a few frames).
+
+use std::path::{Path, PathBuf};
+
+use reproj_replay::{
+    RenderOptions, Renderer, RendererOptions, ReplayError, Session, SessionError, VariantInput,
+};
+
+fn data(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(p)
+}
+
+fn renderer() -> Renderer {
+    match Renderer::new(&RendererOptions::default()) {
+        Ok(r) => {
+            eprintln!("adapter: {} ({})", r.adapter().name, r.adapter().backend);
+            r
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn tiny_shader() -> reproj_front::Shader {
+    reproj_front::load_file(&data("tiny.wgsl")).unwrap()
+}
+
+#[test]
+fn original_render_is_deterministic() {
+    let r = renderer();
+    let shader = tiny_shader();
+    let entry = shader.fragment_entry(None).unwrap();
+    let session = Session::load(data("tiny_moving.json")).unwrap();
+    let a = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap();
+    let b = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap();
+    assert_eq!(a.frames.len(), 4);
+    assert_eq!(a.frames, b.frames);
+    // Something was drawn: the sphere covers part of the frame, the background is black.
+    let f0 = &a.frames[0];
+    let lit = f0
+        .chunks_exact(4)
+        .filter(|p| p[0] + p[1] + p[2] > 0.01)
+        .count();
+    assert!(lit > 200 && lit < 64 * 64, "lit pixels: {lit}");
+    let shaded = a.report.frames[0].shaded;
+    assert!(
+        shaded as usize >= lit,
+        "occlusion count {shaded} < lit pixels {lit}"
+    );
+    assert!(a.report.frame_ms > 0.0);
+    assert!(!a.report.adapter.name.is_empty());
+}
+
+#[test]
+fn missing_texture_is_named() {
+    let r = renderer();
+    let shader = tiny_shader();
+    let entry = shader.fragment_entry(None).unwrap();
+    let mut session = Session::load(data("tiny_moving.json")).unwrap();
+    session.textures.clear();
+    session.uniforms.remove("gain");
+    let err = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, ReplayError::MissingResources { .. }), "{msg}");
+    assert!(msg.contains("albedo_map"), "{msg}");
+    assert!(msg.contains("gain"), "{msg}");
+}
+
+#[test]
+fn bad_session_field_names_its_path() {
+    let text = std::fs::read_to_string(data("tiny_static_plane.json")).unwrap();
+    let good: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let parse = |v: &serde_json::Value| {
+        Session::from_json(&v.to_string(), Path::new("bad.json"), Path::new("."))
+    };
+    assert!(parse(&good).is_ok());
+
+    let mut bad = good.clone();
+    bad["camera"]["keys"][0]["eye"] = serde_json::json!([0, 2]);
+    let err = parse(&bad).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, SessionError::Parse { .. }), "{msg}");
+    assert!(msg.contains("camera.keys[0].eye"), "{msg}");
+
+    let mut bad = good.clone();
+    bad["textures"]["albedo_map"]["params"]["squares"] = serde_json::json!("four");
+    let msg = parse(&bad).unwrap_err().to_string();
+    assert!(msg.contains("textures.albedo_map.params.squares"), "{msg}");
+
+    let mut bad = good.clone();
+    bad["resolutoin"] = bad["resolution"].clone();
+    let msg = parse(&bad).unwrap_err().to_string();
+    assert!(msg.contains("resolutoin"), "{msg}");
+
+    let mut bad = good.clone();
+    bad["geometry"]["objects"][0]["mesh"]["plane"]["size"] = serde_json::json!(-4.0);
+    let msg = parse(&bad).unwrap_err().to_string();
+    assert!(msg.contains("geometry.objects[0].mesh"), "{msg}");
+}
+
+#[test]
+fn variant_at_delta_n_1_reproduces_original() {
+    let r = renderer();
+    let shader = tiny_shader();
+    let entry = shader.fragment_entry(None).unwrap();
+    let session = Session::load(data("tiny_moving.json")).unwrap();
+    let reference = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap();
+    let variant = VariantInput::from_dir(&data("variant_tiny"), 1).unwrap();
+    let report = r
+        .render_variant(
+            &shader,
+            &session,
+            &variant,
+            &reference,
+            &RenderOptions::default(),
+        )
+        .unwrap();
+    assert_eq!(report.frames.len(), 4);
+    for f in &report.frames {
+        assert!(
+            f.max_abs_diff <= 1e-4,
+            "frame {}: max abs diff {}",
+            f.frame,
+            f.max_abs_diff
+        );
+        assert_eq!(f.hits, 0, "frame {}: hits at Δn = 1", f.frame);
+        assert_eq!(f.hit_px, Some(0));
+        assert!(
+            f.recomputes >= f.shaded,
+            "frame {}: {} recomputes < {} shaded",
+            f.frame,
+            f.recomputes,
+            f.shaded
+        );
+    }
+    assert!(report.hit_rate == 0.0);
+}
+
+#[test]
+fn static_variant_at_delta_n_8_hits_seven_in_eight() {
+    let r = renderer();
+    let shader = tiny_shader();
+    let entry = shader.fragment_entry(None).unwrap();
+    let session = Session::load(data("tiny_static_plane.json")).unwrap();
+    let reference = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap();
+    let variant = VariantInput::from_dir(&data("variant_tiny"), 8).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let opts = RenderOptions {
+        png_dir: Some(dir.path().to_owned()),
+        ..Default::default()
+    };
+    let report = r
+        .render_variant(&shader, &session, &variant, &reference, &opts)
+        .unwrap();
+    assert_eq!(report.frames.len(), 9);
+    // The plane fills the view: every pixel is shaded.
+    assert_eq!(report.frames[0].shaded, 64 * 64);
+    assert_eq!(report.frames[0].hits, 0);
+    for f in &report.frames[1..] {
+        assert!(f.error < 1e-4, "frame {}: error {}", f.frame, f.error);
+        assert!(
+            (f.hit_rate - 0.875).abs() < 0.05,
+            "frame {}: hit rate {}",
+            f.frame,
+            f.hit_rate
+        );
+        assert_eq!(
+            f.hit_px.unwrap() + f.refresh_px.unwrap() + f.miss_px.unwrap(),
+            64 * 64
+        );
+        assert_eq!(
+            f.miss_px,
+            Some(0),
+            "frame {}: misses in a static scene",
+            f.frame
+        );
+        assert_eq!(
+            f.hits + f.recomputes,
+            64 * 64,
+            "frame {}: hits + recomputes",
+            f.frame
+        );
+        assert_eq!(f.hits, f.hit_px.unwrap());
+    }
+    assert!(
+        (report.hit_rate - 0.875).abs() < 0.03,
+        "mean hit rate {}",
+        report.hit_rate
+    );
+    for name in ["frame_000.png", "hitmap_008.png", "errmap_008.png"] {
+        assert!(dir.path().join(name).is_file(), "{name} not written");
+    }
+    let json = serde_json::to_string(&report).unwrap();
+    assert!(json.contains("\"hit_rate\""));
+}
+
+/// Every session in `sessions/` loads, and each one named after a sample shader in `shaders/`
+/// provides everything that shader declares (rendered at 64×64 for two frames). `test_static.json`
+/// serves every sample shader.
+#[test]
+fn sample_sessions_fit_their_shaders() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let sessions_dir = root.join("sessions");
+    let shaders_dir = root.join("shaders");
+    let Ok(entries) = std::fs::read_dir(&sessions_dir) else {
+        return;
+    };
+    let mut sessions: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    sessions.sort();
+    let shaders: Vec<PathBuf> = std::fs::read_dir(&shaders_dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+                .collect()
+        })
+        .unwrap_or_default();
+    let r = renderer();
+    let opts = RenderOptions {
+        max_frames: Some(2),
+        ..Default::default()
+    };
+    let mut failures = Vec::new();
+    for sp in &sessions {
+        let mut session = match Session::load(sp) {
+            Ok(s) => s,
+            Err(e) => {
+                failures.push(e.to_string());
+                continue;
+            }
+        };
+        session.resolution = [64, 64];
+        let stem = sp.file_stem().unwrap().to_string_lossy().into_owned();
+        let targets: Vec<&PathBuf> = if stem == "test_static" {
+            shaders.iter().collect()
+        } else {
+            shaders
+                .iter()
+                .filter(|s| s.file_stem().is_some_and(|n| n.to_string_lossy() == stem))
+                .collect()
+        };
+        for sh in targets {
+            let Ok(shader) = reproj_front::load_file(sh) else {
+                continue;
+            };
+            let Ok(entry) = shader.fragment_entry(None) else {
+                continue;
+            };
+            if let Err(e) = r.render_original(&shader, entry, &session, &opts) {
+                failures.push(format!("{} with {}: {e}", sh.display(), sp.display()));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
