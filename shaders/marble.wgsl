@@ -24,7 +24,9 @@
 //     loop, so each octave and each partial sum is its own expression. The optimizer
 //     can then cache the low-frequency octaves, a partial sum, or the whole noise term.
 //   * gradient_noise is straight-line too: 8 hashed corner gradients, quintic fade,
-//     trilinear mix. The hash is integer-only, so it is the same on every GPU.
+//     trilinear mix. Each corner's gradient comes from the classic GPU sine hash
+//     (fract(sin(dot(c, k)) * 43758.5453), three per corner) and is normalized, as in
+//     most real-time procedural shaders; that makes the noise the bulk of the cost.
 //   * The noise does not depend on camera, light or time. Lighting does.
 
 struct FragmentInput {
@@ -51,37 +53,33 @@ const TURBULENCE_GAIN: f32 = 4.0;
 const AMBIENT: f32 = 0.12;
 const SPECULAR: f32 = 0.45;
 
-// Integer hash of a lattice cell (xorshift-multiply mix of the three coordinates).
-fn hash_cell(c: vec3<i32>) -> u32 {
-    let u = bitcast<vec3<u32>>(c);
-    let h0 = (u.x * 73856093u) ^ (u.y * 19349663u) ^ (u.z * 83492791u);
-    let h1 = (h0 ^ (h0 >> 15u)) * 0x2c1b3c6du;
-    let h2 = (h1 ^ (h1 >> 12u)) * 0x297a2d39u;
-    return h2 ^ (h2 >> 15u);
-}
-
-// Gradient at cell `c` (pseudo-random in [-1,1]^3) dotted with the offset `d` from that corner.
-fn corner_grad(c: vec3<i32>, d: vec3<f32>) -> f32 {
-    let h = hash_cell(c);
-    let g = vec3<f32>(f32(h & 1023u), f32((h >> 10u) & 1023u), f32((h >> 20u) & 1023u));
-    return dot(g * (2.0 / 1023.0) - vec3<f32>(1.0), d);
+// Pseudo-random unit gradient at lattice point `c` (the classic sine hash), dotted with the offset
+// `d` from that corner.
+fn corner_grad(c: vec3<f32>, d: vec3<f32>) -> f32 {
+    let q = vec3<f32>(
+        dot(c, vec3<f32>(127.1, 311.7, 74.7)),
+        dot(c, vec3<f32>(269.5, 183.3, 246.1)),
+        dot(c, vec3<f32>(113.5, 271.9, 124.6)),
+    );
+    let g = normalize(fract(sin(q) * 43758.5453) * 2.0 - vec3<f32>(1.0));
+    return dot(g, d);
 }
 
 // 3D gradient noise, roughly in [-1, 1]; straight-line code (no loops).
 fn gradient_noise(p: vec3<f32>) -> f32 {
     let pf = floor(p);
-    let c = vec3<i32>(pf);
+    let c = pf;
     let f = p - pf;
     // quintic fade 6t^5 - 15t^4 + 10t^3
     let w = f * f * f * (f * (f * 6.0 - vec3<f32>(15.0)) + vec3<f32>(10.0));
     let g000 = corner_grad(c, f);
-    let g100 = corner_grad(c + vec3<i32>(1, 0, 0), f - vec3<f32>(1.0, 0.0, 0.0));
-    let g010 = corner_grad(c + vec3<i32>(0, 1, 0), f - vec3<f32>(0.0, 1.0, 0.0));
-    let g110 = corner_grad(c + vec3<i32>(1, 1, 0), f - vec3<f32>(1.0, 1.0, 0.0));
-    let g001 = corner_grad(c + vec3<i32>(0, 0, 1), f - vec3<f32>(0.0, 0.0, 1.0));
-    let g101 = corner_grad(c + vec3<i32>(1, 0, 1), f - vec3<f32>(1.0, 0.0, 1.0));
-    let g011 = corner_grad(c + vec3<i32>(0, 1, 1), f - vec3<f32>(0.0, 1.0, 1.0));
-    let g111 = corner_grad(c + vec3<i32>(1, 1, 1), f - vec3<f32>(1.0, 1.0, 1.0));
+    let g100 = corner_grad(c + vec3<f32>(1.0, 0.0, 0.0), f - vec3<f32>(1.0, 0.0, 0.0));
+    let g010 = corner_grad(c + vec3<f32>(0.0, 1.0, 0.0), f - vec3<f32>(0.0, 1.0, 0.0));
+    let g110 = corner_grad(c + vec3<f32>(1.0, 1.0, 0.0), f - vec3<f32>(1.0, 1.0, 0.0));
+    let g001 = corner_grad(c + vec3<f32>(0.0, 0.0, 1.0), f - vec3<f32>(0.0, 0.0, 1.0));
+    let g101 = corner_grad(c + vec3<f32>(1.0, 0.0, 1.0), f - vec3<f32>(1.0, 0.0, 1.0));
+    let g011 = corner_grad(c + vec3<f32>(0.0, 1.0, 1.0), f - vec3<f32>(0.0, 1.0, 1.0));
+    let g111 = corner_grad(c + vec3<f32>(1.0, 1.0, 1.0), f - vec3<f32>(1.0, 1.0, 1.0));
     let x00 = mix(g000, g100, w.x);
     let x10 = mix(g010, g110, w.x);
     let x01 = mix(g001, g101, w.x);

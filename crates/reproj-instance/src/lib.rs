@@ -486,6 +486,15 @@ fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Bindi
                     ),
                     "reproj_prev_depth" => "the previous frame's depth texture (depth32float), as passes 1-3 left it".to_string(),
                     "reproj_cur_payload" => "this frame's payload cache, written by passes 1 and 2 just before".to_string(),
+                    "reproj_point_sampler" => "a non-filtering sampler, clamp-to-edge (gathers the previous depths)".to_string(),
+                    "reproj_linear_sampler" => format!(
+                        "a linear (filtering) sampler, clamp-to-edge (bilinear payload reconstruction){}",
+                        if cache_format == CacheFormat::Rgba32float {
+                            "; the payload texture is bound as filterable, which needs the float32-filterable device feature"
+                        } else {
+                            ""
+                        }
+                    ),
                     _ => String::new(),
                 }
             };
@@ -557,6 +566,10 @@ fn build_manifest(
             components: node.components,
         },
         cache_format: opts.cache_format,
+        required_features: match opts.cache_format {
+            CacheFormat::Rgba32float => vec!["float32-filterable".into()],
+            CacheFormat::Rgba16float => Vec::new(),
+        },
         prev_clip_location,
         group,
         params: Params {

@@ -37,6 +37,9 @@ pub struct Manifest {
     pub entry: String,
     pub node: NodeInfo,
     pub cache_format: CacheFormat,
+    /// WebGPU device features the passes need (`float32-filterable` to filter an rgba32float cache).
+    #[serde(default)]
+    pub required_features: Vec<String>,
     /// `@location` of the extra vertex output every pass's vertex stage must write: the previous
     /// frame's clip-space position of the vertex (`prev_view_proj * prev_model * position`), vec4<f32>.
     pub prev_clip_location: u32,

@@ -19,6 +19,10 @@ struct ReprojParams {
 @group(REPROJ_GROUP) @binding(0) var<uniform> reproj_params: ReprojParams;
 @group(REPROJ_GROUP) @binding(1) var reproj_prev_payload: texture_2d<f32>;
 @group(REPROJ_GROUP) @binding(2) var reproj_prev_depth: texture_depth_2d;
+// Non-filtering, clamp-to-edge: gathers the four depths of the bilinear footprint in one fetch.
+@group(REPROJ_GROUP) @binding(4) var reproj_point_sampler: sampler;
+// Linear, clamp-to-edge: bilinear reconstruction of the payload in one fetch.
+@group(REPROJ_GROUP) @binding(5) var reproj_linear_sampler: sampler;
 
 struct ReprojInput {
     @builtin(position) position: vec4<f32>,
@@ -38,11 +42,16 @@ fn reproj_hash(x: u32, y: u32) -> u32 {
     return (h >> 22u) ^ h;
 }
 
+// The refresh test (h(x/k, y/k) + clock) mod Δn == 0, in float arithmetic: integer division has
+// no SIMD instruction on CPUs, and software rasterizers would run it one lane at a time. Exact:
+// 16 bits of hash plus (clock mod Δn) stay far below f32's 24-bit mantissa.
 fn reproj_refreshed(pixel: vec2<f32>) -> bool {
-    let k = max(reproj_params.block, 1u);
-    let b = vec2<u32>(pixel) / k;
-    let n = max(reproj_params.delta_n, 1u);
-    return ((reproj_hash(b.x, b.y) % n + reproj_params.clock % n) % n) == 0u;
+    let k = f32(max(reproj_params.block, 1u));
+    let b = vec2<u32>(floor(pixel / k));
+    let n_u = max(reproj_params.delta_n, 1u);
+    let n = f32(n_u);
+    let v = f32(reproj_hash(b.x, b.y) & 0xffffu) + f32(reproj_params.clock % n_u);
+    return v - n * floor(v / n) == 0.0;
 }
 
 fn reproj_lookup(in: ReprojInput) -> ReprojLookup {
@@ -56,37 +65,28 @@ fn reproj_lookup(in: ReprojInput) -> ReprojLookup {
     if abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z < 0.0 || ndc.z > 1.0 {
         return r;
     }
-    let dims = textureDimensions(reproj_prev_depth);
-    let size = vec2<f32>(dims);
-    let t = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size - vec2<f32>(0.5);
-    let base = floor(t);
-    let f = t - base;
-    let hi = vec2<i32>(dims) - vec2<i32>(1);
-    let c00 = clamp(vec2<i32>(base), vec2<i32>(0), hi);
-    let c11 = clamp(vec2<i32>(base) + vec2<i32>(1), vec2<i32>(0), hi);
-    let c10 = vec2<i32>(c11.x, c00.y);
-    let c01 = vec2<i32>(c00.x, c11.y);
-    let d = mix(
-        mix(textureLoad(reproj_prev_depth, c00, 0), textureLoad(reproj_prev_depth, c10, 0), f.x),
-        mix(textureLoad(reproj_prev_depth, c01, 0), textureLoad(reproj_prev_depth, c11, 0), f.x),
-        f.y,
-    );
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let size = vec2<f32>(textureDimensions(reproj_prev_depth));
+    // The 2×2 depths around uv (gather order: (0,1), (1,1), (1,0), (0,0)), blended bilinearly.
+    let g = textureGather(reproj_prev_depth, reproj_point_sampler, uv);
+    let f = fract(uv * size - vec2<f32>(0.5));
+    let d = mix(mix(g.w, g.z, f.x), mix(g.x, g.y, f.x), f.y);
     // NDC depth: 1 - z is proportional to 1 / view depth, so this is a relative tolerance.
     let tolerance = reproj_params.depth_epsilon * max(1.0 - ndc.z, 1e-7);
     if abs(d - ndc.z) > tolerance {
         return r;
     }
-    r.payload = mix(
-        mix(textureLoad(reproj_prev_payload, c00, 0), textureLoad(reproj_prev_payload, c10, 0), f.x),
-        mix(textureLoad(reproj_prev_payload, c01, 0), textureLoad(reproj_prev_payload, c11, 0), f.x),
-        f.y,
-    );
+    r.payload = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0.0);
     r.status = select(0u, 2u, reproj_refreshed(in.position.xy));
     return r;
 }
 
 @fragment
 fn fs_main(in: ReprojInput) -> @location(0) vec4<f32> {
+    // A refreshed block needs no lookup at all.
+    if reproj_refreshed(in.position.xy) {
+        discard;
+    }
     let r = reproj_lookup(in);
     if r.status != 0u {
         discard;

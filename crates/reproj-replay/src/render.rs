@@ -204,6 +204,10 @@ struct ObjectGpu {
 /// Host-owned resources of the variant's added bind group, by binding name.
 struct AddedResources<'a> {
     params: &'a wgpu::Buffer,
+    point_sampler: &'a wgpu::Sampler,
+    linear_sampler: &'a wgpu::Sampler,
+    /// The payload is rgba16float (always filterable).
+    payload_half: bool,
     prev_payload: &'a wgpu::TextureView,
     prev_depth: &'a wgpu::TextureView,
     cur_payload: &'a wgpu::TextureView,
@@ -283,11 +287,13 @@ impl Renderer {
         };
         let want_ts =
             !opts.cpu_timing && adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let features = if want_ts {
+        let mut features = if want_ts {
             wgpu::Features::TIMESTAMP_QUERY
         } else {
             wgpu::Features::empty()
         };
+        // Pass 1 reconstructs an rgba32float cache with one filtered fetch when it can.
+        features |= adapter.features() & wgpu::Features::FLOAT32_FILTERABLE;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("reproj-replay"),
             required_features: features,
@@ -731,6 +737,7 @@ impl Renderer {
         added_group: Option<u32>,
         added: Option<&AddedResources<'_>>,
     ) -> Result<Bindings, ReplayError> {
+        let added_format_16 = added.is_some_and(|a| a.payload_half);
         let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
         for r in &iface.resources {
             by_group.entry(r.group).or_default().push(r);
@@ -784,11 +791,13 @@ impl Renderer {
                                 .get(&r.name)
                                 .ok_or_else(|| missing("texture"))?
                         };
+                        let filterable = !in_added
+                            || (r.name == "reproj_prev_payload"
+                                && (self.device.features().contains(wgpu::Features::FLOAT32_FILTERABLE)
+                                    || added_format_16));
                         (
                             wgpu::BindingType::Texture {
-                                sample_type: wgpu::TextureSampleType::Float {
-                                    filterable: !in_added,
-                                },
+                                sample_type: wgpu::TextureSampleType::Float { filterable },
                                 view_dimension: tex_dim(*dim),
                                 multisampled: false,
                             },
@@ -808,6 +817,18 @@ impl Renderer {
                             },
                             wgpu::BindingResource::TextureView(view),
                         )
+                    }
+                    ResourceKind::Sampler { .. } if in_added => {
+                        let (s, ty) = match (r.name.as_str(), added) {
+                            ("reproj_point_sampler", Some(a)) => {
+                                (a.point_sampler, wgpu::SamplerBindingType::NonFiltering)
+                            }
+                            ("reproj_linear_sampler", Some(a)) => {
+                                (a.linear_sampler, wgpu::SamplerBindingType::Filtering)
+                            }
+                            _ => return Err(missing("sampler")),
+                        };
+                        (wgpu::BindingType::Sampler(ty), wgpu::BindingResource::Sampler(s))
                     }
                     ResourceKind::Sampler { .. } => {
                         let s = scene
@@ -1346,11 +1367,37 @@ impl Renderer {
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
 
+        let clamp = |filter: wgpu::FilterMode, label: &str| {
+            self.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: wgpu::AddressMode::ClampToEdge,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                address_mode_w: wgpu::AddressMode::ClampToEdge,
+                mag_filter: filter,
+                min_filter: filter,
+                ..Default::default()
+            })
+        };
+        let point_sampler = clamp(wgpu::FilterMode::Nearest, "reproj_point_sampler");
+        let linear_sampler = clamp(wgpu::FilterMode::Linear, "reproj_linear_sampler");
+        if m.cache_format == reproj_instance::CacheFormat::Rgba32float
+            && !self.device.features().contains(wgpu::Features::FLOAT32_FILTERABLE)
+        {
+            return Err(ReplayError::Unsupported {
+                what: format!(
+                    "{} has no float32-filterable feature, needed to filter an rgba32float cache; use the rgba16float cache format",
+                    self.adapter_info.name
+                ),
+            });
+        }
         // Bindings for each parity (cur = parity, prev = 1 − parity).
         let mut binds: Vec<[Bindings; 4]> = Vec::new();
         for parity in 0..2usize {
             let added = AddedResources {
                 params: &params,
+                point_sampler: &point_sampler,
+                linear_sampler: &linear_sampler,
+                payload_half: m.cache_format == reproj_instance::CacheFormat::Rgba16float,
                 prev_payload: &payload_v[1 - parity],
                 prev_depth: &depth_v[1 - parity],
                 cur_payload: &payload_v[parity],
