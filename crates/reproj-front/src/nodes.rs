@@ -30,7 +30,8 @@ pub enum CullReason {
     /// Reaches the output only through comparisons, `select` conditions, `step`, rounding,
     /// `fract`, `sign`, `%`, integer or boolean conversions, or branch conditions.
     Discontinuous,
-    /// Feeds `dpdx`/`dpdy`/`fwidth`, which need the neighbouring pixels' values.
+    /// Feeds `dpdx`/`dpdy`/`fwidth`, or the coordinates of a `textureSample` with an implicit
+    /// level of detail: both need the neighbouring pixels' values.
     Derivative,
     /// Not an f32 scalar or vector of at most 4 components.
     PayloadType,
@@ -233,7 +234,19 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
     }
     let mut feeds_derivative = vec![false; n];
     for (_, e) in fun.expressions.iter() {
-        if let Expression::Derivative { expr, .. } = *e {
+        // Explicit derivatives, and the coordinates of samples whose level of detail the hardware
+        // derives from them (`textureSample`, `textureSampleBias`): in the shade pass a cached value
+        // comes from a texel per pixel, and helper lanes at silhouettes read the background.
+        let target = match *e {
+            Expression::Derivative { expr, .. } => Some(expr),
+            Expression::ImageSample {
+                coordinate,
+                level: naga::SampleLevel::Auto | naga::SampleLevel::Bias(_),
+                ..
+            } => Some(coordinate),
+            _ => None,
+        };
+        if let Some(expr) = target {
             for (i, s) in closure(expr, None).into_iter().enumerate() {
                 feeds_derivative[i] |= s;
             }

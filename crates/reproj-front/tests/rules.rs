@@ -258,3 +258,18 @@ fn struct_output_root_is_location_zero() {
     );
     assert_eq!(t.root().text, "vec4<f32>(sin(p), 1.0)");
 }
+
+#[test]
+fn implicit_lod_sample_coordinates_are_derivative() {
+    let t = table(
+        "@group(1) @binding(0) var tex: texture_2d<f32>;
+        @group(1) @binding(1) var samp: sampler;
+        @fragment fn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {
+            let a = textureSample(tex, samp, p.xy * 3.0);
+            let b = textureSampleLevel(tex, samp, p.yz * 5.0, 0.0);
+            return a + b;
+        }",
+    );
+    assert_eq!(reason(&t, "p.xy * 3.0"), Some(CullReason::Derivative));
+    assert_eq!(reason(&t, "p.yz * 5.0"), None);
+}

@@ -1299,6 +1299,14 @@ impl Renderer {
                 &p.entry,
             )?);
         }
+        // naga's WGSL writer renames identifiers that end in a digit (`sh0` becomes `sh0_`): take
+        // the shader's own names back from the original module, by group/binding and field order.
+        let original = reflect::reflect(&shader.module, &shader.info, shader.fragment_entry(Some(&m.entry)).map_err(|e| {
+            ReplayError::Variant { message: e.to_string() }
+        })?)?;
+        for st in &mut stages {
+            restore_names(&mut st.iface, &original);
+        }
         let classify_stage = if opts.classify {
             let s1 = &stages[0].shader;
             match reflect::fragment_entry_index(&s1.module, CLASSIFY_ENTRY) {
@@ -1808,5 +1816,23 @@ impl QueryKit {
             );
         }
         Ok((occ, ms, span))
+    }
+}
+
+/// Give the resources (and uniform fields) of a pass module the names they have in the original
+/// shader, matched by group and binding (fields by position: the struct is the same).
+fn restore_names(iface: &mut Interface, original: &Interface) {
+    for r in &mut iface.resources {
+        let Some(o) = original.resources.iter().find(|o| o.group == r.group && o.binding == r.binding) else {
+            continue;
+        };
+        r.name = o.name.clone();
+        if let (ResourceKind::Uniform { fields, .. }, ResourceKind::Uniform { fields: ofields, .. }) = (&mut r.kind, &o.kind) {
+            if fields.len() == ofields.len() {
+                for (f, of) in fields.iter_mut().zip(ofields) {
+                    f.name = of.name.clone();
+                }
+            }
+        }
     }
 }
