@@ -1,13 +1,27 @@
 #!/usr/bin/env bash
-# Set everything up and run reproj on the bundled marble sample.
+# Set everything up and run reproj on the bundled marble sample: list the nodes, profile them over
+# the marble session (analyze), then pick and write the fastest variant at four error budgets (emit),
+# each checked by re-rendering (--verify). Results and charts land in out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/ensure-vulkan.sh
+# Headless: keep Mesa's device-select layer from looking for a display.
+export NODEVICE_SELECT="${NODEVICE_SELECT:-1}"
+# lavapipe runs shaders on the CPU: give it the machine's cores.
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
 cargo build --release --locked -p reproj-cli
 REPROJ=target/release/reproj
-echo "== reproj nodes shaders/marble.wgsl"
-$REPROJ nodes shaders/marble.wgsl
+mkdir -p out
+echo "== reproj nodes shaders/marble.wgsl (first lines)"
+$REPROJ nodes shaders/marble.wgsl | head -12
 echo
-echo "== reproj instance shaders/marble.wgsl --node root --out out/marble_root"
-$REPROJ instance shaders/marble.wgsl --node root --out out/marble_root
+echo "== reproj analyze shaders/marble.wgsl --session sessions/marble.json"
+$REPROJ analyze shaders/marble.wgsl --session sessions/marble.json --out out/marble.profile.json
+for budget in 0.002 0.01 0.03 0.1; do
+    echo
+    echo "== reproj emit --max-error $budget --verify"
+    $REPROJ emit --max-error "$budget" --profile out/marble.profile.json --out "out/marble_$budget" \
+        --verify --session sessions/marble.json
+done
+echo
+echo "charts: out/marble.tradeoff.png (error vs frame time per node), out/marble.hitrate.png, out/marble.models.png"

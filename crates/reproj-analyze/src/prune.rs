@@ -24,9 +24,9 @@ pub struct PruneOptions {
 impl Default for PruneOptions {
     fn default() -> Self {
         PruneOptions {
-            max_nodes: 12,
+            max_nodes: 16,
             min_saving: 0.05,
-            merge_within: 0.015,
+            merge_within: 0.01,
         }
     }
 }
@@ -45,19 +45,23 @@ pub fn profile_candidates(table: &NodeTable, opts: &PruneOptions) -> Vec<u32> {
         .cacheable()
         .filter(|n| !n.root && saving(n) >= opts.min_saving * total)
         .collect();
-    // Highest saving first; ties by id for determinism.
-    pool.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
+    // Among nodes that save about the same, keep the cheapest one: it is the furthest upstream, so
+    // more of what follows it stays fresh and its error is lower (the turbulence sum rather than the
+    // lit color computed from it). Cheapest first, then merge; ties by id for determinism.
+    pool.sort_by(|a, b| a.cost.total_cmp(&b.cost).then(a.id.cmp(&b.id)));
     let mut merged: Vec<&Node> = Vec::new();
     for n in pool {
         let near = merged
             .iter()
             .any(|m| (saving(m) - saving(n)).abs() < opts.merge_within * total);
-        // Also merge with the root: a node saving as much as the whole shader is the root again.
+        // A node saving as much as the whole shader is the root again.
         let near_root = (saving(root) - saving(n)).abs() < opts.merge_within * total;
         if !near && !near_root {
             merged.push(n);
         }
     }
+    // Highest saving first for the spread below.
+    merged.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
     let room = opts.max_nodes.saturating_sub(1);
     let chosen: Vec<&Node> = if merged.len() <= room {
         merged
@@ -119,12 +123,12 @@ mod tests {
         let t = table(vec![
             node(0, 10.0, 0.0, false),  // 1%: too small
             node(1, 300.0, 0.0, false), // 30%
-            node(2, 305.0, 0.0, false), // 30.5%: merged with 1
+            node(2, 305.0, 0.0, false), // 30.5%: merged into 1, the cheaper
             node(3, 600.0, 100.0, false),
             node(9, 1000.0, 0.0, true),
         ]);
         let ids = profile_candidates(&t, &PruneOptions::default());
-        assert_eq!(ids, vec![2, 3, 9]);
+        assert_eq!(ids, vec![1, 3, 9]);
     }
 
     #[test]

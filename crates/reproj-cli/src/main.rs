@@ -91,7 +91,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_delimiter = ',')]
     pub nodes: Option<Vec<u32>>,
     /// Most nodes to profile when pruning (the root included).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 16)]
     pub max_nodes: usize,
     /// Smallest static saving worth profiling, as a fraction of the shader's cost.
     #[arg(long, default_value_t = 0.05)]
@@ -204,7 +204,18 @@ pub struct InstanceArgs {
     pub depth_epsilon: f32,
 }
 
+/// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and
+/// print `XDG_RUNTIME_DIR is invalid` on every run. Turn the layer off unless the user chose.
+#[allow(unsafe_code)]
+fn quiet_headless_vulkan() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY: called first thing in `main`, before any other thread exists.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
+}
+
 fn main() -> ExitCode {
+    quiet_headless_vulkan();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Nodes(args) => cmd::nodes::run(&args),

@@ -128,3 +128,99 @@ fn unsupported_construct_exits_2_with_location() {
     assert_eq!(code, 2);
     assert!(err.contains("early.wgsl:2:"), "{err}");
 }
+
+fn json_nodes(shader: &str, all: bool) -> Vec<serde_json::Value> {
+    let mut args = vec!["nodes", shader, "--json"];
+    if all {
+        args.push("--all");
+    }
+    let (code, out, err) = reproj(&args);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    v["nodes"].as_array().unwrap().clone()
+}
+
+#[test]
+fn marble_octaves_and_partial_sums_are_separate_cacheable_nodes() {
+    let nodes = json_nodes("shaders/marble.wgsl", false);
+    let texts: Vec<&str> = nodes.iter().map(|n| n["text"].as_str().unwrap()).collect();
+    for want in ["n0 + n1", "s1 + n2", "s2 + n3", "s3 + n4", "abs(gradient_noise(p))"] {
+        assert!(texts.contains(&want), "`{want}` is not a cacheable node");
+    }
+    // Five octaves, each `abs(gradient_noise(...))`, all cacheable.
+    assert_eq!(texts.iter().filter(|t| t.starts_with("abs(gradient_noise(")).count(), 5);
+}
+
+#[test]
+fn ambient_occlusion_loop_bodies_are_culled_and_post_loop_sums_cacheable() {
+    let nodes = json_nodes("shaders/ambient_occlusion.wgsl", true);
+    let by_text = |t: &str| nodes.iter().filter(move |n| n["text"] == t);
+    // The sums read after their loops are cacheable...
+    for var in ["static_ao", "moving_ao"] {
+        assert!(
+            by_text(var).any(|n| n["cacheable"] == true),
+            "the value of `{var}` after its loop should be cacheable"
+        );
+        // ...while the same variable read inside its loop is not.
+        assert!(by_text(var).any(|n| n["reason"] == "in-loop"), "`{var}` inside its loop should be in-loop");
+    }
+}
+
+#[test]
+fn instance_errors_exit_2_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("v");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "999999", "--out", o]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no node 999999"), "{err}");
+    let culled = json_nodes("shaders/marble.wgsl", true)
+        .into_iter()
+        .find(|n| n["cacheable"] == false)
+        .unwrap();
+    let id = culled["id"].to_string();
+    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", &id, "--out", o]);
+    assert_eq!(code, 2);
+    assert!(err.contains("culled as"), "{err}");
+    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "seven", "--out", o]);
+    assert_eq!(code, 2);
+    assert!(err.contains("not a node id"), "{err}");
+    assert!(!out.exists(), "nothing is written on error");
+    // An output path under a file cannot be created.
+    let file = dir.path().join("file");
+    std::fs::write(&file, "x").unwrap();
+    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "root", "--out", file.join("v").to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot write"), "{err}");
+    // And a good run writes the four files.
+    let (code, stdout, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "root", "--out", o]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("pass1_reproject.wgsl"));
+    assert!(out.join("manifest.json").exists());
+}
+
+#[test]
+fn emit_without_profile_explains_what_to_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(["emit", "--max-error", "0.01"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("reproj analyze"), "{err}");
+}
+
+#[test]
+fn bad_session_names_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = dir.path().join("s.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root().join("sessions/test_static.json")).unwrap()).unwrap();
+    v["resolution"] = serde_json::json!([64, "wide"]);
+    std::fs::write(&s, serde_json::to_vec(&v).unwrap()).unwrap();
+    let (code, _, err) = reproj(&["render", "shaders/marble.wgsl", "--session", s.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("resolution"), "{err}");
+}
