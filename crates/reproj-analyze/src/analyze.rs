@@ -8,11 +8,13 @@ use rayon::prelude::*;
 use reproj_front::{NodeTable, Normalized, Shader};
 use reproj_instance::{InstanceOptions, NodeSelector, instance};
 use reproj_models::profile::{
-    AnalysisTime, HoldoutCheck, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Source,
+    AnalysisTime, HoldoutCheck, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
+    Source,
 };
 use reproj_models::{
-    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, PROFILE_VERSION, Profile, TimingFit, TimingStatus,
-    content_hash, fit_error, fit_hit_rate, fit_timing_with_holdout, predicted_frame_ms,
+    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, PROFILE_VERSION, Profile, TimingFit,
+    TimingStatus, content_hash, fit_error, fit_hit_rate, fit_timing_with_holdout,
+    predicted_frame_ms,
 };
 use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput};
 
@@ -100,7 +102,12 @@ pub fn analyze(
             let mut ids = ids.clone();
             for id in &ids {
                 match input.table.get(*id) {
-                    None => return Err(AnalyzeError::Options(format!("no node {id} in {}", input.table.shader))),
+                    None => {
+                        return Err(AnalyzeError::Options(format!(
+                            "no node {id} in {}",
+                            input.table.shader
+                        )));
+                    }
                     Some(n) if !n.cacheable => {
                         return Err(AnalyzeError::Options(format!(
                             "node {id} (`{}`) is culled as {}",
@@ -118,7 +125,12 @@ pub fn analyze(
         }
         None => profile_candidates(input.table, &opts.prune),
     };
-    let periods: Vec<u32> = opts.delta_n_train.iter().chain(&opts.delta_n_holdout).copied().collect();
+    let periods: Vec<u32> = opts
+        .delta_n_train
+        .iter()
+        .chain(&opts.delta_n_holdout)
+        .copied()
+        .collect();
     progress.start(1 + (ids.len() * periods.len()) as u64);
 
     let render_opts = RenderOptions {
@@ -149,7 +161,11 @@ pub fn analyze(
     let mut raws = Vec::new();
     for &id in &ids {
         let node = input.table.get(id).expect("ids come from the table");
-        let sel = if node.root { NodeSelector::Root } else { NodeSelector::Id(id) };
+        let sel = if node.root {
+            NodeSelector::Root
+        } else {
+            NodeSelector::Id(id)
+        };
         let t = Instant::now();
         let variant = instance(input.shader, input.norm, input.table, sel, &opts.instance);
         time.instancing_s += t.elapsed().as_secs_f64();
@@ -178,7 +194,13 @@ pub fn analyze(
             }
             let input_variant = VariantInput::new(sources.clone(), variant.manifest.clone(), dn);
             let t = Instant::now();
-            match renderer.render_variant(input.shader, input.session, &input_variant, &reference, &render_opts) {
+            match renderer.render_variant(
+                input.shader,
+                input.session,
+                &input_variant,
+                &reference,
+                &render_opts,
+            ) {
                 Ok(report) => {
                     let wall = t.elapsed().as_secs_f64();
                     let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
@@ -187,13 +209,19 @@ pub fn analyze(
                     measurements.push(measurement(dn, &report));
                 }
                 Err(e) => {
-                    progress.note(&format!("node {id}: set aside: replay failed at Δn={dn}: {e}"));
+                    progress.note(&format!(
+                        "node {id}: set aside: replay failed at Δn={dn}: {e}"
+                    ));
                     failure = Some(format!("replay failed at Δn={dn}: {e}"));
                 }
             }
             progress.step(&format!("node {id} Δn={dn}"));
         }
-        raws.push(Raw { id, measurements, failure });
+        raws.push(Raw {
+            id,
+            measurements,
+            failure,
+        });
     }
     progress.finish();
 
@@ -202,30 +230,49 @@ pub fn analyze(
     let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
     let hit_samples: Vec<(f64, f64)> = raws
         .iter()
-        .flat_map(|r| r.measurements.iter().filter(|m| is_train(m)).map(|m| (m.delta_n as f64, m.hit_rate)))
+        .flat_map(|r| {
+            r.measurements
+                .iter()
+                .filter(|m| is_train(m))
+                .map(|m| (m.delta_n as f64, m.hit_rate))
+        })
         .collect();
     let hit_rate = fit_hit_rate(&hit_samples);
     let nodes: Vec<NodeProfile> = raws
         .par_iter()
         .map(|raw| {
             let node = input.table.get(raw.id).expect("ids come from the table");
-            let train: Vec<&Measurement> = raw.measurements.iter().filter(|m| is_train(m)).collect();
-            let held: Vec<&Measurement> = raw.measurements.iter().filter(|m| !is_train(m)).collect();
+            let train: Vec<&Measurement> =
+                raw.measurements.iter().filter(|m| is_train(m)).collect();
+            let held: Vec<&Measurement> =
+                raw.measurements.iter().filter(|m| !is_train(m)).collect();
             let error_fit = fit_error(
-                &train.iter().map(|m| (m.delta_n as f64, m.error)).collect::<Vec<_>>(),
+                &train
+                    .iter()
+                    .map(|m| (m.delta_n as f64, m.error))
+                    .collect::<Vec<_>>(),
                 &ErrorFitOptions::default(),
             );
-            let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> { ms.iter().flat_map(|m| m.frames.iter().copied()).collect() };
+            let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> {
+                ms.iter().flat_map(|m| m.frames.iter().copied()).collect()
+            };
             let timing_fit = fit_timing_with_holdout(&frames(&train), &frames(&held));
             let holdout = held
                 .iter()
                 .map(|m| HoldoutCheck {
                     delta_n: m.delta_n,
                     measured_error: m.error,
-                    predicted_error: error_fit.predict(m.delta_n as f64).filter(|v| v.is_finite()),
-                    measured_ms: m.frame_ms,
-                    predicted_ms: predicted_frame_ms(&timing_fit, &hit_rate, m.delta_n as f64, mean_pixels)
+                    predicted_error: error_fit
+                        .predict(m.delta_n as f64)
                         .filter(|v| v.is_finite()),
+                    measured_ms: m.frame_ms,
+                    predicted_ms: predicted_frame_ms(
+                        &timing_fit,
+                        &hit_rate,
+                        m.delta_n as f64,
+                        mean_pixels,
+                    )
+                    .filter(|v| v.is_finite()),
                 })
                 .collect();
             let status = status(raw.failure.as_deref(), &error_fit, &timing_fit);
@@ -294,9 +341,16 @@ pub fn analyze(
 
 fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
     if opts.delta_n_train.is_empty() {
-        return Err(AnalyzeError::Options("--delta-n needs at least one period".into()));
+        return Err(AnalyzeError::Options(
+            "--delta-n needs at least one period".into(),
+        ));
     }
-    if let Some(bad) = opts.delta_n_train.iter().chain(&opts.delta_n_holdout).find(|&&d| d < 2) {
+    if let Some(bad) = opts
+        .delta_n_train
+        .iter()
+        .chain(&opts.delta_n_holdout)
+        .find(|&&d| d < 2)
+    {
         return Err(AnalyzeError::Options(format!(
             "refresh periods must be at least 2 (Δn = 1 is the original shader), got {bad}"
         )));
@@ -327,7 +381,9 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
 
 fn status(failure: Option<&str>, error: &ErrorFit, timing: &TimingFit) -> NodeStatus {
     if let Some(f) = failure {
-        return NodeStatus::SetAside { reason: f.to_string() };
+        return NodeStatus::SetAside {
+            reason: f.to_string(),
+        };
     }
     if let ErrorFitStatus::Failed { reason } = &error.status {
         return NodeStatus::SetAside {

@@ -4,7 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use reproj_front::{NormalizeOptions, enumerate, normalize};
-use reproj_instance::{CacheFormat, InstanceOptions, NodeSelector, Variant, instance, write_variant};
+use reproj_instance::{
+    CacheFormat, InstanceOptions, NodeSelector, Variant, instance, write_variant,
+};
 use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash, psnr_from_l2_error};
 use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
@@ -60,10 +62,11 @@ pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
         source,
     })?;
     let de = &mut serde_json::Deserializer::from_slice(&bytes);
-    let profile: Profile = serde_path_to_error::deserialize(de).map_err(|e| AnalyzeError::BadProfile {
-        path: path.to_owned(),
-        message: format!("at `{}`: {}", e.path(), e.inner()),
-    })?;
+    let profile: Profile =
+        serde_path_to_error::deserialize(de).map_err(|e| AnalyzeError::BadProfile {
+            path: path.to_owned(),
+            message: format!("at `{}`: {}", e.path(), e.inner()),
+        })?;
     if profile.schema != "reproj.profile" || profile.version != reproj_models::PROFILE_VERSION {
         return Err(AnalyzeError::BadProfile {
             path: path.to_owned(),
@@ -110,7 +113,11 @@ pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
 
 /// Select under the budget and write the result into `opts.out`: the three passes and the
 /// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
-pub fn emit(profile: &Profile, profile_path: &Path, opts: &EmitOptions) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
+pub fn emit(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
     let shader_path = resolve(&profile.shader.path, profile_path);
     let shader = reproj_front::load_file(&shader_path)?;
     if content_hash(shader.source.as_bytes()) != profile.shader.hash {
@@ -136,7 +143,12 @@ pub fn emit(profile: &Profile, profile_path: &Path, opts: &EmitOptions) -> Resul
         min_delta_n: opts.min_delta_n,
         max_delta_n: opts.max_delta_n,
     };
-    let selection = select(&records, &profile.hit_rate, profile.original.frame_ms, &select_opts);
+    let selection = select(
+        &records,
+        &profile.hit_rate,
+        profile.original.frame_ms,
+        &select_opts,
+    );
     let mut report = EmitReport {
         profile: profile_path.display().to_string(),
         shader: shader_path.display().to_string(),
@@ -174,7 +186,11 @@ pub fn emit(profile: &Profile, profile_path: &Path, opts: &EmitOptions) -> Resul
                 },
             )?;
             let table = enumerate(&shader, &norm);
-            let sel = if node.root { NodeSelector::Root } else { NodeSelector::Id(node.id) };
+            let sel = if node.root {
+                NodeSelector::Root
+            } else {
+                NodeSelector::Id(node.id)
+            };
             let variant = instance(
                 &shader,
                 &norm,
@@ -189,10 +205,18 @@ pub fn emit(profile: &Profile, profile_path: &Path, opts: &EmitOptions) -> Resul
             )?;
             write_variant(&variant, &opts.out)?;
             for p in &variant.manifest.passes {
-                report.files.push(opts.out.join(&p.file).display().to_string());
+                report
+                    .files
+                    .push(opts.out.join(&p.file).display().to_string());
             }
-            report.files.push(opts.out.join("manifest.json").display().to_string());
-            report.node = Some(if node.root { "root".into() } else { node.id.to_string() });
+            report
+                .files
+                .push(opts.out.join("manifest.json").display().to_string());
+            report.node = Some(if node.root {
+                "root".into()
+            } else {
+                node.id.to_string()
+            });
             report.node_text = Some(node.text.clone());
             report.line = Some(node.line);
             report.col = Some(node.col);
@@ -204,7 +228,9 @@ pub fn emit(profile: &Profile, profile_path: &Path, opts: &EmitOptions) -> Resul
             Some(variant)
         }
         Selection::Original { reason } => {
-            let name = shader_path.file_name().map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
+            let name = shader_path
+                .file_name()
+                .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
             let dest = opts.out.join(name);
             write_atomic(&dest, shader.source.as_bytes())?;
             report.files.push(dest.display().to_string());
@@ -254,12 +280,17 @@ pub fn verify(
             report.measured_error = Some(r.error);
             report.measured_psnr = psnr_from_l2_error(r.error);
             report.measured_ms = Some(r.frame_ms);
-            report.measured_speedup = (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);
+            report.measured_speedup =
+                (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);
         }
     }
     let mut json = serde_json::to_vec_pretty(&*report).expect("report serializes");
     json.push(b'\n');
-    if let Some(dir) = report.files.last().and_then(|f| Path::new(f).parent().map(Path::to_owned)) {
+    if let Some(dir) = report
+        .files
+        .last()
+        .and_then(|f| Path::new(f).parent().map(Path::to_owned))
+    {
         write_atomic(&dir.join("report.json"), &json)?;
     }
     Ok(())

@@ -72,7 +72,9 @@ pub fn profile_candidates(table: &NodeTable, opts: &PruneOptions) -> Vec<u32> {
     } else {
         // Evenly spaced ranks from the highest to the lowest saving.
         let last = merged.len() - 1;
-        let mut idx: Vec<usize> = (0..room).map(|i| (i * last + (room - 1) / 2) / (room - 1)).collect();
+        let mut idx: Vec<usize> = (0..room)
+            .map(|i| (i * last + (room - 1) / 2) / (room - 1))
+            .collect();
         idx.dedup();
         idx.into_iter().map(|i| merged[i]).collect()
     };
@@ -133,7 +135,9 @@ mod tests {
 
     #[test]
     fn spreads_over_savings_under_a_cap() {
-        let mut nodes: Vec<Node> = (0..50).map(|i| node(i, 60.0 + 18.0 * i as f64, 0.0, false)).collect();
+        let mut nodes: Vec<Node> = (0..50)
+            .map(|i| node(i, 60.0 + 18.0 * i as f64, 0.0, false))
+            .collect();
         nodes.push(node(100, 1000.0, 0.0, true));
         let t = table(nodes);
         let ids = profile_candidates(

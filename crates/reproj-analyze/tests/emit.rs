@@ -4,9 +4,12 @@ use std::path::{Path, PathBuf};
 
 use reproj_analyze::{AnalyzeError, EmitOptions, emit, load_profile};
 use reproj_instance::CacheFormat;
-use reproj_models::profile::{AnalysisTime, Machine, NodeProfile, NodeStatus, OriginalRecord, Source};
+use reproj_models::profile::{
+    AnalysisTime, Machine, NodeProfile, NodeStatus, OriginalRecord, Source,
+};
 use reproj_models::{
-    ErrorFitOptions, FrameTiming, PROFILE_VERSION, Profile, content_hash, fit_error, fit_hit_rate, fit_timing,
+    ErrorFitOptions, FrameTiming, PROFILE_VERSION, Profile, content_hash, fit_error, fit_hit_rate,
+    fit_timing,
 };
 
 fn root() -> PathBuf {
@@ -52,7 +55,10 @@ fn node(id: u32, is_root: bool, text: &str, alpha: f64, hit: f64, miss: f64) -> 
 /// Ids of the turbulence sum and of the root in the shader's node table.
 fn ids(shader: &Path) -> (u32, u32) {
     let s = reproj_front::load_file(shader).unwrap();
-    let t = reproj_front::enumerate(&s, &reproj_front::normalize(&s, &Default::default()).unwrap());
+    let t = reproj_front::enumerate(
+        &s,
+        &reproj_front::normalize(&s, &Default::default()).unwrap(),
+    );
     let sum = t.cacheable().find(|n| n.text == "s3 + n4").unwrap().id;
     (sum, t.root().id)
 }
@@ -60,7 +66,10 @@ fn ids(shader: &Path) -> (u32, u32) {
 fn profile(shader: &Path) -> Profile {
     let source = std::fs::read(shader).unwrap();
     let (sum, root_id) = ids(shader);
-    let hit_samples: Vec<(f64, f64)> = [2.0, 10.0, 50.0].iter().map(|&d: &f64| (d, 0.9 * (1.0 - 1.0 / d))).collect();
+    let hit_samples: Vec<(f64, f64)> = [2.0, 10.0, 50.0]
+        .iter()
+        .map(|&d: &f64| (d, 0.9 * (1.0 - 1.0 / d)))
+        .collect();
     Profile {
         schema: "reproj.profile".into(),
         version: PROFILE_VERSION,
@@ -120,16 +129,29 @@ fn budgets_pick_original_node_then_root() {
     let pp = dir.path().join("marble.profile.json");
 
     let (r, v) = emit(&p, &pp, &opts(0.0001, &dir.path().join("tight"))).unwrap();
-    assert!(v.is_none() && r.node.is_none() && r.reason.is_some(), "{r:?}");
+    assert!(
+        v.is_none() && r.node.is_none() && r.reason.is_some(),
+        "{r:?}"
+    );
     let kept = std::fs::read_to_string(dir.path().join("tight/marble.wgsl")).unwrap();
-    assert_eq!(kept, std::fs::read_to_string(&shader).unwrap(), "the original is written unchanged");
+    assert_eq!(
+        kept,
+        std::fs::read_to_string(&shader).unwrap(),
+        "the original is written unchanged"
+    );
 
     let (r, v) = emit(&p, &pp, &opts(0.015, &dir.path().join("moderate"))).unwrap();
     assert_eq!(r.node, Some(ids(&shader).0.to_string()), "{r:?}");
     assert!(v.is_some());
     assert!(r.predicted_error.unwrap() <= 0.015);
     assert!(r.predicted_speedup.unwrap() > 1.0);
-    for f in ["pass1_reproject.wgsl", "pass2_recompute.wgsl", "pass3_shade.wgsl", "manifest.json", "report.json"] {
+    for f in [
+        "pass1_reproject.wgsl",
+        "pass2_recompute.wgsl",
+        "pass3_shade.wgsl",
+        "manifest.json",
+        "report.json",
+    ] {
         assert!(dir.path().join("moderate").join(f).exists(), "{f}");
     }
 
@@ -163,7 +185,12 @@ fn stale_shader_is_refused() {
     let mut text = std::fs::read_to_string(&shader).unwrap();
     text.push_str("\n// edited\n");
     std::fs::write(&shader, text).unwrap();
-    let e = emit(&p, &dir.path().join("x.profile.json"), &opts(0.015, &dir.path().join("out"))).unwrap_err();
+    let e = emit(
+        &p,
+        &dir.path().join("x.profile.json"),
+        &opts(0.015, &dir.path().join("out")),
+    )
+    .unwrap_err();
     assert!(matches!(e, AnalyzeError::Stale { .. }), "{e}");
 }
 

@@ -208,7 +208,9 @@ pub struct InstanceArgs {
 /// print `XDG_RUNTIME_DIR is invalid` on every run. Turn the layer off unless the user chose.
 #[allow(unsafe_code)]
 fn quiet_headless_vulkan() {
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
         // SAFETY: called first thing in `main`, before any other thread exists.
         unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }

@@ -25,7 +25,8 @@ fn sample_shaders() -> Vec<String> {
         .unwrap()
         .filter_map(|e| {
             let p = e.unwrap().path();
-            (p.extension()? == "wgsl").then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
+            (p.extension()? == "wgsl")
+                .then(|| p.file_stem().unwrap().to_string_lossy().into_owned())
         })
         .collect();
     v.sort();
@@ -41,7 +42,13 @@ fn json_snapshots_of_every_sample_shader() {
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
         assert_eq!(v["entry"], "fs_main");
-        assert!(v["nodes"].as_array().unwrap().iter().all(|n| n["cacheable"] == true));
+        assert!(
+            v["nodes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|n| n["cacheable"] == true)
+        );
         insta::assert_snapshot!(format!("nodes_{name}"), out);
     }
 }
@@ -50,7 +57,12 @@ fn json_snapshots_of_every_sample_shader() {
 fn table_lists_root() {
     let (code, out, _) = reproj(&["nodes", "shaders/marble.wgsl"]);
     assert_eq!(code, 0);
-    assert!(out.lines().next().unwrap().starts_with("marble.wgsl (fs_main): "));
+    assert!(
+        out.lines()
+            .next()
+            .unwrap()
+            .starts_with("marble.wgsl (fs_main): ")
+    );
     assert!(out.contains("[root]"));
 }
 
@@ -71,7 +83,11 @@ fn all_adds_culled_nodes_with_reasons() {
 fn invalid_wgsl_shows_naga_diagnostic_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.wgsl");
-    std::fs::write(&bad, "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0, 2.0);\n}\n").unwrap();
+    std::fs::write(
+        &bad,
+        "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0, 2.0);\n}\n",
+    )
+    .unwrap();
     let (code, out, err) = reproj(&["nodes", bad.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(out.is_empty());
@@ -91,7 +107,11 @@ fn missing_file_exits_2() {
 fn entry_point_errors_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     let none = dir.path().join("none.wgsl");
-    std::fs::write(&none, "@vertex fn vs() -> @builtin(position) vec4<f32> { return vec4<f32>(0.0); }\n").unwrap();
+    std::fs::write(
+        &none,
+        "@vertex fn vs() -> @builtin(position) vec4<f32> { return vec4<f32>(0.0); }\n",
+    )
+    .unwrap();
     let (code, _, err) = reproj(&["nodes", none.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("no @fragment entry point"), "{err}");
@@ -144,11 +164,23 @@ fn json_nodes(shader: &str, all: bool) -> Vec<serde_json::Value> {
 fn marble_octaves_and_partial_sums_are_separate_cacheable_nodes() {
     let nodes = json_nodes("shaders/marble.wgsl", false);
     let texts: Vec<&str> = nodes.iter().map(|n| n["text"].as_str().unwrap()).collect();
-    for want in ["n0 + n1", "s1 + n2", "s2 + n3", "s3 + n4", "abs(gradient_noise(p))"] {
+    for want in [
+        "n0 + n1",
+        "s1 + n2",
+        "s2 + n3",
+        "s3 + n4",
+        "abs(gradient_noise(p))",
+    ] {
         assert!(texts.contains(&want), "`{want}` is not a cacheable node");
     }
     // Five octaves, each `abs(gradient_noise(...))`, all cacheable.
-    assert_eq!(texts.iter().filter(|t| t.starts_with("abs(gradient_noise(")).count(), 5);
+    assert_eq!(
+        texts
+            .iter()
+            .filter(|t| t.starts_with("abs(gradient_noise("))
+            .count(),
+        5
+    );
 }
 
 #[test]
@@ -162,7 +194,10 @@ fn ambient_occlusion_loop_bodies_are_culled_and_post_loop_sums_cacheable() {
             "the value of `{var}` after its loop should be cacheable"
         );
         // ...while the same variable read inside its loop is not.
-        assert!(by_text(var).any(|n| n["reason"] == "in-loop"), "`{var}` inside its loop should be in-loop");
+        assert!(
+            by_text(var).any(|n| n["reason"] == "in-loop"),
+            "`{var}` inside its loop should be in-loop"
+        );
     }
 }
 
@@ -171,7 +206,14 @@ fn instance_errors_exit_2_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("v");
     let o = out.to_str().unwrap();
-    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "999999", "--out", o]);
+    let (code, _, err) = reproj(&[
+        "instance",
+        "shaders/marble.wgsl",
+        "--node",
+        "999999",
+        "--out",
+        o,
+    ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("no node 999999"), "{err}");
     let culled = json_nodes("shaders/marble.wgsl", true)
@@ -182,18 +224,39 @@ fn instance_errors_exit_2_and_write_nothing() {
     let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", &id, "--out", o]);
     assert_eq!(code, 2);
     assert!(err.contains("culled as"), "{err}");
-    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "seven", "--out", o]);
+    let (code, _, err) = reproj(&[
+        "instance",
+        "shaders/marble.wgsl",
+        "--node",
+        "seven",
+        "--out",
+        o,
+    ]);
     assert_eq!(code, 2);
     assert!(err.contains("not a node id"), "{err}");
     assert!(!out.exists(), "nothing is written on error");
     // An output path under a file cannot be created.
     let file = dir.path().join("file");
     std::fs::write(&file, "x").unwrap();
-    let (code, _, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "root", "--out", file.join("v").to_str().unwrap()]);
+    let (code, _, err) = reproj(&[
+        "instance",
+        "shaders/marble.wgsl",
+        "--node",
+        "root",
+        "--out",
+        file.join("v").to_str().unwrap(),
+    ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot write"), "{err}");
     // And a good run writes the four files.
-    let (code, stdout, err) = reproj(&["instance", "shaders/marble.wgsl", "--node", "root", "--out", o]);
+    let (code, stdout, err) = reproj(&[
+        "instance",
+        "shaders/marble.wgsl",
+        "--node",
+        "root",
+        "--out",
+        o,
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("pass1_reproject.wgsl"));
     assert!(out.join("manifest.json").exists());
@@ -216,11 +279,18 @@ fn emit_without_profile_explains_what_to_do() {
 fn bad_session_names_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let s = dir.path().join("s.json");
-    let mut v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(root().join("sessions/test_static.json")).unwrap()).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("sessions/test_static.json")).unwrap(),
+    )
+    .unwrap();
     v["resolution"] = serde_json::json!([64, "wide"]);
     std::fs::write(&s, serde_json::to_vec(&v).unwrap()).unwrap();
-    let (code, _, err) = reproj(&["render", "shaders/marble.wgsl", "--session", s.to_str().unwrap()]);
+    let (code, _, err) = reproj(&[
+        "render",
+        "shaders/marble.wgsl",
+        "--session",
+        s.to_str().unwrap(),
+    ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("resolution"), "{err}");
 }

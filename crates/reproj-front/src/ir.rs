@@ -15,9 +15,13 @@ pub fn operands(expr: &Expression) -> Vec<Handle<Expression>> {
 }
 
 /// Replace every operand handle of `expr` with `f(handle)`.
-pub fn map_operands(expr: &mut Expression, f: &mut dyn FnMut(Handle<Expression>) -> Handle<Expression>) {
+pub fn map_operands(
+    expr: &mut Expression,
+    f: &mut dyn FnMut(Handle<Expression>) -> Handle<Expression>,
+) {
     use Expression as E;
-    let opt = |h: &mut Option<Handle<Expression>>, f: &mut dyn FnMut(Handle<Expression>) -> Handle<Expression>| {
+    let opt = |h: &mut Option<Handle<Expression>>,
+               f: &mut dyn FnMut(Handle<Expression>) -> Handle<Expression>| {
         if let Some(x) = h.as_mut() {
             *x = f(*x);
         }
@@ -110,7 +114,11 @@ pub fn map_operands(expr: &mut Expression, f: &mut dyn FnMut(Handle<Expression>)
         E::Derivative { expr, .. } => *expr = f(*expr),
         E::Relational { argument, .. } => *argument = f(*argument),
         E::Math {
-            arg, arg1, arg2, arg3, ..
+            arg,
+            arg1,
+            arg2,
+            arg3,
+            ..
         } => {
             *arg = f(*arg);
             opt(arg1, f);
@@ -163,7 +171,15 @@ pub fn discontinuous_edges(expr: &Expression, result_is_float: bool) -> Vec<bool
         Expression::Select { .. } => vec![true, false, false],
         Expression::Math { fun, .. } => all(matches!(
             fun,
-            M::Step | M::Floor | M::Ceil | M::Round | M::Trunc | M::Fract | M::Sign | M::Modf | M::Frexp
+            M::Step
+                | M::Floor
+                | M::Ceil
+                | M::Round
+                | M::Trunc
+                | M::Fract
+                | M::Sign
+                | M::Modf
+                | M::Frexp
         ) || !result_is_float),
         Expression::As { .. } => all(!result_is_float),
         Expression::Relational { .. } => all(true),
@@ -246,7 +262,10 @@ pub fn is_float_valued(inner: &naga::TypeInner, types: &naga::UniqueArena<naga::
         }
         T::Array { base, .. } => is_float_valued(&types[*base].inner, types),
         T::Struct { members, .. } => {
-            !members.is_empty() && members.iter().all(|m| is_float_valued(&types[m.ty].inner, types))
+            !members.is_empty()
+                && members
+                    .iter()
+                    .all(|m| is_float_valued(&types[m.ty].inner, types))
         }
         _ => false,
     }

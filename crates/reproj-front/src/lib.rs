@@ -14,5 +14,5 @@ pub mod parse;
 pub mod rebuild;
 
 pub use nodes::{CullReason, Node, NodeTable, enumerate};
-pub use normalize::{Normalized, NormalizeOptions, normalize};
+pub use normalize::{NormalizeOptions, Normalized, normalize};
 pub use parse::{FrontError, Shader, load_file, parse_shader, validator};

@@ -48,7 +48,13 @@ fn mark(fun: &Function, l: &mut Liveness, h: Handle<Expression>) {
 }
 
 /// Walk a block; returns whether anything in it is live. `in_live_loop`: break/continue are live.
-fn walk(fun: &Function, block: &Block, l: &mut Liveness, index: &mut usize, in_live_loop: bool) -> bool {
+fn walk(
+    fun: &Function,
+    block: &Block,
+    l: &mut Liveness,
+    index: &mut usize,
+    in_live_loop: bool,
+) -> bool {
     let mut any = false;
     for stmt in block.iter() {
         let i = *index;
@@ -107,10 +113,12 @@ fn walk(fun: &Function, block: &Block, l: &mut Liveness, index: &mut usize, in_l
                 let start = *index;
                 let mut probe = l.clone();
                 let mut k = start;
-                let live = walk(fun, body, &mut probe, &mut k, false) | walk(fun, continuing, &mut probe, &mut k, false)
+                let live = walk(fun, body, &mut probe, &mut k, false)
+                    | walk(fun, continuing, &mut probe, &mut k, false)
                     || l.stmts.contains(&i);
                 *index = start;
-                let live_inner = walk(fun, body, l, index, live) | walk(fun, continuing, l, index, live);
+                let live_inner =
+                    walk(fun, body, l, index, live) | walk(fun, continuing, l, index, live);
                 if live || live_inner {
                     if let Some(b) = break_if {
                         mark(fun, l, *b);

@@ -103,7 +103,10 @@ pub const NODES_VERSION: u32 = 1;
 
 impl NodeTable {
     pub fn root(&self) -> &Node {
-        self.nodes.iter().find(|n| n.root).expect("the root is always a node")
+        self.nodes
+            .iter()
+            .find(|n| n.root)
+            .expect("the root is always a node")
     }
 
     pub fn cacheable(&self) -> impl Iterator<Item = &Node> {
@@ -162,7 +165,10 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
     let n = fun.expressions.len();
     let mut deps: Vec<Vec<(Handle<Expression>, bool)>> = vec![Vec::new(); n];
     let is_float = |h: Handle<Expression>| {
-        matches!(info[h].ty.inner_with(types).scalar_kind(), Some(naga::ScalarKind::Float))
+        matches!(
+            info[h].ty.inner_with(types).scalar_kind(),
+            Some(naga::ScalarKind::Float)
+        )
     };
     for (h, e) in fun.expressions.iter() {
         let ops = ir::operands(e);
@@ -216,7 +222,10 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         }
         seen
     };
-    let total_cost: f64 = (0..n).filter(|&i| total_closure[i]).map(|i| weight[i]).sum();
+    let total_cost: f64 = (0..n)
+        .filter(|&i| total_closure[i])
+        .map(|i| weight[i])
+        .sum();
 
     // 4. Continuity from the root, and what feeds derivatives.
     let mut continuous = vec![false; n];
@@ -278,7 +287,9 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         let place = places.get(&h).copied().unwrap_or_default();
         let components = match inner {
             TypeInner::Scalar(s) if s.width == 4 && s.kind == naga::ScalarKind::Float => 1,
-            TypeInner::Vector { size, scalar } if scalar.width == 4 && scalar.kind == naga::ScalarKind::Float => {
+            TypeInner::Vector { size, scalar }
+                if scalar.width == 4 && scalar.kind == naga::ScalarKind::Float =>
+            {
                 *size as u32
             }
             _ => 0,
@@ -303,13 +314,19 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         let (line, col, text) = match (span.is_defined(), e) {
             // Loads made by the front end (`x += ...`, a read after a loop) have no span: name the
             // variable instead.
-            (false, Expression::Load { pointer }) => match ir::root_local(&fun.expressions, *pointer) {
-                Some(v) => {
-                    let (l, c, _) = span_text(shader, fun.local_variables.get_span(v));
-                    (l, c, fun.local_variables[v].name.clone().unwrap_or_default())
+            (false, Expression::Load { pointer }) => {
+                match ir::root_local(&fun.expressions, *pointer) {
+                    Some(v) => {
+                        let (l, c, _) = span_text(shader, fun.local_variables.get_span(v));
+                        (
+                            l,
+                            c,
+                            fun.local_variables[v].name.clone().unwrap_or_default(),
+                        )
+                    }
+                    None => (0, 0, String::new()),
                 }
-                None => (0, 0, String::new()),
-            },
+            }
             _ => span_text(shader, span),
         };
         let call = norm.call_site.get(&h).map(|s| {
@@ -335,10 +352,10 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
     }
     NodeTable {
         version: NODES_VERSION,
-        shader: shader
-            .path
-            .file_name()
-            .map_or_else(|| shader.path.display().to_string(), |f| f.to_string_lossy().into_owned()),
+        shader: shader.path.file_name().map_or_else(
+            || shader.path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        ),
         entry: norm.entry.clone(),
         total_cost,
         nodes,
@@ -396,10 +413,14 @@ fn node_type(inner: &TypeInner) -> Option<String> {
     };
     match inner {
         TypeInner::Scalar(s) => scalar(s).map(str::to_owned),
-        TypeInner::Vector { size, scalar: s } => scalar(s).map(|t| format!("vec{}<{t}>", *size as u8)),
-        TypeInner::Matrix { columns, rows, scalar: s } => {
-            scalar(s).map(|t| format!("mat{}x{}<{t}>", *columns as u8, *rows as u8))
+        TypeInner::Vector { size, scalar: s } => {
+            scalar(s).map(|t| format!("vec{}<{t}>", *size as u8))
         }
+        TypeInner::Matrix {
+            columns,
+            rows,
+            scalar: s,
+        } => scalar(s).map(|t| format!("mat{}x{}<{t}>", *columns as u8, *rows as u8)),
         _ => None,
     }
 }
@@ -435,7 +456,10 @@ pub fn op_cost(e: &Expression, result: &TypeInner, types: &naga::UniqueArena<nag
         Expression::ImageSample { .. } => 20.0,
         Expression::ImageLoad { .. } => 10.0,
         Expression::ImageQuery { .. } => 2.0,
-        Expression::Unary { .. } | Expression::Select { .. } | Expression::As { .. } | Expression::Relational { .. } => w,
+        Expression::Unary { .. }
+        | Expression::Select { .. }
+        | Expression::As { .. }
+        | Expression::Relational { .. } => w,
         Expression::Binary { op, .. } => match op {
             naga::BinaryOperator::Divide | naga::BinaryOperator::Modulo => 4.0 * w,
             _ => w,
@@ -451,9 +475,16 @@ pub fn op_cost(e: &Expression, result: &TypeInner, types: &naga::UniqueArena<nag
             M::Sqrt | M::InverseSqrt => 4.0 * w,
             M::Exp | M::Exp2 | M::Log | M::Log2 | M::Sin | M::Cos | M::Tan => 8.0 * w,
             M::Pow => 16.0 * w,
-            M::Asin | M::Acos | M::Atan | M::Atan2 | M::Sinh | M::Cosh | M::Tanh | M::Asinh | M::Acosh | M::Atanh => {
-                10.0 * w
-            }
+            M::Asin
+            | M::Acos
+            | M::Atan
+            | M::Atan2
+            | M::Sinh
+            | M::Cosh
+            | M::Tanh
+            | M::Asinh
+            | M::Acosh
+            | M::Atanh => 10.0 * w,
             M::Mix | M::SmoothStep | M::Fma => 3.0 * w,
             M::Inverse | M::Determinant => 20.0 * w,
             _ => w,
@@ -465,8 +496,16 @@ pub fn op_cost(e: &Expression, result: &TypeInner, types: &naga::UniqueArena<nag
 /// Trip count of a loop whose first `if` compares a loaded counter with a literal bound.
 fn trip_count(fun: &naga::Function, body: &Block) -> f64 {
     for stmt in body.iter() {
-        if let Statement::If { condition, accept, reject } = stmt {
-            let breaks = accept.iter().chain(reject.iter()).any(|s| matches!(s, Statement::Break));
+        if let Statement::If {
+            condition,
+            accept,
+            reject,
+        } = stmt
+        {
+            let breaks = accept
+                .iter()
+                .chain(reject.iter())
+                .any(|s| matches!(s, Statement::Break));
             if !breaks {
                 continue;
             }
@@ -496,8 +535,16 @@ fn trip_count(fun: &naga::Function, body: &Block) -> f64 {
 fn loop_control(body: &Block, out: &mut Vec<Handle<Expression>>) {
     for stmt in body.iter() {
         match stmt {
-            Statement::If { condition, accept, reject } => {
-                if accept.iter().chain(reject.iter()).any(|s| matches!(s, Statement::Break | Statement::Continue)) {
+            Statement::If {
+                condition,
+                accept,
+                reject,
+            } => {
+                if accept
+                    .iter()
+                    .chain(reject.iter())
+                    .any(|s| matches!(s, Statement::Break | Statement::Continue))
+                {
                     out.push(*condition);
                 }
                 loop_control(accept, out);
@@ -538,7 +585,11 @@ fn walk(
             }
             Statement::Kill => kills.extend(control.iter().copied()),
             Statement::Block(b) => walk(fun, info, b, place, control, places, stores, kills),
-            Statement::If { condition, accept, reject } => {
+            Statement::If {
+                condition,
+                accept,
+                reject,
+            } => {
                 let nu = info[*condition].uniformity.non_uniform_result.is_some();
                 let inner = Place {
                     non_uniform: place.non_uniform || nu,
@@ -561,7 +612,11 @@ fn walk(
                 }
                 control.pop();
             }
-            Statement::Loop { body, continuing, break_if } => {
+            Statement::Loop {
+                body,
+                continuing,
+                break_if,
+            } => {
                 let inner = Place {
                     in_loop: true,
                     weight: place.weight * trip_count(fun, body),

@@ -78,7 +78,14 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
     )
     .map_err(located)?;
     let root_value = second.root.ok_or_else(|| FrontError::Unsupported {
-        location: shader.location(ep.function.body.span_iter().last().map(|(_, s)| *s).unwrap_or_default()),
+        location: shader.location(
+            ep.function
+                .body
+                .span_iter()
+                .last()
+                .map(|(_, s)| *s)
+                .unwrap_or_default(),
+        ),
         what: "the entry point must end with a `return` of its output".into(),
     })?;
     let mut call_site = HashMap::new();
@@ -99,21 +106,32 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
     if compacted.entry_points[0].function.expressions.len() == before {
         module = compacted;
     }
-    let info = validator().validate(&module).map_err(|e| FrontError::Internal {
-        what: format!(
-            "the normalized module does not validate ({}); please report this shader",
-            e.emit_to_string(&shader.source)
-        ),
-    })?;
+    let info = validator()
+        .validate(&module)
+        .map_err(|e| FrontError::Internal {
+            what: format!(
+                "the normalized module does not validate ({}); please report this shader",
+                e.emit_to_string(&shader.source)
+            ),
+        })?;
     // The root is the @location(0) member when the entry point returns a struct.
     let fun = &module.entry_points[0].function;
     let root = match fun.result.as_ref().map(|r| &module.types[r.ty].inner) {
         Some(naga::TypeInner::Struct { members, .. }) => {
             let loc0 = members
                 .iter()
-                .position(|m| matches!(m.binding, Some(naga::Binding::Location { location: 0, .. })))
+                .position(|m| {
+                    matches!(m.binding, Some(naga::Binding::Location { location: 0, .. }))
+                })
                 .ok_or_else(|| FrontError::Unsupported {
-                    location: shader.location(ep.function.body.span_iter().last().map(|(_, s)| *s).unwrap_or_default()),
+                    location: shader.location(
+                        ep.function
+                            .body
+                            .span_iter()
+                            .last()
+                            .map(|(_, s)| *s)
+                            .unwrap_or_default(),
+                    ),
                     what: "the output struct has no @location(0) member".into(),
                 })?;
             match &fun.expressions[root_value] {

@@ -92,7 +92,12 @@ impl Shader {
             .enumerate()
             .filter(|(_, ep)| ep.stage == naga::ShaderStage::Fragment)
             .collect();
-        let names = || frags.iter().map(|(_, ep)| ep.name.clone()).collect::<Vec<_>>();
+        let names = || {
+            frags
+                .iter()
+                .map(|(_, ep)| ep.name.clone())
+                .collect::<Vec<_>>()
+        };
         match name {
             Some(n) => frags
                 .iter()
@@ -120,7 +125,12 @@ impl Shader {
     pub fn location(&self, span: naga::Span) -> String {
         if span.is_defined() {
             let loc = span.location(&self.source);
-            format!("{}:{}:{}", self.path.display(), loc.line_number, loc.line_position)
+            format!(
+                "{}:{}:{}",
+                self.path.display(),
+                loc.line_number,
+                loc.line_position
+            )
         } else {
             self.path.display().to_string()
         }

@@ -157,7 +157,12 @@ struct Ctx<'f> {
 }
 
 impl<'f> Ctx<'f> {
-    fn new(fun: &'f Function, is_top: bool, call_site: Option<Span>, args: Vec<Handle<Expression>>) -> Self {
+    fn new(
+        fun: &'f Function,
+        is_top: bool,
+        call_site: Option<Span>,
+        args: Vec<Handle<Expression>>,
+    ) -> Self {
         Ctx {
             fun,
             map: vec![None; fun.expressions.len()],
@@ -353,7 +358,11 @@ impl Out<'_, '_> {
         }
     }
 
-    fn translate(&mut self, ctx: &mut Ctx, h: Handle<Expression>) -> Result<Handle<Expression>, FrontError> {
+    fn translate(
+        &mut self,
+        ctx: &mut Ctx,
+        h: Handle<Expression>,
+    ) -> Result<Handle<Expression>, FrontError> {
         if let Some(m) = ctx.map[h.index()] {
             return Ok(m);
         }
@@ -374,7 +383,11 @@ impl Out<'_, '_> {
                 self.append(Expression::LocalVariable(nv), span)
             }
             Expression::CallResult(_) => {
-                return Err(unsupported(ctx.fun, span, "a call result used before its call"));
+                return Err(unsupported(
+                    ctx.fun,
+                    span,
+                    "a call result used before its call",
+                ));
             }
             Expression::Load { pointer } if self.normalize() => {
                 let p = self.translate(ctx, pointer)?;
@@ -400,7 +413,9 @@ impl Out<'_, '_> {
             self.call_site.entry(new).or_insert(cs);
         }
         if let Some(name) = ctx.fun.named_expressions.get(&h) {
-            if !self.fun.expressions[new].needs_pre_emit() && !self.fun.named_expressions.contains_key(&new) {
+            if !self.fun.expressions[new].needs_pre_emit()
+                && !self.fun.named_expressions.contains_key(&new)
+            {
                 self.fun.named_expressions.insert(new, name.clone());
             }
         }
@@ -412,7 +427,13 @@ impl Out<'_, '_> {
         let image = self.append(E::GlobalVariable(cr.image), span);
         let arg = self.append(E::FunctionArgument(cr.position.0), span);
         let pos = match cr.position.1 {
-            Some(m) => self.append(E::AccessIndex { base: arg, index: m }, span),
+            Some(m) => self.append(
+                E::AccessIndex {
+                    base: arg,
+                    index: m,
+                },
+                span,
+            ),
             None => arg,
         };
         let xy = self.append(
@@ -444,7 +465,13 @@ impl Out<'_, '_> {
         );
         let _ = cr.vec2i;
         match cr.components {
-            1 => self.append(E::AccessIndex { base: texel, index: 0 }, span),
+            1 => self.append(
+                E::AccessIndex {
+                    base: texel,
+                    index: 0,
+                },
+                span,
+            ),
             2 => self.append(
                 E::Swizzle {
                     size: naga::VectorSize::Bi,
@@ -497,7 +524,9 @@ impl Out<'_, '_> {
                     Expression::FunctionArgument(i) if !ctx.is_top => {
                         return ir::root_local(&self.fun.expressions, ctx.args[i as usize]);
                     }
-                    Expression::Access { base, .. } | Expression::AccessIndex { base, .. } => p = base,
+                    Expression::Access { base, .. } | Expression::AccessIndex { base, .. } => {
+                        p = base
+                    }
                     _ => return None,
                 }
             }
@@ -520,7 +549,9 @@ impl Out<'_, '_> {
                         self.stored_in(ctx, &c.body, out);
                     }
                 }
-                Statement::Loop { body, continuing, .. } => {
+                Statement::Loop {
+                    body, continuing, ..
+                } => {
                     self.stored_in(ctx, body, out);
                     self.stored_in(ctx, continuing, out);
                 }
@@ -567,7 +598,9 @@ impl Out<'_, '_> {
                     count(&c.body, self);
                 }
             }
-            Statement::Loop { body, continuing, .. } => {
+            Statement::Loop {
+                body, continuing, ..
+            } => {
                 count(body, self);
                 count(continuing, self);
             }
@@ -691,13 +724,17 @@ impl Out<'_, '_> {
                     span,
                 );
             }
-            Statement::Break | Statement::Continue | Statement::Kill => self.push_stmt(stmt.clone(), span),
+            Statement::Break | Statement::Continue | Statement::Kill => {
+                self.push_stmt(stmt.clone(), span)
+            }
             Statement::Return { value } => {
                 if ctx.is_top {
                     let v = match (value, &self.opts.stop_after) {
                         // A return before the cached node in the recompute pass: its value is not
                         // the payload; return zero.
-                        (_, Some(stop)) => Some(self.append(Expression::ZeroValue(stop.vec4), span)),
+                        (_, Some(stop)) => {
+                            Some(self.append(Expression::ZeroValue(stop.vec4), span))
+                        }
                         (Some(v), None) => Some(self.translate(ctx, *v)?),
                         (None, None) => None,
                     };
@@ -746,7 +783,11 @@ impl Out<'_, '_> {
                 result,
             } => {
                 if !self.normalize() {
-                    return Err(unsupported(ctx.fun, span, "a function call in a normalized function"));
+                    return Err(unsupported(
+                        ctx.fun,
+                        span,
+                        "a function call in a normalized function",
+                    ));
                 }
                 self.inline_call(ctx, *function, arguments, *result, span)?;
             }
@@ -754,7 +795,9 @@ impl Out<'_, '_> {
                 let what = format!("the statement {:?}", std::mem::discriminant(other));
                 let name = match other {
                     Statement::ControlBarrier(_) | Statement::MemoryBarrier(_) => "a barrier",
-                    Statement::Atomic { .. } | Statement::ImageAtomic { .. } => "an atomic operation",
+                    Statement::Atomic { .. } | Statement::ImageAtomic { .. } => {
+                        "an atomic operation"
+                    }
                     Statement::WorkGroupUniformLoad { .. } => "workgroupUniformLoad",
                     Statement::RayQuery { .. } | Statement::RayPipelineFunction(_) => "ray queries",
                     Statement::SubgroupBallot { .. }
@@ -762,7 +805,11 @@ impl Out<'_, '_> {
                     | Statement::SubgroupCollectiveOperation { .. } => "subgroup operations",
                     _ => what.as_str(),
                 };
-                return Err(unsupported(ctx.fun, span, format!("{name} in a fragment shader")));
+                return Err(unsupported(
+                    ctx.fun,
+                    span,
+                    format!("{name} in a fragment shader"),
+                ));
             }
         }
         Ok(())
@@ -826,9 +873,13 @@ fn check_single_return(fun: &Function) -> Result<(), FrontError> {
             let nested = match s {
                 Statement::Return { .. } => return Some(*span),
                 Statement::Block(b) => find_return(b),
-                Statement::If { accept, reject, .. } => find_return(accept).or_else(|| find_return(reject)),
+                Statement::If { accept, reject, .. } => {
+                    find_return(accept).or_else(|| find_return(reject))
+                }
                 Statement::Switch { cases, .. } => cases.iter().find_map(|c| find_return(&c.body)),
-                Statement::Loop { body, continuing, .. } => find_return(body).or_else(|| find_return(continuing)),
+                Statement::Loop {
+                    body, continuing, ..
+                } => find_return(body).or_else(|| find_return(continuing)),
                 _ => None,
             };
             if nested.is_some() {
@@ -847,9 +898,13 @@ fn check_single_return(fun: &Function) -> Result<(), FrontError> {
         let early = match s {
             Statement::Return { .. } => Some(*span),
             Statement::Block(b) => find_return(b),
-            Statement::If { accept, reject, .. } => find_return(accept).or_else(|| find_return(reject)),
+            Statement::If { accept, reject, .. } => {
+                find_return(accept).or_else(|| find_return(reject))
+            }
             Statement::Switch { cases, .. } => cases.iter().find_map(|c| find_return(&c.body)),
-            Statement::Loop { body, continuing, .. } => find_return(body).or_else(|| find_return(continuing)),
+            Statement::Loop {
+                body, continuing, ..
+            } => find_return(body).or_else(|| find_return(continuing)),
             _ => None,
         };
         if let Some(span) = early {

@@ -55,7 +55,10 @@ fn run(path: &Path, source: String) -> String {
                 let _ = table.root();
                 out.push(format!("{label}: {} nodes", table.nodes.len()));
             }
-            Err(e) => out.push(format!("{label}: error: {}", e.to_string().lines().next().unwrap_or(""))),
+            Err(e) => out.push(format!(
+                "{label}: error: {}",
+                e.to_string().lines().next().unwrap_or("")
+            )),
         }
     }
     out.join("; ")
@@ -86,5 +89,9 @@ fn fuzz_regressions_do_not_panic() {
             }
         }
     }
-    assert!(panicked.is_empty(), "the front end panicked on: {}", panicked.join(", "));
+    assert!(
+        panicked.is_empty(),
+        "the front end panicked on: {}",
+        panicked.join(", ")
+    );
 }

@@ -18,7 +18,11 @@ fn table(body: &str) -> NodeTable {
 
 fn node<'a>(t: &'a NodeTable, text: &str) -> &'a Node {
     let found: Vec<&Node> = t.nodes.iter().filter(|n| n.text == text).collect();
-    assert!(!found.is_empty(), "no node `{text}` in {:#?}", t.nodes.iter().map(|n| &n.text).collect::<Vec<_>>());
+    assert!(
+        !found.is_empty(),
+        "no node `{text}` in {:#?}",
+        t.nodes.iter().map(|n| &n.text).collect::<Vec<_>>()
+    );
     found[0]
 }
 
@@ -48,12 +52,21 @@ fn value_after_loop_is_cacheable_and_costs_the_loop() {
             return vec4<f32>(total * 2.0, 0.0, 0.0, 1.0);
         }",
     );
-    let after: Vec<&Node> = t.nodes.iter().filter(|n| n.text == "acc" && n.cacheable).collect();
+    let after: Vec<&Node> = t
+        .nodes
+        .iter()
+        .filter(|n| n.text == "acc" && n.cacheable)
+        .collect();
     assert_eq!(after.len(), 1, "{:#?}", t.nodes);
     let sin = node(&t, "sin(p.x * 3.0)");
     // sin (8) + multiply (1), four trips.
     assert_eq!(sin.cost, 4.0 * 9.0);
-    assert!(after[0].cost > sin.cost, "the loop is in the subtree: {} vs {}", after[0].cost, sin.cost);
+    assert!(
+        after[0].cost > sin.cost,
+        "the loop is in the subtree: {} vs {}",
+        after[0].cost,
+        sin.cost
+    );
 }
 
 #[test]
@@ -65,7 +78,10 @@ fn non_uniform_branch() {
             return vec4<f32>(c, 1.0);
         }",
     );
-    assert_eq!(reason(&t, "cos(p * 2.0)"), Some(CullReason::NonUniformBranch));
+    assert_eq!(
+        reason(&t, "cos(p * 2.0)"),
+        Some(CullReason::NonUniformBranch)
+    );
 }
 
 #[test]
@@ -92,7 +108,10 @@ fn discontinuous() {
             return vec4<f32>(s, f, c, 1.0);
         }",
     );
-    assert_eq!(reason(&t, "sin(p.x * 7.0)"), Some(CullReason::Discontinuous));
+    assert_eq!(
+        reason(&t, "sin(p.x * 7.0)"),
+        Some(CullReason::Discontinuous)
+    );
     assert_eq!(reason(&t, "b * 4.0"), Some(CullReason::Discontinuous));
     assert_eq!(reason(&t, "exp(p.z)"), Some(CullReason::Discontinuous));
     // One continuous path is enough.
@@ -114,7 +133,10 @@ fn discontinuous_through_integer_conversion() {
             return vec4<f32>(h, h, h, 1.0);
         }",
     );
-    assert_eq!(reason(&t, "abs(p.x * 10.0)"), Some(CullReason::Discontinuous));
+    assert_eq!(
+        reason(&t, "abs(p.x * 10.0)"),
+        Some(CullReason::Discontinuous)
+    );
 }
 
 #[test]
@@ -137,7 +159,10 @@ fn payload_type() {
             return vec4<f32>(m * p, 1.0);
         }",
     );
-    assert_eq!(reason(&t, "mat3x3<f32>(p * 2.0, p.yzx, p.zxy)"), Some(CullReason::PayloadType));
+    assert_eq!(
+        reason(&t, "mat3x3<f32>(p * 2.0, p.yzx, p.zxy)"),
+        Some(CullReason::PayloadType)
+    );
     assert_eq!(node(&t, "m * p").reason, None);
 }
 
@@ -177,7 +202,11 @@ fn helper_called_twice_gives_two_nodes_with_call_sites() {
             return vec4<f32>(a, b, 0.0, 1.0);
         }",
     );
-    let dots: Vec<&Node> = t.nodes.iter().filter(|n| n.text.starts_with("dot(c")).collect();
+    let dots: Vec<&Node> = t
+        .nodes
+        .iter()
+        .filter(|n| n.text.starts_with("dot(c"))
+        .collect();
     assert_eq!(dots.len(), 2);
     assert!(dots.iter().all(|n| n.cacheable && n.call_line.is_some()));
     assert_ne!(dots[0].call_line, dots[1].call_line);
@@ -217,7 +246,13 @@ fn identical_computation_is_one_node() {
             return vec4<f32>(a, b, 0.0, 1.0);
         }",
     );
-    assert_eq!(t.nodes.iter().filter(|n| n.text.starts_with("sin(p.x * 3.0)")).count(), 1);
+    assert_eq!(
+        t.nodes
+            .iter()
+            .filter(|n| n.text.starts_with("sin(p.x * 3.0)"))
+            .count(),
+        1
+    );
 }
 
 #[test]
@@ -230,13 +265,22 @@ fn early_return_in_helper_is_a_clear_error() {
         }}"
     );
     let shader = parse_shader(Path::new("fixture.wgsl"), src).unwrap();
-    let err = normalize(&shader, &Default::default()).unwrap_err().to_string();
-    assert!(err.contains("fixture.wgsl:") && err.contains("early return"), "{err}");
+    let err = normalize(&shader, &Default::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("fixture.wgsl:") && err.contains("early return"),
+        "{err}"
+    );
 }
 
 #[test]
 fn ids_are_stable() {
-    let src = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders/marble.wgsl")).unwrap();
+    let src = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shaders/marble.wgsl"
+    ))
+    .unwrap();
     let a = {
         let s = parse_shader(Path::new("marble.wgsl"), src.clone()).unwrap();
         enumerate(&s, &normalize(&s, &Default::default()).unwrap())

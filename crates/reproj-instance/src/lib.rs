@@ -35,9 +35,9 @@ impl std::str::FromStr for NodeSelector {
         if s == "root" {
             Ok(NodeSelector::Root)
         } else {
-            s.parse()
-                .map(NodeSelector::Id)
-                .map_err(|_| format!("`{s}` is not a node id (a number from `reproj nodes`) or `root`"))
+            s.parse().map(NodeSelector::Id).map_err(|_| {
+                format!("`{s}` is not a node id (a number from `reproj nodes`) or `root`")
+            })
         }
     }
 }
@@ -85,8 +85,15 @@ pub struct Variant {
 /// What can go wrong while instancing.
 #[derive(Debug, thiserror::Error)]
 pub enum InstanceError {
-    #[error("no node {id}: {shader} has node ids {min}..={max} (see `reproj nodes {shader} --all`)")]
-    UnknownNode { id: u32, shader: String, min: u32, max: u32 },
+    #[error(
+        "no node {id}: {shader} has node ids {min}..={max} (see `reproj nodes {shader} --all`)"
+    )]
+    UnknownNode {
+        id: u32,
+        shader: String,
+        min: u32,
+        max: u32,
+    },
     #[error("node {id} (`{text}`, line {line}) cannot be cached: it is culled as {reason}")]
     Culled {
         id: u32,
@@ -94,7 +101,9 @@ pub enum InstanceError {
         line: u32,
         reason: reproj_front::CullReason,
     },
-    #[error("the shader already uses every bind group slot (groups {used:?}); the variant needs a free group below {MAX_BIND_GROUPS}")]
+    #[error(
+        "the shader already uses every bind group slot (groups {used:?}); the variant needs a free group below {MAX_BIND_GROUPS}"
+    )]
     NoFreeGroup { used: Vec<u32> },
     #[error("the block size k must be 1 or even (to align with 2×2 quads), got {0}")]
     BadBlock(u32),
@@ -128,7 +137,9 @@ pub fn instance(
         return Err(InstanceError::BadDeltaN);
     }
     let node = pick(table, node)?;
-    let target = node.handle.expect("nodes from enumerate carry their handle");
+    let target = node
+        .handle
+        .expect("nodes from enumerate carry their handle");
     let group = free_group(&shader.module)?;
     let prev_clip_location = prev_clip_location(&norm.module);
     let components = node.components;
@@ -219,7 +230,12 @@ fn reproject_pass(group: u32, location: u32) -> Result<PassModule, InstanceError
 }
 
 /// The normalized entry point rebuilt under `opts`, then with dead code removed.
-fn rebuild_entry(norm: &Normalized, module: &Module, opts: &RebuildOptions, pass: PassKind) -> Result<naga::Function, InstanceError> {
+fn rebuild_entry(
+    norm: &Normalized,
+    module: &Module,
+    opts: &RebuildOptions,
+    pass: PassKind,
+) -> Result<naga::Function, InstanceError> {
     let internal = |e: reproj_front::FrontError| InstanceError::Internal {
         pass,
         what: e.to_string(),
@@ -240,7 +256,11 @@ fn rebuild_entry(norm: &Normalized, module: &Module, opts: &RebuildOptions, pass
     Ok(second.function)
 }
 
-fn vec_type(module: &mut Module, size: naga::VectorSize, scalar: naga::Scalar) -> Handle<naga::Type> {
+fn vec_type(
+    module: &mut Module,
+    size: naga::VectorSize,
+    scalar: naga::Scalar,
+) -> Handle<naga::Type> {
     module.types.insert(
         naga::Type {
             name: None,
@@ -250,7 +270,11 @@ fn vec_type(module: &mut Module, size: naga::VectorSize, scalar: naga::Scalar) -
     )
 }
 
-fn recompute_pass(norm: &Normalized, target: Handle<naga::Expression>, components: u32) -> Result<PassModule, InstanceError> {
+fn recompute_pass(
+    norm: &Normalized,
+    target: Handle<naga::Expression>,
+    components: u32,
+) -> Result<PassModule, InstanceError> {
     let mut module = norm.module.clone();
     let vec4 = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
     let fun = rebuild_entry(
@@ -329,7 +353,12 @@ fn shade_pass(
 
 /// The entry point's `@builtin(position)`, added as a new argument when the shader has none.
 fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32, Option<u32>) {
-    let is_pos = |b: &Option<naga::Binding>| matches!(b, Some(naga::Binding::BuiltIn(naga::BuiltIn::Position { .. })));
+    let is_pos = |b: &Option<naga::Binding>| {
+        matches!(
+            b,
+            Some(naga::Binding::BuiltIn(naga::BuiltIn::Position { .. }))
+        )
+    };
     let fun = &module.entry_points[0].function;
     for (i, arg) in fun.arguments.iter().enumerate() {
         if is_pos(&arg.binding) {
@@ -345,7 +374,9 @@ fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32,
     fun.arguments.push(naga::FunctionArgument {
         name: Some("reproj_frag_coord".into()),
         ty: vec4f,
-        binding: Some(naga::Binding::BuiltIn(naga::BuiltIn::Position { invariant: false })),
+        binding: Some(naga::Binding::BuiltIn(naga::BuiltIn::Position {
+            invariant: false,
+        })),
     });
     (fun.arguments.len() as u32 - 1, None)
 }
@@ -354,8 +385,9 @@ fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32,
 /// first, so that the writer invents them again the same way and the text reaches a fixed point.
 pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
     fn generated(name: &str) -> bool {
-        name.strip_prefix("_e")
-            .is_some_and(|rest| !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_'))
+        name.strip_prefix("_e").is_some_and(|rest| {
+            !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_')
+        })
     }
     let mut module = module.clone();
     let strip = |f: &mut naga::Function| f.named_expressions.retain(|_, name| !generated(name));
@@ -365,27 +397,41 @@ pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<Str
     for ep in &mut module.entry_points {
         strip(&mut ep.function);
     }
-    naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty()).map_err(|e| e.to_string())
+    naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
+        .map_err(|e| e.to_string())
 }
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
 fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceError> {
     let internal = |what: String| InstanceError::Internal { pass, what };
-    validator()
-        .validate(&module)
-        .map_err(|e| internal(format!("does not validate before compaction: {}", e.as_inner())))?;
+    validator().validate(&module).map_err(|e| {
+        internal(format!(
+            "does not validate before compaction: {}",
+            e.as_inner()
+        ))
+    })?;
     naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
-    let info = validator()
-        .validate(&module)
-        .map_err(|e| internal(format!("does not validate after compaction: {}", e.as_inner())))?;
+    let info = validator().validate(&module).map_err(|e| {
+        internal(format!(
+            "does not validate after compaction: {}",
+            e.as_inner()
+        ))
+    })?;
     let mut text = write_wgsl(&module, &info).map_err(&internal)?;
     // The text may change once (names, literal spellings) and must then stop changing.
     for round in 0..2 {
-        let reparsed = naga::front::wgsl::parse_str(&text)
-            .map_err(|e| internal(format!("written WGSL does not parse: {}", e.emit_to_string(&text))))?;
-        let reinfo = validator()
-            .validate(&reparsed)
-            .map_err(|e| internal(format!("written WGSL does not validate: {}", e.emit_to_string(&text))))?;
+        let reparsed = naga::front::wgsl::parse_str(&text).map_err(|e| {
+            internal(format!(
+                "written WGSL does not parse: {}",
+                e.emit_to_string(&text)
+            ))
+        })?;
+        let reinfo = validator().validate(&reparsed).map_err(|e| {
+            internal(format!(
+                "written WGSL does not validate: {}",
+                e.emit_to_string(&text)
+            ))
+        })?;
         let again = write_wgsl(&reparsed, &reinfo).map_err(&internal)?;
         if again == text {
             return Ok(PassModule {
@@ -396,7 +442,9 @@ fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceErro
             });
         }
         if round == 1 {
-            return Err(internal("the WGSL round trip does not reach a fixed point".into()));
+            return Err(internal(
+                "the WGSL round trip does not reach a fixed point".into(),
+            ));
         }
         text = again;
     }
@@ -429,9 +477,22 @@ fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
     match &t.inner {
         T::Scalar(s) => scalar(s).into(),
         T::Vector { size, scalar: s } => format!("vec{}<{}>", *size as u8, scalar(s)),
-        T::Matrix { columns, rows, scalar: s } => format!("mat{}x{}<{}>", *columns as u8, *rows as u8, scalar(s)),
-        T::Sampler { comparison } => if *comparison { "sampler_comparison" } else { "sampler" }.into(),
-        T::Image { dim, arrayed, class } => {
+        T::Matrix {
+            columns,
+            rows,
+            scalar: s,
+        } => format!("mat{}x{}<{}>", *columns as u8, *rows as u8, scalar(s)),
+        T::Sampler { comparison } => if *comparison {
+            "sampler_comparison"
+        } else {
+            "sampler"
+        }
+        .into(),
+        T::Image {
+            dim,
+            arrayed,
+            class,
+        } => {
             let d = match dim {
                 naga::ImageDimension::D1 => "1d",
                 naga::ImageDimension::D2 => "2d",
@@ -441,14 +502,22 @@ fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
             let a = if *arrayed { "_array" } else { "" };
             match class {
                 naga::ImageClass::Sampled { kind, multi } => {
-                    let k = scalar(&naga::Scalar { kind: *kind, width: 4 });
+                    let k = scalar(&naga::Scalar {
+                        kind: *kind,
+                        width: 4,
+                    });
                     let m = if *multi { "multisampled_" } else { "" };
                     format!("texture_{m}{d}{a}<{k}>")
                 }
                 naga::ImageClass::Depth { multi } => {
-                    format!("texture_depth_{}{d}{a}", if *multi { "multisampled_" } else { "" })
+                    format!(
+                        "texture_depth_{}{d}{a}",
+                        if *multi { "multisampled_" } else { "" }
+                    )
                 }
-                naga::ImageClass::Storage { format, access } => format!("texture_storage_{d}{a}<{format:?}, {access:?}>"),
+                naga::ImageClass::Storage { format, access } => {
+                    format!("texture_storage_{d}{a}<{format:?}, {access:?}>")
+                }
                 naga::ImageClass::External => "texture_external".into(),
             }
         }
@@ -544,7 +613,12 @@ fn build_manifest(
     let pass = |p: &PassModule, color: ColorTarget, depth: DepthState| Pass {
         kind: p.kind,
         file: pass_file(p.kind).into(),
-        entry: p.module.entry_points.iter().find(|e| e.name != "reproj_classify").map_or_else(String::new, |e| e.name.clone()),
+        entry: p
+            .module
+            .entry_points
+            .iter()
+            .find(|e| e.name != "reproj_classify")
+            .map_or_else(String::new, |e| e.name.clone()),
         bindings: bindings(&p.module, group, opts.cache_format),
         color,
         depth,

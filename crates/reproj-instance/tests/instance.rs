@@ -3,7 +3,9 @@
 use std::path::{Path, PathBuf};
 
 use reproj_front::{NodeTable, Normalized, Shader, enumerate, load_file, normalize};
-use reproj_instance::{InstanceError, InstanceOptions, NodeSelector, PassKind, Variant, instance, write_variant};
+use reproj_instance::{
+    InstanceError, InstanceOptions, NodeSelector, PassKind, Variant, instance, write_variant,
+};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -21,7 +23,8 @@ fn samples() -> Vec<String> {
         .unwrap()
         .filter_map(|e| {
             let p = e.unwrap().path();
-            (p.extension()? == "wgsl").then(|| p.file_name().unwrap().to_string_lossy().into_owned())
+            (p.extension()? == "wgsl")
+                .then(|| p.file_name().unwrap().to_string_lossy().into_owned())
         })
         .collect();
     v.sort();
@@ -33,7 +36,11 @@ fn check_round_trip(v: &Variant) {
         let m = naga::front::wgsl::parse_str(&p.wgsl).unwrap();
         let info = reproj_front::validator().validate(&m).unwrap();
         let again = reproj_instance::write_wgsl(&m, &info).unwrap();
-        assert_eq!(again, p.wgsl, "{:?} pass is not a round-trip fixed point", p.kind);
+        assert_eq!(
+            again, p.wgsl,
+            "{:?} pass is not a round-trip fixed point",
+            p.kind
+        );
     }
 }
 
@@ -64,10 +71,28 @@ fn every_cacheable_node_of_every_sample_instances() {
 fn output_is_deterministic() {
     for name in samples() {
         let (shader, norm, table) = load(&name);
-        let id = table.cacheable().nth(table.cacheable().count() / 2).unwrap().id;
-        let a = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+        let id = table
+            .cacheable()
+            .nth(table.cacheable().count() / 2)
+            .unwrap()
+            .id;
+        let a = instance(
+            &shader,
+            &norm,
+            &table,
+            NodeSelector::Id(id),
+            &Default::default(),
+        )
+        .unwrap();
         let (shader, norm, table) = load(&name);
-        let b = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+        let b = instance(
+            &shader,
+            &norm,
+            &table,
+            NodeSelector::Id(id),
+            &Default::default(),
+        )
+        .unwrap();
         for (x, y) in a.passes.iter().zip(&b.passes) {
             assert_eq!(x.wgsl, y.wgsl);
         }
@@ -92,31 +117,73 @@ fn shade_pass_drops_the_cached_noise_and_keeps_the_overlap() {
     let (shader, norm, table) = load("marble.wgsl");
     // The whole turbulence sum: no noise left in pass 3, but `p` (also used by the vein stripes) is.
     let id = node_by_text(&table, "s3 + n4");
-    let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
+    let v = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Id(id),
+        &Default::default(),
+    )
+    .unwrap();
     let shade = pass(&v, PassKind::Shade);
     assert!(shade.contains("textureLoad(reproj_cur_payload"));
     // Each octave hashes its 8 lattice corners with `sin`; only the vein stripes' `sin` is left.
-    assert_eq!(shade.matches("sin(").count(), 1, "noise still in pass 3:\n{shade}");
-    assert!(!shade.contains("floor("), "noise lattice still in pass 3:\n{shade}");
-    assert!(shade.contains("object_pos"), "the shared input was removed:\n{shade}");
+    assert_eq!(
+        shade.matches("sin(").count(),
+        1,
+        "noise still in pass 3:\n{shade}"
+    );
+    assert!(
+        !shade.contains("floor("),
+        "noise lattice still in pass 3:\n{shade}"
+    );
+    assert!(
+        shade.contains("object_pos"),
+        "the shared input was removed:\n{shade}"
+    );
     let recompute = pass(&v, PassKind::Recompute);
-    assert_eq!(recompute.matches("sin(").count(), 5 * 8, "pass 2 computes the five octaves");
-    assert!(!recompute.contains("pow("), "pass 2 computes more than the node:\n{recompute}");
+    assert_eq!(
+        recompute.matches("sin(").count(),
+        5 * 8,
+        "pass 2 computes the five octaves"
+    );
+    assert!(
+        !recompute.contains("pow("),
+        "pass 2 computes more than the node:\n{recompute}"
+    );
 
     // An overlap node: `p` is shared between the noise and the stripes; caching the first octave
     // keeps `p` and the other four octaves in pass 3.
     let id = node_by_text(&table, "abs(gradient_noise(p))");
     let node = table.get(id).unwrap();
     assert!(node.overlap > 0.0);
-    let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &Default::default()).unwrap();
-    assert_eq!(pass(&v, PassKind::Shade).matches("sin(").count(), 4 * 8 + 1, "four of five octaves remain");
+    let v = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Id(id),
+        &Default::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        pass(&v, PassKind::Shade).matches("sin(").count(),
+        4 * 8 + 1,
+        "four of five octaves remain"
+    );
 }
 
 #[test]
 fn ambient_occlusion_post_loop_sum_removes_its_loops_from_pass_3() {
     let (shader, norm, table) = load("ambient_occlusion.wgsl");
     let original_loops = {
-        let v = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap();
+        let v = instance(
+            &shader,
+            &norm,
+            &table,
+            NodeSelector::Root,
+            &Default::default(),
+        )
+        .unwrap();
         pass(&v, PassKind::Recompute).matches("loop {").count()
     };
     assert!(original_loops >= 3, "{original_loops}");
@@ -124,7 +191,14 @@ fn ambient_occlusion_post_loop_sum_removes_its_loops_from_pass_3() {
         .cacheable()
         .find(|n| n.text.contains("static"))
         .expect("a cacheable node reading the static occluders' sum");
-    let v = instance(&shader, &norm, &table, NodeSelector::Id(static_sum.id), &Default::default()).unwrap();
+    let v = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Id(static_sum.id),
+        &Default::default(),
+    )
+    .unwrap();
     let shade = pass(&v, PassKind::Shade);
     assert!(shade.matches("loop {").count() < original_loops, "{shade}");
 }
@@ -159,10 +233,29 @@ fn snapshots_of_chosen_variants() {
 #[test]
 fn bad_input_gives_clear_errors() {
     let (shader, norm, table) = load("marble.wgsl");
-    let e = instance(&shader, &norm, &table, NodeSelector::Id(99_999), &Default::default()).unwrap_err();
+    let e = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Id(99_999),
+        &Default::default(),
+    )
+    .unwrap_err();
     assert!(matches!(e, InstanceError::UnknownNode { .. }), "{e}");
-    let culled = table.nodes.iter().find(|n| !n.cacheable).map(|n| n.id).expect("marble has culled nodes");
-    let e = instance(&shader, &norm, &table, NodeSelector::Id(culled), &Default::default()).unwrap_err();
+    let culled = table
+        .nodes
+        .iter()
+        .find(|n| !n.cacheable)
+        .map(|n| n.id)
+        .expect("marble has culled nodes");
+    let e = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Id(culled),
+        &Default::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("culled as"), "{e}");
 
     let full = "
@@ -174,14 +267,28 @@ fn bad_input_gives_clear_errors() {
     let shader = reproj_front::parse_shader(Path::new("full.wgsl"), full.into()).unwrap();
     let norm = normalize(&shader, &Default::default()).unwrap();
     let table = enumerate(&shader, &norm);
-    let e = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap_err();
+    let e = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Root,
+        &Default::default(),
+    )
+    .unwrap_err();
     assert!(matches!(e, InstanceError::NoFreeGroup { .. }), "{e}");
 }
 
 #[test]
 fn write_variant_into_unwritable_place_fails_cleanly() {
     let (shader, norm, table) = load("marble.wgsl");
-    let v = instance(&shader, &norm, &table, NodeSelector::Root, &Default::default()).unwrap();
+    let v = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Root,
+        &Default::default(),
+    )
+    .unwrap();
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("a_file");
     std::fs::write(&file, "x").unwrap();
@@ -196,6 +303,11 @@ fn write_variant_into_unwritable_place_fails_cleanly() {
     names.sort();
     assert_eq!(
         names,
-        ["manifest.json", "pass1_reproject.wgsl", "pass2_recompute.wgsl", "pass3_shade.wgsl"]
+        [
+            "manifest.json",
+            "pass1_reproject.wgsl",
+            "pass2_recompute.wgsl",
+            "pass3_shade.wgsl"
+        ]
     );
 }

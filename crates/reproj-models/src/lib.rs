@@ -13,8 +13,8 @@
 //! finite but unusable, see each `is_usable`).
 
 mod error_model;
-pub mod profile;
 mod hit_rate;
+pub mod profile;
 mod stats;
 mod timing;
 
@@ -22,7 +22,7 @@ pub use error_model::{
     ErrorFit, ErrorFitFailure, ErrorFitOptions, ErrorFitStatus, LAMBDA_MAX, LAMBDA_MIN, fit_error,
 };
 pub use hit_rate::{HitRateFit, HitRateFitFailure, HitRateStatus, fit_hit_rate};
-pub use profile::{Profile, PROFILE_VERSION, content_hash};
+pub use profile::{PROFILE_VERSION, Profile, content_hash};
 pub use stats::psnr_from_l2_error;
 pub use timing::{
     FrameTiming, TimingFit, TimingFitFailure, TimingFitOptions, TimingParam, TimingStatus,

@@ -94,7 +94,9 @@ pub struct Measurement {
 pub enum NodeStatus {
     Ok,
     /// Set aside: a fit failed or a measurement was unusable.
-    SetAside { reason: String },
+    SetAside {
+        reason: String,
+    },
 }
 
 /// Models checked at Δn never used for fitting.

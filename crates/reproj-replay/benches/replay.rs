@@ -72,13 +72,20 @@ fn main() {
         })
         .unwrap_or_else(|| table.root());
     let variants: Vec<(String, VariantInput)> = [
-        (format!("node {} `{}`", inner.id, inner.text), NodeSelector::Id(inner.id)),
+        (
+            format!("node {} `{}`", inner.id, inner.text),
+            NodeSelector::Id(inner.id),
+        ),
         ("root".to_string(), NodeSelector::Root),
     ]
     .into_iter()
     .map(|(label, sel)| {
         let v = instance(&shader, &norm, &table, sel, &InstanceOptions::default()).unwrap();
-        let input = VariantInput::new(v.passes.iter().map(|p| p.wgsl.clone()).collect(), v.manifest.clone(), delta_n);
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            delta_n,
+        );
         (label, input)
     })
     .collect();
@@ -89,18 +96,31 @@ fn main() {
     for round in 0..repeat {
         let t = Instant::now();
         let reference = renderer
-            .render_original(&shader, shader.fragment_entry(None).unwrap(), &session, &opts)
+            .render_original(
+                &shader,
+                shader.fragment_entry(None).unwrap(),
+                &session,
+                &opts,
+            )
             .unwrap();
         let wall = t.elapsed().as_secs_f64();
         let base = reference.report.frame_ms;
-        println!("{round:<6} {:<40} {wall:>10.2} {base:>12.3} {:>9} {:>9} {:>8}", "original", "-", "-", "1.00x");
+        println!(
+            "{round:<6} {:<40} {wall:>10.2} {base:>12.3} {:>9} {:>9} {:>8}",
+            "original", "-", "-", "1.00x"
+        );
         for (label, input) in &variants {
             let t = Instant::now();
-            let r = renderer.render_variant(&shader, &session, input, &reference, &opts).unwrap();
+            let r = renderer
+                .render_variant(&shader, &session, input, &reference, &opts)
+                .unwrap();
             let wall = t.elapsed().as_secs_f64();
             println!(
                 "{round:<6} {:<40} {wall:>10.2} {:>12.3} {:>9.5} {:>9.3} {:>7.2}x",
-                format!("{label} at Δn={delta_n}").chars().take(40).collect::<String>(),
+                format!("{label} at Δn={delta_n}")
+                    .chars()
+                    .take(40)
+                    .collect::<String>(),
                 r.frame_ms,
                 r.error,
                 r.hit_rate,

@@ -793,7 +793,10 @@ impl Renderer {
                         };
                         let filterable = !in_added
                             || (r.name == "reproj_prev_payload"
-                                && (self.device.features().contains(wgpu::Features::FLOAT32_FILTERABLE)
+                                && (self
+                                    .device
+                                    .features()
+                                    .contains(wgpu::Features::FLOAT32_FILTERABLE)
                                     || added_format_16));
                         (
                             wgpu::BindingType::Texture {
@@ -828,7 +831,10 @@ impl Renderer {
                             }
                             _ => return Err(missing("sampler")),
                         };
-                        (wgpu::BindingType::Sampler(ty), wgpu::BindingResource::Sampler(s))
+                        (
+                            wgpu::BindingType::Sampler(ty),
+                            wgpu::BindingResource::Sampler(s),
+                        )
                     }
                     ResourceKind::Sampler { .. } => {
                         let s = scene
@@ -1301,9 +1307,15 @@ impl Renderer {
         }
         // naga's WGSL writer renames identifiers that end in a digit (`sh0` becomes `sh0_`): take
         // the shader's own names back from the original module, by group/binding and field order.
-        let original = reflect::reflect(&shader.module, &shader.info, shader.fragment_entry(Some(&m.entry)).map_err(|e| {
-            ReplayError::Variant { message: e.to_string() }
-        })?)?;
+        let original = reflect::reflect(
+            &shader.module,
+            &shader.info,
+            shader
+                .fragment_entry(Some(&m.entry))
+                .map_err(|e| ReplayError::Variant {
+                    message: e.to_string(),
+                })?,
+        )?;
         for st in &mut stages {
             restore_names(&mut st.iface, &original);
         }
@@ -1389,7 +1401,10 @@ impl Renderer {
         let point_sampler = clamp(wgpu::FilterMode::Nearest, "reproj_point_sampler");
         let linear_sampler = clamp(wgpu::FilterMode::Linear, "reproj_linear_sampler");
         if m.cache_format == reproj_instance::CacheFormat::Rgba32float
-            && !self.device.features().contains(wgpu::Features::FLOAT32_FILTERABLE)
+            && !self
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_FILTERABLE)
         {
             return Err(ReplayError::Unsupported {
                 what: format!(
@@ -1823,11 +1838,21 @@ impl QueryKit {
 /// shader, matched by group and binding (fields by position: the struct is the same).
 fn restore_names(iface: &mut Interface, original: &Interface) {
     for r in &mut iface.resources {
-        let Some(o) = original.resources.iter().find(|o| o.group == r.group && o.binding == r.binding) else {
+        let Some(o) = original
+            .resources
+            .iter()
+            .find(|o| o.group == r.group && o.binding == r.binding)
+        else {
             continue;
         };
         r.name = o.name.clone();
-        if let (ResourceKind::Uniform { fields, .. }, ResourceKind::Uniform { fields: ofields, .. }) = (&mut r.kind, &o.kind) {
+        if let (
+            ResourceKind::Uniform { fields, .. },
+            ResourceKind::Uniform {
+                fields: ofields, ..
+            },
+        ) = (&mut r.kind, &o.kind)
+        {
             if fields.len() == ofields.len() {
                 for (f, of) in fields.iter_mut().zip(ofields) {
                     f.name = of.name.clone();

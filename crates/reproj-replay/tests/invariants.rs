@@ -35,7 +35,8 @@ fn opts(frames: u32) -> RenderOptions {
 
 #[test]
 fn delta_n_1_reproduces_the_original_for_every_cacheable_node() {
-    let renderer = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
     let session = Session::load(root().join("sessions/test_static.json")).unwrap();
     let mut checked = 0;
     for path in samples() {
@@ -43,7 +44,9 @@ fn delta_n_1_reproduces_the_original_for_every_cacheable_node() {
         let norm = normalize(&shader, &Default::default()).unwrap();
         let table = enumerate(&shader, &norm);
         let entry = shader.fragment_entry(None).unwrap();
-        let reference = renderer.render_original(&shader, entry, &session, &opts(2)).unwrap();
+        let reference = renderer
+            .render_original(&shader, entry, &session, &opts(2))
+            .unwrap();
         let nodes: Vec<_> = table.cacheable().collect();
         // Two threads, each with its own device: most of the time goes to compiling pipelines.
         std::thread::scope(|scope| {
@@ -53,10 +56,18 @@ fn delta_n_1_reproduces_the_original_for_every_cacheable_node() {
                 scope.spawn(move || {
                     let renderer = Renderer::new(&RendererOptions::default()).unwrap();
                     for node in half {
-                        let sel = if node.root { NodeSelector::Root } else { NodeSelector::Id(node.id) };
-                        let v = instance(shader, norm, table, sel, &InstanceOptions::default()).unwrap();
-                        let input =
-                            VariantInput::new(v.passes.iter().map(|p| p.wgsl.clone()).collect(), v.manifest.clone(), 1);
+                        let sel = if node.root {
+                            NodeSelector::Root
+                        } else {
+                            NodeSelector::Id(node.id)
+                        };
+                        let v = instance(shader, norm, table, sel, &InstanceOptions::default())
+                            .unwrap();
+                        let input = VariantInput::new(
+                            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                            v.manifest.clone(),
+                            1,
+                        );
                         let report = renderer
                             .render_variant(shader, session, &input, reference, &opts(2))
                             .unwrap_or_else(|e| panic!("{} node {}: {e}", path.display(), node.id));
@@ -83,14 +94,20 @@ fn delta_n_1_reproduces_the_original_for_every_cacheable_node() {
 
 #[test]
 fn static_scene_reuses_the_cache_exactly() {
-    let renderer = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
     let session = Session::load(root().join("sessions/test_static.json")).unwrap();
     for name in ["marble.wgsl", "ambient_occlusion.wgsl", "envmap.wgsl"] {
         let shader = load_file(&root().join("shaders").join(name)).unwrap();
         let norm = normalize(&shader, &Default::default()).unwrap();
         let table = enumerate(&shader, &norm);
         let reference = renderer
-            .render_original(&shader, shader.fragment_entry(None).unwrap(), &session, &opts(8))
+            .render_original(
+                &shader,
+                shader.fragment_entry(None).unwrap(),
+                &session,
+                &opts(8),
+            )
             .unwrap();
         // The root and the most expensive cacheable node that is not the root.
         let inner = table
@@ -100,10 +117,21 @@ fn static_scene_reuses_the_cache_exactly() {
             .unwrap();
         for sel in [NodeSelector::Root, NodeSelector::Id(inner.id)] {
             let v = instance(&shader, &norm, &table, sel, &InstanceOptions::default()).unwrap();
-            let input = VariantInput::new(v.passes.iter().map(|p| p.wgsl.clone()).collect(), v.manifest.clone(), 8);
-            let report = renderer.render_variant(&shader, &session, &input, &reference, &opts(8)).unwrap();
+            let input = VariantInput::new(
+                v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                v.manifest.clone(),
+                8,
+            );
+            let report = renderer
+                .render_variant(&shader, &session, &input, &reference, &opts(8))
+                .unwrap();
             for f in report.frames.iter().skip(1) {
-                assert!(f.error < 1e-4, "{name} {sel:?}: frame {} error {}", f.frame, f.error);
+                assert!(
+                    f.error < 1e-4,
+                    "{name} {sel:?}: frame {} error {}",
+                    f.frame,
+                    f.error
+                );
                 assert!(
                     (f.hit_rate - (1.0 - 1.0 / 8.0)).abs() < 0.05,
                     "{name} {sel:?}: frame {} hit rate {}",

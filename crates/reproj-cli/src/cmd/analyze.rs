@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use reproj_analyze::{AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze, emit::write_atomic};
+use reproj_analyze::{
+    AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze, emit::write_atomic,
+};
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
 use reproj_instance::InstanceOptions;
 use reproj_replay::{Renderer, RendererOptions, Session};
@@ -34,22 +36,30 @@ impl Progress for Bar {
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     let shader = load_file(&args.shader).map_err(front_error)?;
-    let norm = normalize(&shader, &NormalizeOptions { entry: args.entry.clone() }).map_err(front_error)?;
+    let norm = normalize(
+        &shader,
+        &NormalizeOptions {
+            entry: args.entry.clone(),
+        },
+    )
+    .map_err(front_error)?;
     let table = enumerate(&shader, &norm);
-    let session_bytes = std::fs::read(&args.session).map_err(|e| {
-        super::UserError(format!("cannot read {}: {e}", args.session.display()))
-    })?;
+    let session_bytes = std::fs::read(&args.session)
+        .map_err(|e| super::UserError(format!("cannot read {}: {e}", args.session.display())))?;
     let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
     })
     .map_err(replay_error)?;
-    let stem = args
-        .shader
-        .file_stem()
-        .map_or_else(|| "shader".to_string(), |s| s.to_string_lossy().into_owned());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{stem}.profile.json")));
+    let stem = args.shader.file_stem().map_or_else(
+        || "shader".to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}.profile.json")));
     let opts = AnalyzeOptions {
         delta_n_train: args.delta_n.clone(),
         delta_n_holdout: args.holdout.clone(),
@@ -76,8 +86,10 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
     );
     let bar = ProgressBar::new(0).with_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} replays, ETA {eta} {msg}")
-            .expect("valid template"),
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} replays, ETA {eta} {msg}",
+        )
+        .expect("valid template"),
     );
     let input = AnalyzeInput {
         shader: &shader,
@@ -109,17 +121,28 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     println!(
         "original {:.3} ms/frame; hit-rate model µ = {}",
         profile.original.frame_ms,
-        profile.hit_rate.mu.map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
+        profile
+            .hit_rate
+            .mu
+            .map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
     );
     let t = &profile.time;
     println!(
         "time {:.1} s: reference {:.1} s, rendering {:.1} s, readback+error+compile {:.1} s, fitting {:.2} s, instancing {:.2} s",
-        t.total_s, t.reference_s, t.rendering_s, t.readback_and_error_s, t.fitting_s, t.instancing_s
+        t.total_s,
+        t.reference_s,
+        t.rendering_s,
+        t.readback_and_error_s,
+        t.fitting_s,
+        t.instancing_s
     );
     println!("wrote {}", out.display());
     if !args.no_charts {
         super::charts::write(&profile, &out)?;
     }
-    println!("next: reproj emit --max-error 0.01 --profile {}", out.display());
+    println!(
+        "next: reproj emit --max-error 0.01 --profile {}",
+        out.display()
+    );
     Ok(())
 }

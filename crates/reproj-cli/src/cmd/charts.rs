@@ -6,14 +6,27 @@ use reproj_models::Profile;
 
 /// Write the trade-off, hit-rate and model charts beside `profile_path` and say where they are.
 pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
-    let dir = profile_path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = profile_path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let stem = name.strip_suffix(".profile.json").or_else(|| name.strip_suffix(".json")).unwrap_or(&name);
+    let dir = profile_path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = profile_path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let stem = name
+        .strip_suffix(".profile.json")
+        .or_else(|| name.strip_suffix(".json"))
+        .unwrap_or(&name);
     let paths = reproj_charts::write_charts(profile, dir, stem)?;
     for w in &paths.warnings {
         eprintln!("warning: {w}");
     }
-    let all: Vec<String> = paths.svg.iter().chain(&paths.png).map(|p| p.display().to_string()).collect();
+    let all: Vec<String> = paths
+        .svg
+        .iter()
+        .chain(&paths.png)
+        .map(|p| p.display().to_string())
+        .collect();
     println!("charts {}", all.join(", "));
     Ok(())
 }

@@ -10,7 +10,11 @@ use crate::EmitArgs;
 
 pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     if !(args.max_error.is_finite() && args.max_error >= 0.0) {
-        return Err(UserError(format!("--max-error must be a number ≥ 0, got {}", args.max_error)).into());
+        return Err(UserError(format!(
+            "--max-error must be a number ≥ 0, got {}",
+            args.max_error
+        ))
+        .into());
     }
     let profile_path = match &args.profile {
         Some(p) => p.clone(),
@@ -23,8 +27,14 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     let profile = load_profile(&profile_path).map_err(analyze_error)?;
     let stem = std::path::Path::new(&profile.shader.path)
         .file_stem()
-        .map_or_else(|| "shader".to_string(), |s| s.to_string_lossy().into_owned());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(&stem));
+        .map_or_else(
+            || "shader".to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        );
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(&stem));
     let opts = EmitOptions {
         max_error: args.max_error,
         min_delta_n: 2,
@@ -34,20 +44,34 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
     if args.verify {
-        let session_path = args.session.as_ref().expect("clap requires --session with --verify");
+        let session_path = args
+            .session
+            .as_ref()
+            .expect("clap requires --session with --verify");
         let session = Session::load(session_path).map_err(|e| replay_error(e.into()))?;
         let renderer = Renderer::new(&RendererOptions {
             backend: args.backend.clone(),
             cpu_timing: false,
         })
         .map_err(replay_error)?;
-        verify(&mut report, variant.as_ref(), &profile, &profile_path, &session, &renderer).map_err(analyze_error)?;
+        verify(
+            &mut report,
+            variant.as_ref(),
+            &profile,
+            &profile_path,
+            &session,
+            &renderer,
+        )
+        .map_err(analyze_error)?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(());
     }
-    println!("profile  {} ({} on {})", report.profile, report.shader, report.adapter);
+    println!(
+        "profile  {} ({} on {})",
+        report.profile, report.shader, report.adapter
+    );
     println!("budget   error ≤ {}", report.max_error);
     match (&report.node, report.delta_n) {
         (Some(node), Some(dn)) => {
@@ -60,7 +84,9 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             println!(
                 "predicted error {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
                 report.predicted_error.unwrap_or(0.0),
-                report.predicted_psnr.map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
+                report
+                    .predicted_psnr
+                    .map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
                 report.predicted_ms.unwrap_or(0.0),
                 report.original_ms,
                 report.predicted_speedup.unwrap_or(0.0)
@@ -69,14 +95,19 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         _ => {
             println!(
                 "kept the original shader: {}",
-                report.reason.as_deref().unwrap_or("no node fits the budget")
+                report
+                    .reason
+                    .as_deref()
+                    .unwrap_or("no node fits the budget")
             );
         }
     }
     if let (Some(e), Some(s)) = (report.measured_error, report.measured_speedup) {
         println!(
             "measured  error {e:.5}{}, {:.3} ms/frame vs {:.3} ms original: {s:.2}x",
-            report.measured_psnr.map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
+            report
+                .measured_psnr
+                .map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
             report.measured_ms.unwrap_or(0.0),
             report.measured_original_ms.unwrap_or(0.0),
         );

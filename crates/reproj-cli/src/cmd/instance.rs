@@ -36,8 +36,15 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         args.out.display()
     );
     for p in &m.passes {
-        println!("  {:<10} {}", format!("{:?}", p.kind).to_lowercase(), p.file);
+        println!(
+            "  {:<10} {}",
+            format!("{:?}", p.kind).to_lowercase(),
+            p.file
+        );
     }
-    println!("  manifest   manifest.json (bind group {}, prev clip @location({}))", m.group, m.prev_clip_location);
+    println!(
+        "  manifest   manifest.json (bind group {}, prev clip @location({}))",
+        m.group, m.prev_clip_location
+    );
     Ok(())
 }

@@ -33,7 +33,11 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
         "{} ({}): {total} nodes, {cacheable} cacheable, total cost {:.0}",
         table.shader, table.entry, table.total_cost
     )?;
-    let reason_col = if args.all { format!(" {:<18}", "culled") } else { String::new() };
+    let reason_col = if args.all {
+        format!(" {:<18}", "culled")
+    } else {
+        String::new()
+    };
     writeln!(
         out,
         "{:>5} {:<11}{reason_col} {:>8} {:>8}  {:<9} text",

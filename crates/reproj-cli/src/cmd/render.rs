@@ -9,7 +9,9 @@ use crate::RenderArgs;
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let shader = load_file(&args.shader).map_err(front_error)?;
-    let entry = shader.fragment_entry(args.entry.as_deref()).map_err(front_error)?;
+    let entry = shader
+        .fragment_entry(args.entry.as_deref())
+        .map_err(front_error)?;
     let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
@@ -22,13 +24,27 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         classify: true,
     };
     let reference = renderer
-        .render_original(&shader, entry, &session, &RenderOptions { classify: false, ..opts.clone() })
+        .render_original(
+            &shader,
+            entry,
+            &session,
+            &RenderOptions {
+                classify: false,
+                ..opts.clone()
+            },
+        )
         .map_err(replay_error)?;
     let report = match &args.node {
         None => reference.report,
         Some(node) => {
             let sel: NodeSelector = node.parse().map_err(UserError)?;
-            let norm = normalize(&shader, &NormalizeOptions { entry: args.entry.clone() }).map_err(front_error)?;
+            let norm = normalize(
+                &shader,
+                &NormalizeOptions {
+                    entry: args.entry.clone(),
+                },
+            )
+            .map_err(front_error)?;
             let table = enumerate(&shader, &norm);
             let variant = instance(
                 &shader,
@@ -56,7 +72,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 "original: {:.3} ms/frame; variant: {:.3} ms/frame; speedup {:.2}x",
                 reference.report.frame_ms,
                 r.frame_ms,
-                if r.frame_ms > 0.0 { reference.report.frame_ms / r.frame_ms } else { 0.0 }
+                if r.frame_ms > 0.0 {
+                    reference.report.frame_ms / r.frame_ms
+                } else {
+                    0.0
+                }
             );
             r
         }
@@ -66,7 +86,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         println!(
             "{} over {} ({} frames, {}x{}) on {} [{:?}]",
-            report.node.as_deref().map_or_else(|| "original".to_string(), |n| format!("node {n} at Δn = {}", args.delta_n)),
+            report.node.as_deref().map_or_else(
+                || "original".to_string(),
+                |n| format!("node {n} at Δn = {}", args.delta_n)
+            ),
             args.session.display(),
             report.frames.len(),
             report.resolution[0],
@@ -74,10 +97,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             report.adapter.name,
             report.timing,
         );
-        println!("  error     {:.6} (mean per-pixel L2, linear RGB)", report.error);
+        println!(
+            "  error     {:.6} (mean per-pixel L2, linear RGB)",
+            report.error
+        );
         println!("  PSNR      {:.2} dB", report.psnr);
         println!("  hit rate  {:.3}", report.hit_rate);
-        println!("  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)", report.frame_ms);
+        println!(
+            "  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)",
+            report.frame_ms
+        );
         if let Some(dir) = &args.frames {
             println!("  PNGs in   {}", dir.display());
         }
