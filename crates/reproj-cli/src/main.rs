@@ -44,15 +44,8 @@ pub struct RenderArgs {
     /// Refresh period of the variant.
     #[arg(long, default_value_t = 8)]
     pub delta_n: u32,
-    /// Refresh block size k.
-    #[arg(long, default_value_t = 4)]
-    pub block: u32,
-    /// Relative depth tolerance of the cache hit test.
-    #[arg(long, default_value_t = 0.01)]
-    pub depth_epsilon: f32,
-    /// Cache texel format.
-    #[arg(long, value_enum, default_value = "rgba32float")]
-    pub cache_format: CacheFormatArg,
+    #[command(flatten)]
+    pub cache: CacheArgs,
     /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.
     #[arg(long)]
     pub frames: Option<PathBuf>,
@@ -99,15 +92,8 @@ pub struct AnalyzeArgs {
     /// Replay only the first N frames of the session.
     #[arg(long)]
     pub max_frames: Option<u32>,
-    /// Refresh block size k.
-    #[arg(long, default_value_t = 4)]
-    pub block: u32,
-    /// Relative depth tolerance of the cache hit test.
-    #[arg(long, default_value_t = 0.01)]
-    pub depth_epsilon: f32,
-    /// Cache texel format.
-    #[arg(long, value_enum, default_value = "rgba32float")]
-    pub cache_format: CacheFormatArg,
+    #[command(flatten)]
+    pub cache: CacheArgs,
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
@@ -176,6 +162,20 @@ pub enum CacheFormatArg {
     Rgba16float,
 }
 
+/// How a variant caches: shared by `instance`, `render` and `analyze`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct CacheArgs {
+    /// Refresh block size k (1 or even, so blocks align with 2×2 quads).
+    #[arg(long, default_value_t = 4)]
+    pub block: u32,
+    /// Relative depth tolerance of the cache hit test.
+    #[arg(long, default_value_t = 0.01)]
+    pub depth_epsilon: f32,
+    /// Cache texel format.
+    #[arg(long, value_enum, default_value = "rgba32float")]
+    pub cache_format: CacheFormatArg,
+}
+
 /// Arguments of `reproj instance`.
 #[derive(Debug, Args)]
 pub struct InstanceArgs {
@@ -190,18 +190,11 @@ pub struct InstanceArgs {
     /// Fragment entry point (needed when the module has several).
     #[arg(long)]
     pub entry: Option<String>,
-    /// Cache texel format.
-    #[arg(long, value_enum, default_value = "rgba32float")]
-    pub cache_format: CacheFormatArg,
     /// Default refresh period Δn written to the manifest (the passes take it at run time).
     #[arg(long, default_value_t = 8)]
     pub delta_n: u32,
-    /// Refresh block size k (1 or even).
-    #[arg(long, default_value_t = 4)]
-    pub block: u32,
-    /// Relative depth tolerance of the cache hit test.
-    #[arg(long, default_value_t = 0.01)]
-    pub depth_epsilon: f32,
+    #[command(flatten)]
+    pub cache: CacheArgs,
 }
 
 /// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and

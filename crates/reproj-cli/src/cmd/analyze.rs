@@ -8,10 +8,9 @@ use reproj_analyze::{
     AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze, emit::write_atomic,
 };
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
-use reproj_instance::InstanceOptions;
 use reproj_replay::{Renderer, RendererOptions, Session};
 
-use super::{analyze_error, cache_format, front_error, replay_error};
+use super::{analyze_error, front_error, replay_error};
 use crate::AnalyzeArgs;
 
 /// A progress bar with ETA on stderr (hidden when stderr is not a terminal).
@@ -69,12 +68,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
             ..PruneOptions::default()
         },
         nodes: args.nodes.clone(),
-        instance: InstanceOptions {
-            cache_format: cache_format(args.cache_format),
-            delta_n: 8,
-            block: args.block,
-            depth_epsilon: args.depth_epsilon,
-        },
+        instance: super::instance_options(args.cache, 8),
         max_frames: args.max_frames,
     };
     eprintln!(

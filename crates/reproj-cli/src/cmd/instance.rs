@@ -1,7 +1,7 @@
 //! `reproj instance`: write the variant that caches one node.
 
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
-use reproj_instance::{InstanceOptions, NodeSelector, instance, write_variant};
+use reproj_instance::{NodeSelector, instance, write_variant};
 
 use super::{UserError, front_error, instance_error};
 use crate::InstanceArgs;
@@ -17,12 +17,7 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     )
     .map_err(front_error)?;
     let table = enumerate(&shader, &norm);
-    let opts = InstanceOptions {
-        cache_format: super::cache_format(args.cache_format),
-        delta_n: args.delta_n,
-        block: args.block,
-        depth_epsilon: args.depth_epsilon,
-    };
+    let opts = super::instance_options(args.cache, args.delta_n);
     let variant = instance(&shader, &norm, &table, selector, &opts).map_err(instance_error)?;
     write_variant(&variant, &args.out).map_err(instance_error)?;
     let m = &variant.manifest;

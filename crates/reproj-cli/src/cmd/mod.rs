@@ -56,6 +56,16 @@ pub fn analyze_error(e: reproj_analyze::AnalyzeError) -> anyhow::Error {
     }
 }
 
+/// Instancer options from the CLI's cache flags and a default Δn.
+pub fn instance_options(c: crate::CacheArgs, delta_n: u32) -> reproj_instance::InstanceOptions {
+    reproj_instance::InstanceOptions {
+        cache_format: cache_format(c.cache_format),
+        delta_n,
+        block: c.block,
+        depth_epsilon: c.depth_epsilon,
+    }
+}
+
 /// The instancer's cache format for the CLI flag.
 pub fn cache_format(f: crate::CacheFormatArg) -> reproj_instance::CacheFormat {
     match f {

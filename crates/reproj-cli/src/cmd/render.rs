@@ -1,10 +1,10 @@
 //! `reproj render`: replay a session for the original shader or one variant.
 
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
-use reproj_instance::{InstanceOptions, NodeSelector, instance};
+use reproj_instance::{NodeSelector, instance};
 use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
 
-use super::{UserError, cache_format, front_error, instance_error, replay_error};
+use super::{UserError, front_error, instance_error, replay_error};
 use crate::RenderArgs;
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
@@ -51,12 +51,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 &norm,
                 &table,
                 sel,
-                &InstanceOptions {
-                    cache_format: cache_format(args.cache_format),
-                    delta_n: args.delta_n,
-                    block: args.block,
-                    depth_epsilon: args.depth_epsilon,
-                },
+                &super::instance_options(args.cache, args.delta_n),
             )
             .map_err(instance_error)?;
             let input = VariantInput::new(
