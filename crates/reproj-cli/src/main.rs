@@ -83,6 +83,9 @@ pub struct AnalyzeArgs {
     /// Profile these node ids only (the root is always added). Default: pruned by saving.
     #[arg(long, value_delimiter = ',')]
     pub nodes: Option<Vec<u32>>,
+    /// Profile every cacheable node, as the paper did (hours on a CPU rasterizer for big shaders).
+    #[arg(long, conflicts_with_all = ["nodes", "max_nodes", "min_saving"])]
+    pub all_nodes: bool,
     /// Most nodes to profile when pruning (the root included).
     #[arg(long, default_value_t = 16)]
     pub max_nodes: usize,

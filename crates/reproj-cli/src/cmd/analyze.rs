@@ -62,10 +62,18 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     let opts = AnalyzeOptions {
         delta_n_train: args.delta_n.clone(),
         delta_n_holdout: args.holdout.clone(),
-        prune: PruneOptions {
-            max_nodes: args.max_nodes.max(1),
-            min_saving: args.min_saving,
-            ..PruneOptions::default()
+        prune: if args.all_nodes {
+            PruneOptions {
+                max_nodes: usize::MAX,
+                min_saving: 0.0,
+                merge_within: 0.0,
+            }
+        } else {
+            PruneOptions {
+                max_nodes: args.max_nodes.max(1),
+                min_saving: args.min_saving,
+                ..PruneOptions::default()
+            }
         },
         nodes: args.nodes.clone(),
         instance: super::instance_options(args.cache, 8),
