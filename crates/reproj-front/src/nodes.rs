@@ -191,7 +191,7 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         .iter()
         .map(|(h, e)| {
             let mult = places.get(&h).map_or(1.0, |p| p.weight);
-            op_cost(e, info[h].ty.inner_with(types), types) * mult
+            op_cost(e, info[h].ty.inner_with(types)) * mult
         })
         .collect();
     let closure = |start: Handle<Expression>, avoid: Option<Handle<Expression>>| -> Vec<bool> {
@@ -427,7 +427,7 @@ fn node_type(inner: &TypeInner) -> Option<String> {
 
 /// Static cost of one operation (see `docs/COST.md`): ALU operations cost per component;
 /// transcendental functions and texture fetches cost more.
-pub fn op_cost(e: &Expression, result: &TypeInner, types: &naga::UniqueArena<naga::Type>) -> f64 {
+pub fn op_cost(e: &Expression, result: &TypeInner) -> f64 {
     use naga::MathFunction as M;
     let width = |inner: &TypeInner| -> f64 {
         match *inner {
@@ -437,7 +437,6 @@ pub fn op_cost(e: &Expression, result: &TypeInner, types: &naga::UniqueArena<nag
         }
     };
     let w = width(result);
-    let _ = types;
     match *e {
         Expression::Literal(_)
         | Expression::Constant(_)

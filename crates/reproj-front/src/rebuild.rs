@@ -36,7 +36,6 @@ pub struct CacheRead {
     /// member index.
     pub position: (u32, Option<u32>),
     pub components: u32,
-    pub vec2i: Handle<naga::Type>,
 }
 
 /// Stop after one expression and return it, zero-padded to a `vec4<f32>` (the recompute pass).
@@ -199,8 +198,7 @@ struct Out<'m, 'o> {
 /// 12 KiB of stack per level in a debug build): a chain of 300 helpers overflowed a 2 MiB thread.
 const MAX_NESTING: usize = 64;
 
-fn unsupported(module_fun: &Function, span: Span, what: impl Into<String>) -> FrontError {
-    let _ = module_fun;
+fn unsupported(span: Span, what: impl Into<String>) -> FrontError {
     FrontError::UnsupportedAt {
         span,
         what: what.into(),
@@ -383,11 +381,7 @@ impl Out<'_, '_> {
                 self.append(Expression::LocalVariable(nv), span)
             }
             Expression::CallResult(_) => {
-                return Err(unsupported(
-                    ctx.fun,
-                    span,
-                    "a call result used before its call",
-                ));
+                return Err(unsupported(span, "a call result used before its call"));
             }
             Expression::Load { pointer } if self.normalize() => {
                 let p = self.translate(ctx, pointer)?;
@@ -463,7 +457,6 @@ impl Out<'_, '_> {
             },
             span,
         );
-        let _ = cr.vec2i;
         match cr.components {
             1 => self.append(
                 E::AccessIndex {
@@ -617,7 +610,6 @@ impl Out<'_, '_> {
     fn walk_stmt(&mut self, ctx: &mut Ctx, stmt: &Statement, span: Span) -> Result<(), FrontError> {
         if self.depth + self.calls > MAX_NESTING {
             return Err(unsupported(
-                ctx.fun,
                 span,
                 format!("more than {MAX_NESTING} nested blocks and helper calls"),
             ));
@@ -784,7 +776,6 @@ impl Out<'_, '_> {
             } => {
                 if !self.normalize() {
                     return Err(unsupported(
-                        ctx.fun,
                         span,
                         "a function call in a normalized function",
                     ));
@@ -805,11 +796,7 @@ impl Out<'_, '_> {
                     | Statement::SubgroupCollectiveOperation { .. } => "subgroup operations",
                     _ => what.as_str(),
                 };
-                return Err(unsupported(
-                    ctx.fun,
-                    span,
-                    format!("{name} in a fragment shader"),
-                ));
+                return Err(unsupported(span, format!("{name} in a fragment shader")));
             }
         }
         Ok(())
@@ -852,7 +839,6 @@ impl Out<'_, '_> {
                 Some(v) => ctx.map[r.index()] = Some(v),
                 None => {
                     return Err(unsupported(
-                        callee,
                         span,
                         format!(
                             "fn {} returns no value on its last statement",

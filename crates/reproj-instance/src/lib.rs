@@ -303,7 +303,6 @@ fn shade_pass(
 ) -> Result<PassModule, InstanceError> {
     let mut module = norm.module.clone();
     let vec4f = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
-    let vec2i = vec_type(&mut module, naga::VectorSize::Bi, naga::Scalar::I32);
     let image_ty = module.types.insert(
         naga::Type {
             name: None,
@@ -340,7 +339,6 @@ fn shade_pass(
                 image,
                 position,
                 components,
-                vec2i,
             }),
             ..Default::default()
         },
