@@ -1,11 +1,20 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need (a Vulkan driver for the
-# rendering tests: lavapipe where there is no GPU), then runs every test of the workspace.
+# rendering tests: lavapipe where there is no GPU), then runs every test of the workspace and closes
+# with one line that adds up every test binary's results.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/ensure-vulkan.sh
-# lavapipe runs shaders on the CPU: give it the machine's cores.
 # Headless: keep Mesa's device-select layer from looking for a display.
 export NODEVICE_SELECT="${NODEVICE_SELECT:-1}"
+# lavapipe runs shaders on the CPU: give it the machine's cores.
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
-cargo test --workspace --locked "$@"
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+status=0
+cargo test --workspace --locked "$@" 2>&1 | tee "$log" || status=$?
+passed=$(grep -Eo 'test result: [A-Za-z]+\. [0-9]+ passed' "$log" | awk '{s += $4} END {print s + 0}')
+failed=$(grep -Eo '[0-9]+ failed' "$log" | awk '{s += $1} END {print s + 0}')
+echo
+echo "reproj: $passed passed, $failed failed"
+exit "$status"
