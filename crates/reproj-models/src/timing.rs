@@ -291,28 +291,28 @@ pub fn fit_timing_with_options(
     let mut used = [0.0; 3];
 
     let status = if full_rank == 3 {
-        // Active set: fix negative costs at 0 and refit the others.
+        // Active set (as in Lawson–Hanson NNLS): fix the most negative cost at 0 and refit the
+        // others, one at a time. With nearly collinear columns (pixel counts that barely change
+        // between frames) several raw costs can come out negative together, and only the worst
+        // is wrong: fixing all of them at once would throw away the per-pixel cost that is real.
         let mut fixed = [false; 3];
         let mut sol = full;
         loop {
-            let neg: Vec<usize> = sol
+            let worst = sol
                 .cols
                 .iter()
                 .zip(&sol.x)
                 .filter(|(_, x)| **x < 0.0)
-                .map(|(j, _)| *j)
-                .collect();
-            if neg.is_empty() {
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(j, x)| (*j, *x));
+            let Some((j, raw)) = worst else {
                 break;
-            }
-            for &j in &neg {
-                fixed[j] = true;
-                let k = sol.cols.iter().position(|c| *c == j).unwrap_or(0);
-                warnings.push(TimingWarning::NegativeClamped {
-                    param: params[j],
-                    raw: sol.x[k],
-                });
-            }
+            };
+            fixed[j] = true;
+            warnings.push(TimingWarning::NegativeClamped {
+                param: params[j],
+                raw,
+            });
             let free: Vec<usize> = (0..3).filter(|&j| !fixed[j]).collect();
             if free.is_empty() {
                 sol = LsSolution::empty();

@@ -338,3 +338,38 @@ fn single_frame_is_rank_deficient_not_garbage() {
     assert!(!f.is_usable());
     assert_finite(&f);
 }
+
+/// Nearly constant pixel counts make hits, misses and the overhead almost collinear: with noise
+/// the raw solution can put both per-pixel costs below zero. Only the worst one is wrong; the miss
+/// cost (what Δn actually changes) must survive.
+#[test]
+fn collinear_frames_keep_the_real_miss_cost() {
+    let mut frames = Vec::new();
+    let mut seed = 7u64;
+    let mut noise = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) as f64 / (1u64 << 31) as f64) - 0.5
+    };
+    for &miss_frac in &[0.5, 0.1, 0.06, 0.045, 0.035, 0.03, 0.026] {
+        for i in 0..40 {
+            let pixels = 50_000.0 + 800.0 * ((i % 7) as f64 / 7.0) + 300.0 * noise();
+            let misses = (pixels * miss_frac).round() as u64;
+            let hits = pixels as u64 - misses;
+            // Truth: overhead 1.95 ms, a miss 1.28e-4 ms, a hit free; noise of ±0.4 ms.
+            let time_ms = 1.95 + 1.28e-4 * misses as f64 + 0.8 * noise();
+            frames.push(FrameTiming {
+                hits,
+                misses,
+                time_ms,
+            });
+        }
+    }
+    let fit = fit_timing(&frames);
+    let miss = fit.miss_ms.unwrap();
+    assert!(miss > 0.8e-4 && miss < 1.8e-4, "{fit:?}");
+    // The frame time at half misses is predicted, not just the overhead.
+    let t = fit.predict_counts(25_000, 25_000).unwrap();
+    assert!((t - (1.95 + 1.28e-4 * 25_000.0)).abs() < 0.6, "{t} {fit:?}");
+}
