@@ -142,3 +142,56 @@ fn static_scene_reuses_the_cache_exactly() {
         }
     }
 }
+
+#[test]
+fn half_float_cache_works_and_stays_close() {
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let session = Session::load(root().join("sessions/test_static.json")).unwrap();
+    let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let reference = renderer
+        .render_original(
+            &shader,
+            shader.fragment_entry(None).unwrap(),
+            &session,
+            &opts(8),
+        )
+        .unwrap();
+    let options = InstanceOptions {
+        cache_format: reproj_instance::CacheFormat::Rgba16float,
+        ..InstanceOptions::default()
+    };
+    let v = instance(&shader, &norm, &table, NodeSelector::Root, &options).unwrap();
+    assert!(
+        v.manifest.required_features.is_empty(),
+        "rgba16float is filterable everywhere"
+    );
+    for dn in [1, 8] {
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            dn,
+        );
+        let report = renderer
+            .render_variant(&shader, &session, &input, &reference, &opts(8))
+            .unwrap();
+        for f in &report.frames {
+            // 16-bit floats carry about 3 decimal digits (an ulp near 1.0 is 0.001), and lavapipe
+            // filters them with a few ulps of error: a handful of ulps at worst, far less on average.
+            assert!(
+                f.max_abs_diff < 5e-3,
+                "Δn = {dn}, frame {}: max {}",
+                f.frame,
+                f.max_abs_diff
+            );
+            assert!(
+                f.error < 5e-4,
+                "Δn = {dn}, frame {}: mean {}",
+                f.frame,
+                f.error
+            );
+        }
+    }
+}
