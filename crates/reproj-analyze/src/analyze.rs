@@ -294,10 +294,10 @@ pub fn analyze(
         })
         .collect();
     for n in &nodes {
-        if let NodeStatus::SetAside { reason } = &n.status {
-            if raws.iter().any(|r| r.id == n.id && r.failure.is_none()) {
-                progress.note(&format!("node {} `{}`: set aside: {reason}", n.id, n.text));
-            }
+        if let NodeStatus::SetAside { reason } = &n.status
+            && raws.iter().any(|r| r.id == n.id && r.failure.is_none())
+        {
+            progress.note(&format!("node {} `{}`: set aside: {reason}", n.id, n.text));
         }
     }
     time.fitting_s = t.elapsed().as_secs_f64();

@@ -38,10 +38,10 @@ fn mark(fun: &Function, l: &mut Liveness, h: Handle<Expression>) {
             continue;
         }
         let e = &fun.expressions[h];
-        if let Expression::Load { pointer } = *e {
-            if let Some(v) = ir::root_local(&fun.expressions, pointer) {
-                l.vars.insert(v);
-            }
+        if let Expression::Load { pointer } = *e
+            && let Some(v) = ir::root_local(&fun.expressions, pointer)
+        {
+            l.vars.insert(v);
         }
         stack.extend(ir::operands(e));
     }
@@ -119,10 +119,10 @@ fn walk(
                 *index = start;
                 let live_inner =
                     walk(fun, body, l, index, live) | walk(fun, continuing, l, index, live);
-                if live || live_inner {
-                    if let Some(b) = break_if {
-                        mark(fun, l, *b);
-                    }
+                if (live || live_inner)
+                    && let Some(b) = break_if
+                {
+                    mark(fun, l, *b);
                 }
                 live || live_inner
             }

@@ -174,13 +174,13 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         let ops = ir::operands(e);
         let disc = ir::discontinuous_edges(e, is_float(h));
         deps[h.index()].extend(ops.into_iter().zip(disc));
-        if let Expression::Load { pointer } = *e {
-            if let Some(v) = ir::root_local(&fun.expressions, pointer) {
-                for s in stores.get(&v).into_iter().flatten() {
-                    deps[h.index()].push((s.value, false));
-                    deps[h.index()].push((s.pointer, true));
-                    deps[h.index()].extend(s.control.iter().map(|c| (*c, true)));
-                }
+        if let Expression::Load { pointer } = *e
+            && let Some(v) = ir::root_local(&fun.expressions, pointer)
+        {
+            for s in stores.get(&v).into_iter().flatten() {
+                deps[h.index()].push((s.value, false));
+                deps[h.index()].push((s.pointer, true));
+                deps[h.index()].extend(s.control.iter().map(|c| (*c, true)));
             }
         }
     }

@@ -126,9 +126,8 @@ pub fn rebuild(
     }
     out.init_locals(&mut ctx, fun)?;
     out.walk_block(&mut ctx, &fun.body)?;
-    if out.stopped && opts.stop_after.is_some() && out.root.is_none() {
+    if let (true, Some(stop), None) = (out.stopped, &opts.stop_after, out.root) {
         // The node was inside a branch: the other paths return zero.
-        let stop = opts.stop_after.as_ref().unwrap();
         let z = out.append(Expression::ZeroValue(stop.vec4), Span::UNDEFINED);
         out.push_stmt(Statement::Return { value: Some(z) }, Span::UNDEFINED);
     }
@@ -365,13 +364,14 @@ impl Out<'_, '_> {
             return Ok(m);
         }
         let span = ctx.fun.expressions.get_span(h);
-        if let Some(cr) = &self.opts.cache_read {
-            if ctx.is_top && cr.target == h {
-                let cr = cr.clone();
-                let m = self.cache_read(&cr, span);
-                ctx.map[h.index()] = Some(m);
-                return Ok(m);
-            }
+        if let Some(cr) = &self.opts.cache_read
+            && ctx.is_top
+            && cr.target == h
+        {
+            let cr = cr.clone();
+            let m = self.cache_read(&cr, span);
+            ctx.map[h.index()] = Some(m);
+            return Ok(m);
         }
         let src = &ctx.fun.expressions[h];
         let new = match *src {
@@ -406,12 +406,11 @@ impl Out<'_, '_> {
         if let Some(cs) = ctx.call_site {
             self.call_site.entry(new).or_insert(cs);
         }
-        if let Some(name) = ctx.fun.named_expressions.get(&h) {
-            if !self.fun.expressions[new].needs_pre_emit()
-                && !self.fun.named_expressions.contains_key(&new)
-            {
-                self.fun.named_expressions.insert(new, name.clone());
-            }
+        if let Some(name) = ctx.fun.named_expressions.get(&h)
+            && !self.fun.expressions[new].needs_pre_emit()
+            && !self.fun.named_expressions.contains_key(&new)
+        {
+            self.fun.named_expressions.insert(new, name.clone());
         }
         Ok(new)
     }
@@ -621,13 +620,14 @@ impl Out<'_, '_> {
                         continue;
                     }
                     let m = self.translate(ctx, h)?;
-                    if let Some(stop) = &self.opts.stop_after {
-                        if ctx.is_top && stop.target == h {
-                            let stop = stop.clone();
-                            self.payload_return(&stop, m, span);
-                            self.stopped = true;
-                            return Ok(());
-                        }
+                    if let Some(stop) = &self.opts.stop_after
+                        && ctx.is_top
+                        && stop.target == h
+                    {
+                        let stop = stop.clone();
+                        self.payload_return(&stop, m, span);
+                        self.stopped = true;
+                        return Ok(());
                     }
                 }
             }
@@ -803,8 +803,8 @@ impl Out<'_, '_> {
     }
 
     fn kill_since(&mut self, mark: usize) {
-        for v in self.stored_log[mark..].to_vec() {
-            self.env.remove(&v);
+        for v in &self.stored_log[mark..] {
+            self.env.remove(v);
         }
     }
 
@@ -875,8 +875,8 @@ fn check_single_return(fun: &Function) -> Result<(), FrontError> {
         None
     }
     let n = fun.body.len();
-    let mut stmts = fun.body.span_iter().enumerate();
-    while let Some((i, (s, span))) = stmts.next() {
+    let stmts = fun.body.span_iter().enumerate();
+    for (i, (s, span)) in stmts {
         let is_last_return = i + 1 == n && matches!(s, Statement::Return { .. });
         if is_last_return {
             break;

@@ -130,7 +130,7 @@ pub fn instance(
     node: NodeSelector,
     opts: &InstanceOptions,
 ) -> Result<Variant, InstanceError> {
-    if opts.block != 1 && opts.block % 2 != 0 || opts.block == 0 {
+    if opts.block != 1 && !opts.block.is_multiple_of(2) || opts.block == 0 {
         return Err(InstanceError::BadBlock(opts.block));
     }
     if opts.delta_n == 0 {
@@ -362,10 +362,10 @@ fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32,
         if is_pos(&arg.binding) {
             return (i as u32, None);
         }
-        if let naga::TypeInner::Struct { members, .. } = &module.types[arg.ty].inner {
-            if let Some(m) = members.iter().position(|m| is_pos(&m.binding)) {
-                return (i as u32, Some(m as u32));
-            }
+        if let naga::TypeInner::Struct { members, .. } = &module.types[arg.ty].inner
+            && let Some(m) = members.iter().position(|m| is_pos(&m.binding))
+        {
+            return (i as u32, Some(m as u32));
         }
     }
     let fun = &mut module.entry_points[0].function;

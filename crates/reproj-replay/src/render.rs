@@ -1852,11 +1852,10 @@ fn restore_names(iface: &mut Interface, original: &Interface) {
                 fields: ofields, ..
             },
         ) = (&mut r.kind, &o.kind)
+            && fields.len() == ofields.len()
         {
-            if fields.len() == ofields.len() {
-                for (f, of) in fields.iter_mut().zip(ofields) {
-                    f.name = of.name.clone();
-                }
+            for (f, of) in fields.iter_mut().zip(ofields) {
+                f.name = of.name.clone();
             }
         }
     }
