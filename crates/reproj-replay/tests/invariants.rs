@@ -195,3 +195,64 @@ fn half_float_cache_works_and_stays_close() {
         }
     }
 }
+
+/// A node inside a uniform branch is cacheable: the recompute slice returns it from inside the
+/// branch (and zero on the other path), the shade pass reads it where the branch uses it.
+#[test]
+fn node_inside_a_uniform_branch_round_trips() {
+    let src = "
+struct Scene { camera_pos: vec3<f32>, time: f32, light_pos: vec3<f32> };
+@group(0) @binding(0) var<uniform> scene: Scene;
+@fragment
+fn fs_main(@location(0) p: vec3<f32>, @location(1) n: vec3<f32>) -> @location(0) vec4<f32> {
+    var c = vec3<f32>(0.1);
+    if scene.time >= 0.0 {
+        c = abs(cos(p * 7.0)) * max(dot(normalize(n), normalize(scene.light_pos - p)), 0.0);
+    }
+    return vec4<f32>(c, 1.0);
+}";
+    let shader =
+        reproj_front::parse_shader(std::path::Path::new("uniform_branch.wgsl"), src.into())
+            .unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let node = table
+        .cacheable()
+        .find(|n| n.text == "abs(cos(p * 7.0))")
+        .expect("the node inside the uniform branch is cacheable");
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let session = Session::load(root().join("sessions/test_static.json")).unwrap();
+    let reference = renderer
+        .render_original(&shader, 0, &session, &opts(8))
+        .unwrap();
+    let v = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Id(node.id),
+        &InstanceOptions::default(),
+    )
+    .unwrap();
+    for dn in [1, 8] {
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            dn,
+        );
+        let report = renderer
+            .render_variant(&shader, &session, &input, &reference, &opts(8))
+            .unwrap();
+        for f in &report.frames {
+            assert!(
+                f.max_abs_diff <= 1e-4,
+                "Δn = {dn}, frame {}: {}",
+                f.frame,
+                f.max_abs_diff
+            );
+        }
+        if dn == 8 {
+            assert!(report.hit_rate > 0.8, "{}", report.hit_rate);
+        }
+    }
+}
