@@ -31,7 +31,8 @@ pub struct FrameRecord {
     pub frame: u32,
     /// Frame time in milliseconds by the report's timing method.
     pub frame_ms: f64,
-    /// CPU wall time around submit + wait, always measured.
+    /// CPU wall time around submit + wait, always measured. With GPU timestamps frames are read
+    /// back in batches (see `render`), and this is the batch's submit + wait time per frame.
     pub cpu_ms: f64,
     /// Per-pass GPU times (ms): one for the original, three for a variant; empty without
     /// timestamps.

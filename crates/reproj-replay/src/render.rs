@@ -1,4 +1,19 @@
 //! The headless wgpu renderer: original shader (reference frames) and three-pass cached variants.
+//!
+//! # Batched readback
+//!
+//! Every frame must come back to the host (reference frames, error metrics, PNGs) together with its
+//! occlusion and timestamp queries. Reading each frame back synchronously (map, wait, copy) costs
+//! several host/device round trips per frame, which on a software device (Mesa lavapipe) took about
+//! as much wall time as rendering itself. So the frame loops batch the readback: each frame's
+//! submission copies its color image (and classification map) into its own slot of a `K`-slot
+//! [`Staging`] buffer and resolves its queries into its own slot of the [`QueryKit`] buffers; the
+//! host maps and waits once per `K` frames ([`Renderer::batch_len`]) and then computes the records
+//! of those frames in order. Results are unchanged: frame times still come from each frame's own
+//! GPU timestamps, and queue order keeps each frame's uniform writes, render and copies in sequence.
+//! Only `cpu_ms` is amortized: the wall time of a batch's submit + wait divided by its frames.
+//! Without timestamp queries (frame time = CPU submit + wait) nothing is batched: `K` = 1 and each
+//! frame's render submission is waited for and timed alone, as before.
 
 use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -25,6 +40,10 @@ pub const MAX_BIND_GROUPS: u32 = 4;
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const CLASSIFY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Most frames whose readbacks share one host wait (see the module docs).
+const MAX_BATCH: u32 = 16;
+/// Host-visible staging memory one batch may use for frame images.
+const BATCH_BYTES: u64 = 64 << 20;
 /// Fragment entry point of the pass-1 module that writes the hit / miss / refresh map.
 pub const CLASSIFY_ENTRY: &str = "reproj_classify";
 
@@ -369,34 +388,51 @@ impl Renderer {
         Ok(())
     }
 
-    fn read_buffer(&self, buf: &wgpu::Buffer) -> Result<Vec<u8>, ReplayError> {
-        let slice = buf.slice(..);
-        let status: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>> = Arc::default();
-        let s2 = status.clone();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            if let Ok(mut g) = s2.lock() {
-                *g = Some(r);
-            }
-        });
-        self.wait()?;
-        match status.lock().ok().and_then(|mut g| g.take()) {
-            Some(Ok(())) => {}
-            Some(Err(e)) => return Err(gpu_err("mapping a readback buffer", e)),
-            None => {
-                return Err(gpu_err(
-                    "mapping a readback buffer",
-                    "the map did not complete",
-                ));
-            }
+    /// Map every buffer in `bufs` for reading with a single host wait. The caller reads them with
+    /// `get_mapped_range` and unmaps them with [`Renderer::unmap_all`].
+    fn map_read(&self, bufs: &[&wgpu::Buffer]) -> Result<(), ReplayError> {
+        type Statuses = Arc<Mutex<Vec<Result<(), wgpu::BufferAsyncError>>>>;
+        let status: Statuses = Arc::default();
+        for b in bufs {
+            let s2 = status.clone();
+            b.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+                if let Ok(mut g) = s2.lock() {
+                    g.push(r);
+                }
+            });
         }
-        let data = {
-            let view = buf
-                .get_mapped_range(..)
-                .map_err(|e| gpu_err("reading a readback buffer", e))?;
-            view.to_vec()
-        };
-        buf.unmap();
-        Ok(data)
+        self.wait()?;
+        let done = status
+            .lock()
+            .map(|mut g| std::mem::take(&mut *g))
+            .unwrap_or_default();
+        if let Some(Err(e)) = done.iter().find(|r| r.is_err()) {
+            return Err(gpu_err("mapping a readback buffer", e));
+        }
+        if done.len() != bufs.len() {
+            return Err(gpu_err(
+                "mapping a readback buffer",
+                "the map did not complete",
+            ));
+        }
+        Ok(())
+    }
+
+    fn unmap_all(bufs: &[&wgpu::Buffer]) {
+        for b in bufs {
+            b.unmap();
+        }
+    }
+
+    /// Frames per readback batch: up to [`MAX_BATCH`] and [`BATCH_BYTES`] of staging for images
+    /// of `slot_bytes`; 1 without timestamp queries, where the frame time is the CPU wait.
+    fn batch_len(&self, frames: u32, slot_bytes: u64) -> u32 {
+        if !self.timestamps {
+            return 1;
+        }
+        let budget = BATCH_BYTES.min(self.device.limits().max_buffer_size);
+        let by_mem = (budget / slot_bytes.max(1)).max(1);
+        by_mem.min(MAX_BATCH as u64).min(frames.max(1) as u64) as u32
     }
 
     fn make_stage(&self, path: &Path, source: String, entry: &str) -> Result<Stage, ReplayError> {
@@ -1032,37 +1068,27 @@ impl Renderer {
         })
     }
 
-    /// Copy a texture into a (padded) readback buffer.
-    fn copy_out(
+    /// Submit a frame's render and readback commands. With timestamp queries both go in one
+    /// submission and nothing waits (None: the batch's wall time is amortized later). Without, the
+    /// render submission is waited for and timed alone (that is the frame time) before the readback
+    /// is submitted.
+    fn submit_frame(
         &self,
-        enc: &mut wgpu::CommandEncoder,
-        tex: &wgpu::Texture,
-        buf: &wgpu::Buffer,
-        w: u32,
-        h: u32,
-        bpp: u32,
-    ) {
-        enc.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: tex,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(readback_row_bytes(w, bpp)),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
+        render: wgpu::CommandEncoder,
+        readback: wgpu::CommandEncoder,
+        what: &str,
+    ) -> Result<Option<f64>, ReplayError> {
+        if self.timestamps {
+            self.queue.submit([render.finish(), readback.finish()]);
+            return Ok(None);
+        }
+        let t0 = Instant::now();
+        self.queue.submit([render.finish()]);
+        self.wait()?;
+        let cpu_ms = t0.elapsed().as_secs_f64() * 1e3;
+        self.check_errors(what)?;
+        self.queue.submit([readback.finish()]);
+        Ok(Some(cpu_ms))
     }
 
     fn unpad(data: &[u8], w: u32, h: u32, bpp: u32) -> Vec<u8> {
@@ -1118,12 +1144,11 @@ impl Renderer {
         let color_view = color.create_view(&Default::default());
         let depth = self.target("depth", w, h, DEPTH_FORMAT, false);
         let depth_view = depth.create_view(&Default::default());
-        let q = QueryKit::new(self, 1);
-        let frame_rb = self.buffer(
-            "frame readback",
-            readback_row_bytes(w, 16) as u64 * h as u64,
-            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        );
+        let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
+        let q = QueryKit::new(self, 1, slots);
+        let frame_rb = Staging::new(self, "frame readback", w, h, 16, slots);
+        let mut rb_bufs = q.read_buffers();
+        rb_bufs.push(&frame_rb.buf);
         let bg = session.background;
         let clear = wgpu::Color {
             r: bg[0] as f64,
@@ -1134,7 +1159,11 @@ impl Renderer {
 
         let mut report = self.new_report("original", shader, &iface.entry, session);
         let mut out_frames = Vec::with_capacity(frames as usize);
+        // Frames submitted but not read back yet: (frame, CPU time when measured alone).
+        let mut pending: Vec<(u32, Option<f64>)> = Vec::new();
+        let mut batch_t0 = Instant::now();
         for f in 0..frames {
+            let slot = pending.len() as u32;
             self.write_frame_uniforms(session, &scene, f);
             let mut enc = self.device.create_command_encoder(&Default::default());
             {
@@ -1165,41 +1194,52 @@ impl Renderer {
                 self.draw(&mut pass, &pipe, &bindings, &scene, vgroup);
                 pass.end_occlusion_query();
             }
-            q.resolve(&mut enc);
-            let t0 = Instant::now();
-            self.queue.submit([enc.finish()]);
-            self.wait()?;
-            let cpu_ms = t0.elapsed().as_secs_f64() * 1e3;
-            self.check_errors(&format!("rendering frame {f}"))?;
-
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            self.copy_out(&mut enc, &color, &frame_rb, w, h, 16);
-            self.queue.submit([enc.finish()]);
-            let pixels: Vec<f32> =
-                bytemuck::pod_collect_to_vec(&Self::unpad(&self.read_buffer(&frame_rb)?, w, h, 16));
-            let (occ, pass_ms, span) = q.read(self)?;
-            self.check_errors(&format!("reading frame {f}"))?;
-            let frame_ms = span.unwrap_or(cpu_ms);
-            if let Some(dir) = &opts.png_dir {
-                output::write_frame(dir, f, w, h, &pixels)?;
+            q.resolve(&mut enc, slot);
+            let mut rb = self.device.create_command_encoder(&Default::default());
+            frame_rb.copy(&mut rb, &color, slot);
+            if slot == 0 {
+                batch_t0 = Instant::now();
             }
-            report.frames.push(FrameRecord {
-                frame: f,
-                frame_ms,
-                cpu_ms,
-                pass_ms,
-                shaded: occ[0],
-                hits: 0,
-                recomputes: occ[0],
-                hit_px: None,
-                miss_px: None,
-                refresh_px: None,
-                hit_rate: 0.0,
-                error: 0.0,
-                psnr: metrics::PSNR_CAP,
-                max_abs_diff: 0.0,
-            });
-            out_frames.push(pixels);
+            let cpu = self.submit_frame(enc, rb, &format!("rendering frame {f}"))?;
+            pending.push((f, cpu));
+            if pending.len() < slots as usize && f + 1 < frames {
+                continue;
+            }
+
+            // Read the batch back with one wait.
+            self.map_read(&rb_bufs)?;
+            let batch_ms = batch_t0.elapsed().as_secs_f64() * 1e3 / pending.len() as f64;
+            self.check_errors(&format!("rendering frames {}..={f}", pending[0].0))?;
+            for (slot, &(f, cpu)) in pending.iter().enumerate() {
+                let slot = slot as u32;
+                let cpu_ms = cpu.unwrap_or(batch_ms);
+                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
+                let (occ, pass_ms, span) = q.read(slot)?;
+                let frame_ms = span.unwrap_or(cpu_ms);
+                if let Some(dir) = &opts.png_dir {
+                    output::write_frame(dir, f, w, h, &pixels)?;
+                }
+                report.frames.push(FrameRecord {
+                    frame: f,
+                    frame_ms,
+                    cpu_ms,
+                    pass_ms,
+                    shaded: occ[0],
+                    hits: 0,
+                    recomputes: occ[0],
+                    hit_px: None,
+                    miss_px: None,
+                    refresh_px: None,
+                    hit_rate: 0.0,
+                    error: 0.0,
+                    psnr: metrics::PSNR_CAP,
+                    max_abs_diff: 0.0,
+                });
+                out_frames.push(pixels);
+            }
+            Self::unmap_all(&rb_bufs);
+            self.check_errors(&format!("reading frames {}..={f}", pending[0].0))?;
+            pending.clear();
         }
         report.summarize();
         Ok(Reference {
@@ -1510,17 +1550,17 @@ impl Renderer {
             None => None,
         };
 
-        let q = QueryKit::new(self, 3);
-        let frame_rb = self.buffer(
-            "frame readback",
-            readback_row_bytes(w, 16) as u64 * h as u64,
-            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        );
-        let cls_rb = self.buffer(
-            "classify readback",
-            readback_row_bytes(w, 4) as u64 * h as u64,
-            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        );
+        let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
+        let q = QueryKit::new(self, 3, slots);
+        let frame_rb = Staging::new(self, "frame readback", w, h, 16, slots);
+        let cls_rb = pc
+            .as_ref()
+            .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
+        let mut rb_bufs = q.read_buffers();
+        rb_bufs.push(&frame_rb.buf);
+        if let Some(c) = &cls_rb {
+            rb_bufs.push(&c.buf);
+        }
         let bg = session.background;
         let clear = wgpu::Color {
             r: bg[0] as f64,
@@ -1566,7 +1606,11 @@ impl Renderer {
         report.block = Some(variant.block);
         report.depth_epsilon = Some(variant.depth_epsilon);
         let clear_payload = wgpu::Color::TRANSPARENT;
+        // Frames submitted but not read back yet: (frame, CPU time when measured alone).
+        let mut pending: Vec<(u32, Option<f64>)> = Vec::new();
+        let mut batch_t0 = Instant::now();
         for f in 0..frames {
+            let slot = pending.len() as u32;
             let cur = (f % 2) as usize;
             let b = &binds[cur];
             self.write_frame_uniforms(session, &scene, f);
@@ -1630,17 +1674,13 @@ impl Renderer {
                 self.draw(&mut pass, pipe, bind, &scene, vgroup);
                 pass.end_occlusion_query();
             }
-            q.resolve(&mut enc);
-            let t0 = Instant::now();
-            self.queue.submit([enc.finish()]);
-            self.wait()?;
-            let cpu_ms = t0.elapsed().as_secs_f64() * 1e3;
-            self.check_errors(&format!("rendering variant frame {f}"))?;
+            q.resolve(&mut enc, slot);
 
             // Readback (and the untimed classification pass).
+            let render = enc;
             let mut enc = self.device.create_command_encoder(&Default::default());
-            self.copy_out(&mut enc, &color, &frame_rb, w, h, 16);
-            if let Some(pc) = &pc {
+            frame_rb.copy(&mut enc, &color, slot);
+            if let (Some(pc), Some(cls_rb)) = (&pc, &cls_rb) {
                 {
                     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                         label: Some("reproj_classify"),
@@ -1665,67 +1705,85 @@ impl Renderer {
                     });
                     self.draw(&mut pass, pc, &b[3], &scene, vgroup);
                 }
-                self.copy_out(&mut enc, &cls, &cls_rb, w, h, 4);
+                cls_rb.copy(&mut enc, &cls, slot);
             }
-            self.queue.submit([enc.finish()]);
-            let pixels: Vec<f32> =
-                bytemuck::pod_collect_to_vec(&Self::unpad(&self.read_buffer(&frame_rb)?, w, h, 16));
-            let cls_px = match &pc {
-                Some(_) => Some(Self::unpad(&self.read_buffer(&cls_rb)?, w, h, 4)),
-                None => None,
-            };
-            let (occ, pass_ms, span) = q.read(self)?;
-            self.check_errors(&format!("reading variant frame {f}"))?;
+            if slot == 0 {
+                batch_t0 = Instant::now();
+            }
+            let cpu = self.submit_frame(render, enc, &format!("rendering variant frame {f}"))?;
+            pending.push((f, cpu));
+            if pending.len() < slots as usize && f + 1 < frames {
+                continue;
+            }
 
-            let refr = &reference.frames[f as usize];
-            let (error, psnr, max_abs_diff) = metrics::compare(&pixels, refr);
-            let (mut hit_px, mut miss_px, mut refresh_px) = (None, None, None);
-            if let Some(c) = &cls_px {
-                let (mut hi, mut mi, mut re) = (0u64, 0u64, 0u64);
-                for p in c.chunks_exact(4) {
-                    if p[1] > 127 {
-                        hi += 1;
-                    } else if p[0] > 127 {
-                        mi += 1;
-                    } else if p[2] > 127 {
-                        re += 1;
+            // Read the batch back with one wait.
+            self.map_read(&rb_bufs)?;
+            let batch_ms = batch_t0.elapsed().as_secs_f64() * 1e3 / pending.len() as f64;
+            let first = pending[0].0;
+            self.check_errors(&format!("rendering variant frames {first}..={f}"))?;
+            for (slot, &(f, cpu)) in pending.iter().enumerate() {
+                let slot = slot as u32;
+                let cpu_ms = cpu.unwrap_or(batch_ms);
+                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
+                let cls_px = match &cls_rb {
+                    Some(c) => Some(c.image(slot)?),
+                    None => None,
+                };
+                let (occ, pass_ms, span) = q.read(slot)?;
+
+                let refr = &reference.frames[f as usize];
+                let (error, psnr, max_abs_diff) = metrics::compare(&pixels, refr);
+                let (mut hit_px, mut miss_px, mut refresh_px) = (None, None, None);
+                if let Some(c) = &cls_px {
+                    let (mut hi, mut mi, mut re) = (0u64, 0u64, 0u64);
+                    for p in c.chunks_exact(4) {
+                        if p[1] > 127 {
+                            hi += 1;
+                        } else if p[0] > 127 {
+                            mi += 1;
+                        } else if p[2] > 127 {
+                            re += 1;
+                        }
+                    }
+                    hit_px = Some(hi);
+                    miss_px = Some(mi);
+                    refresh_px = Some(re);
+                }
+                let hit_rate = match (hit_px, miss_px, refresh_px) {
+                    (Some(hi), Some(mi), Some(re)) if hi + mi + re > 0 => {
+                        hi as f64 / (hi + mi + re) as f64
+                    }
+                    _ if occ[2] > 0 => (occ[0] as f64 / occ[2] as f64).min(1.0),
+                    _ => 0.0,
+                };
+                let frame_ms = span.unwrap_or(cpu_ms);
+                if let Some(dir) = &opts.png_dir {
+                    output::write_frame(dir, f, w, h, &pixels)?;
+                    output::write_errmap(dir, f, w, h, &metrics::pixel_errors(&pixels, refr))?;
+                    if let Some(c) = &cls_px {
+                        output::write_hitmap(dir, f, w, h, c)?;
                     }
                 }
-                hit_px = Some(hi);
-                miss_px = Some(mi);
-                refresh_px = Some(re);
+                report.frames.push(FrameRecord {
+                    frame: f,
+                    frame_ms,
+                    cpu_ms,
+                    pass_ms,
+                    shaded: occ[2],
+                    hits: occ[0],
+                    recomputes: occ[1],
+                    hit_px,
+                    miss_px,
+                    refresh_px,
+                    hit_rate,
+                    error,
+                    psnr,
+                    max_abs_diff,
+                });
             }
-            let hit_rate = match (hit_px, miss_px, refresh_px) {
-                (Some(hi), Some(mi), Some(re)) if hi + mi + re > 0 => {
-                    hi as f64 / (hi + mi + re) as f64
-                }
-                _ if occ[2] > 0 => (occ[0] as f64 / occ[2] as f64).min(1.0),
-                _ => 0.0,
-            };
-            let frame_ms = span.unwrap_or(cpu_ms);
-            if let Some(dir) = &opts.png_dir {
-                output::write_frame(dir, f, w, h, &pixels)?;
-                output::write_errmap(dir, f, w, h, &metrics::pixel_errors(&pixels, refr))?;
-                if let Some(c) = &cls_px {
-                    output::write_hitmap(dir, f, w, h, c)?;
-                }
-            }
-            report.frames.push(FrameRecord {
-                frame: f,
-                frame_ms,
-                cpu_ms,
-                pass_ms,
-                shaded: occ[2],
-                hits: occ[0],
-                recomputes: occ[1],
-                hit_px,
-                miss_px,
-                refresh_px,
-                hit_rate,
-                error,
-                psnr,
-                max_abs_diff,
-            });
+            Self::unmap_all(&rb_bufs);
+            self.check_errors(&format!("reading variant frames {first}..={f}"))?;
+            pending.clear();
             // Swap happens through the parity of the next frame.
         }
         report.summarize();
@@ -1733,19 +1791,97 @@ impl Renderer {
     }
 }
 
-/// Occlusion and timestamp query sets for `passes` passes, with their resolve and readback buffers.
+/// A host-readable buffer of `slots` padded w×h images of `bpp` bytes per texel: each frame of a
+/// readback batch copies its image into its own slot.
+struct Staging {
+    buf: wgpu::Buffer,
+    slot_bytes: u64,
+    w: u32,
+    h: u32,
+    bpp: u32,
+}
+
+impl Staging {
+    fn new(r: &Renderer, label: &str, w: u32, h: u32, bpp: u32, slots: u32) -> Staging {
+        let slot_bytes = Self::slot_bytes(w, h, bpp);
+        let buf = r.buffer(
+            label,
+            slot_bytes * slots as u64,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        Staging {
+            buf,
+            slot_bytes,
+            w,
+            h,
+            bpp,
+        }
+    }
+
+    /// Bytes of one padded image (a multiple of the row alignment, so slots stay aligned).
+    fn slot_bytes(w: u32, h: u32, bpp: u32) -> u64 {
+        readback_row_bytes(w, bpp) as u64 * h as u64
+    }
+
+    /// Record a copy of `tex` into `slot`.
+    fn copy(&self, enc: &mut wgpu::CommandEncoder, tex: &wgpu::Texture, slot: u32) {
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: tex,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.buf,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: slot as u64 * self.slot_bytes,
+                    bytes_per_row: Some(readback_row_bytes(self.w, self.bpp)),
+                    rows_per_image: Some(self.h),
+                },
+            },
+            wgpu::Extent3d {
+                width: self.w,
+                height: self.h,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+
+    /// The tightly packed image in `slot` (the buffer must be mapped).
+    fn image(&self, slot: u32) -> Result<Vec<u8>, ReplayError> {
+        let at = slot as u64 * self.slot_bytes;
+        let view = self
+            .buf
+            .get_mapped_range(at..at + self.slot_bytes)
+            .map_err(|e| gpu_err("reading a readback buffer", e))?;
+        Ok(Renderer::unpad(&view, self.w, self.h, self.bpp))
+    }
+}
+
+/// Occlusion and timestamp query sets for `passes` passes, with resolve and readback buffers of
+/// `slots` frames: the query sets are reused every frame, and each frame of a readback batch
+/// resolves its results into its own slot.
 struct QueryKit {
     passes: u32,
     occlusion: wgpu::QuerySet,
     occ_resolve: wgpu::Buffer,
     occ_read: wgpu::Buffer,
+    /// Bytes between the slots of the occlusion buffers (resolve offsets are 256-aligned).
+    occ_stride: u64,
     ts: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
+    /// Bytes between the slots of the timestamp buffers.
+    ts_stride: u64,
     period_ns: f32,
 }
 
 impl QueryKit {
-    fn new(r: &Renderer, passes: u32) -> QueryKit {
-        let size = 8 * passes as u64;
+    fn new(r: &Renderer, passes: u32, slots: u32) -> QueryKit {
+        let align = |n: u64| {
+            n.div_ceil(wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT) * wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT
+        };
+        let occ_stride = align(8 * passes as u64);
+        let ts_stride = align(16 * passes as u64);
         let occlusion = r.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("occlusion"),
             ty: wgpu::QueryType::Occlusion,
@@ -1753,12 +1889,12 @@ impl QueryKit {
         });
         let occ_resolve = r.buffer(
             "occlusion resolve",
-            size,
+            occ_stride * slots as u64,
             wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
         );
         let occ_read = r.buffer(
             "occlusion read",
-            size,
+            occ_stride * slots as u64,
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         );
         let ts = r.timestamps.then(|| {
@@ -1769,12 +1905,12 @@ impl QueryKit {
             });
             let res = r.buffer(
                 "timestamp resolve",
-                2 * size,
+                ts_stride * slots as u64,
                 wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             );
             let read = r.buffer(
                 "timestamp read",
-                2 * size,
+                ts_stride * slots as u64,
                 wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             );
             (qs, res, read)
@@ -1784,7 +1920,9 @@ impl QueryKit {
             occlusion,
             occ_resolve,
             occ_read,
+            occ_stride,
             ts,
+            ts_stride,
             period_ns: r.timestamp_period,
         }
     }
@@ -1799,29 +1937,51 @@ impl QueryKit {
             })
     }
 
-    fn resolve(&self, enc: &mut wgpu::CommandEncoder) {
-        enc.resolve_query_set(&self.occlusion, 0..self.passes, &self.occ_resolve, 0);
+    /// Record resolving this frame's queries into `slot` of the readback buffers.
+    fn resolve(&self, enc: &mut wgpu::CommandEncoder, slot: u32) {
+        let at = self.occ_stride * slot as u64;
+        enc.resolve_query_set(&self.occlusion, 0..self.passes, &self.occ_resolve, at);
         enc.copy_buffer_to_buffer(
             &self.occ_resolve,
-            0,
+            at,
             &self.occ_read,
-            0,
+            at,
             Some(8 * self.passes as u64),
         );
         if let Some((qs, res, read)) = &self.ts {
-            enc.resolve_query_set(qs, 0..2 * self.passes, res, 0);
-            enc.copy_buffer_to_buffer(res, 0, read, 0, Some(16 * self.passes as u64));
+            let at = self.ts_stride * slot as u64;
+            enc.resolve_query_set(qs, 0..2 * self.passes, res, at);
+            enc.copy_buffer_to_buffer(res, at, read, at, Some(16 * self.passes as u64));
         }
     }
 
-    /// (occlusion counts per pass, per-pass ms, first-begin-to-last-end ms); times empty / None
-    /// without timestamps.
-    fn read(&self, r: &Renderer) -> Result<QueryResults, ReplayError> {
-        let occ: Vec<u64> = bytemuck::pod_collect_to_vec(&r.read_buffer(&self.occ_read)?);
+    /// The readback buffers, to map once per batch.
+    fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
+        let mut v = vec![&self.occ_read];
+        if let Some((_, _, read)) = &self.ts {
+            v.push(read);
+        }
+        v
+    }
+
+    /// (occlusion counts per pass, per-pass ms, first-begin-to-last-end ms) of the frame in
+    /// `slot` (the read buffers must be mapped); times empty / None without timestamps.
+    fn read(&self, slot: u32) -> Result<QueryResults, ReplayError> {
+        let mapped = |buf: &wgpu::Buffer, at: u64, len: u64| -> Result<Vec<u64>, ReplayError> {
+            let view = buf
+                .get_mapped_range(at..at + len)
+                .map_err(|e| gpu_err("reading a query readback buffer", e))?;
+            Ok(bytemuck::pod_collect_to_vec(&view))
+        };
+        let occ = mapped(
+            &self.occ_read,
+            self.occ_stride * slot as u64,
+            8 * self.passes as u64,
+        )?;
         let mut ms = Vec::new();
         let mut span = None;
         if let Some((_, _, read)) = &self.ts {
-            let t: Vec<u64> = bytemuck::pod_collect_to_vec(&r.read_buffer(read)?);
+            let t = mapped(read, self.ts_stride * slot as u64, 16 * self.passes as u64)?;
             for p in 0..self.passes as usize {
                 ms.push(t[2 * p + 1].saturating_sub(t[2 * p]) as f64 * self.period_ns as f64 / 1e6);
             }
