@@ -125,11 +125,17 @@ pub fn analyze(
         }
         None => profile_candidates(input.table, &opts.prune),
     };
-    let periods: Vec<u32> = opts
-        .delta_n_train
-        .iter()
-        .chain(&opts.delta_n_holdout)
-        .copied()
+    // The longest training period first: it is the fastest a variant gets, so a node whose variant is
+    // slower than the original even there can never be chosen and is set aside at once.
+    let longest = *opts.delta_n_train.iter().max().expect("checked above");
+    let periods: Vec<u32> = std::iter::once(longest)
+        .chain(
+            opts.delta_n_train
+                .iter()
+                .chain(&opts.delta_n_holdout)
+                .copied()
+                .filter(|&d| d != longest),
+        )
         .collect();
     progress.start(1 + (ids.len() * periods.len()) as u64);
 
@@ -206,7 +212,16 @@ pub fn analyze(
                     let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
                     time.rendering_s += gpu.min(wall);
                     time.readback_and_error_s += (wall - gpu).max(0.0);
-                    measurements.push(measurement(dn, &report));
+                    let m = measurement(dn, &report);
+                    if dn == longest && m.frame_ms >= original.frame_ms && !node.root {
+                        let why = format!(
+                            "slower than the original even at Δn = {dn} ({:.3} ms vs {:.3} ms): it cannot pay off",
+                            m.frame_ms, original.frame_ms
+                        );
+                        progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
+                        failure = Some(why);
+                    }
+                    measurements.push(m);
                 }
                 Err(e) => {
                     progress.note(&format!(

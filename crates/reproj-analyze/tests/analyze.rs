@@ -1,0 +1,85 @@
+//! `analyze` end to end on the machine's adapter (lavapipe in CI): a short static session, so every
+//! node's error is zero — the degenerate case the models must survive — then `emit` from the profile.
+
+use std::path::PathBuf;
+
+use reproj_analyze::{
+    AnalyzeInput, AnalyzeOptions, EmitOptions, Silent, analyze, emit, load_profile,
+};
+use reproj_front::{enumerate, load_file, normalize};
+use reproj_models::profile::NodeStatus;
+use reproj_replay::{Renderer, RendererOptions, Session};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn static_session_profiles_without_nan_and_emits() {
+    let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let sum = table.cacheable().find(|n| n.text == "s3 + n4").unwrap().id;
+    let session_path = root().join("sessions/test_static.json");
+    let session_bytes = std::fs::read(&session_path).unwrap();
+    let session = Session::load(&session_path).unwrap();
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let opts = AnalyzeOptions {
+        delta_n_train: vec![2, 6, 10],
+        delta_n_holdout: vec![4],
+        nodes: Some(vec![sum]),
+        max_frames: Some(6),
+        ..AnalyzeOptions::default()
+    };
+    let input = AnalyzeInput {
+        shader: &shader,
+        norm: &norm,
+        table: &table,
+        session_path: &session_path,
+        session_bytes: &session_bytes,
+        session: &session,
+    };
+    let profile = analyze(&input, &renderer, &opts, &Silent).unwrap();
+    assert_eq!(profile.nodes.len(), 2, "the chosen node and the root");
+    assert!(profile.nodes.iter().any(|n| n.root));
+    for n in &profile.nodes {
+        match &n.status {
+            NodeStatus::Ok => {
+                // Nothing moves: reuse is exact up to filtering round-off, the error curve is flat
+                // at (nearly) zero.
+                assert!(n.error_fit.alpha.is_some_and(|a| a < 1e-5), "{n:?}");
+                assert_eq!(n.measurements.len(), 4);
+            }
+            NodeStatus::SetAside { reason } => assert!(!reason.is_empty()),
+        }
+        assert!(n.measurements.iter().all(|m| m.error < 1e-4));
+    }
+    let json = serde_json::to_string(&profile).unwrap();
+    assert!(!json.contains("NaN") && !json.contains("inf"), "{json}");
+
+    // The profile reads back and drives `emit` without a GPU.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("marble.profile.json");
+    std::fs::write(&path, &json).unwrap();
+    let back = load_profile(&path).unwrap();
+    assert_eq!(back.nodes.len(), profile.nodes.len());
+    let (report, _) = emit(
+        &back,
+        &path,
+        &EmitOptions {
+            max_error: 0.01,
+            min_delta_n: 2,
+            max_delta_n: 50,
+            out: dir.path().join("out"),
+            cache_format: reproj_instance::CacheFormat::Rgba32float,
+        },
+    )
+    .unwrap();
+    // Either a node (zero error fits any budget) or the original, said plainly: never a panic.
+    assert!(
+        report.node.is_some() || report.reason.is_some(),
+        "{report:?}"
+    );
+    assert!(dir.path().join("out/report.json").exists());
+}
