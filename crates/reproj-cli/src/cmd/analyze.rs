@@ -26,7 +26,11 @@ impl Progress for Bar {
         self.0.inc(1);
     }
     fn note(&self, line: &str) {
-        self.0.println(line);
+        if self.0.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            self.0.println(line);
+        }
     }
     fn finish(&self) {
         self.0.finish_and_clear();
