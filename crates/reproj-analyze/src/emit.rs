@@ -238,17 +238,18 @@ pub fn emit(
             None
         }
     };
-    let mut json = serde_json::to_vec_pretty(&report).expect("report serializes");
-    json.push(b'\n');
-    let report_path = opts.out.join("report.json");
-    write_atomic(&report_path, &json)?;
-    report.files.push(report_path.display().to_string());
+    report
+        .files
+        .push(opts.out.join("report.json").display().to_string());
+    write_report(&report, &opts.out)?;
     Ok((report, variant))
 }
 
-/// Re-render the selection over `session` and record measured error and speedup in `report`.
+/// Re-render the selection over `session`, record measured error and speedup in `report`, and
+/// rewrite `out/report.json` (`out`: the directory [`emit`] wrote into).
 pub fn verify(
     report: &mut EmitReport,
+    out: &Path,
     variant: Option<&Variant>,
     profile: &Profile,
     profile_path: &Path,
@@ -284,16 +285,14 @@ pub fn verify(
                 (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);
         }
     }
-    let mut json = serde_json::to_vec_pretty(&*report).expect("report serializes");
+    write_report(report, out)
+}
+
+/// Write `out/report.json`.
+fn write_report(report: &EmitReport, out: &Path) -> Result<(), AnalyzeError> {
+    let mut json = serde_json::to_vec_pretty(report).expect("report serializes");
     json.push(b'\n');
-    if let Some(dir) = report
-        .files
-        .last()
-        .and_then(|f| Path::new(f).parent().map(Path::to_owned))
-    {
-        write_atomic(&dir.join("report.json"), &json)?;
-    }
-    Ok(())
+    write_atomic(&out.join("report.json"), &json)
 }
 
 /// Write a file through a temporary name and a rename.

@@ -56,6 +56,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         .map_err(replay_error)?;
         verify(
             &mut report,
+            &opts.out,
             variant.as_ref(),
             &profile,
             &profile_path,
