@@ -387,7 +387,9 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
     Measurement {
         delta_n,
         error: finite(report.error),
-        psnr: (report.psnr.is_finite() && report.psnr < 100.0).then_some(report.psnr),
+        mse: report.mse.is_finite().then_some(report.mse),
+        psnr: (report.psnr.is_finite() && report.psnr < reproj_replay::metrics::PSNR_CAP)
+            .then_some(report.psnr),
         hit_rate: finite(report.hit_rate),
         frame_ms: finite(report.frame_ms),
         frames,

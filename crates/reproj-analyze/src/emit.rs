@@ -8,7 +8,8 @@ use reproj_instance::{
     CacheFormat, InstanceOptions, NodeSelector, Variant, instance, write_variant,
 };
 use reproj_models::profile::NodeStatus;
-use reproj_models::{Profile, content_hash, psnr_from_l2_error};
+use reproj_models::{Profile, content_hash};
+use reproj_replay::metrics::{PSNR_CAP, psnr};
 use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
 use reproj_select::{NodeRecord, SelectOptions, Selection, select};
 use serde::{Deserialize, Serialize};
@@ -40,6 +41,8 @@ pub struct EmitReport {
     pub col: Option<u32>,
     pub delta_n: Option<u32>,
     pub predicted_error: Option<f64>,
+    /// PSNR of the MSE measured at the profiled Δn, interpolated between neighbouring periods
+    /// (`None` beyond the longest profiled Δn or for a profile that recorded no MSE).
     pub predicted_psnr: Option<f64>,
     pub predicted_ms: Option<f64>,
     pub original_ms: f64,
@@ -48,6 +51,7 @@ pub struct EmitReport {
     pub reason: Option<String>,
     pub files: Vec<String>,
     pub measured_error: Option<f64>,
+    /// The re-rendered session's PSNR, as `reproj render` reports it.
     pub measured_psnr: Option<f64>,
     pub measured_ms: Option<f64>,
     pub measured_original_ms: Option<f64>,
@@ -222,7 +226,7 @@ pub fn emit(
             report.col = Some(node.col);
             report.delta_n = Some(choice.delta_n);
             report.predicted_error = Some(choice.predicted_error);
-            report.predicted_psnr = choice.predicted_psnr_db;
+            report.predicted_psnr = node.mse_at(choice.delta_n).map(psnr);
             report.predicted_ms = Some(choice.predicted_ms);
             report.predicted_speedup = Some(choice.predicted_speedup);
             Some(variant)
@@ -268,6 +272,7 @@ pub fn verify(
     match variant {
         None => {
             report.measured_error = Some(0.0);
+            report.measured_psnr = Some(PSNR_CAP);
             report.measured_ms = Some(reference.report.frame_ms);
             report.measured_speedup = Some(1.0);
         }
@@ -279,7 +284,7 @@ pub fn verify(
             );
             let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
             report.measured_error = Some(r.error);
-            report.measured_psnr = psnr_from_l2_error(r.error);
+            report.measured_psnr = Some(r.psnr).filter(|p| p.is_finite());
             report.measured_ms = Some(r.frame_ms);
             report.measured_speedup =
                 (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);

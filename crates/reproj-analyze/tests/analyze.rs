@@ -4,11 +4,11 @@
 use std::path::PathBuf;
 
 use reproj_analyze::{
-    AnalyzeInput, AnalyzeOptions, EmitOptions, Silent, analyze, emit, load_profile,
+    AnalyzeInput, AnalyzeOptions, EmitOptions, Silent, analyze, emit, load_profile, verify,
 };
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_models::profile::NodeStatus;
-use reproj_replay::{Renderer, RendererOptions, Session};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -54,6 +54,7 @@ fn static_session_profiles_without_nan_and_emits() {
             NodeStatus::SetAside { reason } => assert!(!reason.is_empty()),
         }
         assert!(n.measurements.iter().all(|m| m.error < 1e-4));
+        assert!(n.measurements.iter().all(|m| m.mse.is_some()));
     }
     let json = serde_json::to_string(&profile).unwrap();
     assert!(!json.contains("NaN") && !json.contains("inf"), "{json}");
@@ -64,7 +65,7 @@ fn static_session_profiles_without_nan_and_emits() {
     std::fs::write(&path, &json).unwrap();
     let back = load_profile(&path).unwrap();
     assert_eq!(back.nodes.len(), profile.nodes.len());
-    let (report, _) = emit(
+    let (mut report, variant) = emit(
         &back,
         &path,
         &EmitOptions {
@@ -82,4 +83,44 @@ fn static_session_profiles_without_nan_and_emits() {
         "{report:?}"
     );
     assert!(dir.path().join("out/report.json").exists());
+
+    // `emit --verify` measures the PSNR exactly as `render` does: the same number for the same
+    // variant over the same (here moving) session.
+    let mut moving = Session::load(root().join("sessions/marble.json")).unwrap();
+    moving.resolution = [64, 64];
+    moving.frames = 5;
+    let out = dir.path().join("out");
+    verify(
+        &mut report,
+        &out,
+        variant.as_ref(),
+        &back,
+        &path,
+        &moving,
+        &renderer,
+    )
+    .unwrap();
+    let entry = shader.fragment_entry(None).unwrap();
+    let opts = RenderOptions {
+        classify: false,
+        ..RenderOptions::default()
+    };
+    let reference = renderer
+        .render_original(&shader, entry, &moving, &opts)
+        .unwrap();
+    let rendered = match &variant {
+        Some(v) => {
+            let input = VariantInput::new(
+                v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                v.manifest.clone(),
+                report.delta_n.unwrap(),
+            );
+            renderer
+                .render_variant(&shader, &moving, &input, &reference, &opts)
+                .unwrap()
+        }
+        None => reference.report.clone(),
+    };
+    assert_eq!(report.measured_psnr, Some(rendered.psnr), "{report:?}");
+    assert_eq!(report.measured_error, Some(rendered.error));
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use reproj_analyze::{AnalyzeError, EmitOptions, emit, load_profile};
 use reproj_instance::CacheFormat;
 use reproj_models::profile::{
-    AnalysisTime, Machine, NodeProfile, NodeStatus, OriginalRecord, Source,
+    AnalysisTime, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Source,
 };
 use reproj_models::{
     ErrorFitOptions, FrameTiming, PROFILE_VERSION, Profile, content_hash, fit_error, fit_hit_rate,
@@ -157,6 +157,39 @@ fn budgets_pick_original_node_then_root() {
 
     let (r, _) = emit(&p, &pp, &opts(0.5, &dir.path().join("loose"))).unwrap();
     assert_eq!(r.node.as_deref(), Some("root"), "{r:?}");
+}
+
+/// The predicted PSNR is the PSNR of the measured MSE interpolated at the chosen Δn (the same
+/// formula `render` uses), not derived from the L2 error; none from a profile without MSEs.
+#[test]
+fn predicted_psnr_comes_from_the_measured_mse() {
+    let shader = root().join("shaders/marble.wgsl");
+    let mut p = profile(&shader);
+    let dir = tempfile::tempdir().unwrap();
+    let pp = dir.path().join("marble.profile.json");
+    let (r, _) = emit(&p, &pp, &opts(0.015, &dir.path().join("old"))).unwrap();
+    assert!(r.node.is_some() && r.predicted_psnr.is_none(), "{r:?}");
+
+    // MSE linear in Δn, measured at the training periods only: interpolation is exact.
+    for n in &mut p.nodes {
+        n.measurements = p
+            .delta_n_train
+            .iter()
+            .map(|&d| Measurement {
+                delta_n: d,
+                error: 0.0,
+                mse: Some(1e-5 * f64::from(d)),
+                psnr: None,
+                hit_rate: 0.0,
+                frame_ms: 1.0,
+                frames: Vec::new(),
+            })
+            .collect();
+    }
+    let (r, _) = emit(&p, &pp, &opts(0.015, &dir.path().join("new"))).unwrap();
+    let dn = f64::from(r.delta_n.unwrap());
+    let expect = reproj_replay::metrics::psnr(1e-5 * dn);
+    assert!((r.predicted_psnr.unwrap() - expect).abs() < 1e-9, "{r:?}");
 }
 
 #[test]

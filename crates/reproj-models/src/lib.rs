@@ -23,7 +23,6 @@ pub use error_model::{
 };
 pub use hit_rate::{HitRateFit, HitRateFitFailure, HitRateStatus, fit_hit_rate};
 pub use profile::{PROFILE_VERSION, Profile, content_hash};
-pub use stats::psnr_from_l2_error;
 pub use timing::{
     FrameTiming, TimingFit, TimingFitFailure, TimingFitOptions, TimingParam, TimingStatus,
     TimingWarning, fit_timing, fit_timing_with_holdout, fit_timing_with_options,

@@ -77,9 +77,15 @@ pub struct OriginalRecord {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Measurement {
     pub delta_n: u32,
-    /// Mean over frames of the mean per-pixel L2 RGB distance to the original.
+    /// Mean over frames of the mean per-pixel L2 RGB distance to the original (over all pixels).
     pub error: f64,
-    /// Mean PSNR over frames, dB (`None` when every frame is identical to the original).
+    /// Mean squared RGB error over the pixels the original covers, pooled over the frames
+    /// (`docs/SCHEMAS.md`). `None` in profiles written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mse: Option<f64>,
+    /// PSNR of `mse`, `10 log10(1 / mse)` dB (`None` when the variant is identical to the
+    /// original). Profiles written before `mse` was recorded hold the mean of per-frame PSNRs
+    /// over all pixels here.
     pub psnr: Option<f64>,
     /// Hits / shaded pixels over the session.
     pub hit_rate: f64,
@@ -130,6 +136,33 @@ pub struct NodeProfile {
     pub status: NodeStatus,
 }
 
+impl NodeProfile {
+    /// The MSE of caching this node at refresh period `delta_n`, from the measured MSEs
+    /// interpolated linearly in Δn between the neighbouring measured periods; below the shortest
+    /// measured period from 0 at Δn = 1 (every pixel refreshed every frame: the original).
+    /// `None` above the longest measured period, or when no measurement recorded an MSE.
+    pub fn mse_at(&self, delta_n: u32) -> Option<f64> {
+        let mut points: Vec<(f64, f64)> = self
+            .measurements
+            .iter()
+            .filter_map(|m| Some((f64::from(m.delta_n), m.mse.filter(|v| v.is_finite())?)))
+            .collect();
+        if points.is_empty() {
+            return None;
+        }
+        points.push((1.0, 0.0));
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let x = f64::from(delta_n.max(1));
+        let i = points.partition_point(|p| p.0 < x);
+        let (x1, y1) = *points.get(i)?;
+        if x1 == x || i == 0 {
+            return Some(y1);
+        }
+        let (x0, y0) = points[i - 1];
+        Some(y0 + (y1 - y0) * (x - x0) / (x1 - x0))
+    }
+}
+
 /// Where the analysis time went, in seconds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct AnalysisTime {
@@ -155,6 +188,58 @@ pub fn content_hash(bytes: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{ErrorFitOptions, fit_error, fit_timing};
+
+    fn node_with(mses: &[(u32, Option<f64>)]) -> NodeProfile {
+        NodeProfile {
+            id: 1,
+            root: false,
+            text: "x".into(),
+            line: 1,
+            col: 1,
+            ty: "f32".into(),
+            cost: 1.0,
+            overlap: 0.0,
+            measurements: mses
+                .iter()
+                .map(|&(delta_n, mse)| Measurement {
+                    delta_n,
+                    error: 0.0,
+                    mse,
+                    psnr: None,
+                    hit_rate: 0.0,
+                    frame_ms: 1.0,
+                    frames: Vec::new(),
+                })
+                .collect(),
+            error_fit: fit_error(&[], &ErrorFitOptions::default()),
+            timing_fit: fit_timing(&[]),
+            holdout: Vec::new(),
+            status: NodeStatus::Ok,
+        }
+    }
+
+    #[test]
+    fn mse_is_interpolated_between_measured_periods() {
+        // Measured out of order, as `analyze` does (the longest period first).
+        let n = node_with(&[(50, Some(0.005)), (2, Some(0.001)), (10, Some(0.003))]);
+        assert_eq!(n.mse_at(10), Some(0.003));
+        assert_eq!(n.mse_at(2), Some(0.001));
+        assert!((n.mse_at(6).unwrap() - 0.002).abs() < 1e-15);
+        assert!((n.mse_at(30).unwrap() - 0.004).abs() < 1e-15);
+        assert_eq!(n.mse_at(1), Some(0.0));
+        assert_eq!(n.mse_at(0), Some(0.0));
+        assert_eq!(n.mse_at(51), None);
+        // Old profiles: no MSE recorded.
+        assert_eq!(node_with(&[(2, None), (10, None)]).mse_at(5), None);
+    }
+
+    #[test]
+    fn measurements_without_mse_still_load() {
+        let json = r#"{"delta_n":2,"error":0.01,"psnr":40.0,"hit_rate":0.5,"frame_ms":1.0,"frames":[]}"#;
+        let m: Measurement = serde_json::from_str(json).unwrap();
+        assert_eq!((m.delta_n, m.mse), (2, None));
+    }
 
     #[test]
     fn hash_is_stable() {

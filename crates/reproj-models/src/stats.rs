@@ -48,21 +48,6 @@ pub(crate) fn finite_or(x: f64, fallback: f64) -> f64 {
     if x.is_finite() { x } else { fallback }
 }
 
-/// PSNR in dB for a mean per-pixel L2 RGB error `e` (colors in [0, 1]).
-///
-/// Formula: we treat `e` as the RMS of the per-pixel RGB distance, so that the per-channel mean
-/// squared error is `e²/3`, and `PSNR = 10·log10(1 / MSE) = 10·log10(3 / e²)`. Because the mean of
-/// the L2 distance is at most its RMS, this is an upper bound of the PSNR computed from the images.
-///
-/// `None` for `e = 0` (lossless: infinite PSNR) and for a negative or non-finite `e`.
-pub fn psnr_from_l2_error(e: f64) -> Option<f64> {
-    if !e.is_finite() || e <= 0.0 {
-        return None;
-    }
-    let psnr = 10.0 * (3.0 / (e * e)).log10();
-    psnr.is_finite().then_some(psnr)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,15 +58,5 @@ mod tests {
         assert_eq!(r_squared(&[2.0, 2.0], &[2.0, 2.0]), 1.0);
         assert_eq!(r_squared(&[2.0, 2.0], &[1.0, 1.0]), 0.0);
         assert_eq!(r_squared(&[], &[]), 0.0);
-    }
-
-    #[test]
-    fn psnr_formula() {
-        // e = sqrt(3)·0.1 → per-channel RMSE 0.1 → 20 dB.
-        let p = psnr_from_l2_error(3f64.sqrt() * 0.1).unwrap();
-        assert!((p - 20.0).abs() < 1e-9);
-        assert_eq!(psnr_from_l2_error(0.0), None);
-        assert_eq!(psnr_from_l2_error(f64::NAN), None);
-        assert_eq!(psnr_from_l2_error(-1.0), None);
     }
 }

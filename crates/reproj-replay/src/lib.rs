@@ -45,16 +45,18 @@
 //! error and PSNR over every frame, hit rate and frame time over frames 1.. (frame 0 has no cache
 //! and pays shader compilation).
 
+mod assets;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
+mod reduce;
 pub mod reflect;
 mod render;
 pub mod session;
 pub mod textures;
 pub mod vertex;
 
-pub use metrics::{AdapterReport, FrameRecord, RenderReport, TimingMethod};
+pub use metrics::{AdapterReport, FrameError, FrameRecord, RenderReport, TimingMethod};
 pub use render::{Reference, RenderOptions, Renderer, RendererOptions, VariantInput};
 pub use session::{Session, SessionError};
 

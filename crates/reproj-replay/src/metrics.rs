@@ -53,7 +53,14 @@ pub struct FrameRecord {
     pub hit_rate: f64,
     /// Mean per-pixel L2 RGB distance to the reference over all pixels.
     pub error: f64,
-    /// PSNR in dB against the reference (capped at 100).
+    /// Mean squared RGB difference to the reference over the covered pixels (each channel
+    /// clamped to [0, 1]): squared error / (3 × `covered`); 0 when nothing is covered.
+    #[serde(default)]
+    pub mse: f64,
+    /// Pixels where the reference frame has geometry (its depth < 1).
+    #[serde(default)]
+    pub covered: u64,
+    /// PSNR of `mse` in dB, `10 log10(1 / mse)`, capped at 100.
     pub psnr: f64,
     /// Largest per-channel absolute difference to the reference.
     pub max_abs_diff: f64,
@@ -81,7 +88,11 @@ pub struct RenderReport {
     pub depth_epsilon: Option<f32>,
     /// Mean error over all frames (0 for the original).
     pub error: f64,
-    /// Mean PSNR over all frames.
+    /// Mean squared RGB error over the covered pixels of all frames, pooled: total squared error
+    /// / (3 × total covered pixels) (0 for the original).
+    #[serde(default)]
+    pub mse: f64,
+    /// PSNR of `mse` (capped at 100): not a mean of the per-frame PSNRs.
     pub psnr: f64,
     /// Mean hit rate over frames 1.. (0 for the original).
     pub hit_rate: f64,
@@ -107,13 +118,53 @@ pub fn pixel_errors(a: &[f32], b: &[f32]) -> Vec<f32> {
         .collect()
 }
 
-/// (mean L2 error, PSNR, max abs channel difference) of a frame against its reference.
-pub fn compare(frame: &[f32], reference: &[f32]) -> (f64, f64, f64) {
-    let mut sum = 0.0f64;
-    let mut sq = 0.0f64;
-    let mut maxd = 0.0f64;
-    let n = frame.len() / 4;
-    for (p, q) in frame.chunks_exact(4).zip(reference.chunks_exact(4)) {
+/// The error sums of one frame against its reference, from which every per-frame number is
+/// derived. Computed on the CPU by [`compare`] and on the GPU by the replay's reduction pass.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrameError {
+    /// Pixels in the frame.
+    pub pixels: u64,
+    /// Sum over all pixels of the L2 distance between the RGB values, each channel clamped to
+    /// [0, 1].
+    pub sum_l2: f64,
+    /// Pixels where the reference has geometry (reference depth < 1).
+    pub covered: u64,
+    /// Sum over the covered pixels and the three channels (clamped to [0, 1]) of the squared
+    /// difference.
+    pub sum_sq: f64,
+    /// Largest absolute difference of any channel, RGBA, unclamped (∞ when a difference is NaN).
+    pub max_abs_diff: f64,
+}
+
+impl FrameError {
+    /// Mean per-pixel L2 distance over all pixels: the error the budgets bound.
+    pub fn error(&self) -> f64 {
+        self.sum_l2 / self.pixels.max(1) as f64
+    }
+
+    /// Mean squared error per channel over the covered pixels; 0 when nothing is covered.
+    pub fn mse(&self) -> f64 {
+        mse(self.sum_sq, self.covered)
+    }
+
+    /// PSNR of [`FrameError::mse`].
+    pub fn psnr(&self) -> f64 {
+        psnr(self.mse())
+    }
+}
+
+/// Error sums of a frame against its reference (RGBA f32, same size) where the reference's depth
+/// (one f32 per pixel, 1 where nothing was drawn) says which pixels are covered.
+pub fn compare(frame: &[f32], reference: &[f32], reference_depth: &[f32]) -> FrameError {
+    let mut e = FrameError {
+        pixels: (frame.len() / 4) as u64,
+        ..FrameError::default()
+    };
+    for ((p, q), &depth) in frame
+        .chunks_exact(4)
+        .zip(reference.chunks_exact(4))
+        .zip(reference_depth)
+    {
         let mut s = 0.0f64;
         for c in 0..3 {
             let d = (p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0)) as f64;
@@ -121,23 +172,36 @@ pub fn compare(frame: &[f32], reference: &[f32]) -> (f64, f64, f64) {
         }
         for c in 0..4 {
             let d = (p[c] - q[c]).abs() as f64;
-            maxd = if d.is_nan() {
+            e.max_abs_diff = if d.is_nan() {
                 f64::INFINITY
             } else {
-                maxd.max(d)
+                e.max_abs_diff.max(d)
             };
         }
-        sum += s.sqrt();
-        sq += s;
+        e.sum_l2 += s.sqrt();
+        if depth < 1.0 {
+            e.covered += 1;
+            e.sum_sq += s;
+        }
     }
-    let n = n.max(1) as f64;
-    let mse = sq / (3.0 * n);
-    (sum / n, psnr(mse), maxd)
+    e
 }
 
-/// PSNR in dB for a peak of 1, capped at [`PSNR_CAP`].
+/// Mean squared error per channel of `sum_sq` over `covered` pixels and three channels; 0 when
+/// `covered` is 0.
+pub fn mse(sum_sq: f64, covered: u64) -> f64 {
+    if covered == 0 {
+        0.0
+    } else {
+        sum_sq / (3.0 * covered as f64)
+    }
+}
+
+/// PSNR in dB for a peak of 1, `10 log10(1 / mse)`, capped at [`PSNR_CAP`] (NaN for a NaN `mse`).
 pub fn psnr(mse: f64) -> f64 {
-    if mse <= 0.0 {
+    if mse.is_nan() {
+        f64::NAN
+    } else if mse <= 0.0 {
         PSNR_CAP
     } else {
         (10.0 * (1.0 / mse).log10()).min(PSNR_CAP)
@@ -160,9 +224,114 @@ impl RenderReport {
             all.iter().collect()
         };
         self.error = mean(all.iter().map(|f| f.error));
-        self.psnr = mean(all.iter().map(|f| f.psnr));
+        // Pooled over the frames: each frame's squared error is its MSE × 3 × covered pixels.
+        let sum_sq: f64 = all.iter().map(|f| f.mse * 3.0 * f.covered as f64).sum();
+        let covered: u64 = all.iter().map(|f| f.covered).sum();
+        self.mse = mse(sum_sq, covered);
+        self.psnr = psnr(self.mse);
         self.hit_rate = mean(after0.iter().map(|f| f.hit_rate));
         self.frame_ms = mean(after0.iter().map(|f| f.frame_ms));
         self.cpu_ms = mean(after0.iter().map(|f| f.cpu_ms));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(mse: f64, covered: u64, error: f64) -> FrameRecord {
+        FrameRecord {
+            frame: 0,
+            frame_ms: 1.0,
+            cpu_ms: 1.0,
+            pass_ms: Vec::new(),
+            shaded: covered,
+            hits: 0,
+            recomputes: 0,
+            hit_px: None,
+            miss_px: None,
+            refresh_px: None,
+            hit_rate: 0.0,
+            error,
+            mse,
+            covered,
+            psnr: psnr(mse),
+            max_abs_diff: 0.0,
+        }
+    }
+
+    #[test]
+    fn compare_counts_squared_error_only_where_the_reference_is_covered() {
+        // Two pixels: the first covered, off by 0.1 in R; the second background, off by 0.3 in G
+        // (and 0.5 in alpha, which only the max difference sees).
+        let reference = [0.5, 0.5, 0.5, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let frame = [0.6, 0.5, 0.5, 1.0, 0.0, 0.3, 0.0, 0.5];
+        let e = compare(&frame, &reference, &[0.4, 1.0]);
+        assert_eq!((e.pixels, e.covered), (2, 1));
+        let d0 = 0.6f32 - 0.5;
+        let d1 = 0.3f32;
+        assert!((e.sum_l2 - (d0 as f64 + d1 as f64)).abs() < 1e-12);
+        assert!((e.error() - (d0 as f64 + d1 as f64) / 2.0).abs() < 1e-12);
+        assert!((e.mse() - (d0 as f64).powi(2) / 3.0).abs() < 1e-12);
+        assert!((e.psnr() - 10.0 * (3.0 / (d0 as f64).powi(2)).log10()).abs() < 1e-9);
+        assert_eq!(e.max_abs_diff, 0.5);
+        // Clamped to [0, 1] before differencing; NaN makes the max difference infinite.
+        let e = compare(&[2.0, 0.0, 0.0, f32::NAN], &[1.0, 0.0, 0.0, 1.0], &[0.0]);
+        assert_eq!((e.sum_l2, e.sum_sq), (0.0, 0.0));
+        assert_eq!(e.max_abs_diff, f64::INFINITY);
+    }
+
+    #[test]
+    fn nothing_covered_is_zero_mse_and_capped_psnr() {
+        let e = compare(&[1.0, 1.0, 1.0, 1.0], &[0.0, 0.0, 0.0, 1.0], &[1.0]);
+        assert_eq!(e.covered, 0);
+        assert_eq!(e.mse(), 0.0);
+        assert_eq!(e.psnr(), PSNR_CAP);
+        assert!(e.error() > 1.7);
+        assert!(psnr(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn session_psnr_pools_the_squared_error() {
+        let mut report = RenderReport {
+            kind: "variant".into(),
+            shader: String::new(),
+            entry: String::new(),
+            session: String::new(),
+            resolution: [2, 2],
+            adapter: AdapterReport {
+                name: String::new(),
+                backend: String::new(),
+                device_type: String::new(),
+                driver: String::new(),
+                driver_info: String::new(),
+            },
+            timing: TimingMethod::CpuSubmitWait,
+            node: None,
+            delta_n: None,
+            block: None,
+            depth_epsilon: None,
+            error: 0.0,
+            mse: 0.0,
+            psnr: 0.0,
+            hit_rate: 0.0,
+            frame_ms: 0.0,
+            cpu_ms: 0.0,
+            frames: vec![record(0.0, 100, 0.0), record(0.01, 300, 0.2)],
+        };
+        report.summarize();
+        // 0.01 × 300 of the 400 covered pixels: 0.0075, not the mean of 100 dB and 20 dB.
+        assert!((report.mse - 0.0075).abs() < 1e-15);
+        assert!((report.psnr - 10.0 * (1.0 / 0.0075f64).log10()).abs() < 1e-12);
+        assert!((report.error - 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn older_frame_records_still_load() {
+        let json = r#"{"frame":3,"frame_ms":1.0,"cpu_ms":1.0,"pass_ms":[],"shaded":10,"hits":0,
+            "recomputes":10,"hit_px":null,"miss_px":null,"refresh_px":null,"hit_rate":0.0,
+            "error":0.01,"psnr":40.0,"max_abs_diff":0.1}"#;
+        let f: FrameRecord = serde_json::from_str(json).unwrap();
+        assert_eq!((f.frame, f.mse, f.covered), (3, 0.0, 0));
     }
 }

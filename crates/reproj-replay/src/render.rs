@@ -19,6 +19,7 @@ use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::num::NonZeroU64;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -26,12 +27,13 @@ use reproj_front::Shader;
 use reproj_instance::{CacheFormat, Manifest, PassKind};
 
 use crate::ReplayError;
-use crate::mesh::{self, Vertex};
+use crate::assets::Assets;
+use crate::mesh::Vertex;
 use crate::metrics::{self, AdapterReport, FrameRecord, RenderReport, TimingMethod};
 use crate::output;
+use crate::reduce::{self, FrameErrors, GpuReference, Keeper};
 use crate::reflect::{self, Interface, ResourceKind, TexDim};
-use crate::session::{Address, Cull, Filter, Session, TexFormat};
-use crate::textures;
+use crate::session::{Address, Cull, Filter, Session};
 use crate::vertex::{self, TransformUniform, VERTEX_ENTRY};
 
 /// Maximum bind groups the replay uses (WebGPU's default limit).
@@ -79,13 +81,19 @@ impl Default for RenderOptions {
     }
 }
 
-/// Reference frames of the original shader: RGBA f32, row-major, top row first, one per frame.
+/// Reference frames of the original shader: RGBA f32, row-major, top row first, one per frame,
+/// with their depth; the same frames stay on the GPU for the error reduction of variants.
 #[derive(Debug, Clone)]
 pub struct Reference {
     pub width: u32,
     pub height: u32,
     pub frames: Vec<Vec<f32>>,
+    /// Depth per pixel of each frame, row-major, top row first: 1 where nothing was drawn. The
+    /// pixels with depth < 1 are the *covered* ones, over which the MSE and PSNR are taken.
+    pub depth: Vec<Vec<f32>>,
     pub report: RenderReport,
+    /// The frames and depths on the renderer's device.
+    pub(crate) gpu: GpuReference,
 }
 
 /// A cached variant to render: the three pass modules in `manifest.passes` order, the manifest,
@@ -168,16 +176,24 @@ impl VariantInput {
     }
 }
 
-/// The GPU: instance, adapter, device and queue, plus what the adapter supports.
+/// The GPU: instance, adapter, device and queue, plus what the adapter supports, and what is kept
+/// across replays: the session's meshes and textures, the error reduction pipeline.
 pub struct Renderer {
     _instance: wgpu::Instance,
     adapter_info: AdapterReport,
-    device: wgpu::Device,
-    queue: wgpu::Queue,
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
     timestamps: bool,
     timestamp_period: f32,
     errors: Arc<Mutex<Vec<String>>>,
+    /// Unique per renderer in the process: tells whose device a [`Reference`]'s textures are on.
+    pub(crate) id: u64,
+    assets: Assets,
+    reduce_kernel: Mutex<Option<reduce::Kernel>>,
 }
+
+/// Source of [`Renderer::id`].
+static NEXT_RENDERER_ID: AtomicU64 = AtomicU64::new(1);
 
 impl std::fmt::Debug for Renderer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -188,7 +204,7 @@ impl std::fmt::Debug for Renderer {
     }
 }
 
-fn gpu_err(what: impl Into<String>, e: impl std::fmt::Display) -> ReplayError {
+pub(crate) fn gpu_err(what: impl Into<String>, e: impl std::fmt::Display) -> ReplayError {
     ReplayError::Gpu {
         what: what.into(),
         message: e.to_string(),
@@ -255,7 +271,7 @@ struct Pipe {
     by_cull: HashMap<Cull, wgpu::RenderPipeline>,
 }
 
-fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
+pub(crate) fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
     match d {
         TexDim::D2 => wgpu::TextureViewDimension::D2,
         TexDim::D3 => wgpu::TextureViewDimension::D3,
@@ -263,7 +279,7 @@ fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
     }
 }
 
-fn readback_row_bytes(width: u32, bpp: u32) -> u32 {
+pub(crate) fn readback_row_bytes(width: u32, bpp: u32) -> u32 {
     let a = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     (width * bpp).div_ceil(a) * a
 }
@@ -339,7 +355,29 @@ impl Renderer {
             timestamps: want_ts,
             timestamp_period,
             errors,
+            id: NEXT_RENDERER_ID.fetch_add(1, Ordering::Relaxed),
+            assets: Assets::default(),
+            reduce_kernel: Mutex::new(None),
         })
+    }
+
+    /// The error reduction pipeline, built on first use.
+    pub(crate) fn reduce_kernel(&self) -> Result<reduce::Kernel, ReplayError> {
+        let mut k = self
+            .reduce_kernel
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        if let Some(k) = &*k {
+            return Ok(k.clone());
+        }
+        let built = reduce::Kernel::new(self)?;
+        *k = Some(built.clone());
+        Ok(built)
+    }
+
+    /// How many times a replay found a mesh or texture of its session already on the GPU.
+    pub fn reused_assets(&self) -> u64 {
+        self.assets.hits()
     }
 
     /// The adapter results are measured on.
@@ -371,7 +409,7 @@ impl Renderer {
     }
 
     /// Run `f` inside a validation error scope; wgpu's complaint becomes an error.
-    fn scoped<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, ReplayError> {
+    pub(crate) fn scoped<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, ReplayError> {
         let guard = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out = f();
         if let Some(e) = pollster::block_on(guard.pop()) {
@@ -390,7 +428,7 @@ impl Renderer {
 
     /// Map every buffer in `bufs` for reading with a single host wait. The caller reads them with
     /// `get_mapped_range` and unmaps them with [`Renderer::unmap_all`].
-    fn map_read(&self, bufs: &[&wgpu::Buffer]) -> Result<(), ReplayError> {
+    pub(crate) fn map_read(&self, bufs: &[&wgpu::Buffer]) -> Result<(), ReplayError> {
         type Statuses = Arc<Mutex<Vec<Result<(), wgpu::BufferAsyncError>>>>;
         let status: Statuses = Arc::default();
         for b in bufs {
@@ -418,7 +456,7 @@ impl Renderer {
         Ok(())
     }
 
-    fn unmap_all(bufs: &[&wgpu::Buffer]) {
+    pub(crate) fn unmap_all(bufs: &[&wgpu::Buffer]) {
         for b in bufs {
             b.unmap();
         }
@@ -566,24 +604,7 @@ impl Renderer {
                 });
                 let mut objects = Vec::new();
                 for (i, o) in session.geometry.objects.iter().enumerate() {
-                    let m = mesh::build(session, &o.mesh)
-                        .map_err(|message| ReplayError::Asset { message })?;
-                    let vbuf = wgpu::util::DeviceExt::create_buffer_init(
-                        dev,
-                        &wgpu::util::BufferInitDescriptor {
-                            label: Some("vertices"),
-                            contents: bytemuck::cast_slice(&m.vertices),
-                            usage: wgpu::BufferUsages::VERTEX,
-                        },
-                    );
-                    let ibuf = wgpu::util::DeviceExt::create_buffer_init(
-                        dev,
-                        &wgpu::util::BufferInitDescriptor {
-                            label: Some("indices"),
-                            contents: bytemuck::cast_slice(&m.indices),
-                            usage: wgpu::BufferUsages::INDEX,
-                        },
-                    );
+                    let m = self.assets.mesh(self, session, &o.mesh)?;
                     let xf_buf = dev.create_buffer(&wgpu::BufferDescriptor {
                         label: Some(&format!("object {i} transforms")),
                         size: std::mem::size_of::<TransformUniform>() as u64,
@@ -599,9 +620,9 @@ impl Renderer {
                         }],
                     });
                     objects.push(ObjectGpu {
-                        vbuf,
-                        ibuf,
-                        count: m.indices.len() as u32,
+                        vbuf: m.vbuf,
+                        ibuf: m.ibuf,
+                        count: m.count,
                         cull: o.cull,
                         xf_buf,
                         xf_bg,
@@ -610,58 +631,13 @@ impl Renderer {
                 // Textures.
                 let mut textures = HashMap::new();
                 for (name, dim) in &tex_needed {
-                    let spec = &session.textures[name];
-                    let data = textures::build(session, name, spec, *dim)
-                        .map_err(|message| ReplayError::Asset { message })?;
-                    let format = match data.format {
-                        TexFormat::Rgba8unorm => wgpu::TextureFormat::Rgba8Unorm,
-                        TexFormat::Rgba8unormSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
-                        TexFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
-                    };
-                    let tex = dev.create_texture(&wgpu::TextureDescriptor {
-                        label: Some(name),
-                        size: wgpu::Extent3d {
-                            width: data.width,
-                            height: data.height,
-                            depth_or_array_layers: data.layers,
-                        },
-                        mip_level_count: data.levels.len() as u32,
-                        sample_count: 1,
-                        dimension: if *dim == TexDim::D3 {
-                            wgpu::TextureDimension::D3
-                        } else {
-                            wgpu::TextureDimension::D2
-                        },
-                        format,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                        view_formats: &[],
-                    });
-                    for level in 0..data.levels.len() {
-                        let (w, h, l) = data.level_size(level);
-                        self.queue.write_texture(
-                            wgpu::TexelCopyTextureInfo {
-                                texture: &tex,
-                                mip_level: level as u32,
-                                origin: wgpu::Origin3d::ZERO,
-                                aspect: wgpu::TextureAspect::All,
-                            },
-                            &data.encode_level(level),
-                            wgpu::TexelCopyBufferLayout {
-                                offset: 0,
-                                bytes_per_row: Some(w * data.bytes_per_texel()),
-                                rows_per_image: Some(h),
-                            },
-                            wgpu::Extent3d {
-                                width: w,
-                                height: h,
-                                depth_or_array_layers: l,
-                            },
-                        );
-                    }
-                    let view = tex.create_view(&wgpu::TextureViewDescriptor {
-                        dimension: Some(tex_dim(*dim)),
-                        ..Default::default()
-                    });
+                    let view = self.assets.texture(
+                        self,
+                        session,
+                        name,
+                        &session.textures[name],
+                        *dim,
+                    )?;
                     textures.insert(name.clone(), view);
                 }
                 // Samplers.
@@ -1147,8 +1123,12 @@ impl Renderer {
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
         let q = QueryKit::new(self, 1, slots);
         let frame_rb = Staging::new(self, "frame readback", w, h, 16, slots);
+        let depth_rb = Staging::new(self, "depth readback", w, h, 4, slots);
+        let keeper = Keeper::new(self, w, h);
+        let mut gpu = GpuReference::new(self);
         let mut rb_bufs = q.read_buffers();
         rb_bufs.push(&frame_rb.buf);
+        rb_bufs.push(&depth_rb.buf);
         let bg = session.background;
         let clear = wgpu::Color {
             r: bg[0] as f64,
@@ -1159,6 +1139,7 @@ impl Renderer {
 
         let mut report = self.new_report("original", shader, &iface.entry, session);
         let mut out_frames = Vec::with_capacity(frames as usize);
+        let mut out_depth = Vec::with_capacity(frames as usize);
         // Frames submitted but not read back yet: (frame, CPU time when measured alone).
         let mut pending: Vec<(u32, Option<f64>)> = Vec::new();
         let mut batch_t0 = Instant::now();
@@ -1197,6 +1178,8 @@ impl Renderer {
             q.resolve(&mut enc, slot);
             let mut rb = self.device.create_command_encoder(&Default::default());
             frame_rb.copy(&mut rb, &color, slot);
+            let at = slot as u64 * depth_rb.slot_bytes;
+            keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
             if slot == 0 {
                 batch_t0 = Instant::now();
             }
@@ -1214,6 +1197,8 @@ impl Renderer {
                 let slot = slot as u32;
                 let cpu_ms = cpu.unwrap_or(batch_ms);
                 let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
+                let depth: Vec<f32> = bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?);
+                let covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
                 let (occ, pass_ms, span) = q.read(slot)?;
                 let frame_ms = span.unwrap_or(cpu_ms);
                 if let Some(dir) = &opts.png_dir {
@@ -1232,10 +1217,13 @@ impl Renderer {
                     refresh_px: None,
                     hit_rate: 0.0,
                     error: 0.0,
+                    mse: 0.0,
+                    covered,
                     psnr: metrics::PSNR_CAP,
                     max_abs_diff: 0.0,
                 });
                 out_frames.push(pixels);
+                out_depth.push(depth);
             }
             Self::unmap_all(&rb_bufs);
             self.check_errors(&format!("reading frames {}..={f}", pending[0].0))?;
@@ -1246,7 +1234,9 @@ impl Renderer {
             width: w,
             height: h,
             frames: out_frames,
+            depth: out_depth,
             report,
+            gpu,
         })
     }
 
@@ -1270,6 +1260,7 @@ impl Renderer {
             block: None,
             depth_epsilon: None,
             error: 0.0,
+            mse: 0.0,
             psnr: metrics::PSNR_CAP,
             hit_rate: 0.0,
             frame_ms: 0.0,
@@ -1415,7 +1406,7 @@ impl Renderer {
             .iter()
             .map(|t| t.create_view(&Default::default()))
             .collect();
-        let color = self.target("frame color", w, h, FRAME_FORMAT, false);
+        let color = self.target("frame color", w, h, FRAME_FORMAT, true);
         let color_view = color.create_view(&Default::default());
         let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
         let cls_view = cls.create_view(&Default::default());
@@ -1552,12 +1543,12 @@ impl Renderer {
 
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
         let q = QueryKit::new(self, 3, slots);
-        let frame_rb = Staging::new(self, "frame readback", w, h, 16, slots);
+        let errors = FrameErrors::new(self, reference, frames, slots, opts.png_dir.is_some())?;
         let cls_rb = pc
             .as_ref()
             .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
         let mut rb_bufs = q.read_buffers();
-        rb_bufs.push(&frame_rb.buf);
+        rb_bufs.push(errors.read_buffer());
         if let Some(c) = &cls_rb {
             rb_bufs.push(&c.buf);
         }
@@ -1679,7 +1670,7 @@ impl Renderer {
             // Readback (and the untimed classification pass).
             let render = enc;
             let mut enc = self.device.create_command_encoder(&Default::default());
-            frame_rb.copy(&mut enc, &color, slot);
+            errors.encode(self, &mut enc, &color, &color_view, f, slot)?;
             if let (Some(pc), Some(cls_rb)) = (&pc, &cls_rb) {
                 {
                     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -1724,15 +1715,13 @@ impl Renderer {
             for (slot, &(f, cpu)) in pending.iter().enumerate() {
                 let slot = slot as u32;
                 let cpu_ms = cpu.unwrap_or(batch_ms);
-                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
+                let (errs, pixels) = errors.read(slot, reference, f)?;
                 let cls_px = match &cls_rb {
                     Some(c) => Some(c.image(slot)?),
                     None => None,
                 };
                 let (occ, pass_ms, span) = q.read(slot)?;
 
-                let refr = &reference.frames[f as usize];
-                let (error, psnr, max_abs_diff) = metrics::compare(&pixels, refr);
                 let (mut hit_px, mut miss_px, mut refresh_px) = (None, None, None);
                 if let Some(c) = &cls_px {
                     let (mut hi, mut mi, mut re) = (0u64, 0u64, 0u64);
@@ -1757,9 +1746,10 @@ impl Renderer {
                     _ => 0.0,
                 };
                 let frame_ms = span.unwrap_or(cpu_ms);
-                if let Some(dir) = &opts.png_dir {
-                    output::write_frame(dir, f, w, h, &pixels)?;
-                    output::write_errmap(dir, f, w, h, &metrics::pixel_errors(&pixels, refr))?;
+                if let (Some(dir), Some(pixels)) = (&opts.png_dir, &pixels) {
+                    let refr = &reference.frames[f as usize];
+                    output::write_frame(dir, f, w, h, pixels)?;
+                    output::write_errmap(dir, f, w, h, &metrics::pixel_errors(pixels, refr))?;
                     if let Some(c) = &cls_px {
                         output::write_hitmap(dir, f, w, h, c)?;
                     }
@@ -1776,9 +1766,11 @@ impl Renderer {
                     miss_px,
                     refresh_px,
                     hit_rate,
-                    error,
-                    psnr,
-                    max_abs_diff,
+                    error: errs.error(),
+                    mse: errs.mse(),
+                    covered: errs.covered,
+                    psnr: errs.psnr(),
+                    max_abs_diff: errs.max_abs_diff,
                 });
             }
             Self::unmap_all(&rb_bufs);
@@ -1793,16 +1785,16 @@ impl Renderer {
 
 /// A host-readable buffer of `slots` padded w×h images of `bpp` bytes per texel: each frame of a
 /// readback batch copies its image into its own slot.
-struct Staging {
-    buf: wgpu::Buffer,
-    slot_bytes: u64,
+pub(crate) struct Staging {
+    pub(crate) buf: wgpu::Buffer,
+    pub(crate) slot_bytes: u64,
     w: u32,
     h: u32,
     bpp: u32,
 }
 
 impl Staging {
-    fn new(r: &Renderer, label: &str, w: u32, h: u32, bpp: u32, slots: u32) -> Staging {
+    pub(crate) fn new(r: &Renderer, label: &str, w: u32, h: u32, bpp: u32, slots: u32) -> Staging {
         let slot_bytes = Self::slot_bytes(w, h, bpp);
         let buf = r.buffer(
             label,
@@ -1824,7 +1816,7 @@ impl Staging {
     }
 
     /// Record a copy of `tex` into `slot`.
-    fn copy(&self, enc: &mut wgpu::CommandEncoder, tex: &wgpu::Texture, slot: u32) {
+    pub(crate) fn copy(&self, enc: &mut wgpu::CommandEncoder, tex: &wgpu::Texture, slot: u32) {
         enc.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: tex,
@@ -1849,7 +1841,7 @@ impl Staging {
     }
 
     /// The tightly packed image in `slot` (the buffer must be mapped).
-    fn image(&self, slot: u32) -> Result<Vec<u8>, ReplayError> {
+    pub(crate) fn image(&self, slot: u32) -> Result<Vec<u8>, ReplayError> {
         let at = slot as u64 * self.slot_bytes;
         let view = self
             .buf

@@ -41,12 +41,14 @@ fn original_render_is_deterministic() {
         .unwrap();
     assert_eq!(a.frames.len(), 4);
     assert_eq!(a.frames, b.frames);
+    // The second replay found the sphere and the checker texture already on the GPU.
+    assert!(r.reused_assets() >= 2, "{} reused", r.reused_assets());
+    // Coverage comes from the depth: the sphere, not the background.
+    let covered = a.depth[0].iter().filter(|&&d| d < 1.0).count();
+    assert_eq!(a.report.frames[0].covered, covered as u64);
+    assert!(covered >= lit_pixels(&a.frames[0]) && covered < 64 * 64);
     // Something was drawn: the sphere covers part of the frame, the background is black.
-    let f0 = &a.frames[0];
-    let lit = f0
-        .chunks_exact(4)
-        .filter(|p| p[0] + p[1] + p[2] > 0.01)
-        .count();
+    let lit = lit_pixels(&a.frames[0]);
     assert!(lit > 200 && lit < 64 * 64, "lit pixels: {lit}");
     let shaded = a.report.frames[0].shaded;
     assert!(
@@ -55,6 +57,60 @@ fn original_render_is_deterministic() {
     );
     assert!(a.report.frame_ms > 0.0);
     assert!(!a.report.adapter.name.is_empty());
+}
+
+fn lit_pixels(frame: &[f32]) -> usize {
+    frame
+        .chunks_exact(4)
+        .filter(|p| p[0] + p[1] + p[2] > 0.01)
+        .count()
+}
+
+/// The error of a variant reduced on the GPU equals the error computed on the CPU from the pixels
+/// read back (as when PNGs are written) within 1e-5 relative; counts and maxima exactly.
+#[test]
+fn gpu_error_reduction_matches_the_cpu() {
+    let r = renderer();
+    let shader = tiny_shader();
+    let entry = shader.fragment_entry(None).unwrap();
+    let session = Session::load(data("tiny_moving.json")).unwrap();
+    let reference = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap();
+    let variant = VariantInput::from_dir(&data("variant_tiny"), 2).unwrap();
+    let gpu = r
+        .render_variant(
+            &shader,
+            &session,
+            &variant,
+            &reference,
+            &RenderOptions::default(),
+        )
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let cpu_opts = RenderOptions {
+        png_dir: Some(dir.path().to_owned()),
+        ..Default::default()
+    };
+    let cpu = r
+        .render_variant(&shader, &session, &variant, &reference, &cpu_opts)
+        .unwrap();
+    let close = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-5 * a.abs().max(b.abs());
+    assert!(cpu.error > 0.0, "the scene moves: the variant is not exact");
+    for (g, c) in gpu.frames.iter().zip(&cpu.frames) {
+        let f = g.frame;
+        assert_eq!(g.covered, c.covered, "frame {f}");
+        assert_eq!(g.max_abs_diff, c.max_abs_diff, "frame {f}");
+        assert!(close(g.error, c.error), "frame {f}: {} vs {}", g.error, c.error);
+        assert!(close(g.mse, c.mse), "frame {f}: {} vs {}", g.mse, c.mse);
+        assert!((g.psnr - c.psnr).abs() < 1e-4, "frame {f}");
+    }
+    assert!(close(gpu.error, cpu.error) && close(gpu.mse, cpu.mse));
+    assert!(gpu.frames[1..].iter().any(|f| f.mse > 0.0 && f.psnr < 100.0));
+    // The covered pixels are the reference's: identical to the original's counts.
+    for (v, o) in gpu.frames.iter().zip(&reference.report.frames) {
+        assert_eq!(v.covered, o.covered);
+    }
 }
 
 #[test]

@@ -8,9 +8,7 @@
 //! `t̂` with `ε̂ ≤ ε_max` that beats the original, ties broken by lower Δn then lower node id.
 //! [`pareto`] gives the error-vs-time frontier of the same predictions, for charts.
 
-use reproj_models::{
-    ErrorFitFailure, ErrorFitStatus, HitRateFit, TimingFit, predicted_frame_ms, psnr_from_l2_error,
-};
+use reproj_models::{ErrorFitFailure, ErrorFitStatus, HitRateFit, TimingFit, predicted_frame_ms};
 use serde::{Deserialize, Serialize};
 
 /// Default largest refresh period considered (the paper's clip).
@@ -109,8 +107,6 @@ pub struct Prediction {
     pub hit_rate: f64,
     /// ε̂(Δn).
     pub predicted_error: f64,
-    /// PSNR of ε̂ in dB (`10·log10(3 / ε̂²)`, see [`psnr_from_l2_error`]); `None` for ε̂ = 0.
-    pub predicted_psnr_db: Option<f64>,
     /// t̂(Δn), ms per frame.
     pub predicted_ms: f64,
 }
@@ -131,7 +127,6 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
         delta_n,
         hit_rate: gamma,
         predicted_error: error,
-        predicted_psnr_db: psnr_from_l2_error(error),
         predicted_ms: ms,
     })
 }
@@ -204,8 +199,6 @@ pub struct Choice {
     pub hit_rate: f64,
     /// Predicted error ε̂(Δn).
     pub predicted_error: f64,
-    /// PSNR of the predicted error in dB; `None` when it is 0 (lossless).
-    pub predicted_psnr_db: Option<f64>,
     /// Predicted frame time, ms.
     pub predicted_ms: f64,
     /// The original shader's mean frame time, ms.
@@ -347,7 +340,6 @@ pub fn select(
         delta_n: best.delta_n,
         hit_rate: best.hit_rate,
         predicted_error: best.predicted_error,
-        predicted_psnr_db: best.predicted_psnr_db,
         predicted_ms: best.predicted_ms,
         original_ms,
         predicted_speedup: original_ms / best.predicted_ms,

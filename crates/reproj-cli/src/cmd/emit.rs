@@ -87,7 +87,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                 report.predicted_error.unwrap_or(0.0),
                 report
                     .predicted_psnr
-                    .map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
+                    .map_or_else(String::new, |p| format!(" (PSNR {p:.2} dB)")),
                 report.predicted_ms.unwrap_or(0.0),
                 report.original_ms,
                 report.predicted_speedup.unwrap_or(0.0)
@@ -108,7 +108,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             "measured  error {e:.5}{}, {:.3} ms/frame vs {:.3} ms original: {s:.2}x",
             report
                 .measured_psnr
-                .map_or_else(String::new, |p| format!(" (PSNR {p:.1} dB)")),
+                .map_or_else(String::new, |p| format!(" (PSNR {p:.2} dB)")),
             report.measured_ms.unwrap_or(0.0),
             report.measured_original_ms.unwrap_or(0.0),
         );

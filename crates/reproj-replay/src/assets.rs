@@ -1,0 +1,170 @@
+//! The session's meshes and textures on the GPU, kept by the [`Renderer`] and keyed by their
+//! description in the session, so that the replays of one session (`analyze` makes dozens) build
+//! and upload them once.
+//!
+//! A key is the JSON of the mesh or texture spec (with the shader's texture dimensionality), plus
+//! the session's directory when the spec names files: files are read once per renderer, so a file
+//! changed on disk during the renderer's life is not seen again. Everything built stays until the
+//! renderer is dropped. Per-object transform buffers and uniforms are per replay, not cached.
+
+use std::collections::HashMap;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::ReplayError;
+use crate::mesh;
+use crate::reflect::TexDim;
+use crate::render::{Renderer, tex_dim};
+use crate::session::{Mesh, Session, TexFormat, TextureSpec};
+use crate::textures;
+
+/// A mesh's vertex and index buffers.
+#[derive(Debug, Clone)]
+pub(crate) struct MeshGpu {
+    pub(crate) vbuf: wgpu::Buffer,
+    pub(crate) ibuf: wgpu::Buffer,
+    pub(crate) count: u32,
+}
+
+/// Meshes and texture views built so far, by key.
+#[derive(Debug, Default)]
+pub(crate) struct Assets {
+    meshes: Mutex<HashMap<String, MeshGpu>>,
+    textures: Mutex<HashMap<String, wgpu::TextureView>>,
+    /// Builds skipped because the asset was already built.
+    hits: AtomicU64,
+}
+
+/// `spec`'s JSON, with the session's directory when `files` (paths are resolved against it).
+fn key(spec: &impl serde::Serialize, extra: &str, files: bool, session: &Session) -> String {
+    let json = serde_json::to_string(spec).unwrap_or_default();
+    if files {
+        format!("{extra}|{}|{json}", session.base_dir.display())
+    } else {
+        format!("{extra}|{json}")
+    }
+}
+
+impl Assets {
+    /// Builds skipped so far because the asset was already on the GPU.
+    pub(crate) fn hits(&self) -> u64 {
+        self.hits.load(Ordering::Relaxed)
+    }
+
+    fn hit(&self) {
+        self.hits.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// The vertex and index buffers of `m`, built on first use.
+    pub(crate) fn mesh(
+        &self,
+        r: &Renderer,
+        session: &Session,
+        m: &Mesh,
+    ) -> Result<MeshGpu, ReplayError> {
+        let k = key(m, "mesh", matches!(m, Mesh::Obj { .. }), session);
+        let mut cache = self.meshes.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(g) = cache.get(&k) {
+            self.hit();
+            return Ok(g.clone());
+        }
+        let data = mesh::build(session, m).map_err(|message| ReplayError::Asset { message })?;
+        let init = |label, contents: &[u8], usage| {
+            wgpu::util::DeviceExt::create_buffer_init(
+                &r.device,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                },
+            )
+        };
+        let g = MeshGpu {
+            vbuf: init(
+                "vertices",
+                bytemuck::cast_slice(&data.vertices),
+                wgpu::BufferUsages::VERTEX,
+            ),
+            ibuf: init(
+                "indices",
+                bytemuck::cast_slice(&data.indices),
+                wgpu::BufferUsages::INDEX,
+            ),
+            count: data.indices.len() as u32,
+        };
+        cache.insert(k, g.clone());
+        Ok(g)
+    }
+
+    /// The view of texture `name` built from `spec` for a shader variable of dimensionality
+    /// `dim`, built and uploaded on first use.
+    pub(crate) fn texture(
+        &self,
+        r: &Renderer,
+        session: &Session,
+        name: &str,
+        spec: &TextureSpec,
+        dim: TexDim,
+    ) -> Result<wgpu::TextureView, ReplayError> {
+        let files = spec.file.is_some() || spec.faces.is_some();
+        let k = key(spec, &format!("{dim:?}"), files, session);
+        let mut cache = self.textures.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(v) = cache.get(&k) {
+            self.hit();
+            return Ok(v.clone());
+        }
+        let data = textures::build(session, name, spec, dim)
+            .map_err(|message| ReplayError::Asset { message })?;
+        let format = match data.format {
+            TexFormat::Rgba8unorm => wgpu::TextureFormat::Rgba8Unorm,
+            TexFormat::Rgba8unormSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
+            TexFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+        };
+        let tex = r.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(name),
+            size: wgpu::Extent3d {
+                width: data.width,
+                height: data.height,
+                depth_or_array_layers: data.layers,
+            },
+            mip_level_count: data.levels.len() as u32,
+            sample_count: 1,
+            dimension: if dim == TexDim::D3 {
+                wgpu::TextureDimension::D3
+            } else {
+                wgpu::TextureDimension::D2
+            },
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for level in 0..data.levels.len() {
+            let (w, h, l) = data.level_size(level);
+            r.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &tex,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &data.encode_level(level),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(w * data.bytes_per_texel()),
+                    rows_per_image: Some(h),
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: l,
+                },
+            );
+        }
+        let view = tex.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(tex_dim(dim)),
+            ..Default::default()
+        });
+        cache.insert(k, view.clone());
+        Ok(view)
+    }
+}

@@ -1,0 +1,741 @@
+//! Per-frame error against the reference, reduced on the GPU.
+//!
+//! A variant replay used to read every frame back (16 bytes per pixel) only to compute a few sums
+//! on the CPU. Here the reference frames stay on the GPU ([`GpuReference`], made by
+//! `render_original` with [`Keeper`]) and a compute pass ([`Reducer`]) compares each frame of the
+//! variant with its reference where it was rendered: each 64×64 tile of the frame becomes one
+//! [`Partial`] record (20 bytes), and only those come back, into one slot per frame of a readback
+//! batch. The host sums the tiles in f64 into a [`FrameError`], the same sums
+//! [`crate::metrics::compare`] makes on the CPU (which stays for replays that read the pixels back
+//! anyway, to write PNGs).
+//!
+//! Precision: a thread sums its 4×4 pixels in f32, the workgroup sums its 256 threads in a tree
+//! (8 levels), the host sums the tiles in f64; the relative error of a frame's sums is about
+//! 24 f32 roundings, ~1.5e-6 (the per-pixel terms are all non-negative, so nothing cancels).
+
+use std::borrow::Cow;
+use std::num::NonZeroU64;
+
+use crate::ReplayError;
+use crate::metrics::{self, FrameError};
+use crate::render::{Reference, Renderer, Staging, gpu_err, readback_row_bytes};
+
+/// Pixels per side of the tile one workgroup reduces (16×16 threads, 4×4 pixels each).
+const TILE: u32 = 64;
+
+const SHADER: &str = r#"
+// One workgroup reduces a 64×64 tile of the frame: 16×16 threads each sum a 4×4 block, then a
+// tree over the workgroup. Keep `Partial` in step with the Rust struct of the same name.
+struct Partial {
+    l2: f32,        // sum of the per-pixel L2 RGB distance, channels clamped to [0, 1]
+    sq: f32,        // sum over covered pixels of the squared (clamped) RGB differences
+    covered: u32,   // pixels where the reference depth < 1
+    max_bits: u32,  // bits of the largest |difference| over RGBA (a non-negative f32: ordered as u32)
+    flags: u32,     // 1: NaN in some pixel's RGB; 2: NaN in a covered pixel's RGB
+}
+
+@group(0) @binding(0) var frame_color: texture_2d<f32>;
+@group(0) @binding(1) var ref_color: texture_2d<f32>;
+@group(0) @binding(2) var ref_depth: texture_2d<f32>;
+@group(0) @binding(3) var<storage, read_write> partials: array<Partial>;
+
+const SIDE: u32 = 16u;
+const BLOCK: u32 = 4u;
+const INF_BITS: u32 = 0x7f800000u;
+
+var<workgroup> w_l2: array<f32, 256>;
+var<workgroup> w_sq: array<f32, 256>;
+var<workgroup> w_cov: array<u32, 256>;
+var<workgroup> w_max: array<u32, 256>;
+var<workgroup> w_flags: array<u32, 256>;
+
+fn nan3(v: vec3<f32>) -> bool {
+    let b = bitcast<vec3<u32>>(v) & vec3<u32>(0x7fffffffu);
+    return any(b > vec3<u32>(INF_BITS));
+}
+
+// |d| as bits, NaN as +inf.
+fn abs_bits(d: f32) -> u32 {
+    let b = bitcast<u32>(d) & 0x7fffffffu;
+    return select(b, INF_BITS, b > INF_BITS);
+}
+
+@compute @workgroup_size(16, 16)
+fn reduce(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    let size = textureDimensions(frame_color);
+    let origin = wg.xy * (SIDE * BLOCK) + lid.xy * BLOCK;
+    var l2 = 0.0;
+    var sq = 0.0;
+    var cov = 0u;
+    var mx = 0u;
+    var flags = 0u;
+    for (var j = 0u; j < BLOCK; j++) {
+        for (var i = 0u; i < BLOCK; i++) {
+            let p = origin + vec2<u32>(i, j);
+            if p.x < size.x && p.y < size.y {
+                let a = textureLoad(frame_color, p, 0);
+                let b = textureLoad(ref_color, p, 0);
+                let covered = textureLoad(ref_depth, p, 0).r < 1.0;
+                mx = max(mx, max(max(abs_bits(a.r - b.r), abs_bits(a.g - b.g)),
+                                 max(abs_bits(a.b - b.b), abs_bits(a.a - b.a))));
+                if nan3(a.rgb) || nan3(b.rgb) {
+                    flags |= select(1u, 3u, covered);
+                } else {
+                    let d = clamp(a.rgb, vec3<f32>(0.0), vec3<f32>(1.0))
+                          - clamp(b.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+                    let s = d.r * d.r + d.g * d.g + d.b * d.b;
+                    l2 += sqrt(s);
+                    if covered {
+                        sq += s;
+                    }
+                }
+                if covered {
+                    cov += 1u;
+                }
+            }
+        }
+    }
+    w_l2[li] = l2;
+    w_sq[li] = sq;
+    w_cov[li] = cov;
+    w_max[li] = mx;
+    w_flags[li] = flags;
+    workgroupBarrier();
+    for (var s = 128u; s > 0u; s >>= 1u) {
+        if li < s {
+            w_l2[li] += w_l2[li + s];
+            w_sq[li] += w_sq[li + s];
+            w_cov[li] += w_cov[li + s];
+            w_max[li] = max(w_max[li], w_max[li + s]);
+            w_flags[li] |= w_flags[li + s];
+        }
+        workgroupBarrier();
+    }
+    if li == 0u {
+        partials[wg.y * groups.x + wg.x] = Partial(w_l2[0], w_sq[0], w_cov[0], w_max[0], w_flags[0]);
+    }
+}
+"#;
+
+/// One tile's sums, as the shader writes them (`struct Partial` in [`SHADER`]).
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
+struct Partial {
+    l2: f32,
+    sq: f32,
+    covered: u32,
+    max_bits: u32,
+    flags: u32,
+}
+
+const NAN_ANY: u32 = 1;
+const NAN_COVERED: u32 = 2;
+
+/// The compute pipeline and its bind group layout, built once per [`Renderer`].
+#[derive(Debug, Clone)]
+pub(crate) struct Kernel {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl Kernel {
+    pub(crate) fn new(r: &Renderer) -> Result<Kernel, ReplayError> {
+        let tex = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        r.scoped("the error reduction pipeline", || {
+            let module = r
+                .device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("error reduction"),
+                    source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(SHADER)),
+                });
+            let layout = r
+                .device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("error reduction"),
+                    entries: &[
+                        tex(0),
+                        tex(1),
+                        tex(2),
+                        wgpu::BindGroupLayoutEntry {
+                            binding: 3,
+                            visibility: wgpu::ShaderStages::COMPUTE,
+                            ty: wgpu::BindingType::Buffer {
+                                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                                has_dynamic_offset: false,
+                                min_binding_size: NonZeroU64::new(
+                                    std::mem::size_of::<Partial>() as u64
+                                ),
+                            },
+                            count: None,
+                        },
+                    ],
+                });
+            let pl = r
+                .device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("error reduction"),
+                    bind_group_layouts: &[Some(&layout)],
+                    immediate_size: 0,
+                });
+            let pipeline = r
+                .device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("error reduction"),
+                    layout: Some(&pl),
+                    module: &module,
+                    entry_point: Some("reduce"),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+            Kernel { pipeline, layout }
+        })
+    }
+}
+
+/// One reference frame on the GPU: its color (rgba32float) and its depth (r32float; 1 where
+/// nothing was drawn).
+#[derive(Debug, Clone)]
+struct GpuFrame {
+    color: wgpu::TextureView,
+    depth: wgpu::TextureView,
+}
+
+/// The reference frames on the GPU of the renderer that rendered them.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct GpuReference {
+    /// [`Renderer::id`] of the owner: the textures belong to its device.
+    owner: u64,
+    frames: Vec<GpuFrame>,
+}
+
+impl GpuReference {
+    pub(crate) fn new(r: &Renderer) -> GpuReference {
+        GpuReference {
+            owner: r.id,
+            frames: Vec::new(),
+        }
+    }
+
+    /// The first `frames` reference frames on `r`'s device: these, or uploaded from the host
+    /// copies in `reference` when another renderer (another device) rendered them.
+    pub(crate) fn on<'a>(
+        &'a self,
+        r: &Renderer,
+        reference: &Reference,
+        frames: u32,
+    ) -> Result<Cow<'a, GpuReference>, ReplayError> {
+        if self.owner == r.id && self.frames.len() >= frames as usize {
+            return Ok(Cow::Borrowed(self));
+        }
+        let n = frames as usize;
+        if reference.frames.len() < n || reference.depth.len() < n {
+            return Err(ReplayError::ReferenceMismatch {
+                reference: format!(
+                    "{} frames and {} depth images",
+                    reference.frames.len(),
+                    reference.depth.len()
+                ),
+                session: format!("{frames} frames"),
+            });
+        }
+        GpuReference::upload(
+            r,
+            reference.width,
+            reference.height,
+            &reference.frames[..n],
+            &reference.depth[..n],
+        )
+        .map(Cow::Owned)
+    }
+
+    /// Frames of `w`×`h` RGBA f32 `colors` and f32 `depths` (row-major, top row first) uploaded to
+    /// `r`'s device.
+    pub(crate) fn upload(
+        r: &Renderer,
+        w: u32,
+        h: u32,
+        colors: &[Vec<f32>],
+        depths: &[Vec<f32>],
+    ) -> Result<GpuReference, ReplayError> {
+        let px = w as usize * h as usize;
+        let mut out = GpuReference::new(r);
+        for (f, (color, depth)) in colors.iter().zip(depths).enumerate() {
+            if color.len() != 4 * px || depth.len() != px {
+                return Err(ReplayError::ReferenceMismatch {
+                    reference: format!(
+                        "frame {f} with {} color and {} depth values",
+                        color.len(),
+                        depth.len()
+                    ),
+                    session: format!("{w}×{h} pixels"),
+                });
+            }
+            let ct = frame_texture(r, "reference color", w, h, wgpu::TextureFormat::Rgba32Float);
+            let dt = frame_texture(r, "reference depth", w, h, wgpu::TextureFormat::R32Float);
+            for (tex, bytes, bpp) in [
+                (&ct, bytemuck::cast_slice::<f32, u8>(color), 16),
+                (&dt, bytemuck::cast_slice::<f32, u8>(depth), 4),
+            ] {
+                r.queue.write_texture(
+                    tex.as_image_copy(),
+                    bytes,
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(w * bpp),
+                        rows_per_image: Some(h),
+                    },
+                    extent(w, h),
+                );
+            }
+            out.frames.push(GpuFrame {
+                color: ct.create_view(&Default::default()),
+                depth: dt.create_view(&Default::default()),
+            });
+        }
+        Ok(out)
+    }
+}
+
+fn extent(w: u32, h: u32) -> wgpu::Extent3d {
+    wgpu::Extent3d {
+        width: w,
+        height: h,
+        depth_or_array_layers: 1,
+    }
+}
+
+fn frame_texture(
+    r: &Renderer,
+    label: &str,
+    w: u32,
+    h: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
+    r.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: extent(w, h),
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+/// Keeps the reference frames on the GPU as `render_original` renders them.
+pub(crate) struct Keeper {
+    /// The frame's depth as rows of f32 padded for copies (depth cannot be copied to a color
+    /// texture directly, only through a buffer).
+    depth_rows: wgpu::Buffer,
+    w: u32,
+    h: u32,
+}
+
+impl Keeper {
+    pub(crate) fn new(r: &Renderer, w: u32, h: u32) -> Keeper {
+        let depth_rows = r.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("reference depth rows"),
+            size: readback_row_bytes(w, 4) as u64 * h as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        Keeper { depth_rows, w, h }
+    }
+
+    /// Record copies of the frame's `color` (rgba32float) and `depth` (depth32float) into new
+    /// textures appended to `keep`, and of the depth, as padded rows, into `readback` at `offset`
+    /// (for the host copy).
+    pub(crate) fn keep(
+        &self,
+        r: &Renderer,
+        enc: &mut wgpu::CommandEncoder,
+        color: &wgpu::Texture,
+        depth: &wgpu::Texture,
+        readback: &wgpu::Buffer,
+        offset: u64,
+        keep: &mut GpuReference,
+    ) {
+        let (w, h) = (self.w, self.h);
+        let ct = frame_texture(r, "reference color", w, h, wgpu::TextureFormat::Rgba32Float);
+        let dt = frame_texture(r, "reference depth", w, h, wgpu::TextureFormat::R32Float);
+        enc.copy_texture_to_texture(color.as_image_copy(), ct.as_image_copy(), extent(w, h));
+        let rows = wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(readback_row_bytes(w, 4)),
+            rows_per_image: Some(h),
+        };
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: depth,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::DepthOnly,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.depth_rows,
+                layout: rows,
+            },
+            extent(w, h),
+        );
+        enc.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &self.depth_rows,
+                layout: rows,
+            },
+            dt.as_image_copy(),
+            extent(w, h),
+        );
+        enc.copy_buffer_to_buffer(&self.depth_rows, 0, readback, offset, Some(self.depth_rows.size()));
+        keep.frames.push(GpuFrame {
+            color: ct.create_view(&Default::default()),
+            depth: dt.create_view(&Default::default()),
+        });
+    }
+}
+
+/// Reduces each frame of a variant replay against the reference: [`Reducer::encode`] after the
+/// frame's passes, [`Reducer::read`] once the batch's [`Reducer::read_buffer`] is mapped.
+pub(crate) struct Reducer<'a> {
+    kernel: Kernel,
+    reference: Cow<'a, GpuReference>,
+    /// Per slot: one [`Partial`] per tile, at `slot * stride`.
+    out: wgpu::Buffer,
+    read: wgpu::Buffer,
+    stride: u64,
+    groups: [u32; 2],
+    pixels: u64,
+}
+
+impl<'a> Reducer<'a> {
+    /// A reducer against `reference` (`w`×`h` frames on `r`'s device), read back in batches of
+    /// `slots` frames.
+    pub(crate) fn new(
+        r: &Renderer,
+        reference: Cow<'a, GpuReference>,
+        w: u32,
+        h: u32,
+        slots: u32,
+    ) -> Result<Reducer<'a>, ReplayError> {
+        let kernel = r.reduce_kernel()?;
+        let groups = [w.div_ceil(TILE), h.div_ceil(TILE)];
+        let bytes = (groups[0] * groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
+        let align = u64::from(r.device.limits().min_storage_buffer_offset_alignment)
+            .max(wgpu::COPY_BUFFER_ALIGNMENT);
+        let stride = bytes.div_ceil(align) * align;
+        let buffer = |label, usage| {
+            r.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: stride * slots.max(1) as u64,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Ok(Reducer {
+            kernel,
+            reference,
+            out: buffer(
+                "error partials",
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            read: buffer(
+                "error partials read",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            stride,
+            groups,
+            pixels: w as u64 * h as u64,
+        })
+    }
+
+    /// Record the reduction of `color` (the variant's frame `frame`, rgba32float, bindable)
+    /// against the reference frame, into `slot`, and its copy into the read buffer.
+    pub(crate) fn encode(
+        &self,
+        r: &Renderer,
+        enc: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        frame: u32,
+        slot: u32,
+    ) -> Result<(), ReplayError> {
+        let refr = self
+            .reference
+            .frames
+            .get(frame as usize)
+            .ok_or_else(|| gpu_err("the error reduction", format!("no reference frame {frame}")))?;
+        let at = slot as u64 * self.stride;
+        let size = (self.groups[0] * self.groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
+        let group = r.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("error reduction"),
+            layout: &self.kernel.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(color),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&refr.color),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&refr.depth),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.out,
+                        offset: at,
+                        size: NonZeroU64::new(size),
+                    }),
+                },
+            ],
+        });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("error reduction"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.kernel.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(self.groups[0], self.groups[1], 1);
+        }
+        enc.copy_buffer_to_buffer(&self.out, at, &self.read, at, Some(size));
+        Ok(())
+    }
+
+    /// The buffer to map with the batch's other readbacks.
+    pub(crate) fn read_buffer(&self) -> &wgpu::Buffer {
+        &self.read
+    }
+
+    /// The error sums of the frame in `slot` (the read buffer must be mapped).
+    pub(crate) fn read(&self, slot: u32) -> Result<FrameError, ReplayError> {
+        let at = slot as u64 * self.stride;
+        let size = (self.groups[0] * self.groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
+        let view = self
+            .read
+            .get_mapped_range(at..at + size)
+            .map_err(|e| gpu_err("reading the error reduction", e))?;
+        let partials: Vec<Partial> = bytemuck::pod_collect_to_vec(&view);
+        Ok(sum(&partials, self.pixels))
+    }
+}
+
+/// How a variant replay gets each frame's error against the reference.
+pub(crate) enum FrameErrors<'a> {
+    /// Reduced on the GPU: only the per-tile sums come back.
+    Gpu(Reducer<'a>),
+    /// The frame's pixels come back (they are written as PNGs) and the error is computed on the
+    /// CPU ([`crate::metrics::compare`]).
+    Cpu(Staging),
+}
+
+impl<'a> FrameErrors<'a> {
+    /// For `frames` frames of `reference` read back in batches of `slots`; with `pixels_back` the
+    /// frames' pixels come back too.
+    pub(crate) fn new(
+        r: &Renderer,
+        reference: &'a Reference,
+        frames: u32,
+        slots: u32,
+        pixels_back: bool,
+    ) -> Result<FrameErrors<'a>, ReplayError> {
+        let (w, h) = (reference.width, reference.height);
+        if pixels_back {
+            return Ok(FrameErrors::Cpu(Staging::new(
+                r,
+                "frame readback",
+                w,
+                h,
+                16,
+                slots,
+            )));
+        }
+        let gpu = reference.gpu.on(r, reference, frames)?;
+        Ok(FrameErrors::Gpu(Reducer::new(r, gpu, w, h, slots)?))
+    }
+
+    /// The buffer to map with the batch's other readbacks.
+    pub(crate) fn read_buffer(&self) -> &wgpu::Buffer {
+        match self {
+            FrameErrors::Gpu(red) => red.read_buffer(),
+            FrameErrors::Cpu(staging) => &staging.buf,
+        }
+    }
+
+    /// Record what frame `frame` (its color target `color`, viewed as `view`) needs, into `slot`:
+    /// the reduction, or the copy of its pixels.
+    pub(crate) fn encode(
+        &self,
+        r: &Renderer,
+        enc: &mut wgpu::CommandEncoder,
+        color: &wgpu::Texture,
+        view: &wgpu::TextureView,
+        frame: u32,
+        slot: u32,
+    ) -> Result<(), ReplayError> {
+        match self {
+            FrameErrors::Gpu(red) => red.encode(r, enc, view, frame, slot),
+            FrameErrors::Cpu(staging) => {
+                staging.copy(enc, color, slot);
+                Ok(())
+            }
+        }
+    }
+
+    /// The error of frame `frame` in `slot`, and its pixels when they came back (the read buffer
+    /// must be mapped).
+    pub(crate) fn read(
+        &self,
+        slot: u32,
+        reference: &Reference,
+        frame: u32,
+    ) -> Result<(FrameError, Option<Vec<f32>>), ReplayError> {
+        match self {
+            FrameErrors::Gpu(red) => Ok((red.read(slot)?, None)),
+            FrameErrors::Cpu(staging) => {
+                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&staging.image(slot)?);
+                let f = frame as usize;
+                let (Some(color), Some(depth)) = (reference.frames.get(f), reference.depth.get(f))
+                else {
+                    return Err(ReplayError::ReferenceMismatch {
+                        reference: format!("{} frames", reference.frames.len()),
+                        session: format!("frame {frame}"),
+                    });
+                };
+                Ok((metrics::compare(&pixels, color, depth), Some(pixels)))
+            }
+        }
+    }
+}
+
+/// A frame's error sums from its tiles' partial sums, in f64.
+fn sum(partials: &[Partial], pixels: u64) -> FrameError {
+    let mut e = FrameError {
+        pixels,
+        ..FrameError::default()
+    };
+    let mut flags = 0;
+    let mut max_bits = 0;
+    for p in partials {
+        e.sum_l2 += f64::from(p.l2);
+        e.sum_sq += f64::from(p.sq);
+        e.covered += u64::from(p.covered);
+        max_bits = max_bits.max(p.max_bits);
+        flags |= p.flags;
+    }
+    e.max_abs_diff = f64::from(f32::from_bits(max_bits));
+    // As on the CPU, a NaN color makes the sums it enters NaN.
+    if flags & NAN_ANY != 0 {
+        e.sum_l2 = f64::NAN;
+    }
+    if flags & NAN_COVERED != 0 {
+        e.sum_sq = f64::NAN;
+    }
+    e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::RendererOptions;
+
+    /// A small deterministic generator (xorshift), values in [0, 1).
+    struct Rng(u32);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 17;
+            self.0 ^= self.0 << 5;
+            (self.0 >> 8) as f32 / (1u32 << 24) as f32
+        }
+    }
+
+    /// Reduce `frame` against `reference` on the GPU, through slot 1 of a two-slot reducer.
+    fn gpu(
+        r: &Renderer,
+        w: u32,
+        h: u32,
+        frame: &[f32],
+        reference: &[f32],
+        depth: &[f32],
+    ) -> FrameError {
+        let refr =
+            GpuReference::upload(r, w, h, &[reference.to_vec()], &[depth.to_vec()]).unwrap();
+        let ones = vec![1.0; (w * h) as usize];
+        let var = GpuReference::upload(r, w, h, &[frame.to_vec()], &[ones]).unwrap();
+        let red = Reducer::new(r, Cow::Borrowed(&refr), w, h, 2).unwrap();
+        let mut enc = r.device.create_command_encoder(&Default::default());
+        red.encode(r, &mut enc, &var.frames[0].color, 0, 1).unwrap();
+        r.queue.submit([enc.finish()]);
+        r.map_read(&[red.read_buffer()]).unwrap();
+        let e = red.read(1).unwrap();
+        Renderer::unmap_all(&[red.read_buffer()]);
+        e
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        a == b || (a - b).abs() <= 1e-5 * a.abs().max(b.abs())
+    }
+
+    #[test]
+    fn gpu_sums_equal_the_cpu_sums() {
+        let r = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe)");
+        let mut rng = Rng(0x1234_5678);
+        // Not a multiple of the tile: partial tiles at the right and bottom edges. Colors in
+        // [-0.5, 1.5) (clamping matters), a third of the pixels uncovered.
+        for (w, h) in [(70, 37), (256, 256), (1, 1)] {
+            let px = (w * h) as usize;
+            let reference: Vec<f32> = (0..4 * px).map(|_| 2.0 * rng.next() - 0.5).collect();
+            let frame: Vec<f32> = reference
+                .iter()
+                .map(|&v| v + 0.2 * (rng.next() - 0.5))
+                .collect();
+            let depth: Vec<f32> = (0..px)
+                .map(|_| if rng.next() < 0.33 { 1.0 } else { rng.next() })
+                .collect();
+            let cpu = metrics::compare(&frame, &reference, &depth);
+            let g = gpu(&r, w, h, &frame, &reference, &depth);
+            assert_eq!((g.pixels, g.covered), (cpu.pixels, cpu.covered), "{w}×{h}");
+            assert_eq!(g.max_abs_diff, cpu.max_abs_diff, "{w}×{h}");
+            assert!(close(g.sum_l2, cpu.sum_l2), "{w}×{h}: {g:?} vs {cpu:?}");
+            assert!(close(g.sum_sq, cpu.sum_sq), "{w}×{h}: {g:?} vs {cpu:?}");
+        }
+    }
+
+    #[test]
+    fn gpu_nan_matches_the_cpu() {
+        let r = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe)");
+        let reference = vec![0.5f32; 4 * 4];
+        let depth = [0.5, 1.0, 0.5, 1.0];
+        // A NaN in an uncovered pixel's green: the L2 sum is NaN, the covered squares are not.
+        let mut frame = reference.clone();
+        frame[4 + 1] = f32::NAN;
+        frame[8] = 0.75;
+        let cpu = metrics::compare(&frame, &reference, &depth);
+        let g = gpu(&r, 2, 2, &frame, &reference, &depth);
+        assert!(cpu.sum_l2.is_nan() && g.sum_l2.is_nan());
+        assert_eq!(g.sum_sq, cpu.sum_sq);
+        assert_eq!(g.max_abs_diff, f64::INFINITY);
+        assert_eq!(cpu.max_abs_diff, f64::INFINITY);
+        // In a covered pixel: both NaN.
+        frame[1] = f32::NAN;
+        let g = gpu(&r, 2, 2, &frame, &reference, &depth);
+        assert!(g.sum_sq.is_nan() && metrics::compare(&frame, &reference, &depth).sum_sq.is_nan());
+    }
+}
