@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use reproj_front::{NormalizeOptions, enumerate, normalize};
 use reproj_instance::{
-    CacheFormat, InstanceOptions, NodeSelector, Variant, instance, write_variant,
+    CacheFormatChoice, InstanceOptions, NodeSelector, Variant, instance, write_variant,
 };
 use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash, psnr_from_l2_error};
@@ -24,7 +24,7 @@ pub struct EmitOptions {
     pub max_delta_n: u32,
     /// Directory for the passes and the report.
     pub out: PathBuf,
-    pub cache_format: CacheFormat,
+    pub cache_format: CacheFormatChoice,
 }
 
 /// What `emit` chose and wrote. With `--json` this is printed as is.
@@ -197,6 +197,8 @@ pub fn emit(
                 &table,
                 sel,
                 &InstanceOptions {
+                    strategy: Default::default(),
+                    reconstruct: Default::default(),
                     cache_format: opts.cache_format,
                     delta_n: choice.delta_n,
                     block: profile.block,

@@ -72,7 +72,9 @@ fn static_session_profiles_without_nan_and_emits() {
             min_delta_n: 2,
             max_delta_n: 50,
             out: dir.path().join("out"),
-            cache_format: reproj_instance::CacheFormat::Rgba32float,
+            cache_format: reproj_instance::CacheFormatChoice::Exact(
+                reproj_instance::CacheFormat::Rgba32float,
+            ),
         },
     )
     .unwrap();

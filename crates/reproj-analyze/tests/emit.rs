@@ -117,7 +117,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         min_delta_n: 2,
         max_delta_n: 50,
         out: out.to_owned(),
-        cache_format: CacheFormat::Rgba32float,
+        cache_format: reproj_instance::CacheFormatChoice::Exact(CacheFormat::Rgba32float),
     }
 }
 

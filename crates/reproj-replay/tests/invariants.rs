@@ -160,7 +160,9 @@ fn half_float_cache_works_and_stays_close() {
         )
         .unwrap();
     let options = InstanceOptions {
-        cache_format: reproj_instance::CacheFormat::Rgba16float,
+        cache_format: reproj_instance::CacheFormatChoice::Exact(
+            reproj_instance::CacheFormat::Rgba16float,
+        ),
         ..InstanceOptions::default()
     };
     let v = instance(&shader, &norm, &table, NodeSelector::Root, &options).unwrap();

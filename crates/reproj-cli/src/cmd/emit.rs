@@ -40,7 +40,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         min_delta_n: 2,
         max_delta_n: args.max_delta_n,
         out,
-        cache_format: cache_format(args.cache_format),
+        cache_format: args.cache_format.map_or(Default::default(), cache_format),
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
     if args.verify {
