@@ -23,7 +23,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use reproj_front::Shader;
-use reproj_instance::{CacheFormat, Manifest, PassKind};
+use reproj_instance::{CacheFormat, MANIFEST_VERSION, Manifest, PassKind};
 
 use crate::ReplayError;
 use crate::mesh::{self, Vertex};
@@ -148,6 +148,20 @@ impl VariantInput {
         let text = std::fs::read_to_string(&mpath).map_err(|e| ReplayError::Variant {
             message: format!("cannot read {}: {e}", mpath.display()),
         })?;
+        // Check the schema version first, so an older directory gets a clear message
+        // rather than the first field the current schema misses.
+        if let Ok(head) = serde_json::from_str::<serde_json::Value>(&text) {
+            let version = head.get("version").and_then(serde_json::Value::as_u64);
+            if version != Some(u64::from(MANIFEST_VERSION)) {
+                return Err(ReplayError::Variant {
+                    message: format!(
+                        "{}: field `version`: manifest version {} is not supported (this reproj reads version {MANIFEST_VERSION}); write the variant again with `reproj instance` or `reproj emit`",
+                        mpath.display(),
+                        version.map_or_else(|| "missing".to_string(), |v| v.to_string()),
+                    ),
+                });
+            }
+        }
         let de = &mut serde_json::Deserializer::from_str(&text);
         let manifest: Manifest =
             serde_path_to_error::deserialize(de).map_err(|e| ReplayError::Variant {
