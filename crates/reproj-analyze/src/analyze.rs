@@ -6,10 +6,10 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use reproj_front::{NodeTable, Normalized, Shader};
-use reproj_instance::{InstanceOptions, NodeSelector, instance};
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
 use reproj_models::profile::{
     AnalysisTime, HoldoutCheck, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
-    Source,
+    Source, StrategyProbe,
 };
 use reproj_models::{
     ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, PROFILE_VERSION, Profile, TimingFit,
@@ -35,8 +35,14 @@ pub struct AnalyzeOptions {
     pub prune: PruneOptions,
     /// Profile exactly these node ids (the root is always added).
     pub nodes: Option<Vec<u32>>,
-    /// Cache format, block size and depth tolerance of every variant.
+    /// Cache format, reconstruction and depth tolerance of every variant (its `strategy` and
+    /// `block` are set per strategy from `strategies` and `block`).
     pub instance: InstanceOptions,
+    /// Strategies to try. With several, each node is replayed in each at the longest training Δn
+    /// and only the fastest is profiled further.
+    pub strategies: Vec<Strategy>,
+    /// Refresh block size k for every strategy (`None`: each strategy's default).
+    pub block: Option<u32>,
     /// Replay only the first N frames of the session.
     pub max_frames: Option<u32>,
 }
@@ -49,6 +55,8 @@ impl Default for AnalyzeOptions {
             prune: PruneOptions::default(),
             nodes: None,
             instance: InstanceOptions::default(),
+            strategies: Strategy::ALL.to_vec(),
+            block: None,
             max_frames: None,
         }
     }
@@ -137,7 +145,11 @@ pub fn analyze(
                 .filter(|&d| d != longest),
         )
         .collect();
-    progress.start(1 + (ids.len() * periods.len()) as u64);
+    if opts.strategies.is_empty() {
+        return Err(AnalyzeError::Options("no strategy to profile".into()));
+    }
+    let extra = opts.strategies.len() - 1;
+    progress.start(1 + (ids.len() * (periods.len() + extra)) as u64);
 
     let render_opts = RenderOptions {
         png_dir: None,
@@ -161,10 +173,13 @@ pub fn analyze(
     // Replays, node by node.
     struct Raw {
         id: u32,
+        strategy: Strategy,
+        block: u32,
         measurements: Vec<Measurement>,
         failure: Option<String>,
     }
     let mut raws = Vec::new();
+    let mut probes: Vec<StrategyProbe> = Vec::new();
     for &id in &ids {
         let node = input.table.get(id).expect("ids come from the table");
         let sel = if node.root {
@@ -172,57 +187,115 @@ pub fn analyze(
         } else {
             NodeSelector::Id(id)
         };
-        let t = Instant::now();
-        let variant = instance(input.shader, input.norm, input.table, sel, &opts.instance);
-        time.instancing_s += t.elapsed().as_secs_f64();
-        let variant = match variant {
-            Ok(v) => v,
-            Err(e) => {
-                progress.note(&format!("node {id}: set aside: cannot instance: {e}"));
-                for _ in &periods {
-                    progress.step(&format!("node {id}"));
+        // Each strategy at the longest period; keep the fastest.
+        let mut tried = Vec::new();
+        for &strategy in &opts.strategies {
+            let block = opts.block.unwrap_or(strategy.default_block());
+            let inst = InstanceOptions {
+                strategy,
+                block,
+                ..opts.instance
+            };
+            let t = Instant::now();
+            let variant = instance(input.shader, input.norm, input.table, sel, &inst);
+            time.instancing_s += t.elapsed().as_secs_f64();
+            let variant = match variant {
+                Ok(v) => v,
+                Err(e) => {
+                    progress.note(&format!("node {id} ({strategy}): cannot instance: {e}"));
+                    tried.push((strategy, block, None, Err(format!("cannot instance: {e}"))));
+                    continue;
                 }
-                raws.push(Raw {
-                    id,
-                    measurements: Vec::new(),
-                    failure: Some(format!("cannot instance: {e}")),
-                });
-                continue;
+            };
+            let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
+            let res = replay(
+                renderer,
+                input,
+                &sources,
+                &variant,
+                longest,
+                &reference,
+                &render_opts,
+                &mut time,
+            );
+            progress.step(&format!("node {id} {strategy} Δn={longest}"));
+            if let Err(e) = &res {
+                progress.note(&format!(
+                    "node {id} ({strategy}): replay failed at Δn={longest}: {e}"
+                ));
             }
+            tried.push((strategy, block, Some((sources, variant)), res));
+        }
+        let best = tried
+            .iter()
+            .enumerate()
+            .filter_map(|(i, t)| t.3.as_ref().ok().map(|(m, _)| (i, m.frame_ms)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i);
+        if opts.strategies.len() > 1 {
+            for (i, (strategy, block, _, res)) in tried.iter().enumerate() {
+                if let Ok((m, pass_ms)) = res {
+                    probes.push(StrategyProbe {
+                        node: id,
+                        strategy: strategy.name().into(),
+                        block: *block,
+                        delta_n: longest,
+                        frame_ms: m.frame_ms,
+                        error: m.error,
+                        pass_ms: pass_ms.clone(),
+                        kept: Some(i) == best,
+                    });
+                }
+            }
+        }
+        let Some(best) = best else {
+            let why = tried
+                .iter()
+                .filter_map(|t| t.3.as_ref().err().cloned())
+                .next()
+                .unwrap_or_else(|| "no strategy could be replayed".into());
+            for _ in periods.iter().skip(1) {
+                progress.step(&format!("node {id}"));
+            }
+            raws.push(Raw {
+                id,
+                strategy: opts.strategies[0],
+                block: opts.block.unwrap_or(opts.strategies[0].default_block()),
+                measurements: Vec::new(),
+                failure: Some(why),
+            });
+            continue;
         };
-        let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-        let mut measurements = Vec::new();
+        let (strategy, block, built, first) = tried.swap_remove(best);
+        let (sources, variant) = built.expect("a replayed strategy was instanced");
+        let (first, _) = first.expect("the best strategy replayed");
+        let mut measurements = vec![first];
         let mut failure = None;
-        for &dn in &periods {
+        let m0 = &measurements[0];
+        if m0.frame_ms >= original.frame_ms && !node.root {
+            let why = format!(
+                "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms, {strategy}): it cannot pay off",
+                m0.frame_ms, original.frame_ms
+            );
+            progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
+            failure = Some(why);
+        }
+        for &dn in periods.iter().skip(1) {
             if failure.is_some() {
                 progress.step(&format!("node {id} Δn={dn}"));
                 continue;
             }
-            let input_variant = VariantInput::new(sources.clone(), variant.manifest.clone(), dn);
-            let t = Instant::now();
-            match renderer.render_variant(
-                input.shader,
-                input.session,
-                &input_variant,
+            match replay(
+                renderer,
+                input,
+                &sources,
+                &variant,
+                dn,
                 &reference,
                 &render_opts,
+                &mut time,
             ) {
-                Ok(report) => {
-                    let wall = t.elapsed().as_secs_f64();
-                    let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
-                    time.rendering_s += gpu.min(wall);
-                    time.readback_and_error_s += (wall - gpu).max(0.0);
-                    let m = measurement(dn, &report);
-                    if dn == longest && m.frame_ms >= original.frame_ms && !node.root {
-                        let why = format!(
-                            "slower than the original even at Δn = {dn} ({:.3} ms vs {:.3} ms): it cannot pay off",
-                            m.frame_ms, original.frame_ms
-                        );
-                        progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
-                        failure = Some(why);
-                    }
-                    measurements.push(m);
-                }
+                Ok((m, _)) => measurements.push(m),
                 Err(e) => {
                     progress.note(&format!(
                         "node {id}: set aside: replay failed at Δn={dn}: {e}"
@@ -230,10 +303,12 @@ pub fn analyze(
                     failure = Some(format!("replay failed at Δn={dn}: {e}"));
                 }
             }
-            progress.step(&format!("node {id} Δn={dn}"));
+            progress.step(&format!("node {id} {strategy} Δn={dn}"));
         }
         raws.push(Raw {
             id,
+            strategy,
+            block,
             measurements,
             failure,
         });
@@ -300,6 +375,8 @@ pub fn analyze(
                 ty: node.ty.clone(),
                 cost: node.cost,
                 overlap: node.overlap,
+                strategy: raw.strategy.name().into(),
+                block: Some(raw.block),
                 measurements: raw.measurements.clone(),
                 error_fit,
                 timing_fit,
@@ -345,13 +422,55 @@ pub fn analyze(
         frames: reference.frames.len() as u32,
         delta_n_train: opts.delta_n_train.clone(),
         delta_n_holdout: opts.delta_n_holdout.clone(),
-        block: opts.instance.block,
+        block: opts.block.unwrap_or(Strategy::ThreePass.default_block()),
         depth_epsilon: opts.instance.depth_epsilon,
         original,
         hit_rate,
         nodes,
+        strategy_probes: probes,
         time,
     })
+}
+
+/// Replay one variant at `delta_n`: its measurement and mean per-pass times (frame 0 excluded).
+#[allow(clippy::too_many_arguments)]
+fn replay(
+    renderer: &Renderer,
+    input: &AnalyzeInput,
+    sources: &[String],
+    variant: &reproj_instance::Variant,
+    delta_n: u32,
+    reference: &reproj_replay::Reference,
+    render_opts: &RenderOptions,
+    time: &mut AnalysisTime,
+) -> Result<(Measurement, Vec<f64>), String> {
+    let input_variant = VariantInput::new(sources.to_vec(), variant.manifest.clone(), delta_n);
+    let t = Instant::now();
+    let report = renderer
+        .render_variant(
+            input.shader,
+            input.session,
+            &input_variant,
+            reference,
+            render_opts,
+        )
+        .map_err(|e| e.to_string())?;
+    let wall = t.elapsed().as_secs_f64();
+    let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
+    time.rendering_s += gpu.min(wall);
+    time.readback_and_error_s += (wall - gpu).max(0.0);
+    let frames: Vec<_> = report.frames.iter().skip(1).collect();
+    let passes = frames.first().map_or(0, |f| f.pass_ms.len());
+    let pass_ms = (0..passes)
+        .map(|i| {
+            finite(mean(
+                frames
+                    .iter()
+                    .map(|f| f.pass_ms.get(i).copied().unwrap_or(0.0)),
+            ))
+        })
+        .collect();
+    Ok((measurement(delta_n, &report), pass_ms))
 }
 
 fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use reproj_front::{NormalizeOptions, enumerate, normalize};
 use reproj_instance::{
-    CacheFormat, InstanceOptions, NodeSelector, Variant, instance, write_variant,
+    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, Variant, instance, write_variant,
 };
 use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
@@ -25,7 +25,9 @@ pub struct EmitOptions {
     pub max_delta_n: u32,
     /// Directory for the passes and the report.
     pub out: PathBuf,
-    pub cache_format: CacheFormat,
+    pub cache_format: CacheFormatChoice,
+    /// Only consider nodes profiled in this strategy (`None`: any).
+    pub strategy: Option<Strategy>,
 }
 
 /// What `emit` chose and wrote. With `--json` this is printed as is.
@@ -37,6 +39,9 @@ pub struct EmitReport {
     /// Node id, `"root"`, or `null` when the original shader is kept.
     pub node: Option<String>,
     pub node_text: Option<String>,
+    /// Variant strategy of the choice (`3pass`, `2pass`, `fused`).
+    #[serde(default)]
+    pub strategy: Option<String>,
     pub line: Option<u32>,
     pub col: Option<u32>,
     pub delta_n: Option<u32>,
@@ -71,7 +76,9 @@ pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
             path: path.to_owned(),
             message: format!("at `{}`: {}", e.path(), e.inner()),
         })?;
-    if profile.schema != "reproj.profile" || profile.version != reproj_models::PROFILE_VERSION {
+    if profile.schema != "reproj.profile"
+        || !(1..=reproj_models::PROFILE_VERSION).contains(&profile.version)
+    {
         return Err(AnalyzeError::BadProfile {
             path: path.to_owned(),
             message: format!(
@@ -134,9 +141,11 @@ pub fn emit(
         .nodes
         .iter()
         .filter(|n| n.status == NodeStatus::Ok)
+        .filter(|n| opts.strategy.is_none_or(|s| s.name() == n.strategy))
         .map(|n| NodeRecord {
             id: n.id,
             text: n.text.clone(),
+            strategy: n.strategy.clone(),
             error: n.error_fit.clone(),
             timing: n.timing_fit.clone(),
             mean_pixels: profile.original.mean_pixels,
@@ -159,6 +168,7 @@ pub fn emit(
         max_error: opts.max_error,
         node: None,
         node_text: None,
+        strategy: None,
         line: None,
         col: None,
         delta_n: None,
@@ -181,8 +191,15 @@ pub fn emit(
             let node = profile
                 .nodes
                 .iter()
-                .find(|n| n.id == choice.node_id)
+                .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
                 .expect("the selection comes from the profile's nodes");
+            let strategy: Strategy =
+                node.strategy
+                    .parse()
+                    .map_err(|e: String| AnalyzeError::BadProfile {
+                        path: profile_path.to_owned(),
+                        message: format!("node {}: {e}", node.id),
+                    })?;
             let norm = normalize(
                 &shader,
                 &NormalizeOptions {
@@ -201,9 +218,11 @@ pub fn emit(
                 &table,
                 sel,
                 &InstanceOptions {
+                    strategy,
+                    reconstruct: Default::default(),
                     cache_format: opts.cache_format,
                     delta_n: choice.delta_n,
-                    block: profile.block,
+                    block: node.block.unwrap_or(profile.block),
                     depth_epsilon: profile.depth_epsilon,
                 },
             )?;
@@ -222,6 +241,7 @@ pub fn emit(
                 node.id.to_string()
             });
             report.node_text = Some(node.text.clone());
+            report.strategy = Some(node.strategy.clone());
             report.line = Some(node.line);
             report.col = Some(node.col);
             report.delta_n = Some(choice.delta_n);

@@ -43,6 +43,25 @@ fn static_session_profiles_without_nan_and_emits() {
     let profile = analyze(&input, &renderer, &opts, &Silent).unwrap();
     assert_eq!(profile.nodes.len(), 2, "the chosen node and the root");
     assert!(profile.nodes.iter().any(|n| n.root));
+    // Every strategy was tried on each node at the longest period, and the fastest kept.
+    assert_eq!(
+        profile.strategy_probes.len(),
+        2 * 3,
+        "{:?}",
+        profile.strategy_probes
+    );
+    for n in &profile.nodes {
+        let probes: Vec<_> = profile
+            .strategy_probes
+            .iter()
+            .filter(|p| p.node == n.id)
+            .collect();
+        let kept: Vec<_> = probes.iter().filter(|p| p.kept).collect();
+        assert_eq!(kept.len(), 1, "{probes:?}");
+        assert_eq!(kept[0].strategy, n.strategy);
+        assert!(probes.iter().all(|p| p.frame_ms >= kept[0].frame_ms));
+        assert_eq!(n.measurements[0].delta_n, 10, "the longest period first");
+    }
     for n in &profile.nodes {
         match &n.status {
             NodeStatus::Ok => {
@@ -73,7 +92,10 @@ fn static_session_profiles_without_nan_and_emits() {
             min_delta_n: 2,
             max_delta_n: 50,
             out: dir.path().join("out"),
-            cache_format: reproj_instance::CacheFormat::Rgba32float,
+            cache_format: reproj_instance::CacheFormatChoice::Exact(
+                reproj_instance::CacheFormat::Rgba32float,
+            ),
+            strategy: None,
         },
     )
     .unwrap();

@@ -44,6 +44,8 @@ fn node(id: u32, is_root: bool, text: &str, alpha: f64, hit: f64, miss: f64) -> 
         ty: "f32".into(),
         cost: 100.0,
         overlap: 0.0,
+        strategy: "3pass".into(),
+        block: None,
         measurements: Vec::new(),
         error_fit: fit_error(&samples, &ErrorFitOptions::default()),
         timing_fit: fit_timing(&frames),
@@ -107,6 +109,7 @@ fn profile(shader: &Path) -> Profile {
             // The whole pixel: lossy, the biggest saving.
             node(root_id, true, "vec4<f32>(color, 1.0)", 0.2, 0.00005, 0.0011),
         ],
+        strategy_probes: Vec::new(),
         time: AnalysisTime::default(),
     }
 }
@@ -117,7 +120,8 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         min_delta_n: 2,
         max_delta_n: 50,
         out: out.to_owned(),
-        cache_format: CacheFormat::Rgba32float,
+        cache_format: reproj_instance::CacheFormatChoice::Exact(CacheFormat::Rgba32float),
+        strategy: None,
     }
 }
 

@@ -244,7 +244,12 @@ fn finite_pos(v: f64) -> Option<f64> {
 pub(crate) fn node_label(node: &NodeProfile, max: usize) -> String {
     let text: String = node.text.split_whitespace().collect::<Vec<_>>().join(" ");
     let root = if node.root { " (root)" } else { "" };
-    truncate(&format!("{}{root}: {text}", node.id), max)
+    let strategy = if node.strategy == "3pass" {
+        String::new()
+    } else {
+        format!(" [{}]", node.strategy)
+    };
+    truncate(&format!("{}{root}{strategy}: {text}", node.id), max)
 }
 
 /// At most `max` characters, with an ellipsis when cut.
@@ -291,6 +296,7 @@ fn records(profile: &Profile) -> Vec<NodeRecord> {
         .filter(|n| n.status == NodeStatus::Ok)
         .map(|n| NodeRecord {
             id: n.id,
+            strategy: n.strategy.clone(),
             text: n.text.clone(),
             error: n.error_fit.clone(),
             timing: n.timing_fit.clone(),

@@ -146,6 +146,8 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
                 ty: "vec3<f32>".to_string(),
                 cost: s.cost,
                 overlap: 0.0,
+                strategy: "3pass".to_string(),
+                block: None,
                 measurements: ms,
                 error_fit,
                 timing_fit,
@@ -186,6 +188,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         },
         hit_rate,
         nodes,
+        strategy_probes: Vec::new(),
         time: AnalysisTime::default(),
     }
 }

@@ -123,9 +123,12 @@ pub struct EmitArgs {
     /// Largest refresh period to consider.
     #[arg(long, default_value_t = 50)]
     pub max_delta_n: u32,
-    /// Cache texel format of the written passes.
-    #[arg(long, value_enum, default_value = "rgba32float")]
-    pub cache_format: CacheFormatArg,
+    /// Cache texel format of the written passes (default: the profile's).
+    #[arg(long, value_enum)]
+    pub cache_format: Option<CacheFormatArg>,
+    /// Only consider this strategy (default: every strategy the profile measured).
+    #[arg(long, value_enum)]
+    pub strategy: Option<StrategyArg>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -157,26 +160,62 @@ pub struct NodesArgs {
 }
 
 /// Cache texel format.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum CacheFormatArg {
-    /// 32-bit float channels: exact.
+    /// The narrowest 32-bit float format that holds the node (r32float, rg32float, rgba32float).
+    F32,
+    /// The narrowest 16-bit float format that holds the node (the paper's precision).
+    F16,
     Rgba32float,
-    /// 16-bit float channels (the paper's cache).
+    Rg32float,
+    R32float,
     Rgba16float,
+    Rg16float,
+    R16float,
+}
+
+/// How a variant's passes are laid out (docs/PASSES.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum StrategyArg {
+    /// The paper's three passes: reproject, recompute, shade.
+    #[value(name = "3pass")]
+    ThreePass,
+    /// Reproject and shade the hits, then the whole shader at the misses.
+    #[value(name = "2pass")]
+    TwoPass,
+    /// One pass: reproject, compute the node inline on a miss, shade; two color targets.
+    Fused,
+}
+
+/// How pass 1 reconstructs the previous payload.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ReconstructArg {
+    /// One filtered fetch (the paper's bilinear reconstruction).
+    Bilinear,
+    /// The nearest texel (cheaper, blockier; needs no filtering).
+    Nearest,
 }
 
 /// How a variant caches: shared by `instance`, `render` and `analyze`.
 #[derive(Debug, Clone, Copy, Args)]
 pub struct CacheArgs {
-    /// Refresh block size k (1 or even, so blocks align with 2×2 quads).
-    #[arg(long, default_value_t = 4)]
-    pub block: u32,
+    /// Variant strategy (instance and render: default 3pass; analyze: default every strategy
+    /// that can win).
+    #[arg(long, value_enum)]
+    pub strategy: Option<StrategyArg>,
+    /// Refresh block size k (1 or even, so blocks align with 2×2 quads; default 8 for fused, 4
+    /// otherwise).
+    #[arg(long)]
+    pub block: Option<u32>,
     /// Relative depth tolerance of the cache hit test.
     #[arg(long, default_value_t = 0.01)]
     pub depth_epsilon: f32,
     /// Cache texel format.
-    #[arg(long, value_enum, default_value = "rgba32float")]
+    #[arg(long, value_enum, default_value = "f32")]
     pub cache_format: CacheFormatArg,
+    /// Payload reconstruction in pass 1.
+    #[arg(long, value_enum, default_value = "bilinear")]
+    pub reconstruct: ReconstructArg,
 }
 
 /// Arguments of `reproj instance`.

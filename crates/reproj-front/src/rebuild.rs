@@ -25,17 +25,27 @@ pub enum Mode {
     Copy,
 }
 
-/// Replacement of one source expression by a read of the payload cache at this fragment's pixel:
-/// `textureLoad(image, vec2<i32>(position.xy), 0)`, narrowed to `components` floats.
+/// Replacement of one source expression by the cached payload, narrowed to `components` floats.
 #[derive(Debug, Clone)]
 pub struct CacheRead {
     /// The expression to replace (source handle).
     pub target: Handle<Expression>,
-    pub image: Handle<naga::GlobalVariable>,
-    /// The `@builtin(position)` value: entry argument index and, if the argument is a struct, the
-    /// member index.
-    pub position: (u32, Option<u32>),
+    pub source: CacheSource,
     pub components: u32,
+}
+
+/// Where [`CacheRead`] finds the payload (a `vec4<f32>`).
+#[derive(Debug, Clone, Copy)]
+pub enum CacheSource {
+    /// `textureLoad(image, vec2<i32>(position.xy), 0)`: the current cache at this fragment's pixel.
+    Texture {
+        image: Handle<naga::GlobalVariable>,
+        /// The `@builtin(position)` value: entry argument index and, if the argument is a struct,
+        /// the member index.
+        position: (u32, Option<u32>),
+    },
+    /// A function argument of the rebuilt function (the fused strategy passes the payload in).
+    Argument(u32),
 }
 
 /// Stop after one expression and return it, zero-padded to a `vec4<f32>` (the recompute pass).
@@ -417,45 +427,10 @@ impl Out<'_, '_> {
 
     fn cache_read(&mut self, cr: &CacheRead, span: Span) -> Handle<Expression> {
         use naga::{Expression as E, SwizzleComponent as S};
-        let image = self.append(E::GlobalVariable(cr.image), span);
-        let arg = self.append(E::FunctionArgument(cr.position.0), span);
-        let pos = match cr.position.1 {
-            Some(m) => self.append(
-                E::AccessIndex {
-                    base: arg,
-                    index: m,
-                },
-                span,
-            ),
-            None => arg,
+        let texel = match cr.source {
+            CacheSource::Texture { image, position } => self.texture_read(image, position, span),
+            CacheSource::Argument(i) => self.append(E::FunctionArgument(i), span),
         };
-        let xy = self.append(
-            E::Swizzle {
-                size: naga::VectorSize::Bi,
-                vector: pos,
-                pattern: [S::X, S::Y, S::X, S::X],
-            },
-            span,
-        );
-        let coord = self.append(
-            E::As {
-                expr: xy,
-                kind: naga::ScalarKind::Sint,
-                convert: Some(4),
-            },
-            span,
-        );
-        let level = self.append(E::Literal(naga::Literal::I32(0)), span);
-        let texel = self.append(
-            E::ImageLoad {
-                image,
-                coordinate: coord,
-                array_index: None,
-                sample: None,
-                level: Some(level),
-            },
-            span,
-        );
         match cr.components {
             1 => self.append(
                 E::AccessIndex {
@@ -482,6 +457,54 @@ impl Out<'_, '_> {
             ),
             _ => texel,
         }
+    }
+
+    fn texture_read(
+        &mut self,
+        image: Handle<naga::GlobalVariable>,
+        position: (u32, Option<u32>),
+        span: Span,
+    ) -> Handle<Expression> {
+        use naga::{Expression as E, SwizzleComponent as S};
+        let image = self.append(E::GlobalVariable(image), span);
+        let arg = self.append(E::FunctionArgument(position.0), span);
+        let pos = match position.1 {
+            Some(m) => self.append(
+                E::AccessIndex {
+                    base: arg,
+                    index: m,
+                },
+                span,
+            ),
+            None => arg,
+        };
+        let xy = self.append(
+            E::Swizzle {
+                size: naga::VectorSize::Bi,
+                vector: pos,
+                pattern: [S::X, S::Y, S::X, S::X],
+            },
+            span,
+        );
+        let coord = self.append(
+            E::As {
+                expr: xy,
+                kind: naga::ScalarKind::Sint,
+                convert: Some(4),
+            },
+            span,
+        );
+        let level = self.append(E::Literal(naga::Literal::I32(0)), span);
+        self.append(
+            E::ImageLoad {
+                image,
+                coordinate: coord,
+                array_index: None,
+                sample: None,
+                level: Some(level),
+            },
+            span,
+        )
     }
 
     fn payload_return(&mut self, stop: &StopAfter, value: Handle<Expression>, span: Span) {

@@ -1,23 +1,29 @@
 //! The reproj instancer.
 //!
-//! Turns a shader and one cacheable node into a *variant*: three fragment modules (reproject,
-//! recompute, shade) and a manifest that tells a host how to run them (see `docs/PASSES.md`).
-//! Pass 1 is a fixed module generated from a template; passes 2 and 3 are the normalized shader
-//! rebuilt in order — sliced after the node, or with the node read from the cache — then stripped of
-//! dead code, validated, compacted, validated again and written as WGSL that survives a round trip.
+//! Turns a shader and one cacheable node into a *variant*: the fragment modules of one
+//! [`Strategy`] and a manifest that tells a host how to run them (see `docs/PASSES.md`). The paper's
+//! three passes (reproject, recompute, shade): pass 1 is the lookup library (`lookup.wgsl`) plus a
+//! small entry; passes 2 and 3 are the normalized shader rebuilt in order — sliced after the node,
+//! or with the node read from the cache. The fused and two-pass strategies put the same pieces in
+//! one module as functions ([`strategy`]). Every module is stripped of dead code, validated,
+//! compacted, validated again and written as WGSL that survives a round trip.
 
 use std::path::{Path, PathBuf};
 
 use naga::{Handle, Module};
-use reproj_front::rebuild::{CacheRead, Mode, RebuildOptions, StopAfter, rebuild};
+use reproj_front::rebuild::{CacheRead, CacheSource, Mode, RebuildOptions, StopAfter, rebuild};
 use reproj_front::{Node, NodeTable, Normalized, Shader, liveness::liveness, validator};
 
+pub mod import;
 pub mod manifest;
+mod strategy;
 
 pub use manifest::*;
 
-/// The pass-1 template; `REPROJ_GROUP` and `REPROJ_PREV_CLIP` are substituted.
-const REPROJECT_TEMPLATE: &str = include_str!("reproject.wgsl");
+/// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
+const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
+/// The three-pass strategy's pass-1 entry, appended to the library.
+const REPROJECT_ENTRY: &str = include_str!("reproject.wgsl");
 
 /// Highest bind group index a variant may use (WebGPU's default `maxBindGroups` is 4).
 pub const MAX_BIND_GROUPS: u32 = 4;
@@ -42,10 +48,35 @@ impl std::str::FromStr for NodeSelector {
     }
 }
 
+/// Which payload format a variant uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CacheFormatChoice {
+    /// The narrowest 32-bit float format that holds the node (exact).
+    #[default]
+    Narrowest32,
+    /// The narrowest 16-bit float format that holds the node (the paper's precision).
+    Narrowest16,
+    /// This format (it must hold the node's components).
+    Exact(CacheFormat),
+}
+
+impl CacheFormatChoice {
+    /// The format for a node of `components` floats.
+    pub fn resolve(self, components: u32) -> CacheFormat {
+        match self {
+            CacheFormatChoice::Narrowest32 => CacheFormat::narrowest(components, false),
+            CacheFormatChoice::Narrowest16 => CacheFormat::narrowest(components, true),
+            CacheFormatChoice::Exact(f) => f,
+        }
+    }
+}
+
 /// Options of [`instance`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InstanceOptions {
-    pub cache_format: CacheFormat,
+    pub strategy: Strategy,
+    pub reconstruct: Reconstruct,
+    pub cache_format: CacheFormatChoice,
     /// Default refresh period written to the manifest (the modules take it at run time).
     pub delta_n: u32,
     /// Refresh block size k (1, or even so blocks align with 2×2 quads).
@@ -57,7 +88,9 @@ pub struct InstanceOptions {
 impl Default for InstanceOptions {
     fn default() -> Self {
         InstanceOptions {
-            cache_format: CacheFormat::Rgba32float,
+            strategy: Strategy::ThreePass,
+            reconstruct: Reconstruct::Bilinear,
+            cache_format: CacheFormatChoice::Narrowest32,
             delta_n: 8,
             block: 4,
             depth_epsilon: 0.01,
@@ -75,7 +108,7 @@ pub struct PassModule {
     pub wgsl: String,
 }
 
-/// A cached variant: three passes and the manifest.
+/// A cached variant: its passes (in draw order) and the manifest.
 #[derive(Debug, Clone)]
 pub struct Variant {
     pub manifest: Manifest,
@@ -109,6 +142,13 @@ pub enum InstanceError {
     BadBlock(u32),
     #[error("the refresh period must be at least 1")]
     BadDeltaN,
+    #[error("the {format} cache holds {channels} float(s) but node {id} has {components}")]
+    FormatTooNarrow {
+        format: &'static str,
+        channels: u32,
+        id: String,
+        components: u32,
+    },
     #[error("cannot write {path}: {source}")]
     Io {
         path: PathBuf,
@@ -143,24 +183,46 @@ pub fn instance(
     let group = free_group(&shader.module)?;
     let prev_clip_location = prev_clip_location(&norm.module);
     let components = node.components;
-
-    let reproject = reproject_pass(group, prev_clip_location)?;
-    let recompute = recompute_pass(norm, target, components)?;
-    let shade = shade_pass(norm, target, components, group)?;
-
+    let cache_format = opts.cache_format.resolve(components);
+    if cache_format.channels() < components {
+        return Err(InstanceError::FormatTooNarrow {
+            format: cache_format.name(),
+            channels: cache_format.channels(),
+            id: if node.root {
+                "root".into()
+            } else {
+                node.id.to_string()
+            },
+            components,
+        });
+    }
+    let library = library_text(group, prev_clip_location, opts.reconstruct);
+    let passes = match opts.strategy {
+        Strategy::ThreePass => vec![
+            reproject_pass(&library)?,
+            recompute_pass(norm, target, components)?,
+            shade_pass(norm, target, components, group)?,
+        ],
+        Strategy::Fused | Strategy::TwoPass => strategy_passes(
+            norm,
+            target,
+            components,
+            &library,
+            opts.strategy,
+            prev_clip_location,
+        )?,
+    };
     let manifest = build_manifest(
         shader,
         norm,
         node,
         opts,
+        cache_format,
         group,
         prev_clip_location,
-        [&reproject, &recompute, &shade],
+        &passes,
     );
-    Ok(Variant {
-        manifest,
-        passes: vec![reproject, recompute, shade],
-    })
+    Ok(Variant { manifest, passes })
 }
 
 fn pick(table: &NodeTable, sel: NodeSelector) -> Result<&Node, InstanceError> {
@@ -218,15 +280,134 @@ fn prev_clip_location(module: &Module) -> u32 {
     max.map_or(0, |m| m + 1)
 }
 
-fn reproject_pass(group: u32, location: u32) -> Result<PassModule, InstanceError> {
-    let text = REPROJECT_TEMPLATE
+/// The lookup library's WGSL for this group, input location and reconstruction.
+fn library_text(group: u32, location: u32, reconstruct: Reconstruct) -> String {
+    let fetch = match reconstruct {
+        Reconstruct::Bilinear => {
+            "textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0.0)"
+        }
+        Reconstruct::Nearest => {
+            "textureLoad(reproj_prev_payload, vec2<i32>(min(uv * size, size - vec2<f32>(1.0))), 0)"
+        }
+    };
+    LOOKUP_LIBRARY
         .replace("REPROJ_GROUP", &group.to_string())
-        .replace("REPROJ_PREV_CLIP", &location.to_string());
-    let module = naga::front::wgsl::parse_str(&text).map_err(|e| InstanceError::Internal {
-        pass: PassKind::Reproject,
-        what: e.emit_to_string(&text),
-    })?;
-    finish(PassKind::Reproject, module)
+        .replace("REPROJ_PREV_CLIP", &location.to_string())
+        .replace("REPROJ_RECONSTRUCT", fetch)
+}
+
+fn parse_library(text: &str, pass: PassKind) -> Result<Module, InstanceError> {
+    naga::front::wgsl::parse_str(text).map_err(|e| InstanceError::Internal {
+        pass,
+        what: e.emit_to_string(text),
+    })
+}
+
+fn reproject_pass(library: &str) -> Result<PassModule, InstanceError> {
+    let text = format!("{library}{REPROJECT_ENTRY}");
+    finish(
+        PassKind::Reproject,
+        parse_library(&text, PassKind::Reproject)?,
+    )
+}
+
+/// The passes of the fused and two-pass strategies (see [`strategy`]).
+fn strategy_passes(
+    norm: &Normalized,
+    target: Handle<naga::Expression>,
+    components: u32,
+    library: &str,
+    which: Strategy,
+    prev_clip_location: u32,
+) -> Result<Vec<PassModule>, InstanceError> {
+    let kinds = strategy::entries(which);
+    let first = strategy::pass_kind(kinds[0]);
+    let mut base = norm.module.clone();
+    let vec4 = vec_type(&mut base, naga::VectorSize::Quad, naga::Scalar::F32);
+    let entry = norm.function().clone();
+    let recompute = rebuild_entry(
+        norm,
+        &base,
+        &RebuildOptions {
+            mode: Some(Mode::Copy),
+            stop_after: Some(StopAfter {
+                target,
+                components,
+                vec4,
+            }),
+            ..Default::default()
+        },
+        first,
+    )?;
+    let payload_arg = entry.arguments.len() as u32;
+    let mut shade = rebuild_entry(
+        norm,
+        &base,
+        &RebuildOptions {
+            mode: Some(Mode::Copy),
+            cache_read: Some(CacheRead {
+                target,
+                source: CacheSource::Argument(payload_arg),
+                components,
+            }),
+            ..Default::default()
+        },
+        first,
+    )?;
+    shade.arguments = entry.arguments.clone();
+    shade.arguments.push(naga::FunctionArgument {
+        name: Some("reproj_payload".into()),
+        ty: vec4,
+        binding: None,
+    });
+    let result = entry
+        .result
+        .clone()
+        .ok_or_else(|| InstanceError::Internal {
+            pass: first,
+            what: "the entry point returns nothing".into(),
+        })?;
+    let recompute = base.functions.append(
+        strategy::as_function(recompute, "reproj_recompute"),
+        naga::Span::UNDEFINED,
+    );
+    let shade = base.functions.append(
+        strategy::as_function(shade, "reproj_shade"),
+        naga::Span::UNDEFINED,
+    );
+    let output = strategy::output_struct(&mut base, &result, vec4);
+    let original_ep = base.entry_points[0].clone();
+    let mut passes = Vec::new();
+    for &kind in kinds {
+        let pass = strategy::pass_kind(kind);
+        let mut module = base.clone();
+        module.entry_points.clear();
+        let fetch = if strategy::needs_fetch(kind) {
+            let lib = parse_library(library, pass)?;
+            let imported = import::import_module(&mut module, &lib)
+                .map_err(|what| InstanceError::Internal { pass, what })?;
+            imported.functions.get("reproj_fetch").copied()
+        } else {
+            None
+        };
+        let parts = strategy::Parts {
+            vec4,
+            recompute,
+            shade,
+            fetch,
+            output,
+        };
+        let function = strategy::build_entry(&module, &entry, &parts, kind, prev_clip_location)?;
+        module.entry_points.insert(
+            0,
+            naga::EntryPoint {
+                function,
+                ..original_ep.clone()
+            },
+        );
+        passes.push(finish(pass, module)?);
+    }
+    Ok(passes)
 }
 
 /// The normalized entry point rebuilt under `opts`, then with dead code removed.
@@ -336,8 +517,7 @@ fn shade_pass(
             mode: Some(Mode::Copy),
             cache_read: Some(CacheRead {
                 target,
-                image,
-                position,
+                source: CacheSource::Texture { image, position },
                 components,
             }),
             ..Default::default()
@@ -349,24 +529,34 @@ fn shade_pass(
     finish(PassKind::Shade, module)
 }
 
-/// The entry point's `@builtin(position)`, added as a new argument when the shader has none.
-fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32, Option<u32>) {
+/// The `@builtin(position)` among entry arguments: argument index and, for a struct, member index.
+pub(crate) fn find_position(
+    module: &Module,
+    arguments: &[naga::FunctionArgument],
+) -> Option<(u32, Option<u32>)> {
     let is_pos = |b: &Option<naga::Binding>| {
         matches!(
             b,
             Some(naga::Binding::BuiltIn(naga::BuiltIn::Position { .. }))
         )
     };
-    let fun = &module.entry_points[0].function;
-    for (i, arg) in fun.arguments.iter().enumerate() {
+    for (i, arg) in arguments.iter().enumerate() {
         if is_pos(&arg.binding) {
-            return (i as u32, None);
+            return Some((i as u32, None));
         }
         if let naga::TypeInner::Struct { members, .. } = &module.types[arg.ty].inner
             && let Some(m) = members.iter().position(|m| is_pos(&m.binding))
         {
-            return (i as u32, Some(m as u32));
+            return Some((i as u32, Some(m as u32)));
         }
+    }
+    None
+}
+
+/// The entry point's `@builtin(position)`, added as a new argument when the shader has none.
+fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32, Option<u32>) {
+    if let Some(p) = find_position(module, &module.entry_points[0].function.arguments) {
+        return p;
     }
     let fun = &mut module.entry_points[0].function;
     fun.arguments.push(naga::FunctionArgument {
@@ -455,6 +645,9 @@ pub fn pass_file(kind: PassKind) -> &'static str {
         PassKind::Reproject => "pass1_reproject.wgsl",
         PassKind::Recompute => "pass2_recompute.wgsl",
         PassKind::Shade => "pass3_shade.wgsl",
+        PassKind::Fused => "pass1_fused.wgsl",
+        PassKind::ShadeHits => "pass1_shade_hits.wgsl",
+        PassKind::ShadeMisses => "pass2_shade_misses.wgsl",
     }
 }
 
@@ -549,14 +742,14 @@ fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Bindi
                         .to_string(),
                     "reproj_prev_payload" => format!(
                         "the previous frame's payload cache ({}), written by passes 1-2 of the previous frame",
-                        format_name(cache_format)
+                        cache_format.name()
                     ),
                     "reproj_prev_depth" => "the previous frame's depth texture (depth32float), as passes 1-3 left it".to_string(),
                     "reproj_cur_payload" => "this frame's payload cache, written by passes 1 and 2 just before".to_string(),
                     "reproj_point_sampler" => "a non-filtering sampler, clamp-to-edge (gathers the previous depths)".to_string(),
                     "reproj_linear_sampler" => format!(
                         "a linear (filtering) sampler, clamp-to-edge (bilinear payload reconstruction){}",
-                        if cache_format == CacheFormat::Rgba32float {
+                        if !cache_format.is_half() {
                             "; the payload texture is bound as filterable, which needs the float32-filterable device feature"
                         } else {
                             ""
@@ -579,25 +772,28 @@ fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Bindi
     out
 }
 
-fn format_name(f: CacheFormat) -> &'static str {
-    match f {
-        CacheFormat::Rgba32float => "rgba32float",
-        CacheFormat::Rgba16float => "rgba16float",
-    }
-}
-
+#[allow(clippy::too_many_arguments)]
 fn build_manifest(
     shader: &Shader,
     norm: &Normalized,
     node: &Node,
     opts: &InstanceOptions,
+    cache_format: CacheFormat,
     group: u32,
     prev_clip_location: u32,
-    passes: [&PassModule; 3],
+    passes: &[PassModule],
 ) -> Manifest {
-    let payload_target = |load: &str| ColorTarget {
+    let cache = |location: u32, load: &str| ColorTarget {
+        location,
         target: "current cache payload".into(),
-        format: format_name(opts.cache_format).into(),
+        format: cache_format.name().into(),
+        load: load.into(),
+        store: "store".into(),
+    };
+    let frame = |load: &str| ColorTarget {
+        location: 0,
+        target: "frame color".into(),
+        format: "same as the original shader's target".into(),
         load: load.into(),
         store: "store".into(),
     };
@@ -608,39 +804,98 @@ fn build_manifest(
         load: load.into(),
         store: "store".into(),
     };
-    let pass = |p: &PassModule, color: ColorTarget, depth: DepthState| Pass {
-        kind: p.kind,
-        file: pass_file(p.kind).into(),
-        entry: p
-            .module
-            .entry_points
-            .iter()
-            .find(|e| e.name != "reproj_classify")
-            .map_or_else(String::new, |e| e.name.clone()),
-        bindings: bindings(&p.module, group, opts.cache_format),
-        color,
-        depth,
+    // The cache output's location in the fused and two-pass modules (after the shader's outputs).
+    let cache_location = |p: &PassModule| {
+        let ep = &p.module.entry_points[0];
+        let ty = ep
+            .function
+            .result
+            .as_ref()
+            .map(|r| &p.module.types[r.ty].inner);
+        match ty {
+            Some(naga::TypeInner::Struct { members, .. }) => members
+                .iter()
+                .rev()
+                .find_map(|m| match m.binding {
+                    Some(naga::Binding::Location { location, .. }) => Some(location),
+                    _ => None,
+                })
+                .unwrap_or(1),
+            _ => 1,
+        }
     };
+    let pass = |p: &PassModule| {
+        let (colors, depth) = match p.kind {
+            PassKind::Reproject => (vec![cache(0, "clear")], depth("less", true, "clear 1.0")),
+            PassKind::Recompute => (vec![cache(0, "load")], depth("less", true, "load")),
+            PassKind::Shade => (vec![frame("clear")], depth("equal", false, "load")),
+            PassKind::Fused | PassKind::ShadeHits => (
+                vec![frame("clear"), cache(cache_location(p), "clear")],
+                depth("less", true, "clear 1.0"),
+            ),
+            PassKind::ShadeMisses => (
+                vec![frame("load"), cache(cache_location(p), "load")],
+                depth("less", true, "load"),
+            ),
+        };
+        Pass {
+            kind: p.kind,
+            file: pass_file(p.kind).into(),
+            entry: p
+                .module
+                .entry_points
+                .iter()
+                .find(|e| e.name != "reproj_classify")
+                .map_or_else(String::new, |e| e.name.clone()),
+            bindings: bindings(&p.module, group, cache_format),
+            colors,
+            depth,
+        }
+    };
+    let draw = match opts.strategy {
+        Strategy::ThreePass => "All three passes draw",
+        Strategy::TwoPass => "Both passes draw",
+        Strategy::Fused => "The pass draws",
+    };
+    let mut notes = vec![
+        format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
+        format!(
+            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position."
+        ),
+        "After each frame, swap the current and previous payload and depth textures.".into(),
+        "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
+        "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
+    ];
+    if opts.strategy != Strategy::ThreePass {
+        notes.push("The frame color target's format is the original shader's; the cache target is the current payload texture, at the listed location.".into());
+    }
     Manifest {
         schema: "reproj.manifest".into(),
         version: MANIFEST_VERSION,
-        shader: shader
-            .path
-            .file_name()
-            .map_or_else(|| shader.path.display().to_string(), |f| f.to_string_lossy().into_owned()),
+        shader: shader.path.file_name().map_or_else(
+            || shader.path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        ),
         entry: norm.entry.clone(),
         node: NodeInfo {
-            id: if node.root { "root".into() } else { node.id.to_string() },
+            id: if node.root {
+                "root".into()
+            } else {
+                node.id.to_string()
+            },
             text: node.text.clone(),
             line: node.line,
             col: node.col,
             ty: node.ty.clone(),
             components: node.components,
         },
-        cache_format: opts.cache_format,
-        required_features: match opts.cache_format {
-            CacheFormat::Rgba32float => vec!["float32-filterable".into()],
-            CacheFormat::Rgba16float => Vec::new(),
+        strategy: opts.strategy,
+        reconstruct: opts.reconstruct,
+        cache_format,
+        required_features: if !cache_format.is_half() && opts.reconstruct == Reconstruct::Bilinear {
+            vec!["float32-filterable".into()]
+        } else {
+            Vec::new()
         },
         prev_clip_location,
         group,
@@ -650,29 +905,8 @@ fn build_manifest(
             depth_epsilon: opts.depth_epsilon,
             size: 16,
         },
-        passes: vec![
-            pass(passes[0], payload_target("clear"), depth("less", true, "clear 1.0")),
-            pass(passes[1], payload_target("load"), depth("less", true, "load")),
-            pass(
-                passes[2],
-                ColorTarget {
-                    target: "frame color".into(),
-                    format: "same as the original shader's target".into(),
-                    load: "clear".into(),
-                    store: "store".into(),
-                },
-                depth("equal", false, "load"),
-            ),
-        ],
-        notes: vec![
-            "All three passes draw the same geometry with the same vertex stage, whose clip position is @invariant.".into(),
-            format!(
-                "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position."
-            ),
-            "After each frame, swap the current and previous payload and depth textures.".into(),
-            "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
-            "Pass 1 also has the debug entry point reproj_classify (rgba8unorm target, no discard): green hit, red miss, blue refresh.".into(),
-        ],
+        passes: passes.iter().map(pass).collect(),
+        notes,
     }
 }
 

@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 
 use reproj_front::{NodeTable, Normalized, Shader, enumerate, load_file, normalize};
 use reproj_instance::{
-    InstanceError, InstanceOptions, NodeSelector, PassKind, Variant, instance, write_variant,
+    InstanceError, InstanceOptions, NodeSelector, PassKind, Strategy, Variant, instance,
+    write_variant,
 };
 
 fn root() -> PathBuf {
@@ -44,27 +45,81 @@ fn check_round_trip(v: &Variant) {
     }
 }
 
-/// Every cacheable node of every sample: each pass validates (inside `instance`, before and after
-/// compaction) and its WGSL is a fixed point of parse → validate → write.
+/// Every cacheable node of every sample, in every strategy: each pass validates (inside
+/// `instance`, before and after compaction) and its WGSL is a fixed point of parse → validate →
+/// write.
 #[test]
 fn every_cacheable_node_of_every_sample_instances() {
-    let opts = InstanceOptions::default();
     let mut count = 0;
-    for name in samples() {
-        let (shader, norm, table) = load(&name);
-        let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
-        assert!(!ids.is_empty());
-        for id in ids {
-            let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
-                .unwrap_or_else(|e| panic!("{name} node {id}: {e}"));
-            assert_eq!(v.passes.len(), 3);
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        let passes = match strategy {
+            Strategy::ThreePass => 3,
+            Strategy::TwoPass => 2,
+            Strategy::Fused => 1,
+        };
+        for name in samples() {
+            let (shader, norm, table) = load(&name);
+            let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
+            assert!(!ids.is_empty());
+            for id in ids {
+                let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
+                    .unwrap_or_else(|e| panic!("{name} node {id} ({strategy}): {e}"));
+                assert_eq!(v.passes.len(), passes);
+                assert_eq!(v.manifest.passes.len(), passes);
+                assert_eq!(v.manifest.strategy, strategy);
+                check_round_trip(&v);
+                count += 1;
+            }
+            let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
             check_round_trip(&v);
-            count += 1;
         }
-        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
-        check_round_trip(&v);
     }
-    assert!(count > 100);
+    assert!(count > 300);
+}
+
+/// The payload format is the narrowest that holds the node unless one is asked for, and a format
+/// too narrow for the node is a clear error.
+#[test]
+fn cache_formats_fit_the_node() {
+    use reproj_instance::{CacheFormat, CacheFormatChoice};
+    let (shader, norm, table) = load("marble.wgsl");
+    let scalar = NodeSelector::Id(node_by_text(&table, "s3 + n4"));
+    let v = instance(&shader, &norm, &table, scalar, &Default::default()).unwrap();
+    assert_eq!(v.manifest.cache_format, CacheFormat::R32float);
+    let half = InstanceOptions {
+        cache_format: CacheFormatChoice::Narrowest16,
+        ..Default::default()
+    };
+    let v = instance(&shader, &norm, &table, NodeSelector::Root, &half).unwrap();
+    assert_eq!(v.manifest.cache_format, CacheFormat::Rgba16float);
+    assert!(v.manifest.required_features.is_empty());
+    let narrow = InstanceOptions {
+        cache_format: CacheFormatChoice::Exact(CacheFormat::Rg32float),
+        ..Default::default()
+    };
+    let e = instance(&shader, &norm, &table, NodeSelector::Root, &narrow).unwrap_err();
+    assert!(matches!(e, InstanceError::FormatTooNarrow { .. }), "{e}");
+}
+
+/// Nearest reconstruction reads the previous payload with `textureLoad` and needs no sampler for
+/// it, so no `float32-filterable` feature either.
+#[test]
+fn nearest_reconstruction_needs_no_filtering() {
+    let (shader, norm, table) = load("marble.wgsl");
+    let opts = InstanceOptions {
+        reconstruct: reproj_instance::Reconstruct::Nearest,
+        ..Default::default()
+    };
+    let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+    let p1 = pass(&v, PassKind::Reproject);
+    assert!(p1.contains("textureLoad(reproj_prev_payload"), "{p1}");
+    assert!(!p1.contains("reproj_linear_sampler"), "{p1}");
+    assert!(v.manifest.required_features.is_empty());
 }
 
 #[test]
@@ -205,21 +260,32 @@ fn ambient_occlusion_post_loop_sum_removes_its_loops_from_pass_3() {
 
 #[test]
 fn snapshots_of_chosen_variants() {
-    let picks: &[(&str, &str)] = &[
-        ("marble.wgsl", "s3 + n4"),
-        ("marble.wgsl", "root"),
-        ("ambient_occlusion.wgsl", "root"),
+    let picks: &[(&str, &str, Strategy)] = &[
+        ("marble.wgsl", "s3 + n4", Strategy::ThreePass),
+        ("marble.wgsl", "root", Strategy::ThreePass),
+        ("ambient_occlusion.wgsl", "root", Strategy::ThreePass),
+        ("marble.wgsl", "s3 + n4", Strategy::TwoPass),
+        ("marble.wgsl", "s3 + n4", Strategy::Fused),
     ];
-    for (name, text) in picks {
+    for (name, text, strategy) in picks {
         let (shader, norm, table) = load(name);
         let sel = if *text == "root" {
             NodeSelector::Root
         } else {
             NodeSelector::Id(node_by_text(&table, text))
         };
-        let v = instance(&shader, &norm, &table, sel, &Default::default()).unwrap();
+        let opts = InstanceOptions {
+            strategy: *strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        let v = instance(&shader, &norm, &table, sel, &opts).unwrap();
+        let suffix = match strategy {
+            Strategy::ThreePass => String::new(),
+            s => format!("_{s}"),
+        };
         let stem = format!(
-            "{}_{}",
+            "{}_{}{suffix}",
             name.trim_end_matches(".wgsl"),
             text.replace(|c: char| !c.is_ascii_alphanumeric(), "_")
         );

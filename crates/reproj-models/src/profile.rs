@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 use crate::{ErrorFit, FrameTiming, HitRateFit, TimingFit};
 
 /// Version of the profile schema. Bump on any incompatible change.
-pub const PROFILE_VERSION: u32 = 1;
+/// Version 2: per-node `strategy` and `block`, and `strategy_probes`. Version 1 files still load
+/// (every node is a 3pass node at the profile's block size).
+pub const PROFILE_VERSION: u32 = 2;
 
 /// A whole profile.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -37,7 +39,11 @@ pub struct Profile {
     pub original: OriginalRecord,
     /// Hit-rate model, one per shader and session.
     pub hit_rate: HitRateFit,
+    /// One entry per profiled node, in the strategy that measured fastest for it.
     pub nodes: Vec<NodeProfile>,
+    /// Every strategy tried per node at the longest training Δn, and which one was kept.
+    #[serde(default)]
+    pub strategy_probes: Vec<StrategyProbe>,
     /// Wall-clock time of the analysis and where it went.
     pub time: AnalysisTime,
 }
@@ -128,6 +134,12 @@ pub struct NodeProfile {
     pub ty: String,
     pub cost: f64,
     pub overlap: f64,
+    /// Variant strategy the measurements use (`3pass`, `2pass`, `fused`).
+    #[serde(default = "three_pass")]
+    pub strategy: String,
+    /// Refresh block size k of the measurements (`None`: the profile's `block`).
+    #[serde(default)]
+    pub block: Option<u32>,
     pub measurements: Vec<Measurement>,
     pub error_fit: ErrorFit,
     pub timing_fit: TimingFit,
@@ -161,6 +173,26 @@ impl NodeProfile {
         let (x0, y0) = points[i - 1];
         Some(y0 + (y1 - y0) * (x - x0) / (x1 - x0))
     }
+}
+
+fn three_pass() -> String {
+    "3pass".into()
+}
+
+/// One strategy tried for one node at one Δn (the longest training period): `analyze` keeps the
+/// fastest strategy of each node and profiles only that one at every other Δn.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StrategyProbe {
+    pub node: u32,
+    pub strategy: String,
+    pub block: u32,
+    pub delta_n: u32,
+    pub frame_ms: f64,
+    pub error: f64,
+    /// Per-pass mean times, ms (frame 0 excluded).
+    #[serde(default)]
+    pub pass_ms: Vec<f64>,
+    pub kept: bool,
 }
 
 /// Where the analysis time went, in seconds.
@@ -200,6 +232,8 @@ mod tests {
             ty: "f32".into(),
             cost: 1.0,
             overlap: 0.0,
+            strategy: "3pass".into(),
+            block: None,
             measurements: mses
                 .iter()
                 .map(|&(delta_n, mse)| Measurement {

@@ -333,7 +333,8 @@ pub fn reflect(
         )?;
     }
     inputs.sort_by_key(|i| i.location);
-    // Output: one vec4<f32> at @location(0).
+    // Output: one vec4<f32> at @location(0); a variant's pass may add its cache output
+    // (`reproj_cache`, a vec4<f32> at a higher location).
     if let Some(res) = &ep.function.result {
         let ok = match &res.binding {
             Some(Binding::Location { location: 0, .. }) => {
@@ -343,6 +344,10 @@ pub fn reflect(
                 TypeInner::Struct { members, .. } => members.iter().all(|m| match &m.binding {
                     Some(Binding::Location { location: 0, .. }) => {
                         float_components(module, m.ty) == Some(4)
+                    }
+                    Some(Binding::Location { .. }) => {
+                        m.name.as_deref() == Some("reproj_cache")
+                            && float_components(module, m.ty) == Some(4)
                     }
                     Some(Binding::BuiltIn(_)) => true,
                     _ => false,

@@ -24,7 +24,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use reproj_front::Shader;
-use reproj_instance::{CacheFormat, Manifest, PassKind};
+use reproj_instance::{CacheFormat, MANIFEST_VERSION, Manifest, PassKind};
 
 use crate::ReplayError;
 use crate::assets::Assets;
@@ -156,6 +156,20 @@ impl VariantInput {
         let text = std::fs::read_to_string(&mpath).map_err(|e| ReplayError::Variant {
             message: format!("cannot read {}: {e}", mpath.display()),
         })?;
+        // Check the schema version first, so an older directory gets a clear message
+        // rather than the first field the current schema misses.
+        if let Ok(head) = serde_json::from_str::<serde_json::Value>(&text) {
+            let version = head.get("version").and_then(serde_json::Value::as_u64);
+            if version != Some(u64::from(MANIFEST_VERSION)) {
+                return Err(ReplayError::Variant {
+                    message: format!(
+                        "{}: field `version`: manifest version {} is not supported (this reproj reads version {MANIFEST_VERSION}); write the variant again with `reproj instance` or `reproj emit`",
+                        mpath.display(),
+                        version.map_or_else(|| "missing".to_string(), |v| v.to_string()),
+                    ),
+                });
+            }
+        }
         let de = &mut serde_json::Deserializer::from_str(&text);
         let manifest: Manifest =
             serde_path_to_error::deserialize(de).map_err(|e| ReplayError::Variant {
@@ -254,14 +268,117 @@ struct Bindings {
     groups: BTreeMap<u32, wgpu::BindGroup>,
 }
 
-/// (pipeline, bindings, color target, color load, depth load) of one variant pass.
-type PassSpec<'a> = (
-    &'a Pipe,
-    &'a Bindings,
-    &'a wgpu::TextureView,
-    wgpu::LoadOp<wgpu::Color>,
-    wgpu::LoadOp<f32>,
-);
+/// A color attachment of a variant pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Attachment {
+    Frame,
+    Cache,
+}
+
+/// One variant pass as the manifest describes it.
+#[derive(Debug)]
+struct PassSpec {
+    label: String,
+    /// By `@location`: the attachment and whether it is loaded (else cleared).
+    colors: Vec<Option<(Attachment, bool)>>,
+    compare: wgpu::CompareFunction,
+    depth_write: bool,
+    /// Depth loaded (else cleared to 1).
+    depth_load: bool,
+}
+
+/// The passes of a variant, from its manifest.
+fn pass_specs(m: &Manifest) -> Result<Vec<PassSpec>, ReplayError> {
+    use reproj_instance::Strategy;
+    let expected: &[PassKind] = match m.strategy {
+        Strategy::ThreePass => &[PassKind::Reproject, PassKind::Recompute, PassKind::Shade],
+        Strategy::TwoPass => &[PassKind::ShadeHits, PassKind::ShadeMisses],
+        Strategy::Fused => &[PassKind::Fused],
+    };
+    let kinds: Vec<PassKind> = m.passes.iter().map(|p| p.kind).collect();
+    let bad = |message: String| ReplayError::Variant { message };
+    if kinds != expected {
+        return Err(bad(format!(
+            "a {} variant has the passes {expected:?}, the manifest lists {kinds:?}",
+            m.strategy
+        )));
+    }
+    m.passes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut colors = Vec::new();
+            for c in &p.colors {
+                let t = match c.target.as_str() {
+                    "frame color" => Attachment::Frame,
+                    "current cache payload" => Attachment::Cache,
+                    other => return Err(bad(format!("unknown color target `{other}`"))),
+                };
+                let load = match c.load.as_str() {
+                    "load" => true,
+                    "clear" => false,
+                    other => return Err(bad(format!("unknown color load `{other}`"))),
+                };
+                let at = c.location as usize;
+                if at >= 8 {
+                    return Err(bad(format!("color location {at} is out of range")));
+                }
+                if colors.len() <= at {
+                    colors.resize(at + 1, None);
+                }
+                colors[at] = Some((t, load));
+            }
+            let compare = match p.depth.compare.as_str() {
+                "less" => wgpu::CompareFunction::Less,
+                "less-equal" => wgpu::CompareFunction::LessEqual,
+                "equal" => wgpu::CompareFunction::Equal,
+                "always" => wgpu::CompareFunction::Always,
+                other => return Err(bad(format!("unknown depth compare `{other}`"))),
+            };
+            Ok(PassSpec {
+                label: format!("pass {} {}", i + 1, p.file.trim_end_matches(".wgsl")),
+                colors,
+                compare,
+                depth_write: p.depth.write,
+                depth_load: p.depth.load == "load",
+            })
+        })
+        .collect()
+}
+
+/// Hits, misses (recomputes, refreshes included) and shaded pixels of one frame.
+struct Counts {
+    hits: u64,
+    misses: u64,
+    shaded: u64,
+}
+
+/// The frame's counts from its occlusion queries (one per pass, in pass order) and, for the
+/// fused strategy whose one pass cannot count hits apart, the classification map.
+fn counts_of(strategy: reproj_instance::Strategy, occ: &[u64], hit_px: Option<u64>) -> Counts {
+    use reproj_instance::Strategy;
+    let at = |i: usize| occ.get(i).copied().unwrap_or(0);
+    match strategy {
+        Strategy::ThreePass => Counts {
+            hits: at(0),
+            misses: at(1),
+            shaded: at(2),
+        },
+        Strategy::TwoPass => Counts {
+            hits: at(0),
+            misses: at(1),
+            shaded: at(0) + at(1),
+        },
+        Strategy::Fused => {
+            let hits = hit_px.unwrap_or(0).min(at(0));
+            Counts {
+                hits,
+                misses: at(0) - hits,
+                shaded: at(0),
+            }
+        }
+    }
+}
 
 /// Occlusion counts, per-pass ms, frame span ms of one frame's queries.
 type QueryResults = (Vec<u64>, Vec<f64>, Option<f64>);
@@ -908,10 +1025,20 @@ impl Renderer {
         bindings: &Bindings,
         scene: &Scene,
         vertex_group: u32,
-        format: wgpu::TextureFormat,
+        formats: &[Option<wgpu::TextureFormat>],
         compare: wgpu::CompareFunction,
         depth_write: bool,
     ) -> Result<Pipe, ReplayError> {
+        let targets: Vec<Option<wgpu::ColorTargetState>> = formats
+            .iter()
+            .map(|f| {
+                f.map(|format| wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })
+            })
+            .collect();
         let max_group = bindings
             .layouts
             .keys()
@@ -970,11 +1097,7 @@ impl Renderer {
                         module: fs,
                         entry_point: Some(entry),
                         compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            format,
-                            blend: None,
-                            write_mask: wgpu::ColorWrites::ALL,
-                        })],
+                        targets: &targets,
                     }),
                     multiview_mask: None,
                     cache: None,
@@ -1111,7 +1234,7 @@ impl Renderer {
             &bindings,
             &scene,
             vgroup,
-            FRAME_FORMAT,
+            &[Some(FRAME_FORMAT)],
             wgpu::CompareFunction::Less,
             true,
         )?;
@@ -1305,36 +1428,19 @@ impl Renderer {
                 message: "Δn and k must be at least 1".into(),
             });
         }
-        if variant.sources.len() != m.passes.len() || m.passes.len() != 3 {
+        let specs = pass_specs(m)?;
+        if variant.sources.len() != m.passes.len() {
             return Err(ReplayError::Variant {
                 message: format!(
-                    "the manifest lists {} passes and {} modules were given; a variant has 3",
+                    "the manifest lists {} passes and {} modules were given",
                     m.passes.len(),
                     variant.sources.len()
                 ),
             });
         }
-        let idx = |k: PassKind| {
-            m.passes
-                .iter()
-                .position(|p| p.kind == k)
-                .ok_or_else(|| ReplayError::Variant {
-                    message: format!("the manifest has no {k:?} pass"),
-                })
-        };
-        let order = [
-            idx(PassKind::Reproject)?,
-            idx(PassKind::Recompute)?,
-            idx(PassKind::Shade)?,
-        ];
         let mut stages = Vec::new();
-        for &i in &order {
-            let p = &m.passes[i];
-            stages.push(self.make_stage(
-                Path::new(&p.file),
-                variant.sources[i].clone(),
-                &p.entry,
-            )?);
+        for (p, src) in m.passes.iter().zip(&variant.sources) {
+            stages.push(self.make_stage(Path::new(&p.file), src.clone(), &p.entry)?);
         }
         // naga's WGSL writer renames identifiers that end in a digit (`sh0` becomes `sh0_`): take
         // the shader's own names back from the original module, by group/binding and field order.
@@ -1350,7 +1456,8 @@ impl Renderer {
         for st in &mut stages {
             restore_names(&mut st.iface, &original);
         }
-        let classify_stage = if opts.classify {
+        // The fused pass cannot count its hits with an occlusion query: classify every frame.
+        let classify_stage = if opts.classify || m.strategy == reproj_instance::Strategy::Fused {
             let s1 = &stages[0].shader;
             match reflect::fragment_entry_index(&s1.module, CLASSIFY_ENTRY) {
                 Some(ci) => Some(reflect::reflect(&s1.module, &s1.info, ci)?),
@@ -1388,7 +1495,11 @@ impl Renderer {
 
         let cache_format = match m.cache_format {
             CacheFormat::Rgba32float => wgpu::TextureFormat::Rgba32Float,
+            CacheFormat::Rg32float => wgpu::TextureFormat::Rg32Float,
+            CacheFormat::R32float => wgpu::TextureFormat::R32Float,
             CacheFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+            CacheFormat::Rg16float => wgpu::TextureFormat::Rg16Float,
+            CacheFormat::R16float => wgpu::TextureFormat::R16Float,
         };
         let payload = [
             self.target("payload A", w, h, cache_format, true),
@@ -1431,7 +1542,8 @@ impl Renderer {
         };
         let point_sampler = clamp(wgpu::FilterMode::Nearest, "reproj_point_sampler");
         let linear_sampler = clamp(wgpu::FilterMode::Linear, "reproj_linear_sampler");
-        if m.cache_format == reproj_instance::CacheFormat::Rgba32float
+        if !m.cache_format.is_half()
+            && m.reconstruct == reproj_instance::Reconstruct::Bilinear
             && !self
                 .device
                 .features()
@@ -1439,44 +1551,34 @@ impl Renderer {
         {
             return Err(ReplayError::Unsupported {
                 what: format!(
-                    "{} has no float32-filterable feature, needed to filter an rgba32float cache; use the rgba16float cache format",
-                    self.adapter_info.name
+                    "{} has no float32-filterable feature, needed to filter a {} cache; use a 16-bit cache format or nearest reconstruction",
+                    self.adapter_info.name,
+                    m.cache_format.name()
                 ),
             });
         }
         // Bindings for each parity (cur = parity, prev = 1 − parity).
-        let mut binds: Vec<[Bindings; 4]> = Vec::new();
+        let mut binds: Vec<(Vec<Bindings>, Bindings)> = Vec::new();
         for parity in 0..2usize {
             let added = AddedResources {
                 params: &params,
                 point_sampler: &point_sampler,
                 linear_sampler: &linear_sampler,
-                payload_half: m.cache_format == reproj_instance::CacheFormat::Rgba16float,
+                payload_half: m.cache_format.is_half(),
                 prev_payload: &payload_v[1 - parity],
                 prev_depth: &depth_v[1 - parity],
                 cur_payload: &payload_v[parity],
             };
-            let b1 = self.bindings(
-                "pass 1 (reproject)",
-                &stages[0].iface,
-                &scene,
-                Some(m.group),
-                Some(&added),
-            )?;
-            let b2 = self.bindings(
-                "pass 2 (recompute)",
-                &stages[1].iface,
-                &scene,
-                Some(m.group),
-                Some(&added),
-            )?;
-            let b3 = self.bindings(
-                "pass 3 (shade)",
-                &stages[2].iface,
-                &scene,
-                Some(m.group),
-                Some(&added),
-            )?;
+            let mut per_pass = Vec::new();
+            for (st, spec) in stages.iter().zip(&specs) {
+                per_pass.push(self.bindings(
+                    &spec.label,
+                    &st.iface,
+                    &scene,
+                    Some(m.group),
+                    Some(&added),
+                )?);
+            }
             let bc = match &classify_stage {
                 Some(c) => {
                     self.bindings("reproj_classify", c, &scene, Some(m.group), Some(&added))?
@@ -1486,55 +1588,44 @@ impl Renderer {
                     groups: BTreeMap::new(),
                 },
             };
-            binds.push([b1, b2, b3, bc]);
+            binds.push((per_pass, bc));
         }
         use wgpu::CompareFunction as Cf;
-        let p1 = self.pipeline(
-            "pass 1 (reproject)",
-            &vs,
-            &fsm[0],
-            &stages[0].iface.entry,
-            &binds[0][0],
-            &scene,
-            vgroup,
-            cache_format,
-            Cf::Less,
-            true,
-        )?;
-        let p2 = self.pipeline(
-            "pass 2 (recompute)",
-            &vs,
-            &fsm[1],
-            &stages[1].iface.entry,
-            &binds[0][1],
-            &scene,
-            vgroup,
-            cache_format,
-            Cf::Less,
-            true,
-        )?;
-        let p3 = self.pipeline(
-            "pass 3 (shade)",
-            &vs,
-            &fsm[2],
-            &stages[2].iface.entry,
-            &binds[0][2],
-            &scene,
-            vgroup,
-            FRAME_FORMAT,
-            Cf::Equal,
-            false,
-        )?;
+        let mut pipes = Vec::new();
+        for (i, spec) in specs.iter().enumerate() {
+            let formats: Vec<Option<wgpu::TextureFormat>> = spec
+                .colors
+                .iter()
+                .map(|c| {
+                    c.map(|(t, _)| match t {
+                        Attachment::Frame => FRAME_FORMAT,
+                        Attachment::Cache => cache_format,
+                    })
+                })
+                .collect();
+            pipes.push(self.pipeline(
+                &spec.label,
+                &vs,
+                &fsm[i],
+                &stages[i].iface.entry,
+                &binds[0].0[i],
+                &scene,
+                vgroup,
+                &formats,
+                spec.compare,
+                spec.depth_write,
+            )?);
+        }
         let pc = match &classify_stage {
             Some(_) => Some(self.pipeline(
                 "reproj_classify",
                 &vs,
                 &fsm[0],
                 CLASSIFY_ENTRY,
-                &binds[0][3],
+                &binds[0].1,
                 &scene,
                 vgroup,
-                CLASSIFY_FORMAT,
+                &[Some(CLASSIFY_FORMAT)],
                 Cf::Less,
                 true,
             )?),
@@ -1542,7 +1633,7 @@ impl Renderer {
         };
 
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
-        let q = QueryKit::new(self, 3, slots);
+        let q = QueryKit::new(self, specs.len() as u32, slots);
         let errors = FrameErrors::new(self, reference, frames, slots, opts.png_dir.is_some())?;
         let cls_rb = pc
             .as_ref()
@@ -1614,45 +1705,43 @@ impl Renderer {
             self.queue.write_buffer(&params, 0, &pbytes);
 
             let mut enc = self.device.create_command_encoder(&Default::default());
-            let passes: [PassSpec<'_>; 3] = [
-                (
-                    &p1,
-                    &b[0],
-                    &payload_v[cur],
-                    wgpu::LoadOp::Clear(clear_payload),
-                    wgpu::LoadOp::Clear(1.0),
-                ),
-                (
-                    &p2,
-                    &b[1],
-                    &payload_v[cur],
-                    wgpu::LoadOp::Load,
-                    wgpu::LoadOp::Load,
-                ),
-                (
-                    &p3,
-                    &b[2],
-                    &color_view,
-                    wgpu::LoadOp::Clear(clear),
-                    wgpu::LoadOp::Load,
-                ),
-            ];
-            for (i, (pipe, bind, target, cload, dload)) in passes.into_iter().enumerate() {
+            for (i, spec) in specs.iter().enumerate() {
+                let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = spec
+                    .colors
+                    .iter()
+                    .map(|c| {
+                        c.map(|(t, load)| {
+                            let (view, clear_to) = match t {
+                                Attachment::Frame => (&color_view, clear),
+                                Attachment::Cache => (&payload_v[cur], clear_payload),
+                            };
+                            wgpu::RenderPassColorAttachment {
+                                view,
+                                depth_slice: None,
+                                resolve_target: None,
+                                ops: wgpu::Operations {
+                                    load: if load {
+                                        wgpu::LoadOp::Load
+                                    } else {
+                                        wgpu::LoadOp::Clear(clear_to)
+                                    },
+                                    store: wgpu::StoreOp::Store,
+                                },
+                            }
+                        })
+                    })
+                    .collect();
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some(["pass 1 reproject", "pass 2 recompute", "pass 3 shade"][i]),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: target,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: cload,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
+                    label: Some(&spec.label),
+                    color_attachments: &colors,
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &depth_v[cur],
                         depth_ops: Some(wgpu::Operations {
-                            load: dload,
+                            load: if spec.depth_load {
+                                wgpu::LoadOp::Load
+                            } else {
+                                wgpu::LoadOp::Clear(1.0)
+                            },
                             store: wgpu::StoreOp::Store,
                         }),
                         stencil_ops: None,
@@ -1662,7 +1751,7 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.begin_occlusion_query(i as u32);
-                self.draw(&mut pass, pipe, bind, &scene, vgroup);
+                self.draw(&mut pass, &pipes[i], &b.0[i], &scene, vgroup);
                 pass.end_occlusion_query();
             }
             q.resolve(&mut enc, slot);
@@ -1694,7 +1783,7 @@ impl Renderer {
                         }),
                         ..Default::default()
                     });
-                    self.draw(&mut pass, pc, &b[3], &scene, vgroup);
+                    self.draw(&mut pass, pc, &b.1, &scene, vgroup);
                 }
                 cls_rb.copy(&mut enc, &cls, slot);
             }
@@ -1738,11 +1827,12 @@ impl Renderer {
                     miss_px = Some(mi);
                     refresh_px = Some(re);
                 }
+                let counts = counts_of(m.strategy, &occ, hit_px);
                 let hit_rate = match (hit_px, miss_px, refresh_px) {
                     (Some(hi), Some(mi), Some(re)) if hi + mi + re > 0 => {
                         hi as f64 / (hi + mi + re) as f64
                     }
-                    _ if occ[2] > 0 => (occ[0] as f64 / occ[2] as f64).min(1.0),
+                    _ if counts.shaded > 0 => (counts.hits as f64 / counts.shaded as f64).min(1.0),
                     _ => 0.0,
                 };
                 let frame_ms = span.unwrap_or(cpu_ms);
@@ -1759,9 +1849,9 @@ impl Renderer {
                     frame_ms,
                     cpu_ms,
                     pass_ms,
-                    shaded: occ[2],
-                    hits: occ[0],
-                    recomputes: occ[1],
+                    shaded: counts.shaded,
+                    hits: counts.hits,
+                    recomputes: counts.misses,
                     hit_px,
                     miss_px,
                     refresh_px,

@@ -23,12 +23,19 @@ pub struct NodeRecord {
     pub id: u32,
     /// The node's source text, for reports.
     pub text: String,
+    /// The variant strategy its models were measured with (`3pass`, `2pass`, `fused`).
+    #[serde(default = "three_pass")]
+    pub strategy: String,
     /// Its error model.
     pub error: reproj_models::ErrorFit,
     /// Its timing model (E[hit], E[miss], E[overhead]).
     pub timing: TimingFit,
     /// M: mean shaded pixels per frame at which to predict the frame time.
     pub mean_pixels: f64,
+}
+
+fn three_pass() -> String {
+    "3pass".into()
 }
 
 /// Options of [`select`].
@@ -101,6 +108,9 @@ pub fn check_node(node: &NodeRecord) -> Result<(), SkipReason> {
 pub struct Prediction {
     /// The node.
     pub node_id: u32,
+    /// Its variant strategy.
+    #[serde(default = "three_pass")]
+    pub strategy: String,
     /// The refresh period.
     pub delta_n: u32,
     /// γ(Δn).
@@ -124,6 +134,7 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
     let ms = predicted_frame_ms(&node.timing, hit_rate, dn, node.mean_pixels)?;
     (error.is_finite() && ms.is_finite() && ms > 0.0).then(|| Prediction {
         node_id: node.id,
+        strategy: node.strategy.clone(),
         delta_n,
         hit_rate: gamma,
         predicted_error: error,
@@ -153,6 +164,7 @@ fn by_time(a: &Prediction, b: &Prediction) -> std::cmp::Ordering {
         .total_cmp(&b.predicted_ms)
         .then(a.delta_n.cmp(&b.delta_n))
         .then(a.node_id.cmp(&b.node_id))
+        .then(a.strategy.cmp(&b.strategy))
         .then(a.predicted_error.total_cmp(&b.predicted_error))
 }
 
@@ -193,6 +205,8 @@ pub struct Choice {
     pub node_id: u32,
     /// Its source text.
     pub node_text: String,
+    /// The variant strategy.
+    pub strategy: String,
     /// The refresh period.
     pub delta_n: u32,
     /// Predicted hit rate γ(Δn).
@@ -337,6 +351,7 @@ pub fn select(
     Selection::Node(Choice {
         node_id: best.node_id,
         node_text: text,
+        strategy: best.strategy.clone(),
         delta_n: best.delta_n,
         hit_rate: best.hit_rate,
         predicted_error: best.predicted_error,

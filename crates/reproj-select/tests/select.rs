@@ -29,6 +29,7 @@ fn node(id: u32, alpha: f64, lambda: f64, hit_ms: f64, miss_ms: f64) -> NodeReco
     NodeRecord {
         id,
         text: format!("node{id}"),
+        strategy: "3pass".into(),
         error: error_fit(alpha, lambda),
         timing: TimingFit::from_costs(hit_ms, miss_ms, 0.5, M),
         mean_pixels: M,

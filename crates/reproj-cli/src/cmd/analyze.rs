@@ -81,6 +81,11 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         },
         nodes: args.nodes.clone(),
         instance: super::instance_options(args.cache, 8),
+        strategies: match args.cache.strategy {
+            Some(s) => vec![super::strategy(s)],
+            None => reproj_instance::Strategy::ALL.to_vec(),
+        },
+        block: args.cache.block,
         max_frames: args.max_frames,
     };
     eprintln!(

@@ -40,7 +40,8 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         min_delta_n: 2,
         max_delta_n: args.max_delta_n,
         out,
-        cache_format: cache_format(args.cache_format),
+        cache_format: args.cache_format.map_or(Default::default(), cache_format),
+        strategy: args.strategy.map(super::strategy),
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
     if args.verify {
@@ -77,10 +78,11 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     match (&report.node, report.delta_n) {
         (Some(node), Some(dn)) => {
             println!(
-                "selected node {node} `{}` (line {}:{}) at Δn = {dn}",
+                "selected node {node} `{}` (line {}:{}) at Δn = {dn}, strategy {}",
                 report.node_text.as_deref().unwrap_or(""),
                 report.line.unwrap_or(0),
-                report.col.unwrap_or(0)
+                report.col.unwrap_or(0),
+                report.strategy.as_deref().unwrap_or("3pass")
             );
             println!(
                 "predicted error {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",

@@ -56,21 +56,50 @@ pub fn analyze_error(e: reproj_analyze::AnalyzeError) -> anyhow::Error {
     }
 }
 
-/// Instancer options from the CLI's cache flags and a default Δn.
+/// Instancer options from the CLI's cache flags and a default Δn (3pass unless one is named).
 pub fn instance_options(c: crate::CacheArgs, delta_n: u32) -> reproj_instance::InstanceOptions {
+    let strategy = c
+        .strategy
+        .map_or(reproj_instance::Strategy::ThreePass, strategy);
     reproj_instance::InstanceOptions {
+        strategy,
+        reconstruct: reconstruct(c.reconstruct),
         cache_format: cache_format(c.cache_format),
         delta_n,
-        block: c.block,
+        block: c.block.unwrap_or(strategy.default_block()),
         depth_epsilon: c.depth_epsilon,
     }
 }
 
-/// The instancer's cache format for the CLI flag.
-pub fn cache_format(f: crate::CacheFormatArg) -> reproj_instance::CacheFormat {
+/// The instancer's strategy for the CLI flag.
+pub fn strategy(s: crate::StrategyArg) -> reproj_instance::Strategy {
+    match s {
+        crate::StrategyArg::ThreePass => reproj_instance::Strategy::ThreePass,
+        crate::StrategyArg::TwoPass => reproj_instance::Strategy::TwoPass,
+        crate::StrategyArg::Fused => reproj_instance::Strategy::Fused,
+    }
+}
+
+/// The instancer's reconstruction for the CLI flag.
+pub fn reconstruct(r: crate::ReconstructArg) -> reproj_instance::Reconstruct {
+    match r {
+        crate::ReconstructArg::Bilinear => reproj_instance::Reconstruct::Bilinear,
+        crate::ReconstructArg::Nearest => reproj_instance::Reconstruct::Nearest,
+    }
+}
+
+/// The instancer's cache format choice for the CLI flag.
+pub fn cache_format(f: crate::CacheFormatArg) -> reproj_instance::CacheFormatChoice {
+    use reproj_instance::{CacheFormat as F, CacheFormatChoice as C};
     match f {
-        crate::CacheFormatArg::Rgba32float => reproj_instance::CacheFormat::Rgba32float,
-        crate::CacheFormatArg::Rgba16float => reproj_instance::CacheFormat::Rgba16float,
+        crate::CacheFormatArg::F32 => C::Narrowest32,
+        crate::CacheFormatArg::F16 => C::Narrowest16,
+        crate::CacheFormatArg::Rgba32float => C::Exact(F::Rgba32float),
+        crate::CacheFormatArg::Rg32float => C::Exact(F::Rg32float),
+        crate::CacheFormatArg::R32float => C::Exact(F::R32float),
+        crate::CacheFormatArg::Rgba16float => C::Exact(F::Rgba16float),
+        crate::CacheFormatArg::Rg16float => C::Exact(F::Rg16float),
+        crate::CacheFormatArg::R16float => C::Exact(F::R16float),
     }
 }
 

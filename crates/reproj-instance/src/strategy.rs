@@ -1,0 +1,366 @@
+//! The fused (one-pass) and two-pass strategies.
+//!
+//! Both are built from three functions placed in one module beside the shader's own code:
+//! `reproj_fetch` (the reprojection lookup, imported from `lookup.wgsl`), `reproj_recompute` (the
+//! slice of the shader that computes the node, as the three-pass strategy's pass 2 computes it) and
+//! `reproj_shade` (the shader with the node read from an extra `vec4<f32>` argument). Small entry
+//! points call them:
+//!
+//! - fused: `fetch`; on a miss or refresh `recompute`; then `shade`; write the color and the new
+//!   cache (two color targets);
+//! - two-pass, pass 1 (`shade_hits`): `fetch`; discard unless it hit; `shade` the hit; write color
+//!   and cache, and depth, which closes the pixel for pass 2;
+//! - two-pass, pass 2 (`shade_misses`): where pass 1 left the pixel open, `recompute` then `shade`.
+//!
+//! The functions are ordinary naga functions; the entry points are built directly in IR.
+
+use crate::{InstanceError, PassKind};
+use naga::{Expression, Function, Handle, Module, Span, Statement, Type};
+
+/// The payload type and the shader's functions, ready for the entry points.
+pub(crate) struct Parts {
+    pub vec4: Handle<Type>,
+    pub recompute: Handle<Function>,
+    pub shade: Handle<Function>,
+    /// `reproj_fetch`, when the lookup library was imported.
+    pub fetch: Option<Handle<Function>>,
+    /// The output struct: the original outputs plus the cache.
+    pub output: Handle<Type>,
+}
+
+/// How the new entry point's body is put together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum EntryKind {
+    Fused,
+    ShadeHits,
+    ShadeMisses,
+}
+
+/// Turn the entry point's function into an ordinary function: no bindings, a new name.
+pub(crate) fn as_function(mut f: Function, name: &str) -> Function {
+    f.name = Some(name.into());
+    for a in &mut f.arguments {
+        a.binding = None;
+    }
+    if let Some(r) = &mut f.result {
+        r.binding = None;
+    }
+    f
+}
+
+/// The output struct of a fused or two-pass entry: the shader's outputs, then the cache.
+pub(crate) fn output_struct(
+    module: &mut Module,
+    result: &naga::FunctionResult,
+    vec4: Handle<Type>,
+) -> Handle<Type> {
+    let mut members: Vec<naga::StructMember> =
+        match (&result.binding, &module.types[result.ty].inner) {
+            (None, naga::TypeInner::Struct { members, .. }) => members.clone(),
+            _ => vec![naga::StructMember {
+                name: Some("color".into()),
+                ty: result.ty,
+                binding: result.binding.clone(),
+                offset: 0,
+            }],
+        };
+    let max_location = members
+        .iter()
+        .filter_map(|m| match &m.binding {
+            Some(naga::Binding::Location { location, .. }) => Some(*location),
+            _ => None,
+        })
+        .max();
+    let cache_location = max_location.map_or(0, |l| l + 1);
+    members.push(naga::StructMember {
+        name: Some("reproj_cache".into()),
+        ty: vec4,
+        binding: Some(naga::Binding::Location {
+            location: cache_location,
+            interpolation: None,
+            sampling: None,
+            blend_src: None,
+            per_primitive: false,
+        }),
+        offset: 0,
+    });
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .expect("the shader's types have a layout");
+    let mut offset = 0u32;
+    for m in &mut members {
+        let l = layouter[m.ty];
+        offset = l.alignment.round_up(offset);
+        m.offset = offset;
+        offset += l.size;
+    }
+    let span = naga::proc::Alignment::from_width(16).round_up(offset);
+    module.types.insert(
+        Type {
+            name: Some("ReprojOutput".into()),
+            inner: naga::TypeInner::Struct { members, span },
+        },
+        Span::UNDEFINED,
+    )
+}
+
+/// A function body under construction, with naga's emit ranges kept right.
+struct Body {
+    fun: Function,
+    emitter: naga::proc::Emitter,
+    blocks: Vec<naga::Block>,
+}
+
+impl Body {
+    fn new(fun: Function) -> Body {
+        let mut b = Body {
+            fun,
+            emitter: Default::default(),
+            blocks: vec![naga::Block::new()],
+        };
+        b.emitter.start(&b.fun.expressions);
+        b
+    }
+
+    fn expr(&mut self, e: Expression) -> Handle<Expression> {
+        if e.needs_pre_emit() {
+            self.flush();
+            let h = self.fun.expressions.append(e, Span::UNDEFINED);
+            self.emitter.start(&self.fun.expressions);
+            h
+        } else {
+            self.fun.expressions.append(e, Span::UNDEFINED)
+        }
+    }
+
+    fn flush(&mut self) {
+        if let Some((s, span)) = self.emitter.finish(&self.fun.expressions) {
+            self.blocks.last_mut().unwrap().push(s, span);
+        }
+    }
+
+    fn stmt(&mut self, s: Statement) {
+        self.flush();
+        self.blocks.last_mut().unwrap().push(s, Span::UNDEFINED);
+        self.emitter.start(&self.fun.expressions);
+    }
+
+    fn call(
+        &mut self,
+        function: Handle<Function>,
+        arguments: Vec<Handle<Expression>>,
+    ) -> Handle<Expression> {
+        self.flush();
+        let result = self
+            .fun
+            .expressions
+            .append(Expression::CallResult(function), Span::UNDEFINED);
+        self.blocks.last_mut().unwrap().push(
+            Statement::Call {
+                function,
+                arguments,
+                result: Some(result),
+            },
+            Span::UNDEFINED,
+        );
+        self.emitter.start(&self.fun.expressions);
+        result
+    }
+
+    fn open(&mut self) {
+        self.flush();
+        self.blocks.push(naga::Block::new());
+        self.emitter.start(&self.fun.expressions);
+    }
+
+    fn close(&mut self) -> naga::Block {
+        self.flush();
+        let b = self.blocks.pop().unwrap();
+        self.emitter.start(&self.fun.expressions);
+        b
+    }
+
+    fn finish(mut self) -> Function {
+        self.flush();
+        self.fun.body = self.blocks.pop().unwrap();
+        self.fun
+    }
+}
+
+/// Build the entry point `kind` of a fused or two-pass module. `entry` is the shader's entry
+/// function (its arguments and result); `prev_clip_location` the extra vertex output's location.
+pub(crate) fn build_entry(
+    module: &Module,
+    entry: &Function,
+    parts: &Parts,
+    kind: EntryKind,
+    prev_clip_location: u32,
+) -> Result<Function, InstanceError> {
+    let internal = |what: &str| InstanceError::Internal {
+        pass: pass_kind(kind),
+        what: what.into(),
+    };
+    let mut arguments = entry.arguments.clone();
+    let original_args = arguments.len() as u32;
+    let uses_fetch = kind != EntryKind::ShadeMisses;
+    let mut position = None;
+    let mut prev_clip = None;
+    if uses_fetch {
+        position = Some(match crate::find_position(module, &arguments) {
+            Some(p) => p,
+            None => {
+                arguments.push(naga::FunctionArgument {
+                    name: Some("reproj_frag_coord".into()),
+                    ty: parts.vec4,
+                    binding: Some(naga::Binding::BuiltIn(naga::BuiltIn::Position {
+                        invariant: false,
+                    })),
+                });
+                (arguments.len() as u32 - 1, None)
+            }
+        });
+        arguments.push(naga::FunctionArgument {
+            name: Some("reproj_prev_clip".into()),
+            ty: parts.vec4,
+            binding: Some(naga::Binding::Location {
+                location: prev_clip_location,
+                interpolation: Some(naga::Interpolation::Perspective),
+                sampling: Some(naga::Sampling::Center),
+                blend_src: None,
+                per_primitive: false,
+            }),
+        });
+        prev_clip = Some(arguments.len() as u32 - 1);
+    }
+    let mut local_variables = naga::Arena::new();
+    let payload_var = local_variables.append(
+        naga::LocalVariable {
+            name: Some("reproj_payload".into()),
+            ty: parts.vec4,
+            init: None,
+        },
+        Span::UNDEFINED,
+    );
+    let mut b = Body::new(Function {
+        name: entry.name.clone(),
+        arguments,
+        result: Some(naga::FunctionResult {
+            ty: parts.output,
+            binding: None,
+        }),
+        local_variables,
+        expressions: naga::Arena::new(),
+        named_expressions: Default::default(),
+        body: naga::Block::new(),
+        diagnostic_filter_leaf: None,
+    });
+    let args: Vec<Handle<Expression>> = (0..original_args)
+        .map(|i| b.expr(Expression::FunctionArgument(i)))
+        .collect();
+    let payload = match kind {
+        EntryKind::ShadeMisses => b.call(parts.recompute, args.clone()),
+        EntryKind::Fused | EntryKind::ShadeHits => {
+            let fetch = parts.fetch.ok_or_else(|| internal("no lookup library"))?;
+            let (pi, member) = position.unwrap();
+            let mut pos = b.expr(Expression::FunctionArgument(pi));
+            if let Some(m) = member {
+                pos = b.expr(Expression::AccessIndex {
+                    base: pos,
+                    index: m,
+                });
+            }
+            let prev = b.expr(Expression::FunctionArgument(prev_clip.unwrap()));
+            let r = b.call(fetch, vec![pos, prev]);
+            let fetched = b.expr(Expression::AccessIndex { base: r, index: 0 });
+            let status = b.expr(Expression::AccessIndex { base: r, index: 1 });
+            let zero = b.expr(Expression::Literal(naga::Literal::U32(0)));
+            let missed = b.expr(Expression::Binary {
+                op: naga::BinaryOperator::NotEqual,
+                left: status,
+                right: zero,
+            });
+            if kind == EntryKind::ShadeHits {
+                b.open();
+                b.stmt(Statement::Kill);
+                let accept = b.close();
+                b.stmt(Statement::If {
+                    condition: missed,
+                    accept,
+                    reject: naga::Block::new(),
+                });
+                fetched
+            } else {
+                let var = b.expr(Expression::LocalVariable(payload_var));
+                b.stmt(Statement::Store {
+                    pointer: var,
+                    value: fetched,
+                });
+                b.open();
+                let computed = b.call(parts.recompute, args.clone());
+                b.stmt(Statement::Store {
+                    pointer: var,
+                    value: computed,
+                });
+                let accept = b.close();
+                b.stmt(Statement::If {
+                    condition: missed,
+                    accept,
+                    reject: naga::Block::new(),
+                });
+                b.expr(Expression::Load { pointer: var })
+            }
+        }
+    };
+    let mut shade_args = args;
+    shade_args.push(payload);
+    let color = b.call(parts.shade, shade_args);
+    let result = entry.result.as_ref().ok_or_else(|| internal("no result"))?;
+    let mut components = Vec::new();
+    match (&result.binding, &module.types[result.ty].inner) {
+        (None, naga::TypeInner::Struct { members, .. }) => {
+            for i in 0..members.len() as u32 {
+                components.push(b.expr(Expression::AccessIndex {
+                    base: color,
+                    index: i,
+                }));
+            }
+        }
+        _ => components.push(color),
+    }
+    components.push(payload);
+    let out = b.expr(Expression::Compose {
+        ty: parts.output,
+        components,
+    });
+    b.stmt(Statement::Return { value: Some(out) });
+    let mut fun = b.finish();
+    if kind != EntryKind::Fused {
+        // The payload variable is only used by the fused body.
+        fun.local_variables = naga::Arena::new();
+    }
+    Ok(fun)
+}
+
+/// Which entry points a strategy's modules have, in pass order.
+pub(crate) fn entries(strategy: crate::Strategy) -> &'static [EntryKind] {
+    match strategy {
+        crate::Strategy::Fused => &[EntryKind::Fused],
+        crate::Strategy::TwoPass => &[EntryKind::ShadeHits, EntryKind::ShadeMisses],
+        crate::Strategy::ThreePass => &[],
+    }
+}
+
+/// The manifest's name for an entry's pass.
+pub(crate) fn pass_kind(kind: EntryKind) -> PassKind {
+    match kind {
+        EntryKind::Fused => PassKind::Fused,
+        EntryKind::ShadeHits => PassKind::ShadeHits,
+        EntryKind::ShadeMisses => PassKind::ShadeMisses,
+    }
+}
+
+/// Does this entry need the lookup library?
+pub(crate) fn needs_fetch(kind: EntryKind) -> bool {
+    kind != EntryKind::ShadeMisses
+}
