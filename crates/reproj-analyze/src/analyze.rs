@@ -180,6 +180,7 @@ pub fn analyze(
     }
     let mut raws = Vec::new();
     let mut probes: Vec<StrategyProbe> = Vec::new();
+    let mut pruner = StrategyPruner::new(opts.strategies.len());
     for &id in &ids {
         let node = input.table.get(id).expect("ids come from the table");
         let sel = if node.root {
@@ -189,8 +190,24 @@ pub fn analyze(
         };
         // Each strategy at the longest period; keep the fastest.
         let mut tried = Vec::new();
-        for &strategy in &opts.strategies {
+        for (si, &strategy) in opts.strategies.iter().enumerate() {
             let block = opts.block.unwrap_or(strategy.default_block());
+            match pruner.verdict(si) {
+                Verdict::Try => {}
+                Verdict::PruneNow => {
+                    progress.note(&format!(
+                        "{strategy}: at least {:.2}× slower than the fastest strategy at Δn = {longest} for {} nodes; not tried for the remaining nodes",
+                        StrategyPruner::MARGIN,
+                        StrategyPruner::LOSSES
+                    ));
+                    progress.step(&format!("node {id} {strategy} pruned"));
+                    continue;
+                }
+                Verdict::Pruned => {
+                    progress.step(&format!("node {id} {strategy} pruned"));
+                    continue;
+                }
+            }
             let inst = InstanceOptions {
                 strategy,
                 block,
@@ -230,8 +247,17 @@ pub fn analyze(
             .iter()
             .enumerate()
             .filter_map(|(i, t)| t.3.as_ref().ok().map(|(m, _)| (i, m.frame_ms)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(i, _)| i);
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((_, best_ms)) = best {
+            for (strategy, _, _, res) in &tried {
+                if let (Ok((m, _)), Some(si)) =
+                    (res, opts.strategies.iter().position(|s| s == strategy))
+                {
+                    pruner.record(si, m.frame_ms / best_ms);
+                }
+            }
+        }
+        let best = best.map(|(i, _)| i);
         if opts.strategies.len() > 1 {
             for (i, (strategy, block, _, res)) in tried.iter().enumerate() {
                 if let Ok((m, pass_ms)) = res {
@@ -549,4 +575,104 @@ fn mean(it: impl Iterator<Item = f64>) -> f64 {
 /// NaN and infinities never reach the profile.
 fn finite(x: f64) -> f64 {
     if x.is_finite() { x } else { 0.0 }
+}
+
+/// Strategy pruning in `analyze`: a strategy at least [`StrategyPruner::MARGIN`] times slower than
+/// the fastest strategy of the node at the longest Δn, for [`StrategyPruner::LOSSES`] nodes, and
+/// never the fastest, cannot win on this adapter (fused on a CPU rasterizer, which runs both sides
+/// of its branch); it is not tried for the remaining nodes. Strategies within the margin of each
+/// other (3pass and 2pass on lavapipe) are both kept: timing noise decides between them.
+#[derive(Debug, Clone)]
+pub(crate) struct StrategyPruner {
+    losses: Vec<usize>,
+    wins: Vec<usize>,
+    announced: Vec<bool>,
+}
+
+/// What [`StrategyPruner::verdict`] says about a strategy for the next node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Verdict {
+    Try,
+    /// Pruned from this node on (first time: say so).
+    PruneNow,
+    Pruned,
+}
+
+impl StrategyPruner {
+    pub(crate) const LOSSES: usize = 2;
+    pub(crate) const MARGIN: f64 = 1.25;
+
+    pub(crate) fn new(strategies: usize) -> Self {
+        StrategyPruner {
+            losses: vec![0; strategies],
+            wins: vec![0; strategies],
+            announced: vec![false; strategies],
+        }
+    }
+
+    /// Record one node's replay of strategy `i`: its frame time over the fastest strategy's
+    /// (1 for the fastest).
+    pub(crate) fn record(&mut self, i: usize, ratio_to_best: f64) {
+        if ratio_to_best <= 1.0 {
+            self.wins[i] += 1;
+        } else if ratio_to_best >= Self::MARGIN || !ratio_to_best.is_finite() {
+            self.losses[i] += 1;
+        }
+    }
+
+    pub(crate) fn verdict(&mut self, i: usize) -> Verdict {
+        if self.losses[i] >= Self::LOSSES && self.wins[i] == 0 {
+            if std::mem::replace(&mut self.announced[i], true) {
+                Verdict::Pruned
+            } else {
+                Verdict::PruneNow
+            }
+        } else {
+            Verdict::Try
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_strategy_clearly_slower_twice_is_pruned() {
+        let mut p = StrategyPruner::new(3);
+        // Node 1: 0 fastest, 1 within the margin, 2 twice as slow.
+        p.record(0, 1.0);
+        p.record(1, 1.1);
+        p.record(2, 2.0);
+        // One loss is not enough.
+        assert_eq!(p.verdict(2), Verdict::Try);
+        // Node 2: 1 fastest this time.
+        p.record(0, 1.05);
+        p.record(1, 1.0);
+        p.record(2, 1.9);
+        assert_eq!(p.verdict(0), Verdict::Try);
+        assert_eq!(p.verdict(1), Verdict::Try);
+        assert_eq!(p.verdict(2), Verdict::PruneNow);
+        assert_eq!(p.verdict(2), Verdict::Pruned);
+    }
+
+    #[test]
+    fn strategies_within_the_margin_are_kept() {
+        let mut p = StrategyPruner::new(2);
+        for _ in 0..5 {
+            p.record(0, 1.0);
+            p.record(1, 1.2);
+        }
+        assert_eq!(p.verdict(1), Verdict::Try);
+    }
+
+    #[test]
+    fn a_strategy_that_was_fastest_once_is_kept() {
+        let mut p = StrategyPruner::new(2);
+        p.record(1, 1.0);
+        for _ in 0..5 {
+            p.record(1, 3.0);
+        }
+        assert_eq!(p.verdict(1), Verdict::Try);
+    }
 }

@@ -270,7 +270,8 @@ mod tests {
 
     #[test]
     fn measurements_without_mse_still_load() {
-        let json = r#"{"delta_n":2,"error":0.01,"psnr":40.0,"hit_rate":0.5,"frame_ms":1.0,"frames":[]}"#;
+        let json =
+            r#"{"delta_n":2,"error":0.01,"psnr":40.0,"hit_rate":0.5,"frame_ms":1.0,"frames":[]}"#;
         let m: Measurement = serde_json::from_str(json).unwrap();
         assert_eq!((m.delta_n, m.mse), (2, None));
     }

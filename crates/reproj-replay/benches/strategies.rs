@@ -15,7 +15,9 @@ use std::path::PathBuf;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
-use reproj_replay::{RenderOptions, RenderReport, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{
+    RenderOptions, RenderReport, Renderer, RendererOptions, Session, VariantInput,
+};
 
 struct Args {
     shaders: Vec<String>,
@@ -72,11 +74,7 @@ fn pass_ms(r: &RenderReport) -> Vec<f64> {
     let n = frames.iter().map(|f| f.pass_ms.len()).max().unwrap_or(0);
     (0..n)
         .map(|i| {
-            frames
-                .iter()
-                .filter_map(|f| f.pass_ms.get(i))
-                .sum::<f64>()
-                / frames.len().max(1) as f64
+            frames.iter().filter_map(|f| f.pass_ms.get(i)).sum::<f64>() / frames.len().max(1) as f64
         })
         .collect()
 }
@@ -118,7 +116,15 @@ fn main() {
     } else {
         println!(
             "{:<18} {:>8} {:<34} {:>9} {:<24} {:>8} {:>7} {:>6} {:>7}",
-            "shader", "size", "replay", "frame ms", "per pass ms", "error", "PSNR", "hits", "speedup"
+            "shader",
+            "size",
+            "replay",
+            "frame ms",
+            "per pass ms",
+            "error",
+            "PSNR",
+            "hits",
+            "speedup"
         );
     }
     for name in &args.shaders {
@@ -143,7 +149,8 @@ fn main() {
             session.resolution = res;
             let size = format!("{}x{}", res[0], res[1]);
             let row = |label: &str, r: &RenderReport, base: Option<f64>| {
-                let speedup = base.map_or("1.00x".to_string(), |b| format!("{:.2}x", b / r.frame_ms));
+                let speedup =
+                    base.map_or("1.00x".to_string(), |b| format!("{:.2}x", b / r.frame_ms));
                 let (error, psnr, hits) = if base.is_some() {
                     (
                         format!("{:.5}", r.error),

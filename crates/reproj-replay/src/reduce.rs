@@ -156,12 +156,10 @@ impl Kernel {
             count: None,
         };
         r.scoped("the error reduction pipeline", || {
-            let module = r
-                .device
-                .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("error reduction"),
-                    source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(SHADER)),
-                });
+            let module = r.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("error reduction"),
+                source: wgpu::ShaderSource::Wgsl(Cow::Borrowed(SHADER)),
+            });
             let layout = r
                 .device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -400,7 +398,13 @@ impl Keeper {
             dt.as_image_copy(),
             extent(w, h),
         );
-        enc.copy_buffer_to_buffer(&self.depth_rows, 0, readback, offset, Some(self.depth_rows.size()));
+        enc.copy_buffer_to_buffer(
+            &self.depth_rows,
+            0,
+            readback,
+            offset,
+            Some(self.depth_rows.size()),
+        );
         keep.frames.push(GpuFrame {
             color: ct.create_view(&Default::default()),
             depth: dt.create_view(&Default::default()),
@@ -472,11 +476,10 @@ impl<'a> Reducer<'a> {
         frame: u32,
         slot: u32,
     ) -> Result<(), ReplayError> {
-        let refr = self
-            .reference
-            .frames
-            .get(frame as usize)
-            .ok_or_else(|| gpu_err("the error reduction", format!("no reference frame {frame}")))?;
+        let refr =
+            self.reference.frames.get(frame as usize).ok_or_else(|| {
+                gpu_err("the error reduction", format!("no reference frame {frame}"))
+            })?;
         let at = slot as u64 * self.stride;
         let size = (self.groups[0] * self.groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
         let group = r.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -675,8 +678,7 @@ mod tests {
         reference: &[f32],
         depth: &[f32],
     ) -> FrameError {
-        let refr =
-            GpuReference::upload(r, w, h, &[reference.to_vec()], &[depth.to_vec()]).unwrap();
+        let refr = GpuReference::upload(r, w, h, &[reference.to_vec()], &[depth.to_vec()]).unwrap();
         let ones = vec![1.0; (w * h) as usize];
         let var = GpuReference::upload(r, w, h, &[frame.to_vec()], &[ones]).unwrap();
         let red = Reducer::new(r, Cow::Borrowed(&refr), w, h, 2).unwrap();

@@ -204,7 +204,13 @@ pub struct Renderer {
     pub(crate) id: u64,
     assets: Assets,
     reduce_kernel: Mutex<Option<reduce::Kernel>>,
+    /// Render pipelines kept across replays (see [`Renderer::pipeline`]).
+    pipelines: Mutex<HashMap<String, Pipe>>,
+    pipeline_hits: AtomicU64,
 }
+
+/// Pipelines kept at most; the cache starts over beyond (an `analyze` keeps one node's few).
+const PIPELINE_CACHE_LEN: usize = 64;
 
 /// Source of [`Renderer::id`].
 static NEXT_RENDERER_ID: AtomicU64 = AtomicU64::new(1);
@@ -266,6 +272,8 @@ struct AddedResources<'a> {
 struct Bindings {
     layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
     groups: BTreeMap<u32, wgpu::BindGroup>,
+    /// Each layout's entries, written out: part of the pipeline cache key.
+    layout_keys: BTreeMap<u32, String>,
 }
 
 /// A color attachment of a variant pass.
@@ -384,6 +392,7 @@ fn counts_of(strategy: reproj_instance::Strategy, occ: &[u64], hit_px: Option<u6
 type QueryResults = (Vec<u64>, Vec<f64>, Option<f64>);
 
 /// One pipeline per cull mode used by the scene.
+#[derive(Clone)]
 struct Pipe {
     by_cull: HashMap<Cull, wgpu::RenderPipeline>,
 }
@@ -475,21 +484,25 @@ impl Renderer {
             id: NEXT_RENDERER_ID.fetch_add(1, Ordering::Relaxed),
             assets: Assets::default(),
             reduce_kernel: Mutex::new(None),
+            pipelines: Mutex::default(),
+            pipeline_hits: AtomicU64::new(0),
         })
     }
 
     /// The error reduction pipeline, built on first use.
     pub(crate) fn reduce_kernel(&self) -> Result<reduce::Kernel, ReplayError> {
-        let mut k = self
-            .reduce_kernel
-            .lock()
-            .unwrap_or_else(|e| e.into_inner());
+        let mut k = self.reduce_kernel.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(k) = &*k {
             return Ok(k.clone());
         }
         let built = reduce::Kernel::new(self)?;
         *k = Some(built.clone());
         Ok(built)
+    }
+
+    /// How many times a replay found its render pipelines already built (compiled) by an earlier one.
+    pub fn reused_pipelines(&self) -> u64 {
+        self.pipeline_hits.load(Ordering::Relaxed)
     }
 
     /// How many times a replay found a mesh or texture of its session already on the GPU.
@@ -748,13 +761,9 @@ impl Renderer {
                 // Textures.
                 let mut textures = HashMap::new();
                 for (name, dim) in &tex_needed {
-                    let view = self.assets.texture(
-                        self,
-                        session,
-                        name,
-                        &session.textures[name],
-                        *dim,
-                    )?;
+                    let view =
+                        self.assets
+                            .texture(self, session, name, &session.textures[name], *dim)?;
                     textures.insert(name.clone(), view);
                 }
                 // Samplers.
@@ -873,6 +882,7 @@ impl Renderer {
         }
         let mut layouts = BTreeMap::new();
         let mut groups = BTreeMap::new();
+        let mut layout_keys = BTreeMap::new();
         for (g, rs) in by_group {
             let in_added = Some(g) == added_group;
             let mut entries = Vec::new();
@@ -1011,14 +1021,24 @@ impl Renderer {
             })?;
             layouts.insert(g, layout);
             groups.insert(g, group);
+            layout_keys.insert(g, format!("{entries:?}"));
         }
-        Ok(Bindings { layouts, groups })
+        Ok(Bindings {
+            layouts,
+            groups,
+            layout_keys,
+        })
     }
 
     #[allow(clippy::too_many_arguments)]
+    /// The render pipelines of one pass, one per cull mode. Kept across replays (keyed by the
+    /// stages' whole WGSL sources and every piece of state), so replaying a variant again at another Δn
+    /// does not compile its shaders again: on a CPU rasterizer compilation is most of a replay's
+    /// set-up time.
     fn pipeline(
         &self,
         label: &str,
+        sources: [&str; 2],
         vs: &wgpu::ShaderModule,
         fs: &wgpu::ShaderModule,
         entry: &str,
@@ -1056,6 +1076,19 @@ impl Renderer {
             })
             .collect();
         let culls: BTreeSet<u8> = scene.objects.iter().map(|o| o.cull as u8).collect();
+        let key = format!(
+            "{label}|{entry}|{:?}|{vertex_group}|{formats:?}|{compare:?}|{depth_write}|{culls:?}|{}|{}",
+            bindings.layout_keys, sources[0], sources[1],
+        );
+        if let Some(p) = self
+            .pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+        {
+            self.pipeline_hits.fetch_add(1, Ordering::Relaxed);
+            return Ok(p.clone());
+        }
         let mut by_cull = HashMap::new();
         self.scoped(&format!("render pipeline {label}"), || {
             let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -1105,7 +1138,13 @@ impl Renderer {
                 by_cull.insert(cull, p);
             }
         })?;
-        Ok(Pipe { by_cull })
+        let pipe = Pipe { by_cull };
+        let mut cache = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
+        if cache.len() >= PIPELINE_CACHE_LEN {
+            cache.clear();
+        }
+        cache.insert(key, pipe.clone());
+        Ok(pipe)
     }
 
     fn draw(
@@ -1228,6 +1267,7 @@ impl Renderer {
         let bindings = self.bindings("original", &iface, &scene, None, None)?;
         let pipe = self.pipeline(
             "original",
+            [&vs_src, &shader.source],
             &vs,
             &fs,
             &iface.entry,
@@ -1586,6 +1626,7 @@ impl Renderer {
                 None => Bindings {
                     layouts: BTreeMap::new(),
                     groups: BTreeMap::new(),
+                    layout_keys: BTreeMap::new(),
                 },
             };
             binds.push((per_pass, bc));
@@ -1605,6 +1646,7 @@ impl Renderer {
                 .collect();
             pipes.push(self.pipeline(
                 &spec.label,
+                [&vs_src, &stages[i].shader.source],
                 &vs,
                 &fsm[i],
                 &stages[i].iface.entry,
@@ -1619,6 +1661,7 @@ impl Renderer {
         let pc = match &classify_stage {
             Some(_) => Some(self.pipeline(
                 "reproj_classify",
+                [&vs_src, &stages[0].shader.source],
                 &vs,
                 &fsm[0],
                 CLASSIFY_ENTRY,

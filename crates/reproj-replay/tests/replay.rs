@@ -43,6 +43,8 @@ fn original_render_is_deterministic() {
     assert_eq!(a.frames, b.frames);
     // The second replay found the sphere and the checker texture already on the GPU.
     assert!(r.reused_assets() >= 2, "{} reused", r.reused_assets());
+    // ... and its pipeline compiled.
+    assert!(r.reused_pipelines() >= 1, "{} reused", r.reused_pipelines());
     // Coverage comes from the depth: the sphere, not the background.
     let covered = a.depth[0].iter().filter(|&&d| d < 1.0).count();
     assert_eq!(a.report.frames[0].covered, covered as u64);
@@ -101,12 +103,21 @@ fn gpu_error_reduction_matches_the_cpu() {
         let f = g.frame;
         assert_eq!(g.covered, c.covered, "frame {f}");
         assert_eq!(g.max_abs_diff, c.max_abs_diff, "frame {f}");
-        assert!(close(g.error, c.error), "frame {f}: {} vs {}", g.error, c.error);
+        assert!(
+            close(g.error, c.error),
+            "frame {f}: {} vs {}",
+            g.error,
+            c.error
+        );
         assert!(close(g.mse, c.mse), "frame {f}: {} vs {}", g.mse, c.mse);
         assert!((g.psnr - c.psnr).abs() < 1e-4, "frame {f}");
     }
     assert!(close(gpu.error, cpu.error) && close(gpu.mse, cpu.mse));
-    assert!(gpu.frames[1..].iter().any(|f| f.mse > 0.0 && f.psnr < 100.0));
+    assert!(
+        gpu.frames[1..]
+            .iter()
+            .any(|f| f.mse > 0.0 && f.psnr < 100.0)
+    );
     // The covered pixels are the reference's: identical to the original's counts.
     for (v, o) in gpu.frames.iter().zip(&reference.report.frames) {
         assert_eq!(v.covered, o.covered);
