@@ -459,10 +459,11 @@ pub fn op_cost(e: &Expression, result: &TypeInner) -> f64 {
         | Expression::Select { .. }
         | Expression::As { .. }
         | Expression::Relational { .. } => w,
-        Expression::Binary { op, .. } => match op {
-            naga::BinaryOperator::Divide | naga::BinaryOperator::Modulo => 4.0 * w,
-            _ => w,
-        },
+        Expression::Binary {
+            op: naga::BinaryOperator::Divide | naga::BinaryOperator::Modulo,
+            ..
+        } => 4.0 * w,
+        Expression::Binary { .. } => w,
         Expression::Derivative { .. } => 2.0 * w,
         Expression::Math { fun, .. } => match fun {
             M::Dot | M::Dot4I8Packed | M::Dot4U8Packed => 4.0,

@@ -358,6 +358,7 @@ impl Keeper {
     /// Record copies of the frame's `color` (rgba32float) and `depth` (depth32float) into new
     /// textures appended to `keep`, and of the depth, as padded rows, into `readback` at `offset`
     /// (for the host copy).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn keep(
         &self,
         r: &Renderer,
