@@ -189,7 +189,7 @@ pub fn analyze(
             NodeSelector::Id(id)
         };
         // Each strategy at the longest period; keep the fastest.
-        let mut tried = Vec::new();
+        let mut tried: Vec<Tried> = Vec::new();
         for (si, &strategy) in opts.strategies.iter().enumerate() {
             let block = opts.block.unwrap_or(strategy.default_block());
             match pruner.verdict(si) {
@@ -220,7 +220,13 @@ pub fn analyze(
                 Ok(v) => v,
                 Err(e) => {
                     progress.note(&format!("node {id} ({strategy}): cannot instance: {e}"));
-                    tried.push((strategy, block, None, Err(format!("cannot instance: {e}"))));
+                    tried.push(Tried {
+                        si,
+                        strategy,
+                        block,
+                        built: None,
+                        res: Err(format!("cannot instance: {e}")),
+                    });
                     continue;
                 }
             };
@@ -241,30 +247,34 @@ pub fn analyze(
                     "node {id} ({strategy}): replay failed at Δn={longest}: {e}"
                 ));
             }
-            tried.push((strategy, block, Some((sources, variant)), res));
+            tried.push(Tried {
+                si,
+                strategy,
+                block,
+                built: Some((sources, variant)),
+                res,
+            });
         }
         let best = tried
             .iter()
             .enumerate()
-            .filter_map(|(i, t)| t.3.as_ref().ok().map(|(m, _)| (i, m.frame_ms)))
+            .filter_map(|(i, t)| t.res.as_ref().ok().map(|(m, _)| (i, m.frame_ms)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((_, best_ms)) = best {
-            for (strategy, _, _, res) in &tried {
-                if let (Ok((m, _)), Some(si)) =
-                    (res, opts.strategies.iter().position(|s| s == strategy))
-                {
-                    pruner.record(si, m.frame_ms / best_ms, best_ms < original.frame_ms);
+            for t in &tried {
+                if let Ok((m, _)) = &t.res {
+                    pruner.record(t.si, m.frame_ms / best_ms, best_ms < original.frame_ms);
                 }
             }
         }
         let best = best.map(|(i, _)| i);
         if opts.strategies.len() > 1 {
-            for (i, (strategy, block, _, res)) in tried.iter().enumerate() {
-                if let Ok((m, pass_ms)) = res {
+            for (i, t) in tried.iter().enumerate() {
+                if let Ok((m, pass_ms)) = &t.res {
                     probes.push(StrategyProbe {
                         node: id,
-                        strategy: strategy.name().into(),
-                        block: *block,
+                        strategy: t.strategy.name().into(),
+                        block: t.block,
                         delta_n: longest,
                         frame_ms: m.frame_ms,
                         error: m.error,
@@ -277,7 +287,7 @@ pub fn analyze(
         let Some(best) = best else {
             let why = tried
                 .iter()
-                .filter_map(|t| t.3.as_ref().err().cloned())
+                .filter_map(|t| t.res.as_ref().err().cloned())
                 .next()
                 .unwrap_or_else(|| "no strategy could be replayed".into());
             for _ in periods.iter().skip(1) {
@@ -292,9 +302,15 @@ pub fn analyze(
             });
             continue;
         };
-        let (strategy, block, built, first) = tried.swap_remove(best);
+        let Tried {
+            strategy,
+            block,
+            built,
+            res,
+            ..
+        } = tried.swap_remove(best);
         let (sources, variant) = built.expect("a replayed strategy was instanced");
-        let (first, _) = first.expect("the best strategy replayed");
+        let (first, _) = res.expect("the best strategy replayed");
         let mut measurements = vec![first];
         let mut failure = None;
         let m0 = &measurements[0];
@@ -575,6 +591,17 @@ fn mean(it: impl Iterator<Item = f64>) -> f64 {
 /// NaN and infinities never reach the profile.
 fn finite(x: f64) -> f64 {
     if x.is_finite() { x } else { 0.0 }
+}
+
+/// One strategy tried on one node in `analyze`: its index in the options' strategies, the variant
+/// built (when it could be: pass sources and the variant), and the replay at the longest period
+/// with per-pass times.
+struct Tried {
+    si: usize,
+    strategy: Strategy,
+    block: u32,
+    built: Option<(Vec<String>, reproj_instance::Variant)>,
+    res: Result<(Measurement, Vec<f64>), String>,
 }
 
 /// Strategy pruning in `analyze`: a strategy at least [`StrategyPruner::MARGIN`] times slower than

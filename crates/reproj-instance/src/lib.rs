@@ -323,22 +323,8 @@ fn strategy_passes(
     let kinds = strategy::entries(which);
     let first = strategy::pass_kind(kinds[0]);
     let mut base = norm.module.clone();
-    let vec4 = vec_type(&mut base, naga::VectorSize::Quad, naga::Scalar::F32);
+    let (recompute, vec4) = recompute_slice(norm, &mut base, target, components, first)?;
     let entry = norm.function().clone();
-    let recompute = rebuild_entry(
-        norm,
-        &base,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            stop_after: Some(StopAfter {
-                target,
-                components,
-                vec4,
-            }),
-            ..Default::default()
-        },
-        first,
-    )?;
     let payload_arg = entry.arguments.len() as u32;
     let mut shade = rebuild_entry(
         norm,
@@ -411,6 +397,33 @@ fn strategy_passes(
 }
 
 /// The normalized entry point rebuilt under `opts`, then with dead code removed.
+/// The slice of the entry point that computes the node and returns it as a `vec4<f32>`
+/// (zero-padded), with that `vec4<f32>` type, added to `module` if it was missing.
+fn recompute_slice(
+    norm: &Normalized,
+    module: &mut Module,
+    target: Handle<naga::Expression>,
+    components: u32,
+    pass: PassKind,
+) -> Result<(naga::Function, Handle<naga::Type>), InstanceError> {
+    let vec4 = vec_type(module, naga::VectorSize::Quad, naga::Scalar::F32);
+    let fun = rebuild_entry(
+        norm,
+        module,
+        &RebuildOptions {
+            mode: Some(Mode::Copy),
+            stop_after: Some(StopAfter {
+                target,
+                components,
+                vec4,
+            }),
+            ..Default::default()
+        },
+        pass,
+    )?;
+    Ok((fun, vec4))
+}
+
 fn rebuild_entry(
     norm: &Normalized,
     module: &Module,
@@ -457,21 +470,7 @@ fn recompute_pass(
     components: u32,
 ) -> Result<PassModule, InstanceError> {
     let mut module = norm.module.clone();
-    let vec4 = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
-    let fun = rebuild_entry(
-        norm,
-        &module,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            stop_after: Some(StopAfter {
-                target,
-                components,
-                vec4,
-            }),
-            ..Default::default()
-        },
-        PassKind::Recompute,
-    )?;
+    let (fun, _) = recompute_slice(norm, &mut module, target, components, PassKind::Recompute)?;
     module.entry_points[0].function = fun;
     finish(PassKind::Recompute, module)
 }

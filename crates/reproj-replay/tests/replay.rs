@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use reproj_replay::{
-    RenderOptions, Renderer, RendererOptions, ReplayError, Session, SessionError, VariantInput,
+    Reference, RenderOptions, Renderer, RendererOptions, ReplayError, Session, SessionError,
+    VariantInput,
 };
 
 fn data(p: &str) -> PathBuf {
@@ -25,6 +26,18 @@ fn renderer() -> Renderer {
 
 fn tiny_shader() -> reproj_front::Shader {
     reproj_front::load_file(&data("tiny.wgsl")).unwrap()
+}
+
+/// A renderer, the tiny shader, one of its sessions and the original's reference frames.
+fn tiny_reference(session: &str) -> (Renderer, reproj_front::Shader, Session, Reference) {
+    let r = renderer();
+    let shader = tiny_shader();
+    let entry = shader.fragment_entry(None).unwrap();
+    let session = Session::load(data(session)).unwrap();
+    let reference = r
+        .render_original(&shader, entry, &session, &RenderOptions::default())
+        .unwrap();
+    (r, shader, session, reference)
 }
 
 #[test]
@@ -72,13 +85,7 @@ fn lit_pixels(frame: &[f32]) -> usize {
 /// read back (as when PNGs are written) within 1e-5 relative; counts and maxima exactly.
 #[test]
 fn gpu_error_reduction_matches_the_cpu() {
-    let r = renderer();
-    let shader = tiny_shader();
-    let entry = shader.fragment_entry(None).unwrap();
-    let session = Session::load(data("tiny_moving.json")).unwrap();
-    let reference = r
-        .render_original(&shader, entry, &session, &RenderOptions::default())
-        .unwrap();
+    let (r, shader, session, reference) = tiny_reference("tiny_moving.json");
     let variant = VariantInput::from_dir(&data("variant_tiny"), 2).unwrap();
     let gpu = r
         .render_variant(
@@ -175,13 +182,7 @@ fn bad_session_field_names_its_path() {
 
 #[test]
 fn variant_at_delta_n_1_reproduces_original() {
-    let r = renderer();
-    let shader = tiny_shader();
-    let entry = shader.fragment_entry(None).unwrap();
-    let session = Session::load(data("tiny_moving.json")).unwrap();
-    let reference = r
-        .render_original(&shader, entry, &session, &RenderOptions::default())
-        .unwrap();
+    let (r, shader, session, reference) = tiny_reference("tiny_moving.json");
     let variant = VariantInput::from_dir(&data("variant_tiny"), 1).unwrap();
     let report = r
         .render_variant(
@@ -215,13 +216,7 @@ fn variant_at_delta_n_1_reproduces_original() {
 
 #[test]
 fn static_variant_at_delta_n_8_hits_seven_in_eight() {
-    let r = renderer();
-    let shader = tiny_shader();
-    let entry = shader.fragment_entry(None).unwrap();
-    let session = Session::load(data("tiny_static_plane.json")).unwrap();
-    let reference = r
-        .render_original(&shader, entry, &session, &RenderOptions::default())
-        .unwrap();
+    let (r, shader, session, reference) = tiny_reference("tiny_static_plane.json");
     let variant = VariantInput::from_dir(&data("variant_tiny"), 8).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let opts = RenderOptions {
