@@ -28,6 +28,9 @@ pub struct EmitOptions {
     pub cache_format: CacheFormatChoice,
     /// Only consider nodes profiled in this strategy (`None`: any).
     pub strategy: Option<Strategy>,
+    /// Where the written passes fit in a host: its `group` and `frame_load` are used (the rest
+    /// comes from the selection and the profile).
+    pub integration: InstanceOptions,
 }
 
 /// What `emit` chose and wrote. With `--json` this is printed as is.
@@ -224,6 +227,8 @@ pub fn emit(
                     delta_n: choice.delta_n,
                     block: node.block.unwrap_or(profile.block),
                     depth_epsilon: profile.depth_epsilon,
+                    group: opts.integration.group,
+                    frame_load: opts.integration.frame_load,
                 },
             )?;
             write_variant(&variant, &opts.out)?;

@@ -96,6 +96,7 @@ fn static_session_profiles_without_nan_and_emits() {
                 reproj_instance::CacheFormat::Rgba32float,
             ),
             strategy: None,
+            integration: Default::default(),
         },
     )
     .unwrap();

@@ -122,6 +122,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         out: out.to_owned(),
         cache_format: reproj_instance::CacheFormatChoice::Exact(CacheFormat::Rgba32float),
         strategy: None,
+        integration: Default::default(),
     }
 }
 

@@ -39,11 +39,15 @@ pub struct RenderArgs {
     #[arg(long)]
     pub session: PathBuf,
     /// Render the variant caching this node (id or `root`) instead of the original.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "variant")]
     pub node: Option<String>,
-    /// Refresh period of the variant.
-    #[arg(long, default_value_t = 8)]
-    pub delta_n: u32,
+    /// Render the variant written in this directory (by `instance` or `emit`: its manifest.json
+    /// and passes) instead of the original.
+    #[arg(long)]
+    pub variant: Option<PathBuf>,
+    /// Refresh period of the variant (default: 8 with --node, the manifest's with --variant).
+    #[arg(long)]
+    pub delta_n: Option<u32>,
     #[command(flatten)]
     pub cache: CacheArgs,
     /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.
@@ -141,6 +145,8 @@ pub struct EmitArgs {
     /// wgpu backend for --verify.
     #[arg(long)]
     pub backend: Option<String>,
+    #[command(flatten)]
+    pub integration: IntegrationArgs,
 }
 
 /// Arguments of `reproj nodes`.
@@ -218,6 +224,26 @@ pub struct CacheArgs {
     pub reconstruct: ReconstructArg,
 }
 
+/// How the written passes fit into a host engine: shared by `instance` and `emit`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct IntegrationArgs {
+    /// Bind group of the variant's added bindings (default: the lowest one the shader does not
+    /// use; at most 3).
+    #[arg(long)]
+    pub group: Option<u32>,
+    /// How the first pass that writes the frame color starts it: `clear` it (as a standalone pass
+    /// would) or `load` what the engine drew before.
+    #[arg(long, value_enum, default_value = "clear")]
+    pub frame_load: FrameLoadArg,
+}
+
+/// How the frame target starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FrameLoadArg {
+    Clear,
+    Load,
+}
+
 /// Arguments of `reproj instance`.
 #[derive(Debug, Args)]
 pub struct InstanceArgs {
@@ -237,6 +263,8 @@ pub struct InstanceArgs {
     pub delta_n: u32,
     #[command(flatten)]
     pub cache: CacheArgs,
+    #[command(flatten)]
+    pub integration: IntegrationArgs,
 }
 
 /// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and

@@ -83,6 +83,21 @@ pub struct InstanceOptions {
     pub block: u32,
     /// Relative depth tolerance of the hit test.
     pub depth_epsilon: f32,
+    /// Bind group of the added bindings (`None`: the lowest one the shader does not use).
+    pub group: Option<u32>,
+    /// How the first pass that writes the frame color starts it.
+    pub frame_load: FrameLoad,
+}
+
+/// How the variant's first frame-color write starts the frame target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrameLoad {
+    /// Clear it to the host's clear color, as a standalone pass of the original shader would.
+    #[default]
+    Clear,
+    /// Keep what the engine drew before (its other passes, a sky): the variant's passes only
+    /// write the pixels of their geometry.
+    Load,
 }
 
 impl Default for InstanceOptions {
@@ -94,6 +109,8 @@ impl Default for InstanceOptions {
             delta_n: 8,
             block: 4,
             depth_epsilon: 0.01,
+            group: None,
+            frame_load: FrameLoad::Clear,
         }
     }
 }
@@ -138,6 +155,10 @@ pub enum InstanceError {
         "the shader already uses every bind group slot (groups {used:?}); the variant needs a free group below {MAX_BIND_GROUPS}"
     )]
     NoFreeGroup { used: Vec<u32> },
+    #[error(
+        "bind group {group} cannot hold the variant's bindings: the shader uses groups {used:?} and a group must be below {MAX_BIND_GROUPS}"
+    )]
+    GroupTaken { group: u32, used: Vec<u32> },
     #[error("the block size k must be 1 or even (to align with 2×2 quads), got {0}")]
     BadBlock(u32),
     #[error("the refresh period must be at least 1")]
@@ -180,7 +201,16 @@ pub fn instance(
     let target = node
         .handle
         .expect("nodes from enumerate carry their handle");
-    let group = free_group(&shader.module)?;
+    let group = match opts.group {
+        None => free_group(&shader.module)?,
+        Some(g) => {
+            let used = used_groups(&shader.module);
+            if g >= MAX_BIND_GROUPS || used.contains(&g) {
+                return Err(InstanceError::GroupTaken { group: g, used });
+            }
+            g
+        }
+    };
     let prev_clip_location = prev_clip_location(&norm.module);
     let components = node.components;
     let cache_format = opts.cache_format.resolve(components);
@@ -246,8 +276,8 @@ fn pick(table: &NodeTable, sel: NodeSelector) -> Result<&Node, InstanceError> {
     }
 }
 
-/// The lowest bind group index the shader does not use.
-pub fn free_group(module: &Module) -> Result<u32, InstanceError> {
+/// The bind groups the shader uses, ascending.
+fn used_groups(module: &Module) -> Vec<u32> {
     let mut used: Vec<u32> = module
         .global_variables
         .iter()
@@ -255,6 +285,12 @@ pub fn free_group(module: &Module) -> Result<u32, InstanceError> {
         .collect();
     used.sort_unstable();
     used.dedup();
+    used
+}
+
+/// The lowest bind group index the shader does not use.
+pub fn free_group(module: &Module) -> Result<u32, InstanceError> {
+    let used = used_groups(module);
     (0..MAX_BIND_GROUPS)
         .find(|g| !used.contains(g))
         .ok_or(InstanceError::NoFreeGroup { used })
@@ -719,7 +755,99 @@ fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
     }
 }
 
-fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Binding> {
+/// The bind group layout entry of a global variable, from its type.
+fn layout_entry(module: &Module, g: &naga::GlobalVariable, filterable: bool) -> LayoutEntry {
+    use naga::TypeInner as T;
+    let inner = &module.types[g.ty].inner;
+    match (g.space, inner) {
+        (naga::AddressSpace::Uniform, _) => LayoutEntry::Buffer {
+            buffer_type: "uniform".into(),
+            min_binding_size: u64::from(inner.size(module.to_ctx())),
+        },
+        (naga::AddressSpace::Storage { access }, _) => LayoutEntry::Buffer {
+            buffer_type: if access.contains(naga::StorageAccess::STORE) {
+                "storage"
+            } else {
+                "read-only-storage"
+            }
+            .into(),
+            min_binding_size: u64::from(inner.size(module.to_ctx())),
+        },
+        (_, T::Sampler { comparison }) => LayoutEntry::Sampler {
+            sampler_type: if *comparison {
+                "comparison"
+            } else if filterable {
+                "filtering"
+            } else {
+                "non-filtering"
+            }
+            .into(),
+        },
+        (
+            _,
+            T::Image {
+                dim,
+                arrayed,
+                class,
+            },
+        ) => {
+            let view_dimension = match (dim, arrayed) {
+                (naga::ImageDimension::D1, _) => "1d",
+                (naga::ImageDimension::D2, false) => "2d",
+                (naga::ImageDimension::D2, true) => "2d-array",
+                (naga::ImageDimension::D3, _) => "3d",
+                (naga::ImageDimension::Cube, false) => "cube",
+                (naga::ImageDimension::Cube, true) => "cube-array",
+            }
+            .to_string();
+            match class {
+                naga::ImageClass::Sampled { kind, multi } => LayoutEntry::Texture {
+                    sample_type: match kind {
+                        naga::ScalarKind::Sint => "sint",
+                        naga::ScalarKind::Uint => "uint",
+                        _ if filterable => "float",
+                        _ => "unfilterable-float",
+                    }
+                    .into(),
+                    view_dimension,
+                    multisampled: *multi,
+                },
+                naga::ImageClass::Depth { multi } => LayoutEntry::Texture {
+                    sample_type: "depth".into(),
+                    view_dimension,
+                    multisampled: *multi,
+                },
+                naga::ImageClass::Storage { format, access } => LayoutEntry::StorageTexture {
+                    format: format!("{format:?}").to_lowercase(),
+                    access: if access
+                        .contains(naga::StorageAccess::LOAD | naga::StorageAccess::STORE)
+                    {
+                        "read-write"
+                    } else if access.contains(naga::StorageAccess::STORE) {
+                        "write-only"
+                    } else {
+                        "read-only"
+                    }
+                    .into(),
+                    view_dimension,
+                },
+                naga::ImageClass::External => LayoutEntry::Texture {
+                    sample_type: "float".into(),
+                    view_dimension,
+                    multisampled: false,
+                },
+            }
+        }
+        _ => LayoutEntry::Buffer {
+            buffer_type: "uniform".into(),
+            min_binding_size: u64::from(inner.size(module.to_ctx())),
+        },
+    }
+}
+
+/// The bindings of a pass module: the shader's own (bound as for the original) and the
+/// instancer's, each with its layout entry and the resource it takes.
+fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) -> Vec<Binding> {
     let mut out: Vec<Binding> = module
         .global_variables
         .iter()
@@ -732,29 +860,42 @@ fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Bindi
                 _ => "",
             };
             let added = b.group == group;
-            let contents = if !added {
-                "the shader's own resource, as for the original shader".to_string()
+            let (resource, filterable) = if !added {
+                (BindingResource::Own, true)
             } else {
                 match name.as_str() {
-                    "reproj_params" => "uniform ReprojParams { delta_n: u32, clock: u32, block: u32, depth_epsilon: f32 } (16 bytes); \
-                         update every frame (clock = frame index; delta_n = 1 on the first frame)"
-                        .to_string(),
-                    "reproj_prev_payload" => format!(
-                        "the previous frame's payload cache ({}), written by passes 1-2 of the previous frame",
-                        cache_format.name()
+                    "reproj_params" => (BindingResource::Params, false),
+                    "reproj_prev_payload" => (
+                        BindingResource::Texture {
+                            role: ROLE_PREV_PAYLOAD.into(),
+                        },
+                        reconstruct == Reconstruct::Bilinear,
                     ),
-                    "reproj_prev_depth" => "the previous frame's depth texture (depth32float), as passes 1-3 left it".to_string(),
-                    "reproj_cur_payload" => "this frame's payload cache, written by passes 1 and 2 just before".to_string(),
-                    "reproj_point_sampler" => "a non-filtering sampler, clamp-to-edge (gathers the previous depths)".to_string(),
-                    "reproj_linear_sampler" => format!(
-                        "a linear (filtering) sampler, clamp-to-edge (bilinear payload reconstruction){}",
-                        if !cache_format.is_half() {
-                            "; the payload texture is bound as filterable, which needs the float32-filterable device feature"
-                        } else {
-                            ""
-                        }
+                    "reproj_cur_payload" => (
+                        BindingResource::Texture {
+                            role: ROLE_CUR_PAYLOAD.into(),
+                        },
+                        false,
                     ),
-                    _ => String::new(),
+                    "reproj_prev_depth" => (
+                        BindingResource::Texture {
+                            role: ROLE_PREV_DEPTH.into(),
+                        },
+                        false,
+                    ),
+                    "reproj_point_sampler" => (
+                        BindingResource::Sampler {
+                            name: SAMPLER_POINT.into(),
+                        },
+                        false,
+                    ),
+                    "reproj_linear_sampler" => (
+                        BindingResource::Sampler {
+                            name: SAMPLER_LINEAR.into(),
+                        },
+                        true,
+                    ),
+                    other => unreachable!("the lookup library declares no binding `{other}`"),
                 }
             };
             Some(Binding {
@@ -763,13 +904,34 @@ fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Bindi
                 name,
                 ty: format!("{space}{}", type_name(module, g.ty)),
                 added,
-                contents,
+                layout: layout_entry(module, g, filterable),
+                resource,
             })
         })
         .collect();
     out.sort_by_key(|b| (b.group, b.binding));
     out
 }
+
+/// Texture roles of the [`FramePlan`].
+pub const ROLE_CUR_PAYLOAD: &str = "cur_payload";
+pub const ROLE_PREV_PAYLOAD: &str = "prev_payload";
+pub const ROLE_CUR_DEPTH: &str = "cur_depth";
+pub const ROLE_PREV_DEPTH: &str = "prev_depth";
+/// The frame target's attachment name.
+pub const ATTACHMENT_FRAME: &str = "frame";
+/// Sampler names.
+pub const SAMPLER_POINT: &str = "point";
+pub const SAMPLER_LINEAR: &str = "linear";
+
+/// The WGSL of the vertex contract's helper.
+const VERTEX_CONTRACT_WGSL: &str = "\
+// reproj: the vertex's clip-space position in the previous frame. Write the result to the vertex
+// output at @location(prev_clip_location); the clip position itself must be @invariant.
+fn reproj_prev_clip(prev_view_proj: mat4x4<f32>, prev_model: mat4x4<f32>, position: vec3<f32>) -> vec4<f32> {
+    return prev_view_proj * (prev_model * vec4<f32>(position, 1.0));
+}
+";
 
 #[allow(clippy::too_many_arguments)]
 fn build_manifest(
@@ -782,26 +944,40 @@ fn build_manifest(
     prev_clip_location: u32,
     passes: &[PassModule],
 ) -> Manifest {
-    let cache = |location: u32, load: &str| ColorTarget {
+    let clear_cache = || LoadOp::Clear {
+        value: Some(vec![0.0; 4]),
+    };
+    let cache = |location: u32, load: LoadOp| ColorTarget {
         location,
-        target: "current cache payload".into(),
-        format: cache_format.name().into(),
-        load: load.into(),
-        store: "store".into(),
+        attachment: ROLE_CUR_PAYLOAD.into(),
+        format: Some(cache_format.name().into()),
+        load,
+        store: true,
+        blend: None,
     };
-    let frame = |load: &str| ColorTarget {
+    let frame_first = || match opts.frame_load {
+        FrameLoad::Clear => LoadOp::Clear { value: None },
+        FrameLoad::Load => LoadOp::Load,
+    };
+    let frame = |load: LoadOp| ColorTarget {
         location: 0,
-        target: "frame color".into(),
-        format: "same as the original shader's target".into(),
-        load: load.into(),
-        store: "store".into(),
+        attachment: ATTACHMENT_FRAME.into(),
+        format: None,
+        load,
+        store: true,
+        blend: None,
     };
-    let depth = |compare: &str, write: bool, load: &str| DepthState {
+    let clear_depth = || LoadOp::Clear {
+        value: Some(vec![1.0]),
+    };
+    let depth = |compare: &str, write: bool, load: LoadOp| DepthState {
+        attachment: ROLE_CUR_DEPTH.into(),
         format: "depth32float".into(),
         compare: compare.into(),
         write,
-        load: load.into(),
-        store: "store".into(),
+        load,
+        store: true,
+        stencil: None,
     };
     // The cache output's location in the fused and two-pass modules (after the shader's outputs).
     let cache_location = |p: &PassModule| {
@@ -825,16 +1001,28 @@ fn build_manifest(
     };
     let pass = |p: &PassModule| {
         let (colors, depth) = match p.kind {
-            PassKind::Reproject => (vec![cache(0, "clear")], depth("less", true, "clear 1.0")),
-            PassKind::Recompute => (vec![cache(0, "load")], depth("less", true, "load")),
-            PassKind::Shade => (vec![frame("clear")], depth("equal", false, "load")),
+            PassKind::Reproject => (
+                vec![cache(0, clear_cache())],
+                depth("less", true, clear_depth()),
+            ),
+            PassKind::Recompute => (
+                vec![cache(0, LoadOp::Load)],
+                depth("less", true, LoadOp::Load),
+            ),
+            PassKind::Shade => (
+                vec![frame(frame_first())],
+                depth("equal", false, LoadOp::Load),
+            ),
             PassKind::Fused | PassKind::ShadeHits => (
-                vec![frame("clear"), cache(cache_location(p), "clear")],
-                depth("less", true, "clear 1.0"),
+                vec![
+                    frame(frame_first()),
+                    cache(cache_location(p), clear_cache()),
+                ],
+                depth("less", true, clear_depth()),
             ),
             PassKind::ShadeMisses => (
-                vec![frame("load"), cache(cache_location(p), "load")],
-                depth("less", true, "load"),
+                vec![frame(LoadOp::Load), cache(cache_location(p), LoadOp::Load)],
+                depth("less", true, LoadOp::Load),
             ),
         };
         Pass {
@@ -846,7 +1034,7 @@ fn build_manifest(
                 .iter()
                 .find(|e| e.name != "reproj_classify")
                 .map_or_else(String::new, |e| e.name.clone()),
-            bindings: bindings(&p.module, group, cache_format),
+            bindings: bindings(&p.module, group, opts.reconstruct),
             colors,
             depth,
         }
@@ -859,15 +1047,47 @@ fn build_manifest(
     let mut notes = vec![
         format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
         format!(
-            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position."
+            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
         ),
-        "After each frame, swap the current and previous payload and depth textures.".into(),
+        "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
         "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
         "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
     ];
-    if opts.strategy != Strategy::ThreePass {
-        notes.push("The frame color target's format is the original shader's; the cache target is the current payload texture, at the listed location.".into());
+    if opts.frame_load == FrameLoad::Load {
+        notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());
     }
+    let texture = |name: &str, format: &str| TextureDesc {
+        name: name.into(),
+        format: format.into(),
+        size: TextureSize::Frame,
+        usage: vec![TextureUsage::RenderAttachment, TextureUsage::TextureBinding],
+        mip_levels: 1,
+        sample_count: 1,
+    };
+    let plan = |a: &str, b: &str| {
+        [
+            (ROLE_CUR_PAYLOAD, format!("payload_{a}")),
+            (ROLE_PREV_PAYLOAD, format!("payload_{b}")),
+            (ROLE_CUR_DEPTH, format!("depth_{a}")),
+            (ROLE_PREV_DEPTH, format!("depth_{b}")),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect()
+    };
+    let sampler = |name: &str, f: Filter| SamplerDesc {
+        name: name.into(),
+        mag_filter: f,
+        min_filter: f,
+        mipmap_filter: Filter::Nearest,
+        address_mode: "clamp-to-edge".into(),
+    };
+    let field = |name: &str, offset: u32, ty: ScalarType, value: ParamValue| ParamField {
+        name: name.into(),
+        offset,
+        ty,
+        value,
+    };
     Manifest {
         schema: "reproj.manifest".into(),
         version: MANIFEST_VERSION,
@@ -896,13 +1116,77 @@ fn build_manifest(
         } else {
             Vec::new()
         },
-        prev_clip_location,
         group,
+        conventions: Conventions::default(),
+        vertex: VertexContract {
+            invariant_position: true,
+            prev_clip_location,
+            inputs: vec![
+                VertexInput {
+                    name: "prev_view_proj".into(),
+                    ty: "mat4x4<f32>".into(),
+                    meaning: "the previous frame's view-projection matrix (this frame's on the first frame)".into(),
+                },
+                VertexInput {
+                    name: "prev_model".into(),
+                    ty: "mat4x4<f32>".into(),
+                    meaning: "the object's model matrix in the previous frame".into(),
+                },
+                VertexInput {
+                    name: "position".into(),
+                    ty: "vec3<f32>".into(),
+                    meaning: "the vertex's object-space position".into(),
+                },
+            ],
+            wgsl: VERTEX_CONTRACT_WGSL.into(),
+        },
         params: Params {
             delta_n: opts.delta_n,
             block: opts.block,
             depth_epsilon: opts.depth_epsilon,
             size: 16,
+            fields: vec![
+                field(
+                    "delta_n",
+                    0,
+                    ScalarType::U32,
+                    ParamValue::Steady {
+                        value: f64::from(opts.delta_n),
+                        first: 1.0,
+                    },
+                ),
+                field("clock", 4, ScalarType::U32, ParamValue::FrameIndex),
+                field(
+                    "block",
+                    8,
+                    ScalarType::U32,
+                    ParamValue::Constant {
+                        value: f64::from(opts.block),
+                    },
+                ),
+                field(
+                    "depth_epsilon",
+                    12,
+                    ScalarType::F32,
+                    ParamValue::Constant {
+                        // The f32's shortest decimal (0.01, not 0.009999999776482582).
+                        value: opts.depth_epsilon.to_string().parse().unwrap_or_default(),
+                    },
+                ),
+            ],
+        },
+        textures: vec![
+            texture("payload_0", cache_format.name()),
+            texture("payload_1", cache_format.name()),
+            texture("depth_0", "depth32float"),
+            texture("depth_1", "depth32float"),
+        ],
+        samplers: vec![
+            sampler(SAMPLER_POINT, Filter::Nearest),
+            sampler(SAMPLER_LINEAR, Filter::Linear),
+        ],
+        frames: FramePlan {
+            ping_pong: vec![plan("0", "1"), plan("1", "0")],
         },
         passes: passes.iter().map(pass).collect(),
         notes,

@@ -1,15 +1,19 @@
 //! The variant manifest: everything a host engine needs to run a cached variant without reading our
 //! code. Serialized as `manifest.json`, schema `reproj.manifest` version [`MANIFEST_VERSION`].
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Version of the manifest schema. Bump on any incompatible change.
 /// Version 2: `strategy`, `reconstruct`, per-pass `colors` (several targets, by location) instead
 /// of one `color`, narrow cache formats.
-pub const MANIFEST_VERSION: u32 = 2;
+/// Version 3: fully machine-readable: structured layout entries and resources per binding, the
+/// textures and samplers to create, the ping-pong plan, load/clear values as numbers, conventions,
+/// the vertex-stage contract, the params layout field by field.
+pub const MANIFEST_VERSION: u32 = 3;
 
 /// Cache payload texel format (WebGPU names).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum CacheFormat {
     /// Exact: 32-bit float per channel (default for 3- and 4-float payloads).
@@ -71,7 +75,18 @@ impl CacheFormat {
 
 /// How a variant's passes are laid out (`docs/PASSES.md`).
 #[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    Deserialize,
+    JsonSchema,
+    Default,
 )]
 pub enum Strategy {
     /// The paper's three passes: reproject, recompute (through the depth test), shade. One color
@@ -128,7 +143,7 @@ impl std::str::FromStr for Strategy {
 }
 
 /// How pass 1 reconstructs the previous payload at the reprojected position.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum Reconstruct {
     /// One filtered fetch (linear sampler): the paper's bilinear reconstruction.
@@ -139,7 +154,7 @@ pub enum Reconstruct {
 }
 
 /// Which pass of a variant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum PassKind {
     /// 3pass, pass 1: keep the reprojected payload at hits.
@@ -156,8 +171,9 @@ pub enum PassKind {
     ShadeMisses,
 }
 
-/// The manifest of one variant.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// The manifest of one variant: everything a host needs to run it, as data (`docs/SCHEMAS.md`,
+/// JSON Schema `docs/manifest.schema.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Manifest {
     /// Always `"reproj.manifest"`.
     pub schema: String,
@@ -168,27 +184,34 @@ pub struct Manifest {
     pub node: NodeInfo,
     /// How the passes are laid out.
     pub strategy: Strategy,
-    /// How pass 1 reconstructs the previous payload.
+    /// How the first pass reconstructs the previous payload.
     pub reconstruct: Reconstruct,
     pub cache_format: CacheFormat,
-    /// WebGPU device features the passes need (`float32-filterable` to filter an rgba32float cache).
-    #[serde(default)]
+    /// WebGPU device features the passes need (`float32-filterable` to filter a 32-bit float
+    /// cache).
     pub required_features: Vec<String>,
-    /// `@location` of the extra vertex output every pass's vertex stage must write: the previous
-    /// frame's clip-space position of the vertex (`prev_view_proj * prev_model * position`), vec4<f32>.
-    pub prev_clip_location: u32,
-    /// Bind group the instancer added (the lowest one the shader does not use).
+    /// Bind group the instancer added (`--group`, else the lowest one the shader does not use).
     pub group: u32,
-    /// Runtime parameters and their defaults (uniform buffer `reproj_params`).
+    /// Coordinate and depth conventions the passes assume.
+    pub conventions: Conventions,
+    /// What the host's vertex stage must provide.
+    pub vertex: VertexContract,
+    /// The runtime parameters (uniform buffer `reproj_params`).
     pub params: Params,
+    /// Textures the host creates for the variant (besides its own frame target).
+    pub textures: Vec<TextureDesc>,
+    /// Samplers the host creates for the variant.
+    pub samplers: Vec<SamplerDesc>,
+    /// Which texture plays which role on each frame.
+    pub frames: FramePlan,
     /// Passes in draw order, all drawing the same geometry with the same vertex stage each frame.
     pub passes: Vec<Pass>,
-    /// Plain-language notes for the host (cache swap, first frame, ...).
+    /// Plain-language notes for a reader; everything in them is also in the fields above.
     pub notes: Vec<String>,
 }
 
 /// The cached node.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct NodeInfo {
     /// Node id from `reproj nodes`, or `"root"`.
     pub id: String,
@@ -202,22 +225,165 @@ pub struct NodeInfo {
     pub components: u32,
 }
 
-/// Defaults of the runtime parameters. Layout of `reproj_params` (16 bytes, std140-compatible):
-/// `delta_n: u32, clock: u32, block: u32, depth_epsilon: f32`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// Coordinate conventions (WebGPU's).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct Conventions {
+    /// NDC x and y range, y pointing up.
+    pub ndc_xy: [f32; 2],
+    /// NDC depth range: 0 at the near plane, 1 at the far plane.
+    pub ndc_z: [f32; 2],
+    /// Texture coordinates of an NDC point: `u = x * uv_from_ndc[0] + uv_from_ndc[1]`,
+    /// `v = y * uv_from_ndc[2] + uv_from_ndc[3]` (framebuffer origin top-left).
+    pub uv_from_ndc: [f32; 4],
+    /// Depth value of empty pixels (what every depth texture is cleared to).
+    pub depth_clear: f32,
+}
+
+impl Default for Conventions {
+    fn default() -> Self {
+        Conventions {
+            ndc_xy: [-1.0, 1.0],
+            ndc_z: [0.0, 1.0],
+            uv_from_ndc: [0.5, 0.5, -0.5, 0.5],
+            depth_clear: 1.0,
+        }
+    }
+}
+
+/// What the host's vertex stage must do for every pass.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct VertexContract {
+    /// The clip position must be `@builtin(position) @invariant`, so every pass rasterizes the
+    /// same depths as the others.
+    pub invariant_position: bool,
+    /// `@location` of the extra vertex output: the vertex's clip-space position in the previous
+    /// frame, `vec4<f32>`.
+    pub prev_clip_location: u32,
+    /// Data the host supplies to compute it (per object and frame), by name.
+    pub inputs: Vec<VertexInput>,
+    /// A WGSL function computing the output from those inputs; call it in the vertex stage.
+    pub wgsl: String,
+}
+
+/// One value the vertex contract needs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct VertexInput {
+    pub name: String,
+    /// WGSL type.
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub meaning: String,
+}
+
+/// Runtime parameters: defaults and the layout of the `reproj_params` uniform buffer.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Params {
     /// Refresh period Δn (1 = refresh every pixel every frame: the original shader).
     pub delta_n: u32,
     /// Refresh block size k in pixels (k×k blocks aligned to 2×2 quads).
     pub block: u32,
-    /// Depth tolerance ε of the hit test, in NDC depth units.
+    /// Relative depth tolerance ε of the hit test.
     pub depth_epsilon: f32,
     /// Size in bytes of the `reproj_params` uniform buffer.
     pub size: u32,
+    /// The buffer's fields, each with its value per frame.
+    pub fields: Vec<ParamField>,
+}
+
+/// A field of `reproj_params`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ParamField {
+    pub name: String,
+    /// Byte offset in the buffer.
+    pub offset: u32,
+    #[serde(rename = "type")]
+    pub ty: ScalarType,
+    /// What to write each frame.
+    pub value: ParamValue,
+}
+
+/// A 4-byte scalar.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ScalarType {
+    U32,
+    F32,
+}
+
+/// The value of a parameter on a frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum ParamValue {
+    /// The same every frame.
+    Constant { value: f64 },
+    /// `value`, except `first` on the first frame and after a camera cut (the previous frame's
+    /// textures hold nothing usable).
+    Steady { value: f64, first: f64 },
+    /// The frame index, counting from 0.
+    FrameIndex,
+}
+
+/// How big a texture is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum TextureSize {
+    /// The frame target's size.
+    Frame,
+}
+
+/// A texture usage (WebGPU names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum TextureUsage {
+    RenderAttachment,
+    TextureBinding,
+    CopySrc,
+    CopyDst,
+}
+
+/// A texture the host creates for the variant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct TextureDesc {
+    /// Name used in [`FramePlan`].
+    pub name: String,
+    /// WebGPU format name.
+    pub format: String,
+    pub size: TextureSize,
+    pub usage: Vec<TextureUsage>,
+    pub mip_levels: u32,
+    pub sample_count: u32,
+}
+
+/// A sampler the host creates for the variant (WebGPU names).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct SamplerDesc {
+    /// Name used by [`BindingResource::Sampler`].
+    pub name: String,
+    pub mag_filter: Filter,
+    pub min_filter: Filter,
+    pub mipmap_filter: Filter,
+    /// `clamp-to-edge` on u, v and w.
+    pub address_mode: String,
+}
+
+/// A filter mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Filter {
+    Nearest,
+    Linear,
+}
+
+/// Texture roles per frame: frame `i` uses `ping_pong[i % ping_pong.len()]`, which maps each role
+/// (`cur_payload`, `prev_payload`, `cur_depth`, `prev_depth`) to a texture of
+/// [`Manifest::textures`]. What a frame writes as `cur_*` it reads as `prev_*` the next frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct FramePlan {
+    pub ping_pong: Vec<std::collections::BTreeMap<String, String>>,
 }
 
 /// One render pass of the variant.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Pass {
     pub kind: PassKind,
     /// WGSL file written beside the manifest.
@@ -225,6 +391,7 @@ pub struct Pass {
     /// Fragment entry point in that file.
     pub entry: String,
     /// Bindings of the module (the shader's own plus the instancer's), for building layouts.
+    /// Visibility: fragment.
     pub bindings: Vec<Binding>,
     /// Color attachments, one per fragment output `@location`.
     pub colors: Vec<ColorTarget>,
@@ -232,43 +399,113 @@ pub struct Pass {
 }
 
 /// A resource binding of a pass module.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Binding {
     pub group: u32,
     pub binding: u32,
     pub name: String,
-    /// WGSL type as written, e.g. `texture_2d<f32>`, `uniform ReprojParams`, `sampler`.
+    /// WGSL type as declared, e.g. `texture_2d<f32>`, `uniform ReprojParams`, `sampler`.
     #[serde(rename = "type")]
     pub ty: String,
     /// True for bindings the instancer added (the host owns them); false for the shader's own.
     pub added: bool,
-    /// What the host must bind there, and when it changes.
-    pub contents: String,
+    /// The bind group layout entry (WebGPU's `GPUBindGroupLayoutEntry`, fragment visibility).
+    pub layout: LayoutEntry,
+    /// What to bind.
+    pub resource: BindingResource,
 }
 
-/// The color attachment of a pass.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// A bind group layout entry, as WebGPU's.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", tag = "type")]
+pub enum LayoutEntry {
+    Buffer {
+        /// `uniform`, `storage` or `read-only-storage`.
+        buffer_type: String,
+        /// Bytes (the WGSL type's size).
+        min_binding_size: u64,
+    },
+    Texture {
+        /// `float`, `unfilterable-float`, `depth`, `sint` or `uint`.
+        sample_type: String,
+        /// `1d`, `2d`, `2d-array`, `cube`, `cube-array` or `3d`.
+        view_dimension: String,
+        multisampled: bool,
+    },
+    Sampler {
+        /// `filtering`, `non-filtering` or `comparison`.
+        sampler_type: String,
+    },
+    StorageTexture {
+        format: String,
+        /// `read-only`, `write-only` or `read-write`.
+        access: String,
+        view_dimension: String,
+    },
+}
+
+/// What a binding takes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum BindingResource {
+    /// The shader's own resource, bound as for the original shader.
+    Own,
+    /// The `reproj_params` uniform buffer ([`Params`]).
+    Params,
+    /// The texture playing this role this frame ([`FramePlan`]), whole, default view.
+    Texture { role: String },
+    /// A sampler of [`Manifest::samplers`].
+    Sampler { name: String },
+}
+
+/// A load operation with its clear value.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", tag = "op")]
+pub enum LoadOp {
+    /// Clear to `value` (RGBA or depth); `null`: the host's own clear color for its frame, as
+    /// for the original shader.
+    Clear { value: Option<Vec<f64>> },
+    /// Keep what is there.
+    Load,
+}
+
+impl LoadOp {
+    pub fn is_load(&self) -> bool {
+        matches!(self, LoadOp::Load)
+    }
+}
+
+/// A color attachment of a pass.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ColorTarget {
     /// The fragment output `@location` (the attachment index).
     pub location: u32,
-    /// `"current cache payload"` or `"frame color"`.
-    pub target: String,
-    /// Texture format (WebGPU name), or `"same as the original shader's target"`.
-    pub format: String,
-    /// `"clear"` (frame color: to the scene's background; cache: to zero) or `"load"`.
-    pub load: String,
-    pub store: String,
+    /// `frame` (the host's frame target) or a texture role of [`FramePlan`] (`cur_payload`).
+    pub attachment: String,
+    /// Texture format (WebGPU name); `null` for the frame: the original shader's target format.
+    pub format: Option<String>,
+    pub load: LoadOp,
+    pub store: bool,
+    /// Blending: `null`, replace (no blending).
+    pub blend: Option<String>,
 }
 
-/// Depth (and stencil) state of a pass. All passes share the current frame's depth texture,
-/// format `depth32float`; it becomes the previous depth for the next frame.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// Depth state and attachment of a pass (no stencil).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct DepthState {
+    /// A texture role of [`FramePlan`] (`cur_depth`).
+    pub attachment: String,
     pub format: String,
     /// WebGPU compare function name (`less`, `equal`, ...).
     pub compare: String,
     pub write: bool,
-    /// `"clear 1.0"` or `"load"`.
-    pub load: String,
-    pub store: String,
+    pub load: LoadOp,
+    pub store: bool,
+    /// Stencil state: `null`, none.
+    pub stencil: Option<String>,
+}
+
+/// The manifest's JSON Schema (draft 2020-12), as published in `docs/manifest.schema.json`.
+pub fn manifest_schema() -> serde_json::Value {
+    serde_json::to_value(schemars::schema_for!(Manifest)).expect("a schema serializes")
 }

@@ -317,16 +317,12 @@ fn pass_specs(m: &Manifest) -> Result<Vec<PassSpec>, ReplayError> {
         .map(|(i, p)| {
             let mut colors = Vec::new();
             for c in &p.colors {
-                let t = match c.target.as_str() {
-                    "frame color" => Attachment::Frame,
-                    "current cache payload" => Attachment::Cache,
-                    other => return Err(bad(format!("unknown color target `{other}`"))),
+                let t = match c.attachment.as_str() {
+                    reproj_instance::ATTACHMENT_FRAME => Attachment::Frame,
+                    reproj_instance::ROLE_CUR_PAYLOAD => Attachment::Cache,
+                    other => return Err(bad(format!("unknown color attachment `{other}`"))),
                 };
-                let load = match c.load.as_str() {
-                    "load" => true,
-                    "clear" => false,
-                    other => return Err(bad(format!("unknown color load `{other}`"))),
-                };
+                let load = c.load.is_load();
                 let at = c.location as usize;
                 if at >= 8 {
                     return Err(bad(format!("color location {at} is out of range")));
@@ -348,7 +344,7 @@ fn pass_specs(m: &Manifest) -> Result<Vec<PassSpec>, ReplayError> {
                 colors,
                 compare,
                 depth_write: p.depth.write,
-                depth_load: p.depth.load == "load",
+                depth_load: p.depth.load.is_load(),
             })
         })
         .collect()
@@ -1525,8 +1521,12 @@ impl Renderer {
             ifaces.push(c);
         }
         let scene = self.build_scene(session, &ifaces, Some(m.group))?;
-        let vs_src =
-            vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(m.prev_clip_location))?;
+        let vs_src = vertex::vertex_wgsl(
+            vgroup,
+            &inputs,
+            &session.inputs,
+            Some(m.vertex.prev_clip_location),
+        )?;
         let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
         let fsm: Vec<wgpu::ShaderModule> = stages
             .iter()
@@ -1731,6 +1731,12 @@ impl Renderer {
         report.block = Some(variant.block);
         report.depth_epsilon = Some(variant.depth_epsilon);
         let clear_payload = wgpu::Color::TRANSPARENT;
+        let host_clears_frame = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|(t, load)| *t == Attachment::Frame && !load)
+        });
         // Frames submitted but not read back yet: (frame, CPU time when measured alone).
         let mut pending: Vec<(u32, Option<f64>)> = Vec::new();
         let mut batch_t0 = Instant::now();
@@ -1748,6 +1754,23 @@ impl Renderer {
             self.queue.write_buffer(&params, 0, &pbytes);
 
             let mut enc = self.device.create_command_encoder(&Default::default());
+            if host_clears_frame {
+                // `--frame-load load`: the passes keep what the engine drew; here that is the
+                // background, as the original shader's frame starts.
+                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("host clears the frame"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(clear),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    ..Default::default()
+                });
+            }
             for (i, spec) in specs.iter().enumerate() {
                 let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = spec
                     .colors

@@ -42,6 +42,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         out,
         cache_format: args.cache_format.map_or(Default::default(), cache_format),
         strategy: args.strategy.map(super::strategy),
+        integration: super::integrate(Default::default(), args.integration),
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
     if args.verify {

@@ -17,7 +17,10 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     )
     .map_err(front_error)?;
     let table = enumerate(&shader, &norm);
-    let opts = super::instance_options(args.cache, args.delta_n);
+    let opts = super::integrate(
+        super::instance_options(args.cache, args.delta_n),
+        args.integration,
+    );
     let variant = instance(&shader, &norm, &table, selector, &opts).map_err(instance_error)?;
     write_variant(&variant, &args.out).map_err(instance_error)?;
     let m = &variant.manifest;
@@ -39,7 +42,7 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     }
     println!(
         "  manifest   manifest.json (bind group {}, prev clip @location({}))",
-        m.group, m.prev_clip_location
+        m.group, m.vertex.prev_clip_location
     );
     Ok(())
 }

@@ -68,6 +68,22 @@ pub fn instance_options(c: crate::CacheArgs, delta_n: u32) -> reproj_instance::I
         delta_n,
         block: c.block.unwrap_or(strategy.default_block()),
         depth_epsilon: c.depth_epsilon,
+        ..Default::default()
+    }
+}
+
+/// Apply the integration flags to instancing options.
+pub fn integrate(
+    opts: reproj_instance::InstanceOptions,
+    i: crate::IntegrationArgs,
+) -> reproj_instance::InstanceOptions {
+    reproj_instance::InstanceOptions {
+        group: i.group,
+        frame_load: match i.frame_load {
+            crate::FrameLoadArg::Clear => reproj_instance::FrameLoad::Clear,
+            crate::FrameLoadArg::Load => reproj_instance::FrameLoad::Load,
+        },
+        ..opts
     }
 }
 

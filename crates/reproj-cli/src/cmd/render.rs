@@ -34,9 +34,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             },
         )
         .map_err(replay_error)?;
-    let report = match &args.node {
-        None => reference.report,
-        Some(node) => {
+    let variant_input = match (&args.node, &args.variant) {
+        (None, None) => None,
+        (Some(node), _) => {
             let sel: NodeSelector = node.parse().map_err(UserError)?;
             let norm = normalize(
                 &shader,
@@ -51,16 +51,26 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 &norm,
                 &table,
                 sel,
-                &super::instance_options(args.cache, args.delta_n),
+                &super::instance_options(args.cache, args.delta_n.unwrap_or(8)),
             )
             .map_err(instance_error)?;
-            let input = VariantInput::new(
+            Some(VariantInput::new(
                 variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
                 variant.manifest.clone(),
-                args.delta_n,
-            );
+                args.delta_n.unwrap_or(8),
+            ))
+        }
+        (None, Some(dir)) => {
+            let mut input = VariantInput::from_dir(dir, 1).map_err(replay_error)?;
+            input.delta_n = args.delta_n.unwrap_or(input.manifest.params.delta_n);
+            Some(input)
+        }
+    };
+    let report = match &variant_input {
+        None => reference.report,
+        Some(input) => {
             let r = renderer
-                .render_variant(&shader, &session, &input, &reference, &opts)
+                .render_variant(&shader, &session, input, &reference, &opts)
                 .map_err(replay_error)?;
             // Speedup against the original measured in this same run.
             eprintln!(
@@ -83,7 +93,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             "{} over {} ({} frames, {}x{}) on {} [{:?}]",
             report.node.as_deref().map_or_else(
                 || "original".to_string(),
-                |n| format!("node {n} at Δn = {}", args.delta_n)
+                |n| format!("node {n} at Δn = {}", report.delta_n.unwrap_or(1))
             ),
             args.session.display(),
             report.frames.len(),

@@ -1,0 +1,207 @@
+//! The manifest as a contract: its published JSON Schema is current, every manifest the instancer
+//! writes validates against it and is self-consistent (every role, sampler and attachment it names
+//! is declared), and the integration options (`group`, `frame_load`) land in it.
+
+use std::path::PathBuf;
+
+use reproj_front::{enumerate, load_file, normalize};
+use reproj_instance::{
+    BindingResource, FrameLoad, InstanceError, InstanceOptions, LayoutEntry, LoadOp, Manifest,
+    NodeSelector, Reconstruct, Strategy, instance, manifest_schema,
+};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn schema_path() -> PathBuf {
+    root().join("docs/manifest.schema.json")
+}
+
+fn manifests() -> Vec<Manifest> {
+    let mut out = Vec::new();
+    for name in [
+        "marble.wgsl",
+        "ambient_occlusion.wgsl",
+        "envmap.wgsl",
+        "sh_lighting.wgsl",
+    ] {
+        let shader = load_file(&root().join("shaders").join(name)).unwrap();
+        let norm = normalize(&shader, &Default::default()).unwrap();
+        let table = enumerate(&shader, &norm);
+        let node = table
+            .cacheable()
+            .max_by_key(|n| n.components)
+            .map(|n| n.id)
+            .unwrap();
+        for strategy in Strategy::ALL {
+            for (reconstruct, frame_load) in [
+                (Reconstruct::Bilinear, FrameLoad::Clear),
+                (Reconstruct::Nearest, FrameLoad::Load),
+            ] {
+                for sel in [NodeSelector::Root, NodeSelector::Id(node)] {
+                    let opts = InstanceOptions {
+                        strategy,
+                        reconstruct,
+                        frame_load,
+                        ..Default::default()
+                    };
+                    out.push(
+                        instance(&shader, &norm, &table, sel, &opts)
+                            .unwrap()
+                            .manifest,
+                    );
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `docs/manifest.schema.json` is what the types generate. After changing the manifest types, run
+/// `REPROJ_BLESS=1 cargo test -p reproj-instance --test manifest` and review the diff.
+#[test]
+fn published_schema_is_current() {
+    let mut text = serde_json::to_string_pretty(&manifest_schema()).unwrap();
+    text.push('\n');
+    if std::env::var_os("REPROJ_BLESS").is_some() {
+        std::fs::write(schema_path(), &text).unwrap();
+    }
+    let published = std::fs::read_to_string(schema_path()).unwrap_or_default();
+    assert!(
+        published == text,
+        "docs/manifest.schema.json is out of date: run `REPROJ_BLESS=1 cargo test -p reproj-instance --test manifest`"
+    );
+}
+
+#[test]
+fn every_manifest_validates_against_the_published_schema() {
+    let schema: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(schema_path()).unwrap()).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    let all = manifests();
+    assert!(all.len() >= 40);
+    for m in &all {
+        let value = serde_json::to_value(m).unwrap();
+        let errors: Vec<String> = validator
+            .iter_errors(&value)
+            .map(|e| format!("{} at {}", e, e.instance_path()))
+            .collect();
+        assert!(errors.is_empty(), "{} {}: {errors:?}", m.shader, m.node.id);
+        let back: Manifest = serde_json::from_value(value).unwrap();
+        assert_eq!(&back, m);
+    }
+}
+
+/// The schema is strict enough to catch the prose of manifest version 2.
+#[test]
+fn the_schema_rejects_prose_where_numbers_belong() {
+    let schema = manifest_schema();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    let mut value = serde_json::to_value(&manifests()[0]).unwrap();
+    value["passes"][0]["depth"]["load"] = serde_json::json!("clear 1.0");
+    assert!(!validator.is_valid(&value));
+    let mut value = serde_json::to_value(&manifests()[0]).unwrap();
+    value["passes"][0]["bindings"][0]["layout"] = serde_json::json!({"type": "texture"});
+    assert!(!validator.is_valid(&value));
+}
+
+/// Every name a manifest uses is declared in it: roles in every ping-pong entry, textures in the
+/// texture list, samplers in the sampler list; params fields fit the buffer.
+#[test]
+fn every_manifest_is_self_consistent() {
+    for m in manifests() {
+        let what = format!("{} node {} {}", m.shader, m.node.id, m.strategy);
+        assert_eq!(m.frames.ping_pong.len(), 2, "{what}");
+        for plan in &m.frames.ping_pong {
+            for texture in plan.values() {
+                assert!(
+                    m.textures.iter().any(|t| &t.name == texture),
+                    "{what}: texture {texture} is not declared"
+                );
+            }
+        }
+        let has_role = |role: &str| m.frames.ping_pong.iter().all(|p| p.contains_key(role));
+        for p in &m.passes {
+            for b in &p.bindings {
+                assert_eq!(b.added, b.group == m.group, "{what}: {}", b.name);
+                match &b.resource {
+                    BindingResource::Own => assert!(!b.added),
+                    BindingResource::Params => match &b.layout {
+                        LayoutEntry::Buffer {
+                            min_binding_size, ..
+                        } => assert_eq!(*min_binding_size, u64::from(m.params.size)),
+                        other => panic!("{what}: params bound as {other:?}"),
+                    },
+                    BindingResource::Texture { role } => {
+                        assert!(has_role(role), "{what}: role {role}");
+                        if b.name == "reproj_prev_payload" {
+                            let LayoutEntry::Texture { sample_type, .. } = &b.layout else {
+                                panic!("{what}: payload layout {:?}", b.layout);
+                            };
+                            let filterable = m.reconstruct == Reconstruct::Bilinear;
+                            assert_eq!(sample_type == "float", filterable, "{what}");
+                        }
+                    }
+                    BindingResource::Sampler { name } => {
+                        assert!(m.samplers.iter().any(|s| &s.name == name), "{what}: {name}");
+                    }
+                }
+            }
+            for c in &p.colors {
+                assert!(c.attachment == "frame" || has_role(&c.attachment), "{what}");
+                assert_eq!(c.format.is_none(), c.attachment == "frame", "{what}");
+            }
+            assert!(has_role(&p.depth.attachment), "{what}");
+        }
+        let end = m.params.fields.iter().map(|f| f.offset + 4).max().unwrap();
+        assert_eq!(end, m.params.size, "{what}");
+        // The first pass that writes the frame starts it as asked; later ones load it.
+        let frame_loads: Vec<&LoadOp> = m
+            .passes
+            .iter()
+            .flat_map(|p| &p.colors)
+            .filter(|c| c.attachment == "frame")
+            .map(|c| &c.load)
+            .collect();
+        assert!(frame_loads[1..].iter().all(|l| l.is_load()), "{what}");
+        let first_load = frame_loads[0].is_load();
+        assert_eq!(
+            first_load,
+            m.notes.iter().any(|n| n.contains("loaded, not cleared")),
+            "{what}"
+        );
+    }
+}
+
+#[test]
+fn the_added_group_can_be_chosen() {
+    let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let at = |group: Option<u32>| {
+        let opts = InstanceOptions {
+            group,
+            ..Default::default()
+        };
+        instance(&shader, &norm, &table, NodeSelector::Root, &opts)
+    };
+    let default = at(None).unwrap();
+    let chosen = at(Some(3)).unwrap();
+    assert_eq!(chosen.manifest.group, 3);
+    assert_ne!(default.manifest.group, 3);
+    assert_eq!(default.manifest.group, 1, "marble binds group 0 only");
+    for p in &chosen.passes {
+        assert!(!p.wgsl.contains("@group(1)"), "{:?}", p.kind);
+    }
+    assert!(chosen.passes[0].wgsl.contains("@group(3)"));
+    // Taken by the shader itself, or beyond WebGPU's four groups: a clear error.
+    for bad in [0, 4] {
+        match at(Some(bad)) {
+            Err(e @ InstanceError::GroupTaken { .. }) => {
+                assert!(e.to_string().contains(&format!("bind group {bad}")), "{e}")
+            }
+            other => panic!("group {bad}: {other:?}"),
+        }
+    }
+}
