@@ -444,11 +444,13 @@ pub fn analyze(
         shader: Source {
             path: input.shader.path.display().to_string(),
             hash: content_hash(input.shader.source.as_bytes()),
+            ir_hash: Some(crate::emit::ir_hash(input.shader)),
         },
         entry: input.norm.entry.clone(),
         session: Source {
             path: input.session_path.display().to_string(),
             hash: content_hash(input.session_bytes),
+            ir_hash: None,
         },
         machine: Machine {
             adapter: adapter.name.clone(),

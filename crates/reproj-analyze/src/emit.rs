@@ -31,6 +31,9 @@ pub struct EmitOptions {
     /// Where the written passes fit in a host: its `group` and `frame_load` are used (the rest
     /// comes from the selection and the profile).
     pub integration: InstanceOptions,
+    /// The shader to instance (`None`: the profile's, relative to the profile file). Either way
+    /// it must be the shader that was profiled, up to comments and formatting.
+    pub shader: Option<PathBuf>,
 }
 
 /// What `emit` chose and wrote. With `--json` this is printed as is.
@@ -113,9 +116,17 @@ pub fn latest_profile(dir: &Path) -> Result<PathBuf, AnalyzeError> {
         )))
 }
 
-/// Find a file a profile refers to: as recorded, else beside the profile.
+/// Find a file a profile refers to: relative to the profile's directory (profiles from version 3
+/// on record it so), else as recorded (relative to the working directory), else beside the
+/// profile.
 pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
     let p = PathBuf::from(recorded);
+    if p.is_relative()
+        && let Some(dir) = profile_path.parent().filter(|d| !d.as_os_str().is_empty())
+        && dir.join(&p).exists()
+    {
+        return dir.join(&p);
+    }
     if p.exists() {
         return p;
     }
@@ -132,9 +143,16 @@ pub fn emit(
     profile_path: &Path,
     opts: &EmitOptions,
 ) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
-    let shader_path = resolve(&profile.shader.path, profile_path);
+    let shader_path = opts
+        .shader
+        .clone()
+        .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
     let shader = reproj_front::load_file(&shader_path)?;
-    if content_hash(shader.source.as_bytes()) != profile.shader.hash {
+    let fresh = match &profile.shader.ir_hash {
+        Some(h) => ir_hash(&shader) == *h,
+        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
+    };
+    if !fresh {
         return Err(AnalyzeError::Stale {
             path: shader_path,
             what: "shader".into(),
@@ -189,6 +207,7 @@ pub fn emit(
         measured_speedup: None,
         adapter: profile.machine.adapter.clone(),
     };
+    let staging = Staging::new(&opts.out)?;
     let variant = match selection {
         Selection::Node(choice) => {
             let node = profile
@@ -231,7 +250,7 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            write_variant(&variant, &opts.out)?;
+            write_variant(&variant, &staging.path)?;
             for p in &variant.manifest.passes {
                 report
                     .files
@@ -260,9 +279,10 @@ pub fn emit(
             let name = shader_path
                 .file_name()
                 .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
-            let dest = opts.out.join(name);
-            write_atomic(&dest, shader.source.as_bytes())?;
-            report.files.push(dest.display().to_string());
+            write_atomic(&staging.path.join(&name), shader.source.as_bytes())?;
+            report
+                .files
+                .push(opts.out.join(&name).display().to_string());
             report.reason = Some(reason.to_string());
             None
         }
@@ -270,22 +290,130 @@ pub fn emit(
     report
         .files
         .push(opts.out.join("report.json").display().to_string());
-    write_report(&report, &opts.out)?;
+    write_report(&report, &staging.path)?;
+    staging.replace(&opts.out)?;
     Ok((report, variant))
 }
 
+/// FNV-1a 64 of the shader's IR written back as WGSL by naga: the same for two sources that differ
+/// only in comments and formatting.
+pub fn ir_hash(shader: &reproj_front::Shader) -> String {
+    let text = reproj_front::validator()
+        .validate(&shader.module)
+        .ok()
+        .and_then(|info| reproj_instance::write_wgsl(&shader.module, &info).ok())
+        .unwrap_or_else(|| shader.source.clone());
+    content_hash(text.as_bytes())
+}
+
+/// A temporary directory beside the output directory: everything `emit` writes goes there
+/// first, then it replaces the output directory whole, so the directory never mixes an old run's
+/// files with a new run's and a failure leaves the previous output as it was.
+struct Staging {
+    path: PathBuf,
+    done: bool,
+}
+
+impl Staging {
+    fn new(out: &Path) -> Result<Staging, AnalyzeError> {
+        let io = |path: &Path| {
+            let path = path.to_owned();
+            move |source| AnalyzeError::Io { path, source }
+        };
+        check_replaceable(out)?;
+        let parent = out
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        std::fs::create_dir_all(parent).map_err(io(parent))?;
+        let name = out
+            .file_name()
+            .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+        let path = parent.join(format!(".{name}.tmp{}", std::process::id()));
+        if path.exists() {
+            std::fs::remove_dir_all(&path).map_err(io(&path))?;
+        }
+        std::fs::create_dir_all(&path).map_err(io(&path))?;
+        Ok(Staging { path, done: false })
+    }
+
+    /// Put the staged directory in place of `out` (two renames; the old one is removed after).
+    fn replace(mut self, out: &Path) -> Result<(), AnalyzeError> {
+        let io = |path: &Path| {
+            let path = path.to_owned();
+            move |source| AnalyzeError::Io { path, source }
+        };
+        let old = self
+            .path
+            .with_extension(format!("old{}", std::process::id()));
+        let had_old = out.exists();
+        if had_old {
+            std::fs::rename(out, &old).map_err(io(out))?;
+        }
+        if let Err(e) = std::fs::rename(&self.path, out) {
+            if had_old {
+                let _ = std::fs::rename(&old, out);
+            }
+            return Err(io(out)(e));
+        }
+        self.done = true;
+        if had_old {
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = std::fs::remove_dir_all(&self.path);
+        }
+    }
+}
+
+/// `emit` replaces its output directory whole: refuse one that holds anything it would not
+/// have written (a typo'd `--out .` must not delete a project).
+fn check_replaceable(out: &Path) -> Result<(), AnalyzeError> {
+    if !out.exists() {
+        return Ok(());
+    }
+    let refuse = |why: String| {
+        Err(AnalyzeError::Options(format!(
+            "refusing to replace {}: {why}; emit replaces its output directory whole, so choose a new or reproj-written --out",
+            out.display()
+        )))
+    };
+    if !out.is_dir() {
+        return refuse("it is not a directory".into());
+    }
+    let entries = std::fs::read_dir(out).map_err(|source| AnalyzeError::Io {
+        path: out.to_owned(),
+        source,
+    })?;
+    for e in entries.filter_map(Result::ok) {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let ours = e.file_type().is_ok_and(|t| t.is_file())
+            && (name.ends_with(".wgsl") || name.ends_with(".json"));
+        if !ours {
+            return refuse(format!("it holds `{name}`, which emit does not write"));
+        }
+    }
+    Ok(())
+}
+
 /// Re-render the selection over `session`, record measured error and speedup in `report`, and
-/// rewrite `out/report.json` (`out`: the directory [`emit`] wrote into).
+/// rewrite `out/report.json` (`out`: the directory [`emit`] wrote into; the shader is the one the
+/// report names).
 pub fn verify(
     report: &mut EmitReport,
     out: &Path,
     variant: Option<&Variant>,
     profile: &Profile,
-    profile_path: &Path,
     session: &Session,
     renderer: &Renderer,
 ) -> Result<(), AnalyzeError> {
-    let shader = reproj_front::load_file(&resolve(&profile.shader.path, profile_path))?;
+    let shader = reproj_front::load_file(Path::new(&report.shader))?;
     let entry = shader.fragment_entry(Some(&profile.entry))?;
     let opts = RenderOptions {
         png_dir: None,

@@ -97,6 +97,7 @@ fn static_session_profiles_without_nan_and_emits() {
             ),
             strategy: None,
             integration: Default::default(),
+            shader: None,
         },
     )
     .unwrap();
@@ -118,7 +119,6 @@ fn static_session_profiles_without_nan_and_emits() {
         &out,
         variant.as_ref(),
         &back,
-        &path,
         &moving,
         &renderer,
     )

@@ -78,11 +78,13 @@ fn profile(shader: &Path) -> Profile {
         shader: Source {
             path: shader.display().to_string(),
             hash: content_hash(&source),
+            ir_hash: None,
         },
         entry: "fs_main".into(),
         session: Source {
             path: "sessions/marble.json".into(),
             hash: "0".into(),
+            ir_hash: None,
         },
         machine: Machine {
             adapter: "synthetic".into(),
@@ -123,6 +125,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         cache_format: reproj_instance::CacheFormatChoice::Exact(CacheFormat::Rgba32float),
         strategy: None,
         integration: Default::default(),
+        shader: None,
     }
 }
 

@@ -162,11 +162,13 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         shader: Source {
             path: "shaders/marble.wgsl".to_string(),
             hash: "0".repeat(16),
+            ir_hash: None,
         },
         entry: "fs_main".to_string(),
         session: Source {
             path: "sessions/marble.json".to_string(),
             hash: "0".repeat(16),
+            ir_hash: None,
         },
         machine: Machine {
             adapter: "llvmpipe (LLVM 19.1.7, 256 bits)".to_string(),

@@ -147,6 +147,14 @@ pub struct EmitArgs {
     pub backend: Option<String>,
     #[command(flatten)]
     pub integration: IntegrationArgs,
+    /// The shader to instance instead of the profile's (it must be the profiled shader up to
+    /// comments and formatting).
+    #[arg(long)]
+    pub shader: Option<PathBuf>,
+    /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
+    /// below this: for CI, "nothing under the budget is worth it".
+    #[arg(long)]
+    pub min_speedup: Option<f64>,
 }
 
 /// Arguments of `reproj nodes`.

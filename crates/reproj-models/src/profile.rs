@@ -12,7 +12,8 @@ use crate::{ErrorFit, FrameTiming, HitRateFit, TimingFit};
 /// Version of the profile schema. Bump on any incompatible change.
 /// Version 2: per-node `strategy` and `block`, and `strategy_probes`. Version 1 files still load
 /// (every node is a 3pass node at the profile's block size).
-pub const PROFILE_VERSION: u32 = 2;
+/// Version 3: paths relative to the profile's directory, `ir_hash` of the shader.
+pub const PROFILE_VERSION: u32 = 3;
 
 /// A whole profile.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -51,10 +52,14 @@ pub struct Profile {
 /// A file the profile depends on.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Source {
-    /// Path as given to `analyze`.
+    /// Path relative to the profile's directory (version 3; before: as given to `analyze`).
     pub path: String,
     /// FNV-1a 64 of the file's bytes, hex: [`content_hash`].
     pub hash: String,
+    /// For the shader: FNV-1a 64 of its IR written back as WGSL by naga, so comments and
+    /// formatting do not make a profile stale. `emit` checks this one when present.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ir_hash: Option<String>,
 }
 
 /// The machine and adapter the measurements come from.

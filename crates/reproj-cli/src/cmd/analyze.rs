@@ -13,7 +13,7 @@ use reproj_replay::{Renderer, RendererOptions, Session};
 use super::{analyze_error, front_error, replay_error};
 use crate::AnalyzeArgs;
 
-/// A progress bar with ETA on stderr (hidden when stderr is not a terminal).
+/// A progress bar with ETA on stderr; without a terminal, one line per step instead.
 struct Bar(ProgressBar);
 
 impl Progress for Bar {
@@ -24,6 +24,17 @@ impl Progress for Bar {
     fn step(&self, what: &str) {
         self.0.set_message(what.to_string());
         self.0.inc(1);
+        if self.0.is_hidden() {
+            // No terminal (CI, a log file): one line per finished replay.
+            let (pos, len) = (self.0.position(), self.0.length().unwrap_or(0));
+            let elapsed = self.0.elapsed().as_secs_f64();
+            let eta = if pos > 0 {
+                elapsed / pos as f64 * len.saturating_sub(pos) as f64
+            } else {
+                0.0
+            };
+            eprintln!("[{pos}/{len}] {what}: {elapsed:.1} s elapsed, ETA {eta:.0} s");
+        }
     }
     fn note(&self, line: &str) {
         if self.0.is_hidden() {
@@ -35,6 +46,33 @@ impl Progress for Bar {
     fn finish(&self) {
         self.0.finish_and_clear();
     }
+}
+
+/// `path` relative to `dir` (both taken from the working directory), with forward slashes;
+/// absolute when they share no root.
+fn relative_to(dir: &std::path::Path, path: &std::path::Path) -> String {
+    let abs = |p: &std::path::Path| {
+        let p = if p.as_os_str().is_empty() {
+            std::path::Path::new(".")
+        } else {
+            p
+        };
+        std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned())
+    };
+    let (dir, path) = (abs(dir), abs(path));
+    let d: Vec<_> = dir.components().collect();
+    let p: Vec<_> = path.components().collect();
+    let common = d.iter().zip(&p).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return path.display().to_string();
+    }
+    let mut parts: Vec<String> = vec!["..".into(); d.len() - common];
+    parts.extend(
+        p[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    parts.join("/")
 }
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
@@ -110,7 +148,12 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         session_bytes: &session_bytes,
         session: &session,
     };
-    let profile = analyze(&input, &renderer, &opts, &Bar(bar)).map_err(analyze_error)?;
+    let mut profile = analyze(&input, &renderer, &opts, &Bar(bar)).map_err(analyze_error)?;
+    // Paths relative to the profile's directory: the profile and the files it names can be
+    // committed together and used from any working directory.
+    let dir = out.parent().unwrap_or(std::path::Path::new(""));
+    profile.shader.path = relative_to(dir, &args.shader);
+    profile.session.path = relative_to(dir, &args.session);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
     write_atomic(&out, &json).map_err(analyze_error)?;

@@ -43,6 +43,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         cache_format: args.cache_format.map_or(Default::default(), cache_format),
         strategy: args.strategy.map(super::strategy),
         integration: super::integrate(Default::default(), args.integration),
+        shader: args.shader.clone(),
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
     if args.verify {
@@ -61,15 +62,27 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             &opts.out,
             variant.as_ref(),
             &profile,
-            &profile_path,
             &session,
             &renderer,
         )
         .map_err(analyze_error)?;
     }
+    let unmet = args.min_speedup.and_then(|min| {
+        let (speedup, how) = match (report.measured_speedup, report.predicted_speedup) {
+            (Some(s), _) => (s, "measured"),
+            (None, Some(s)) => (s, "predicted"),
+            (None, None) => (1.0, "kept the original:"),
+        };
+        (speedup < min).then(|| {
+            super::Unmet(format!(
+                "{how} speedup {speedup:.2}x is below --min-speedup {min} at error ≤ {}",
+                report.max_error
+            ))
+        })
+    });
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
-        return Ok(());
+        return unmet.map_or(Ok(()), |u| Err(u.into()));
     }
     println!(
         "profile  {} ({} on {})",
@@ -117,5 +130,5 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         );
     }
     println!("wrote    {}", report.files.join(", "));
-    Ok(())
+    unmet.map_or(Ok(()), |u| Err(u.into()))
 }

@@ -21,6 +21,18 @@ impl std::fmt::Display for UserError {
 
 impl std::error::Error for UserError {}
 
+/// The command worked but its result misses a bar the user set (`emit --min-speedup`): exit 3.
+#[derive(Debug)]
+pub struct Unmet(pub String);
+
+impl std::fmt::Display for Unmet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Unmet {}
+
 /// Classify a front-end error.
 pub fn front_error(e: reproj_front::FrontError) -> anyhow::Error {
     match e {
@@ -129,6 +141,10 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
                 .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
             {
                 return ExitCode::SUCCESS;
+            }
+            if let Some(u) = e.downcast_ref::<Unmet>() {
+                eprintln!("reproj: {u}");
+                return ExitCode::from(3);
             }
             if let Some(u) = e.downcast_ref::<UserError>() {
                 let msg = u.0.trim_end();
