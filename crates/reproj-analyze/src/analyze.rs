@@ -19,6 +19,7 @@ use reproj_models::{
 use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput};
 
 use crate::AnalyzeError;
+use crate::journal::{Journal, JournalOptions, ReplayKey, ReplayResult};
 use crate::prune::{PruneOptions, profile_candidates};
 
 /// The paper's training periods (seeds 002 §4.2).
@@ -45,6 +46,9 @@ pub struct AnalyzeOptions {
     pub block: Option<u32>,
     /// Replay only the first N frames of the session.
     pub max_frames: Option<u32>,
+    /// Record every finished replay here and reuse what an interrupted run recorded
+    /// ([`crate::journal`]). `None`: no journal.
+    pub journal: Option<JournalOptions>,
 }
 
 impl Default for AnalyzeOptions {
@@ -58,6 +62,7 @@ impl Default for AnalyzeOptions {
             strategies: Strategy::ALL.to_vec(),
             block: None,
             max_frames: None,
+            journal: None,
         }
     }
 }
@@ -149,6 +154,39 @@ pub fn analyze(
         return Err(AnalyzeError::Options("no strategy to profile".into()));
     }
     let extra = opts.strategies.len() - 1;
+    let mut journal = match &opts.journal {
+        None => None,
+        Some(j) => {
+            let key = content_hash(
+                format!(
+                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?}",
+                    content_hash(input.shader.source.as_bytes()),
+                    content_hash(input.session_bytes),
+                    opts.delta_n_train,
+                    opts.delta_n_holdout,
+                    opts.strategies,
+                    opts.block,
+                    opts.instance,
+                    opts.max_frames,
+                    renderer.adapter().name,
+                    renderer.timing_method(),
+                )
+                .as_bytes(),
+            );
+            let (journal, note) = Journal::open(j, &key)?;
+            if let Some(note) = note {
+                progress.note(&note);
+            }
+            if journal.len() > 0 {
+                progress.note(&format!(
+                    "resuming: {} replays already done in {} (--fresh starts over)",
+                    journal.len(),
+                    j.path.display()
+                ));
+            }
+            Some(journal)
+        }
+    };
     progress.start(1 + (ids.len() * (periods.len() + extra)) as u64);
 
     let render_opts = RenderOptions {
@@ -164,11 +202,15 @@ pub fn analyze(
     progress.step("original");
     let original_frames: Vec<_> = reference.report.frames.iter().skip(1).collect();
     let mean_pixels = mean(original_frames.iter().map(|f| f.shaded as f64));
-    let original = OriginalRecord {
+    let mut original = OriginalRecord {
         frame_ms: finite(reference.report.frame_ms),
         mean_pixels,
         frame_times_ms: original_frames.iter().map(|f| finite(f.frame_ms)).collect(),
     };
+    if let Some(j) = &mut journal {
+        // A resumed run keeps the first run's original times: they decide what is set aside.
+        original = j.original(original)?;
+    }
 
     // Replays, node by node.
     struct Raw {
@@ -231,16 +273,27 @@ pub fn analyze(
                 }
             };
             let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-            let res = replay(
-                renderer,
-                input,
-                &sources,
-                &variant,
-                longest,
-                &reference,
-                &render_opts,
-                &mut time,
-            );
+            let res = journaled(
+                &mut journal,
+                ReplayKey {
+                    node: id,
+                    strategy: strategy.name().into(),
+                    block,
+                    delta_n: longest,
+                },
+                || {
+                    replay(
+                        renderer,
+                        input,
+                        &sources,
+                        &variant,
+                        longest,
+                        &reference,
+                        &render_opts,
+                        &mut time,
+                    )
+                },
+            )?;
             progress.step(&format!("node {id} {strategy} Δn={longest}"));
             if let Err(e) = &res {
                 progress.note(&format!(
@@ -327,16 +380,28 @@ pub fn analyze(
                 progress.step(&format!("node {id} Δn={dn}"));
                 continue;
             }
-            match replay(
-                renderer,
-                input,
-                &sources,
-                &variant,
-                dn,
-                &reference,
-                &render_opts,
-                &mut time,
-            ) {
+            let res = journaled(
+                &mut journal,
+                ReplayKey {
+                    node: id,
+                    strategy: strategy.name().into(),
+                    block,
+                    delta_n: dn,
+                },
+                || {
+                    replay(
+                        renderer,
+                        input,
+                        &sources,
+                        &variant,
+                        dn,
+                        &reference,
+                        &render_opts,
+                        &mut time,
+                    )
+                },
+            )?;
+            match res {
                 Ok((m, _)) => measurements.push(m),
                 Err(e) => {
                     progress.note(&format!(
@@ -356,6 +421,12 @@ pub fn analyze(
         });
     }
     progress.finish();
+    if let Some(j) = &journal {
+        progress.note(&format!(
+            "replayed {}, reused {} recorded by an earlier run",
+            j.recorded, j.reused
+        ));
+    }
 
     // Fits.
     let t = Instant::now();
@@ -476,6 +547,23 @@ pub fn analyze(
     })
 }
 
+/// The journal's result for `key`, else `run` it and record the result.
+fn journaled(
+    journal: &mut Option<Journal>,
+    key: ReplayKey,
+    run: impl FnOnce() -> ReplayResult,
+) -> Result<ReplayResult, AnalyzeError> {
+    let Some(j) = journal else {
+        return Ok(run());
+    };
+    if let Some(r) = j.get(&key) {
+        return Ok(r);
+    }
+    let r = run();
+    j.record(key, &r)?;
+    Ok(r)
+}
+
 /// Replay one variant at `delta_n`: its measurement and mean per-pass times (frame 0 excluded).
 #[allow(clippy::too_many_arguments)]
 fn replay(
@@ -487,7 +575,7 @@ fn replay(
     reference: &reproj_replay::Reference,
     render_opts: &RenderOptions,
     time: &mut AnalysisTime,
-) -> Result<(Measurement, Vec<f64>), String> {
+) -> ReplayResult {
     let input_variant = VariantInput::new(sources.to_vec(), variant.manifest.clone(), delta_n);
     let t = Instant::now();
     let report = renderer

@@ -4,12 +4,14 @@
 
 pub mod analyze;
 pub mod emit;
+pub mod journal;
 pub mod prune;
 
 use std::path::PathBuf;
 
 pub use analyze::{AnalyzeInput, AnalyzeOptions, Progress, Silent, analyze};
 pub use emit::{EmitOptions, EmitReport, emit, latest_profile, load_profile, verify};
+pub use journal::JournalOptions;
 pub use prune::{PruneOptions, profile_candidates};
 
 /// What can go wrong in `analyze` or `emit`.

@@ -107,6 +107,9 @@ pub struct AnalyzeArgs {
     /// wgpu backend (as WGPU_BACKEND).
     #[arg(long)]
     pub backend: Option<String>,
+    /// Start over: ignore the journal an interrupted run left beside the profile.
+    #[arg(long)]
+    pub fresh: bool,
     /// Do not write the charts.
     #[arg(long)]
     pub no_charts: bool,

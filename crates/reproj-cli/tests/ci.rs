@@ -148,3 +148,160 @@ fn a_committed_profile_drives_emit_from_anywhere() {
     assert!(err.contains("refusing to replace"), "{err}");
     assert!(repo.join("profiles/tiny.profile.json").exists());
 }
+
+/// Kill `analyze` mid-way, run it again: it resumes from the journal (every recorded replay reused,
+/// none done twice) and writes what an uninterrupted run writes: the same error for every (node,
+/// strategy, Δn) both measured. (Which nodes and strategies are measured at all depends on frame
+/// times, which differ between two runs on a shared machine.)
+#[test]
+fn a_killed_analyze_resumes_from_its_journal() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = root().join("crates/reproj-replay/tests/data");
+    std::fs::copy(data.join("tiny.wgsl"), tmp.path().join("tiny.wgsl")).unwrap();
+    std::fs::copy(data.join("tiny_moving.json"), tmp.path().join("tiny.json")).unwrap();
+    let args = |out: &str| {
+        vec![
+            "analyze".to_string(),
+            "tiny.wgsl".into(),
+            "--session".into(),
+            "tiny.json".into(),
+            "--out".into(),
+            out.into(),
+            "--delta-n".into(),
+            "2,4,8".into(),
+            "--holdout".into(),
+            "6".into(),
+            "--max-nodes".into(),
+            "4".into(),
+            // One strategy: which strategy a node keeps depends on noisy frame times.
+            "--strategy".into(),
+            "3pass".into(),
+            "--no-charts".into(),
+        ]
+    };
+    let counts = |err: &str| -> (usize, usize) {
+        let line = err
+            .lines()
+            .find(|l| l.starts_with("replayed "))
+            .unwrap_or_else(|| panic!("no summary line: {err}"));
+        let n: Vec<usize> = line
+            .split(|c: char| !c.is_ascii_digit())
+            .filter_map(|w| w.parse().ok())
+            .collect();
+        (n[0], n[1])
+    };
+
+    // Uninterrupted.
+    let whole = args("whole.profile.json");
+    let whole: Vec<&str> = whole.iter().map(String::as_str).collect();
+    let (code, _, err) = reproj(tmp.path(), &whole);
+    assert_eq!(code, 0, "{err}");
+    let (all, reused) = counts(&err);
+    assert_eq!(reused, 0);
+    assert!(all >= 6, "{err}");
+    assert!(!tmp.path().join("whole.profile.journal").exists());
+
+    // Killed once its journal holds three replays.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(args("cut.profile.json"))
+        .current_dir(tmp.path())
+        .env("NODEVICE_SELECT", "1")
+        .stderr(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let journal_path = tmp.path().join("cut.profile.journal");
+    loop {
+        let lines = std::fs::read_to_string(&journal_path).map_or(0, |t| t.lines().count());
+        // Header, the original, three replays.
+        if lines >= 5 {
+            child.kill().unwrap();
+            break;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "analyze ended before it could be killed"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child.wait().unwrap();
+    assert!(
+        !tmp.path().join("cut.profile.json").exists(),
+        "killed before the end"
+    );
+    let journal = std::fs::read_to_string(tmp.path().join("cut.profile.journal")).unwrap();
+    // Header, then whole records (a torn last line does not count).
+    let recorded = journal
+        .lines()
+        .skip(1)
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|r| r["strategy"] != "original")
+        .count();
+    assert!(recorded >= 3, "{journal}");
+
+    // Again: resumes.
+    let cut = args("cut.profile.json");
+    let cut: Vec<&str> = cut.iter().map(String::as_str).collect();
+    let (code, _, err) = reproj(tmp.path(), &cut);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("resuming:"), "{err}");
+    let (replayed, reused) = counts(&err);
+    assert_eq!(reused, recorded, "every recorded replay reused: {err}");
+    assert!(replayed >= 1, "{err}");
+    assert!(!tmp.path().join("cut.profile.journal").exists());
+
+    let load = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join(name)).unwrap()).unwrap()
+    };
+    let summary = |p: &serde_json::Value| -> Vec<(u64, String, Vec<(u64, f64)>)> {
+        p["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| {
+                (
+                    n["id"].as_u64().unwrap(),
+                    n["strategy"].as_str().unwrap().to_string(),
+                    n["measurements"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|m| (m["delta_n"].as_u64().unwrap(), m["error"].as_f64().unwrap()))
+                        .collect(),
+                )
+            })
+            .collect()
+    };
+    let (a, b) = (
+        summary(&load("whole.profile.json")),
+        summary(&load("cut.profile.json")),
+    );
+    assert_eq!(a.len(), b.len(), "the same nodes");
+    let mut compared = 0;
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.0, y.0);
+        if x.1 != y.1 {
+            continue;
+        }
+        for (dx, ex) in &x.2 {
+            if let Some((_, ey)) = y.2.iter().find(|(dy, _)| dy == dx) {
+                assert!(
+                    (ex - ey).abs() <= 1e-9 * ex.abs().max(1e-6),
+                    "node {} Δn {dx}: {ex} vs {ey}",
+                    x.0
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 1);
+
+    // --fresh ignores a journal.
+    std::fs::write(tmp.path().join("cut.profile.journal"), journal).unwrap();
+    let mut fresh = cut.clone();
+    fresh.push("--fresh");
+    let (code, _, err) = reproj(tmp.path(), &fresh);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("resuming"), "{err}");
+    assert_eq!(counts(&err).1, 0, "{err}");
+}

@@ -125,6 +125,11 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         },
         block: args.cache.block,
         max_frames: args.max_frames,
+        // Beside the profile: NAME.profile.journal. Removed once the profile is written.
+        journal: Some(reproj_analyze::JournalOptions {
+            path: out.with_extension("journal"),
+            fresh: args.fresh,
+        }),
     };
     eprintln!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
@@ -157,6 +162,9 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
     write_atomic(&out, &json).map_err(analyze_error)?;
+    if let Some(j) = &opts.journal {
+        let _ = std::fs::remove_file(&j.path);
+    }
     let ok = profile
         .nodes
         .iter()

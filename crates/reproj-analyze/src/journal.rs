@@ -1,0 +1,265 @@
+//! The analysis journal: every finished replay, appended to a file beside the profile as it
+//! completes, so an interrupted `analyze` (killed, out of time, a crash) resumes where it stopped.
+//!
+//! Format: JSON Lines. The first line is a header naming the journal's schema and a key over
+//! everything that decides a replay's result (shader, session, periods, nodes, strategies, options,
+//! adapter); a journal with another key is from another analysis and is started over. Each further
+//! line is one replay: node, strategy, block, Δn and its measurement or failure. A line is written
+//! with one `write` of the whole line and synced, so a kill leaves at most one torn last line,
+//! which reading ignores.
+
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use reproj_models::profile::{Measurement, OriginalRecord};
+use serde::{Deserialize, Serialize};
+
+use crate::AnalyzeError;
+
+const SCHEMA: &str = "reproj.journal";
+const VERSION: u32 = 1;
+
+/// Where the journal lives and whether to use what it holds.
+#[derive(Debug, Clone)]
+pub struct JournalOptions {
+    pub path: PathBuf,
+    /// Start over, ignoring (and truncating) an existing journal.
+    pub fresh: bool,
+}
+
+#[derive(Debug, Serialize, Deserialize)]
+struct Header {
+    schema: String,
+    version: u32,
+    key: String,
+}
+
+/// One replay's identity.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub(crate) struct ReplayKey {
+    pub node: u32,
+    pub strategy: String,
+    pub block: u32,
+    pub delta_n: u32,
+}
+
+/// One replay's result: the measurement and mean per-pass times, or why it failed.
+pub(crate) type ReplayResult = Result<(Measurement, Vec<f64>), String>;
+
+#[derive(Debug, Serialize, Deserialize)]
+struct Record {
+    #[serde(flatten)]
+    key: ReplayKey,
+    measurement: Option<Measurement>,
+    #[serde(default)]
+    pass_ms: Vec<f64>,
+    failure: Option<String>,
+    /// Set on the record of the original shader's replay (key: node `u32::MAX`, `original`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    original: Option<OriginalRecord>,
+}
+
+/// The key of the original shader's record: its frame times decide which nodes are set aside,
+/// so a resumed run must use the same ones.
+fn original_key() -> ReplayKey {
+    ReplayKey {
+        node: u32::MAX,
+        strategy: "original".into(),
+        block: 0,
+        delta_n: 1,
+    }
+}
+
+/// An open journal.
+#[derive(Debug)]
+pub(crate) struct Journal {
+    path: PathBuf,
+    file: std::fs::File,
+    done: HashMap<ReplayKey, ReplayResult>,
+    original: Option<OriginalRecord>,
+    /// Replays answered from the journal in this run.
+    pub reused: usize,
+    /// Replays recorded in this run.
+    pub recorded: usize,
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> AnalyzeError + '_ {
+    move |source| AnalyzeError::Io {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+impl Journal {
+    /// Open (or start) the journal for an analysis whose settings hash to `key`. Returns the
+    /// journal and, when an existing one was set aside, why.
+    pub(crate) fn open(
+        opts: &JournalOptions,
+        key: &str,
+    ) -> Result<(Journal, Option<String>), AnalyzeError> {
+        let path = &opts.path;
+        let mut done = HashMap::new();
+        let mut original = None;
+        let mut note = None;
+        let mut keep = false;
+        if !opts.fresh && path.exists() {
+            let text = std::fs::read_to_string(path).map_err(io(path))?;
+            let mut lines = text.lines();
+            let header = lines
+                .next()
+                .and_then(|l| serde_json::from_str::<Header>(l).ok());
+            match header {
+                Some(h) if h.schema == SCHEMA && h.version == VERSION && h.key == key => {
+                    keep = true;
+                    for line in lines {
+                        // A torn last line (killed mid-write) does not parse: skip it.
+                        if let Ok(r) = serde_json::from_str::<Record>(line) {
+                            if r.original.is_some() {
+                                original = r.original;
+                                continue;
+                            }
+                            let result = match (r.measurement, r.failure) {
+                                (Some(m), _) => Ok((m, r.pass_ms)),
+                                (None, Some(f)) => Err(f),
+                                (None, None) => continue,
+                            };
+                            done.insert(r.key, result);
+                        }
+                    }
+                }
+                _ => {
+                    note = Some(format!(
+                        "{}: from another analysis (shader, session or settings differ); starting over",
+                        path.display()
+                    ));
+                }
+            }
+        }
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(io(dir))?;
+        }
+        let file = if keep {
+            // Rewrite without a torn tail, then append.
+            let mut text = serde_json::to_string(&Header {
+                schema: SCHEMA.into(),
+                version: VERSION,
+                key: key.into(),
+            })
+            .expect("header serializes");
+            text.push('\n');
+            if let Some(o) = &original {
+                text.push_str(&original_line(o));
+            }
+            for (k, r) in &done {
+                text.push_str(&record_line(k, r));
+            }
+            let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+            std::fs::write(&tmp, text).map_err(io(&tmp))?;
+            std::fs::rename(&tmp, path).map_err(io(path))?;
+            std::fs::OpenOptions::new()
+                .append(true)
+                .open(path)
+                .map_err(io(path))?
+        } else {
+            let mut f = std::fs::File::create(path).map_err(io(path))?;
+            let mut header = serde_json::to_string(&Header {
+                schema: SCHEMA.into(),
+                version: VERSION,
+                key: key.into(),
+            })
+            .expect("header serializes");
+            header.push('\n');
+            f.write_all(header.as_bytes()).map_err(io(path))?;
+            f.sync_data().map_err(io(path))?;
+            f
+        };
+        Ok((
+            Journal {
+                path: path.clone(),
+                file,
+                done,
+                original,
+                reused: 0,
+                recorded: 0,
+            },
+            note,
+        ))
+    }
+
+    /// Replays the journal holds.
+    pub(crate) fn len(&self) -> usize {
+        self.done.len()
+    }
+
+    /// The recorded result of a replay, if this journal has it.
+    pub(crate) fn get(&mut self, key: &ReplayKey) -> Option<ReplayResult> {
+        let r = self.done.get(key).cloned();
+        if r.is_some() {
+            self.reused += 1;
+        }
+        r
+    }
+
+    /// Append a finished replay (one write, synced).
+    pub(crate) fn record(
+        &mut self,
+        key: ReplayKey,
+        result: &ReplayResult,
+    ) -> Result<(), AnalyzeError> {
+        self.append(&record_line(&key, result))?;
+        self.done.insert(key, result.clone());
+        self.recorded += 1;
+        Ok(())
+    }
+
+    /// The original shader's record: the journal's when it has one, else `measured`, recorded.
+    pub(crate) fn original(
+        &mut self,
+        measured: OriginalRecord,
+    ) -> Result<OriginalRecord, AnalyzeError> {
+        if let Some(o) = &self.original {
+            return Ok(o.clone());
+        }
+        self.append(&original_line(&measured))?;
+        self.original = Some(measured.clone());
+        Ok(measured)
+    }
+
+    fn append(&mut self, line: &str) -> Result<(), AnalyzeError> {
+        self.file
+            .write_all(line.as_bytes())
+            .and_then(|()| self.file.sync_data())
+            .map_err(io(&self.path))
+    }
+}
+
+fn original_line(o: &OriginalRecord) -> String {
+    let mut line = serde_json::to_string(&Record {
+        key: original_key(),
+        measurement: None,
+        pass_ms: Vec::new(),
+        failure: None,
+        original: Some(o.clone()),
+    })
+    .expect("a record serializes");
+    line.push('\n');
+    line
+}
+
+fn record_line(key: &ReplayKey, result: &ReplayResult) -> String {
+    let (measurement, pass_ms, failure) = match result {
+        Ok((m, p)) => (Some(m.clone()), p.clone(), None),
+        Err(e) => (None, Vec::new(), Some(e.clone())),
+    };
+    let mut line = serde_json::to_string(&Record {
+        key: key.clone(),
+        measurement,
+        pass_ms,
+        failure,
+        original: None,
+    })
+    .expect("a record serializes");
+    line.push('\n');
+    line
+}
