@@ -253,7 +253,9 @@ fn a_killed_analyze_resumes_from_its_journal() {
     let load = |name: &str| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join(name)).unwrap()).unwrap()
     };
-    let summary = |p: &serde_json::Value| -> Vec<(u64, String, Vec<(u64, f64)>)> {
+    // Per node: id, strategy, (Δn, error) per measurement.
+    type Summary = Vec<(u64, String, Vec<(u64, f64)>)>;
+    let summary = |p: &serde_json::Value| -> Summary {
         p["nodes"]
             .as_array()
             .unwrap()
