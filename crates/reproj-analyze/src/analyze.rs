@@ -9,7 +9,7 @@ use reproj_front::{NodeTable, Normalized, Shader};
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
 use reproj_models::profile::{
     AnalysisTime, HoldoutCheck, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
-    Source, StrategyProbe,
+    Shard, Source, StrategyProbe,
 };
 use reproj_models::{
     ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, PROFILE_VERSION, Profile, TimingFit,
@@ -49,6 +49,8 @@ pub struct AnalyzeOptions {
     /// Record every finished replay here and reuse what an interrupted run recorded
     /// ([`crate::journal`]). `None`: no journal.
     pub journal: Option<JournalOptions>,
+    /// Profile only this shard's part of the nodes ([`Shard`]; join with [`crate::merge()`]).
+    pub shard: Option<Shard>,
 }
 
 impl Default for AnalyzeOptions {
@@ -63,6 +65,7 @@ impl Default for AnalyzeOptions {
             block: None,
             max_frames: None,
             journal: None,
+            shard: None,
         }
     }
 }
@@ -137,6 +140,15 @@ pub fn analyze(
             ids
         }
         None => profile_candidates(input.table, &opts.prune),
+    };
+    let ids: Vec<u32> = match opts.shard {
+        None => ids,
+        Some(Shard { index, count }) => ids
+            .into_iter()
+            .enumerate()
+            .filter(|(p, _)| *p as u32 % count == index)
+            .map(|(_, id)| id)
+            .collect(),
     };
     // The longest training period first: it is the fastest a variant gets, so a node whose variant is
     // slower than the original even there can never be chosen and is set aside at once.
@@ -544,6 +556,7 @@ pub fn analyze(
         nodes,
         strategy_probes: probes,
         time,
+        shard: opts.shard,
     })
 }
 

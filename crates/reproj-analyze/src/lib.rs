@@ -5,6 +5,7 @@
 pub mod analyze;
 pub mod emit;
 pub mod journal;
+pub mod merge;
 pub mod prune;
 
 use std::path::PathBuf;
@@ -12,6 +13,7 @@ use std::path::PathBuf;
 pub use analyze::{AnalyzeInput, AnalyzeOptions, Progress, Silent, analyze};
 pub use emit::{EmitOptions, EmitReport, emit, latest_profile, load_profile, verify};
 pub use journal::JournalOptions;
+pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
 
 /// What can go wrong in `analyze` or `emit`.

@@ -113,6 +113,7 @@ fn profile(shader: &Path) -> Profile {
         ],
         strategy_probes: Vec::new(),
         time: AnalysisTime::default(),
+        shard: None,
     }
 }
 

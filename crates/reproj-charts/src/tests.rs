@@ -192,6 +192,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         nodes,
         strategy_probes: Vec::new(),
         time: AnalysisTime::default(),
+        shard: None,
     }
 }
 

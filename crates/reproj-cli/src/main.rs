@@ -26,6 +26,8 @@ enum Command {
     Render(RenderArgs),
     /// Profile the shader's nodes over a session, fit the models, and save a profile (and charts).
     Analyze(AnalyzeArgs),
+    /// Join the profiles of `analyze --shard i/N` runs into one profile.
+    Merge(MergeArgs),
     /// Select the fastest node and Δn under an error budget from a profile and write the passes.
     Emit(EmitArgs),
 }
@@ -107,12 +109,27 @@ pub struct AnalyzeArgs {
     /// wgpu backend (as WGPU_BACKEND).
     #[arg(long)]
     pub backend: Option<String>,
+    /// Profile only shard i of N (0-based) of the nodes, e.g. `--shard 0/3`; join the shards'
+    /// profiles with `reproj merge`.
+    #[arg(long)]
+    pub shard: Option<reproj_models::profile::Shard>,
     /// Start over: ignore the journal an interrupted run left beside the profile.
     #[arg(long)]
     pub fresh: bool,
     /// Do not write the charts.
     #[arg(long)]
     pub no_charts: bool,
+}
+
+/// Arguments of `reproj merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shard profiles (every index 0..N of one `--shard i/N` set, in any order).
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// The merged profile.
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// Arguments of `reproj emit`.
@@ -298,6 +315,7 @@ fn main() -> ExitCode {
         Command::Instance(args) => cmd::instance::run(&args),
         Command::Render(args) => cmd::render::run(&args),
         Command::Analyze(args) => cmd::analyze::run(&args),
+        Command::Merge(args) => cmd::merge::run(&args),
         Command::Emit(args) => cmd::emit::run(&args),
     };
     cmd::finish(result)

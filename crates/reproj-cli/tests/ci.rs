@@ -307,3 +307,149 @@ fn a_killed_analyze_resumes_from_its_journal() {
     assert!(!err.contains("resuming"), "{err}");
     assert_eq!(counts(&err).1, 0, "{err}");
 }
+
+/// Three shards merged give the unsharded profile: the same nodes, strategies, periods and errors,
+/// and one hit-rate model over all of them. Shards that do not belong together are refused.
+#[test]
+fn three_shards_merge_into_the_unsharded_profile() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = root().join("crates/reproj-replay/tests/data");
+    std::fs::copy(data.join("tiny.wgsl"), tmp.path().join("tiny.wgsl")).unwrap();
+    std::fs::copy(data.join("tiny_moving.json"), tmp.path().join("tiny.json")).unwrap();
+    let analyze = |out: &str, shard: Option<&str>| {
+        let mut a = vec![
+            "analyze",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--out",
+            out,
+            "--delta-n",
+            "2,4,8",
+            "--holdout",
+            "6",
+            "--max-nodes",
+            "5",
+            "--strategy",
+            "3pass",
+            "--no-charts",
+        ];
+        if let Some(s) = shard {
+            a.extend(["--shard", s]);
+        }
+        let (code, _, err) = reproj(tmp.path(), &a);
+        assert_eq!(code, 0, "{err}");
+    };
+    analyze("whole.profile.json", None);
+    std::fs::create_dir_all(tmp.path().join("shards")).unwrap();
+    for i in 0..3 {
+        analyze(
+            &format!("shards/s{i}.profile.json"),
+            Some(&format!("{i}/3")),
+        );
+    }
+    let (code, out, err) = reproj(
+        tmp.path(),
+        &[
+            "merge",
+            "shards/s2.profile.json",
+            "shards/s0.profile.json",
+            "shards/s1.profile.json",
+            "--out",
+            "merged.profile.json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("merged 3 shards"), "{out}");
+    let load = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join(name)).unwrap()).unwrap()
+    };
+    let (whole, merged) = (load("whole.profile.json"), load("merged.profile.json"));
+    assert!(merged.get("shard").is_none());
+    assert_eq!(merged["shader"]["path"], "tiny.wgsl");
+    let nodes = |p: &serde_json::Value| -> Vec<(u64, String, Vec<u64>)> {
+        p["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| {
+                (
+                    n["id"].as_u64().unwrap(),
+                    n["strategy"].as_str().unwrap().to_string(),
+                    n["measurements"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|m| m["delta_n"].as_u64().unwrap())
+                        .collect(),
+                )
+            })
+            .collect()
+    };
+    let (a, b) = (nodes(&whole), nodes(&merged));
+    assert_eq!(
+        a.iter().map(|n| n.0).collect::<Vec<_>>(),
+        b.iter().map(|n| n.0).collect::<Vec<_>>(),
+        "the same nodes"
+    );
+    // Errors are deterministic; which nodes are set aside after Δn = 8 depends on frame times.
+    for (x, y) in whole["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(merged["nodes"].as_array().unwrap())
+    {
+        let (mx, my) = (x["measurements"][0].clone(), y["measurements"][0].clone());
+        assert_eq!(mx["delta_n"], my["delta_n"]);
+        let (ex, ey) = (mx["error"].as_f64().unwrap(), my["error"].as_f64().unwrap());
+        assert!(
+            (ex - ey).abs() <= 1e-9 * ex.abs().max(1e-6),
+            "node {}: {ex} vs {ey}",
+            x["id"]
+        );
+    }
+    assert!(
+        merged["hit_rate"]["mu"].as_f64().is_some(),
+        "{}",
+        merged["hit_rate"]
+    );
+
+    // A missing shard, a shard twice, a shard of another session: exit 2, nothing written.
+    let refuse = |args: &[&str], says: &str| {
+        let mut a = vec!["merge"];
+        a.extend(args);
+        a.extend(["--out", "bad.profile.json"]);
+        let (code, _, err) = reproj(tmp.path(), &a);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(says), "{says}: {err}");
+        assert!(!tmp.path().join("bad.profile.json").exists());
+    };
+    refuse(
+        &["shards/s0.profile.json", "shards/s1.profile.json"],
+        "missing shard(s) 2/3",
+    );
+    refuse(
+        &[
+            "shards/s0.profile.json",
+            "shards/s0.profile.json",
+            "shards/s1.profile.json",
+        ],
+        "both shard 0/3",
+    );
+    let mut other = load("shards/s2.profile.json");
+    other["session"]["hash"] = "0123456789abcdef".into();
+    std::fs::write(
+        tmp.path().join("shards/other.profile.json"),
+        serde_json::to_string(&other).unwrap(),
+    )
+    .unwrap();
+    refuse(
+        &[
+            "shards/s0.profile.json",
+            "shards/s1.profile.json",
+            "shards/other.profile.json",
+        ],
+        "differ in `session.hash`",
+    );
+    refuse(&["whole.profile.json"], "is not a shard");
+}

@@ -47,6 +47,34 @@ pub struct Profile {
     pub strategy_probes: Vec<StrategyProbe>,
     /// Wall-clock time of the analysis and where it went.
     pub time: AnalysisTime,
+    /// Set on a shard's profile (`analyze --shard i/N`); `reproj merge` joins the N shards into
+    /// one profile without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
+}
+
+/// Which part of the work a shard did: the candidate nodes at positions `p` with
+/// `p % count == index` (in id order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    pub index: u32,
+    pub count: u32,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let bad = || format!("`{s}` is not a shard: expected i/N with 0 ≤ i < N, e.g. 0/3");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count): (u32, u32) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
 }
 
 /// A file the profile depends on.

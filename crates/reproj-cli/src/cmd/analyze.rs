@@ -48,33 +48,6 @@ impl Progress for Bar {
     }
 }
 
-/// `path` relative to `dir` (both taken from the working directory), with forward slashes;
-/// absolute when they share no root.
-fn relative_to(dir: &std::path::Path, path: &std::path::Path) -> String {
-    let abs = |p: &std::path::Path| {
-        let p = if p.as_os_str().is_empty() {
-            std::path::Path::new(".")
-        } else {
-            p
-        };
-        std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned())
-    };
-    let (dir, path) = (abs(dir), abs(path));
-    let d: Vec<_> = dir.components().collect();
-    let p: Vec<_> = path.components().collect();
-    let common = d.iter().zip(&p).take_while(|(a, b)| a == b).count();
-    if common == 0 {
-        return path.display().to_string();
-    }
-    let mut parts: Vec<String> = vec!["..".into(); d.len() - common];
-    parts.extend(
-        p[common..]
-            .iter()
-            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
-    );
-    parts.join("/")
-}
-
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     let shader = load_file(&args.shader).map_err(front_error)?;
     let norm = normalize(
@@ -130,6 +103,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
             path: out.with_extension("journal"),
             fresh: args.fresh,
         }),
+        shard: args.shard,
     };
     eprintln!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
@@ -157,8 +131,8 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     // Paths relative to the profile's directory: the profile and the files it names can be
     // committed together and used from any working directory.
     let dir = out.parent().unwrap_or(std::path::Path::new(""));
-    profile.shader.path = relative_to(dir, &args.shader);
-    profile.session.path = relative_to(dir, &args.session);
+    profile.shader.path = super::relative_to(dir, &args.shader);
+    profile.session.path = super::relative_to(dir, &args.session);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
     write_atomic(&out, &json).map_err(analyze_error)?;

@@ -6,6 +6,7 @@ pub mod analyze;
 pub mod charts;
 pub mod emit;
 pub mod instance;
+pub mod merge;
 pub mod nodes;
 pub mod render;
 
@@ -129,6 +130,33 @@ pub fn cache_format(f: crate::CacheFormatArg) -> reproj_instance::CacheFormatCho
         crate::CacheFormatArg::Rg16float => C::Exact(F::Rg16float),
         crate::CacheFormatArg::R16float => C::Exact(F::R16float),
     }
+}
+
+/// `path` relative to `dir` (both taken from the working directory), with forward slashes;
+/// absolute when they share no root.
+pub fn relative_to(dir: &std::path::Path, path: &std::path::Path) -> String {
+    let abs = |p: &std::path::Path| {
+        let p = if p.as_os_str().is_empty() {
+            std::path::Path::new(".")
+        } else {
+            p
+        };
+        std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned())
+    };
+    let (dir, path) = (abs(dir), abs(path));
+    let d: Vec<_> = dir.components().collect();
+    let p: Vec<_> = path.components().collect();
+    let common = d.iter().zip(&p).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return path.display().to_string();
+    }
+    let mut parts: Vec<String> = vec!["..".into(); d.len() - common];
+    parts.extend(
+        p[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    parts.join("/")
 }
 
 /// Print the error (if any) and choose the exit code.

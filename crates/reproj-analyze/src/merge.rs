@@ -1,0 +1,132 @@
+//! `merge`: join the profiles of `analyze --shard i/N` runs into the profile one unsharded run
+//! writes. Shards are refused unless they profiled the same shader and session with the same
+//! settings on the same adapter, and together cover every shard index exactly once.
+//!
+//! The nodes, their fits and the strategy probes are per node and carry over; the hit-rate model is
+//! fitted once per shader and session, so it is fitted again over every shard's measurements, and
+//! the held-out frame-time predictions (which use it) are recomputed. The original's record is shard
+//! 0's; the analysis times add up (machine time spent).
+
+use std::path::PathBuf;
+
+use reproj_models::profile::{AnalysisTime, Measurement};
+use reproj_models::{Profile, fit_hit_rate, predicted_frame_ms};
+
+use crate::AnalyzeError;
+
+/// Join shard profiles (with the files they came from, for messages).
+pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
+    let refuse = |message: String| Err(AnalyzeError::Options(message));
+    let Some((first_path, first)) = shards.first() else {
+        return refuse("merge needs the shard profiles to join".into());
+    };
+    let Some(count) = first.shard.map(|s| s.count) else {
+        return refuse(format!(
+            "{} is not a shard (it was not written by `analyze --shard i/N`)",
+            first_path.display()
+        ));
+    };
+    // Everything that must agree, by field name.
+    let identity = |p: &Profile| -> Vec<(&'static str, String)> {
+        vec![
+            ("version", p.version.to_string()),
+            ("shader.hash", p.shader.hash.clone()),
+            ("entry", p.entry.clone()),
+            ("session.hash", p.session.hash.clone()),
+            ("machine.adapter", p.machine.adapter.clone()),
+            ("machine.timing_method", p.machine.timing_method.clone()),
+            ("resolution", format!("{:?}", p.resolution)),
+            ("frames", p.frames.to_string()),
+            ("delta_n_train", format!("{:?}", p.delta_n_train)),
+            ("delta_n_holdout", format!("{:?}", p.delta_n_holdout)),
+            ("block", p.block.to_string()),
+            ("depth_epsilon", p.depth_epsilon.to_string()),
+            (
+                "shard.count",
+                p.shard.map_or("none".into(), |s| s.count.to_string()),
+            ),
+        ]
+    };
+    let reference = identity(first);
+    let mut seen = vec![None::<&PathBuf>; count as usize];
+    for (path, p) in shards {
+        for ((field, a), (_, b)) in reference.iter().zip(identity(p)) {
+            if *a != b {
+                return refuse(format!(
+                    "cannot merge {} with {}: they differ in `{field}` ({a} vs {b}); shards must profile the same shader and session with the same settings on the same adapter",
+                    first_path.display(),
+                    path.display()
+                ));
+            }
+        }
+        let index = p.shard.expect("shard.count agreed").index as usize;
+        if let Some(other) = seen[index] {
+            return refuse(format!(
+                "{} and {} are both shard {index}/{count}",
+                other.display(),
+                path.display()
+            ));
+        }
+        seen[index] = Some(path);
+    }
+    let missing: Vec<String> = seen
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.is_none())
+        .map(|(i, _)| format!("{i}/{count}"))
+        .collect();
+    if !missing.is_empty() {
+        return refuse(format!("missing shard(s) {}", missing.join(", ")));
+    }
+
+    let mut sorted: Vec<&Profile> = shards.iter().map(|(_, p)| p).collect();
+    sorted.sort_by_key(|p| p.shard.map(|s| s.index));
+    let mut merged = sorted[0].clone();
+    merged.shard = None;
+    merged.nodes = sorted
+        .iter()
+        .flat_map(|p| p.nodes.iter().cloned())
+        .collect();
+    merged.nodes.sort_by_key(|n| n.id);
+    if let Some(w) = merged.nodes.windows(2).find(|w| w[0].id == w[1].id) {
+        return refuse(format!("node {} is in two shards", w[0].id));
+    }
+    merged.strategy_probes = sorted
+        .iter()
+        .flat_map(|p| p.strategy_probes.iter().cloned())
+        .collect();
+    merged.strategy_probes.sort_by_key(|p| p.node);
+    merged.time = sorted
+        .iter()
+        .fold(AnalysisTime::default(), |t, p| AnalysisTime {
+            total_s: t.total_s + p.time.total_s,
+            reference_s: t.reference_s + p.time.reference_s,
+            rendering_s: t.rendering_s + p.time.rendering_s,
+            readback_and_error_s: t.readback_and_error_s + p.time.readback_and_error_s,
+            fitting_s: t.fitting_s + p.time.fitting_s,
+            instancing_s: t.instancing_s + p.time.instancing_s,
+        });
+    // The hit-rate model over every node's training measurements, as `analyze` fits it.
+    let is_train = |m: &Measurement| merged.delta_n_train.contains(&m.delta_n);
+    let samples: Vec<(f64, f64)> = merged
+        .nodes
+        .iter()
+        .flat_map(|n| n.measurements.iter())
+        .filter(|m| is_train(m))
+        .map(|m| (m.delta_n as f64, m.hit_rate))
+        .collect();
+    merged.hit_rate = fit_hit_rate(&samples);
+    let mean_pixels = merged.original.mean_pixels;
+    for n in &mut merged.nodes {
+        for h in &mut n.holdout {
+            h.predicted_ms = predicted_frame_ms(
+                &n.timing_fit,
+                &merged.hit_rate,
+                h.delta_n as f64,
+                mean_pixels,
+            )
+            .filter(|v| v.is_finite());
+        }
+    }
+    Ok(merged)
+}

@@ -1,0 +1,41 @@
+//! `reproj merge`: join shard profiles into one.
+
+use reproj_analyze::emit::{load_profile, resolve, write_atomic};
+
+use super::analyze_error;
+use crate::MergeArgs;
+
+pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
+    if args.out.as_os_str() == "-" {
+        return Err(super::UserError("--out needs a file path".into()).into());
+    }
+    let mut shards = Vec::new();
+    for path in &args.shards {
+        shards.push((path.clone(), load_profile(path).map_err(analyze_error)?));
+    }
+    let mut merged = reproj_analyze::merge(&shards).map_err(analyze_error)?;
+    // Paths relative to the merged profile, wherever the shards were.
+    let (first_path, first) = &shards[0];
+    let dir = args.out.parent().unwrap_or(std::path::Path::new(""));
+    merged.shader.path = super::relative_to(dir, &resolve(&first.shader.path, first_path));
+    merged.session.path = super::relative_to(dir, &resolve(&first.session.path, first_path));
+    let mut json = serde_json::to_vec_pretty(&merged)?;
+    json.push(b'\n');
+    write_atomic(&args.out, &json).map_err(analyze_error)?;
+    let usable = merged
+        .nodes
+        .iter()
+        .filter(|n| n.status == reproj_models::profile::NodeStatus::Ok)
+        .count();
+    println!(
+        "merged {} shards: {} nodes ({usable} usable); hit-rate model µ = {}",
+        shards.len(),
+        merged.nodes.len(),
+        merged
+            .hit_rate
+            .mu
+            .map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
+    );
+    println!("wrote {}", args.out.display());
+    Ok(())
+}
