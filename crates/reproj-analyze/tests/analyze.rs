@@ -76,7 +76,14 @@ fn static_session_profiles_without_nan_and_emits() {
         assert!(n.measurements.iter().all(|m| m.mse.is_some()));
     }
     let json = serde_json::to_string(&profile).unwrap();
-    assert!(!json.contains("NaN") && !json.contains("inf"), "{json}");
+    // No NaN or infinity anywhere: serde_json writes both as `null`, so a non-finite number either
+    // fails to read back (a plain f64 field) or reads back changed (an optional one, or NaN, which
+    // equals nothing): the profile must read back equal to itself.
+    let back: reproj_models::Profile = serde_json::from_str(&json).unwrap();
+    assert!(
+        back == profile,
+        "the profile does not read back equal: a non-finite number?"
+    );
 
     // The profile reads back and drives `emit` without a GPU.
     let dir = tempfile::tempdir().unwrap();

@@ -69,17 +69,57 @@ pub fn parse_shader(path: &Path, source: String) -> Result<Shader, FrontError> {
     let module = naga::front::wgsl::parse_str(&source).map_err(|e| FrontError::Parse {
         diagnostic: e.emit_to_string_with_path(&source, &path_str),
     })?;
-    let info = validator()
-        .validate(&module)
-        .map_err(|e| FrontError::Validation {
-            diagnostic: e.emit_to_string_with_path(&source, &path_str),
-        })?;
+    let info = validator().validate(&module).map_err(|e| {
+        let mut diagnostic = e.emit_to_string_with_path(&source, &path_str);
+        if !e.spans().any(|(span, _)| span.to_range().is_some()) {
+            // naga gives some errors (a whole entry point's) no span: name the place ourselves.
+            let at = unspanned_location(&e, &module, &source, &path_str);
+            diagnostic = match diagnostic.strip_prefix("error: ") {
+                Some(rest) => format!("error: {at}{rest}"),
+                None => format!("{at}{diagnostic}"),
+            };
+        }
+        FrontError::Validation { diagnostic }
+    })?;
     Ok(Shader {
         path: path.to_owned(),
         source,
         module,
         info,
     })
+}
+
+/// `path:line:col: ` of the entry point or function a span-less validation error names (or just
+/// `path: `), so every diagnostic says where.
+fn unspanned_location(
+    e: &naga::WithSpan<naga::valid::ValidationError>,
+    module: &naga::Module,
+    source: &str,
+    path: &str,
+) -> String {
+    use naga::valid::ValidationError as V;
+    let name = match e.as_inner() {
+        V::EntryPoint { name, .. } => Some(name.clone()),
+        V::Function { handle, .. } => module.functions[*handle].name.clone(),
+        _ => None,
+    };
+    let at = name.and_then(|name| {
+        let needle = format!("fn {name}");
+        source
+            .match_indices(&needle)
+            .find(|(i, _)| {
+                !source[i + needle.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+            })
+            .map(|(i, _)| i)
+    });
+    match at {
+        Some(i) => {
+            let line = source[..i].matches('\n').count() + 1;
+            let col = i - source[..i].rfind('\n').map_or(0, |n| n + 1) + 1;
+            format!("{path}:{line}:{col}: ")
+        }
+        None => format!("{path}: "),
+    }
 }
 
 impl Shader {
