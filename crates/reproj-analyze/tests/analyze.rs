@@ -80,10 +80,16 @@ fn static_session_profiles_without_nan_and_emits() {
     // fails to read back (a plain f64 field) or reads back changed (an optional one, or NaN, which
     // equals nothing): the profile must read back equal to itself.
     let back: reproj_models::Profile = serde_json::from_str(&json).unwrap();
-    assert!(
-        back == profile,
-        "the profile does not read back equal: a non-finite number?"
-    );
+    if back != profile {
+        let (a, b) = (
+            serde_json::to_value(&profile).unwrap(),
+            serde_json::to_value(&back).unwrap(),
+        );
+        panic!(
+            "the profile does not read back equal (a non-finite number?): {}",
+            first_difference(&a, &b, String::new())
+        );
+    }
 
     // The profile reads back and drives `emit` without a GPU.
     let dir = tempfile::tempdir().unwrap();
@@ -153,4 +159,30 @@ fn static_session_profiles_without_nan_and_emits() {
     };
     assert_eq!(report.measured_psnr, Some(rendered.psnr), "{report:?}");
     assert_eq!(report.measured_error, Some(rendered.error));
+}
+
+/// Path and values of the first place two JSON values differ.
+fn first_difference(a: &serde_json::Value, b: &serde_json::Value, at: String) -> String {
+    use serde_json::Value as V;
+    match (a, b) {
+        (V::Object(x), V::Object(y)) => {
+            for (k, v) in x {
+                match y.get(k) {
+                    Some(w) if w == v => {}
+                    Some(w) => return first_difference(v, w, format!("{at}.{k}")),
+                    None => return format!("{at}.{k} missing"),
+                }
+            }
+            format!("{at}: keys differ")
+        }
+        (V::Array(x), V::Array(y)) if x.len() == y.len() => {
+            for (i, (v, w)) in x.iter().zip(y).enumerate() {
+                if v != w {
+                    return first_difference(v, w, format!("{at}[{i}]"));
+                }
+            }
+            format!("{at}: equal as JSON (a NaN?)")
+        }
+        _ => format!("{at}: {a} vs {b}"),
+    }
 }
