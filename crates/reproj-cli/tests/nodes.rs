@@ -135,7 +135,7 @@ fn entry_point_errors_exit_2() {
 }
 
 #[test]
-fn unsupported_construct_exits_2_with_location() {
+fn unsupported_construct_exits_2_with_location_line_and_caret() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("early.wgsl");
     std::fs::write(
@@ -146,7 +146,10 @@ fn unsupported_construct_exits_2_with_location() {
     .unwrap();
     let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(err.contains("early.wgsl:2:"), "{err}");
+    assert!(err.contains("early.wgsl:2:18"), "{err}");
+    // The source line and a caret under the construct, as for parse errors.
+    assert!(err.contains("2 │     if x > 0.0 { return 1.0; }"), "{err}");
+    assert!(err.contains("^^^^^^^^^^^"), "{err}");
 }
 
 fn json_nodes(shader: &str, all: bool) -> Vec<serde_json::Value> {

@@ -52,10 +52,7 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
     let index = shader.fragment_entry(opts.entry.as_deref())?;
     let ep = &shader.module.entry_points[index];
     let located = |e: FrontError| match e {
-        FrontError::UnsupportedAt { span, what } => FrontError::Unsupported {
-            location: shader.location(span),
-            what,
-        },
+        FrontError::UnsupportedAt { span, what } => shader.unsupported(span, what),
         e => e,
     };
     let first = rebuild(
@@ -77,16 +74,16 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         },
     )
     .map_err(located)?;
-    let root_value = second.root.ok_or_else(|| FrontError::Unsupported {
-        location: shader.location(
+    let root_value = second.root.ok_or_else(|| {
+        shader.unsupported(
             ep.function
                 .body
                 .span_iter()
                 .last()
                 .map(|(_, s)| *s)
                 .unwrap_or_default(),
-        ),
-        what: "the entry point must end with a `return` of its output".into(),
+            "the entry point must end with a `return` of its output",
+        )
     })?;
     let mut call_site = HashMap::new();
     for (old, span) in &first.call_site {
@@ -123,24 +120,24 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
                 .position(|m| {
                     matches!(m.binding, Some(naga::Binding::Location { location: 0, .. }))
                 })
-                .ok_or_else(|| FrontError::Unsupported {
-                    location: shader.location(
+                .ok_or_else(|| {
+                    shader.unsupported(
                         ep.function
                             .body
                             .span_iter()
                             .last()
                             .map(|(_, s)| *s)
                             .unwrap_or_default(),
-                    ),
-                    what: "the output struct has no @location(0) member".into(),
+                        "the output struct has no @location(0) member",
+                    )
                 })?;
             match &fun.expressions[root_value] {
                 Expression::Compose { components, .. } => components[loc0],
                 _ => {
-                    return Err(FrontError::Unsupported {
-                        location: shader.location(fun.expressions.get_span(root_value)),
-                        what: "the returned output struct must be constructed in the return".into(),
-                    });
+                    return Err(shader.unsupported(
+                        fun.expressions.get_span(root_value),
+                        "the returned output struct must be constructed in the return",
+                    ));
                 }
             }
         }
@@ -155,10 +152,10 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
             width: 2 | 4
         })
     ) {
-        return Err(FrontError::Unsupported {
-            location: shader.location(fun.expressions.get_span(root)),
-            what: "the output color must be f32 or f16 data (not integer or f64)".into(),
-        });
+        return Err(shader.unsupported(
+            fun.expressions.get_span(root),
+            "the output color must be f32 or f16 data (not integer or f64)",
+        ));
     }
     Ok(Normalized {
         module,

@@ -39,8 +39,14 @@ pub enum FrontError {
         name: String,
         available: Vec<String>,
     },
-    #[error("{location}: unsupported: {what}")]
-    Unsupported { location: String, what: String },
+    /// `diagnostic`: the message with the source line and a caret under the construct, rendered
+    /// like naga's parse errors ([`Shader::unsupported`]).
+    #[error("{diagnostic}")]
+    Unsupported {
+        location: String,
+        what: String,
+        diagnostic: String,
+    },
     /// An unsupported construct inside the IR, before it is given a file location.
     #[error("unsupported: {what}")]
     UnsupportedAt { span: naga::Span, what: String },
@@ -162,6 +168,32 @@ impl Shader {
     }
 
     /// `file:line:col` of a span, for one-line messages.
+    /// An unsupported-construct error at `span`: `file:line:col`, and the source line with a caret
+    /// under the construct (codespan, as naga renders parse errors).
+    pub fn unsupported(&self, span: naga::Span, what: impl Into<String>) -> FrontError {
+        use codespan_reporting::diagnostic::{Diagnostic, Label};
+        use codespan_reporting::files::SimpleFile;
+        let what = what.into();
+        let location = self.location(span);
+        let path = self.path.display().to_string();
+        let files = SimpleFile::new(path, self.source.as_str());
+        let mut diagnostic = Diagnostic::error().with_message(format!("unsupported: {what}"));
+        if let Some(range) = span.to_range() {
+            diagnostic = diagnostic.with_labels(vec![Label::primary((), range)]);
+        }
+        let diagnostic = codespan_reporting::term::emit_into_string(
+            &codespan_reporting::term::Config::default(),
+            &files,
+            &diagnostic,
+        )
+        .unwrap_or_else(|_| format!("error: {location}: unsupported: {what}\n"));
+        FrontError::Unsupported {
+            location,
+            what,
+            diagnostic,
+        }
+    }
+
     pub fn location(&self, span: naga::Span) -> String {
         if span.is_defined() {
             let loc = span.location(&self.source);
