@@ -205,6 +205,7 @@ pub fn analyze(
         png_dir: None,
         max_frames: opts.max_frames,
         classify: false,
+        raw_frames: false,
     };
     let mut time = AnalysisTime::default();
     let t = Instant::now();

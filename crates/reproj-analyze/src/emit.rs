@@ -419,6 +419,7 @@ pub fn verify(
         png_dir: None,
         max_frames: None,
         classify: false,
+        raw_frames: false,
     };
     let reference = renderer.render_original(&shader, entry, session, &opts)?;
     report.measured_original_ms = Some(reference.report.frame_ms);

@@ -139,6 +139,7 @@ fn static_session_profiles_without_nan_and_emits() {
     let entry = shader.fragment_entry(None).unwrap();
     let opts = RenderOptions {
         classify: false,
+        raw_frames: false,
         ..RenderOptions::default()
     };
     let reference = renderer

@@ -55,6 +55,10 @@ pub struct RenderArgs {
     /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.
     #[arg(long)]
     pub frames: Option<PathBuf>,
+    /// With --frames: also write each frame's exact linear RGBA as `frame_NNN.f32` (width × height
+    /// × 4 little-endian f32, top row first, no header), to compare renderers beyond 8 bits.
+    #[arg(long, requires = "frames")]
+    pub raw_frames: bool,
     /// Render only the first N frames.
     #[arg(long)]
     pub max_frames: Option<u32>,

@@ -43,6 +43,7 @@ fn main() {
         png_dir: None,
         max_frames: None,
         classify: false,
+        raw_frames: false,
     };
     println!(
         "replay benchmark: {} over {} ({} frames, {}x{})",

@@ -97,6 +97,7 @@ fn main() {
         png_dir: None,
         max_frames: Some(args.frames),
         classify: false,
+        raw_frames: false,
     };
     println!(
         "strategy benchmark: Δn = {}, {} frames per replay; adapter: {} ({}) [{:?}]; cores: {}; LP_NUM_THREADS={}",

@@ -12,6 +12,9 @@
 //!   `camera_pos`, `light_pos`, `time` (seconds), `frame` and `resolution` automatically unless the
 //!   session's `uniforms` gives them; every other field from `uniforms`. A field, texture or vertex
 //!   input the session does not provide is an error naming each one ([`ReplayError::MissingResources`]).
+//! - [`scene`]: the CPU-side data of a frame a host writes to the shader's own uniform buffers
+//!   (GPU-free; the renderer uses it, and so can a host that renders a session itself, like
+//!   `examples/host`).
 //! - [`vertex`]: the generated vertex stage (invariant clip position, one output per fragment input,
 //!   optionally the previous frame's clip position), with its transform uniforms in its own bind
 //!   group: the lowest group index the fragment modules do not use.
@@ -52,6 +55,7 @@ pub mod output;
 mod reduce;
 pub mod reflect;
 mod render;
+pub mod scene;
 pub mod session;
 pub mod textures;
 pub mod vertex;

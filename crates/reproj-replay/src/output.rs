@@ -3,7 +3,8 @@
 //!
 //! Names: `frame_NNN.png`, `hitmap_NNN.png` (green hit, red miss, blue refresh, black background),
 //! `errmap_NNN.png` (per-pixel L2 error through a black → blue → red → yellow → white ramp, full
-//! scale at [`ERRMAP_FULL_SCALE`]).
+//! scale at [`ERRMAP_FULL_SCALE`]), and on request `frame_NNN.f32`: the frame's exact linear RGBA
+//! values before PNG encoding (see [`write_frame_raw`]), for comparing two renderers to 1e-4.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -32,6 +33,19 @@ pub fn write_png_rgba8(
     height: u32,
     rgba: &[u8],
 ) -> Result<(), ReplayError> {
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+        .map_err(|e| ReplayError::Image {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+    write_atomic(path, &bytes)
+}
+
+/// Write `bytes` to `path` atomically (temp file in the same directory + rename), creating the
+/// directory.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReplayError> {
     let io = |source| ReplayError::Io {
         path: path.to_owned(),
         source,
@@ -46,15 +60,8 @@ pub fn write_png_rgba8(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp: PathBuf = dir.join(format!(".{file_name}.tmp{}", std::process::id()));
-    let mut bytes = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut bytes)
-        .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
-        .map_err(|e| ReplayError::Image {
-            path: path.to_owned(),
-            message: e.to_string(),
-        })?;
     let mut f = std::fs::File::create(&tmp).map_err(io)?;
-    f.write_all(&bytes).map_err(io)?;
+    f.write_all(bytes).map_err(io)?;
     f.sync_all().ok();
     drop(f);
     std::fs::rename(&tmp, path).map_err(|e| {
@@ -109,6 +116,16 @@ pub fn write_frame(
     Ok(p)
 }
 
+/// `frame_NNN.f32` from an RGBA f32 linear frame: no header, `width × height × 4` little-endian
+/// `f32` values (R, G, B, A per pixel), row-major, top row first — the frame target's texels as
+/// rendered, not clamped.
+pub fn write_frame_raw(dir: &Path, index: u32, rgba: &[f32]) -> Result<PathBuf, ReplayError> {
+    let p = dir.join(format!("frame_{index:03}.f32"));
+    let bytes: Vec<u8> = rgba.iter().flat_map(|x| x.to_le_bytes()).collect();
+    write_atomic(&p, &bytes)?;
+    Ok(p)
+}
+
 /// `errmap_NNN.png` from per-pixel errors.
 pub fn write_errmap(
     dir: &Path,
@@ -138,4 +155,21 @@ pub fn write_hitmap(
         .collect();
     write_png_rgba8(&p, width, height, &px)?;
     Ok(p)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn raw_frames_hold_the_exact_values() {
+        let dir = tempfile::tempdir().unwrap();
+        let px = [0.25f32, -1.5, 7.0e-6, 1.0, 2.5, 0.0, 1.0, 0.5];
+        let p = super::write_frame_raw(dir.path(), 4, &px).unwrap();
+        assert_eq!(p.file_name().unwrap(), "frame_004.f32");
+        let bytes = std::fs::read(&p).unwrap();
+        let back: Vec<f32> = bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        assert_eq!(back, px);
+    }
 }

@@ -69,6 +69,9 @@ pub struct RenderOptions {
     /// Variants: render the `reproj_classify` entry point each frame (hit map and exact
     /// hit / miss / refresh pixel counts). Ignored when the pass-1 module has no such entry point.
     pub classify: bool,
+    /// With `png_dir`: also write each frame's exact RGBA f32 values as `frame_NNN.f32`
+    /// ([`output::write_frame_raw`]).
+    pub raw_frames: bool,
 }
 
 impl Default for RenderOptions {
@@ -77,6 +80,7 @@ impl Default for RenderOptions {
             png_dir: None,
             max_frames: None,
             classify: true,
+            raw_frames: false,
         }
     }
 }
@@ -645,11 +649,7 @@ impl Renderer {
                 match &r.kind {
                     ResourceKind::Uniform { size, fields } => {
                         for f in fields {
-                            let auto = matches!(
-                                f.name.as_str(),
-                                "camera_pos" | "light_pos" | "time" | "frame" | "resolution"
-                            );
-                            if f.name.starts_with('_') || auto {
+                            if !crate::scene::session_must_provide(&f.name) {
                                 continue;
                             }
                             match session.uniforms.get(&f.name) {
@@ -831,33 +831,7 @@ impl Renderer {
                 .write_buffer(&o.xf_buf, 0, bytemuck::bytes_of(&u));
         }
         for (buf, size, fields) in scene.uniforms.values() {
-            let mut bytes = vec![0u8; (*size).max(16) as usize];
-            for f in fields {
-                let vals: Vec<f64> = if let Some(v) = session.uniforms.get(&f.name) {
-                    v.at(frame as f32)
-                } else {
-                    let pad = |mut v: Vec<f64>, w: f64| {
-                        while v.len() < f.len() {
-                            v.push(if v.len() == 3 { w } else { 0.0 });
-                        }
-                        v
-                    };
-                    match f.name.as_str() {
-                        "camera_pos" => {
-                            pad(st.camera.eye.to_array().map(|x| x as f64).to_vec(), 1.0)
-                        }
-                        "light_pos" => pad(st.light_pos.to_array().map(|x| x as f64).to_vec(), 1.0),
-                        "time" => pad(vec![st.time as f64], 0.0),
-                        "frame" => pad(vec![frame as f64], 0.0),
-                        "resolution" => pad(
-                            vec![session.resolution[0] as f64, session.resolution[1] as f64],
-                            0.0,
-                        ),
-                        _ => vec![0.0; f.len()],
-                    }
-                };
-                f.write(&mut bytes, &vals);
-            }
+            let bytes = crate::scene::uniform_bytes(session, &st, *size, fields);
             self.queue.write_buffer(buf, 0, &bytes);
         }
     }
@@ -1362,6 +1336,9 @@ impl Renderer {
                 let frame_ms = span.unwrap_or(cpu_ms);
                 if let Some(dir) = &opts.png_dir {
                     output::write_frame(dir, f, w, h, &pixels)?;
+                    if opts.raw_frames {
+                        output::write_frame_raw(dir, f, &pixels)?;
+                    }
                 }
                 report.frames.push(FrameRecord {
                     frame: f,
@@ -1905,6 +1882,9 @@ impl Renderer {
                 if let (Some(dir), Some(pixels)) = (&opts.png_dir, &pixels) {
                     let refr = &reference.frames[f as usize];
                     output::write_frame(dir, f, w, h, pixels)?;
+                    if opts.raw_frames {
+                        output::write_frame_raw(dir, f, pixels)?;
+                    }
                     output::write_errmap(dir, f, w, h, &metrics::pixel_errors(pixels, refr))?;
                     if let Some(c) = &cls_px {
                         output::write_hitmap(dir, f, w, h, c)?;

@@ -30,6 +30,7 @@ fn opts(frames: u32) -> RenderOptions {
         png_dir: None,
         max_frames: Some(frames),
         classify: false,
+        raw_frames: false,
     }
 }
 

@@ -22,6 +22,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         png_dir: args.frames.clone(),
         max_frames: args.max_frames,
         classify: true,
+        raw_frames: args.raw_frames,
     };
     let reference = renderer
         .render_original(

@@ -1,0 +1,829 @@
+//! The "engine": what a real engine already has before it runs reproj's output — its geometry, its
+//! per-frame camera and object transforms, its vertex stage, the original shader's own uniforms,
+//! textures and samplers, and its frame target.
+//!
+//! Here all of that is the recorded session, built with reproj-replay's public, GPU-free modules
+//! (session animation, meshes, texels, uniform reflection and packing) so that this host draws
+//! exactly the scene `reproj render` draws and the frames can be compared. An engine replaces this
+//! file with its own scene; `variant.rs` is the part to copy.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt::Write as _;
+use std::num::NonZeroU64;
+use std::path::Path;
+
+use anyhow::{Context, anyhow, bail};
+use bytemuck::{Pod, Zeroable};
+use reproj_replay::reflect::{self, FragInput, Interface, ResourceKind, TexDim};
+use reproj_replay::session::{Address, Attribute, Cull, Filter, TexFormat};
+use reproj_replay::{Session, mesh, scene, textures};
+
+use crate::gpu::Gpu;
+use crate::manifest::VertexContract;
+
+/// The engine's frame target format. The manifest's `format: null` means this format.
+pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The depth format of the engine's own pass (the original shader).
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Entry point of the host's vertex stage.
+pub const VERTEX_ENTRY: &str = "host_vs";
+
+/// Per-object vertex-stage uniform: this frame's and the previous frame's matrices.
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+#[repr(C)]
+struct ObjectUniform {
+    view_proj: [[f32; 4]; 4],
+    prev_view_proj: [[f32; 4]; 4],
+    model: [[f32; 4]; 4],
+    prev_model: [[f32; 4]; 4],
+    /// Inverse transpose of `model` (upper 3×3 used).
+    normal_matrix: [[f32; 4]; 4],
+}
+
+/// A drawable object of the scene.
+struct Object {
+    vbuf: wgpu::Buffer,
+    ibuf: wgpu::Buffer,
+    count: u32,
+    cull: Cull,
+    uniform: wgpu::Buffer,
+    group: wgpu::BindGroup,
+}
+
+/// A resource of the original shader, owned by the engine.
+enum Own {
+    Uniform {
+        buf: wgpu::Buffer,
+        size: u32,
+        fields: Vec<reflect::UniformField>,
+    },
+    Texture(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+/// One render pipeline per face-culling mode the scene's objects use.
+pub type Pipelines = HashMap<Cull, wgpu::RenderPipeline>;
+
+/// The scene on the GPU, the original shader's resources, and the frame target.
+pub struct Engine {
+    pub session: Session,
+    pub width: u32,
+    pub height: u32,
+    /// The engine's clear color (the session's background).
+    pub clear: wgpu::Color,
+    /// The frame target (`FRAME_FORMAT`, the frame size).
+    pub frame: wgpu::Texture,
+    pub frame_view: wgpu::TextureView,
+    shader_source: String,
+    /// The original shader's fragment interface: inputs and resources by group and binding.
+    iface: Interface,
+    objects: Vec<Object>,
+    own: BTreeMap<(u32, u32), Own>,
+    /// The bind group of the per-object transforms.
+    pub vertex_group: u32,
+    vertex_layout: wgpu::BindGroupLayout,
+}
+
+impl std::fmt::Debug for Engine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Engine")
+            .field("session", &self.session.display_name())
+            .field("objects", &self.objects.len())
+            .field("vertex_group", &self.vertex_group)
+            .finish()
+    }
+}
+
+/// Parse and validate a WGSL file with naga and reflect fragment entry point `entry` (None: the
+/// only one).
+fn reflect_shader(path: &Path, entry: Option<&str>) -> anyhow::Result<(String, Interface)> {
+    let source =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let module = naga::front::wgsl::parse_str(&source).map_err(|e| {
+        anyhow!(
+            "{}",
+            e.emit_to_string_with_path(&source, &path.display().to_string())
+        )
+    })?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| anyhow!("{}: {}", path.display(), e.emit_to_string(&source)))?;
+    let fragments: Vec<&str> = module
+        .entry_points
+        .iter()
+        .filter(|e| e.stage == naga::ShaderStage::Fragment)
+        .map(|e| e.name.as_str())
+        .collect();
+    let name = match (entry, fragments.as_slice()) {
+        (Some(e), _) => e,
+        (None, [one]) => one,
+        (None, _) => bail!(
+            "{} has the fragment entry points {fragments:?}: name one with --entry",
+            path.display()
+        ),
+    };
+    let index = reflect::fragment_entry_index(&module, name)
+        .ok_or_else(|| anyhow!("{}: no @fragment entry point `{name}`", path.display()))?;
+    let iface = reflect::reflect(&module, &info, index)?;
+    Ok((source, iface))
+}
+
+/// WGSL of `attr` with `n` components: truncated, or padded with zeros and a last component of 1
+/// for positions, 0 for directions.
+fn attribute_wgsl(attr: Attribute, n: u32) -> String {
+    let (src, m, w) = match attr {
+        Attribute::Position => ("world.xyz", 3, "1.0"),
+        Attribute::Normal => ("world_normal", 3, "0.0"),
+        Attribute::Uv => ("v.uv", 2, "0.0"),
+        Attribute::Tangent => ("world_tangent", 4, "1.0"),
+        Attribute::ObjectPosition => ("v.position", 3, "1.0"),
+        Attribute::ObjectNormal => ("v.normal", 3, "0.0"),
+    };
+    const SWIZZLE: [&str; 5] = ["", "x", "xy", "xyz", "xyzw"];
+    match n.cmp(&m) {
+        std::cmp::Ordering::Equal => src.to_owned(),
+        std::cmp::Ordering::Less => format!("{src}.{}", SWIZZLE[n as usize]),
+        std::cmp::Ordering::Greater => {
+            let mut parts = vec![src.to_owned()];
+            parts.extend((m..n - 1).map(|_| "0.0".to_owned()));
+            parts.push(w.to_owned());
+            format!("{}({})", wgsl_vec(n), parts.join(", "))
+        }
+    }
+}
+
+fn wgsl_vec(n: u32) -> String {
+    if n == 1 {
+        "f32".to_owned()
+    } else {
+        format!("vec{n}<f32>")
+    }
+}
+
+/// `@interpolate(...)` of a fragment input, as declared.
+fn interpolation(i: &FragInput) -> String {
+    match (&i.interpolation, &i.sampling) {
+        (None, _) => String::new(),
+        (Some(interp), Some(s)) if interp != "flat" || s == "first" || s == "either" => {
+            format!("@interpolate({interp}, {s}) ")
+        }
+        (Some(interp), _) => format!("@interpolate({interp}) "),
+    }
+}
+
+/// The name of the first function a WGSL snippet declares.
+fn first_fn_name(wgsl: &str) -> Option<&str> {
+    let at = wgsl.find("fn ")? + 3;
+    let rest = &wgsl[at..];
+    let end = rest.find(|c: char| !(c.is_alphanumeric() || c == '_'))?;
+    Some(rest[..end].trim()).filter(|n| !n.is_empty())
+}
+
+impl Engine {
+    /// Load the session and the original shader, build the scene's meshes and the shader's own
+    /// resources. `reserved_groups`: bind groups the engine must leave to others (the variant's);
+    /// the per-object transforms take the lowest group neither the shader nor they use.
+    pub fn new(
+        gpu: &Gpu,
+        session_path: &Path,
+        shader_path: &Path,
+        entry: Option<&str>,
+        reserved_groups: &BTreeSet<u32>,
+    ) -> anyhow::Result<Engine> {
+        let session = Session::load(session_path)?;
+        let (shader_source, iface) = reflect_shader(shader_path, entry)?;
+        let [width, height] = session.resolution;
+        let dev = &gpu.device;
+
+        let mut used: BTreeSet<u32> = iface.groups().into_iter().collect();
+        used.extend(reserved_groups);
+        let max_groups = dev.limits().max_bind_groups;
+        let vertex_group = (0..max_groups)
+            .find(|g| !used.contains(g))
+            .ok_or_else(|| anyhow!("no bind group left for the vertex transforms"))?;
+        let vertex_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("object transforms"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: NonZeroU64::new(size_of::<ObjectUniform>() as u64),
+                },
+                count: None,
+            }],
+        });
+
+        // Geometry: one vertex and index buffer per object, and its transform uniform.
+        let init = |label: &str, contents: &[u8], usage| {
+            wgpu::util::DeviceExt::create_buffer_init(
+                dev,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                },
+            )
+        };
+        let mut objects = Vec::new();
+        for (i, o) in session.geometry.objects.iter().enumerate() {
+            let data = mesh::build(&session, &o.mesh).map_err(|e| anyhow!("object {i}: {e}"))?;
+            let uniform = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("object transforms"),
+                size: size_of::<ObjectUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("object transforms"),
+                layout: &vertex_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                }],
+            });
+            objects.push(Object {
+                vbuf: init(
+                    "vertices",
+                    bytemuck::cast_slice(&data.vertices),
+                    wgpu::BufferUsages::VERTEX,
+                ),
+                ibuf: init(
+                    "indices",
+                    bytemuck::cast_slice(&data.indices),
+                    wgpu::BufferUsages::INDEX,
+                ),
+                count: data.indices.len() as u32,
+                cull: o.cull,
+                uniform,
+                group,
+            });
+        }
+
+        // The original shader's own resources, by group and binding.
+        let mut own = BTreeMap::new();
+        let mut missing = Vec::new();
+        for r in &iface.resources {
+            let res = match &r.kind {
+                ResourceKind::Uniform { size, fields } => {
+                    for f in fields {
+                        if scene::session_must_provide(&f.name)
+                            && !session.uniforms.contains_key(&f.name)
+                        {
+                            missing.push(format!("uniform field `{}`", f.name));
+                        }
+                    }
+                    Own::Uniform {
+                        buf: dev.create_buffer(&wgpu::BufferDescriptor {
+                            label: Some(&r.name),
+                            size: u64::from((*size).max(16)),
+                            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                            mapped_at_creation: false,
+                        }),
+                        size: *size,
+                        fields: fields.clone(),
+                    }
+                }
+                ResourceKind::Texture { dim } => match session.textures.get(&r.name) {
+                    Some(spec) => Own::Texture(Self::texture(gpu, &session, &r.name, spec, *dim)?),
+                    None => {
+                        missing.push(format!("texture `{}`", r.name));
+                        continue;
+                    }
+                },
+                ResourceKind::Sampler { comparison: false } => {
+                    let spec = session.samplers.get(&r.name).cloned().unwrap_or_default();
+                    let filter = |f: Filter| match f {
+                        Filter::Linear => wgpu::FilterMode::Linear,
+                        Filter::Nearest => wgpu::FilterMode::Nearest,
+                    };
+                    let address = match spec.address {
+                        Address::Repeat => wgpu::AddressMode::Repeat,
+                        Address::Clamp => wgpu::AddressMode::ClampToEdge,
+                        Address::Mirror => wgpu::AddressMode::MirrorRepeat,
+                    };
+                    let all_linear =
+                        spec.filter == Filter::Linear && spec.mipmap_filter == Filter::Linear;
+                    Own::Sampler(dev.create_sampler(&wgpu::SamplerDescriptor {
+                        label: Some(&r.name),
+                        address_mode_u: address,
+                        address_mode_v: address,
+                        address_mode_w: address,
+                        mag_filter: filter(spec.filter),
+                        min_filter: filter(spec.filter),
+                        mipmap_filter: match spec.mipmap_filter {
+                            Filter::Linear => wgpu::MipmapFilterMode::Linear,
+                            Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
+                        },
+                        anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
+                        ..Default::default()
+                    }))
+                }
+                other => bail!(
+                    "the shader's `{}` ({other:?}) is not something this host provides",
+                    r.name
+                ),
+            };
+            own.insert((r.group, r.binding), res);
+        }
+        if !missing.is_empty() {
+            bail!(
+                "the session provides no {} the shader declares",
+                missing.join(", ")
+            );
+        }
+
+        let frame = dev.create_texture(&wgpu::TextureDescriptor {
+            label: Some("frame"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FRAME_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let frame_view = frame.create_view(&Default::default());
+        let bg = session.background.map(f64::from);
+        gpu.check("building the scene")?;
+        Ok(Engine {
+            clear: wgpu::Color {
+                r: bg[0],
+                g: bg[1],
+                b: bg[2],
+                a: bg[3],
+            },
+            session,
+            width,
+            height,
+            frame,
+            frame_view,
+            shader_source,
+            iface,
+            objects,
+            own,
+            vertex_group,
+            vertex_layout,
+        })
+    }
+
+    /// A session texture, uploaded with its mip levels.
+    fn texture(
+        gpu: &Gpu,
+        session: &Session,
+        name: &str,
+        spec: &reproj_replay::session::TextureSpec,
+        dim: TexDim,
+    ) -> anyhow::Result<wgpu::TextureView> {
+        let data = textures::build(session, name, spec, dim)
+            .map_err(|e| anyhow!("texture `{name}`: {e}"))?;
+        let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(name),
+            size: wgpu::Extent3d {
+                width: data.width,
+                height: data.height,
+                depth_or_array_layers: data.layers,
+            },
+            mip_level_count: data.levels.len() as u32,
+            sample_count: 1,
+            dimension: if dim == TexDim::D3 {
+                wgpu::TextureDimension::D3
+            } else {
+                wgpu::TextureDimension::D2
+            },
+            format: match data.format {
+                TexFormat::Rgba8unorm => wgpu::TextureFormat::Rgba8Unorm,
+                TexFormat::Rgba8unormSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
+                TexFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+            },
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for level in 0..data.levels.len() {
+            let (w, h, l) = data.level_size(level);
+            gpu.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &tex,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &data.encode_level(level),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(w * data.bytes_per_texel()),
+                    rows_per_image: Some(h),
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: l,
+                },
+            );
+        }
+        Ok(tex.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(match dim {
+                TexDim::D2 => wgpu::TextureViewDimension::D2,
+                TexDim::D3 => wgpu::TextureViewDimension::D3,
+                TexDim::Cube => wgpu::TextureViewDimension::Cube,
+            }),
+            ..Default::default()
+        }))
+    }
+
+    /// The engine's resource bound at `@group(group) @binding(binding)` of the original shader.
+    pub fn own_resource(&self, group: u32, binding: u32) -> Option<wgpu::BindingResource<'_>> {
+        Some(match self.own.get(&(group, binding))? {
+            Own::Uniform { buf, .. } => buf.as_entire_binding(),
+            Own::Texture(view) => wgpu::BindingResource::TextureView(view),
+            Own::Sampler(s) => wgpu::BindingResource::Sampler(s),
+        })
+    }
+
+    /// Write frame `frame`'s object transforms (this frame's and the previous frame's matrices;
+    /// on frame 0 the previous ones are frame 0's) and the shader's own uniforms.
+    pub fn write_frame(&self, gpu: &Gpu, frame: u32) {
+        let st = self.session.frame_state(frame);
+        let prev = self.session.frame_state(frame.saturating_sub(1));
+        for (i, o) in self.objects.iter().enumerate() {
+            let model = st.models[i];
+            let normal = glam::Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
+            let u = ObjectUniform {
+                view_proj: st.camera.view_proj.to_cols_array_2d(),
+                prev_view_proj: prev.camera.view_proj.to_cols_array_2d(),
+                model: model.to_cols_array_2d(),
+                prev_model: prev.models[i].to_cols_array_2d(),
+                normal_matrix: normal.to_cols_array_2d(),
+            };
+            gpu.queue
+                .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
+        }
+        for own in self.own.values() {
+            if let Own::Uniform { buf, size, fields } = own {
+                let bytes = scene::uniform_bytes(&self.session, &st, *size, fields);
+                gpu.queue.write_buffer(buf, 0, &bytes);
+            }
+        }
+    }
+
+    /// The engine's vertex stage: invariant clip position, one output per input of the original
+    /// fragment shader (fed from the session's attribute mapping) and, for a variant, the
+    /// previous frame's clip position at `contract.prev_clip_location`, computed by the
+    /// manifest's helper function.
+    pub fn vertex_wgsl(&self, contract: Option<&VertexContract>) -> anyhow::Result<String> {
+        let mut s = String::new();
+        let g = self.vertex_group;
+        s.push_str(
+            "// reproj-host: the engine's vertex stage.\n\
+             struct HostObject {\n    view_proj: mat4x4<f32>,\n    prev_view_proj: mat4x4<f32>,\n    \
+             model: mat4x4<f32>,\n    prev_model: mat4x4<f32>,\n    normal_matrix: mat4x4<f32>,\n};\n",
+        );
+        let _ = writeln!(
+            s,
+            "@group({g}) @binding(0) var<uniform> host_object: HostObject;"
+        );
+        s.push_str(
+            "struct HostVertexIn {\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    \
+             @location(2) uv: vec2<f32>,\n    @location(3) tangent: vec4<f32>,\n};\n",
+        );
+        // The clip position must be @invariant: every pass rasterizes the same depths.
+        s.push_str("struct HostVertexOut {\n    @builtin(position) @invariant clip: vec4<f32>,\n");
+        let mut body = String::new();
+        let mut missing = Vec::new();
+        for i in &self.iface.inputs {
+            let Some(attr) = self.session.inputs.get(&i.location) else {
+                missing.push(format!("@location({}) `{}`", i.location, i.name));
+                continue;
+            };
+            let _ = writeln!(
+                s,
+                "    @location({}) {}o{}: {},",
+                i.location,
+                interpolation(i),
+                i.location,
+                wgsl_vec(i.components)
+            );
+            let _ = writeln!(
+                body,
+                "    out.o{} = {};",
+                i.location,
+                attribute_wgsl(*attr, i.components)
+            );
+        }
+        if !missing.is_empty() {
+            bail!(
+                "the session's `inputs` maps no vertex attribute to the fragment input(s) {}",
+                missing.join(", ")
+            );
+        }
+        if let Some(c) = contract {
+            let loc = c.prev_clip_location;
+            if self.iface.inputs.iter().any(|i| i.location == loc) {
+                bail!("the manifest's prev_clip_location {loc} is an input of the shader itself");
+            }
+            if !c.invariant_position {
+                eprintln!(
+                    "note: the manifest does not ask for an invariant position; it is invariant anyway"
+                );
+            }
+            let f = first_fn_name(&c.wgsl)
+                .ok_or_else(|| anyhow!("the manifest's vertex.wgsl declares no function"))?;
+            // The helper's arguments, by the names the manifest gives them.
+            let args = c
+                .inputs
+                .iter()
+                .map(|i| match i.name.as_str() {
+                    "prev_view_proj" => Ok("host_object.prev_view_proj"),
+                    "prev_model" => Ok("host_object.prev_model"),
+                    "view_proj" => Ok("host_object.view_proj"),
+                    "model" => Ok("host_object.model"),
+                    "position" => Ok("v.position"),
+                    other => Err(anyhow!(
+                        "the manifest's vertex contract needs `{other}`, which this host does not supply"
+                    )),
+                })
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let _ = writeln!(s, "    @location({loc}) prev_clip: vec4<f32>,");
+            let _ = writeln!(body, "    out.prev_clip = {f}({});", args.join(", "));
+        }
+        s.push_str("};\n");
+        if let Some(c) = contract {
+            s.push_str(&c.wgsl);
+        }
+        let _ = write!(
+            s,
+            "@vertex\nfn {VERTEX_ENTRY}(v: HostVertexIn) -> HostVertexOut {{\n    \
+             let world = host_object.model * vec4<f32>(v.position, 1.0);\n    \
+             let world_normal = normalize((host_object.normal_matrix * vec4<f32>(v.normal, 0.0)).xyz);\n    \
+             let world_tangent = vec4<f32>(normalize((host_object.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz), v.tangent.w);\n    \
+             var out: HostVertexOut;\n    \
+             out.clip = host_object.view_proj * world;\n{body}    return out;\n}}\n"
+        );
+        Ok(s)
+    }
+
+    /// The layout of the per-object transforms' bind group.
+    pub fn vertex_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.vertex_layout
+    }
+
+    /// One pipeline per culling mode of the scene's objects (the engine's business: the manifest
+    /// says nothing about culling), drawing the scene's vertex layout as triangle lists.
+    #[allow(clippy::too_many_arguments)]
+    pub fn pipelines(
+        &self,
+        gpu: &Gpu,
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        vs: &wgpu::ShaderModule,
+        fs: &wgpu::ShaderModule,
+        entry: &str,
+        targets: &[Option<wgpu::ColorTargetState>],
+        depth: wgpu::DepthStencilState,
+    ) -> Pipelines {
+        let culls: BTreeSet<bool> = self.objects.iter().map(|o| o.cull == Cull::Back).collect();
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+        let mut out = HashMap::new();
+        for back in culls {
+            let p = gpu
+                .device
+                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(layout),
+                    vertex: wgpu::VertexState {
+                        module: vs,
+                        entry_point: Some(VERTEX_ENTRY),
+                        compilation_options: Default::default(),
+                        buffers: &[Some(wgpu::VertexBufferLayout {
+                            array_stride: size_of::<mesh::Vertex>() as u64,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &attrs,
+                        })],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        topology: wgpu::PrimitiveTopology::TriangleList,
+                        front_face: wgpu::FrontFace::Ccw,
+                        cull_mode: back.then_some(wgpu::Face::Back),
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(depth.clone()),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: fs,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                });
+            out.insert(if back { Cull::Back } else { Cull::None }, p);
+        }
+        out
+    }
+
+    /// Draw every object with `pipes` (the pass's other bind groups are already set).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, pipes: &Pipelines) {
+        for o in &self.objects {
+            if let Some(p) = pipes.get(&o.cull) {
+                pass.set_pipeline(p);
+            }
+            pass.set_bind_group(self.vertex_group, &o.group, &[]);
+            pass.set_vertex_buffer(0, o.vbuf.slice(..));
+            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.count, 0, 0..1);
+        }
+    }
+
+    /// A shader module from WGSL text, with wgpu's validation message on failure.
+    pub fn shader_module(
+        gpu: &Gpu,
+        label: &str,
+        source: &str,
+    ) -> anyhow::Result<wgpu::ShaderModule> {
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let m = gpu
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            bail!("shader module {label}: {e}");
+        }
+        Ok(m)
+    }
+}
+
+/// The engine's own pass: the original shader, as the engine ran it before reproj.
+pub struct Original {
+    groups: Vec<(u32, wgpu::BindGroup)>,
+    pipes: Pipelines,
+    depth: wgpu::TextureView,
+}
+
+impl Original {
+    pub fn new(gpu: &Gpu, engine: &Engine) -> anyhow::Result<Original> {
+        let dev = &gpu.device;
+        let vs_src = engine.vertex_wgsl(None)?;
+        let vs = Engine::shader_module(gpu, "host vertex stage", &vs_src)?;
+        let fs = Engine::shader_module(gpu, "original shader", &engine.shader_source)?;
+        // Layouts from the engine's reflection of its own shader.
+        let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
+        for r in &engine.iface.resources {
+            by_group.entry(r.group).or_default().push(r);
+        }
+        let mut layouts = BTreeMap::new();
+        let mut groups = Vec::new();
+        for (g, rs) in &by_group {
+            let mut entries = Vec::new();
+            let mut binds = Vec::new();
+            for r in rs {
+                let ty = match &r.kind {
+                    ResourceKind::Uniform { size, .. } => wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: NonZeroU64::new(u64::from(*size)),
+                    },
+                    ResourceKind::Texture { dim } => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: match dim {
+                            TexDim::D2 => wgpu::TextureViewDimension::D2,
+                            TexDim::D3 => wgpu::TextureViewDimension::D3,
+                            TexDim::Cube => wgpu::TextureViewDimension::Cube,
+                        },
+                        multisampled: false,
+                    },
+                    _ => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                };
+                entries.push(wgpu::BindGroupLayoutEntry {
+                    binding: r.binding,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty,
+                    count: None,
+                });
+                binds.push(wgpu::BindGroupEntry {
+                    binding: r.binding,
+                    resource: engine
+                        .own_resource(r.group, r.binding)
+                        .ok_or_else(|| anyhow!("no resource for `{}`", r.name))?,
+                });
+            }
+            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("original"),
+                entries: &entries,
+            });
+            groups.push((
+                *g,
+                dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("original"),
+                    layout: &layout,
+                    entries: &binds,
+                }),
+            ));
+            layouts.insert(*g, layout);
+        }
+        let top = layouts
+            .keys()
+            .copied()
+            .chain([engine.vertex_group])
+            .max()
+            .unwrap_or(0);
+        let bgls: Vec<Option<&wgpu::BindGroupLayout>> = (0..=top)
+            .map(|g| {
+                if g == engine.vertex_group {
+                    Some(engine.vertex_layout())
+                } else {
+                    layouts.get(&g)
+                }
+            })
+            .collect();
+        let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("original"),
+            bind_group_layouts: &bgls,
+            immediate_size: 0,
+        });
+        let pipes = engine.pipelines(
+            gpu,
+            "original",
+            &layout,
+            &vs,
+            &fs,
+            &engine.iface.entry,
+            &[Some(wgpu::ColorTargetState {
+                format: FRAME_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+            wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            },
+        );
+        let depth = dev
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("original depth"),
+                size: engine.frame.size(),
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        gpu.check("building the original shader's pipeline")?;
+        Ok(Original {
+            groups,
+            pipes,
+            depth,
+        })
+    }
+
+    /// Record the frame: clear color and depth, draw the scene with the original shader.
+    pub fn encode(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        engine: &Engine,
+        timer: &crate::gpu::Timer,
+    ) {
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("original"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &engine.frame_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(engine.clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.writes(0),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for (g, bg) in &self.groups {
+            pass.set_bind_group(*g, bg, &[]);
+        }
+        engine.draw(&mut pass, &self.pipes);
+    }
+}

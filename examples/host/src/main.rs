@@ -1,0 +1,309 @@
+//! `reproj-host`: a small wgpu program that runs reproj's output the way an engine would.
+//!
+//! ```text
+//! reproj-host --variant DIR --shader shaders/marble.wgsl --session sessions/marble.json \
+//!             --frames 30 --out OUTDIR [--delta-n N] [--raw]
+//! reproj-host --original --shader shaders/marble.wgsl --session sessions/marble.json --out OUTDIR
+//! ```
+//!
+//! - `engine.rs` is the engine: the recorded scene (geometry, camera and object transforms, the
+//!   original shader's own uniforms, textures and samplers), its vertex stage and frame target.
+//! - `variant.rs` runs a variant from `manifest.json` alone (read by `manifest.rs` with this
+//!   crate's own types): textures, samplers, params, layouts, bind groups, pipelines, per-frame
+//!   params and ping-pong, passes in order with their load operations.
+//! - This file opens the device, runs the frames and writes `frame_NNN.png` (sRGB-encoded, as
+//!   `reproj render --frames` writes them), with `--raw` `frame_NNN.f32` (the frame's exact
+//!   linear RGBA: width × height × 4 little-endian f32, top row first, no header), and
+//!   `summary.json` (per-frame milliseconds).
+
+mod engine;
+mod gpu;
+mod manifest;
+mod variant;
+mod webgpu;
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Parser;
+use serde::Serialize;
+
+use engine::{Engine, Original};
+use gpu::{Gpu, Timer};
+use manifest::Manifest;
+use variant::Variant;
+
+/// Run a reproj variant (or the original shader) over a recorded session with wgpu, following
+/// the variant's manifest.json alone; write the frames and their times.
+#[derive(Debug, Parser)]
+#[command(name = "reproj-host", version)]
+struct Args {
+    /// Directory written by `reproj instance` or `reproj emit` (manifest.json and the pass files).
+    #[arg(
+        long,
+        required_unless_present = "original",
+        conflicts_with = "original"
+    )]
+    variant: Option<PathBuf>,
+    /// Render the original shader instead of a variant (the engine before reproj).
+    #[arg(long)]
+    original: bool,
+    /// The original WGSL shader (the engine's own: its uniforms, textures and inputs).
+    #[arg(long)]
+    shader: PathBuf,
+    /// The session: the scene, its animation and the shader's uniform values.
+    #[arg(long)]
+    session: PathBuf,
+    /// Frames to render (default: the session's).
+    #[arg(long)]
+    frames: Option<u32>,
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+    /// Refresh period Δn: the `steady` value of the manifest's `delta_n` parameter (default: the
+    /// manifest's).
+    #[arg(long)]
+    delta_n: Option<u32>,
+    /// Fragment entry point of the original shader (default: the manifest's, else the only one).
+    #[arg(long)]
+    entry: Option<String>,
+    /// Also write each frame's exact linear RGBA as frame_NNN.f32.
+    #[arg(long)]
+    raw: bool,
+    /// Time frames with CPU submit + wait even if the adapter has timestamp queries.
+    #[arg(long)]
+    cpu_timing: bool,
+}
+
+/// `summary.json`.
+#[derive(Debug, Serialize)]
+struct Summary {
+    /// `variant` or `original`.
+    mode: &'static str,
+    variant: Option<String>,
+    strategy: Option<String>,
+    delta_n: Option<u32>,
+    shader: String,
+    session: String,
+    resolution: [u32; 2],
+    adapter: String,
+    backend: String,
+    /// `gpu-timestamps` (first pass's begin to last pass's end) or `cpu-submit-wait`.
+    timing: &'static str,
+    /// Mean `ms` over frames 1.. (frame 0 pays pipeline compilation on some drivers).
+    mean_ms: f64,
+    frames: Vec<FrameRecord>,
+}
+
+#[derive(Debug, Serialize)]
+struct FrameRecord {
+    frame: u32,
+    /// The frame time by the summary's `timing`.
+    ms: f64,
+    /// Wall time of submit + wait for the frame's commands.
+    cpu_ms: f64,
+    /// GPU time per pass (empty without timestamps).
+    pass_ms: Vec<f64>,
+}
+
+/// What the frame loop draws.
+enum Mode {
+    Variant(Box<Variant>),
+    Original(Original),
+}
+
+fn main() {
+    let args = Args::parse();
+    if let Err(e) = run(&args) {
+        eprintln!("reproj-host: error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: &Args) -> anyhow::Result<()> {
+    // The manifest first: its version, features and bind groups decide how the device and the
+    // engine are set up.
+    let manifest = match &args.variant {
+        Some(dir) => Some(Manifest::load(dir)?),
+        None => None,
+    };
+    let required = match &manifest {
+        Some(m) => webgpu::features(&m.required_features).context("required_features")?,
+        None => wgpu::Features::empty(),
+    };
+    let gpu = Gpu::new(required, args.cpu_timing)?;
+    let reserved: BTreeSet<u32> = manifest
+        .as_ref()
+        .map(variant::groups_used)
+        .unwrap_or_default();
+    let entry = args
+        .entry
+        .as_deref()
+        .or(manifest.as_ref().map(|m| m.entry.as_str()));
+    let engine = Engine::new(&gpu, &args.session, &args.shader, entry, &reserved)?;
+    if let Some(m) = &manifest {
+        let file = args.shader.file_name().and_then(|f| f.to_str());
+        if file != Some(m.shader.as_str()) {
+            eprintln!(
+                "note: the manifest was written for {}, the engine's shader is {}",
+                m.shader,
+                args.shader.display()
+            );
+        }
+    }
+    let mode = match (manifest, &args.variant) {
+        (Some(m), Some(dir)) => {
+            let mut v = Variant::new(&gpu, &engine, dir, m)?;
+            if let Some(n) = args.delta_n {
+                v.set_param("delta_n", f64::from(n.max(1)))?;
+            }
+            Mode::Variant(Box::new(v))
+        }
+        _ => Mode::Original(Original::new(&gpu, &engine)?),
+    };
+    let timer = Timer::new(
+        &gpu,
+        match &mode {
+            Mode::Variant(v) => v.pass_count(),
+            Mode::Original(_) => 1,
+        },
+    );
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+
+    let frames = args
+        .frames
+        .unwrap_or(engine.session.frames)
+        .clamp(1, engine.session.frames);
+    let mut records = Vec::new();
+    for f in 0..frames {
+        // The engine's per-frame updates, then the variant's.
+        engine.write_frame(&gpu, f);
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        match &mode {
+            Mode::Variant(v) => {
+                v.write_params(&gpu, f);
+                if v.loads_frame_first() {
+                    // `--frame-load load`: the passes draw over what the engine drew before; here
+                    // that is its background.
+                    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("engine background"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &engine.frame_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(engine.clear),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        ..Default::default()
+                    });
+                }
+                v.encode_frame(&mut enc, &engine, f, &timer)?;
+            }
+            Mode::Original(o) => o.encode(&mut enc, &engine, &timer),
+        }
+        timer.resolve(&mut enc);
+        let t0 = Instant::now();
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait()?;
+        let cpu_ms = t0.elapsed().as_secs_f64() * 1e3;
+        gpu.check(&format!("frame {f}"))?;
+        let times = timer.read(&gpu)?;
+        let pixels = gpu.read_rgba32f(&engine.frame)?;
+        write_frame(&args.out, f, engine.width, engine.height, &pixels, args.raw)?;
+        records.push(FrameRecord {
+            frame: f,
+            ms: times.span_ms.unwrap_or(cpu_ms),
+            cpu_ms,
+            pass_ms: times.pass_ms,
+        });
+    }
+
+    let steady: Vec<f64> = records.iter().skip(1).map(|r| r.ms).collect();
+    let mean_ms = if steady.is_empty() {
+        records[0].ms
+    } else {
+        steady.iter().sum::<f64>() / steady.len() as f64
+    };
+    let (variant, strategy, delta_n) = match &mode {
+        Mode::Variant(v) => {
+            let dn = v
+                .manifest
+                .params
+                .fields
+                .iter()
+                .find(|f| f.name == "delta_n")
+                .and_then(|f| match f.value {
+                    manifest::ParamValue::Steady { value, .. }
+                    | manifest::ParamValue::Constant { value } => Some(value as u32),
+                    manifest::ParamValue::FrameIndex => None,
+                });
+            (
+                args.variant.as_ref().map(|d| d.display().to_string()),
+                Some(v.manifest.strategy.clone()),
+                dn,
+            )
+        }
+        Mode::Original(_) => (None, None, None),
+    };
+    let summary = Summary {
+        mode: if variant.is_some() {
+            "variant"
+        } else {
+            "original"
+        },
+        variant,
+        strategy,
+        delta_n,
+        shader: args.shader.display().to_string(),
+        session: args.session.display().to_string(),
+        resolution: [engine.width, engine.height],
+        adapter: gpu.adapter.clone(),
+        backend: gpu.backend.clone(),
+        timing: if gpu.timestamps {
+            "gpu-timestamps"
+        } else {
+            "cpu-submit-wait"
+        },
+        mean_ms,
+        frames: records,
+    };
+    let path = args.out.join("summary.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
+        .with_context(|| format!("writing {}", path.display()))?;
+    println!(
+        "{} on {} [{}]: {} frames, {:.3} ms/frame (mean over frames 1..); frames and summary.json in {}",
+        summary.variant.as_deref().unwrap_or("original"),
+        summary.adapter,
+        summary.timing,
+        frames,
+        summary.mean_ms,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// `frame_NNN.png` (sRGB-encoded like `reproj render`'s) and, with `raw`, `frame_NNN.f32`.
+fn write_frame(
+    dir: &Path,
+    index: u32,
+    width: u32,
+    height: u32,
+    rgba: &[f32],
+    raw: bool,
+) -> anyhow::Result<()> {
+    let png = dir.join(format!("frame_{index:03}.png"));
+    let rgba8 = reproj_replay::output::frame_to_rgba8(rgba);
+    image::save_buffer(&png, &rgba8, width, height, image::ExtendedColorType::Rgba8)
+        .with_context(|| format!("writing {}", png.display()))?;
+    if raw {
+        let path = dir.join(format!("frame_{index:03}.f32"));
+        let bytes: Vec<u8> = rgba.iter().flat_map(|x| x.to_le_bytes()).collect();
+        std::fs::write(&path, bytes).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
