@@ -361,7 +361,7 @@ fn strategy_passes(
         strategy::as_function(shade, "reproj_shade"),
         naga::Span::UNDEFINED,
     );
-    let output = strategy::output_struct(&mut base, &result, vec4);
+    let output = strategy::output_struct(&mut base, &result, Some(vec4));
     let original_ep = base.entry_points[0].clone();
     let mut passes = Vec::new();
     for &kind in kinds {
@@ -378,7 +378,7 @@ fn strategy_passes(
         };
         let parts = strategy::Parts {
             vec4,
-            recompute,
+            recompute: Some(recompute),
             shade,
             fetch,
             output,
@@ -523,8 +523,33 @@ fn shade_pass(
         },
         PassKind::Shade,
     )?;
-    let arguments = module.entry_points[0].function.arguments.clone();
-    module.entry_points[0].function = naga::Function { arguments, ..fun };
+    // The shader's entry, reading the node from the cache, becomes `reproj_shade`; a small entry
+    // calls it and adds the depth copy to its outputs (see [`strategy`]).
+    let entry = naga::Function {
+        arguments: module.entry_points[0].function.arguments.clone(),
+        ..fun
+    };
+    let result = entry
+        .result
+        .clone()
+        .ok_or_else(|| InstanceError::Internal {
+            pass: PassKind::Shade,
+            what: "the entry point returns nothing".into(),
+        })?;
+    let shade = module.functions.append(
+        strategy::as_function(entry.clone(), "reproj_shade"),
+        naga::Span::UNDEFINED,
+    );
+    let output = strategy::output_struct(&mut module, &result, None);
+    let parts = strategy::Parts {
+        vec4: vec4f,
+        recompute: None,
+        shade,
+        fetch: None,
+        output,
+    };
+    let function = strategy::build_entry(&module, &entry, &parts, strategy::EntryKind::Shade, 0)?;
+    module.entry_points[0].function = function;
     finish(PassKind::Shade, module)
 }
 
@@ -743,9 +768,8 @@ fn bindings(module: &Module, group: u32, cache_format: CacheFormat) -> Vec<Bindi
                         "the previous frame's payload cache ({}), written by passes 1-2 of the previous frame",
                         cache_format.name()
                     ),
-                    "reproj_prev_depth" => "the previous frame's depth texture (depth32float), as passes 1-3 left it".to_string(),
+                    "reproj_prev_depth" => "the previous frame's depth copy (r32float, bound as unfilterable-float and read with textureLoad): the target \"current depth copy\" of the previous frame".to_string(),
                     "reproj_cur_payload" => "this frame's payload cache, written by passes 1 and 2 just before".to_string(),
-                    "reproj_point_sampler" => "a non-filtering sampler, clamp-to-edge (gathers the previous depths)".to_string(),
                     "reproj_linear_sampler" => format!(
                         "a linear (filtering) sampler, clamp-to-edge (bilinear payload reconstruction){}",
                         if !cache_format.is_half() {
@@ -803,8 +827,16 @@ fn build_manifest(
         load: load.into(),
         store: "store".into(),
     };
-    // The cache output's location in the fused and two-pass modules (after the shader's outputs).
-    let cache_location = |p: &PassModule| {
+    let depth_copy = |location: u32, load: &str| ColorTarget {
+        location,
+        target: "current depth copy".into(),
+        format: "r32float".into(),
+        load: load.into(),
+        store: "store".into(),
+    };
+    // The location of an output struct member (the cache and the depth copy follow the shader's
+    // outputs).
+    let location_of = |p: &PassModule, name: &str| {
         let ep = &p.module.entry_points[0];
         let ty = ep
             .function
@@ -814,8 +846,8 @@ fn build_manifest(
         match ty {
             Some(naga::TypeInner::Struct { members, .. }) => members
                 .iter()
-                .rev()
-                .find_map(|m| match m.binding {
+                .find(|m| m.name.as_deref() == Some(name))
+                .and_then(|m| match m.binding {
                     Some(naga::Binding::Location { location, .. }) => Some(location),
                     _ => None,
                 })
@@ -823,17 +855,30 @@ fn build_manifest(
             _ => 1,
         }
     };
+    let cache_at = |p: &PassModule| location_of(p, strategy::CACHE_MEMBER);
+    let depth_at = |p: &PassModule| location_of(p, strategy::DEPTH_MEMBER);
     let pass = |p: &PassModule| {
         let (colors, depth) = match p.kind {
             PassKind::Reproject => (vec![cache(0, "clear")], depth("less", true, "clear 1.0")),
             PassKind::Recompute => (vec![cache(0, "load")], depth("less", true, "load")),
-            PassKind::Shade => (vec![frame("clear")], depth("equal", false, "load")),
+            PassKind::Shade => (
+                vec![frame("clear"), depth_copy(depth_at(p), "clear")],
+                depth("equal", false, "load"),
+            ),
             PassKind::Fused | PassKind::ShadeHits => (
-                vec![frame("clear"), cache(cache_location(p), "clear")],
+                vec![
+                    frame("clear"),
+                    cache(cache_at(p), "clear"),
+                    depth_copy(depth_at(p), "clear"),
+                ],
                 depth("less", true, "clear 1.0"),
             ),
             PassKind::ShadeMisses => (
-                vec![frame("load"), cache(cache_location(p), "load")],
+                vec![
+                    frame("load"),
+                    cache(cache_at(p), "load"),
+                    depth_copy(depth_at(p), "load"),
+                ],
                 depth("less", true, "load"),
             ),
         };
@@ -861,7 +906,8 @@ fn build_manifest(
         format!(
             "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position."
         ),
-        "After each frame, swap the current and previous payload and depth textures.".into(),
+        "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
+        "After each frame, swap the current and previous payload and depth copy textures.".into(),
         "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
         "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
     ];

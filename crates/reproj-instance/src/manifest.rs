@@ -251,17 +251,19 @@ pub struct Binding {
 pub struct ColorTarget {
     /// The fragment output `@location` (the attachment index).
     pub location: u32,
-    /// `"current cache payload"` or `"frame color"`.
+    /// `"current cache payload"`, `"frame color"` or `"current depth copy"` (the fragment's depth,
+    /// `@builtin(position).z`, that the next frame's lookup reads as its previous depth).
     pub target: String,
     /// Texture format (WebGPU name), or `"same as the original shader's target"`.
     pub format: String,
-    /// `"clear"` (frame color: to the scene's background; cache: to zero) or `"load"`.
+    /// `"clear"` (frame color: to the scene's background; cache: to zero; depth copy: to 1.0) or
+    /// `"load"`.
     pub load: String,
     pub store: String,
 }
 
 /// Depth (and stencil) state of a pass. All passes share the current frame's depth texture,
-/// format `depth32float`; it becomes the previous depth for the next frame.
+/// format `depth32float`; the next frame reads the depth copy instead, never this texture.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DepthState {
     pub format: String,
