@@ -384,6 +384,9 @@ fn strategy_passes(
             output,
         };
         let function = strategy::build_entry(&module, &entry, &parts, kind, prev_clip_location)?;
+        if kind == strategy::EntryKind::Fused {
+            allow_quad_uniform_derivatives(&mut module);
+        }
         module.entry_points.insert(
             0,
             naga::EntryPoint {
@@ -595,6 +598,8 @@ fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32,
 
 /// Write WGSL. Names naga's writer invented on an earlier trip (`_e12`, `_e12_1`, ...) are dropped
 /// first, so that the writer invents them again the same way and the text reaches a fixed point.
+/// The module's global `diagnostic(...)` directives, which naga's writer leaves out, are written
+/// first.
 pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
     fn generated(name: &str) -> bool {
         name.strip_prefix("_e").is_some_and(|rest| {
@@ -609,8 +614,64 @@ pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<Str
     for ep in &mut module.entry_points {
         strip(&mut ep.function);
     }
-    naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
-        .map_err(|e| e.to_string())
+    let text =
+        naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
+            .map_err(|e| e.to_string())?;
+    Ok(diagnostic_directives(&module) + &text)
+}
+
+/// The module's global diagnostic filters as WGSL directives, outermost first.
+fn diagnostic_directives(module: &Module) -> String {
+    use naga::diagnostic_filter::{
+        FilterableTriggeringRule as R, Severity, StandardFilterableTriggeringRule as S,
+    };
+    let mut lines = Vec::new();
+    let mut node = module.diagnostic_filter_leaf;
+    while let Some(h) = node {
+        let n = &module.diagnostic_filters[h];
+        let severity = match n.inner.new_severity {
+            Severity::Off => "off",
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        };
+        let rule = match &n.inner.triggering_rule {
+            R::Standard(S::DerivativeUniformity) => "derivative_uniformity".to_string(),
+            R::Unknown(name) => name.to_string(),
+            R::User(parts) => format!("{}.{}", parts[0], parts[1]),
+        };
+        lines.push(format!("diagnostic({severity}, {rule});\n"));
+        node = n.parent;
+    }
+    lines.reverse();
+    if lines.is_empty() {
+        String::new()
+    } else {
+        lines.concat() + "\n"
+    }
+}
+
+/// Turn WGSL's `derivative_uniformity` diagnostic off for the whole module (see the fused entry in
+/// [`strategy`]: its recompute branch is uniform over each 2×2 quad, which the analysis cannot see).
+fn allow_quad_uniform_derivatives(module: &mut Module) {
+    use naga::diagnostic_filter::{
+        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
+        StandardFilterableTriggeringRule,
+    };
+    let node = DiagnosticFilterNode {
+        inner: DiagnosticFilter {
+            new_severity: Severity::Off,
+            triggering_rule: FilterableTriggeringRule::Standard(
+                StandardFilterableTriggeringRule::DerivativeUniformity,
+            ),
+        },
+        parent: module.diagnostic_filter_leaf,
+    };
+    module.diagnostic_filter_leaf = Some(
+        module
+            .diagnostic_filters
+            .append(node, naga::Span::UNDEFINED),
+    );
 }
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.

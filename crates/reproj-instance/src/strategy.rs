@@ -289,7 +289,11 @@ pub(crate) fn build_entry(
     let args: Vec<Handle<Expression>> = (0..original_args)
         .map(|i| b.expr(Expression::FunctionArgument(i)))
         .collect();
-    let recompute = || parts.recompute.ok_or_else(|| internal("no recompute function"));
+    let recompute = || {
+        parts
+            .recompute
+            .ok_or_else(|| internal("no recompute function"))
+    };
     let (pi, member) = position;
     let mut pos = b.expr(Expression::FunctionArgument(pi));
     if let Some(m) = member {
@@ -326,6 +330,44 @@ pub(crate) fn build_entry(
                 });
                 Some(fetched)
             } else {
+                // Recompute the whole 2×2 quad when any of its pixels missed or is refreshed, so
+                // that derivatives in the recompute branch (implicit-LOD texture samples, dpdx) see
+                // four active pixels. Fine derivatives of the miss flag reach the horizontal, then
+                // the vertical neighbour: `quad` > 0 iff one of the four flags is 1. Refreshed
+                // blocks already cover whole quads (k even); misses need not.
+                let fzero = b.expr(Expression::Literal(naga::Literal::F32(0.0)));
+                let fone = b.expr(Expression::Literal(naga::Literal::F32(1.0)));
+                let flag = b.expr(Expression::Select {
+                    condition: missed,
+                    accept: fone,
+                    reject: fzero,
+                });
+                let spread = |b: &mut Body, v, axis| {
+                    let d = b.expr(Expression::Derivative {
+                        axis,
+                        ctrl: naga::DerivativeControl::Fine,
+                        expr: v,
+                    });
+                    let a = b.expr(Expression::Math {
+                        fun: naga::MathFunction::Abs,
+                        arg: d,
+                        arg1: None,
+                        arg2: None,
+                        arg3: None,
+                    });
+                    b.expr(Expression::Binary {
+                        op: naga::BinaryOperator::Add,
+                        left: v,
+                        right: a,
+                    })
+                };
+                let row = spread(&mut b, flag, naga::DerivativeAxis::X);
+                let quad = spread(&mut b, row, naga::DerivativeAxis::Y);
+                let missed = b.expr(Expression::Binary {
+                    op: naga::BinaryOperator::Greater,
+                    left: quad,
+                    right: fzero,
+                });
                 let var = b.expr(Expression::LocalVariable(payload_var));
                 b.stmt(Statement::Store {
                     pointer: var,

@@ -1571,9 +1571,12 @@ impl Renderer {
         ];
         // The lookup reads the depth copy; only a variant written before it (no depth copy target)
         // reads the previous depth buffer, which must then alternate like the payload.
-        let legacy_depth = !specs
-            .iter()
-            .any(|s| s.colors.iter().flatten().any(|c| c.0 == Attachment::DepthCopy));
+        let legacy_depth = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|c| c.0 == Attachment::DepthCopy)
+        });
         let depth: Vec<wgpu::Texture> = if legacy_depth {
             vec![
                 self.target("depth A", w, h, DEPTH_FORMAT, true),

@@ -285,7 +285,10 @@ fn variant_reading_the_depth_buffer_still_renders() {
     let b = r
         .render_variant(&shader, &session, &new, &reference, &opts)
         .unwrap();
-    assert!(a.frames[1..].iter().any(|f| f.hits > 0), "no hits at Δn = 2");
+    assert!(
+        a.frames[1..].iter().any(|f| f.hits > 0),
+        "no hits at Δn = 2"
+    );
     for (fa, fb) in a.frames.iter().zip(&b.frames) {
         assert_eq!(
             (fa.hits, fa.recomputes, fa.hit_px, fa.miss_px),
