@@ -96,17 +96,17 @@ pub(crate) fn output_struct(
             _ => None,
         })
         .max();
-    let mut next = max_location.map_or(0, |l| l + 1);
+    let first_free = max_location.map_or(0, |l| l + 1);
     let extra = cache
         .map(|ty| (CACHE_MEMBER, ty))
         .into_iter()
         .chain([(DEPTH_MEMBER, f32_ty)]);
-    for (name, ty) in extra {
+    for (location, (name, ty)) in (first_free..).zip(extra) {
         members.push(naga::StructMember {
             name: Some(name.into()),
             ty,
             binding: Some(naga::Binding::Location {
-                location: next,
+                location,
                 interpolation: None,
                 sampling: None,
                 blend_src: None,
@@ -114,7 +114,6 @@ pub(crate) fn output_struct(
             }),
             offset: 0,
         });
-        next += 1;
     }
     let mut layouter = naga::proc::Layouter::default();
     layouter

@@ -61,8 +61,8 @@ pub const CLASSIFY_ENTRY: &str = "reproj_classify";
 /// How to open the GPU.
 #[derive(Debug, Clone, Default)]
 pub struct RendererOptions {
-    /// Backend list as for `WGPU_BACKEND` (`"vulkan"`, `"vk"`, ...). None: the `WGPU_BACKEND`
-    /// environment variable, else Vulkan.
+    /// Backend list as for `WGPU_BACKEND` (`"vulkan"`, `"vk"`, ...), of backends this build has
+    /// ([`crate::compiled_backends`]). None: the `WGPU_BACKEND` environment variable, else Vulkan.
     pub backend: Option<String>,
     /// Time with CPU submit + wait even if the adapter has timestamp queries.
     pub cpu_timing: bool,
@@ -441,8 +441,13 @@ impl Renderer {
     /// `WGPU_BACKEND` says otherwise) and create a device with timestamp queries when available.
     pub fn new(opts: &RendererOptions) -> Result<Renderer, ReplayError> {
         let backends = match &opts.backend {
-            Some(b) => wgpu::Backends::from_comma_list(b),
-            None => wgpu::Backends::VULKAN.with_env(),
+            Some(b) => crate::backend::parse_backends(b, "--backend")?,
+            None => match std::env::var("WGPU_BACKEND") {
+                Ok(b) if !b.trim().is_empty() => {
+                    crate::backend::parse_backends(&b, "WGPU_BACKEND")?
+                }
+                _ => wgpu::Backends::VULKAN,
+            },
         };
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle().with_env();
         desc.backends = backends;
@@ -1430,6 +1435,8 @@ impl Renderer {
         session: &Session,
     ) -> RenderReport {
         RenderReport {
+            schema: metrics::RENDER_REPORT_SCHEMA.into(),
+            version: metrics::RENDER_REPORT_VERSION,
             kind: kind.into(),
             shader: shader.path.display().to_string(),
             entry: entry.into(),
