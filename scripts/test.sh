@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need (a Vulkan driver for the
-# rendering tests: lavapipe where there is no GPU), then runs every test of the workspace and closes
-# with one line that adds up every test binary's results.
+# rendering tests: lavapipe where there is no GPU; the shader compilers of the portability check,
+# when they can be installed), then runs every test of the workspace and closes with one line that
+# adds up every test binary's results.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/ensure-vulkan.sh
+bash scripts/ensure-tools.sh || true
 # Headless: keep Mesa's device-select layer from looking for a display.
 export NODEVICE_SELECT="${NODEVICE_SELECT:-1}"
 # lavapipe runs shaders on the CPU: give it the machine's cores.

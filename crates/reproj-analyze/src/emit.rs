@@ -36,9 +36,27 @@ pub struct EmitOptions {
     pub shader: Option<PathBuf>,
 }
 
-/// What `emit` chose and wrote. With `--json` this is printed as is.
+/// Schema name of an [`EmitReport`] (`report.json`).
+pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
+/// Version of the [`EmitReport`] schema. Bump on any incompatible change.
+pub const EMIT_REPORT_VERSION: u32 = 1;
+
+fn emit_report_schema() -> String {
+    EMIT_REPORT_SCHEMA.into()
+}
+
+fn first_version() -> u32 {
+    1
+}
+
+/// What `emit` chose and wrote (`report.json`). With `--json` this is printed as is.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EmitReport {
+    /// Always [`EMIT_REPORT_SCHEMA`] (absent before version 1: read as version 1).
+    #[serde(default = "emit_report_schema")]
+    pub schema: String,
+    #[serde(default = "first_version")]
+    pub version: u32,
     pub profile: String,
     pub shader: String,
     pub max_error: f64,
@@ -184,6 +202,8 @@ pub fn emit(
         &select_opts,
     );
     let mut report = EmitReport {
+        schema: EMIT_REPORT_SCHEMA.into(),
+        version: EMIT_REPORT_VERSION,
         profile: profile_path.display().to_string(),
         shader: shader_path.display().to_string(),
         max_error: opts.max_error,

@@ -11,7 +11,10 @@ pub mod prune;
 use std::path::PathBuf;
 
 pub use analyze::{AnalyzeInput, AnalyzeOptions, Progress, Silent, analyze};
-pub use emit::{EmitOptions, EmitReport, emit, latest_profile, load_profile, verify};
+pub use emit::{
+    EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,
+    load_profile, verify,
+};
 pub use journal::JournalOptions;
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};

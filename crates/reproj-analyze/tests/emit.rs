@@ -163,6 +163,12 @@ fn budgets_pick_original_node_then_root() {
     ] {
         assert!(dir.path().join("moderate").join(f).exists(), "{f}");
     }
+    let written: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("moderate/report.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(written["schema"], reproj_analyze::EMIT_REPORT_SCHEMA);
+    assert_eq!(written["version"], reproj_analyze::EMIT_REPORT_VERSION);
 
     let (r, _) = emit(&p, &pp, &opts(0.5, &dir.path().join("loose"))).unwrap();
     assert_eq!(r.node.as_deref(), Some("root"), "{r:?}");

@@ -53,7 +53,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub cache: CacheArgs,
     /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.
-    #[arg(long)]
+    #[arg(long, value_parser = output_path)]
     pub frames: Option<PathBuf>,
     /// With --frames: also write each frame's exact linear RGBA as `frame_NNN.f32` (width × height
     /// × 4 little-endian f32, top row first, no header), to compare renderers beyond 8 bits.
@@ -65,8 +65,7 @@ pub struct RenderArgs {
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
-    /// wgpu backend (as WGPU_BACKEND): vulkan, gl, ...
-    #[arg(long)]
+    #[arg(long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// Print the report as JSON.
     #[arg(long)]
@@ -82,7 +81,7 @@ pub struct AnalyzeArgs {
     #[arg(long)]
     pub session: PathBuf,
     /// Profile file to write (default: SHADER_STEM.profile.json in the current directory).
-    #[arg(long)]
+    #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Refresh periods the error model is fitted to.
     #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50")]
@@ -110,8 +109,7 @@ pub struct AnalyzeArgs {
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
-    /// wgpu backend (as WGPU_BACKEND).
-    #[arg(long)]
+    #[arg(long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// Profile only shard i of N (0-based) of the nodes, e.g. `--shard 0/3`; join the shards'
     /// profiles with `reproj merge`.
@@ -146,7 +144,7 @@ pub struct EmitArgs {
     #[arg(long)]
     pub profile: Option<PathBuf>,
     /// Output directory (default: out/SHADER_STEM).
-    #[arg(long)]
+    #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Largest refresh period to consider.
     #[arg(long, default_value_t = 50)]
@@ -166,8 +164,7 @@ pub struct EmitArgs {
     /// Session to verify on.
     #[arg(long)]
     pub session: Option<PathBuf>,
-    /// wgpu backend for --verify.
-    #[arg(long)]
+    #[arg(long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     #[command(flatten)]
     pub integration: IntegrationArgs,
@@ -195,6 +192,44 @@ pub struct NodesArgs {
     /// Include culled nodes, with their reasons.
     #[arg(long)]
     pub all: bool,
+}
+
+/// A path reproj writes to. `-` is refused rather than taken as a file or directory named `-`:
+/// these commands write files (several, or a profile), never to stdout (clap reports it, exit 2).
+fn output_path(s: &str) -> Result<PathBuf, String> {
+    match s {
+        "-" => Err(
+            "`-` (stdout) is not supported: this writes files, give a path (`./-` for one named `-`)"
+                .into(),
+        ),
+        "" => Err("the path is empty".into()),
+        _ => Ok(PathBuf::from(s)),
+    }
+}
+
+/// `--backend`'s help: the backends this build has (wgpu's answer, not a fixed list).
+fn backend_help() -> String {
+    format!(
+        "wgpu backend, as WGPU_BACKEND (default: WGPU_BACKEND, else vulkan); this build has: {}",
+        reproj_replay::compiled_backends().join(", ")
+    )
+}
+
+/// A `--backend` list must name backends this build has (clap reports the error, exit code 2).
+fn parse_backend(s: &str) -> Result<String, String> {
+    match reproj_replay::parse_backends(s, "--backend") {
+        Ok(_) => Ok(s.to_string()),
+        Err(reproj_replay::ReplayError::Backend {
+            name,
+            reason,
+            compiled,
+            accepted,
+            ..
+        }) => Err(format!(
+            "`{name}` {reason} (this build has: {compiled}; accepted names: {accepted})"
+        )),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 /// Cache texel format.
@@ -285,7 +320,7 @@ pub struct InstanceArgs {
     #[arg(long)]
     pub node: String,
     /// Output directory (created if needed).
-    #[arg(long)]
+    #[arg(long, value_parser = output_path)]
     pub out: PathBuf,
     /// Fragment entry point (needed when the module has several).
     #[arg(long)]

@@ -397,7 +397,7 @@ fn strategy_passes(
         strategy::as_function(shade, "reproj_shade"),
         naga::Span::UNDEFINED,
     );
-    let output = strategy::output_struct(&mut base, &result, vec4);
+    let output = strategy::output_struct(&mut base, &result, Some(vec4));
     let original_ep = base.entry_points[0].clone();
     let mut passes = Vec::new();
     for &kind in kinds {
@@ -414,12 +414,15 @@ fn strategy_passes(
         };
         let parts = strategy::Parts {
             vec4,
-            recompute,
+            recompute: Some(recompute),
             shade,
             fetch,
             output,
         };
         let function = strategy::build_entry(&module, &entry, &parts, kind, prev_clip_location)?;
+        if kind == strategy::EntryKind::Fused {
+            allow_quad_uniform_derivatives(&mut module);
+        }
         module.entry_points.insert(
             0,
             naga::EntryPoint {
@@ -559,8 +562,33 @@ fn shade_pass(
         },
         PassKind::Shade,
     )?;
-    let arguments = module.entry_points[0].function.arguments.clone();
-    module.entry_points[0].function = naga::Function { arguments, ..fun };
+    // The shader's entry, reading the node from the cache, becomes `reproj_shade`; a small entry
+    // calls it and adds the depth copy to its outputs (see [`strategy`]).
+    let entry = naga::Function {
+        arguments: module.entry_points[0].function.arguments.clone(),
+        ..fun
+    };
+    let result = entry
+        .result
+        .clone()
+        .ok_or_else(|| InstanceError::Internal {
+            pass: PassKind::Shade,
+            what: "the entry point returns nothing".into(),
+        })?;
+    let shade = module.functions.append(
+        strategy::as_function(entry.clone(), "reproj_shade"),
+        naga::Span::UNDEFINED,
+    );
+    let output = strategy::output_struct(&mut module, &result, None);
+    let parts = strategy::Parts {
+        vec4: vec4f,
+        recompute: None,
+        shade,
+        fetch: None,
+        output,
+    };
+    let function = strategy::build_entry(&module, &entry, &parts, strategy::EntryKind::Shade, 0)?;
+    module.entry_points[0].function = function;
     finish(PassKind::Shade, module)
 }
 
@@ -606,6 +634,8 @@ fn find_or_add_position(module: &mut Module, vec4f: Handle<naga::Type>) -> (u32,
 
 /// Write WGSL. Names naga's writer invented on an earlier trip (`_e12`, `_e12_1`, ...) are dropped
 /// first, so that the writer invents them again the same way and the text reaches a fixed point.
+/// The module's global `diagnostic(...)` directives, which naga's writer leaves out, are written
+/// first.
 pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
     fn generated(name: &str) -> bool {
         name.strip_prefix("_e").is_some_and(|rest| {
@@ -620,8 +650,64 @@ pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<Str
     for ep in &mut module.entry_points {
         strip(&mut ep.function);
     }
-    naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
-        .map_err(|e| e.to_string())
+    let text =
+        naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
+            .map_err(|e| e.to_string())?;
+    Ok(diagnostic_directives(&module) + &text)
+}
+
+/// The module's global diagnostic filters as WGSL directives, outermost first.
+fn diagnostic_directives(module: &Module) -> String {
+    use naga::diagnostic_filter::{
+        FilterableTriggeringRule as R, Severity, StandardFilterableTriggeringRule as S,
+    };
+    let mut lines = Vec::new();
+    let mut node = module.diagnostic_filter_leaf;
+    while let Some(h) = node {
+        let n = &module.diagnostic_filters[h];
+        let severity = match n.inner.new_severity {
+            Severity::Off => "off",
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        };
+        let rule = match &n.inner.triggering_rule {
+            R::Standard(S::DerivativeUniformity) => "derivative_uniformity".to_string(),
+            R::Unknown(name) => name.to_string(),
+            R::User(parts) => format!("{}.{}", parts[0], parts[1]),
+        };
+        lines.push(format!("diagnostic({severity}, {rule});\n"));
+        node = n.parent;
+    }
+    lines.reverse();
+    if lines.is_empty() {
+        String::new()
+    } else {
+        lines.concat() + "\n"
+    }
+}
+
+/// Turn WGSL's `derivative_uniformity` diagnostic off for the whole module (see the fused entry in
+/// [`strategy`]: its recompute branch is uniform over each 2×2 quad, which the analysis cannot see).
+fn allow_quad_uniform_derivatives(module: &mut Module) {
+    use naga::diagnostic_filter::{
+        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
+        StandardFilterableTriggeringRule,
+    };
+    let node = DiagnosticFilterNode {
+        inner: DiagnosticFilter {
+            new_severity: Severity::Off,
+            triggering_rule: FilterableTriggeringRule::Standard(
+                StandardFilterableTriggeringRule::DerivativeUniformity,
+            ),
+        },
+        parent: module.diagnostic_filter_leaf,
+    };
+    module.diagnostic_filter_leaf = Some(
+        module
+            .diagnostic_filters
+            .append(node, naga::Span::UNDEFINED),
+    );
 }
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
@@ -879,13 +965,7 @@ fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) -> Vec<Bindin
                     ),
                     "reproj_prev_depth" => (
                         BindingResource::Texture {
-                            role: ROLE_PREV_DEPTH.into(),
-                        },
-                        false,
-                    ),
-                    "reproj_point_sampler" => (
-                        BindingResource::Sampler {
-                            name: SAMPLER_POINT.into(),
+                            role: ROLE_PREV_DEPTH_COPY.into(),
                         },
                         false,
                     ),
@@ -917,11 +997,13 @@ fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) -> Vec<Bindin
 pub const ROLE_CUR_PAYLOAD: &str = "cur_payload";
 pub const ROLE_PREV_PAYLOAD: &str = "prev_payload";
 pub const ROLE_CUR_DEPTH: &str = "cur_depth";
-pub const ROLE_PREV_DEPTH: &str = "prev_depth";
+/// The depth attachment (one texture: the depth buffer is not kept from one frame to the next).
+pub const ROLE_CUR_DEPTH_COPY: &str = "cur_depth_copy";
+/// The previous frame's depth, as the passes that wrote its color copied it (r32float).
+pub const ROLE_PREV_DEPTH_COPY: &str = "prev_depth_copy";
 /// The frame target's attachment name.
 pub const ATTACHMENT_FRAME: &str = "frame";
 /// Sampler names.
-pub const SAMPLER_POINT: &str = "point";
 pub const SAMPLER_LINEAR: &str = "linear";
 
 /// The WGSL of the vertex contract's helper.
@@ -979,8 +1061,20 @@ fn build_manifest(
         store: true,
         stencil: None,
     };
-    // The cache output's location in the fused and two-pass modules (after the shader's outputs).
-    let cache_location = |p: &PassModule| {
+    let depth_copy = |location: u32, load: LoadOp| ColorTarget {
+        location,
+        attachment: ROLE_CUR_DEPTH_COPY.into(),
+        format: Some("r32float".into()),
+        load,
+        store: true,
+        blend: None,
+    };
+    let clear_depth_copy = || LoadOp::Clear {
+        value: Some(vec![1.0, 0.0, 0.0, 0.0]),
+    };
+    // The location of an output struct member (the cache and the depth copy follow the shader's
+    // outputs).
+    let location_of = |p: &PassModule, name: &str| {
         let ep = &p.module.entry_points[0];
         let ty = ep
             .function
@@ -990,8 +1084,8 @@ fn build_manifest(
         match ty {
             Some(naga::TypeInner::Struct { members, .. }) => members
                 .iter()
-                .rev()
-                .find_map(|m| match m.binding {
+                .find(|m| m.name.as_deref() == Some(name))
+                .and_then(|m| match m.binding {
                     Some(naga::Binding::Location { location, .. }) => Some(location),
                     _ => None,
                 })
@@ -999,6 +1093,8 @@ fn build_manifest(
             _ => 1,
         }
     };
+    let cache_at = |p: &PassModule| location_of(p, strategy::CACHE_MEMBER);
+    let depth_at = |p: &PassModule| location_of(p, strategy::DEPTH_MEMBER);
     let pass = |p: &PassModule| {
         let (colors, depth) = match p.kind {
             PassKind::Reproject => (
@@ -1010,18 +1106,26 @@ fn build_manifest(
                 depth("less", true, LoadOp::Load),
             ),
             PassKind::Shade => (
-                vec![frame(frame_first())],
+                vec![
+                    frame(frame_first()),
+                    depth_copy(depth_at(p), clear_depth_copy()),
+                ],
                 depth("equal", false, LoadOp::Load),
             ),
             PassKind::Fused | PassKind::ShadeHits => (
                 vec![
                     frame(frame_first()),
-                    cache(cache_location(p), clear_cache()),
+                    cache(cache_at(p), clear_cache()),
+                    depth_copy(depth_at(p), clear_depth_copy()),
                 ],
                 depth("less", true, clear_depth()),
             ),
             PassKind::ShadeMisses => (
-                vec![frame(LoadOp::Load), cache(cache_location(p), LoadOp::Load)],
+                vec![
+                    frame(LoadOp::Load),
+                    cache(cache_at(p), LoadOp::Load),
+                    depth_copy(depth_at(p), LoadOp::Load),
+                ],
                 depth("less", true, LoadOp::Load),
             ),
         };
@@ -1049,6 +1153,7 @@ fn build_manifest(
         format!(
             "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
         ),
+        "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
         "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
         "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
         "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
@@ -1068,8 +1173,9 @@ fn build_manifest(
         [
             (ROLE_CUR_PAYLOAD, format!("payload_{a}")),
             (ROLE_PREV_PAYLOAD, format!("payload_{b}")),
-            (ROLE_CUR_DEPTH, format!("depth_{a}")),
-            (ROLE_PREV_DEPTH, format!("depth_{b}")),
+            (ROLE_CUR_DEPTH_COPY, format!("depth_copy_{a}")),
+            (ROLE_PREV_DEPTH_COPY, format!("depth_copy_{b}")),
+            (ROLE_CUR_DEPTH, "depth".to_string()),
         ]
         .into_iter()
         .map(|(k, v)| (k.to_string(), v))
@@ -1178,13 +1284,14 @@ fn build_manifest(
         textures: vec![
             texture("payload_0", cache_format.name()),
             texture("payload_1", cache_format.name()),
-            texture("depth_0", "depth32float"),
-            texture("depth_1", "depth32float"),
+            texture("depth_copy_0", "r32float"),
+            texture("depth_copy_1", "r32float"),
+            TextureDesc {
+                usage: vec![TextureUsage::RenderAttachment],
+                ..texture("depth", "depth32float")
+            },
         ],
-        samplers: vec![
-            sampler(SAMPLER_POINT, Filter::Nearest),
-            sampler(SAMPLER_LINEAR, Filter::Linear),
-        ],
+        samplers: vec![sampler(SAMPLER_LINEAR, Filter::Linear)],
         frames: FramePlan {
             ping_pong: vec![plan("0", "1"), plan("1", "0")],
         },

@@ -19,9 +19,9 @@ struct ReprojParams {
 
 @group(REPROJ_GROUP) @binding(0) var<uniform> reproj_params: ReprojParams;
 @group(REPROJ_GROUP) @binding(1) var reproj_prev_payload: texture_2d<f32>;
-@group(REPROJ_GROUP) @binding(2) var reproj_prev_depth: texture_depth_2d;
-// Non-filtering, clamp-to-edge: gathers the four depths of the bilinear footprint in one fetch.
-@group(REPROJ_GROUP) @binding(4) var reproj_point_sampler: sampler;
+// The previous frame's depth as a plain float texture (r32float, read with textureLoad): a depth
+// texture would be a shadow sampler in GLSL, which compares instead of reading.
+@group(REPROJ_GROUP) @binding(2) var reproj_prev_depth: texture_2d<f32>;
 // Linear, clamp-to-edge: bilinear reconstruction of the payload in one fetch.
 @group(REPROJ_GROUP) @binding(5) var reproj_linear_sampler: sampler;
 
@@ -67,11 +67,21 @@ fn reproj_lookup(in: ReprojInput) -> ReprojLookup {
         return r;
     }
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    let size = vec2<f32>(textureDimensions(reproj_prev_depth));
-    // The 2×2 depths around uv (gather order: (0,1), (1,1), (1,0), (0,0)), blended bilinearly.
-    let g = textureGather(reproj_prev_depth, reproj_point_sampler, uv);
-    let f = fract(uv * size - vec2<f32>(0.5));
-    let d = mix(mix(g.w, g.z, f.x), mix(g.x, g.y, f.x), f.y);
+    let dims = vec2<i32>(textureDimensions(reproj_prev_depth));
+    let size = vec2<f32>(dims);
+    // The 2×2 depths around uv, clamped to the edge (what a gather with a clamp-to-edge sampler
+    // reads), blended bilinearly. Four loads rather than one gather: GLSL ES 3.0 has no gather.
+    let t = uv * size - vec2<f32>(0.5);
+    let f = fract(t);
+    let last = dims - vec2<i32>(1);
+    let i = vec2<i32>(floor(t));
+    let p0 = clamp(i, vec2<i32>(0), last);
+    let p1 = clamp(i + vec2<i32>(1), vec2<i32>(0), last);
+    let d00 = textureLoad(reproj_prev_depth, p0, 0).x;
+    let d10 = textureLoad(reproj_prev_depth, vec2<i32>(p1.x, p0.y), 0).x;
+    let d01 = textureLoad(reproj_prev_depth, vec2<i32>(p0.x, p1.y), 0).x;
+    let d11 = textureLoad(reproj_prev_depth, p1, 0).x;
+    let d = mix(mix(d00, d10, f.x), mix(d01, d11, f.x), f.y);
     // NDC depth: 1 - z is proportional to 1 / view depth, so this is a relative tolerance.
     let tolerance = reproj_params.depth_epsilon * max(1.0 - ndc.z, 1e-7);
     if abs(d - ndc.z) > tolerance {

@@ -375,7 +375,7 @@ pub enum Filter {
 }
 
 /// Texture roles per frame: frame `i` uses `ping_pong[i % ping_pong.len()]`, which maps each role
-/// (`cur_payload`, `prev_payload`, `cur_depth`, `prev_depth`) to a texture of
+/// (`cur_payload`, `prev_payload`, `cur_depth_copy`, `prev_depth_copy`, `cur_depth`) to a texture of
 /// [`Manifest::textures`]. What a frame writes as `cur_*` it reads as `prev_*` the next frame.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct FramePlan {

@@ -12,6 +12,14 @@
 //!   and cache, and depth, which closes the pixel for pass 2;
 //! - two-pass, pass 2 (`shade_misses`): where pass 1 left the pixel open, `recompute` then `shade`.
 //!
+//! The three-pass strategy's shade pass gets a small entry of the same kind: the shader's entry
+//! point, read from the cache, becomes `reproj_shade` and the entry calls it.
+//!
+//! Every entry that writes the frame color also writes the fragment's depth (`@builtin(position).z`)
+//! to one more color target, the *depth copy* (r32float): the next frame's lookup reads it as a
+//! plain float texture, which every shading language can load (a depth texture is a shadow sampler
+//! in GLSL). So the depth buffer never has to be sampled, nor kept from one frame to the next.
+//!
 //! The functions are ordinary naga functions; the entry points are built directly in IR.
 
 use crate::{InstanceError, PassKind};
@@ -20,11 +28,12 @@ use naga::{Expression, Function, Handle, Module, Span, Statement, Type};
 /// The payload type and the shader's functions, ready for the entry points.
 pub(crate) struct Parts {
     pub vec4: Handle<Type>,
-    pub recompute: Handle<Function>,
+    /// `reproj_recompute` (absent from the three-pass shade pass).
+    pub recompute: Option<Handle<Function>>,
     pub shade: Handle<Function>,
     /// `reproj_fetch`, when the lookup library was imported.
     pub fetch: Option<Handle<Function>>,
-    /// The output struct: the original outputs plus the cache.
+    /// The output struct: the original outputs, the cache (when written) and the depth copy.
     pub output: Handle<Type>,
 }
 
@@ -34,7 +43,14 @@ pub(crate) enum EntryKind {
     Fused,
     ShadeHits,
     ShadeMisses,
+    /// The three-pass strategy's shade pass: `reproj_shade` reads the node from the cache itself.
+    Shade,
 }
+
+/// Name of the output struct member holding the new cache payload.
+pub(crate) const CACHE_MEMBER: &str = "reproj_cache";
+/// Name of the output struct member holding the depth copy.
+pub(crate) const DEPTH_MEMBER: &str = "reproj_depth";
 
 /// Turn the entry point's function into an ordinary function: no bindings, a new name.
 pub(crate) fn as_function(mut f: Function, name: &str) -> Function {
@@ -48,12 +64,21 @@ pub(crate) fn as_function(mut f: Function, name: &str) -> Function {
     f
 }
 
-/// The output struct of a fused or two-pass entry: the shader's outputs, then the cache.
+/// The output struct of an entry built here: the shader's outputs, then (with `cache`) the cache
+/// payload `reproj_cache: vec4<f32>`, then the depth copy `reproj_depth: f32`, at the next free
+/// locations.
 pub(crate) fn output_struct(
     module: &mut Module,
     result: &naga::FunctionResult,
-    vec4: Handle<Type>,
+    cache: Option<Handle<Type>>,
 ) -> Handle<Type> {
+    let f32_ty = module.types.insert(
+        Type {
+            name: None,
+            inner: naga::TypeInner::Scalar(naga::Scalar::F32),
+        },
+        Span::UNDEFINED,
+    );
     let mut members: Vec<naga::StructMember> =
         match (&result.binding, &module.types[result.ty].inner) {
             (None, naga::TypeInner::Struct { members, .. }) => members.clone(),
@@ -71,19 +96,25 @@ pub(crate) fn output_struct(
             _ => None,
         })
         .max();
-    let cache_location = max_location.map_or(0, |l| l + 1);
-    members.push(naga::StructMember {
-        name: Some("reproj_cache".into()),
-        ty: vec4,
-        binding: Some(naga::Binding::Location {
-            location: cache_location,
-            interpolation: None,
-            sampling: None,
-            blend_src: None,
-            per_primitive: false,
-        }),
-        offset: 0,
-    });
+    let first_free = max_location.map_or(0, |l| l + 1);
+    let extra = cache
+        .map(|ty| (CACHE_MEMBER, ty))
+        .into_iter()
+        .chain([(DEPTH_MEMBER, f32_ty)]);
+    for (location, (name, ty)) in (first_free..).zip(extra) {
+        members.push(naga::StructMember {
+            name: Some(name.into()),
+            ty,
+            binding: Some(naga::Binding::Location {
+                location,
+                interpolation: None,
+                sampling: None,
+                blend_src: None,
+                per_primitive: false,
+            }),
+            offset: 0,
+        });
+    }
     let mut layouter = naga::proc::Layouter::default();
     layouter
         .update(module.to_ctx())
@@ -203,23 +234,22 @@ pub(crate) fn build_entry(
     };
     let mut arguments = entry.arguments.clone();
     let original_args = arguments.len() as u32;
-    let uses_fetch = kind != EntryKind::ShadeMisses;
-    let mut position = None;
+    // Every entry writes the depth copy, so every one needs the fragment's position.
+    let position = match crate::find_position(module, &arguments) {
+        Some(p) => p,
+        None => {
+            arguments.push(naga::FunctionArgument {
+                name: Some("reproj_frag_coord".into()),
+                ty: parts.vec4,
+                binding: Some(naga::Binding::BuiltIn(naga::BuiltIn::Position {
+                    invariant: false,
+                })),
+            });
+            (arguments.len() as u32 - 1, None)
+        }
+    };
     let mut prev_clip = None;
-    if uses_fetch {
-        position = Some(match crate::find_position(module, &arguments) {
-            Some(p) => p,
-            None => {
-                arguments.push(naga::FunctionArgument {
-                    name: Some("reproj_frag_coord".into()),
-                    ty: parts.vec4,
-                    binding: Some(naga::Binding::BuiltIn(naga::BuiltIn::Position {
-                        invariant: false,
-                    })),
-                });
-                (arguments.len() as u32 - 1, None)
-            }
-        });
+    if needs_fetch(kind) {
         arguments.push(naga::FunctionArgument {
             name: Some("reproj_prev_clip".into()),
             ty: parts.vec4,
@@ -258,19 +288,27 @@ pub(crate) fn build_entry(
     let args: Vec<Handle<Expression>> = (0..original_args)
         .map(|i| b.expr(Expression::FunctionArgument(i)))
         .collect();
+    let recompute = || {
+        parts
+            .recompute
+            .ok_or_else(|| internal("no recompute function"))
+    };
+    let (pi, member) = position;
+    let mut pos = b.expr(Expression::FunctionArgument(pi));
+    if let Some(m) = member {
+        pos = b.expr(Expression::AccessIndex {
+            base: pos,
+            index: m,
+        });
+    }
     let payload = match kind {
-        EntryKind::ShadeMisses => b.call(parts.recompute, args.clone()),
+        EntryKind::Shade => None,
+        EntryKind::ShadeMisses => Some(b.call(recompute()?, args.clone())),
         EntryKind::Fused | EntryKind::ShadeHits => {
             let fetch = parts.fetch.ok_or_else(|| internal("no lookup library"))?;
-            let (pi, member) = position.unwrap();
-            let mut pos = b.expr(Expression::FunctionArgument(pi));
-            if let Some(m) = member {
-                pos = b.expr(Expression::AccessIndex {
-                    base: pos,
-                    index: m,
-                });
-            }
-            let prev = b.expr(Expression::FunctionArgument(prev_clip.unwrap()));
+            let prev = b.expr(Expression::FunctionArgument(
+                prev_clip.ok_or_else(|| internal("no previous clip position"))?,
+            ));
             let r = b.call(fetch, vec![pos, prev]);
             let fetched = b.expr(Expression::AccessIndex { base: r, index: 0 });
             let status = b.expr(Expression::AccessIndex { base: r, index: 1 });
@@ -289,15 +327,53 @@ pub(crate) fn build_entry(
                     accept,
                     reject: naga::Block::new(),
                 });
-                fetched
+                Some(fetched)
             } else {
+                // Recompute the whole 2×2 quad when any of its pixels missed or is refreshed, so
+                // that derivatives in the recompute branch (implicit-LOD texture samples, dpdx) see
+                // four active pixels. Fine derivatives of the miss flag reach the horizontal, then
+                // the vertical neighbour: `quad` > 0 iff one of the four flags is 1. Refreshed
+                // blocks already cover whole quads (k even); misses need not.
+                let fzero = b.expr(Expression::Literal(naga::Literal::F32(0.0)));
+                let fone = b.expr(Expression::Literal(naga::Literal::F32(1.0)));
+                let flag = b.expr(Expression::Select {
+                    condition: missed,
+                    accept: fone,
+                    reject: fzero,
+                });
+                let spread = |b: &mut Body, v, axis| {
+                    let d = b.expr(Expression::Derivative {
+                        axis,
+                        ctrl: naga::DerivativeControl::Fine,
+                        expr: v,
+                    });
+                    let a = b.expr(Expression::Math {
+                        fun: naga::MathFunction::Abs,
+                        arg: d,
+                        arg1: None,
+                        arg2: None,
+                        arg3: None,
+                    });
+                    b.expr(Expression::Binary {
+                        op: naga::BinaryOperator::Add,
+                        left: v,
+                        right: a,
+                    })
+                };
+                let row = spread(&mut b, flag, naga::DerivativeAxis::X);
+                let quad = spread(&mut b, row, naga::DerivativeAxis::Y);
+                let missed = b.expr(Expression::Binary {
+                    op: naga::BinaryOperator::Greater,
+                    left: quad,
+                    right: fzero,
+                });
                 let var = b.expr(Expression::LocalVariable(payload_var));
                 b.stmt(Statement::Store {
                     pointer: var,
                     value: fetched,
                 });
                 b.open();
-                let computed = b.call(parts.recompute, args.clone());
+                let computed = b.call(recompute()?, args.clone());
                 b.stmt(Statement::Store {
                     pointer: var,
                     value: computed,
@@ -308,12 +384,12 @@ pub(crate) fn build_entry(
                     accept,
                     reject: naga::Block::new(),
                 });
-                b.expr(Expression::Load { pointer: var })
+                Some(b.expr(Expression::Load { pointer: var }))
             }
         }
     };
     let mut shade_args = args;
-    shade_args.push(payload);
+    shade_args.extend(payload);
     let color = b.call(parts.shade, shade_args);
     let result = entry.result.as_ref().ok_or_else(|| internal("no result"))?;
     let mut components = Vec::new();
@@ -328,7 +404,11 @@ pub(crate) fn build_entry(
         }
         _ => components.push(color),
     }
-    components.push(payload);
+    components.extend(payload);
+    components.push(b.expr(Expression::AccessIndex {
+        base: pos,
+        index: 2,
+    }));
     let out = b.expr(Expression::Compose {
         ty: parts.output,
         components,
@@ -357,10 +437,11 @@ pub(crate) fn pass_kind(kind: EntryKind) -> PassKind {
         EntryKind::Fused => PassKind::Fused,
         EntryKind::ShadeHits => PassKind::ShadeHits,
         EntryKind::ShadeMisses => PassKind::ShadeMisses,
+        EntryKind::Shade => PassKind::Shade,
     }
 }
 
 /// Does this entry need the lookup library?
 pub(crate) fn needs_fetch(kind: EntryKind) -> bool {
-    kind != EntryKind::ShadeMisses
+    matches!(kind, EntryKind::Fused | EntryKind::ShadeHits)
 }

@@ -18,9 +18,9 @@
 //! - [`vertex`]: the generated vertex stage (invariant clip position, one output per fragment input,
 //!   optionally the previous frame's clip position), with its transform uniforms in its own bind
 //!   group: the lowest group index the fragment modules do not use.
-//! - [`Renderer`]: wgpu (Vulkan) device; [`Renderer::render_original`] renders the reference frames,
-//!   [`Renderer::render_variant`] runs a three-pass cached variant (`docs/PASSES.md`) and compares it
-//!   with the reference.
+//! - [`Renderer`]: wgpu device (Vulkan: the backends built in are [`compiled_backends`]);
+//!   [`Renderer::render_original`] renders the reference frames, [`Renderer::render_variant`] runs a
+//!   cached variant of any strategy (`docs/PASSES.md`) and compares it with the reference.
 //! - [`RenderReport`]: per-frame and mean error, PSNR, hit rate, frame time, adapter, timing method.
 //! - [`output`]: PNG frames, hit maps and error maps.
 //!
@@ -49,6 +49,7 @@
 //! and pays shader compilation).
 
 mod assets;
+pub mod backend;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
@@ -60,7 +61,11 @@ pub mod session;
 pub mod textures;
 pub mod vertex;
 
-pub use metrics::{AdapterReport, FrameError, FrameRecord, RenderReport, TimingMethod};
+pub use backend::{compiled_backends, parse_backends};
+pub use metrics::{
+    AdapterReport, FrameError, FrameRecord, RENDER_REPORT_SCHEMA, RENDER_REPORT_VERSION,
+    RenderReport, TimingMethod,
+};
 pub use render::{Reference, RenderOptions, Renderer, RendererOptions, VariantInput};
 pub use session::{Session, SessionError};
 
@@ -73,6 +78,18 @@ pub enum ReplayError {
         "no GPU adapter found for backends {backends} (on a machine without a GPU driver install Mesa's software Vulkan driver: apt-get install mesa-vulkan-drivers)"
     )]
     NoAdapter { backends: String },
+    /// A backend name that is not a wgpu backend, or one this build does not have.
+    #[error(
+        "{origin}: backend `{name}` {reason} (this reproj has: {compiled}; accepted names: {accepted})"
+    )]
+    Backend {
+        /// Where the list came from: `--backend` or `WGPU_BACKEND`.
+        origin: String,
+        name: String,
+        reason: String,
+        compiled: String,
+        accepted: String,
+    },
     #[error("cannot open the GPU device on {adapter}: {message}")]
     Device { adapter: String, message: String },
     #[error(transparent)]

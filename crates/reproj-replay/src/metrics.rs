@@ -66,9 +66,28 @@ pub struct FrameRecord {
     pub max_abs_diff: f64,
 }
 
-/// Result of rendering a session: the original (reference) or a variant.
+/// Schema name of a [`RenderReport`] (`reproj render --json`).
+pub const RENDER_REPORT_SCHEMA: &str = "reproj.render";
+/// Version of the [`RenderReport`] schema. Bump on any incompatible change.
+pub const RENDER_REPORT_VERSION: u32 = 1;
+
+fn render_report_schema() -> String {
+    RENDER_REPORT_SCHEMA.into()
+}
+
+fn first_version() -> u32 {
+    1
+}
+
+/// Result of rendering a session: the original (reference) or a variant. Printed by
+/// `reproj render --json` (schema in `docs/SCHEMAS.md`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RenderReport {
+    /// Always [`RENDER_REPORT_SCHEMA`] (absent before version 1: read as version 1).
+    #[serde(default = "render_report_schema")]
+    pub schema: String,
+    #[serde(default = "first_version")]
+    pub version: u32,
     /// `"original"` or `"variant"`.
     pub kind: String,
     pub shader: String,
@@ -294,6 +313,8 @@ mod tests {
     #[test]
     fn session_psnr_pools_the_squared_error() {
         let mut report = RenderReport {
+            schema: RENDER_REPORT_SCHEMA.into(),
+            version: RENDER_REPORT_VERSION,
             kind: "variant".into(),
             shader: String::new(),
             entry: String::new(),

@@ -334,7 +334,7 @@ pub fn reflect(
     }
     inputs.sort_by_key(|i| i.location);
     // Output: one vec4<f32> at @location(0); a variant's pass may add its cache output
-    // (`reproj_cache`, a vec4<f32> at a higher location).
+    // (`reproj_cache`, a vec4<f32>) and its depth copy (`reproj_depth`, an f32) at higher locations.
     if let Some(res) = &ep.function.result {
         let ok = match &res.binding {
             Some(Binding::Location { location: 0, .. }) => {
@@ -345,10 +345,11 @@ pub fn reflect(
                     Some(Binding::Location { location: 0, .. }) => {
                         float_components(module, m.ty) == Some(4)
                     }
-                    Some(Binding::Location { .. }) => {
-                        m.name.as_deref() == Some("reproj_cache")
-                            && float_components(module, m.ty) == Some(4)
-                    }
+                    Some(Binding::Location { .. }) => match m.name.as_deref() {
+                        Some("reproj_cache") => float_components(module, m.ty) == Some(4),
+                        Some("reproj_depth") => float_components(module, m.ty) == Some(1),
+                        _ => false,
+                    },
                     Some(Binding::BuiltIn(_)) => true,
                     _ => false,
                 }),

@@ -1,4 +1,4 @@
-//! The headless wgpu renderer: original shader (reference frames) and three-pass cached variants.
+//! The headless wgpu renderer: the original shader (reference frames) and cached variants.
 //!
 //! # Batched readback
 //!
@@ -42,6 +42,15 @@ pub const MAX_BIND_GROUPS: u32 = 4;
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const CLASSIFY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The depth copy a variant's color passes write and the next frame's lookup reads.
+const DEPTH_COPY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// The depth copy is cleared to the far plane, like a depth buffer.
+const DEPTH_COPY_CLEAR: wgpu::Color = wgpu::Color {
+    r: 1.0,
+    g: 0.0,
+    b: 0.0,
+    a: 0.0,
+};
 /// Most frames whose readbacks share one host wait (see the module docs).
 const MAX_BATCH: u32 = 16;
 /// Host-visible staging memory one batch may use for frame images.
@@ -52,8 +61,8 @@ pub const CLASSIFY_ENTRY: &str = "reproj_classify";
 /// How to open the GPU.
 #[derive(Debug, Clone, Default)]
 pub struct RendererOptions {
-    /// Backend list as for `WGPU_BACKEND` (`"vulkan"`, `"vk"`, ...). None: the `WGPU_BACKEND`
-    /// environment variable, else Vulkan.
+    /// Backend list as for `WGPU_BACKEND` (`"vulkan"`, `"vk"`, ...), of backends this build has
+    /// ([`crate::compiled_backends`]). None: the `WGPU_BACKEND` environment variable, else Vulkan.
     pub backend: Option<String>,
     /// Time with CPU submit + wait even if the adapter has timestamp queries.
     pub cpu_timing: bool,
@@ -268,7 +277,11 @@ struct AddedResources<'a> {
     /// The payload is rgba16float (always filterable).
     payload_half: bool,
     prev_payload: &'a wgpu::TextureView,
-    prev_depth: &'a wgpu::TextureView,
+    /// The previous frame's depth copy (r32float), read as a float texture.
+    prev_depth_copy: &'a wgpu::TextureView,
+    /// The previous frame's depth buffer, for variants written before the depth copy, whose lookup
+    /// declares `reproj_prev_depth` as a depth texture (they list no depth copy target).
+    prev_depth_buffer: Option<&'a wgpu::TextureView>,
     cur_payload: &'a wgpu::TextureView,
 }
 
@@ -285,6 +298,8 @@ struct Bindings {
 enum Attachment {
     Frame,
     Cache,
+    /// The fragment's depth, read by the next frame's lookup.
+    DepthCopy,
 }
 
 /// One variant pass as the manifest describes it.
@@ -324,6 +339,7 @@ fn pass_specs(m: &Manifest) -> Result<Vec<PassSpec>, ReplayError> {
                 let t = match c.attachment.as_str() {
                     reproj_instance::ATTACHMENT_FRAME => Attachment::Frame,
                     reproj_instance::ROLE_CUR_PAYLOAD => Attachment::Cache,
+                    reproj_instance::ROLE_CUR_DEPTH_COPY => Attachment::DepthCopy,
                     other => return Err(bad(format!("unknown color attachment `{other}`"))),
                 };
                 let load = c.load.is_load();
@@ -425,8 +441,13 @@ impl Renderer {
     /// `WGPU_BACKEND` says otherwise) and create a device with timestamp queries when available.
     pub fn new(opts: &RendererOptions) -> Result<Renderer, ReplayError> {
         let backends = match &opts.backend {
-            Some(b) => wgpu::Backends::from_comma_list(b),
-            None => wgpu::Backends::VULKAN.with_env(),
+            Some(b) => crate::backend::parse_backends(b, "--backend")?,
+            None => match std::env::var("WGPU_BACKEND") {
+                Ok(b) if !b.trim().is_empty() => {
+                    crate::backend::parse_backends(&b, "WGPU_BACKEND")?
+                }
+                _ => wgpu::Backends::VULKAN,
+            },
         };
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle().with_env();
         desc.backends = backends;
@@ -891,6 +912,7 @@ impl Renderer {
                         let view = if in_added {
                             match (r.name.as_str(), added) {
                                 ("reproj_prev_payload", Some(a)) => a.prev_payload,
+                                ("reproj_prev_depth", Some(a)) => a.prev_depth_copy,
                                 ("reproj_cur_payload", Some(a)) => a.cur_payload,
                                 _ => return Err(missing("texture")),
                             }
@@ -918,7 +940,9 @@ impl Renderer {
                     }
                     ResourceKind::DepthTexture => {
                         let view = match (r.name.as_str(), added) {
-                            ("reproj_prev_depth", Some(a)) if in_added => a.prev_depth,
+                            ("reproj_prev_depth", Some(a)) if in_added => a
+                                .prev_depth_buffer
+                                .ok_or_else(|| missing("depth texture"))?,
                             _ => return Err(missing("depth texture")),
                         };
                         (
@@ -1384,6 +1408,8 @@ impl Renderer {
         session: &Session,
     ) -> RenderReport {
         RenderReport {
+            schema: metrics::RENDER_REPORT_SCHEMA.into(),
+            version: metrics::RENDER_REPORT_VERSION,
             kind: kind.into(),
             shader: shader.path.display().to_string(),
             entry: entry.into(),
@@ -1405,13 +1431,14 @@ impl Renderer {
         }
     }
 
-    /// Render a three-pass cached variant over the session (see `docs/PASSES.md`) and compare each
-    /// frame with `reference` (from [`Renderer::render_original`] on the same session).
+    /// Render a cached variant of any strategy over the session (see `docs/PASSES.md`) and compare
+    /// each frame with `reference` (from [`Renderer::render_original`] on the same session).
     ///
-    /// Per frame: pass 1 reproject (cache target cleared to 0, depth cleared to 1, less + write),
-    /// pass 2 recompute (load both, less + write), pass 3 shade (frame target cleared to the
-    /// background, depth equal, no write), then the current payload and depth become the previous
-    /// ones. Frame 0 runs with Δn = 1; `clock` is the frame index.
+    /// Per frame, the manifest's passes in order, each with its color targets (frame color, current
+    /// payload, current depth copy: cleared or loaded as listed) and depth state; then the current
+    /// payload and depth copy become the previous ones. (A variant written before the depth copy
+    /// reads the previous frame's depth buffer instead, which then alternates too.) Frame 0 runs with
+    /// Δn = 1; `clock` is the frame index.
     pub fn render_variant(
         &self,
         shader: &Shader,
@@ -1522,18 +1549,36 @@ impl Renderer {
             self.target("payload A", w, h, cache_format, true),
             self.target("payload B", w, h, cache_format, true),
         ];
-        let depth = [
-            self.target("depth A", w, h, DEPTH_FORMAT, true),
-            self.target("depth B", w, h, DEPTH_FORMAT, true),
+        let depth_copy = [
+            self.target("depth copy A", w, h, DEPTH_COPY_FORMAT, true),
+            self.target("depth copy B", w, h, DEPTH_COPY_FORMAT, true),
         ];
-        let payload_v: Vec<wgpu::TextureView> = payload
-            .iter()
-            .map(|t| t.create_view(&Default::default()))
-            .collect();
-        let depth_v: Vec<wgpu::TextureView> = depth
-            .iter()
-            .map(|t| t.create_view(&Default::default()))
-            .collect();
+        // The lookup reads the depth copy; only a variant written before it (no depth copy target)
+        // reads the previous depth buffer, which must then alternate like the payload.
+        let legacy_depth = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|c| c.0 == Attachment::DepthCopy)
+        });
+        let depth: Vec<wgpu::Texture> = if legacy_depth {
+            vec![
+                self.target("depth A", w, h, DEPTH_FORMAT, true),
+                self.target("depth B", w, h, DEPTH_FORMAT, true),
+            ]
+        } else {
+            vec![self.target("depth", w, h, DEPTH_FORMAT, false)]
+        };
+        let views = |ts: &[wgpu::Texture]| -> Vec<wgpu::TextureView> {
+            ts.iter()
+                .map(|t| t.create_view(&Default::default()))
+                .collect()
+        };
+        let payload_v = views(&payload);
+        let depth_copy_v = views(&depth_copy);
+        let depth_v = views(&depth);
+        // The depth buffer of the frame of parity `p`.
+        let depth_at = |p: usize| &depth_v[p % depth_v.len()];
         let color = self.target("frame color", w, h, FRAME_FORMAT, true);
         let color_view = color.create_view(&Default::default());
         let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
@@ -1583,7 +1628,8 @@ impl Renderer {
                 linear_sampler: &linear_sampler,
                 payload_half: m.cache_format.is_half(),
                 prev_payload: &payload_v[1 - parity],
-                prev_depth: &depth_v[1 - parity],
+                prev_depth_copy: &depth_copy_v[1 - parity],
+                prev_depth_buffer: legacy_depth.then(|| depth_at(1 - parity)),
                 cur_payload: &payload_v[parity],
             };
             let mut per_pass = Vec::new();
@@ -1618,6 +1664,7 @@ impl Renderer {
                     c.map(|(t, _)| match t {
                         Attachment::Frame => FRAME_FORMAT,
                         Attachment::Cache => cache_format,
+                        Attachment::DepthCopy => DEPTH_COPY_FORMAT,
                     })
                 })
                 .collect();
@@ -1675,19 +1722,25 @@ impl Renderer {
         {
             let mut enc = self.device.create_command_encoder(&Default::default());
             for i in 0..2 {
-                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("clear cache"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &payload_v[i],
+                let clear_to = |view, color| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view,
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            load: wgpu::LoadOp::Clear(color),
                             store: wgpu::StoreOp::Store,
                         },
-                    })],
+                    })
+                };
+                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("clear cache"),
+                    color_attachments: &[
+                        clear_to(&payload_v[i], wgpu::Color::TRANSPARENT),
+                        clear_to(&depth_copy_v[i], DEPTH_COPY_CLEAR),
+                    ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_v[i],
+                        view: depth_at(i),
                         depth_ops: Some(wgpu::Operations {
                             load: wgpu::LoadOp::Clear(1.0),
                             store: wgpu::StoreOp::Store,
@@ -1757,6 +1810,7 @@ impl Renderer {
                             let (view, clear_to) = match t {
                                 Attachment::Frame => (&color_view, clear),
                                 Attachment::Cache => (&payload_v[cur], clear_payload),
+                                Attachment::DepthCopy => (&depth_copy_v[cur], DEPTH_COPY_CLEAR),
                             };
                             wgpu::RenderPassColorAttachment {
                                 view,
@@ -1778,7 +1832,7 @@ impl Renderer {
                     label: Some(&spec.label),
                     color_attachments: &colors,
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_v[cur],
+                        view: depth_at(cur),
                         depth_ops: Some(wgpu::Operations {
                             load: if spec.depth_load {
                                 wgpu::LoadOp::Load

@@ -1,5 +1,6 @@
 //! `reproj analyze`: profile the nodes over a session and save the profile and its charts.
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -49,6 +50,7 @@ impl Progress for Bar {
 }
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
     let shader = load_file(&args.shader).map_err(front_error)?;
     let norm = normalize(
         &shader,
@@ -144,7 +146,8 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|n| n.status == reproj_models::profile::NodeStatus::Ok)
         .count();
-    println!(
+    writeln!(
+        stdout,
         "profiled {} nodes ({} usable) at Δn {:?} (+ held out {:?}) over {} frames at {}x{}",
         profile.nodes.len(),
         ok,
@@ -153,17 +156,19 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         profile.frames,
         profile.resolution[0],
         profile.resolution[1]
-    );
-    println!(
+    )?;
+    writeln!(
+        stdout,
         "original {:.3} ms/frame; hit-rate model µ = {}",
         profile.original.frame_ms,
         profile
             .hit_rate
             .mu
             .map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
-    );
+    )?;
     let t = &profile.time;
-    println!(
+    writeln!(
+        stdout,
         "time {:.1} s: reference {:.1} s, rendering {:.1} s, readback+error+compile {:.1} s, fitting {:.2} s, instancing {:.2} s",
         t.total_s,
         t.reference_s,
@@ -171,14 +176,15 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         t.readback_and_error_s,
         t.fitting_s,
         t.instancing_s
-    );
-    println!("wrote {}", out.display());
+    )?;
+    writeln!(stdout, "wrote {}", out.display())?;
     if !args.no_charts {
         super::charts::write(&profile, &out)?;
     }
-    println!(
+    writeln!(
+        stdout,
         "next: reproj emit --max-error 0.01 --profile {}",
         out.display()
-    );
+    )?;
     Ok(())
 }

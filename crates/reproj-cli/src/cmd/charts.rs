@@ -1,11 +1,13 @@
 //! Charts written next to a profile.
 
+use std::io::Write;
 use std::path::Path;
 
 use reproj_models::Profile;
 
 /// Write the trade-off, hit-rate and model charts beside `profile_path` and say where they are.
 pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
     let dir = profile_path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
@@ -27,6 +29,6 @@ pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
         .chain(&paths.png)
         .map(|p| p.display().to_string())
         .collect();
-    println!("charts {}", all.join(", "));
+    writeln!(stdout, "charts {}", all.join(", "))?;
     Ok(())
 }

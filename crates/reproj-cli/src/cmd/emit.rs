@@ -1,5 +1,6 @@
 //! `reproj emit`: pick the fastest node and Δn under an error budget and write the passes.
 
+use std::io::Write;
 use std::path::PathBuf;
 
 use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile, verify};
@@ -9,6 +10,7 @@ use super::{UserError, analyze_error, cache_format, replay_error};
 use crate::EmitArgs;
 
 pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
     if !(args.max_error.is_finite() && args.max_error >= 0.0) {
         return Err(UserError(format!(
             "--max-error must be a number ≥ 0, got {}",
@@ -81,24 +83,27 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         })
     });
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
         return unmet.map_or(Ok(()), |u| Err(u.into()));
     }
-    println!(
+    writeln!(
+        stdout,
         "profile  {} ({} on {})",
         report.profile, report.shader, report.adapter
-    );
-    println!("budget   error ≤ {}", report.max_error);
+    )?;
+    writeln!(stdout, "budget   error ≤ {}", report.max_error)?;
     match (&report.node, report.delta_n) {
         (Some(node), Some(dn)) => {
-            println!(
+            writeln!(
+                stdout,
                 "selected node {node} `{}` (line {}:{}) at Δn = {dn}, strategy {}",
                 report.node_text.as_deref().unwrap_or(""),
                 report.line.unwrap_or(0),
                 report.col.unwrap_or(0),
                 report.strategy.as_deref().unwrap_or("3pass")
-            );
-            println!(
+            )?;
+            writeln!(
+                stdout,
                 "predicted error {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
                 report.predicted_error.unwrap_or(0.0),
                 report
@@ -107,28 +112,30 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                 report.predicted_ms.unwrap_or(0.0),
                 report.original_ms,
                 report.predicted_speedup.unwrap_or(0.0)
-            );
+            )?;
         }
         _ => {
-            println!(
+            writeln!(
+                stdout,
                 "kept the original shader: {}",
                 report
                     .reason
                     .as_deref()
                     .unwrap_or("no node fits the budget")
-            );
+            )?;
         }
     }
     if let (Some(e), Some(s)) = (report.measured_error, report.measured_speedup) {
-        println!(
+        writeln!(
+            stdout,
             "measured  error {e:.5}{}, {:.3} ms/frame vs {:.3} ms original: {s:.2}x",
             report
                 .measured_psnr
                 .map_or_else(String::new, |p| format!(" (PSNR {p:.2} dB)")),
             report.measured_ms.unwrap_or(0.0),
             report.measured_original_ms.unwrap_or(0.0),
-        );
+        )?;
     }
-    println!("wrote    {}", report.files.join(", "));
+    writeln!(stdout, "wrote    {}", report.files.join(", "))?;
     unmet.map_or(Ok(()), |u| Err(u.into()))
 }

@@ -1,5 +1,7 @@
 //! `reproj instance`: write the variant that caches one node.
 
+use std::io::Write;
+
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
 use reproj_instance::{NodeSelector, instance, write_variant};
 
@@ -7,6 +9,7 @@ use super::{UserError, front_error, instance_error};
 use crate::InstanceArgs;
 
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
     let selector: NodeSelector = args.node.parse().map_err(UserError)?;
     let shader = load_file(&args.shader).map_err(front_error)?;
     let norm = normalize(
@@ -24,7 +27,8 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     let variant = instance(&shader, &norm, &table, selector, &opts).map_err(instance_error)?;
     write_variant(&variant, &args.out).map_err(instance_error)?;
     let m = &variant.manifest;
-    println!(
+    writeln!(
+        stdout,
         "node {} `{}` ({}, line {}:{}) -> {}",
         m.node.id,
         m.node.text,
@@ -32,17 +36,19 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         m.node.line,
         m.node.col,
         args.out.display()
-    );
+    )?;
     for p in &m.passes {
-        println!(
+        writeln!(
+            stdout,
             "  {:<10} {}",
             format!("{:?}", p.kind).to_lowercase(),
             p.file
-        );
+        )?;
     }
-    println!(
+    writeln!(
+        stdout,
         "  manifest   manifest.json (bind group {}, prev clip @location({}))",
         m.group, m.vertex.prev_clip_location
-    );
+    )?;
     Ok(())
 }

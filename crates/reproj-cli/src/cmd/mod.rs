@@ -165,9 +165,7 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // `reproj nodes x.wgsl | head` closes the pipe early: not an error.
-            if e.downcast_ref::<std::io::Error>()
-                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
-            {
+            if is_broken_pipe(&e) {
                 return ExitCode::SUCCESS;
             }
             if let Some(u) = e.downcast_ref::<Unmet>() {
@@ -188,4 +186,17 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
             }
         }
     }
+}
+
+/// Did writing to stdout fail because its reader went away? Commands print through a locked
+/// stdout handle with `writeln!` (never `println!`, which panics on a closed pipe), so the error
+/// comes back here, directly or inside a `serde_json` error.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    use std::io::ErrorKind::BrokenPipe;
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == BrokenPipe)
+            || c.downcast_ref::<serde_json::Error>()
+                .is_some_and(|j| j.io_error_kind() == Some(BrokenPipe))
+    })
 }

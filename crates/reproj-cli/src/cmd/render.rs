@@ -1,5 +1,7 @@
 //! `reproj render`: replay a session for the original shader or one variant.
 
+use std::io::Write;
+
 use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
 use reproj_instance::{NodeSelector, instance};
 use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
@@ -8,6 +10,7 @@ use super::{UserError, front_error, instance_error, replay_error};
 use crate::RenderArgs;
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
     let shader = load_file(&args.shader).map_err(front_error)?;
     let entry = shader
         .fragment_entry(args.entry.as_deref())
@@ -88,9 +91,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     };
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
     } else {
-        println!(
+        writeln!(
+            stdout,
             "{} over {} ({} frames, {}x{}) on {} [{:?}]",
             report.node.as_deref().map_or_else(
                 || "original".to_string(),
@@ -102,19 +106,21 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             report.resolution[1],
             report.adapter.name,
             report.timing,
-        );
-        println!(
+        )?;
+        writeln!(
+            stdout,
             "  error     {:.6} (mean per-pixel L2, linear RGB)",
             report.error
-        );
-        println!("  PSNR      {:.2} dB", report.psnr);
-        println!("  hit rate  {:.3}", report.hit_rate);
-        println!(
+        )?;
+        writeln!(stdout, "  PSNR      {:.2} dB", report.psnr)?;
+        writeln!(stdout, "  hit rate  {:.3}", report.hit_rate)?;
+        writeln!(
+            stdout,
             "  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)",
             report.frame_ms
-        );
+        )?;
         if let Some(dir) = &args.frames {
-            println!("  PNGs in   {}", dir.display());
+            writeln!(stdout, "  PNGs in   {}", dir.display())?;
         }
     }
     Ok(())

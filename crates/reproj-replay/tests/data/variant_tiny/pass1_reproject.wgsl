@@ -20,9 +20,7 @@ var<uniform> reproj_params: ReprojParams;
 @group(2) @binding(1) 
 var reproj_prev_payload: texture_2d<f32>;
 @group(2) @binding(2) 
-var reproj_prev_depth: texture_depth_2d;
-@group(2) @binding(4) 
-var reproj_point_sampler: sampler;
+var reproj_prev_depth: texture_2d<f32>;
 @group(2) @binding(5) 
 var reproj_linear_sampler: sampler;
 
@@ -89,22 +87,35 @@ fn reproj_lookup(in_2_: ReprojInput) -> ReprojLookup {
     }
     let uv = vec2<f32>(((ndc.x * 0.5f) + 0.5f), (0.5f - (ndc.y * 0.5f)));
     let _e57 = textureDimensions(reproj_prev_depth);
-    let size = vec2<f32>(_e57);
-    let g = textureGather(reproj_prev_depth, reproj_point_sampler, uv);
-    let f = fract(((uv * size) - vec2(0.5f)));
-    let d = mix(mix(g.w, g.z, f.x), mix(g.x, g.y, f.x), f.y);
-    let _e79 = reproj_params.depth_epsilon;
-    let tolerance = (_e79 * max((1f - ndc.z), 0.0000001f));
+    let dims = vec2<i32>(_e57);
+    let size = vec2<f32>(dims);
+    let t = ((uv * size) - vec2(0.5f));
+    let f = fract(t);
+    let last = (dims - vec2(1i));
+    let i = vec2<i32>(floor(t));
+    let p0_ = clamp(i, vec2(0i), last);
+    let p1_ = clamp((i + vec2(1i)), vec2(0i), last);
+    let _e81 = textureLoad(reproj_prev_depth, p0_, 0i);
+    let d00_ = _e81.x;
+    let _e88 = textureLoad(reproj_prev_depth, vec2<i32>(p1_.x, p0_.y), 0i);
+    let d10_ = _e88.x;
+    let _e95 = textureLoad(reproj_prev_depth, vec2<i32>(p0_.x, p1_.y), 0i);
+    let d01_ = _e95.x;
+    let _e99 = textureLoad(reproj_prev_depth, p1_, 0i);
+    let d11_ = _e99.x;
+    let d = mix(mix(d00_, d10_, f.x), mix(d01_, d11_, f.x), f.y);
+    let _e109 = reproj_params.depth_epsilon;
+    let tolerance = (_e109 * max((1f - ndc.z), 0.0000001f));
     if (abs((d - ndc.z)) > tolerance) {
-        let _e90 = r;
-        return _e90;
+        let _e120 = r;
+        return _e120;
     }
-    let _e94 = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0f);
-    r.payload = _e94;
-    let _e98 = reproj_refreshed(in_2_.position.xy);
-    r.status = select(0u, 2u, _e98);
-    let _e103 = r;
-    return _e103;
+    let _e124 = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0f);
+    r.payload = _e124;
+    let _e128 = reproj_refreshed(in_2_.position.xy);
+    r.status = select(0u, 2u, _e128);
+    let _e133 = r;
+    return _e133;
 }
 
 @fragment 

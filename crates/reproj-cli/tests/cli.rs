@@ -1,0 +1,222 @@
+//! Command-line hygiene through the real binary: backends, closed pipes, `--out -`, and the schema
+//! fields of the JSON reports. The tests that render use the machine's Vulkan adapter (lavapipe
+//! where there is no GPU) on the replay's 64×64 test data.
+
+use std::io::Read;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn reproj_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(root())
+        .output()
+        .expect("run reproj");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn reproj(args: &[&str]) -> (i32, String, String) {
+    reproj_env(args, &[])
+}
+
+const TINY: &str = "crates/reproj-replay/tests/data/tiny.wgsl";
+const TINY_SESSION: &str = "crates/reproj-replay/tests/data/tiny_static_plane.json";
+
+/// Run reproj with its stdout a pipe whose reading end is closed before it writes anything: the
+/// first write fails with a broken pipe. Returns the exit code and stderr.
+fn with_closed_stdout(args: &[&str]) -> (i32, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run reproj");
+    drop(child.stdout.take());
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let status = child.wait().unwrap();
+    (status.code().unwrap_or(-1), err)
+}
+
+#[test]
+fn unknown_backend_is_a_user_error_naming_the_accepted_ones() {
+    for cmd in [
+        vec!["render", TINY, "--session", TINY_SESSION],
+        vec!["analyze", TINY, "--session", TINY_SESSION],
+        vec!["emit", "--max-error", "0.1"],
+    ] {
+        for backend in ["bogus", "gl"] {
+            let mut args = cmd.clone();
+            args.extend(["--backend", backend]);
+            let (code, _, err) = reproj(&args);
+            assert_eq!(code, 2, "{args:?}: {err}");
+            assert!(err.contains(&format!("`{backend}`")), "{err}");
+            assert!(err.contains("vulkan, vk"), "{err}");
+            assert!(!err.contains("panicked"), "{err}");
+        }
+    }
+    // The same check applies to the environment variable.
+    let (code, _, err) = reproj_env(
+        &["render", TINY, "--session", TINY_SESSION],
+        &[("WGPU_BACKEND", "opengl")],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("WGPU_BACKEND") && err.contains("not built into"),
+        "{err}"
+    );
+    // The help lists what this build has, not backends it lacks.
+    let (code, out, _) = reproj(&["render", "--help"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("this build has: vulkan"), "{out}");
+    assert!(!out.contains("gl,"), "{out}");
+}
+
+#[test]
+fn out_dash_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let profile = tmp.path().join("p.json");
+    let profile = profile.to_str().unwrap();
+    for args in [
+        vec!["instance", TINY, "--node", "root", "--out", "-"],
+        vec!["analyze", TINY, "--session", TINY_SESSION, "--out", "-"],
+        vec![
+            "emit",
+            "--max-error",
+            "0.1",
+            "--profile",
+            profile,
+            "--out",
+            "-",
+        ],
+        vec!["render", TINY, "--session", TINY_SESSION, "--frames", "-"],
+    ] {
+        let (code, out, err) = reproj(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains("`-` (stdout) is not supported"), "{err}");
+        assert!(out.is_empty(), "{out}");
+    }
+    assert!(!root().join("-").exists(), "a file named `-` was written");
+}
+
+#[test]
+fn closed_stdout_is_a_quiet_exit() {
+    for args in [
+        vec!["nodes", "shaders/marble.wgsl", "--all"],
+        vec!["nodes", "shaders/marble.wgsl", "--all", "--json"],
+        vec![
+            "render",
+            TINY,
+            "--session",
+            TINY_SESSION,
+            "--max-frames",
+            "2",
+            "--json",
+        ],
+        vec![
+            "render",
+            TINY,
+            "--session",
+            TINY_SESSION,
+            "--max-frames",
+            "2",
+        ],
+    ] {
+        let (code, err) = with_closed_stdout(&args);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(!err.contains("Broken pipe"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn json_reports_carry_schema_and_version() {
+    let (code, out, err) = reproj(&[
+        "render",
+        TINY,
+        "--session",
+        TINY_SESSION,
+        "--max-frames",
+        "2",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["schema"], "reproj.render");
+    assert_eq!(v["version"], 1);
+
+    // analyze (tiny, static) then emit: report.json and `emit --json` are the same report.
+    let tmp = tempfile::tempdir().unwrap();
+    let profile = tmp.path().join("tiny.profile.json");
+    let out_dir = tmp.path().join("out");
+    let (code, _, err) = reproj(&[
+        "analyze",
+        TINY,
+        "--session",
+        TINY_SESSION,
+        "--nodes",
+        "35",
+        "--delta-n",
+        "2,4",
+        "--holdout",
+        "3",
+        "--max-frames",
+        "4",
+        "--strategy",
+        "3pass",
+        "--no-charts",
+        "--out",
+        profile.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = reproj(&[
+        "emit",
+        "--profile",
+        profile.to_str().unwrap(),
+        "--max-error",
+        "0.1",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let printed: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap())
+            .unwrap();
+    for v in [&printed, &file] {
+        assert_eq!(v["schema"], "reproj.report", "{v}");
+        assert_eq!(v["version"], 1, "{v}");
+    }
+    assert_eq!(printed, file);
+
+    // `emit` with its stdout closed: the files are written, the exit is quiet.
+    let again = tmp.path().join("again");
+    let (code, err) = with_closed_stdout(&[
+        "emit",
+        "--profile",
+        profile.to_str().unwrap(),
+        "--max-error",
+        "0.1",
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(again.join("report.json").exists());
+}
