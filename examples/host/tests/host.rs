@@ -265,6 +265,11 @@ fn host_follows_the_manifest_not_names() {
         ("payload_1", "tex_b"),
         ("depth_0", "tex_c"),
         ("depth_1", "tex_d"),
+        ("cur_depth_copy", "zc_write"),
+        ("prev_depth_copy", "zc_read"),
+        ("depth_copy_0", "tex_e"),
+        ("depth_copy_1", "tex_f"),
+        ("depth", "tex_g"),
         ("point", "sampler_x"),
         ("linear", "sampler_y"),
     ];
