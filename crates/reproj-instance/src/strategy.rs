@@ -393,22 +393,32 @@ pub(crate) fn build_entry(
     let color = b.call(parts.shade, shade_args);
     let result = entry.result.as_ref().ok_or_else(|| internal("no result"))?;
     let mut components = Vec::new();
+    // The fragment's depth: `@builtin(position).z`, unless the shader writes its own.
+    let mut depth = None;
     match (&result.binding, &module.types[result.ty].inner) {
         (None, naga::TypeInner::Struct { members, .. }) => {
-            for i in 0..members.len() as u32 {
-                components.push(b.expr(Expression::AccessIndex {
+            for (i, m) in members.iter().enumerate() {
+                let c = b.expr(Expression::AccessIndex {
                     base: color,
-                    index: i,
-                }));
+                    index: i as u32,
+                });
+                if m.binding == Some(naga::Binding::BuiltIn(naga::BuiltIn::FragDepth)) {
+                    depth = Some(c);
+                }
+                components.push(c);
             }
         }
         _ => components.push(color),
     }
     components.extend(payload);
-    components.push(b.expr(Expression::AccessIndex {
-        base: pos,
-        index: 2,
-    }));
+    let depth = match depth {
+        Some(d) => d,
+        None => b.expr(Expression::AccessIndex {
+            base: pos,
+            index: 2,
+        }),
+    };
+    components.push(depth);
     let out = b.expr(Expression::Compose {
         ty: parts.output,
         components,

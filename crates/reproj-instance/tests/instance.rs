@@ -377,3 +377,53 @@ fn write_variant_into_unwritable_place_fails_cleanly() {
         ]
     );
 }
+
+/// Every pass that writes the frame color also writes the depth copy: `@builtin(position).z`, or
+/// the shader's own `@builtin(frag_depth)` when it writes one. No pass declares a depth texture.
+#[test]
+fn color_passes_write_the_depth_copy() {
+    let src = "
+        struct Out {
+            @location(0) color: vec4<f32>,
+            @builtin(frag_depth) depth: f32,
+        }
+        @group(0) @binding(0) var<uniform> k: vec4<f32>;
+        @fragment fn fs(@location(0) p: vec3<f32>, @builtin(position) pos: vec4<f32>) -> Out {
+            let s = sin(p * k.xyz);
+            return Out(vec4<f32>(s, 1.0), pos.z * 0.5);
+        }";
+    let shader = reproj_front::parse_shader(Path::new("depth.wgsl"), src.into()).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    for strategy in Strategy::ALL {
+        let v = instance(
+            &shader,
+            &norm,
+            &table,
+            NodeSelector::Root,
+            &InstanceOptions {
+                strategy,
+                block: strategy.default_block(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        check_round_trip(&v);
+        for (p, m) in v.passes.iter().zip(&v.manifest.passes) {
+            assert!(!p.wgsl.contains("texture_depth"), "{:?}", p.kind);
+            let writes_color = m.colors.iter().any(|c| c.target == "frame color");
+            let copy = m.colors.iter().find(|c| c.target == "current depth copy");
+            assert_eq!(writes_color, copy.is_some(), "{strategy} {:?}", p.kind);
+            if writes_color {
+                assert!(p.wgsl.contains("reproj_depth: f32"), "{}", p.wgsl);
+                // The shader's own depth, not the rasterized one, ends the output.
+                let ret = p
+                    .wgsl
+                    .lines()
+                    .find(|l| l.contains("return ReprojOutput("))
+                    .unwrap();
+                assert!(ret.trim_end().ends_with(".depth);"), "{ret}");
+            }
+        }
+    }
+}
