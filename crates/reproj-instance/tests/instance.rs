@@ -411,8 +411,11 @@ fn color_passes_write_the_depth_copy() {
         check_round_trip(&v);
         for (p, m) in v.passes.iter().zip(&v.manifest.passes) {
             assert!(!p.wgsl.contains("texture_depth"), "{:?}", p.kind);
-            let writes_color = m.colors.iter().any(|c| c.target == "frame color");
-            let copy = m.colors.iter().find(|c| c.target == "current depth copy");
+            let writes_color = m.colors.iter().any(|c| c.attachment == "frame");
+            let copy = m
+                .colors
+                .iter()
+                .find(|c| c.attachment == reproj_instance::ROLE_CUR_DEPTH_COPY);
             assert_eq!(writes_color, copy.is_some(), "{strategy} {:?}", p.kind);
             if writes_color {
                 assert!(p.wgsl.contains("reproj_depth: f32"), "{}", p.wgsl);
