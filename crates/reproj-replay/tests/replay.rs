@@ -269,7 +269,7 @@ fn static_variant_at_delta_n_8_hits_seven_in_eight() {
 }
 
 /// A variant written before the depth copy (its lookup reads the previous depth buffer as a
-/// `texture_depth_2d`, no depth copy target; same manifest version) still renders, and renders the
+/// `texture_depth_2d`, no depth copy target; its manifest rewritten as version 3) still renders, and renders the
 /// same frames as the same variant written today.
 #[test]
 fn variant_reading_the_depth_buffer_still_renders() {
