@@ -444,16 +444,10 @@ pub fn analyze(
     // Fits.
     let t = Instant::now();
     let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
-    let hit_samples: Vec<(f64, f64)> = raws
-        .iter()
-        .flat_map(|r| {
-            r.measurements
-                .iter()
-                .filter(|m| is_train(m))
-                .map(|m| (m.delta_n as f64, m.hit_rate))
-        })
-        .collect();
-    let hit_rate = fit_hit_rate(&hit_samples);
+    let hit_rate = fit_session_hit_rate(
+        raws.iter().flat_map(|r| &r.measurements),
+        &opts.delta_n_train,
+    );
     let nodes: Vec<NodeProfile> = raws
         .par_iter()
         .map(|raw| {
@@ -559,6 +553,19 @@ pub fn analyze(
         time,
         shard: opts.shard,
     })
+}
+
+/// The hit-rate model of a shader and session: one fit over every node's measurements at the
+/// training periods (`analyze`, and `merge` over the joined shards).
+pub(crate) fn fit_session_hit_rate<'a>(
+    measurements: impl Iterator<Item = &'a Measurement>,
+    train: &[u32],
+) -> reproj_models::HitRateFit {
+    let samples: Vec<(f64, f64)> = measurements
+        .filter(|m| train.contains(&m.delta_n))
+        .map(|m| (m.delta_n as f64, m.hit_rate))
+        .collect();
+    fit_hit_rate(&samples)
 }
 
 /// The journal's result for `key`, else `run` it and record the result.

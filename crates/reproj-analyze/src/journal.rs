@@ -102,7 +102,6 @@ impl Journal {
         let mut done = HashMap::new();
         let mut original = None;
         let mut note = None;
-        let mut keep = false;
         if !opts.fresh && path.exists() {
             let text = std::fs::read_to_string(path).map_err(io(path))?;
             let mut lines = text.lines();
@@ -111,7 +110,6 @@ impl Journal {
                 .and_then(|l| serde_json::from_str::<Header>(l).ok());
             match header {
                 Some(h) if h.schema == SCHEMA && h.version == VERSION && h.key == key => {
-                    keep = true;
                     for line in lines {
                         // A torn last line (killed mid-write) does not parse: skip it.
                         if let Ok(r) = serde_json::from_str::<Record>(line) {
@@ -139,41 +137,28 @@ impl Journal {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(io(dir))?;
         }
-        let file = if keep {
-            // Rewrite without a torn tail, then append.
-            let mut text = serde_json::to_string(&Header {
-                schema: SCHEMA.into(),
-                version: VERSION,
-                key: key.into(),
-            })
-            .expect("header serializes");
-            text.push('\n');
-            if let Some(o) = &original {
-                text.push_str(&original_line(o));
-            }
-            for (k, r) in &done {
-                text.push_str(&record_line(k, r));
-            }
-            let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-            std::fs::write(&tmp, text).map_err(io(&tmp))?;
-            std::fs::rename(&tmp, path).map_err(io(path))?;
-            std::fs::OpenOptions::new()
-                .append(true)
-                .open(path)
-                .map_err(io(path))?
-        } else {
-            let mut f = std::fs::File::create(path).map_err(io(path))?;
-            let mut header = serde_json::to_string(&Header {
-                schema: SCHEMA.into(),
-                version: VERSION,
-                key: key.into(),
-            })
-            .expect("header serializes");
-            header.push('\n');
-            f.write_all(header.as_bytes()).map_err(io(path))?;
-            f.sync_data().map_err(io(path))?;
-            f
-        };
+        // Start the file afresh: the header, then what is kept (a torn tail dropped). Written
+        // through a temporary file and a rename, then appended to.
+        let mut text = serde_json::to_string(&Header {
+            schema: SCHEMA.into(),
+            version: VERSION,
+            key: key.into(),
+        })
+        .expect("header serializes");
+        text.push('\n');
+        if let Some(o) = &original {
+            text.push_str(&original_line(o));
+        }
+        for (k, r) in &done {
+            text.push_str(&record_line(k, r));
+        }
+        let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+        std::fs::write(&tmp, text).map_err(io(&tmp))?;
+        std::fs::rename(&tmp, path).map_err(io(path))?;
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(io(path))?;
         Ok((
             Journal {
                 path: path.clone(),

@@ -9,8 +9,8 @@
 
 use std::path::PathBuf;
 
-use reproj_models::profile::{AnalysisTime, Measurement};
-use reproj_models::{Profile, fit_hit_rate, predicted_frame_ms};
+use reproj_models::profile::AnalysisTime;
+use reproj_models::{Profile, predicted_frame_ms};
 
 use crate::AnalyzeError;
 
@@ -106,16 +106,10 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             fitting_s: t.fitting_s + p.time.fitting_s,
             instancing_s: t.instancing_s + p.time.instancing_s,
         });
-    // The hit-rate model over every node's training measurements, as `analyze` fits it.
-    let is_train = |m: &Measurement| merged.delta_n_train.contains(&m.delta_n);
-    let samples: Vec<(f64, f64)> = merged
-        .nodes
-        .iter()
-        .flat_map(|n| n.measurements.iter())
-        .filter(|m| is_train(m))
-        .map(|m| (m.delta_n as f64, m.hit_rate))
-        .collect();
-    merged.hit_rate = fit_hit_rate(&samples);
+    merged.hit_rate = crate::analyze::fit_session_hit_rate(
+        merged.nodes.iter().flat_map(|n| &n.measurements),
+        &merged.delta_n_train,
+    );
     let mean_pixels = merged.original.mean_pixels;
     for n in &mut merged.nodes {
         for h in &mut n.holdout {

@@ -8,25 +8,9 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn run(cwd: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
-        .args(args)
-        .current_dir(cwd)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .expect("run reproj");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::{root, run};
 
 fn files(dir: &Path) -> BTreeSet<PathBuf> {
     let mut out = BTreeSet::new();

@@ -2,26 +2,11 @@
 //! edits that keep it valid, code edits that make it stale, `--shader`, `--min-speedup` (exit 3),
 //! a clean output directory, and progress lines without a terminal.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+mod common;
+use common::{root, run as reproj};
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn reproj(cwd: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
-        .args(args)
-        .current_dir(cwd)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .expect("run reproj");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)

@@ -1,24 +1,10 @@
 //! Written variants through the real binary: `instance --group/--frame-load` and `render --variant`.
 
-use std::path::PathBuf;
-use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::root;
 
 fn reproj(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
-        .args(args)
-        .current_dir(root())
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .expect("run reproj");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::run(&root(), args)
 }
 
 const TINY: &str = "crates/reproj-replay/tests/data/tiny.wgsl";
