@@ -5,8 +5,10 @@ use std::path::{Path, PathBuf};
 
 use reproj_front::{NormalizeOptions, enumerate, normalize};
 use reproj_instance::{
-    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, Variant, instance, write_variant,
+    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, VARIANT_FILES, Variant, instance,
+    variant_files,
 };
+use reproj_io::Replace;
 use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
 use reproj_replay::metrics::{PSNR_CAP, psnr};
@@ -90,30 +92,7 @@ pub struct EmitReport {
 
 /// Read a profile, naming the field when it is malformed.
 pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
-    let bytes = std::fs::read(path).map_err(|source| AnalyzeError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
-    let de = &mut serde_json::Deserializer::from_slice(&bytes);
-    let profile: Profile =
-        serde_path_to_error::deserialize(de).map_err(|e| AnalyzeError::BadProfile {
-            path: path.to_owned(),
-            message: format!("at `{}`: {}", e.path(), e.inner()),
-        })?;
-    if profile.schema != "reproj.profile"
-        || !(1..=reproj_models::PROFILE_VERSION).contains(&profile.version)
-    {
-        return Err(AnalyzeError::BadProfile {
-            path: path.to_owned(),
-            message: format!(
-                "schema {} version {} (this reproj reads reproj.profile version {})",
-                profile.schema,
-                profile.version,
-                reproj_models::PROFILE_VERSION
-            ),
-        });
-    }
-    Ok(profile)
+    Ok(reproj_io::read_json(path, &reproj_models::PROFILE_KIND)?)
 }
 
 /// The most recently modified `*.profile.json` in `dir`.
@@ -227,7 +206,7 @@ pub fn emit(
         measured_speedup: None,
         adapter: profile.machine.adapter.clone(),
     };
-    let staging = Staging::new(&opts.out)?;
+    let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
     let variant = match selection {
         Selection::Node(choice) => {
             let node = profile
@@ -270,7 +249,9 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            write_variant(&variant, &staging.path)?;
+            for (name, bytes) in variant_files(&variant) {
+                staging.write(name, &bytes)?;
+            }
             for p in &variant.manifest.passes {
                 report
                     .files
@@ -299,7 +280,7 @@ pub fn emit(
             let name = shader_path
                 .file_name()
                 .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
-            write_atomic(&staging.path.join(&name), shader.source.as_bytes())?;
+            staging.write(&name, shader.source.as_bytes())?;
             report
                 .files
                 .push(opts.out.join(&name).display().to_string());
@@ -310,8 +291,8 @@ pub fn emit(
     report
         .files
         .push(opts.out.join("report.json").display().to_string());
-    write_report(&report, &staging.path)?;
-    staging.replace(&opts.out)?;
+    write_report(&report, staging.path())?;
+    staging.commit()?;
     Ok((report, variant))
 }
 
@@ -324,102 +305,6 @@ pub fn ir_hash(shader: &reproj_front::Shader) -> String {
         .and_then(|info| reproj_instance::write_wgsl(&shader.module, &info).ok())
         .unwrap_or_else(|| shader.source.clone());
     content_hash(text.as_bytes())
-}
-
-/// A temporary directory beside the output directory: everything `emit` writes goes there
-/// first, then it replaces the output directory whole, so the directory never mixes an old run's
-/// files with a new run's and a failure leaves the previous output as it was.
-struct Staging {
-    path: PathBuf,
-    done: bool,
-}
-
-impl Staging {
-    fn new(out: &Path) -> Result<Staging, AnalyzeError> {
-        let io = |path: &Path| {
-            let path = path.to_owned();
-            move |source| AnalyzeError::Io { path, source }
-        };
-        check_replaceable(out)?;
-        let parent = out
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        std::fs::create_dir_all(parent).map_err(io(parent))?;
-        let name = out
-            .file_name()
-            .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-        let path = parent.join(format!(".{name}.tmp{}", std::process::id()));
-        if path.exists() {
-            std::fs::remove_dir_all(&path).map_err(io(&path))?;
-        }
-        std::fs::create_dir_all(&path).map_err(io(&path))?;
-        Ok(Staging { path, done: false })
-    }
-
-    /// Put the staged directory in place of `out` (two renames; the old one is removed after).
-    fn replace(mut self, out: &Path) -> Result<(), AnalyzeError> {
-        let io = |path: &Path| {
-            let path = path.to_owned();
-            move |source| AnalyzeError::Io { path, source }
-        };
-        let old = self
-            .path
-            .with_extension(format!("old{}", std::process::id()));
-        let had_old = out.exists();
-        if had_old {
-            std::fs::rename(out, &old).map_err(io(out))?;
-        }
-        if let Err(e) = std::fs::rename(&self.path, out) {
-            if had_old {
-                let _ = std::fs::rename(&old, out);
-            }
-            return Err(io(out)(e));
-        }
-        self.done = true;
-        if had_old {
-            let _ = std::fs::remove_dir_all(&old);
-        }
-        Ok(())
-    }
-}
-
-impl Drop for Staging {
-    fn drop(&mut self) {
-        if !self.done {
-            let _ = std::fs::remove_dir_all(&self.path);
-        }
-    }
-}
-
-/// `emit` replaces its output directory whole: refuse one that holds anything it would not
-/// have written (a typo'd `--out .` must not delete a project).
-fn check_replaceable(out: &Path) -> Result<(), AnalyzeError> {
-    if !out.exists() {
-        return Ok(());
-    }
-    let refuse = |why: String| {
-        Err(AnalyzeError::Options(format!(
-            "refusing to replace {}: {why}; emit replaces its output directory whole, so choose a new or reproj-written --out",
-            out.display()
-        )))
-    };
-    if !out.is_dir() {
-        return refuse("it is not a directory".into());
-    }
-    let entries = std::fs::read_dir(out).map_err(|source| AnalyzeError::Io {
-        path: out.to_owned(),
-        source,
-    })?;
-    for e in entries.filter_map(Result::ok) {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let ours = e.file_type().is_ok_and(|t| t.is_file())
-            && (name.ends_with(".wgsl") || name.ends_with(".json"));
-        if !ours {
-            return refuse(format!("it holds `{name}`, which emit does not write"));
-        }
-    }
-    Ok(())
 }
 
 /// Re-render the selection over `session`, record measured error and speedup in `report`, and
@@ -474,19 +359,7 @@ fn write_report(report: &EmitReport, out: &Path) -> Result<(), AnalyzeError> {
     write_atomic(&out.join("report.json"), &json)
 }
 
-/// Write a file through a temporary name and a rename.
+/// Write a file atomically ([`reproj_io::write_file`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), AnalyzeError> {
-    let io = |source| AnalyzeError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io)?;
-    }
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })?;
-    std::fs::rename(&tmp, path).map_err(io)
+    Ok(reproj_io::write_file(path, bytes)?)
 }

@@ -134,11 +134,8 @@ impl Journal {
                 }
             }
         }
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(io(dir))?;
-        }
         // Start the file afresh: the header, then what is kept (a torn tail dropped). Written
-        // through a temporary file and a rename, then appended to.
+        // atomically, then appended to.
         let mut text = serde_json::to_string(&Header {
             schema: SCHEMA.into(),
             version: VERSION,
@@ -152,9 +149,7 @@ impl Journal {
         for (k, r) in &done {
             text.push_str(&record_line(k, r));
         }
-        let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-        std::fs::write(&tmp, text).map_err(io(&tmp))?;
-        std::fs::rename(&tmp, path).map_err(io(path))?;
+        reproj_io::write_file(path, text.as_bytes())?;
         let file = std::fs::OpenOptions::new()
             .append(true)
             .open(path)

@@ -34,6 +34,10 @@ pub enum AnalyzeError {
     BadProfile { path: PathBuf, message: String },
     #[error("{path}: the {what} changed since the profile was made; run `reproj analyze` again")]
     Stale { path: PathBuf, what: String },
+    #[error(transparent)]
+    Write(#[from] reproj_io::WriteError),
+    #[error(transparent)]
+    Read(#[from] reproj_io::ReadError),
     #[error("cannot write {path}: {source}")]
     Io {
         path: PathBuf,

@@ -44,14 +44,9 @@ pub struct ChartPaths {
 /// Why the charts could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum ChartError {
-    /// Creating the directory or writing a file failed.
-    #[error("cannot write {path}: {source}")]
-    Io {
-        /// The file or directory.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
+    /// Writing a file failed (the previous file, if any, is kept).
+    #[error(transparent)]
+    Write(#[from] reproj_io::WriteError),
     /// plotters failed to draw a chart.
     #[error("cannot draw the {chart} chart: {message}")]
     Draw {
@@ -82,8 +77,8 @@ const HIGHLIGHTED: usize = 8;
 const MODEL_NODES: usize = 4;
 
 /// Write the analysis charts next to the profile: `{stem}.tradeoff.{svg,png}`,
-/// `{stem}.hitrate.{svg,png}`, `{stem}.models.{svg,png}` in `dir` (created if missing). Each file
-/// is written under a temporary name and renamed into place.
+/// `{stem}.hitrate.{svg,png}`, `{stem}.models.{svg,png}` in `dir` (created if missing), all or
+/// none ([`reproj_io::write_files`]).
 pub fn write_charts(profile: &Profile, dir: &Path, stem: &str) -> Result<ChartPaths, ChartError> {
     let font = font::font();
     let mut paths = write_charts_with(profile, dir, stem, font.fonts.as_ref())?;
@@ -99,10 +94,6 @@ fn write_charts_with(
     stem: &str,
     fonts: Option<&font::Fonts>,
 ) -> Result<ChartPaths, ChartError> {
-    std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
     let tradeoff = tradeoff(profile);
     // A node keeps its color from chart to chart.
     let colors: BTreeMap<u32, usize> = tradeoff
@@ -117,13 +108,14 @@ fn write_charts_with(
         ("models", draw::Chart::Models(models), MODELS_SIZE),
     ];
     let mut out = ChartPaths::default();
+    let mut files = Vec::new();
     for (name, chart, size) in &charts {
         let svg_path = dir.join(format!("{stem}.{name}.svg"));
         let svg = draw::render_svg(chart, *size).map_err(|message| ChartError::Draw {
             chart: name,
             message,
         })?;
-        write_atomic(&svg_path, svg.as_bytes())?;
+        files.push((svg_path.clone(), svg.into_bytes()));
         out.svg.push(svg_path);
 
         let png_path = dir.join(format!("{stem}.{name}.png"));
@@ -135,9 +127,11 @@ fn write_charts_with(
             path: png_path.clone(),
             message,
         })?;
-        write_atomic(&png_path, &png)?;
+        files.push((png_path.clone(), png));
         out.png.push(png_path);
     }
+    // All the charts or none: a failure keeps every chart of the previous run.
+    reproj_io::write_files(&files)?;
     Ok(out)
 }
 
@@ -149,24 +143,6 @@ fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
         .write_image(rgb, w, h, image::ExtendedColorType::Rgb8)
         .map_err(|e| e.to_string())?;
     Ok(bytes)
-}
-
-/// Write `bytes` to `path` through a temporary file in the same directory, then rename.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ChartError> {
-    let io = |source| ChartError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
 }
 
 // ---------------------------------------------------------------------------------------------

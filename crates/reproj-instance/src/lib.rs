@@ -8,7 +8,7 @@
 //! one module as functions ([`strategy`]). Every module is stripped of dead code, validated,
 //! compacted, validated again and written as WGSL that survives a round trip.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use naga::{Handle, Module};
 use reproj_front::rebuild::{CacheRead, CacheSource, Mode, RebuildOptions, StopAfter, rebuild};
@@ -170,12 +170,8 @@ pub enum InstanceError {
         id: String,
         components: u32,
     },
-    #[error("cannot write {path}: {source}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Write(#[from] reproj_io::WriteError),
     #[error(transparent)]
     Front(#[from] reproj_front::FrontError),
     /// A bug in reproj: a generated module did not validate or round-trip.
@@ -1300,37 +1296,32 @@ fn build_manifest(
     }
 }
 
-/// Write the variant's WGSL files and `manifest.json` into `dir`. Each file is written to a
-/// temporary file first and renamed into place, so a failure leaves no half-written file.
+/// The file extensions a variant directory holds: [`write_variant`] replaces a directory that
+/// holds only these (and refuses any other), so a stale pass from another strategy never lingers.
+pub const VARIANT_FILES: &[&str] = &["wgsl", "json"];
+
+/// Write the variant's WGSL files and `manifest.json` as the directory `dir`, whole: everything is
+/// written into a staging directory beside it, which then replaces `dir`
+/// ([`reproj_io::StagedDir`]), so a failure leaves `dir` as it was and a success leaves no file
+/// of an earlier variant.
 pub fn write_variant(variant: &Variant, dir: &Path) -> Result<(), InstanceError> {
-    let io = |path: &Path| {
-        let path = path.to_owned();
-        move |source| InstanceError::Io { path, source }
-    };
-    std::fs::create_dir_all(dir).map_err(io(dir))?;
-    let mut files: Vec<(PathBuf, Vec<u8>)> = variant
+    let staged = reproj_io::StagedDir::new(dir, reproj_io::Replace::OwnFiles(VARIANT_FILES))?;
+    for (name, bytes) in variant_files(variant) {
+        staged.write(name, &bytes)?;
+    }
+    staged.commit()?;
+    Ok(())
+}
+
+/// The files of a variant directory, by name: each pass's WGSL and `manifest.json`.
+pub fn variant_files(variant: &Variant) -> Vec<(&'static str, Vec<u8>)> {
+    let mut files: Vec<(&'static str, Vec<u8>)> = variant
         .passes
         .iter()
-        .map(|p| (dir.join(pass_file(p.kind)), p.wgsl.clone().into_bytes()))
+        .map(|p| (pass_file(p.kind), p.wgsl.clone().into_bytes()))
         .collect();
     let mut manifest = serde_json::to_vec_pretty(&variant.manifest).expect("manifest serializes");
     manifest.push(b'\n');
-    files.push((dir.join("manifest.json"), manifest));
-    // Write every temporary file before renaming any, so an error leaves the directory as it was.
-    let mut temps = Vec::new();
-    for (path, bytes) in &files {
-        let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-        if let Err(e) = std::fs::write(&tmp, bytes) {
-            for t in &temps {
-                let _ = std::fs::remove_file(t);
-            }
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io(path)(e));
-        }
-        temps.push(tmp);
-    }
-    for ((path, _), tmp) in files.iter().zip(&temps) {
-        std::fs::rename(tmp, path).map_err(io(path))?;
-    }
-    Ok(())
+    files.push(("manifest.json", manifest));
+    files
 }

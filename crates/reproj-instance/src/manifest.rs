@@ -12,6 +12,13 @@ use serde::{Deserialize, Serialize};
 /// the vertex-stage contract, the params layout field by field.
 pub const MANIFEST_VERSION: u32 = 3;
 
+/// What [`reproj_io::read_json`] expects of a `manifest.json`.
+pub const MANIFEST_KIND: reproj_io::Kind = reproj_io::Kind {
+    schema: "reproj.manifest",
+    versions: MANIFEST_VERSION..=MANIFEST_VERSION,
+    hint: "write the variant again with `reproj instance` or `reproj emit`",
+};
+
 /// Cache payload texel format (WebGPU names).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema, Default)]
 #[serde(rename_all = "lowercase")]

@@ -22,7 +22,7 @@ pub use error_model::{
     ErrorFit, ErrorFitFailure, ErrorFitOptions, ErrorFitStatus, LAMBDA_MAX, LAMBDA_MIN, fit_error,
 };
 pub use hit_rate::{HitRateFit, HitRateFitFailure, HitRateStatus, fit_hit_rate};
-pub use profile::{PROFILE_VERSION, Profile, content_hash};
+pub use profile::{PROFILE_KIND, PROFILE_VERSION, Profile, content_hash};
 pub use timing::{
     FrameTiming, TimingFit, TimingFitFailure, TimingFitOptions, TimingParam, TimingStatus,
     TimingWarning, fit_timing, fit_timing_with_holdout, fit_timing_with_options,

@@ -15,6 +15,14 @@ use crate::{ErrorFit, FrameTiming, HitRateFit, TimingFit};
 /// Version 3: paths relative to the profile's directory, `ir_hash` of the shader.
 pub const PROFILE_VERSION: u32 = 3;
 
+/// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
+/// profiles lack only optional fields).
+pub const PROFILE_KIND: reproj_io::Kind = reproj_io::Kind {
+    schema: "reproj.profile",
+    versions: 1..=PROFILE_VERSION,
+    hint: "re-run `reproj analyze` with this reproj",
+};
+
 /// A whole profile.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Profile {

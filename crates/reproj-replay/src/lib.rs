@@ -111,12 +111,10 @@ pub enum ReplayError {
     ReferenceMismatch { reference: String, session: String },
     #[error("variant: {message}")]
     Variant { message: String },
-    #[error("cannot write {path}: {source}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Write(#[from] reproj_io::WriteError),
+    #[error(transparent)]
+    Read(#[from] reproj_io::ReadError),
     #[error("cannot encode {path}: {message}")]
     Image { path: PathBuf, message: String },
 }

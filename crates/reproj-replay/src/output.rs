@@ -6,7 +6,6 @@
 //! scale at [`ERRMAP_FULL_SCALE`]), and on request `frame_NNN.f32`: the frame's exact linear RGBA
 //! values before PNG encoding (see [`write_frame_raw`]), for comparing two renderers to 1e-4.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use image::ImageEncoder;
@@ -43,31 +42,9 @@ pub fn write_png_rgba8(
     write_atomic(path, &bytes)
 }
 
-/// Write `bytes` to `path` atomically (temp file in the same directory + rename), creating the
-/// directory.
+/// Write `bytes` to `path` atomically ([`reproj_io::write_file`]), creating the directory.
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReplayError> {
-    let io = |source| ReplayError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(io)?;
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp: PathBuf = dir.join(format!(".{file_name}.tmp{}", std::process::id()));
-    let mut f = std::fs::File::create(&tmp).map_err(io)?;
-    f.write_all(bytes).map_err(io)?;
-    f.sync_all().ok();
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    Ok(reproj_io::write_file(path, bytes)?)
 }
 
 /// RGBA f32 linear frame → sRGB-encoded RGBA8 (clamped, alpha forced to 255).

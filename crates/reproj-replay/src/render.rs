@@ -24,7 +24,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use reproj_front::Shader;
-use reproj_instance::{CacheFormat, MANIFEST_VERSION, Manifest, PassKind};
+use reproj_instance::{CacheFormat, MANIFEST_KIND, Manifest, PassKind};
 
 use crate::ReplayError;
 use crate::assets::Assets;
@@ -166,28 +166,7 @@ impl VariantInput {
     /// From a directory holding `manifest.json` and the pass files it names.
     pub fn from_dir(dir: &Path, delta_n: u32) -> Result<Self, ReplayError> {
         let mpath = dir.join("manifest.json");
-        let text = std::fs::read_to_string(&mpath).map_err(|e| ReplayError::Variant {
-            message: format!("cannot read {}: {e}", mpath.display()),
-        })?;
-        // Check the schema version first, so an older directory gets a clear message
-        // rather than the first field the current schema misses.
-        if let Ok(head) = serde_json::from_str::<serde_json::Value>(&text) {
-            let version = head.get("version").and_then(serde_json::Value::as_u64);
-            if version != Some(u64::from(MANIFEST_VERSION)) {
-                return Err(ReplayError::Variant {
-                    message: format!(
-                        "{}: field `version`: manifest version {} is not supported (this reproj reads version {MANIFEST_VERSION}); write the variant again with `reproj instance` or `reproj emit`",
-                        mpath.display(),
-                        version.map_or_else(|| "missing".to_string(), |v| v.to_string()),
-                    ),
-                });
-            }
-        }
-        let de = &mut serde_json::Deserializer::from_str(&text);
-        let manifest: Manifest =
-            serde_path_to_error::deserialize(de).map_err(|e| ReplayError::Variant {
-                message: format!("{}: field `{}`: {}", mpath.display(), e.path(), e.inner()),
-            })?;
+        let manifest: Manifest = reproj_io::read_json(&mpath, &MANIFEST_KIND)?;
         let mut sources = Vec::new();
         for p in &manifest.passes {
             let f = dir.join(&p.file);

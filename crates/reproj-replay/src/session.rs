@@ -36,23 +36,21 @@ pub const SESSION_SCHEMA: &str = "reproj.session";
 /// The supported `version`.
 pub const SESSION_VERSION: u32 = 1;
 
+/// What [`reproj_io::parse_json`] expects of a session file.
+pub const SESSION_KIND: reproj_io::Kind = reproj_io::Kind {
+    schema: SESSION_SCHEMA,
+    versions: SESSION_VERSION..=SESSION_VERSION,
+    hint: "",
+};
+
 /// Errors loading or validating a session file. Every message names the file and, where it applies,
 /// the JSON path of the field at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum SessionError {
-    #[error("cannot read session {path}: {source}")]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    /// The JSON does not match the schema. `field` is the path, e.g. `geometry.objects[0].mesh`.
-    #[error("{path}: field `{field}`: {message}")]
-    Parse {
-        path: PathBuf,
-        field: String,
-        message: String,
-    },
+    /// The file cannot be read, is not JSON, is not a session of a version this reproj reads, or
+    /// does not match the schema (the error names the field, e.g. `geometry.objects[0].mesh`).
+    #[error(transparent)]
+    Read(#[from] reproj_io::ReadError),
     /// The JSON matched the schema but a value is out of range or inconsistent.
     #[error("{path}: field `{field}`: {message}")]
     Invalid {
@@ -880,7 +878,7 @@ impl Session {
     /// directory.
     pub fn load(path: impl AsRef<Path>) -> Result<Session, SessionError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| SessionError::Io {
+        let text = std::fs::read_to_string(path).map_err(|source| reproj_io::ReadError::Io {
             path: path.to_owned(),
             source,
         })?;
@@ -891,20 +889,7 @@ impl Session {
     /// Parse and validate session JSON text. `path` is used in messages, `base_dir` resolves
     /// relative paths.
     pub fn from_json(text: &str, path: &Path, base_dir: &Path) -> Result<Session, SessionError> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let mut s: Session = serde_path_to_error::deserialize(de).map_err(|e| {
-            let field = e.path().to_string();
-            let field = if field == "." {
-                "(document)".to_owned()
-            } else {
-                field
-            };
-            SessionError::Parse {
-                path: path.to_owned(),
-                field,
-                message: e.into_inner().to_string(),
-            }
-        })?;
+        let mut s: Session = reproj_io::parse_json(text, path, &SESSION_KIND)?;
         s.base_dir = base_dir.to_owned();
         s.path = path.to_owned();
         s.validate()?;

@@ -161,7 +161,10 @@ fn bad_session_field_names_its_path() {
     bad["camera"]["keys"][0]["eye"] = serde_json::json!([0, 2]);
     let err = parse(&bad).unwrap_err();
     let msg = err.to_string();
-    assert!(matches!(err, SessionError::Parse { .. }), "{msg}");
+    assert!(
+        matches!(err, SessionError::Read(reproj_io::ReadError::Field { .. })),
+        "{msg}"
+    );
     assert!(msg.contains("camera.keys[0].eye"), "{msg}");
 
     let mut bad = good.clone();

@@ -9,6 +9,9 @@ use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantIn
 use super::{UserError, front_error, instance_error, replay_error};
 use crate::RenderArgs;
 
+/// What `render --frames DIR` writes (and so what DIR may hold for it to be replaced).
+const FRAME_FILES: &[&str] = &["png", "f32"];
+
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
     let shader = load_file(&args.shader).map_err(front_error)?;
@@ -21,8 +24,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         cpu_timing: false,
     })
     .map_err(replay_error)?;
+    // `--frames DIR` is written aside and replaces DIR whole at the end: a failed or
+    // interrupted render leaves the previous frames as they were.
+    let frames = args
+        .frames
+        .as_deref()
+        .map(|dir| reproj_io::StagedDir::new(dir, reproj_io::Replace::OwnFiles(FRAME_FILES)))
+        .transpose()
+        .map_err(|e| UserError(e.to_string()))?;
     let opts = RenderOptions {
-        png_dir: args.frames.clone(),
+        png_dir: frames.as_ref().map(|f| f.path().to_owned()),
         max_frames: args.max_frames,
         classify: true,
         raw_frames: args.raw_frames,
@@ -90,6 +101,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             r
         }
     };
+    if let Some(frames) = frames {
+        frames.commit().map_err(|e| UserError(e.to_string()))?;
+    }
     if args.json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
     } else {

@@ -1,0 +1,20 @@
+//! Files in and out, one way for every reproj command.
+//!
+//! - [`write_file`] writes one file atomically: a temporary file in the same directory, flushed to
+//!   disk, then renamed over the target. A reader sees the old file or the new one, never a torn one.
+//! - [`write_files`] writes a set of files that belong together: all or none are replaced.
+//! - [`StagedDir`] writes a whole output directory (a variant, an `emit` result, rendered frames)
+//!   into a temporary sibling and swaps it in on [`StagedDir::commit`]; dropped without a commit it
+//!   removes itself, so a failure anywhere leaves the previous directory exactly as it was.
+//! - [`read_json`] / [`parse_json`] read a versioned JSON document (`"schema"` + `"version"`) into
+//!   a typed value with one error format ([`ReadError`]): the file, and the field or line and column.
+//!
+//! Tests make a write fail mid-way through the `REPROJ_IO_FAIL` environment variable (see
+//! [`FAIL_ENV`]), so each writer's "a failure keeps the previous output" is checked through the
+//! real binary.
+
+mod json;
+mod write;
+
+pub use json::{Kind, ReadError, parse_json, read_json};
+pub use write::{FAIL_ENV, Replace, StagedDir, WriteError, write_file, write_files};
