@@ -45,7 +45,7 @@ pub enum ReadError {
         found: String,
     },
     /// The right schema in a version this reproj does not read.
-    #[error("{path}: field `version`: {found} is not a version of {schema} this reproj reads ({}){}", versions(.supported), hint_suffix(.hint))]
+    #[error("{path}: field `version`: {schema} version {found} is not one this reproj reads ({}){}", versions(.supported), hint_suffix(.hint))]
     Version {
         path: PathBuf,
         schema: &'static str,

@@ -157,11 +157,11 @@ fn the_reader_names_what_is_wrong() {
     );
     assert_eq!(
         msg(r#"{"schema": "reproj.test", "version": 1}"#),
-        "doc.json: field `version`: 1 is not a version of reproj.test this reproj reads (versions 2 to 3); write it again"
+        "doc.json: field `version`: reproj.test version 1 is not one this reproj reads (versions 2 to 3); write it again"
     );
     assert_eq!(
         msg(r#"{"schema": "reproj.test", "version": "3"}"#),
-        "doc.json: field `version`: \"3\" is not a version of reproj.test this reproj reads (versions 2 to 3); write it again"
+        "doc.json: field `version`: reproj.test version \"3\" is not one this reproj reads (versions 2 to 3); write it again"
     );
     let m = msg(r#"{"schema": "reproj.test", "version": 2, "items": [{"name": 5}]}"#);
     assert!(
