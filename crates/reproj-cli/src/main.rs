@@ -101,6 +101,11 @@ pub struct AnalyzeArgs {
     /// Smallest static saving worth profiling, as a fraction of the shader's cost.
     #[arg(long, default_value_t = 0.05)]
     pub min_saving: f64,
+    /// `adaptive`: replay a node at the longest, shortest and middle training Δn and the
+    /// held-out ones, and at the other training Δn only when the error model fitted to the three
+    /// misses a held-out measurement; `every`: at every training Δn (the paper's way).
+    #[arg(long, value_enum, default_value = "adaptive")]
+    pub sampling: SamplingArg,
     /// Replay only the first N frames of the session.
     #[arg(long)]
     pub max_frames: Option<u32>,
@@ -245,6 +250,13 @@ pub enum CacheFormatArg {
     Rgba16float,
     Rg16float,
     R16float,
+}
+
+/// At how many training periods `analyze` replays each node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplingArg {
+    Adaptive,
+    Every,
 }
 
 /// How a variant's passes are laid out (docs/PASSES.md).

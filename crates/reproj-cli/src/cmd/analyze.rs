@@ -106,6 +106,10 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
             fresh: args.fresh,
         }),
         shard: args.shard,
+        sampling: match args.sampling {
+            crate::SamplingArg::Adaptive => reproj_analyze::Sampling::default(),
+            crate::SamplingArg::Every => reproj_analyze::Sampling::Every,
+        },
     };
     eprintln!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
