@@ -84,7 +84,23 @@
     var b = budgetAt(+slider.value);
     $("budget-value").textContent = "ε ≤ " + b.toPrecision(3);
     var e = entryAt(b);
-    var key = e.choice === null ? "original" : String(e.choice);
+    // The selection's frames, or those of the nearest selection that has frames (over the
+    // `--max-rendered` limit a selection has none; choices are numbered by increasing budget).
+    var key = "original", note = "";
+    if (e.choice !== null) {
+      var best = null;
+      for (var g = 0; g < groups.length; g++) {
+        var k = groups[g].getAttribute("data-choice");
+        if (k === "original") continue;
+        if (best === null || Math.abs(+k - e.choice) < Math.abs(+best - e.choice)) best = k;
+      }
+      key = best === null ? "" : best;
+      if (best !== null && +best !== e.choice) {
+        var label = document.querySelector('.choice-frames[data-choice="' + best + '"]').getAttribute("data-label");
+        note = "Frames of the nearest rendered selection, " + label + " (this one is over the --max-rendered limit).";
+      }
+    }
+    $("frames-note").textContent = note;
     for (var i = 0; i < groups.length; i++) groups[i].hidden = groups[i].getAttribute("data-choice") !== key;
     budgetLine.setAttribute("x1", X(b)); budgetLine.setAttribute("x2", X(b));
     var rows = [];

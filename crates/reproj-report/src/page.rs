@@ -253,7 +253,7 @@ pub(crate) fn html(p: &Page<'_>) -> String {
 <table id="sel-numbers"></table>
 <p id="sel-reason" class="muted"></p>
 </div></div>
-<div id="frames">
+<div id="frames"><p id="frames-note" class="muted"></p>
 "#,
         profile_path = esc(&p.profile_path.display().to_string()),
         w = profile.resolution[0],
@@ -265,18 +265,18 @@ pub(crate) fn html(p: &Page<'_>) -> String {
     );
     for (k, r) in p.rendered.iter().enumerate() {
         let c = &p.budgets.choices[k];
-        let _ = writeln!(h, r#"<div class="choice-frames" data-choice="{k}" hidden>"#);
-        match r {
-            Some(r) => {
-                for f in &r.frames {
-                    frame_row(&mut h, f, c.delta_n);
-                }
+        // Selections over the `--max-rendered` limit have no group: the page shows the nearest one.
+        if let Some(r) = r {
+            let _ = writeln!(
+                h,
+                r#"<div class="choice-frames" data-choice="{k}" data-label="node {} (Δn = {})" hidden>"#,
+                c.node_id, c.delta_n
+            );
+            for f in &r.frames {
+                frame_row(&mut h, f, c.delta_n);
             }
-            None => h.push_str(
-                r#"<p class="muted">Frames not rendered for this selection (more selections than <code>--max-rendered</code>; move the slider to a neighbouring one).</p>"#,
-            ),
+            h.push_str("</div>\n");
         }
-        h.push_str("</div>\n");
     }
     h.push_str(
         r#"<div class="choice-frames" data-choice="original" hidden><p class="muted">The original shader is kept at this budget: nothing to compare.</p></div>
