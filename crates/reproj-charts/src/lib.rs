@@ -395,20 +395,29 @@ fn marks(profile: &Profile, budgets: &[f64]) -> Vec<(f64, f64, String)> {
     }
     marks
         .into_iter()
-        .map(|((id, strategy, dn), ms, error, budgets)| {
-            let budgets: Vec<String> = budgets.iter().map(|b| format!("{b}")).collect();
-            let strategy = if strategy == "3pass" {
-                String::new()
-            } else {
-                format!(" {strategy}")
-            };
+        .map(|((id, _, dn), ms, error, budgets)| {
+            let budgets: Vec<String> = budgets.iter().map(|b| significant(*b)).collect();
             (
                 ms,
                 error,
-                format!("ε ≤ {}: node {id}{strategy}, Δn {dn}", budgets.join(", ")),
+                format!("ε ≤ {}: node {id}, Δn {dn}", budgets.join(", ")),
             )
         })
         .collect()
+}
+
+/// `v` with three significant digits, trailing zeros trimmed: `0.002`, `0.0127`, `0.1`.
+fn significant(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return format!("{v}");
+    }
+    let decimals = (2.0 - v.log10().floor()).clamp(0.0, 12.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 fn tradeoff(profile: &Profile, budgets: &[f64]) -> Tradeoff {

@@ -393,6 +393,9 @@ fn synthetic_profile_charts() {
         assert!(models.contains(&label), "models lack the chosen node {id}");
     }
     assert!(tradeoff.contains("selection at a budget"));
+    assert_eq!(significant(0.012716541677974084), "0.0127");
+    assert_eq!(significant(0.002), "0.002");
+    assert_eq!(significant(0.1), "0.1");
 }
 
 #[test]

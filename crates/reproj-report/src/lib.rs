@@ -152,7 +152,7 @@ pub fn report(
         )?);
     }
     progress("drawing the charts");
-    let charts = page::Charts::draw(profile, &budgets)?;
+    let charts = page::Charts::draw(profile, &budgets, &chosen)?;
     Ok(page::html(&page::Page {
         profile,
         profile_path,

@@ -31,10 +31,15 @@ pub(crate) struct Charts {
 }
 
 impl Charts {
-    /// The trade-off chart marks each distinct selection at the lowest budget that selects it.
-    pub(crate) fn draw(profile: &Profile, budgets: &Budgets) -> Result<Charts, ReportError> {
+    /// The trade-off chart marks the rendered selections (`marked`: indices into the choices),
+    /// each at the lowest budget that selects it.
+    pub(crate) fn draw(
+        profile: &Profile,
+        budgets: &Budgets,
+        marked: &[usize],
+    ) -> Result<Charts, ReportError> {
         let opts = ChartOptions {
-            budgets: budgets.first_budget.clone(),
+            budgets: marked.iter().map(|&i| budgets.first_budget[i]).collect(),
         };
         Ok(Charts {
             tradeoff: reproj_charts::png(profile, Figure::Tradeoff, &opts)?,
