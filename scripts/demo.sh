@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set everything up and run reproj on the bundled marble sample: list the nodes, profile them over
 # the marble session (analyze), then pick and write the fastest variant at four error budgets (emit),
-# each checked by re-rendering (--verify). Results and charts land in out/.
+# each checked by re-rendering (--verify), and write the HTML report. Results, charts and the report
+# land in out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/ensure-vulkan.sh
@@ -24,4 +25,8 @@ for budget in 0.002 0.01 0.03 0.1; do
         --verify --session sessions/marble.json
 done
 echo
-echo "charts: out/marble.tradeoff.png (error vs frame time per node), out/marble.hitrate.png, out/marble.models.png"
+echo "== reproj report out/marble.profile.json"
+$REPROJ report out/marble.profile.json --out out/marble.report.html
+echo
+echo "charts: out/marble.tradeoff.png (error vs frame time per node, the four selections marked), out/marble.hitrate.png, out/marble.models.png"
+echo "report: out/marble.report.html (open it in a browser; move the budget slider)"

@@ -14,7 +14,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::font::{FAMILY, Fonts};
 use crate::glyph::GlyphBitmap;
-use crate::{HitRate, ModelPanel, Models, Tradeoff};
+use crate::models::Models;
+use crate::{HitRate, Tradeoff};
 
 /// What to draw.
 #[derive(Debug, Clone)]
@@ -24,7 +25,7 @@ pub(crate) enum Chart {
     Models(Models),
 }
 
-type DrawResult = Result<(), Box<dyn Error>>;
+pub(crate) type DrawResult = Result<(), Box<dyn Error>>;
 
 /// The chart as an SVG document.
 pub(crate) fn render_svg(chart: &Chart, size: (u32, u32)) -> Result<String, String> {
@@ -65,7 +66,7 @@ where
     match chart {
         Chart::Tradeoff(t) => tradeoff(root, t, theme),
         Chart::HitRate(h) => hit_rate(root, h, theme),
-        Chart::Models(m) => models(root, m, theme),
+        Chart::Models(m) => crate::models::draw(root, m, theme),
     }
 }
 
@@ -87,23 +88,23 @@ const PALETTE: [RGBColor; 12] = [
     RGBColor(0xb8, 0x86, 0x0b),
     RGBColor(0x63, 0x79, 0x39),
 ];
-const INK: RGBColor = RGBColor(0x20, 0x20, 0x20);
-const MUTED: RGBColor = RGBColor(0x60, 0x60, 0x60);
+pub(crate) const INK: RGBColor = RGBColor(0x20, 0x20, 0x20);
+pub(crate) const MUTED: RGBColor = RGBColor(0x60, 0x60, 0x60);
 const GREY: RGBColor = RGBColor(0xa8, 0xa8, 0xa8);
 const GRID_LIGHT: RGBColor = RGBColor(0xf0, 0xf0, 0xf0);
 const GRID_BOLD: RGBColor = RGBColor(0xdc, 0xdc, 0xdc);
-const WARN: RGBColor = RGBColor(0xb0, 0x30, 0x20);
+pub(crate) const WARN: RGBColor = RGBColor(0xb0, 0x30, 0x20);
 
-fn color(i: usize) -> RGBColor {
+pub(crate) fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
 /// Text styles.
 #[derive(Debug, Clone, Copy)]
-struct Theme;
+pub(crate) struct Theme;
 
 impl Theme {
-    fn style(&self, size: f64, color: RGBColor, bold: bool) -> TextStyle<'static> {
+    pub(crate) fn style(&self, size: f64, color: RGBColor, bold: bool) -> TextStyle<'static> {
         let font = if bold {
             (FAMILY, size).into_font().style(FontStyle::Bold)
         } else {
@@ -111,23 +112,23 @@ impl Theme {
         };
         font.color(&color)
     }
-    fn text(&self, size: f64) -> TextStyle<'static> {
+    pub(crate) fn text(&self, size: f64) -> TextStyle<'static> {
         self.style(size, INK, false)
     }
-    fn muted(&self, size: f64) -> TextStyle<'static> {
+    pub(crate) fn muted(&self, size: f64) -> TextStyle<'static> {
         self.style(size, MUTED, false)
     }
-    fn bold(&self, size: f64) -> TextStyle<'static> {
+    pub(crate) fn bold(&self, size: f64) -> TextStyle<'static> {
         self.style(size, INK, true)
     }
 }
 
-fn at(style: &TextStyle<'static>, h: HPos, v: VPos) -> TextStyle<'static> {
+pub(crate) fn at(style: &TextStyle<'static>, h: HPos, v: VPos) -> TextStyle<'static> {
     style.pos(Pos::new(h, v))
 }
 
 /// Title and subtitle centered at the top of `root`.
-fn header<DB: DrawingBackend>(
+pub(crate) fn header<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
     subtitle: &str,
@@ -156,7 +157,7 @@ where
 /// A non-empty range covering the finite `values`, padded by `pad` of its width on each side;
 /// `default` when there is none. A zero-width range is widened around its value (10 % of it, or
 /// half of `default`'s width at 0). `non_negative`: never below 0 when no value is.
-fn span(
+pub(crate) fn span(
     values: impl IntoIterator<Item = f64>,
     default: (f64, f64),
     pad: f64,
@@ -198,7 +199,7 @@ fn span(
 
 /// Tick labels rounded to the axis' resolution, trailing zeros trimmed; scientific notation for
 /// axes whose values are all tiny or huge.
-fn formatter(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
+pub(crate) fn formatter(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
     let magnitude = lo.abs().max(hi.abs());
     let scientific = magnitude > 0.0 && !(1e-4..1e6).contains(&magnitude);
     let decimals = (-((hi - lo) / 20.0).log10()).ceil().clamp(0.0, 9.0) as usize;
@@ -262,24 +263,24 @@ impl YScale {
 }
 
 /// A tick-label formatter.
-type Fmt<'a> = &'a dyn Fn(&f64) -> String;
+pub(crate) type Fmt<'a> = &'a dyn Fn(&f64) -> String;
 /// A linear f64 × f64 chart.
 type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// How to draw a chart's axes.
-struct Axes<'a> {
-    x_desc: &'a str,
-    y_desc: &'a str,
-    x_fmt: Fmt<'a>,
-    y_fmt: Fmt<'a>,
+pub(crate) struct Axes<'a> {
+    pub(crate) x_desc: &'a str,
+    pub(crate) y_desc: &'a str,
+    pub(crate) x_fmt: Fmt<'a>,
+    pub(crate) y_fmt: Fmt<'a>,
     /// Most labels on x and y.
-    labels: (usize, usize),
-    label_size: f64,
+    pub(crate) labels: (usize, usize),
+    pub(crate) label_size: f64,
     /// Light grid lines between two y labels.
-    y_light_lines: usize,
+    pub(crate) y_light_lines: usize,
 }
 
-fn mesh_style<DB: DrawingBackend>(
+pub(crate) fn mesh_style<DB: DrawingBackend>(
     chart: &mut Chart2d<'_, DB>,
     theme: &Theme,
     axes: &Axes<'_>,
@@ -308,7 +309,7 @@ where
 
 /// A legend row: a sample of the line/marker at `(x, y)` (vertical center), then the label.
 #[derive(Debug, Clone, Copy)]
-enum Sample {
+pub(crate) enum Sample {
     Line {
         color: RGBColor,
         width: u32,
@@ -327,9 +328,12 @@ enum Sample {
     Cross {
         color: RGBColor,
     },
+    Ring {
+        color: RGBColor,
+    },
 }
 
-fn legend_row<DB: DrawingBackend>(
+pub(crate) fn legend_row<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     (x, y): (i32, i32),
     sample: Sample,
@@ -377,6 +381,9 @@ where
         }
         Sample::Cross { color } => {
             area.draw(&Cross::new(((x0 + x1) / 2, y), 4, color.stroke_width(2)))?;
+        }
+        Sample::Ring { color } => {
+            area.draw(&Circle::new(((x0 + x1) / 2, y), 7, color.stroke_width(2)))?;
         }
     }
     area.draw_text(label, &at(style, HPos::Left, VPos::Center), (x1 + 8, y))?;
@@ -601,6 +608,26 @@ where
             ))?;
         }
     }
+    // The selections at the budgets: a black ring on the predicted point, labelled.
+    for (i, (ms, e, label)) in t.marks.iter().enumerate() {
+        let q = (*ms, scale.map(*e));
+        chart.draw_series(std::iter::once(Circle::new(q, 8, INK.stroke_width(2))))?;
+        let right = *ms > x0 + 0.6 * (x1 - x0);
+        let (h, dx) = if right {
+            (HPos::Right, -12)
+        } else {
+            (HPos::Left, 12)
+        };
+        // Alternate above and below, so neighbouring labels do not overlap.
+        let (v, dy) = if i % 2 == 0 {
+            (VPos::Bottom, -6)
+        } else {
+            (VPos::Top, 6)
+        };
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(q) + Text::new(label.clone(), (dx, dy), at(&theme.bold(12.0), h, v)),
+        ))?;
+    }
     if t.paths.is_empty() {
         note_center(
             chart.plotting_area(),
@@ -664,6 +691,12 @@ where
                 gap: 4,
             },
             "predicted Pareto frontier".to_string(),
+        ));
+    }
+    if !t.marks.is_empty() {
+        rows.push((
+            Sample::Ring { color: INK },
+            "selection at a budget ε (predicted)".to_string(),
         ));
     }
     if let Some(orig) = t.original_ms {
@@ -832,217 +865,6 @@ where
     }
     Ok(())
 }
-
-// ---------------------------------------------------------------------------------------------
-// Chart 3: model validation (Fig. 6).
-
-fn models<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    m: &Models,
-    theme: &Theme,
-) -> DrawResult
-where
-    DB::ErrorType: 'static,
-{
-    header(root, &m.title, &m.subtitle, theme)?;
-    // Legend line under the header.
-    let (w, _) = root.dim_in_pixel();
-    let rows = [
-        (
-            Sample::Line {
-                color: INK,
-                width: 2,
-                marker: false,
-            },
-            "model prediction",
-        ),
-        (
-            Sample::Dot {
-                color: INK,
-                filled: true,
-            },
-            "measured (training Δn)",
-        ),
-        (Sample::Cross { color: INK }, "measured (held-out Δn)"),
-        (
-            Sample::Dashed {
-                color: MUTED,
-                width: 1,
-                dash: 6,
-                gap: 5,
-            },
-            "original shader",
-        ),
-    ];
-    let style = theme.text(13.0);
-    let item_w = 230;
-    let start = (w as i32 - item_w * rows.len() as i32) / 2;
-    for (i, (sample, label)) in rows.iter().enumerate() {
-        legend_row(
-            root,
-            (start + i as i32 * item_w, 72),
-            *sample,
-            label,
-            &style,
-        )?;
-    }
-    let (_, body) = root.split_vertically(88);
-    let cols = m.panels.len().max(1);
-    let areas = body.split_evenly((2, cols));
-    if m.panels.is_empty() {
-        let empty = ModelPanel {
-            label: String::new(),
-            color: 0,
-            error_measured: Vec::new(),
-            error_curve: Vec::new(),
-            error_note: Some("no node has measurements".to_string()),
-            time_measured: Vec::new(),
-            time_curve: Vec::new(),
-            time_note: Some("no node has measurements".to_string()),
-        };
-        panel(
-            &areas[0],
-            &empty,
-            Quantity::Error,
-            None,
-            m.max_delta_n,
-            theme,
-        )?;
-        panel(
-            &areas[1],
-            &empty,
-            Quantity::Time,
-            m.original_ms,
-            m.max_delta_n,
-            theme,
-        )?;
-        return Ok(());
-    }
-    for (i, p) in m.panels.iter().enumerate() {
-        panel(&areas[i], p, Quantity::Error, None, m.max_delta_n, theme)?;
-        panel(
-            &areas[cols + i],
-            p,
-            Quantity::Time,
-            m.original_ms,
-            m.max_delta_n,
-            theme,
-        )?;
-    }
-    Ok(())
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Quantity {
-    Error,
-    Time,
-}
-
-fn panel<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    p: &ModelPanel,
-    q: Quantity,
-    original_ms: Option<f64>,
-    max_delta_n: f64,
-    theme: &Theme,
-) -> DrawResult
-where
-    DB::ErrorType: 'static,
-{
-    let c = color(p.color);
-    let (measured, curve, note, desc) = match q {
-        Quantity::Error => (
-            &p.error_measured,
-            &p.error_curve,
-            &p.error_note,
-            "error (L2 RGB)",
-        ),
-        Quantity::Time => (
-            &p.time_measured,
-            &p.time_curve,
-            &p.time_note,
-            "frame time (ms)",
-        ),
-    };
-    let (pw, _) = area.dim_in_pixel();
-    let top = if q == Quantity::Error { 24 } else { 6 };
-    if q == Quantity::Error {
-        area.draw_text(
-            &p.label,
-            &at(&theme.style(13.5, c, true), HPos::Center, VPos::Top),
-            (pw as i32 / 2, 4),
-        )?;
-    }
-    let x1 = max_delta_n.max(2.0) * 1.04;
-    let ys = measured
-        .iter()
-        .map(|v| v.1)
-        .chain(curve.iter().map(|v| v.1))
-        .chain(original_ms.filter(|_| q == Quantity::Time));
-    let default = if q == Quantity::Error {
-        (0.0, 0.01)
-    } else {
-        (0.0, 1.0)
-    };
-    let (y0, y1) = span(ys, default, 0.08, true);
-    let mut chart = ChartBuilder::on(area)
-        .margin_top(top)
-        .margin_left(4)
-        .margin_right(14)
-        .margin_bottom(6)
-        .x_label_area_size(38)
-        .y_label_area_size(64)
-        .build_cartesian_2d(0.0..x1, y0..y1)?;
-    let x_fmt = formatter(0.0, x1);
-    let y_fmt = formatter(y0, y1);
-    mesh_style(
-        &mut chart,
-        theme,
-        &Axes {
-            x_desc: "Δn",
-            y_desc: desc,
-            x_fmt: &x_fmt,
-            y_fmt: &y_fmt,
-            labels: (6, 6),
-            label_size: 12.0,
-            y_light_lines: 2,
-        },
-    )?;
-    if let Some(orig) = original_ms.filter(|_| q == Quantity::Time) {
-        chart.draw_series(DashedLineSeries::new(
-            vec![(0.0, orig), (x1, orig)],
-            6,
-            5,
-            MUTED.stroke_width(1),
-        ))?;
-    }
-    if !curve.is_empty() {
-        chart.draw_series(LineSeries::new(curve.iter().copied(), c.stroke_width(2)))?;
-    }
-    chart.draw_series(
-        measured
-            .iter()
-            .filter(|v| !v.2)
-            .map(|v| Circle::new((v.0, v.1), 4, c.filled())),
-    )?;
-    chart.draw_series(
-        measured
-            .iter()
-            .filter(|v| v.2)
-            .map(|v| Cross::new((v.0, v.1), 5, INK.stroke_width(2))),
-    )?;
-    if let Some(note) = note {
-        let (xr, yr) = chart.plotting_area().get_pixel_range();
-        let base = area.get_base_pixel();
-        area.draw_text(
-            note,
-            &at(&theme.style(12.0, WARN, false), HPos::Left, VPos::Top),
-            (xr.start - base.0 + 6, yr.start - base.1 + 6),
-        )?;
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,8 +4,11 @@
 //!   shader's frame time as a dashed vertical line and the models' predicted Pareto frontier
 //!   (`reproj_select::pareto`) dotted;
 //! - `{stem}.hitrate`: measured hit rate vs Δn and the fitted `µ(1 − 1/Δn)` (Fig. 5);
-//! - `{stem}.models`: for up to four nodes, predicted vs measured error and frame time over Δn,
-//!   held-out Δn marked apart (Fig. 6).
+//! - `{stem}.models`: for every usable node (small multiples), predicted vs measured error and
+//!   frame time over Δn, held-out Δn marked apart (Fig. 6; [`models`](crate::models)).
+//!
+//! The trade-off chart marks what the selector (`reproj_select::select`, as `reproj emit` runs it)
+//! chooses at the budgets of [`ChartOptions`], labelled with the budgets.
 //!
 //! Text: SVG always has it (`<text>` elements; the viewer picks the font). PNG text needs a font
 //! file, found at run time (see [`font_path`], env `REPROJ_FONT`) and drawn with ab_glyph; with
@@ -18,13 +21,16 @@
 mod draw;
 mod font;
 mod glyph;
+mod models;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
-use reproj_models::{HitRateStatus, Profile, predicted_frame_ms};
-use reproj_select::{DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, pareto};
+use reproj_models::{HitRateStatus, Profile};
+use reproj_select::{
+    DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, pareto, select,
+};
 
 pub use font::{FONT_ENV, font_path};
 
@@ -67,21 +73,111 @@ pub enum ChartError {
 
 /// Size of the trade-off and hit-rate charts, pixels.
 const SIZE: (u32, u32) = (900, 600);
-/// Size of the model-validation chart (two rows of up to four panels), pixels.
-const MODELS_SIZE: (u32, u32) = (1200, 680);
 /// More nodes than this: only the best [`HIGHLIGHTED`] get a color and a legend entry.
 const MAX_LEGEND_NODES: usize = 12;
 /// Nodes highlighted when there are more than [`MAX_LEGEND_NODES`].
 const HIGHLIGHTED: usize = 8;
-/// Nodes in the model-validation chart.
-const MODEL_NODES: usize = 4;
+
+/// What to draw beyond the profile.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ChartOptions {
+    /// Error budgets whose selections the trade-off chart marks (`reproj emit --max-error`).
+    pub budgets: Vec<f64>,
+}
+
+/// One of the charts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Figure {
+    /// Error vs frame time per node, the selections marked.
+    Tradeoff,
+    /// Hit rate vs Δn.
+    HitRate,
+    /// Predicted vs measured error and time, every usable node.
+    Models,
+}
+
+impl Figure {
+    /// Every chart, in the order [`write_charts`] writes them.
+    pub const ALL: [Figure; 3] = [Figure::Tradeoff, Figure::HitRate, Figure::Models];
+
+    /// The name in file names: `{stem}.{name}.png`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Figure::Tradeoff => "tradeoff",
+            Figure::HitRate => "hitrate",
+            Figure::Models => "models",
+        }
+    }
+}
+
+/// A chart as PNG bytes, from [`png`].
+#[derive(Debug, Clone)]
+pub struct Png {
+    pub bytes: Vec<u8>,
+    /// `(width, height)` in pixels.
+    pub size: (u32, u32),
+    /// Non-fatal remarks (no font: no text).
+    pub warnings: Vec<String>,
+}
+
+/// One chart of `profile` as PNG, in memory (for pages that embed it).
+pub fn png(profile: &Profile, figure: Figure, opts: &ChartOptions) -> Result<Png, ChartError> {
+    let font = font::font();
+    let (chart, size) = charts(profile, opts)
+        .into_iter()
+        .find(|c| c.0 == figure)
+        .map(|c| (c.1, c.2))
+        .expect("every figure is drawn");
+    let rgb = draw::render_rgb(&chart, size, font.fonts.as_ref()).map_err(|message| {
+        ChartError::Draw {
+            chart: figure.name(),
+            message,
+        }
+    })?;
+    let bytes = encode_png(&rgb, size).map_err(|message| ChartError::Png {
+        path: PathBuf::from(figure.name()),
+        message,
+    })?;
+    Ok(Png {
+        bytes,
+        size,
+        warnings: font.warnings.clone(),
+    })
+}
+
+/// Every chart's data and size.
+fn charts(profile: &Profile, opts: &ChartOptions) -> Vec<(Figure, draw::Chart, (u32, u32))> {
+    let tradeoff = tradeoff(profile, &opts.budgets);
+    // A node keeps its color from chart to chart.
+    let colors: BTreeMap<u32, usize> = tradeoff
+        .paths
+        .iter()
+        .filter_map(|p| p.color.map(|c| (p.id, c)))
+        .collect();
+    let models = models::models(profile, &colors);
+    let models_size = models::size(&models);
+    vec![
+        (Figure::Tradeoff, draw::Chart::Tradeoff(tradeoff), SIZE),
+        (
+            Figure::HitRate,
+            draw::Chart::HitRate(hit_rate(profile)),
+            SIZE,
+        ),
+        (Figure::Models, draw::Chart::Models(models), models_size),
+    ]
+}
 
 /// Write the analysis charts next to the profile: `{stem}.tradeoff.{svg,png}`,
 /// `{stem}.hitrate.{svg,png}`, `{stem}.models.{svg,png}` in `dir` (created if missing), all or
 /// none ([`reproj_io::write_files`]).
-pub fn write_charts(profile: &Profile, dir: &Path, stem: &str) -> Result<ChartPaths, ChartError> {
+pub fn write_charts(
+    profile: &Profile,
+    dir: &Path,
+    stem: &str,
+    opts: &ChartOptions,
+) -> Result<ChartPaths, ChartError> {
     let font = font::font();
-    let mut paths = write_charts_with(profile, dir, stem, font.fonts.as_ref())?;
+    let mut paths = write_charts_with(profile, dir, stem, opts, font.fonts.as_ref())?;
     paths.warnings.extend(font.warnings.iter().cloned());
     paths.font = font.path.clone();
     Ok(paths)
@@ -92,24 +188,13 @@ fn write_charts_with(
     profile: &Profile,
     dir: &Path,
     stem: &str,
+    opts: &ChartOptions,
     fonts: Option<&font::Fonts>,
 ) -> Result<ChartPaths, ChartError> {
-    let tradeoff = tradeoff(profile);
-    // A node keeps its color from chart to chart.
-    let colors: BTreeMap<u32, usize> = tradeoff
-        .paths
-        .iter()
-        .filter_map(|p| p.color.map(|c| (p.id, c)))
-        .collect();
-    let models = models(profile, &colors);
-    let charts = [
-        ("tradeoff", draw::Chart::Tradeoff(tradeoff), SIZE),
-        ("hitrate", draw::Chart::HitRate(hit_rate(profile)), SIZE),
-        ("models", draw::Chart::Models(models), MODELS_SIZE),
-    ];
     let mut out = ChartPaths::default();
     let mut files = Vec::new();
-    for (name, chart, size) in &charts {
+    for (figure, chart, size) in &charts(profile, opts) {
+        let name = figure.name();
         let svg_path = dir.join(format!("{stem}.{name}.svg"));
         let svg = draw::render_svg(chart, *size).map_err(|message| ChartError::Draw {
             chart: name,
@@ -172,6 +257,8 @@ pub(crate) struct Tradeoff {
     /// Predicted frontier: `(ms, error, Δn, node id)`, by increasing time.
     pub(crate) pareto: Vec<(f64, f64, u32, u32)>,
     pub(crate) original_ms: Option<f64>,
+    /// The selections at the chart's budgets, predicted: `(ms, error, label)`.
+    pub(crate) marks: Vec<(f64, f64, String)>,
 }
 
 /// Chart 2 (Fig. 5).
@@ -187,32 +274,7 @@ pub(crate) struct HitRate {
     pub(crate) max_delta_n: f64,
 }
 
-/// One node of chart 3 (Fig. 6).
-#[derive(Debug, Clone)]
-pub(crate) struct ModelPanel {
-    pub(crate) label: String,
-    pub(crate) color: usize,
-    /// `(Δn, value, held out)`.
-    pub(crate) error_measured: Vec<(f64, f64, bool)>,
-    pub(crate) error_curve: Vec<(f64, f64)>,
-    /// Why there is no error curve.
-    pub(crate) error_note: Option<String>,
-    pub(crate) time_measured: Vec<(f64, f64, bool)>,
-    pub(crate) time_curve: Vec<(f64, f64)>,
-    pub(crate) time_note: Option<String>,
-}
-
-/// Chart 3 (Fig. 6).
-#[derive(Debug, Clone)]
-pub(crate) struct Models {
-    pub(crate) title: String,
-    pub(crate) subtitle: String,
-    pub(crate) panels: Vec<ModelPanel>,
-    pub(crate) original_ms: Option<f64>,
-    pub(crate) max_delta_n: f64,
-}
-
-fn finite_pos(v: f64) -> Option<f64> {
+pub(crate) fn finite_pos(v: f64) -> Option<f64> {
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
@@ -240,11 +302,11 @@ pub(crate) fn truncate(s: &str, max: usize) -> String {
 }
 
 /// A measurement that can be drawn: finite, non-negative time and error.
-fn usable(m: &Measurement) -> bool {
+pub(crate) fn usable(m: &Measurement) -> bool {
     m.frame_ms.is_finite() && m.frame_ms >= 0.0 && m.error.is_finite() && m.error >= 0.0
 }
 
-fn shader_name(profile: &Profile) -> String {
+pub(crate) fn shader_name(profile: &Profile) -> String {
     Path::new(&profile.shader.path)
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -252,7 +314,7 @@ fn shader_name(profile: &Profile) -> String {
         .unwrap_or_else(|| "shader".to_string())
 }
 
-fn setting(profile: &Profile) -> String {
+pub(crate) fn setting(profile: &Profile) -> String {
     let adapter = if profile.machine.adapter.is_empty() {
         "unknown adapter".to_string()
     } else {
@@ -281,7 +343,60 @@ fn records(profile: &Profile) -> Vec<NodeRecord> {
         .collect()
 }
 
-fn tradeoff(profile: &Profile) -> Tradeoff {
+/// The selections at `budgets`: one mark per distinct choice, labelled with its budgets.
+fn marks(profile: &Profile, budgets: &[f64]) -> Vec<(f64, f64, String)> {
+    let nodes = records(profile);
+    /// (node, strategy, Δn), predicted ms and error, the budgets that choose it.
+    type Marked = ((u32, String, u32), f64, f64, Vec<f64>);
+    let mut marks: Vec<Marked> = Vec::new();
+    for &budget in budgets {
+        let Selection::Node(c) = select(
+            &nodes,
+            &profile.hit_rate,
+            profile.original.frame_ms,
+            &SelectOptions::new(budget),
+        ) else {
+            continue;
+        };
+        let key = (c.node_id, c.strategy.clone(), c.delta_n);
+        match marks.iter_mut().find(|m| m.0 == key) {
+            Some(m) => m.3.push(budget),
+            None => marks.push((
+                key,
+                c.predicted_ms,
+                c.predicted_error.max(0.0),
+                vec![budget],
+            )),
+        }
+    }
+    marks
+        .into_iter()
+        .map(|((id, _, dn), ms, error, budgets)| {
+            let budgets: Vec<String> = budgets.iter().map(|b| significant(*b)).collect();
+            (
+                ms,
+                error,
+                format!("ε ≤ {}: node {id}, Δn {dn}", budgets.join(", ")),
+            )
+        })
+        .collect()
+}
+
+/// `v` with three significant digits, trailing zeros trimmed: `0.002`, `0.0127`, `0.1`.
+fn significant(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return format!("{v}");
+    }
+    let decimals = (2.0 - v.log10().floor()).clamp(0.0, 12.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn tradeoff(profile: &Profile, budgets: &[f64]) -> Tradeoff {
     let original_ms = finite_pos(profile.original.frame_ms);
     let pareto: Vec<(f64, f64, u32, u32)> = pareto(
         &records(profile),
@@ -419,6 +534,7 @@ fn tradeoff(profile: &Profile) -> Tradeoff {
         others,
         pareto,
         original_ms,
+        marks: marks(profile, budgets),
     }
 }
 
@@ -478,124 +594,6 @@ fn hit_rate(profile: &Profile) -> HitRate {
         holdout: held,
         mu,
         max_delta_n: f64::from(max_dn.max(DEFAULT_MAX_DELTA_N)),
-    }
-}
-
-/// Up to [`MODEL_NODES`] nodes: among the usable ones (all, if none is usable) with the most
-/// measurements, spread evenly over the static cost; in increasing cost.
-fn model_nodes(profile: &Profile) -> Vec<&NodeProfile> {
-    let with: Vec<&NodeProfile> = profile
-        .nodes
-        .iter()
-        .filter(|n| n.measurements.iter().any(usable))
-        .collect();
-    let ok: Vec<&NodeProfile> = with
-        .iter()
-        .copied()
-        .filter(|n| n.status == NodeStatus::Ok)
-        .collect();
-    let mut pool = if ok.is_empty() { with } else { ok };
-    let count = |n: &NodeProfile| n.measurements.iter().filter(|m| usable(m)).count();
-    pool.sort_by(|a, b| count(b).cmp(&count(a)).then(a.id.cmp(&b.id)));
-    let Some(threshold) = pool
-        .get(MODEL_NODES.min(pool.len()).saturating_sub(1))
-        .map(|n| count(n))
-    else {
-        return Vec::new();
-    };
-    pool.retain(|n| count(n) >= threshold);
-    pool.sort_by(|a, b| a.cost.total_cmp(&b.cost).then(a.id.cmp(&b.id)));
-    let k = MODEL_NODES.min(pool.len());
-    if k <= 1 {
-        return pool.into_iter().take(k).collect();
-    }
-    let mut picked: Vec<usize> = (0..k).map(|i| i * (pool.len() - 1) / (k - 1)).collect();
-    picked.dedup();
-    picked.into_iter().map(|i| pool[i]).collect()
-}
-
-/// `colors`: palette index of the nodes that have one in the trade-off chart.
-fn models(profile: &Profile, colors: &BTreeMap<u32, usize>) -> Models {
-    let train: BTreeSet<u32> = profile.delta_n_train.iter().copied().collect();
-    let holdout: BTreeSet<u32> = profile.delta_n_holdout.iter().copied().collect();
-    let is_held = |dn: u32| holdout.contains(&dn) && !train.contains(&dn);
-    let nodes = model_nodes(profile);
-    let max_dn = nodes
-        .iter()
-        .flat_map(|n| n.measurements.iter().map(|m| m.delta_n))
-        .max()
-        .unwrap_or(0)
-        .max(DEFAULT_MAX_DELTA_N);
-    let grid: Vec<f64> = (0..=200)
-        .map(|i| 1.0 + (f64::from(max_dn) - 1.0) * f64::from(i) / 200.0)
-        .collect();
-    let mean_pixels = profile.original.mean_pixels;
-    let mut next_color = colors.values().max().map_or(0, |c| c + 1);
-    let panels = nodes
-        .iter()
-        .map(|n| {
-            let color = colors.get(&n.id).copied().unwrap_or_else(|| {
-                next_color += 1;
-                next_color - 1
-            });
-            let ms: Vec<&Measurement> = n.measurements.iter().filter(|m| usable(m)).collect();
-            let error_curve: Vec<(f64, f64)> = grid
-                .iter()
-                .filter_map(|&dn| {
-                    n.error_fit
-                        .predict(dn)
-                        .filter(|e| e.is_finite())
-                        .map(|e| (dn, e))
-                })
-                .collect();
-            let time_curve: Vec<(f64, f64)> = grid
-                .iter()
-                .filter_map(|&dn| {
-                    predicted_frame_ms(&n.timing_fit, &profile.hit_rate, dn, mean_pixels)
-                        .filter(|t| t.is_finite())
-                        .map(|t| (dn, t))
-                })
-                .collect();
-            let error_note = match (&n.error_fit.status, error_curve.is_empty()) {
-                (reproj_models::ErrorFitStatus::Failed { reason }, _) => {
-                    Some(truncate(&format!("error fit failed: {reason}"), 60))
-                }
-                (_, true) => Some("no error model".to_string()),
-                _ => None,
-            };
-            let time_note = if time_curve.is_empty() {
-                Some(if n.timing_fit.is_usable() {
-                    "no hit-rate model: no prediction".to_string()
-                } else {
-                    "timing fit not usable".to_string()
-                })
-            } else {
-                None
-            };
-            ModelPanel {
-                label: node_label(n, 30),
-                color,
-                error_measured: ms
-                    .iter()
-                    .map(|m| (f64::from(m.delta_n), m.error, is_held(m.delta_n)))
-                    .collect(),
-                error_curve,
-                error_note,
-                time_measured: ms
-                    .iter()
-                    .map(|m| (f64::from(m.delta_n), m.frame_ms, is_held(m.delta_n)))
-                    .collect(),
-                time_curve,
-                time_note,
-            }
-        })
-        .collect();
-    Models {
-        title: format!("Model validation — {}", shader_name(profile)),
-        subtitle: setting(profile),
-        panels,
-        original_ms: finite_pos(profile.original.frame_ms),
-        max_delta_n: f64::from(max_dn),
     }
 }
 

@@ -284,7 +284,11 @@ fn check_files(paths: &ChartPaths, dir: &Path, stem: &str) {
             "{name}.png"
         );
         let img = image::load_from_memory(&png).unwrap();
-        let (w, h) = if *name == "models" { MODELS_SIZE } else { SIZE };
+        let (w, h) = if *name == "models" {
+            (img.width(), img.height())
+        } else {
+            SIZE
+        };
         assert_eq!((img.width(), img.height()), (w, h));
     }
     // No temporary file left behind.
@@ -320,7 +324,11 @@ fn synthetic_profile_charts() {
     );
 
     let dir = tempfile::tempdir().unwrap();
-    let paths = write_charts(&profile, dir.path(), "marble").unwrap();
+    let budgets = vec![0.002, 0.01, 0.03, 0.1];
+    let opts = ChartOptions {
+        budgets: budgets.clone(),
+    };
+    let paths = write_charts(&profile, dir.path(), "marble", &opts).unwrap();
     keep(dir.path());
     check_files(&paths, dir.path(), "marble");
     if paths.font.is_none() {
@@ -354,8 +362,40 @@ fn synthetic_profile_charts() {
     let models = svg(&paths, 2);
     assert!(models.contains("frame time (ms)") && models.contains("error (L2 RGB)"));
     assert!(models.contains("held-out"));
-    // Four nodes, spread over cost, from the usable ones.
-    assert_eq!(models.matches("frame time (ms)").count(), 4);
+    // Every usable node, and each node a selection caches.
+    assert_eq!(models.matches("frame time (ms)").count(), ok);
+    let mut chosen = BTreeSet::new();
+    for &b in &budgets {
+        if let Selection::Node(c) = select(
+            &records(&profile),
+            &profile.hit_rate,
+            profile.original.frame_ms,
+            &SelectOptions::new(b),
+        ) {
+            chosen.insert(c.node_id);
+            // The trade-off chart marks it, labelled with the budget.
+            let marks = super::tradeoff(&profile, &budgets).marks;
+            assert!(
+                marks.iter().any(|m| m.2.contains(&format!("{b}"))
+                    && (m.2.contains(&format!("node {},", c.node_id))
+                        || m.2.contains(&format!("node {} ", c.node_id)))),
+                "{b}: {marks:?}"
+            );
+        }
+    }
+    assert!(!chosen.is_empty(), "no budget selects a node");
+    for id in chosen {
+        let n = profile.nodes.iter().find(|n| n.id == id).unwrap();
+        let label = node_label(n, 30)
+            .replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;");
+        assert!(models.contains(&label), "models lack the chosen node {id}");
+    }
+    assert!(tradeoff.contains("selection at a budget"));
+    assert_eq!(significant(0.012716541677974084), "0.0127");
+    assert_eq!(significant(0.002), "0.002");
+    assert_eq!(significant(0.1), "0.1");
 }
 
 #[test]
@@ -378,12 +418,12 @@ fn many_nodes_highlight_the_best() {
         .collect();
     let profile = profile_of(&sims, 17.0);
     let dir = tempfile::tempdir().unwrap();
-    let paths = write_charts(&profile, dir.path(), "many").unwrap();
+    let paths = write_charts(&profile, dir.path(), "many", &ChartOptions::default()).unwrap();
     keep(dir.path());
     check_files(&paths, dir.path(), "many");
     let tsvg = svg(&paths, 0);
     assert!(tsvg.contains("12 other usable nodes (grey)"));
-    let t = tradeoff(&profile);
+    let t = tradeoff(&profile, &[]);
     assert_eq!(
         t.paths.iter().filter(|p| p.color.is_some()).count(),
         HIGHLIGHTED
@@ -418,7 +458,7 @@ fn degenerate_profiles_still_chart() {
 
     // No node at all, no original time, failed hit-rate fit.
     let empty = empty_profile();
-    let paths = write_charts(&empty, dir.path(), "empty").unwrap();
+    let paths = write_charts(&empty, dir.path(), "empty", &ChartOptions::default()).unwrap();
     check_files(&paths, dir.path(), "empty");
     assert!(svg(&paths, 0).contains("no measurements"));
     assert!(svg(&paths, 1).contains("fit failed"));
@@ -428,7 +468,7 @@ fn degenerate_profiles_still_chart() {
     for n in &mut bare.nodes {
         n.measurements.clear();
     }
-    let paths = write_charts(&bare, dir.path(), "bare").unwrap();
+    let paths = write_charts(&bare, dir.path(), "bare", &ChartOptions::default()).unwrap();
     check_files(&paths, dir.path(), "bare");
 
     // All errors 0, a single Δn, identical times and hit rates.
@@ -445,7 +485,7 @@ fn degenerate_profiles_still_chart() {
         n.error_fit = fit_error(&[(2.0, 0.0)], &ErrorFitOptions::default());
     }
     flat.hit_rate = HitRateFit::from_mu(1.0);
-    let paths = write_charts(&flat, dir.path(), "flat").unwrap();
+    let paths = write_charts(&flat, dir.path(), "flat", &ChartOptions::default()).unwrap();
     check_files(&paths, dir.path(), "flat");
     assert!(svg(&paths, 0).contains("original"));
 
@@ -457,7 +497,7 @@ fn degenerate_profiles_still_chart() {
             m.frame_ms = 0.0;
         }
     }
-    let paths = write_charts(&zero, dir.path(), "zero").unwrap();
+    let paths = write_charts(&zero, dir.path(), "zero", &ChartOptions::default()).unwrap();
     check_files(&paths, dir.path(), "zero");
     keep(dir.path());
 }
@@ -466,7 +506,14 @@ fn degenerate_profiles_still_chart() {
 fn png_without_font_has_no_text_but_svg_does() {
     let profile = profile_of(&marble(), 22.0);
     let dir = tempfile::tempdir().unwrap();
-    let paths = write_charts_with(&profile, dir.path(), "nofont", None).unwrap();
+    let paths = write_charts_with(
+        &profile,
+        dir.path(),
+        "nofont",
+        &ChartOptions::default(),
+        None,
+    )
+    .unwrap();
     check_files(&paths, dir.path(), "nofont");
     assert!(svg(&paths, 0).contains("original"));
     // Lines and points are there: far from a blank page.
@@ -481,7 +528,7 @@ fn writes_into_a_missing_directory_and_replaces_files() {
     let profile = profile_of(&marble()[..2], 22.0);
     let dir = tempfile::tempdir().unwrap();
     let nested = dir.path().join("a/b");
-    write_charts(&profile, &nested, "x").unwrap();
-    let paths = write_charts(&profile, &nested, "x").unwrap();
+    write_charts(&profile, &nested, "x", &ChartOptions::default()).unwrap();
+    let paths = write_charts(&profile, &nested, "x", &ChartOptions::default()).unwrap();
     check_files(&paths, &nested, "x");
 }

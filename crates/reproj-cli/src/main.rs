@@ -30,6 +30,30 @@ enum Command {
     Merge(MergeArgs),
     /// Select the fastest node and Δn under an error budget from a profile and write the passes.
     Emit(EmitArgs),
+    /// Write one self-contained HTML page of a profile: trade-off chart with a budget slider,
+    /// frames of every selection, model charts, the table of fits.
+    Report(ReportArgs),
+}
+
+/// Arguments of `reproj report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Profile from `reproj analyze`.
+    pub profile: PathBuf,
+    /// The HTML file to write.
+    #[arg(long, value_parser = output_path, default_value = "report.html")]
+    pub out: PathBuf,
+    /// Session to render the selections with (default: the profile's).
+    #[arg(long)]
+    pub session: Option<PathBuf>,
+    /// The shader (default: the profile's; it must be the profiled shader up to comments).
+    #[arg(long)]
+    pub shader: Option<PathBuf>,
+    /// Most selections to render frames of (spread over the budget range).
+    #[arg(long, default_value_t = 8)]
+    pub max_rendered: usize,
+    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    pub backend: Option<String>,
 }
 
 /// Arguments of `reproj render`.
@@ -368,6 +392,7 @@ fn main() -> ExitCode {
         Command::Analyze(args) => cmd::analyze::run(&args),
         Command::Merge(args) => cmd::merge::run(&args),
         Command::Emit(args) => cmd::emit::run(&args),
+        Command::Report(args) => cmd::report::run(&args),
     };
     cmd::finish(result)
 }

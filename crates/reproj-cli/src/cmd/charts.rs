@@ -5,6 +5,10 @@ use std::path::Path;
 
 use reproj_models::Profile;
 
+/// Budgets whose selections the trade-off chart marks: the ones `scripts/demo.sh` emits at and
+/// `docs/results.md` reports.
+pub const MARKED_BUDGETS: [f64; 4] = [0.002, 0.01, 0.03, 0.1];
+
 /// Write the trade-off, hit-rate and model charts beside `profile_path` and say where they are.
 pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
@@ -19,7 +23,10 @@ pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
         .strip_suffix(".profile.json")
         .or_else(|| name.strip_suffix(".json"))
         .unwrap_or(&name);
-    let paths = reproj_charts::write_charts(profile, dir, stem)?;
+    let opts = reproj_charts::ChartOptions {
+        budgets: MARKED_BUDGETS.to_vec(),
+    };
+    let paths = reproj_charts::write_charts(profile, dir, stem, &opts)?;
     for w in &paths.warnings {
         eprintln!("warning: {w}");
     }

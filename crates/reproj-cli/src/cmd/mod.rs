@@ -9,6 +9,7 @@ pub mod instance;
 pub mod merge;
 pub mod nodes;
 pub mod render;
+pub mod report;
 
 /// An error caused by the user's input (bad file, bad flag value, ...): exit code 2.
 #[derive(Debug)]

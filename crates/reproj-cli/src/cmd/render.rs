@@ -38,6 +38,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         classify: true,
         raw_frames: args.raw_frames,
     };
+    let has_variant = args.node.is_some() || args.variant.is_some();
+    // With a variant, the original's frames go beside the variant's as `ref_NNN.png`.
     let reference = renderer
         .render_original(
             &shader,
@@ -45,10 +47,24 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             &session,
             &RenderOptions {
                 classify: false,
+                png_dir: opts.png_dir.clone().filter(|_| !has_variant),
+                raw_frames: opts.raw_frames && !has_variant,
                 ..opts.clone()
             },
         )
         .map_err(replay_error)?;
+    if let Some(dir) = args.frames.as_ref().filter(|_| has_variant) {
+        for (i, frame) in reference.frames.iter().enumerate() {
+            reproj_replay::output::write_reference_frame(
+                dir,
+                i as u32,
+                reference.width,
+                reference.height,
+                frame,
+            )
+            .map_err(replay_error)?;
+        }
+    }
     let variant_input = match (&args.node, &args.variant) {
         (None, None) => None,
         (Some(node), _) => {

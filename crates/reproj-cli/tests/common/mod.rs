@@ -1,4 +1,5 @@
 //! What the CLI tests share: the repository root and running the real binary.
+#![allow(dead_code)] // each test binary uses part of it
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,0 +1,156 @@
+//! The selector's choice for every budget of the slider, precomputed: `select` (as `reproj emit`
+//! runs it) at log-spaced budgets over the profile's error range and at every candidate's
+//! predicted error. The choice only changes where the budget crosses a candidate's predicted error,
+//! so "the entry with the largest budget ≤ b" is exactly `select` at b for any b in the range.
+
+use reproj_models::Profile;
+use reproj_models::profile::NodeStatus;
+use reproj_select::{
+    Choice, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection,
+    candidates, select,
+};
+use serde::Serialize;
+
+/// Log-spaced budgets over the range, beside the thresholds.
+pub const GRID: usize = 64;
+
+/// One budget and what the selector does there.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BudgetEntry {
+    pub budget: f64,
+    /// Index into [`Budgets::choices`]; `None`: the original shader is kept.
+    pub choice: Option<usize>,
+    /// Why the original is kept.
+    pub reason: Option<String>,
+}
+
+/// Every budget of the slider and the distinct choices among them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Budgets {
+    /// `[lowest, highest]` budget of the slider (log scale).
+    pub range: [f64; 2],
+    /// By increasing budget.
+    pub entries: Vec<BudgetEntry>,
+    /// The distinct (node, strategy, Δn) choices, in order of first appearance (lowest budget).
+    pub choices: Vec<Choice>,
+    /// The lowest budget that selects each choice.
+    pub first_budget: Vec<f64>,
+}
+
+/// The selector's view of the usable nodes, exactly as `reproj emit` builds it.
+pub fn records(profile: &Profile) -> Vec<NodeRecord> {
+    profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok)
+        .map(|n| NodeRecord {
+            id: n.id,
+            text: n.text.clone(),
+            strategy: n.strategy.clone(),
+            error: n.error_fit.clone(),
+            timing: n.timing_fit.clone(),
+            mean_pixels: profile.original.mean_pixels,
+        })
+        .collect()
+}
+
+/// The selection at `budget` (emit's defaults: Δn in 2..=50).
+pub fn select_at(profile: &Profile, records: &[NodeRecord], budget: f64) -> Selection {
+    select(
+        records,
+        &profile.hit_rate,
+        profile.original.frame_ms,
+        &SelectOptions::new(budget),
+    )
+}
+
+/// The slider's range: from half the lowest positive predicted (or measured) error to twice the
+/// highest; `[1e-4, 0.1]` when the profile has none.
+pub fn range(profile: &Profile, records: &[NodeRecord]) -> [f64; 2] {
+    let predicted = candidates(
+        records,
+        &profile.hit_rate,
+        DEFAULT_MIN_DELTA_N,
+        DEFAULT_MAX_DELTA_N,
+    )
+    .into_iter()
+    .map(|p| p.predicted_error);
+    let measured = profile
+        .nodes
+        .iter()
+        .flat_map(|n| n.measurements.iter().map(|m| m.error));
+    let (lo, hi) = predicted
+        .chain(measured)
+        .filter(|e| e.is_finite() && *e > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(a, b), e| (a.min(e), b.max(e)));
+    if lo.is_finite() && hi > 0.0 {
+        [lo / 2.0, (hi * 2.0).max(lo)]
+    } else {
+        [1e-4, 0.1]
+    }
+}
+
+/// The choices at [`GRID`] log-spaced budgets over [`range`] and at every candidate's predicted
+/// error inside it.
+pub fn budgets(profile: &Profile) -> Budgets {
+    let records = records(profile);
+    let [lo, hi] = range(profile, &records);
+    let mut at: Vec<f64> = (0..GRID)
+        .map(|i| lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64))
+        .collect();
+    at.extend(
+        candidates(
+            &records,
+            &profile.hit_rate,
+            DEFAULT_MIN_DELTA_N,
+            DEFAULT_MAX_DELTA_N,
+        )
+        .into_iter()
+        .map(|p| p.predicted_error)
+        .filter(|e| (lo..=hi).contains(e)),
+    );
+    at.sort_by(f64::total_cmp);
+    at.dedup();
+    let mut choices: Vec<Choice> = Vec::new();
+    let mut first_budget = Vec::new();
+    let entries = at
+        .into_iter()
+        .map(|budget| match select_at(profile, &records, budget) {
+            Selection::Node(c) => {
+                let same = |k: &Choice| {
+                    (k.node_id, &k.strategy, k.delta_n) == (c.node_id, &c.strategy, c.delta_n)
+                };
+                let i = choices.iter().position(same).unwrap_or_else(|| {
+                    choices.push(c.clone());
+                    first_budget.push(budget);
+                    choices.len() - 1
+                });
+                BudgetEntry {
+                    budget,
+                    choice: Some(i),
+                    reason: None,
+                }
+            }
+            Selection::Original { reason } => BudgetEntry {
+                budget,
+                choice: None,
+                reason: Some(reason.to_string()),
+            },
+        })
+        .collect();
+    Budgets {
+        range: [lo, hi],
+        entries,
+        choices,
+        first_budget,
+    }
+}
+
+impl Budgets {
+    /// The entry the page shows at `budget`: the one with the largest budget ≤ it (the lowest
+    /// entry below the range). The page's script does the same.
+    pub fn lookup(&self, budget: f64) -> Option<&BudgetEntry> {
+        let i = self.entries.partition_point(|e| e.budget <= budget);
+        self.entries.get(i.saturating_sub(1))
+    }
+}

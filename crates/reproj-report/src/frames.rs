@@ -1,0 +1,184 @@
+//! The frames of each selection, rendered with the replay at report time: the original once (the
+//! reference), then each chosen variant over the whole session; for a few frames (the middle one
+//! and the one with the largest error) the reference, the variant, its error map (with its colour
+//! bar) and its hit map, as PNG bytes.
+
+use std::path::Path;
+
+use reproj_front::{NormalizeOptions, Shader, enumerate, normalize};
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
+use reproj_models::Profile;
+use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput, output};
+use reproj_select::Choice;
+
+use crate::ReportError;
+
+/// One frame of one selection, as PNGs.
+#[derive(Debug, Clone)]
+pub struct FrameImages {
+    /// Frame index in the session.
+    pub index: u32,
+    /// Why this frame (`middle frame`, `largest error`).
+    pub why: &'static str,
+    /// This frame's error (mean per-pixel L2).
+    pub error: f64,
+    pub reference: Vec<u8>,
+    pub variant: Vec<u8>,
+    pub errmap: Vec<u8>,
+    pub hitmap: Option<Vec<u8>>,
+}
+
+/// A selection rendered: the replay's report and the chosen frames.
+#[derive(Debug, Clone)]
+pub struct Rendered {
+    pub report: RenderReport,
+    pub original_ms: f64,
+    pub frames: Vec<FrameImages>,
+}
+
+/// The original's replay over the profile's frames.
+pub fn reference(
+    renderer: &Renderer,
+    shader: &Shader,
+    profile: &Profile,
+    session: &Session,
+) -> Result<reproj_replay::Reference, ReportError> {
+    let entry = shader.fragment_entry(Some(&profile.entry))?;
+    Ok(renderer.render_original(
+        shader,
+        entry,
+        session,
+        &RenderOptions {
+            png_dir: None,
+            max_frames: Some(profile.frames),
+            classify: false,
+            raw_frames: false,
+        },
+    )?)
+}
+
+/// Render `choice` (its node in the strategy the profile measured, at its Δn) and pick its frames.
+pub fn render_choice(
+    renderer: &Renderer,
+    shader: &Shader,
+    profile: &Profile,
+    session: &Session,
+    reference: &reproj_replay::Reference,
+    choice: &Choice,
+) -> Result<Rendered, ReportError> {
+    let node = profile
+        .nodes
+        .iter()
+        .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
+        .expect("the choice comes from the profile's nodes");
+    let strategy: Strategy = node.strategy.parse().map_err(|e: String| {
+        reproj_analyze::AnalyzeError::Options(format!("node {}: {e}", node.id))
+    })?;
+    let norm = normalize(
+        shader,
+        &NormalizeOptions {
+            entry: Some(profile.entry.clone()),
+        },
+    )?;
+    let table = enumerate(shader, &norm);
+    let sel = if node.root {
+        NodeSelector::Root
+    } else {
+        NodeSelector::Id(node.id)
+    };
+    let variant = instance(
+        shader,
+        &norm,
+        &table,
+        sel,
+        &InstanceOptions {
+            strategy,
+            delta_n: choice.delta_n,
+            block: node.block.unwrap_or(profile.block),
+            depth_epsilon: profile.depth_epsilon,
+            ..InstanceOptions::default()
+        },
+    )?;
+    let input = VariantInput::new(
+        variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+        variant.manifest.clone(),
+        choice.delta_n,
+    );
+    let dir = tempfile::tempdir().map_err(|source| reproj_analyze::AnalyzeError::Io {
+        path: std::env::temp_dir(),
+        source,
+    })?;
+    let report = renderer.render_variant(
+        shader,
+        session,
+        &input,
+        reference,
+        &RenderOptions {
+            png_dir: Some(dir.path().to_owned()),
+            max_frames: Some(profile.frames),
+            classify: true,
+            raw_frames: false,
+        },
+    )?;
+    let mut picks: Vec<(u32, &'static str)> = Vec::new();
+    let n = report.frames.len() as u32;
+    if n > 0 {
+        picks.push((n / 2, "middle frame"));
+        let worst = report
+            .frames
+            .iter()
+            .max_by(|a, b| a.error.total_cmp(&b.error).then(b.frame.cmp(&a.frame)))
+            .map_or(0, |f| f.frame);
+        if worst != n / 2 {
+            picks.push((worst, "largest error"));
+        }
+    }
+    let mut frames = Vec::new();
+    for (index, why) in picks {
+        let read = |name: &str| -> Result<Vec<u8>, ReportError> {
+            let p = dir.path().join(format!("{name}_{index:03}.png"));
+            std::fs::read(&p).map_err(|source| {
+                ReportError::from(reproj_analyze::AnalyzeError::Io { path: p, source })
+            })
+        };
+        let hitmap = dir
+            .path()
+            .join(format!("hitmap_{index:03}.png"))
+            .is_file()
+            .then(|| read("hitmap"))
+            .transpose()?;
+        frames.push(FrameImages {
+            index,
+            why,
+            error: report.frames.get(index as usize).map_or(0.0, |f| f.error),
+            reference: png(
+                reference.width,
+                reference.height,
+                &output::frame_to_rgba8(&reference.frames[index as usize]),
+            )?,
+            variant: read("frame")?,
+            errmap: read("errmap")?,
+            hitmap,
+        });
+    }
+    Ok(Rendered {
+        report,
+        original_ms: reference.report.frame_ms,
+        frames,
+    })
+}
+
+/// RGBA8 pixels as PNG bytes.
+fn png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>, ReportError> {
+    use image::ImageEncoder;
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+        .map_err(|e| ReportError::Png(e.to_string()))?;
+    Ok(bytes)
+}
+
+/// The session, read as the replay reads it.
+pub fn session(path: &Path) -> Result<Session, ReportError> {
+    Session::load(path).map_err(|e| ReportError::from(reproj_replay::ReplayError::from(e)))
+}

@@ -1,0 +1,179 @@
+//! `reproj report`: one self-contained HTML page of a profile, for a shader author to look at.
+//!
+//! The page holds the trade-off chart (speedup vs error of every measured and predicted
+//! (node, Δn)) with a budget slider that moves the selection live: the selector's choices are
+//! precomputed here for every budget that matters ([`budgets`]) and embedded as JSON, so the page
+//! runs the selector's own decisions, not a copy of its logic. For each distinct selection it shows
+//! the reference, variant, error-map and hit-map frames rendered with the replay at report time
+//! ([`frames`]); below, the model-validation charts of every profiled node and the table of fits.
+//! Nothing is fetched: CSS and JS are inline, images are `data:` URIs.
+
+pub mod base64;
+pub mod budgets;
+pub mod frames;
+pub mod metrics;
+mod page;
+
+use std::path::{Path, PathBuf};
+
+use reproj_analyze::AnalyzeError;
+use reproj_analyze::emit::{ir_hash, resolve};
+use reproj_models::{Profile, content_hash};
+use reproj_replay::Renderer;
+
+pub use page::PAGE_SCHEMA_VERSION;
+
+/// What can go wrong while building a report.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    #[error(transparent)]
+    Analyze(#[from] AnalyzeError),
+    #[error(transparent)]
+    Chart(#[from] reproj_charts::ChartError),
+    #[error("cannot encode a frame as PNG: {0}")]
+    Png(String),
+}
+
+impl From<reproj_front::FrontError> for ReportError {
+    fn from(e: reproj_front::FrontError) -> Self {
+        ReportError::Analyze(e.into())
+    }
+}
+
+impl From<reproj_instance::InstanceError> for ReportError {
+    fn from(e: reproj_instance::InstanceError) -> Self {
+        ReportError::Analyze(e.into())
+    }
+}
+
+impl From<reproj_replay::ReplayError> for ReportError {
+    fn from(e: reproj_replay::ReplayError) -> Self {
+        ReportError::Analyze(e.into())
+    }
+}
+
+impl ReportError {
+    /// True when the error comes from the user's input rather than a bug or the machine.
+    pub fn is_user_error(&self) -> bool {
+        match self {
+            ReportError::Analyze(e) => e.is_user_error(),
+            ReportError::Chart(_) | ReportError::Png(_) => false,
+        }
+    }
+}
+
+/// Where the inputs are, and how much to render.
+#[derive(Debug, Clone)]
+pub struct ReportOptions {
+    /// The session to render (`None`: the profile's, relative to the profile file).
+    pub session: Option<PathBuf>,
+    /// The shader (`None`: the profile's). It must be the profiled shader up to comments.
+    pub shader: Option<PathBuf>,
+    /// Most selections to render frames of; with more, these many spread over the budget range
+    /// (the lowest and highest budget's always among them). The others show their numbers only.
+    pub max_rendered: usize,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions {
+            session: None,
+            shader: None,
+            max_rendered: 8,
+        }
+    }
+}
+
+/// Which of `n` choices (by increasing budget) to render: all, or `max` spread evenly.
+pub fn rendered_choices(n: usize, max: usize) -> Vec<usize> {
+    if n <= max {
+        return (0..n).collect();
+    }
+    if max <= 1 {
+        return (0..max.min(n)).map(|_| n - 1).collect();
+    }
+    let mut v: Vec<usize> = (0..max).map(|i| i * (n - 1) / (max - 1)).collect();
+    v.dedup();
+    v
+}
+
+/// Build the page for the profile at `profile_path`: render every distinct selection with
+/// `renderer`, telling `progress` what it does. Returns the HTML text.
+pub fn report(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &ReportOptions,
+    renderer: &Renderer,
+    progress: &mut dyn FnMut(&str),
+) -> Result<String, ReportError> {
+    let shader_path = opts
+        .shader
+        .clone()
+        .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
+    let session_path = opts
+        .session
+        .clone()
+        .unwrap_or_else(|| resolve(&profile.session.path, profile_path));
+    let shader = reproj_front::load_file(&shader_path)?;
+    let fresh = match &profile.shader.ir_hash {
+        Some(h) => ir_hash(&shader) == *h,
+        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
+    };
+    if !fresh {
+        return Err(AnalyzeError::Stale {
+            path: shader_path,
+            what: "shader".into(),
+        }
+        .into());
+    }
+    let session = frames::session(&session_path)?;
+    let budgets = budgets::budgets(profile);
+    progress(&format!(
+        "{} budgets, {} distinct selections",
+        budgets.entries.len(),
+        budgets.choices.len()
+    ));
+    progress("rendering the original");
+    let reference = frames::reference(renderer, &shader, profile, &session)?;
+    let chosen = rendered_choices(budgets.choices.len(), opts.max_rendered);
+    let mut rendered: Vec<Option<frames::Rendered>> = vec![None; budgets.choices.len()];
+    for (k, &i) in chosen.iter().enumerate() {
+        let c = &budgets.choices[i];
+        progress(&format!(
+            "[{}/{}] rendering node {} ({}) at Δn = {}",
+            k + 1,
+            chosen.len(),
+            c.node_id,
+            c.strategy,
+            c.delta_n
+        ));
+        rendered[i] = Some(frames::render_choice(
+            renderer, &shader, profile, &session, &reference, c,
+        )?);
+    }
+    progress("drawing the charts");
+    let charts = page::Charts::draw(profile, &budgets, &chosen)?;
+    Ok(page::html(&page::Page {
+        profile,
+        profile_path,
+        shader: &shader,
+        budgets: &budgets,
+        rendered: &rendered,
+        charts: &charts,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn rendered_choices_spread_over_the_range() {
+        assert_eq!(super::rendered_choices(3, 8), [0, 1, 2]);
+        assert_eq!(
+            super::rendered_choices(45, 8),
+            [0, 6, 12, 18, 25, 31, 37, 44]
+        );
+        assert_eq!(super::rendered_choices(45, 1), [44]);
+        assert!(super::rendered_choices(45, 0).is_empty());
+        assert!(super::rendered_choices(0, 8).is_empty());
+    }
+}

@@ -1,0 +1,48 @@
+//! The error metrics the report shows. Each source lists what it has in one small function; a
+//! metric added to the profile or the replay is one line here and appears everywhere in the page
+//! (the selection panel, the frames' captions and the table of measurements).
+
+use reproj_models::profile::Measurement;
+use reproj_replay::RenderReport;
+use serde::Serialize;
+
+/// One metric's value, with how to print it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Metric {
+    /// Short name shown in the page (`error`, `PSNR`).
+    pub name: &'static str,
+    /// `None` where the source has no value (PSNR of identical frames).
+    pub value: Option<f64>,
+    /// Unit after the value (`dB`), or empty.
+    pub unit: &'static str,
+    /// Decimals to print.
+    pub decimals: u32,
+}
+
+/// The metrics of one replay measured by `analyze` (a profile's measurement).
+pub fn of_measurement(m: &Measurement) -> Vec<Metric> {
+    vec![error(m.error), psnr(m.psnr)]
+}
+
+/// The metrics of one replay rendered by the report.
+pub fn of_render(r: &RenderReport) -> Vec<Metric> {
+    vec![error(r.error), psnr(Some(r.psnr))]
+}
+
+fn error(value: f64) -> Metric {
+    Metric {
+        name: "error",
+        value: Some(value).filter(|v| v.is_finite()),
+        unit: "",
+        decimals: 5,
+    }
+}
+
+fn psnr(value: Option<f64>) -> Metric {
+    Metric {
+        name: "PSNR",
+        value: value.filter(|v| v.is_finite()),
+        unit: "dB",
+        decimals: 2,
+    }
+}
