@@ -53,7 +53,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             },
         )
         .map_err(replay_error)?;
-    if let Some(dir) = args.frames.as_ref().filter(|_| has_variant) {
+    if let Some(dir) = opts.png_dir.as_ref().filter(|_| has_variant) {
         for (i, frame) in reference.frames.iter().enumerate() {
             reproj_replay::output::write_reference_frame(
                 dir,
