@@ -53,6 +53,7 @@ pub mod backend;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
+pub mod perceptual;
 mod reduce;
 pub mod reflect;
 mod render;
