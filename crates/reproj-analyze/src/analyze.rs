@@ -206,6 +206,7 @@ pub fn analyze(
         max_frames: opts.max_frames,
         classify: false,
         raw_frames: false,
+        perceptual_stride: None,
     };
     let mut time = AnalysisTime::default();
     let t = Instant::now();

@@ -440,6 +440,7 @@ pub fn verify(
         max_frames: None,
         classify: false,
         raw_frames: false,
+        perceptual_stride: None,
     };
     let reference = renderer.render_original(&shader, entry, session, &opts)?;
     report.measured_original_ms = Some(reference.report.frame_ms);

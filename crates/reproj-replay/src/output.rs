@@ -3,8 +3,10 @@
 //!
 //! Names: `frame_NNN.png`, `hitmap_NNN.png` (green hit, red miss, blue refresh, black background),
 //! `errmap_NNN.png` (per-pixel L2 error through a black → blue → red → yellow → white ramp, full
-//! scale at [`ERRMAP_FULL_SCALE`]), and on request `frame_NNN.f32`: the frame's exact linear RGBA
-//! values before PNG encoding (see [`write_frame_raw`]), for comparing two renderers to 1e-4.
+//! scale at [`ERRMAP_FULL_SCALE`]), `flipmap_NNN.png` (the ꟻLIP error map in NVIDIA's magma
+//! colours, on the frames the perceptual metrics were computed for), and on request
+//! `frame_NNN.f32`: the frame's exact linear RGBA values before PNG encoding (see
+//! [`write_frame_raw`]), for comparing two renderers to 1e-4.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -137,6 +139,25 @@ pub fn write_errmap(
     let p = dir.join(format!("errmap_{index:03}.png"));
     let px: Vec<u8> = errors.iter().flat_map(|e| heat(*e)).collect();
     write_png_rgba8(&p, width, height, &px)?;
+    Ok(p)
+}
+
+/// `flipmap_NNN.png`: a ꟻLIP error map ([`crate::perceptual::flip_map`]) through NVIDIA's magma
+/// colour map (black: no error, pale yellow: 1).
+pub fn write_flipmap(
+    dir: &Path,
+    index: u32,
+    width: u32,
+    height: u32,
+    map: &[f32],
+) -> Result<PathBuf, ReplayError> {
+    let p = dir.join(format!("flipmap_{index:03}.png"));
+    write_png_rgba8(
+        &p,
+        width,
+        height,
+        &crate::perceptual::flip_colors(map, width, height),
+    )?;
     Ok(p)
 }
 

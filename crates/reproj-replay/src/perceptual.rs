@@ -65,7 +65,9 @@ pub fn flip_colors(map: &[f32], width: u32, height: u32) -> Vec<u8> {
 pub fn luma(rgb: &[u8]) -> Vec<f64> {
     rgb.chunks_exact(3)
         .map(|p| {
-            (0.298_936 * f64::from(p[0]) + 0.587_043 * f64::from(p[1]) + 0.114_021 * f64::from(p[2]))
+            (0.298_936 * f64::from(p[0])
+                + 0.587_043 * f64::from(p[1])
+                + 0.114_021 * f64::from(p[2]))
                 / 255.0
         })
         .collect()
@@ -311,12 +313,28 @@ mod tests {
                 .collect()
         };
         let depth = vec![0.0; w * h];
-        let (small, _) =
-            compare_perceptual(&noisy(0.05, &mut rng), &reference, &depth, w as u32, h as u32);
-        let (large, _) =
-            compare_perceptual(&noisy(0.5, &mut rng), &reference, &depth, w as u32, h as u32);
-        assert!(0.0 < small.flip && small.flip < large.flip, "{small:?} {large:?}");
-        assert!(1.0 > small.ssim && small.ssim > large.ssim, "{small:?} {large:?}");
+        let (small, _) = compare_perceptual(
+            &noisy(0.05, &mut rng),
+            &reference,
+            &depth,
+            w as u32,
+            h as u32,
+        );
+        let (large, _) = compare_perceptual(
+            &noisy(0.5, &mut rng),
+            &reference,
+            &depth,
+            w as u32,
+            h as u32,
+        );
+        assert!(
+            0.0 < small.flip && small.flip < large.flip,
+            "{small:?} {large:?}"
+        );
+        assert!(
+            1.0 > small.ssim && small.ssim > large.ssim,
+            "{small:?} {large:?}"
+        );
     }
 
     #[test]

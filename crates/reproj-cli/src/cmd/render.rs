@@ -26,6 +26,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         max_frames: args.max_frames,
         classify: true,
         raw_frames: args.raw_frames,
+        perceptual_stride: None,
     };
     let reference = renderer
         .render_original(
