@@ -558,7 +558,7 @@ impl PixelsBack {
     pub(crate) fn includes(self, frame: u32) -> bool {
         match self {
             PixelsBack::None => false,
-            PixelsBack::Every(k) => frame % k.max(1) == 0,
+            PixelsBack::Every(k) => frame.is_multiple_of(k.max(1)),
             PixelsBack::All => true,
         }
     }

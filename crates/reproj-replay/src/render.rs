@@ -1717,7 +1717,10 @@ impl Renderer {
             (None, Some(k)) => PixelsBack::Every(k.max(1)),
             (None, None) => PixelsBack::None,
         };
-        let perceptual = |f: u32| opts.perceptual_stride.is_some_and(|k| f % k.max(1) == 0);
+        let perceptual = |f: u32| {
+            opts.perceptual_stride
+                .is_some_and(|k| f.is_multiple_of(k.max(1)))
+        };
         let errors = FrameErrors::new(self, reference, frames, slots, back)?;
         let cls_rb = pc
             .as_ref()
