@@ -12,9 +12,9 @@ use reproj_models::profile::{
     Shard, Source, StrategyProbe,
 };
 use reproj_models::{
-    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, PROFILE_VERSION, Profile, TimingFit,
-    TimingStatus, content_hash, fit_error, fit_hit_rate, fit_timing_with_holdout,
-    predicted_frame_ms,
+    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, FrameValue, MetricSummary,
+    PROFILE_VERSION, Profile, TimingFit, TimingStatus, content_hash, fit_error, fit_hit_rate,
+    fit_timing_with_holdout, predicted_frame_ms,
 };
 use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput};
 
@@ -26,6 +26,8 @@ use crate::prune::{PruneOptions, profile_candidates};
 pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
 /// Periods used only to check the models.
 pub const DEFAULT_HOLDOUT: [u32; 2] = [6, 30];
+/// Default [`AnalyzeOptions::perceptual_stride`]: ꟻLIP and SSIM on every 5th frame.
+pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
 
 /// Options of [`analyze`].
 #[derive(Debug, Clone)]
@@ -51,6 +53,10 @@ pub struct AnalyzeOptions {
     pub journal: Option<JournalOptions>,
     /// Profile only this shard's part of the nodes ([`Shard`]; join with [`crate::merge()`]).
     pub shard: Option<Shard>,
+    /// Compute the perceptual metrics (ꟻLIP, SSIM) of every replay on the frames `f` with
+    /// `f % perceptual_stride == 0` (≥ 1): reading frames back and comparing them on the CPU
+    /// costs time, the L2 error is reduced on the GPU for every frame.
+    pub perceptual_stride: u32,
     /// At how many of the training periods each node is replayed.
     pub sampling: Sampling,
 }
@@ -159,6 +165,7 @@ impl Default for AnalyzeOptions {
             journal: None,
             shard: None,
             sampling: Sampling::default(),
+            perceptual_stride: DEFAULT_PERCEPTUAL_STRIDE,
         }
     }
 }
@@ -256,7 +263,7 @@ pub fn analyze(
         Some(j) => {
             let key = content_hash(
                 format!(
-                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?}",
+                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {}",
                     content_hash(input.shader.source.as_bytes()),
                     content_hash(input.session_bytes),
                     opts.delta_n_train,
@@ -267,6 +274,7 @@ pub fn analyze(
                     opts.max_frames,
                     renderer.adapter().name,
                     renderer.timing_method(),
+                    opts.perceptual_stride,
                 )
                 .as_bytes(),
             );
@@ -291,6 +299,7 @@ pub fn analyze(
         max_frames: opts.max_frames,
         classify: false,
         raw_frames: false,
+        perceptual_stride: Some(opts.perceptual_stride),
     };
     let mut time = AnalysisTime::default();
     let t = Instant::now();
@@ -558,6 +567,8 @@ pub fn analyze(
                     .collect::<Vec<_>>(),
                 &ErrorFitOptions::default(),
             );
+            let flip_fit = fit_metric(&train, |m| m.flip.map(|s| s.mean));
+            let dssim_fit = fit_metric(&train, |m| m.ssim.map(|s| 1.0 - s.mean));
             let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> {
                 ms.iter().flat_map(|m| m.frames.iter().copied()).collect()
             };
@@ -578,6 +589,11 @@ pub fn analyze(
                         mean_pixels,
                     )
                     .filter(|v| v.is_finite()),
+                    measured_flip: m.flip.map(|s| s.mean),
+                    predicted_flip: flip_fit
+                        .as_ref()
+                        .and_then(|f| f.predict(m.delta_n as f64))
+                        .filter(|v| v.is_finite()),
                 })
                 .collect();
             let status = status(raw.failure.as_deref(), &error_fit, &timing_fit);
@@ -594,6 +610,8 @@ pub fn analyze(
                 block: Some(raw.block),
                 measurements: raw.measurements.clone(),
                 error_fit,
+                flip_fit,
+                dssim_fit,
                 timing_fit,
                 holdout,
                 status,
@@ -639,6 +657,7 @@ pub fn analyze(
         frames: reference.frames.len() as u32,
         delta_n_train: opts.delta_n_train.clone(),
         delta_n_holdout: opts.delta_n_holdout.clone(),
+        perceptual_stride: Some(opts.perceptual_stride),
         block: opts.block.unwrap_or(Strategy::ThreePass.default_block()),
         depth_epsilon: opts.instance.depth_epsilon,
         original,
@@ -721,7 +740,25 @@ fn replay(
     Ok((measurement(delta_n, &report), pass_ms))
 }
 
+/// The error model fitted to one metric's means at the training periods; `None` when a
+/// measurement lacks the metric.
+fn fit_metric(
+    train: &[&Measurement],
+    value: impl Fn(&Measurement) -> Option<f64>,
+) -> Option<ErrorFit> {
+    let samples: Option<Vec<(f64, f64)>> = train
+        .iter()
+        .map(|m| Some((m.delta_n as f64, value(m)?)))
+        .collect();
+    Some(fit_error(&samples?, &ErrorFitOptions::default()))
+}
+
 fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
+    if opts.perceptual_stride == 0 {
+        return Err(AnalyzeError::Options(
+            "the perceptual metrics' frame stride must be at least 1".into(),
+        ));
+    }
     if opts.delta_n_train.is_empty() {
         return Err(AnalyzeError::Options(
             "--delta-n needs at least one period".into(),
@@ -754,12 +791,30 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
     Measurement {
         delta_n,
         error: finite(report.error),
+        error_worst: report.error_worst.map(frame_value),
+        flip: report.flip.map(summary),
+        ssim: report.ssim.map(summary),
         mse: report.mse.is_finite().then_some(report.mse),
         psnr: (report.psnr.is_finite() && report.psnr < reproj_replay::metrics::PSNR_CAP)
             .then_some(report.psnr),
         hit_rate: finite(report.hit_rate),
         frame_ms: finite(report.frame_ms),
         frames,
+    }
+}
+
+fn frame_value(v: reproj_replay::metrics::FrameValue) -> FrameValue {
+    FrameValue {
+        frame: v.frame,
+        value: finite(v.value),
+    }
+}
+
+fn summary(s: reproj_replay::metrics::MetricSummary) -> MetricSummary {
+    MetricSummary {
+        mean: finite(s.mean),
+        worst: frame_value(s.worst),
+        frames: s.frames,
     }
 }
 

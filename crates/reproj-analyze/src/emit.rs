@@ -9,9 +9,10 @@ use reproj_instance::{
     variant_files,
 };
 use reproj_io::Replace;
+use reproj_models::Metric;
 use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
-use reproj_replay::metrics::{PSNR_CAP, psnr};
+use reproj_replay::metrics::{MetricSummary, PSNR_CAP, psnr};
 use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
 use reproj_select::{NodeRecord, SelectOptions, Selection, select};
 use serde::{Deserialize, Serialize};
@@ -21,8 +22,10 @@ use crate::AnalyzeError;
 /// Options of [`emit`].
 #[derive(Debug, Clone)]
 pub struct EmitOptions {
-    /// Error budget: mean per-pixel L2 RGB distance to the original.
+    /// Error budget, in the unit of `metric`.
     pub max_error: f64,
+    /// Which measured error the budget bounds (the error model fitted to it predicts it).
+    pub metric: Metric,
     pub min_delta_n: u32,
     pub max_delta_n: u32,
     /// Directory for the passes and the report.
@@ -41,7 +44,9 @@ pub struct EmitOptions {
 /// Schema name of an [`EmitReport`] (`report.json`).
 pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
 /// Version of the [`EmitReport`] schema. Bump on any incompatible change.
-pub const EMIT_REPORT_VERSION: u32 = 1;
+/// Version 2: `metric` (what `max_error` and `predicted_error` are), `measured_flip`,
+/// `measured_ssim`.
+pub const EMIT_REPORT_VERSION: u32 = 2;
 
 fn emit_report_schema() -> String {
     EMIT_REPORT_SCHEMA.into()
@@ -61,6 +66,9 @@ pub struct EmitReport {
     pub version: u32,
     pub profile: String,
     pub shader: String,
+    /// The metric `max_error` bounds and `predicted_error` predicts (`l2` before version 2).
+    #[serde(default)]
+    pub metric: Metric,
     pub max_error: f64,
     /// Node id, `"root"`, or `null` when the original shader is kept.
     pub node: Option<String>,
@@ -84,6 +92,12 @@ pub struct EmitReport {
     pub measured_error: Option<f64>,
     /// The re-rendered session's PSNR, as `reproj render` reports it.
     pub measured_psnr: Option<f64>,
+    /// The re-rendered session's ꟻLIP and SSIM (mean and worst frame), on the profile's
+    /// perceptual stride.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_flip: Option<MetricSummary>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_ssim: Option<MetricSummary>,
     pub measured_ms: Option<f64>,
     pub measured_original_ms: Option<f64>,
     pub measured_speedup: Option<f64>,
@@ -155,18 +169,32 @@ pub fn emit(
             what: "shader".into(),
         });
     }
-    let records: Vec<NodeRecord> = profile
+    let usable: Vec<_> = profile
         .nodes
         .iter()
         .filter(|n| n.status == NodeStatus::Ok)
         .filter(|n| opts.strategy.is_none_or(|s| s.name() == n.strategy))
-        .map(|n| NodeRecord {
-            id: n.id,
-            text: n.text.clone(),
-            strategy: n.strategy.clone(),
-            error: n.error_fit.clone(),
-            timing: n.timing_fit.clone(),
-            mean_pixels: profile.original.mean_pixels,
+        .collect();
+    if usable.iter().any(|n| n.fit(opts.metric).is_none()) {
+        return Err(AnalyzeError::BadProfile {
+            path: profile_path.to_owned(),
+            message: format!(
+                "it has no {} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {}",
+                opts.metric, profile.version, opts.metric
+            ),
+        });
+    }
+    let records: Vec<NodeRecord> = usable
+        .iter()
+        .filter_map(|n| {
+            Some(NodeRecord {
+                id: n.id,
+                text: n.text.clone(),
+                strategy: n.strategy.clone(),
+                error: n.fit(opts.metric)?.clone(),
+                timing: n.timing_fit.clone(),
+                mean_pixels: profile.original.mean_pixels,
+            })
         })
         .collect();
     let select_opts = SelectOptions {
@@ -185,6 +213,7 @@ pub fn emit(
         version: EMIT_REPORT_VERSION,
         profile: profile_path.display().to_string(),
         shader: shader_path.display().to_string(),
+        metric: opts.metric,
         max_error: opts.max_error,
         node: None,
         node_text: None,
@@ -201,6 +230,8 @@ pub fn emit(
         files: Vec::new(),
         measured_error: None,
         measured_psnr: None,
+        measured_flip: None,
+        measured_ssim: None,
         measured_ms: None,
         measured_original_ms: None,
         measured_speedup: None,
@@ -325,6 +356,11 @@ pub fn verify(
         max_frames: None,
         classify: false,
         raw_frames: false,
+        perceptual_stride: Some(
+            profile
+                .perceptual_stride
+                .unwrap_or(crate::analyze::DEFAULT_PERCEPTUAL_STRIDE),
+        ),
     };
     let reference = renderer.render_original(&shader, entry, session, &opts)?;
     report.measured_original_ms = Some(reference.report.frame_ms);
@@ -344,6 +380,8 @@ pub fn verify(
             let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
             report.measured_error = Some(r.error);
             report.measured_psnr = Some(r.psnr).filter(|p| p.is_finite());
+            report.measured_flip = r.flip;
+            report.measured_ssim = r.ssim;
             report.measured_ms = Some(r.frame_ms);
             report.measured_speedup =
                 (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);

@@ -18,7 +18,8 @@ use serde::{Deserialize, Serialize};
 use crate::AnalyzeError;
 
 const SCHEMA: &str = "reproj.journal";
-const VERSION: u32 = 1;
+/// Version 2: measurements carry the perceptual metrics (a version 1 journal is started over).
+const VERSION: u32 = 2;
 
 /// Where the journal lives and whether to use what it holds.
 #[derive(Debug, Clone)]

@@ -10,7 +10,9 @@ pub mod prune;
 
 use std::path::PathBuf;
 
-pub use analyze::{AnalyzeInput, AnalyzeOptions, Progress, Sampling, Silent, analyze};
+pub use analyze::{
+    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, Progress, Sampling, Silent, analyze,
+};
 pub use emit::{
     EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,
     load_profile, verify,

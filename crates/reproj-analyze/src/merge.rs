@@ -40,6 +40,7 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             ("delta_n_train", format!("{:?}", p.delta_n_train)),
             ("delta_n_holdout", format!("{:?}", p.delta_n_holdout)),
             ("block", p.block.to_string()),
+            ("perceptual_stride", format!("{:?}", p.perceptual_stride)),
             ("depth_epsilon", p.depth_epsilon.to_string()),
             (
                 "shard.count",

@@ -43,6 +43,24 @@ fn static_session_profiles_without_nan_and_emits() {
     let profile = analyze(&input, &renderer, &opts, &Silent).unwrap();
     assert_eq!(profile.nodes.len(), 2, "the chosen node and the root");
     assert!(profile.nodes.iter().any(|n| n.root));
+    // ꟻLIP and SSIM on frames 0 and 5 of the 6 (the default stride), fitted like the L2 error.
+    assert_eq!(profile.perceptual_stride, Some(5));
+    for n in &profile.nodes {
+        assert!(
+            n.flip_fit.is_some() && n.dssim_fit.is_some(),
+            "node {}",
+            n.id
+        );
+        for m in &n.measurements {
+            let (flip, ssim) = (m.flip.unwrap(), m.ssim.unwrap());
+            assert_eq!((flip.frames, ssim.frames), (2, 2), "{m:?}");
+            assert!(
+                (0.0..=1.0).contains(&flip.mean) && ssim.mean <= 1.0,
+                "{m:?}"
+            );
+            assert!(m.error_worst.unwrap().value >= m.error, "{m:?}");
+        }
+    }
     // Every strategy was tried on each node at the longest period, and the fastest kept.
     assert_eq!(
         profile.strategy_probes.len(),
@@ -102,6 +120,7 @@ fn static_session_profiles_without_nan_and_emits() {
         &path,
         &EmitOptions {
             max_error: 0.01,
+            metric: Default::default(),
             min_delta_n: 2,
             max_delta_n: 50,
             out: dir.path().join("out"),

@@ -2,14 +2,14 @@
 
 use std::path::{Path, PathBuf};
 
-use reproj_analyze::{AnalyzeError, EmitOptions, emit, load_profile};
+use reproj_analyze::{AnalyzeError, EmitOptions, EmitReport, emit, load_profile};
 use reproj_instance::CacheFormat;
 use reproj_models::profile::{
     AnalysisTime, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Source,
 };
 use reproj_models::{
-    ErrorFitOptions, FrameTiming, PROFILE_VERSION, Profile, content_hash, fit_error, fit_hit_rate,
-    fit_timing,
+    ErrorFitOptions, FrameTiming, Metric, PROFILE_VERSION, Profile, content_hash, fit_error,
+    fit_hit_rate, fit_timing,
 };
 
 fn root() -> PathBuf {
@@ -48,6 +48,8 @@ fn node(id: u32, is_root: bool, text: &str, alpha: f64, hit: f64, miss: f64) -> 
         block: None,
         measurements: Vec::new(),
         error_fit: fit_error(&samples, &ErrorFitOptions::default()),
+        flip_fit: None,
+        dssim_fit: None,
         timing_fit: fit_timing(&frames),
         holdout: Vec::new(),
         status: NodeStatus::Ok,
@@ -97,6 +99,7 @@ fn profile(shader: &Path) -> Profile {
         frames: 40,
         delta_n_train: vec![2, 10, 18, 26, 34, 42, 50],
         delta_n_holdout: vec![],
+        perceptual_stride: None,
         block: 4,
         depth_epsilon: 0.01,
         original: OriginalRecord {
@@ -120,6 +123,7 @@ fn profile(shader: &Path) -> Profile {
 fn opts(max_error: f64, out: &Path) -> EmitOptions {
     EmitOptions {
         max_error,
+        metric: Metric::L2,
         min_delta_n: 2,
         max_delta_n: 50,
         out: out.to_owned(),
@@ -193,6 +197,9 @@ fn predicted_psnr_comes_from_the_measured_mse() {
             .map(|&d| Measurement {
                 delta_n: d,
                 error: 0.0,
+                error_worst: None,
+                flip: None,
+                ssim: None,
                 mse: Some(1e-5 * f64::from(d)),
                 psnr: None,
                 hit_rate: 0.0,
@@ -205,6 +212,64 @@ fn predicted_psnr_comes_from_the_measured_mse() {
     let dn = f64::from(r.delta_n.unwrap());
     let expect = reproj_replay::metrics::psnr(1e-5 * dn);
     assert!((r.predicted_psnr.unwrap() - expect).abs() < 1e-9, "{r:?}");
+}
+
+/// The error model `alpha (1 − e^(−0.08 (Δn − 1)))` fitted at the training periods.
+fn saturating_fit(alpha: f64) -> reproj_models::ErrorFit {
+    let samples: Vec<(f64, f64)> = [2u32, 10, 18, 26, 34, 42, 50]
+        .iter()
+        .map(|&d| (d as f64, alpha * (1.0 - (-0.08 * (d as f64 - 1.0)).exp())))
+        .collect();
+    fit_error(&samples, &ErrorFitOptions::default())
+}
+
+#[test]
+fn metric_flip_bounds_the_flip_model() {
+    let shader = root().join("shaders/marble.wgsl");
+    let mut p = profile(&shader);
+    let dir = tempfile::tempdir().unwrap();
+    let pp = dir.path().join("marble.profile.json");
+    let flip = |budget, out: &str| EmitOptions {
+        metric: Metric::Flip,
+        ..opts(budget, &dir.path().join(out))
+    };
+    // A profile without ꟻLIP (before version 4) cannot bound it: re-run analyze.
+    let e = emit(&p, &pp, &flip(0.05, "old")).unwrap_err().to_string();
+    assert!(
+        e.contains("no flip measurements") && e.contains("re-run `reproj analyze`"),
+        "{e}"
+    );
+    assert!(!dir.path().join("old").exists());
+
+    // ꟻLIP sees more than L2 here: the same budget allows a shorter period.
+    for n in &mut p.nodes {
+        let l2_alpha = n.error_fit.alpha.unwrap();
+        n.flip_fit = Some(saturating_fit(4.0 * l2_alpha));
+    }
+    let (l2, _) = emit(&p, &pp, &opts(0.012, &dir.path().join("l2"))).unwrap();
+    let (fl, _) = emit(&p, &pp, &flip(0.012, "flip")).unwrap();
+    assert_eq!((l2.metric, fl.metric), (Metric::L2, Metric::Flip));
+    let (dl, df) = (l2.delta_n.unwrap(), fl.delta_n.unwrap());
+    assert!(df < dl || fl.node != l2.node, "l2 {l2:?}\nflip {fl:?}");
+    let node = p
+        .nodes
+        .iter()
+        .find(|n| {
+            Some(n.id.to_string()) == fl.node || (n.root && fl.node.as_deref() == Some("root"))
+        })
+        .unwrap();
+    let predicted = node
+        .flip_fit
+        .as_ref()
+        .unwrap()
+        .predict(f64::from(df))
+        .unwrap();
+    assert_eq!(fl.predicted_error, Some(predicted));
+    assert!(predicted <= 0.012);
+    let written: EmitReport =
+        serde_json::from_slice(&std::fs::read(dir.path().join("flip/report.json")).unwrap())
+            .unwrap();
+    assert_eq!(written.metric, Metric::Flip);
 }
 
 #[test]

@@ -76,6 +76,9 @@ fn measure(sim: &Sim, dn: u32) -> Measurement {
         hit_rate: gamma,
         frame_ms,
         frames,
+        error_worst: None,
+        flip: None,
+        ssim: None,
     }
 }
 
@@ -128,6 +131,8 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
                         f64::from(m.delta_n),
                         PIXELS,
                     ),
+                    measured_flip: None,
+                    predicted_flip: None,
                 })
                 .collect();
             let status = if error_fit.is_ok() && timing_fit.is_usable() {
@@ -153,10 +158,13 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
                 timing_fit,
                 holdout,
                 status,
+                flip_fit: None,
+                dssim_fit: None,
             }
         })
         .collect();
     Profile {
+        perceptual_stride: None,
         schema: "reproj.profile".to_string(),
         version: PROFILE_VERSION,
         shader: Source {

@@ -86,6 +86,10 @@ pub struct RenderArgs {
     /// Render only the first N frames.
     #[arg(long)]
     pub max_frames: Option<u32>,
+    /// Variants: compute ꟻLIP and SSIM (and with --frames write the ꟻLIP maps) on every Nth
+    /// frame (0, N, 2N, ...).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub metric_stride: u32,
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
@@ -133,6 +137,11 @@ pub struct AnalyzeArgs {
     /// Replay only the first N frames of the session.
     #[arg(long)]
     pub max_frames: Option<u32>,
+    /// Compute ꟻLIP and SSIM on every Nth frame of each replay (0, N, 2N, ...): each such frame
+    /// is read back and compared on the CPU. Recorded in the profile.
+    #[arg(long, default_value_t = reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub metric_stride: u32,
     #[command(flatten)]
     pub cache: CacheArgs,
     /// Fragment entry point.
@@ -166,9 +175,14 @@ pub struct MergeArgs {
 /// Arguments of `reproj emit`.
 #[derive(Debug, Args)]
 pub struct EmitArgs {
-    /// Error budget: mean per-pixel L2 distance in linear RGB, in [0, 1].
+    /// Error budget, in the unit of --metric: with `l2` the mean per-pixel L2 distance in linear
+    /// RGB over all pixels (in [0, √3]), with `flip` the mean ꟻLIP error over the covered pixels
+    /// (in [0, 1]).
     #[arg(long)]
     pub max_error: f64,
+    /// Which measured error the budget bounds: `l2` (the paper's) or `flip` (perceptual).
+    #[arg(long, default_value = "l2")]
+    pub metric: reproj_models::Metric,
     /// Profile from `reproj analyze` (default: the newest *.profile.json here).
     #[arg(long)]
     pub profile: Option<PathBuf>,

@@ -158,7 +158,7 @@ fn json_reports_carry_schema_and_version() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["schema"], "reproj.render");
-    assert_eq!(v["version"], 1);
+    assert_eq!(v["version"], 2);
 
     // analyze (tiny, static) then emit: report.json and `emit --json` are the same report.
     let tmp = tempfile::tempdir().unwrap();
@@ -201,7 +201,7 @@ fn json_reports_carry_schema_and_version() {
             .unwrap();
     for v in [&printed, &file] {
         assert_eq!(v["schema"], "reproj.report", "{v}");
-        assert_eq!(v["version"], 1, "{v}");
+        assert_eq!(v["version"], 2, "{v}");
     }
     assert_eq!(printed, file);
 

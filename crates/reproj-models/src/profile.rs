@@ -7,13 +7,17 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{ErrorFit, FrameTiming, HitRateFit, TimingFit};
+use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary, TimingFit};
 
 /// Version of the profile schema. Bump on any incompatible change.
 /// Version 2: per-node `strategy` and `block`, and `strategy_probes`. Version 1 files still load
 /// (every node is a 3pass node at the profile's block size).
 /// Version 3: paths relative to the profile's directory, `ir_hash` of the shader.
-pub const PROFILE_VERSION: u32 = 3;
+/// Version 4: perceptual metrics — `perceptual_stride`; per measurement `error_worst`, `flip` and
+/// `ssim`; per node `flip_fit` and `dssim_fit`; per held-out check `measured_flip` and
+/// `predicted_flip`. Older files still load (without them: `emit --metric flip` asks to re-run
+/// `analyze`).
+pub const PROFILE_VERSION: u32 = 4;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -42,6 +46,10 @@ pub struct Profile {
     pub delta_n_train: Vec<u32>,
     /// Δn used only to check the models.
     pub delta_n_holdout: Vec<u32>,
+    /// ꟻLIP and SSIM were computed on the frames `f` with `f % perceptual_stride == 0` of every
+    /// replay (`None`: not computed, profiles before version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub perceptual_stride: Option<u32>,
     /// Refresh block size k and depth tolerance used for every variant.
     pub block: u32,
     pub depth_epsilon: f32,
@@ -126,6 +134,16 @@ pub struct Measurement {
     pub delta_n: u32,
     /// Mean over frames of the mean per-pixel L2 RGB distance to the original (over all pixels).
     pub error: f64,
+    /// The frame with the largest L2 error (version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_worst: Option<FrameValue>,
+    /// ꟻLIP over the covered pixels, on the profile's `perceptual_stride` frames (version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip: Option<MetricSummary>,
+    /// SSIM over the covered pixels, on the same frames; its worst frame is the least similar
+    /// (version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ssim: Option<MetricSummary>,
     /// Mean squared RGB error over the pixels the original covers, pooled over the frames
     /// (`docs/SCHEMAS.md`). `None` in profiles written before it was recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -160,6 +178,11 @@ pub struct HoldoutCheck {
     pub predicted_error: Option<f64>,
     pub measured_ms: f64,
     pub predicted_ms: Option<f64>,
+    /// Mean ꟻLIP measured, and predicted by `flip_fit` (version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_flip: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted_flip: Option<f64>,
 }
 
 /// Everything about one node.
@@ -182,14 +205,39 @@ pub struct NodeProfile {
     #[serde(default)]
     pub block: Option<u32>,
     pub measurements: Vec<Measurement>,
+    /// The error model fitted to the L2 error (the paper's; decides whether the node is usable).
     pub error_fit: ErrorFit,
+    /// The same model fitted to the mean ꟻLIP (version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip_fit: Option<ErrorFit>,
+    /// The same model fitted to the dissimilarity 1 − mean SSIM (version 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dssim_fit: Option<ErrorFit>,
     pub timing_fit: TimingFit,
     pub holdout: Vec<HoldoutCheck>,
     #[serde(flatten)]
     pub status: NodeStatus,
 }
 
+impl Measurement {
+    /// The measured value of `metric`: the mean over the replay's frames (`None`: not measured).
+    pub fn value(&self, metric: Metric) -> Option<f64> {
+        match metric {
+            Metric::L2 => Some(self.error),
+            Metric::Flip => self.flip.map(|s| s.mean),
+        }
+    }
+}
+
 impl NodeProfile {
+    /// The error model fitted to `metric` (`None`: a profile without that metric).
+    pub fn fit(&self, metric: Metric) -> Option<&ErrorFit> {
+        match metric {
+            Metric::L2 => Some(&self.error_fit),
+            Metric::Flip => self.flip_fit.as_ref(),
+        }
+    }
+
     /// The MSE of caching this node at refresh period `delta_n`, from the measured MSEs
     /// interpolated linearly in Δn between the neighbouring measured periods; below the shortest
     /// measured period from 0 at Δn = 1 (every pixel refreshed every frame: the original).
@@ -280,6 +328,9 @@ mod tests {
                 .map(|&(delta_n, mse)| Measurement {
                     delta_n,
                     error: 0.0,
+                    error_worst: None,
+                    flip: None,
+                    ssim: None,
                     mse,
                     psnr: None,
                     hit_rate: 0.0,
@@ -288,6 +339,8 @@ mod tests {
                 })
                 .collect(),
             error_fit: fit_error(&[], &ErrorFitOptions::default()),
+            flip_fit: None,
+            dssim_fit: None,
             timing_fit: fit_timing(&[]),
             holdout: Vec::new(),
             status: NodeStatus::Ok,
@@ -315,6 +368,13 @@ mod tests {
             r#"{"delta_n":2,"error":0.01,"psnr":40.0,"hit_rate":0.5,"frame_ms":1.0,"frames":[]}"#;
         let m: Measurement = serde_json::from_str(json).unwrap();
         assert_eq!((m.delta_n, m.mse), (2, None));
+        assert_eq!(
+            (m.value(Metric::L2), m.value(Metric::Flip)),
+            (Some(0.01), None)
+        );
+        assert_eq!((m.flip, m.ssim, m.error_worst), (None, None, None));
+        let n = node_with(&[(2, None)]);
+        assert!(n.fit(Metric::L2).is_some() && n.fit(Metric::Flip).is_none());
     }
 
     #[test]

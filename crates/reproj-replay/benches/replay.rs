@@ -44,6 +44,7 @@ fn main() {
         max_frames: None,
         classify: false,
         raw_frames: false,
+        perceptual_stride: None,
     };
     println!(
         "replay benchmark: {} over {} ({} frames, {}x{})",

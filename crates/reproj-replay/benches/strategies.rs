@@ -98,6 +98,7 @@ fn main() {
         max_frames: Some(args.frames),
         classify: false,
         raw_frames: false,
+        perceptual_stride: None,
     };
     println!(
         "strategy benchmark: Δn = {}, {} frames per replay; adapter: {} ({}) [{:?}]; cores: {}; LP_NUM_THREADS={}",

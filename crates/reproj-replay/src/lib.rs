@@ -21,7 +21,8 @@
 //! - [`Renderer`]: wgpu device (Vulkan: the backends built in are [`compiled_backends`]);
 //!   [`Renderer::render_original`] renders the reference frames, [`Renderer::render_variant`] runs a
 //!   cached variant of any strategy (`docs/PASSES.md`) and compares it with the reference.
-//! - [`RenderReport`]: per-frame and mean error, PSNR, hit rate, frame time, adapter, timing method.
+//! - [`RenderReport`]: per-frame and mean error, PSNR, hit rate, frame time, adapter, timing method;
+//!   for variants ꟻLIP and SSIM ([`perceptual`]) with their worst frames.
 //! - [`output`]: PNG frames, hit maps and error maps.
 //!
 //! # Example
@@ -46,13 +47,16 @@
 //! `10 log10(1 / MSE)` with MSE over all pixels and the three channels, capped at 100 dB for
 //! identical frames. Hit rate is hits / shaded pixels. Session summaries are means over frames:
 //! error and PSNR over every frame, hit rate and frame time over frames 1.. (frame 0 has no cache
-//! and pays shader compilation).
+//! and pays shader compilation). ꟻLIP and SSIM compare the sRGB 8-bit frames over the covered
+//! pixels, on the frames [`RenderOptions::perceptual_stride`] picks; a summary keeps the mean and
+//! the worst frame.
 
 mod assets;
 pub mod backend;
 pub mod mesh;
 pub mod metrics;
 pub mod output;
+pub mod perceptual;
 mod reduce;
 pub mod reflect;
 mod render;

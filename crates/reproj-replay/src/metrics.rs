@@ -64,12 +64,67 @@ pub struct FrameRecord {
     pub psnr: f64,
     /// Largest per-channel absolute difference to the reference.
     pub max_abs_diff: f64,
+    /// Mean ꟻLIP error over the covered pixels ([`crate::perceptual`]); only on the frames the
+    /// perceptual metrics were computed for (`RenderOptions::perceptual_stride`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip: Option<f64>,
+    /// Mean SSIM over the covered pixels, on the same frames as `flip`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ssim: Option<f64>,
+}
+
+/// One frame's value of a metric.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FrameValue {
+    pub frame: u32,
+    pub value: f64,
+}
+
+/// A metric over the frames of a replay it was computed on: the mean, and the worst frame (the
+/// largest error; for SSIM, a similarity, the smallest value), so that a temporal artifact one
+/// mean hides (a stale highlight, a refresh pattern) shows.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MetricSummary {
+    pub mean: f64,
+    pub worst: FrameValue,
+    /// Frames it was computed on.
+    pub frames: u32,
+}
+
+impl MetricSummary {
+    /// The summary of `(frame, value)` pairs; the worst is the first frame with the largest value,
+    /// or the smallest with `lower_is_worse`. `None` without values.
+    pub fn of(values: impl Iterator<Item = (u32, f64)>, lower_is_worse: bool) -> Option<Self> {
+        let mut sum = 0.0;
+        let mut frames = 0u32;
+        let mut worst: Option<FrameValue> = None;
+        for (frame, value) in values {
+            sum += value;
+            frames += 1;
+            let worse = worst.is_none_or(|w| {
+                if lower_is_worse {
+                    value < w.value
+                } else {
+                    value > w.value
+                }
+            });
+            if worse {
+                worst = Some(FrameValue { frame, value });
+            }
+        }
+        Some(MetricSummary {
+            mean: sum / f64::from(frames.max(1)),
+            worst: worst?,
+            frames,
+        })
+    }
 }
 
 /// Schema name of a [`RenderReport`] (`reproj render --json`).
 pub const RENDER_REPORT_SCHEMA: &str = "reproj.render";
 /// Version of the [`RenderReport`] schema. Bump on any incompatible change.
-pub const RENDER_REPORT_VERSION: u32 = 1;
+/// Version 2: `error_worst`, `flip` and `ssim` (and per frame `flip`, `ssim`).
+pub const RENDER_REPORT_VERSION: u32 = 2;
 
 fn render_report_schema() -> String {
     RENDER_REPORT_SCHEMA.into()
@@ -107,6 +162,16 @@ pub struct RenderReport {
     pub depth_epsilon: Option<f32>,
     /// Mean error over all frames (0 for the original).
     pub error: f64,
+    /// The frame with the largest error (absent before version 2 and without frames).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_worst: Option<FrameValue>,
+    /// ꟻLIP over the covered pixels, over the frames it was computed on (variants with perceptual
+    /// metrics only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip: Option<MetricSummary>,
+    /// SSIM over the covered pixels, on the same frames as `flip`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ssim: Option<MetricSummary>,
     /// Mean squared RGB error over the covered pixels of all frames, pooled: total squared error
     /// / (3 × total covered pixels) (0 for the original).
     #[serde(default)]
@@ -243,6 +308,10 @@ impl RenderReport {
             all.iter().collect()
         };
         self.error = mean(all.iter().map(|f| f.error));
+        self.error_worst =
+            MetricSummary::of(all.iter().map(|f| (f.frame, f.error)), false).map(|s| s.worst);
+        self.flip = MetricSummary::of(all.iter().filter_map(|f| Some((f.frame, f.flip?))), false);
+        self.ssim = MetricSummary::of(all.iter().filter_map(|f| Some((f.frame, f.ssim?))), true);
         // Pooled over the frames: each frame's squared error is its MSE × 3 × covered pixels.
         let sum_sq: f64 = all.iter().map(|f| f.mse * 3.0 * f.covered as f64).sum();
         let covered: u64 = all.iter().map(|f| f.covered).sum();
@@ -276,6 +345,8 @@ mod tests {
             covered,
             psnr: psnr(mse),
             max_abs_diff: 0.0,
+            flip: None,
+            ssim: None,
         }
     }
 
@@ -333,6 +404,9 @@ mod tests {
             block: None,
             depth_epsilon: None,
             error: 0.0,
+            error_worst: None,
+            flip: None,
+            ssim: None,
             mse: 0.0,
             psnr: 0.0,
             hit_rate: 0.0,
@@ -345,6 +419,39 @@ mod tests {
         assert!((report.mse - 0.0075).abs() < 1e-15);
         assert!((report.psnr - 10.0 * (1.0 / 0.0075f64).log10()).abs() < 1e-12);
         assert!((report.error - 0.1).abs() < 1e-15);
+        assert_eq!(
+            report.error_worst,
+            Some(FrameValue {
+                frame: 0,
+                value: 0.2
+            })
+        );
+        assert_eq!((report.flip, report.ssim), (None, None));
+    }
+
+    #[test]
+    fn summaries_keep_the_worst_frame() {
+        let values = [(0, 0.0), (5, 0.3), (10, 0.1), (15, 0.3)];
+        let s = MetricSummary::of(values.into_iter(), false).unwrap();
+        assert_eq!(s.frames, 4);
+        assert!((s.mean - 0.175).abs() < 1e-15);
+        // Ties: the first.
+        assert_eq!(
+            s.worst,
+            FrameValue {
+                frame: 5,
+                value: 0.3
+            }
+        );
+        let s = MetricSummary::of(values.into_iter(), true).unwrap();
+        assert_eq!(
+            s.worst,
+            FrameValue {
+                frame: 0,
+                value: 0.0
+            }
+        );
+        assert_eq!(MetricSummary::of(std::iter::empty(), false), None);
     }
 
     #[test]

@@ -4,8 +4,9 @@
 //! Names: `frame_NNN.png`, `hitmap_NNN.png` (green hit, red miss, blue refresh, black background),
 //! `errmap_NNN.png` (per-pixel L2 error through a black → blue → red → yellow → white ramp, full
 //! scale at [`ERRMAP_FULL_SCALE`], with a labelled colour bar under the frame: [`errmap_rgba8`]),
-//! `ref_NNN.png` (the original's frame beside a variant's: [`write_reference_frame`]), and on
-//! request `frame_NNN.f32`: the frame's exact linear RGBA
+//! `ref_NNN.png` (the original's frame beside a variant's: [`write_reference_frame`]),
+//! `flipmap_NNN.png` (the ꟻLIP error map in NVIDIA's magma colours, on the frames the perceptual
+//! metrics were computed for), and on request `frame_NNN.f32`: the frame's exact linear RGBA
 //! values before PNG encoding (see [`write_frame_raw`]), for comparing two renderers to 1e-4.
 
 use std::path::{Path, PathBuf};
@@ -213,6 +214,25 @@ fn glyph(c: char) -> [u8; 5] {
         '+' => [0b000, 0b010, 0b111, 0b010, 0b000],
         _ => [0; 5],
     }
+}
+
+/// `flipmap_NNN.png`: a ꟻLIP error map ([`crate::perceptual::flip_map`]) through NVIDIA's magma
+/// colour map (black: no error, pale yellow: 1).
+pub fn write_flipmap(
+    dir: &Path,
+    index: u32,
+    width: u32,
+    height: u32,
+    map: &[f32],
+) -> Result<PathBuf, ReplayError> {
+    let p = dir.join(format!("flipmap_{index:03}.png"));
+    write_png_rgba8(
+        &p,
+        width,
+        height,
+        &crate::perceptual::flip_colors(map, width, height),
+    )?;
+    Ok(p)
 }
 
 /// `hitmap_NNN.png` from the RGBA8 classification map (already green / red / blue / black).

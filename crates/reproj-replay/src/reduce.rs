@@ -540,50 +540,74 @@ impl<'a> Reducer<'a> {
     }
 }
 
-/// How a variant replay gets each frame's error against the reference.
-pub(crate) enum FrameErrors<'a> {
-    /// Reduced on the GPU: only the per-tile sums come back.
-    Gpu(Reducer<'a>),
-    /// The frame's pixels come back (they are written as PNGs) and the error is computed on the
-    /// CPU ([`crate::metrics::compare`]).
-    Cpu(Staging),
+/// Which frames of a variant replay come back as pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PixelsBack {
+    /// None: only the GPU reduction's sums come back.
+    None,
+    /// Frames `f` with `f % k == 0` (for the perceptual metrics); the reduction still gives
+    /// every frame's sums.
+    Every(u32),
+    /// Every frame (they are written as PNGs); the error is computed on the CPU
+    /// ([`crate::metrics::compare`]) and there is no reduction.
+    All,
+}
+
+impl PixelsBack {
+    /// Whether frame `frame`'s pixels come back.
+    pub(crate) fn includes(self, frame: u32) -> bool {
+        match self {
+            PixelsBack::None => false,
+            PixelsBack::Every(k) => frame.is_multiple_of(k.max(1)),
+            PixelsBack::All => true,
+        }
+    }
+}
+
+/// How a variant replay gets each frame's error against the reference, and the pixels of the
+/// frames [`PixelsBack`] asks for.
+pub(crate) struct FrameErrors<'a> {
+    /// Reduced on the GPU: only the per-tile sums come back. `None` with [`PixelsBack::All`].
+    reducer: Option<Reducer<'a>>,
+    /// One slot per frame of a batch for the frames whose pixels come back.
+    pixels: Option<Staging>,
+    back: PixelsBack,
 }
 
 impl<'a> FrameErrors<'a> {
-    /// For `frames` frames of `reference` read back in batches of `slots`; with `pixels_back` the
-    /// frames' pixels come back too.
+    /// For `frames` frames of `reference` read back in batches of `slots`.
     pub(crate) fn new(
         r: &Renderer,
         reference: &'a Reference,
         frames: u32,
         slots: u32,
-        pixels_back: bool,
+        back: PixelsBack,
     ) -> Result<FrameErrors<'a>, ReplayError> {
         let (w, h) = (reference.width, reference.height);
-        if pixels_back {
-            return Ok(FrameErrors::Cpu(Staging::new(
-                r,
-                "frame readback",
-                w,
-                h,
-                16,
-                slots,
-            )));
-        }
-        let gpu = reference.gpu.on(r, reference, frames)?;
-        Ok(FrameErrors::Gpu(Reducer::new(r, gpu, w, h, slots)?))
+        let pixels =
+            (back != PixelsBack::None).then(|| Staging::new(r, "frame readback", w, h, 16, slots));
+        let reducer = if back == PixelsBack::All {
+            None
+        } else {
+            let gpu = reference.gpu.on(r, reference, frames)?;
+            Some(Reducer::new(r, gpu, w, h, slots)?)
+        };
+        Ok(FrameErrors {
+            reducer,
+            pixels,
+            back,
+        })
     }
 
-    /// The buffer to map with the batch's other readbacks.
-    pub(crate) fn read_buffer(&self) -> &wgpu::Buffer {
-        match self {
-            FrameErrors::Gpu(red) => red.read_buffer(),
-            FrameErrors::Cpu(staging) => &staging.buf,
-        }
+    /// The buffers to map with the batch's other readbacks.
+    pub(crate) fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
+        let reducer = self.reducer.as_ref().map(|red| red.read_buffer());
+        let pixels = self.pixels.as_ref().map(|p| &p.buf);
+        reducer.into_iter().chain(pixels).collect()
     }
 
     /// Record what frame `frame` (its color target `color`, viewed as `view`) needs, into `slot`:
-    /// the reduction, or the copy of its pixels.
+    /// the reduction, the copy of its pixels, or both.
     pub(crate) fn encode(
         &self,
         r: &Renderer,
@@ -593,16 +617,18 @@ impl<'a> FrameErrors<'a> {
         frame: u32,
         slot: u32,
     ) -> Result<(), ReplayError> {
-        match self {
-            FrameErrors::Gpu(red) => red.encode(r, enc, view, frame, slot),
-            FrameErrors::Cpu(staging) => {
-                staging.copy(enc, color, slot);
-                Ok(())
-            }
+        if let Some(red) = &self.reducer {
+            red.encode(r, enc, view, frame, slot)?;
         }
+        if let Some(staging) = &self.pixels
+            && self.back.includes(frame)
+        {
+            staging.copy(enc, color, slot);
+        }
+        Ok(())
     }
 
-    /// The error of frame `frame` in `slot`, and its pixels when they came back (the read buffer
+    /// The error of frame `frame` in `slot`, and its pixels when they came back (the read buffers
     /// must be mapped).
     pub(crate) fn read(
         &self,
@@ -610,21 +636,25 @@ impl<'a> FrameErrors<'a> {
         reference: &Reference,
         frame: u32,
     ) -> Result<(FrameError, Option<Vec<f32>>), ReplayError> {
-        match self {
-            FrameErrors::Gpu(red) => Ok((red.read(slot)?, None)),
-            FrameErrors::Cpu(staging) => {
-                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&staging.image(slot)?);
-                let f = frame as usize;
-                let (Some(color), Some(depth)) = (reference.frames.get(f), reference.depth.get(f))
-                else {
-                    return Err(ReplayError::ReferenceMismatch {
-                        reference: format!("{} frames", reference.frames.len()),
-                        session: format!("frame {frame}"),
-                    });
-                };
-                Ok((metrics::compare(&pixels, color, depth), Some(pixels)))
+        let pixels: Option<Vec<f32>> = match &self.pixels {
+            Some(staging) if self.back.includes(frame) => {
+                Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?))
             }
+            _ => None,
+        };
+        if let Some(red) = &self.reducer {
+            return Ok((red.read(slot)?, pixels));
         }
+        let f = frame as usize;
+        let (Some(pixels), Some(color), Some(depth)) =
+            (pixels, reference.frames.get(f), reference.depth.get(f))
+        else {
+            return Err(ReplayError::ReferenceMismatch {
+                reference: format!("{} frames", reference.frames.len()),
+                session: format!("frame {frame}"),
+            });
+        };
+        Ok((metrics::compare(&pixels, color, depth), Some(pixels)))
     }
 }
 

@@ -31,7 +31,8 @@ use crate::assets::Assets;
 use crate::mesh::Vertex;
 use crate::metrics::{self, AdapterReport, FrameRecord, RenderReport, TimingMethod};
 use crate::output;
-use crate::reduce::{self, FrameErrors, GpuReference, Keeper};
+use crate::perceptual;
+use crate::reduce::{self, FrameErrors, GpuReference, Keeper, PixelsBack};
 use crate::reflect::{self, Interface, ResourceKind, TexDim};
 use crate::session::{Address, Cull, Filter, Session};
 use crate::vertex::{self, TransformUniform, VERTEX_ENTRY};
@@ -81,6 +82,10 @@ pub struct RenderOptions {
     /// With `png_dir`: also write each frame's exact RGBA f32 values as `frame_NNN.f32`
     /// ([`output::write_frame_raw`]).
     pub raw_frames: bool,
+    /// Variants: compute the perceptual metrics ([`crate::perceptual`]: ꟻLIP and SSIM over the
+    /// covered pixels) on frames `f` with `f % k == 0`, reading those frames back (with
+    /// `png_dir`, also their ꟻLIP maps). `None`: not computed.
+    pub perceptual_stride: Option<u32>,
 }
 
 impl Default for RenderOptions {
@@ -90,6 +95,7 @@ impl Default for RenderOptions {
             max_frames: None,
             classify: true,
             raw_frames: false,
+            perceptual_stride: None,
         }
     }
 }
@@ -1360,6 +1366,8 @@ impl Renderer {
                     covered,
                     psnr: metrics::PSNR_CAP,
                     max_abs_diff: 0.0,
+                    flip: None,
+                    ssim: None,
                 });
                 out_frames.push(pixels);
                 out_depth.push(depth);
@@ -1401,6 +1409,9 @@ impl Renderer {
             block: None,
             depth_epsilon: None,
             error: 0.0,
+            error_worst: None,
+            flip: None,
+            ssim: None,
             mse: 0.0,
             psnr: metrics::PSNR_CAP,
             hit_rate: 0.0,
@@ -1680,12 +1691,21 @@ impl Renderer {
 
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
         let q = QueryKit::new(self, specs.len() as u32, slots);
-        let errors = FrameErrors::new(self, reference, frames, slots, opts.png_dir.is_some())?;
+        let back = match (&opts.png_dir, opts.perceptual_stride) {
+            (Some(_), _) => PixelsBack::All,
+            (None, Some(k)) => PixelsBack::Every(k.max(1)),
+            (None, None) => PixelsBack::None,
+        };
+        let perceptual = |f: u32| {
+            opts.perceptual_stride
+                .is_some_and(|k| f.is_multiple_of(k.max(1)))
+        };
+        let errors = FrameErrors::new(self, reference, frames, slots, back)?;
         let cls_rb = pc
             .as_ref()
             .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
         let mut rb_bufs = q.read_buffers();
-        rb_bufs.push(errors.read_buffer());
+        rb_bufs.extend(errors.read_buffers());
         if let Some(c) = &cls_rb {
             rb_bufs.push(&c.buf);
         }
@@ -1912,6 +1932,21 @@ impl Renderer {
                     _ => 0.0,
                 };
                 let frame_ms = span.unwrap_or(cpu_ms);
+                let (mut flip, mut ssim) = (None, None);
+                if let Some(pixels) = pixels.as_ref().filter(|_| perceptual(f)) {
+                    let fi = f as usize;
+                    let (e, map) = perceptual::compare_perceptual(
+                        pixels,
+                        &reference.frames[fi],
+                        &reference.depth[fi],
+                        w,
+                        h,
+                    );
+                    (flip, ssim) = (Some(e.flip), Some(e.ssim));
+                    if let Some(dir) = &opts.png_dir {
+                        output::write_flipmap(dir, f, w, h, &map)?;
+                    }
+                }
                 if let (Some(dir), Some(pixels)) = (&opts.png_dir, &pixels) {
                     let refr = &reference.frames[f as usize];
                     output::write_frame(dir, f, w, h, pixels)?;
@@ -1940,6 +1975,8 @@ impl Renderer {
                     covered: errs.covered,
                     psnr: errs.psnr(),
                     max_abs_diff: errs.max_abs_diff,
+                    flip,
+                    ssim,
                 });
             }
             Self::unmap_all(&rb_bufs);

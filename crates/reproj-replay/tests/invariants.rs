@@ -31,6 +31,7 @@ fn opts(frames: u32) -> RenderOptions {
         max_frames: Some(frames),
         classify: false,
         raw_frames: false,
+        perceptual_stride: None,
     }
 }
 

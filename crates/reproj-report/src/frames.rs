@@ -53,6 +53,7 @@ pub fn reference(
             max_frames: Some(profile.frames),
             classify: false,
             raw_frames: false,
+            perceptual_stride: None,
         },
     )?)
 }
@@ -118,6 +119,12 @@ pub fn render_choice(
             max_frames: Some(profile.frames),
             classify: true,
             raw_frames: false,
+            // The perceptual metrics on the profile's frames (or analyze's default stride).
+            perceptual_stride: Some(
+                profile
+                    .perceptual_stride
+                    .unwrap_or(reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE),
+            ),
         },
     )?;
     let mut picks: Vec<(u32, &'static str)> = Vec::new();

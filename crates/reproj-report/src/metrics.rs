@@ -21,12 +21,24 @@ pub struct Metric {
 
 /// The metrics of one replay measured by `analyze` (a profile's measurement).
 pub fn of_measurement(m: &Measurement) -> Vec<Metric> {
-    vec![error(m.error), psnr(m.psnr)]
+    vec![
+        error(m.error),
+        psnr(m.psnr),
+        flip(m.flip.as_ref().map(|f| f.mean)),
+        flip_worst(m.flip.as_ref().map(|f| f.worst.value)),
+        ssim(m.ssim.as_ref().map(|f| f.mean)),
+    ]
 }
 
 /// The metrics of one replay rendered by the report.
 pub fn of_render(r: &RenderReport) -> Vec<Metric> {
-    vec![error(r.error), psnr(Some(r.psnr))]
+    vec![
+        error(r.error),
+        psnr(Some(r.psnr)),
+        flip(r.flip.as_ref().map(|f| f.mean)),
+        flip_worst(r.flip.as_ref().map(|f| f.worst.value)),
+        ssim(r.ssim.as_ref().map(|f| f.mean)),
+    ]
 }
 
 fn error(value: f64) -> Metric {
@@ -35,6 +47,36 @@ fn error(value: f64) -> Metric {
         value: Some(value).filter(|v| v.is_finite()),
         unit: "",
         decimals: 5,
+    }
+}
+
+/// Mean ꟻLIP over the covered pixels (`docs/SCHEMAS.md`).
+fn flip(value: Option<f64>) -> Metric {
+    Metric {
+        name: "ꟻLIP",
+        value: value.filter(|v| v.is_finite()),
+        unit: "",
+        decimals: 4,
+    }
+}
+
+/// ꟻLIP of the worst frame: a stale highlight or refresh speckle shows here first.
+fn flip_worst(value: Option<f64>) -> Metric {
+    Metric {
+        name: "ꟻLIP worst frame",
+        value: value.filter(|v| v.is_finite()),
+        unit: "",
+        decimals: 4,
+    }
+}
+
+/// Mean SSIM over the covered pixels.
+fn ssim(value: Option<f64>) -> Metric {
+    Metric {
+        name: "SSIM",
+        value: value.filter(|v| v.is_finite()),
+        unit: "",
+        decimals: 4,
     }
 }
 

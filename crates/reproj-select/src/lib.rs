@@ -26,7 +26,7 @@ pub struct NodeRecord {
     /// The variant strategy its models were measured with (`3pass`, `2pass`, `fused`).
     #[serde(default = "three_pass")]
     pub strategy: String,
-    /// Its error model.
+    /// Its error model, fitted to the metric the budget bounds.
     pub error: reproj_models::ErrorFit,
     /// Its timing model (E[hit], E[miss], E[overhead]).
     pub timing: TimingFit,
@@ -41,7 +41,9 @@ fn three_pass() -> String {
 /// Options of [`select`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SelectOptions {
-    /// ε_max: largest acceptable predicted error (mean per-pixel L2 RGB distance).
+    /// ε_max: largest acceptable predicted error, in the unit of the nodes' error models (the
+    /// mean per-pixel L2 RGB distance, or the mean ꟻLIP when `emit --metric flip` hands over the
+    /// models fitted to it).
     pub max_error: f64,
     /// Smallest Δn considered (≥ 1).
     pub min_delta_n: u32,

@@ -100,6 +100,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         },
         block: args.cache.block,
         max_frames: args.max_frames,
+        perceptual_stride: args.metric_stride,
         // Beside the profile: NAME.profile.journal. Removed once the profile is written.
         journal: Some(reproj_analyze::JournalOptions {
             path: out.with_extension("journal"),

@@ -39,6 +39,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| PathBuf::from("out").join(&stem));
     let opts = EmitOptions {
         max_error: args.max_error,
+        metric: args.metric,
         min_delta_n: 2,
         max_delta_n: args.max_delta_n,
         out,
@@ -91,7 +92,12 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         "profile  {} ({} on {})",
         report.profile, report.shader, report.adapter
     )?;
-    writeln!(stdout, "budget   error ≤ {}", report.max_error)?;
+    writeln!(
+        stdout,
+        "budget   {} ≤ {}",
+        metric_label(report.metric),
+        report.max_error
+    )?;
     match (&report.node, report.delta_n) {
         (Some(node), Some(dn)) => {
             writeln!(
@@ -104,7 +110,8 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             )?;
             writeln!(
                 stdout,
-                "predicted error {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                "predicted {} {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                metric_label(report.metric),
                 report.predicted_error.unwrap_or(0.0),
                 report
                     .predicted_psnr
@@ -136,6 +143,21 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             report.measured_original_ms.unwrap_or(0.0),
         )?;
     }
+    if let (Some(f), Some(s)) = (report.measured_flip, report.measured_ssim) {
+        writeln!(
+            stdout,
+            "measured  ꟻLIP {:.5} (worst {:.5}, frame {}), SSIM {:.5} (worst {:.5}, frame {})",
+            f.mean, f.worst.value, f.worst.frame, s.mean, s.worst.value, s.worst.frame
+        )?;
+    }
     writeln!(stdout, "wrote    {}", report.files.join(", "))?;
     unmet.map_or(Ok(()), |u| Err(u.into()))
+}
+
+/// How reports name the error a budget bounds.
+fn metric_label(metric: reproj_models::Metric) -> &'static str {
+    match metric {
+        reproj_models::Metric::L2 => "error",
+        reproj_models::Metric::Flip => "ꟻLIP",
+    }
 }

@@ -37,6 +37,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         max_frames: args.max_frames,
         classify: true,
         raw_frames: args.raw_frames,
+        perceptual_stride: Some(args.metric_stride),
     };
     let has_variant = args.node.is_some() || args.variant.is_some();
     // With a variant, the original's frames go beside the variant's as `ref_NNN.png`.
@@ -142,7 +143,28 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             "  error     {:.6} (mean per-pixel L2, linear RGB)",
             report.error
         )?;
+        if let Some(w) = report.error_worst.filter(|_| report.node.is_some()) {
+            writeln!(stdout, "  worst     {:.6} (frame {})", w.value, w.frame)?;
+        }
         writeln!(stdout, "  PSNR      {:.2} dB", report.psnr)?;
+        if let Some(f) = report.flip {
+            writeln!(
+                stdout,
+                "  ꟻLIP      {:.6} mean, worst {:.6} (frame {}) (covered pixels, {} of {} frames)",
+                f.mean,
+                f.worst.value,
+                f.worst.frame,
+                f.frames,
+                report.frames.len()
+            )?;
+        }
+        if let Some(s) = report.ssim {
+            writeln!(
+                stdout,
+                "  SSIM      {:.6} mean, worst {:.6} (frame {})",
+                s.mean, s.worst.value, s.worst.frame
+            )?;
+        }
         writeln!(stdout, "  hit rate  {:.3}", report.hit_rate)?;
         writeln!(
             stdout,

@@ -1,0 +1,81 @@
+//! The perceptual metrics on a real replay (marble, its recorded session): a variant at Δn = 1 is
+//! the original (ꟻLIP ≈ 0, SSIM ≈ 1), a long refresh period scores worse, and the frames sampled
+//! on a stride are the ones reported. Needs a Vulkan adapter (lavapipe in CI).
+
+use std::path::PathBuf;
+
+use reproj_front::{enumerate, load_file, normalize};
+use reproj_instance::{InstanceOptions, NodeSelector, instance};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn flip_and_ssim_grow_with_the_refresh_period_on_marble() {
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
+    let session = Session::load(root().join("sessions/marble.json")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let opts = RenderOptions {
+        max_frames: Some(24),
+        classify: false,
+        perceptual_stride: Some(3),
+        ..Default::default()
+    };
+    let entry = shader.fragment_entry(None).unwrap();
+    let reference = renderer
+        .render_original(&shader, entry, &session, &opts)
+        .unwrap();
+    let v = instance(
+        &shader,
+        &norm,
+        &table,
+        NodeSelector::Root,
+        &InstanceOptions::default(),
+    )
+    .unwrap();
+    let replay = |delta_n: u32| {
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            delta_n,
+        );
+        renderer
+            .render_variant(&shader, &session, &input, &reference, &opts)
+            .unwrap()
+    };
+    let exact = replay(1);
+    let stale = replay(20);
+    for r in [&exact, &stale] {
+        // Frames 0, 3, ..., 21: eight of the 24, and only those carry the metrics.
+        let (flip, ssim) = (r.flip.unwrap(), r.ssim.unwrap());
+        assert_eq!((flip.frames, ssim.frames), (8, 8));
+        for f in &r.frames {
+            assert_eq!(f.flip.is_some(), f.frame % 3 == 0, "frame {}", f.frame);
+            assert_eq!(f.ssim.is_some(), f.frame % 3 == 0, "frame {}", f.frame);
+        }
+        assert_eq!(flip.worst.frame % 3, 0);
+        let worst = r.frames[flip.worst.frame as usize].flip.unwrap();
+        assert_eq!(worst, flip.worst.value);
+        assert!(r.frames.iter().filter_map(|f| f.flip).all(|v| v <= worst));
+        // L2 is untouched: every frame, all pixels.
+        let l2 = r.error_worst.unwrap();
+        assert!(r.frames.iter().all(|f| f.error <= l2.value));
+    }
+    let (f1, s1) = (exact.flip.unwrap(), exact.ssim.unwrap());
+    assert!(f1.worst.value < 1e-3, "Δn = 1: ꟻLIP {f1:?}");
+    assert!(s1.worst.value > 0.999, "Δn = 1: SSIM {s1:?}");
+    let (f20, s20) = (stale.flip.unwrap(), stale.ssim.unwrap());
+    assert!(
+        f20.mean > f1.mean + 0.005 && f20.worst.value > f20.mean,
+        "Δn = 20: ꟻLIP {f20:?}"
+    );
+    assert!(
+        s20.mean < s1.mean - 0.005 && s20.worst.value < s20.mean,
+        "Δn = 20: SSIM {s20:?}"
+    );
+}
