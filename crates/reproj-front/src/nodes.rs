@@ -40,6 +40,40 @@ pub enum CullReason {
 }
 
 impl CullReason {
+    /// Every reason, in declaration order.
+    pub const ALL: [CullReason; 6] = [
+        CullReason::InLoop,
+        CullReason::NonUniformBranch,
+        CullReason::Discontinuous,
+        CullReason::Derivative,
+        CullReason::PayloadType,
+        CullReason::Trivial,
+    ];
+
+    /// What a shader whose work is mostly culled for this reason could change.
+    pub fn hint(self) -> &'static str {
+        match self {
+            CullReason::InLoop => {
+                "the work is inside loops: a value read after the loop (a variable it accumulates) can be cached"
+            }
+            CullReason::NonUniformBranch => {
+                "the work is inside branches on per-pixel values: compute both sides and `select`, or branch on a uniform"
+            }
+            CullReason::Discontinuous => {
+                "the work reaches the color only through comparisons, rounding or conversions, which reprojection would blur"
+            }
+            CullReason::Derivative => {
+                "the work feeds derivatives or implicit-LOD texture samples, which need neighbouring pixels"
+            }
+            CullReason::PayloadType => {
+                "the values are not f32/f16 data of at most 4 components, so no cache texture holds them"
+            }
+            CullReason::Trivial => {
+                "every expression is cheaper than a cache lookup: there is nothing worth caching"
+            }
+        }
+    }
+
     pub fn as_str(self) -> &'static str {
         match self {
             CullReason::InLoop => "in-loop",

@@ -11,7 +11,7 @@ use std::collections::HashMap;
 use naga::{Expression, Handle, Span};
 
 use crate::liveness::liveness;
-use crate::parse::{FrontError, Shader, validator};
+use crate::parse::{FrontError, Lang, Shader, validator};
 use crate::rebuild::{Mode, RebuildOptions, rebuild};
 
 /// A normalized shader: one fragment entry point whose result is the root of an expression DAG.
@@ -143,6 +143,9 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         }
         _ => root_value,
     };
+    if shader.lang != Lang::Wgsl {
+        check_traced(shader, &module, root)?;
+    }
     // The root must be a node (f32/f16 data), or `NodeTable::root` has nothing to find.
     let root_ty = info.get_entry_point(0)[root].ty.inner_with(&module.types);
     if !matches!(
@@ -164,4 +167,44 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         root,
         call_site,
     })
+}
+
+/// GLSL and SPIR-V outputs are variables that a wrapper entry point reads back after calling the
+/// real `main`: after normalization the output must be the value written, or a load of a local
+/// variable whose stores the node table follows. A zero (never written) or a load from memory
+/// reproj does not follow means the output could not be traced: say so rather than report nothing
+/// cacheable.
+fn check_traced(
+    shader: &Shader,
+    module: &naga::Module,
+    root: Handle<Expression>,
+) -> Result<(), FrontError> {
+    let fun = &module.entry_points[0].function;
+    let span = fun.expressions.get_span(root);
+    let lang = match shader.lang {
+        Lang::Glsl => "GLSL",
+        _ => "SPIR-V",
+    };
+    match fun.expressions[root] {
+        Expression::ZeroValue(_) => Err(shader.unsupported(
+            span,
+            format!(
+                "the output is never written: the {lang} entry point returns its output variable \
+                 unwritten (write it in `main`, outside helpers with early returns)"
+            ),
+        )),
+        Expression::Load { pointer } if crate::ir::root_local(&fun.expressions, pointer).is_none() => {
+            let name = crate::ir::root_global(&fun.expressions, pointer)
+                .and_then(|g| module.global_variables[g].name.clone())
+                .unwrap_or_else(|| "memory".into());
+            Err(shader.unsupported(
+                span,
+                format!(
+                    "the output is read back from `{name}`, which reproj cannot follow to the value \
+                     written (the {lang} output must be written from values computed in `main`)"
+                ),
+            ))
+        }
+        _ => Ok(()),
+    }
 }

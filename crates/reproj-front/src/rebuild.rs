@@ -4,8 +4,9 @@
 //! in place: it walks the source function's statements in order and appends translated expressions
 //! and statements to a new [`naga::Function`]. One walker serves every rewrite:
 //!
-//! - the front end's normalization ([`Mode::Normalize`]): inline calls, forward local loads in
-//!   straight-line code, share identical pure expressions;
+//! - the front end's normalization ([`Mode::Normalize`]): inline calls, turn module-scope
+//!   `var<private>` globals into locals, forward local loads in straight-line code, share identical
+//!   pure expressions;
 //! - plain copies ([`Mode::Copy`]) that keep only live code ([`crate::liveness`]), replace one
 //!   expression by another, or stop after one expression and return it (the instancer's passes).
 
@@ -104,6 +105,7 @@ pub fn rebuild(
         cse: vec![HashMap::new()],
         pre_cse: HashMap::new(),
         env: HashMap::new(),
+        privates: HashMap::new(),
         stored_log: Vec::new(),
         call_site: HashMap::new(),
         root: None,
@@ -133,6 +135,9 @@ pub fn rebuild(
         for (h, _) in fun.local_variables.iter() {
             out.local(&mut ctx, h);
         }
+    }
+    if mode == Mode::Normalize {
+        out.init_privates();
     }
     out.init_locals(&mut ctx, fun)?;
     out.walk_block(&mut ctx, &fun.body)?;
@@ -193,6 +198,8 @@ struct Out<'m, 'o> {
     cse: Vec<HashMap<String, Handle<Expression>>>,
     pre_cse: HashMap<String, Handle<Expression>>,
     env: HashMap<Handle<LocalVariable>, Handle<Expression>>,
+    /// Module-scope `var<private>` globals and the locals that replace them when normalizing.
+    privates: HashMap<Handle<naga::GlobalVariable>, Handle<LocalVariable>>,
     stored_log: Vec<Handle<LocalVariable>>,
     call_site: HashMap<Handle<Expression>, Span>,
     root: Option<Handle<Expression>>,
@@ -323,6 +330,49 @@ impl Out<'_, '_> {
         Ok(())
     }
 
+    /// Normalizing: every module-scope `var<private>` becomes a local of the entry point, stored
+    /// its initial value first. Private variables live for one invocation and the normalized entry
+    /// point is the only function left, so this keeps the meaning; it lets the load forwarding see
+    /// through the pattern naga's GLSL and SPIR-V front ends produce (inputs copied into private
+    /// globals, the real `main` called from a wrapper entry point, the output read back).
+    fn init_privates(&mut self) {
+        for (g, var) in self.module.global_variables.iter() {
+            if var.space != naga::AddressSpace::Private {
+                continue;
+            }
+            let span = self.module.global_variables.get_span(g);
+            let local = self.fun.local_variables.append(
+                LocalVariable {
+                    name: var.name.clone(),
+                    ty: var.ty,
+                    init: None,
+                },
+                span,
+            );
+            self.privates.insert(g, local);
+            let value = match var.init {
+                Some(init) => self.global_expression(init),
+                None => self.append(Expression::ZeroValue(var.ty), span),
+            };
+            let ptr = self.append(Expression::LocalVariable(local), span);
+            self.store(ptr, value, span);
+        }
+    }
+
+    /// A module-scope constant expression (a private global's initializer) copied into the function.
+    fn global_expression(&mut self, h: Handle<Expression>) -> Handle<Expression> {
+        let exprs = &self.module.global_expressions;
+        let span = exprs.get_span(h);
+        let mut e = exprs[h].clone();
+        let mapped: Vec<_> = ir::operands(&e)
+            .into_iter()
+            .map(|o| self.global_expression(o))
+            .collect();
+        let mut it = mapped.into_iter();
+        ir::map_operands(&mut e, &mut |_| it.next().unwrap());
+        self.append(e, span)
+    }
+
     /// The new local variable for a source local, created on first use.
     fn local(&mut self, ctx: &mut Ctx, v: Handle<LocalVariable>) -> Handle<LocalVariable> {
         if let Some(nv) = ctx.locals[v.index()] {
@@ -389,6 +439,9 @@ impl Out<'_, '_> {
             Expression::LocalVariable(v) => {
                 let nv = self.local(ctx, v);
                 self.append(Expression::LocalVariable(nv), span)
+            }
+            Expression::GlobalVariable(g) if self.privates.contains_key(&g) => {
+                self.append(Expression::LocalVariable(self.privates[&g]), span)
             }
             Expression::CallResult(_) => {
                 return Err(unsupported(span, "a call result used before its call"));
@@ -536,6 +589,7 @@ impl Out<'_, '_> {
             loop {
                 match ctx.fun.expressions[p] {
                     Expression::LocalVariable(v) => return ctx.locals[v.index()],
+                    Expression::GlobalVariable(g) => return self.privates.get(&g).copied(),
                     Expression::FunctionArgument(i) if !ctx.is_top => {
                         return ir::root_local(&self.fun.expressions, ctx.args[i as usize]);
                     }
