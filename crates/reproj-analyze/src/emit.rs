@@ -3,9 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use reproj_front::{NormalizeOptions, enumerate, normalize};
+use reproj_front::{LoadOptions, load};
 use reproj_instance::{
-    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, Variant, instance, write_variant,
+    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, Variant, backends::OutputLang,
+    instance, write_variant_in,
 };
 use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
@@ -34,6 +35,8 @@ pub struct EmitOptions {
     /// The shader to instance (`None`: the profile's, relative to the profile file). Either way
     /// it must be the shader that was profiled, up to comments and formatting.
     pub shader: Option<PathBuf>,
+    /// Languages to write the passes in besides WGSL.
+    pub langs: Vec<OutputLang>,
 }
 
 /// Schema name of an [`EmitReport`] (`report.json`).
@@ -165,7 +168,9 @@ pub fn emit(
         .shader
         .clone()
         .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
-    let shader = reproj_front::load_file(&shader_path)?;
+    let loaded = load(&shader_path, Some(&profile.entry), &LoadOptions::default())?;
+    // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
+    let shader = loaded.shader.to_wgsl()?;
     let fresh = match &profile.shader.ir_hash {
         Some(h) => ir_hash(&shader) == *h,
         None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
@@ -242,13 +247,6 @@ pub fn emit(
                         path: profile_path.to_owned(),
                         message: format!("node {}: {e}", node.id),
                     })?;
-            let norm = normalize(
-                &shader,
-                &NormalizeOptions {
-                    entry: Some(profile.entry.clone()),
-                },
-            )?;
-            let table = enumerate(&shader, &norm);
             let sel = if node.root {
                 NodeSelector::Root
             } else {
@@ -256,8 +254,8 @@ pub fn emit(
             };
             let variant = instance(
                 &shader,
-                &norm,
-                &table,
+                &loaded.norm,
+                &loaded.table,
                 sel,
                 &InstanceOptions {
                     strategy,
@@ -270,7 +268,7 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            write_variant(&variant, &staging.path)?;
+            write_variant_in(&variant, &staging.path, &opts.langs)?;
             for p in &variant.manifest.passes {
                 report
                     .files
@@ -299,7 +297,14 @@ pub fn emit(
             let name = shader_path
                 .file_name()
                 .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
-            write_atomic(&staging.path.join(&name), shader.source.as_bytes())?;
+            // The file as it was given (GLSL or SPIR-V stay what they were).
+            let original = std::fs::read(&shader_path).map_err(|source| {
+                AnalyzeError::Front(reproj_front::FrontError::Io {
+                    path: shader_path.clone(),
+                    source,
+                })
+            })?;
+            write_atomic(&staging.path.join(&name), &original)?;
             report
                 .files
                 .push(opts.out.join(&name).display().to_string());
@@ -433,7 +438,7 @@ pub fn verify(
     session: &Session,
     renderer: &Renderer,
 ) -> Result<(), AnalyzeError> {
-    let shader = reproj_front::load_file(Path::new(&report.shader))?;
+    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
     let entry = shader.fragment_entry(Some(&profile.entry))?;
     let opts = RenderOptions {
         png_dir: None,

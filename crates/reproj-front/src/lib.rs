@@ -14,9 +14,9 @@ pub mod normalize;
 pub mod parse;
 pub mod rebuild;
 
+pub use load::{CullSummary, LoadOptions, Loaded, load};
 pub use nodes::{CullReason, Node, NodeTable, enumerate};
 pub use normalize::{NormalizeOptions, Normalized, normalize};
-pub use load::{CullSummary, LoadOptions, Loaded, load};
 pub use parse::{
     FrontError, Lang, Shader, load_file, load_file_as, parse_glsl, parse_shader, parse_spirv,
     validator,

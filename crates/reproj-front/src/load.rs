@@ -63,7 +63,9 @@ impl NodeTable {
             .map(|&r| (r, self.nodes.iter().filter(|n| n.reason == Some(r)).count()))
             .filter(|&(_, n)| n > 0)
             .collect();
-        let top = counts.iter().max_by_key(|&&(r, n)| (n, std::cmp::Reverse(r as u8)));
+        let top = counts
+            .iter()
+            .max_by_key(|&&(r, n)| (n, std::cmp::Reverse(r as u8)));
         CullSummary {
             hint: top.map_or("the shader has no float-valued expression", |&(r, _)| {
                 r.hint()

@@ -10,9 +10,8 @@ use std::collections::HashMap;
 
 use naga::{Expression, Handle, Span};
 
-use crate::liveness::liveness;
 use crate::parse::{FrontError, Lang, Shader, validator};
-use crate::rebuild::{Mode, RebuildOptions, rebuild};
+use crate::rebuild::{Rewrite, rebuild_live};
 
 /// A normalized shader: one fragment entry point whose result is the root of an expression DAG.
 #[derive(Debug, Clone)]
@@ -55,26 +54,9 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         FrontError::UnsupportedAt { span, what } => shader.unsupported(span, what),
         e => e,
     };
-    let first = rebuild(
-        &shader.module,
-        &ep.function,
-        &RebuildOptions {
-            mode: Some(Mode::Normalize),
-            ..Default::default()
-        },
-    )
-    .map_err(located)?;
-    let live = liveness(&first.function);
-    let second = rebuild(
-        &shader.module,
-        &first.function,
-        &RebuildOptions {
-            live: Some(&live),
-            ..Default::default()
-        },
-    )
-    .map_err(located)?;
-    let root_value = second.root.ok_or_else(|| {
+    let rebuilt =
+        rebuild_live(&shader.module, &ep.function, &Rewrite::Normalize).map_err(located)?;
+    let root_value = rebuilt.root.ok_or_else(|| {
         shader.unsupported(
             ep.function
                 .body
@@ -85,15 +67,10 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
             "the entry point must end with a `return` of its output",
         )
     })?;
-    let mut call_site = HashMap::new();
-    for (old, span) in &first.call_site {
-        if let Some(Some(new)) = second.map.get(old.index()) {
-            call_site.entry(*new).or_insert(*span);
-        }
-    }
+    let call_site = rebuilt.call_site;
     let mut module = shader.module.clone();
     module.entry_points = vec![naga::EntryPoint {
-        function: second.function,
+        function: rebuilt.function,
         ..ep.clone()
     }];
     module.functions = naga::Arena::new();
@@ -185,7 +162,15 @@ fn check_traced(
         Lang::Glsl => "GLSL",
         _ => "SPIR-V",
     };
-    match fun.expressions[root] {
+    // The value the output is made of, past member and component selection.
+    let mut value = root;
+    while let Expression::AccessIndex { base, .. }
+    | Expression::Access { base, .. }
+    | Expression::Swizzle { vector: base, .. } = fun.expressions[value]
+    {
+        value = base;
+    }
+    match fun.expressions[value] {
         Expression::ZeroValue(_) => Err(shader.unsupported(
             span,
             format!(
@@ -193,7 +178,9 @@ fn check_traced(
                  unwritten (write it in `main`, outside helpers with early returns)"
             ),
         )),
-        Expression::Load { pointer } if crate::ir::root_local(&fun.expressions, pointer).is_none() => {
+        Expression::Load { pointer }
+            if crate::ir::root_local(&fun.expressions, pointer).is_none() =>
+        {
             let name = crate::ir::root_global(&fun.expressions, pointer)
                 .and_then(|g| module.global_variables[g].name.clone())
                 .unwrap_or_else(|| "memory".into());

@@ -138,15 +138,19 @@ pub fn parse_spirv(path: &Path, bytes: &[u8]) -> Result<Shader, FrontError> {
         strict_capabilities: false,
         block_ctx_dump_prefix: None,
     };
-    let module = naga::front::spv::parse_u8_slice(bytes, &options).map_err(|e| {
-        FrontError::Parse {
+    let module =
+        naga::front::spv::parse_u8_slice(bytes, &options).map_err(|e| FrontError::Parse {
             diagnostic: format!("error: {path_str}: invalid SPIR-V: {e}\n"),
-        }
-    })?;
+        })?;
     // Spans of a SPIR-V module are byte offsets into the binary: report errors without them.
-    let info = validator().validate(&module).map_err(|e| FrontError::Validation {
-        diagnostic: format!("error: {path_str}: the SPIR-V module is not valid: {}\n", chain(&e)),
-    })?;
+    let info = validator()
+        .validate(&module)
+        .map_err(|e| FrontError::Validation {
+            diagnostic: format!(
+                "error: {path_str}: the SPIR-V module is not valid: {}\n",
+                chain(&e)
+            ),
+        })?;
     let wgsl = write_wgsl(&module, &info).map_err(|what| FrontError::Unsupported {
         location: path_str.clone(),
         diagnostic: format!("error: {path_str}: unsupported: {what}\n"),
@@ -260,9 +264,10 @@ impl Shader {
         let wgsl = write_wgsl(&self.module, &self.info).map_err(|what| FrontError::Internal {
             what: format!("{path}: {what}"),
         })?;
-        let shader = parse_text(&self.path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
-            what: format!("naga's WGSL of {path} does not parse again: {e}"),
-        })?;
+        let shader =
+            parse_text(&self.path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
+                what: format!("naga's WGSL of {path} does not parse again: {e}"),
+            })?;
         Ok(Shader {
             lang: self.lang,
             ..shader

@@ -17,13 +17,27 @@ use naga::{Block, Expression, Function, Handle, LocalVariable, Span, Statement};
 use crate::ir;
 use crate::parse::FrontError;
 
-/// What a rebuild does besides copying.
+/// Whether calls are inlined and expressions shared (internal: chosen by the [`Rewrite`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
+enum Mode {
     /// Inline calls, forward loads, share identical pure expressions.
     Normalize,
     /// Copy as is (calls are an error: run on normalized functions).
     Copy,
+}
+
+/// What one [`rebuild`] does to the function it copies.
+#[derive(Debug, Clone)]
+pub enum Rewrite<'a> {
+    /// Inline every call, turn module-scope `var<private>` globals into locals, forward loads in
+    /// straight-line code, share identical pure expressions (the front end's normalization).
+    Normalize,
+    /// Copy only the live expressions and statements (of a call-free function).
+    KeepLive(&'a crate::liveness::Liveness),
+    /// Copy, reading one expression from the cache instead of computing it.
+    CacheRead(CacheRead),
+    /// Copy up to one expression and return it (the recompute slice).
+    StopAfter(StopAfter),
 }
 
 /// Replacement of one source expression by the cached payload, narrowed to `components` floats.
@@ -57,14 +71,12 @@ pub struct StopAfter {
     pub vec4: Handle<naga::Type>,
 }
 
-/// Options of [`rebuild`].
+/// The rewrite as flags the walker tests.
 #[derive(Debug, Clone, Default)]
-pub struct RebuildOptions<'a> {
-    pub mode: Option<Mode>,
-    /// Keep only these expressions and statements (by pre-order statement index).
-    pub live: Option<&'a crate::liveness::Liveness>,
-    pub cache_read: Option<CacheRead>,
-    pub stop_after: Option<StopAfter>,
+struct Opts<'a> {
+    live: Option<&'a crate::liveness::Liveness>,
+    cache_read: Option<CacheRead>,
+    stop_after: Option<StopAfter>,
 }
 
 /// The rebuilt function and its side tables.
@@ -79,13 +91,62 @@ pub struct Rebuilt {
     pub map: Vec<Option<Handle<Expression>>>,
 }
 
-/// Rebuild `module.entry_points[entry].function` (or `fun` if given) under `opts`.
+/// `rewrite`, then [`Rewrite::KeepLive`] on the result: the rewritten function with its dead code
+/// removed. The side tables map from `fun` to the final function.
+pub fn rebuild_live(
+    module: &naga::Module,
+    fun: &Function,
+    rewrite: &Rewrite,
+) -> Result<Rebuilt, FrontError> {
+    let first = rebuild(module, fun, rewrite)?;
+    let live = crate::liveness::liveness(&first.function);
+    let second = rebuild(module, &first.function, &Rewrite::KeepLive(&live))?;
+    let through = |h: Handle<Expression>| second.map.get(h.index()).copied().flatten();
+    let mut call_site = HashMap::new();
+    for (old, span) in &first.call_site {
+        if let Some(new) = through(*old) {
+            call_site.entry(new).or_insert(*span);
+        }
+    }
+    Ok(Rebuilt {
+        function: second.function,
+        root: second.root,
+        call_site,
+        map: first.map.iter().map(|m| m.and_then(through)).collect(),
+    })
+}
+
+/// Rebuild the function `fun` of `module` in order under `rewrite`.
 pub fn rebuild(
     module: &naga::Module,
     fun: &Function,
-    opts: &RebuildOptions,
+    rewrite: &Rewrite,
 ) -> Result<Rebuilt, FrontError> {
-    let mode = opts.mode.unwrap_or(Mode::Copy);
+    let (mode, opts) = match rewrite {
+        Rewrite::Normalize => (Mode::Normalize, Opts::default()),
+        Rewrite::KeepLive(live) => (
+            Mode::Copy,
+            Opts {
+                live: Some(live),
+                ..Default::default()
+            },
+        ),
+        Rewrite::CacheRead(c) => (
+            Mode::Copy,
+            Opts {
+                cache_read: Some(c.clone()),
+                ..Default::default()
+            },
+        ),
+        Rewrite::StopAfter(s) => (
+            Mode::Copy,
+            Opts {
+                stop_after: Some(s.clone()),
+                ..Default::default()
+            },
+        ),
+    };
+    let opts = &opts;
     let mut out = Out {
         module,
         mode,
@@ -191,7 +252,7 @@ impl<'f> Ctx<'f> {
 struct Out<'m, 'o> {
     module: &'m naga::Module,
     mode: Mode,
-    opts: &'o RebuildOptions<'o>,
+    opts: &'o Opts<'o>,
     fun: Function,
     emitter: naga::proc::Emitter,
     blocks: Vec<Block>,
@@ -899,7 +960,10 @@ impl Out<'_, '_> {
         for a in arguments {
             args.push(self.translate(ctx, *a)?);
         }
-        let mut cctx = Ctx::new(callee, false, ctx.call_site.or(Some(span)), args);
+        // A call with no span (the wrapper entry point naga's GLSL and SPIR-V front ends add
+        // around `main`) is no call site: the calls inside `main` are.
+        let site = ctx.call_site.or(span.is_defined().then_some(span));
+        let mut cctx = Ctx::new(callee, false, site, args);
         cctx.locals = vec![None; callee.local_variables.len()];
         for (h, _) in callee.local_variables.iter() {
             self.local(&mut cctx, h);

@@ -11,9 +11,10 @@
 use std::path::{Path, PathBuf};
 
 use naga::{Handle, Module};
-use reproj_front::rebuild::{CacheRead, CacheSource, Mode, RebuildOptions, StopAfter, rebuild};
-use reproj_front::{Node, NodeTable, Normalized, Shader, liveness::liveness, validator};
+use reproj_front::rebuild::{CacheRead, CacheSource, Rewrite, StopAfter, rebuild_live};
+use reproj_front::{Node, NodeTable, Normalized, Shader, validator};
 
+pub mod backends;
 pub mod import;
 pub mod manifest;
 mod strategy;
@@ -170,6 +171,9 @@ pub enum InstanceError {
         id: String,
         components: u32,
     },
+    /// A naga backend could not write a pass in another language.
+    #[error("cannot write {file}: {what}")]
+    Backend { file: String, what: String },
     #[error("cannot write {path}: {source}")]
     Io {
         path: PathBuf,
@@ -365,15 +369,11 @@ fn strategy_passes(
     let mut shade = rebuild_entry(
         norm,
         &base,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            cache_read: Some(CacheRead {
-                target,
-                source: CacheSource::Argument(payload_arg),
-                components,
-            }),
-            ..Default::default()
-        },
+        &Rewrite::CacheRead(CacheRead {
+            target,
+            source: CacheSource::Argument(payload_arg),
+            components,
+        }),
         first,
     )?;
     shade.arguments = entry.arguments.clone();
@@ -435,7 +435,6 @@ fn strategy_passes(
     Ok(passes)
 }
 
-/// The normalized entry point rebuilt under `opts`, then with dead code removed.
 /// The slice of the entry point that computes the node and returns it as a `vec4<f32>`
 /// (zero-padded), with that `vec4<f32>` type, added to `module` if it was missing.
 fn recompute_slice(
@@ -449,44 +448,29 @@ fn recompute_slice(
     let fun = rebuild_entry(
         norm,
         module,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            stop_after: Some(StopAfter {
-                target,
-                components,
-                vec4,
-            }),
-            ..Default::default()
-        },
+        &Rewrite::StopAfter(StopAfter {
+            target,
+            components,
+            vec4,
+        }),
         pass,
     )?;
     Ok((fun, vec4))
 }
 
+/// The normalized entry point rewritten by `rewrite`, with its dead code removed.
 fn rebuild_entry(
     norm: &Normalized,
     module: &Module,
-    opts: &RebuildOptions,
+    rewrite: &Rewrite,
     pass: PassKind,
 ) -> Result<naga::Function, InstanceError> {
-    let internal = |e: reproj_front::FrontError| InstanceError::Internal {
-        pass,
-        what: e.to_string(),
-    };
-    let fun = norm.function();
-    let first = rebuild(module, fun, opts).map_err(internal)?;
-    let live = liveness(&first.function);
-    let second = rebuild(
-        module,
-        &first.function,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            live: Some(&live),
-            ..Default::default()
-        },
-    )
-    .map_err(internal)?;
-    Ok(second.function)
+    rebuild_live(module, norm.function(), rewrite)
+        .map(|r| r.function)
+        .map_err(|e| InstanceError::Internal {
+            pass,
+            what: e.to_string(),
+        })
 }
 
 fn vec_type(
@@ -551,15 +535,11 @@ fn shade_pass(
     let fun = rebuild_entry(
         norm,
         &module,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            cache_read: Some(CacheRead {
-                target,
-                source: CacheSource::Texture { image, position },
-                components,
-            }),
-            ..Default::default()
-        },
+        &Rewrite::CacheRead(CacheRead {
+            target,
+            source: CacheSource::Texture { image, position },
+            components,
+        }),
         PassKind::Shade,
     )?;
     // The shader's entry, reading the node from the cache, becomes `reproj_shade`; a small entry
@@ -772,73 +752,10 @@ pub fn pass_file(kind: PassKind) -> &'static str {
     }
 }
 
+/// WGSL spelling of a type (naga's own printer; structs by name).
 fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
-    use naga::TypeInner as T;
-    let t = &module.types[ty];
-    if let Some(name) = &t.name {
-        return name.clone();
-    }
-    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
-        (naga::ScalarKind::Float, 4) => "f32",
-        (naga::ScalarKind::Float, 2) => "f16",
-        (naga::ScalarKind::Sint, _) => "i32",
-        (naga::ScalarKind::Uint, _) => "u32",
-        (naga::ScalarKind::Bool, _) => "bool",
-        _ => "?",
-    };
-    match &t.inner {
-        T::Scalar(s) => scalar(s).into(),
-        T::Vector { size, scalar: s } => format!("vec{}<{}>", *size as u8, scalar(s)),
-        T::Matrix {
-            columns,
-            rows,
-            scalar: s,
-        } => format!("mat{}x{}<{}>", *columns as u8, *rows as u8, scalar(s)),
-        T::Sampler { comparison } => if *comparison {
-            "sampler_comparison"
-        } else {
-            "sampler"
-        }
-        .into(),
-        T::Image {
-            dim,
-            arrayed,
-            class,
-        } => {
-            let d = match dim {
-                naga::ImageDimension::D1 => "1d",
-                naga::ImageDimension::D2 => "2d",
-                naga::ImageDimension::D3 => "3d",
-                naga::ImageDimension::Cube => "cube",
-            };
-            let a = if *arrayed { "_array" } else { "" };
-            match class {
-                naga::ImageClass::Sampled { kind, multi } => {
-                    let k = scalar(&naga::Scalar {
-                        kind: *kind,
-                        width: 4,
-                    });
-                    let m = if *multi { "multisampled_" } else { "" };
-                    format!("texture_{m}{d}{a}<{k}>")
-                }
-                naga::ImageClass::Depth { multi } => {
-                    format!(
-                        "texture_depth_{}{d}{a}",
-                        if *multi { "multisampled_" } else { "" }
-                    )
-                }
-                naga::ImageClass::Storage { format, access } => {
-                    format!("texture_storage_{d}{a}<{format:?}, {access:?}>")
-                }
-                naga::ImageClass::External => "texture_external".into(),
-            }
-        }
-        T::Array { base, size, .. } => match size {
-            naga::ArraySize::Constant(n) => format!("array<{}, {n}>", type_name(module, *base)),
-            _ => format!("array<{}>", type_name(module, *base)),
-        },
-        other => format!("{other:?}"),
-    }
+    use naga::common::wgsl::TypeContext;
+    module.to_ctx().type_to_string(ty)
 }
 
 /// The bind group layout entry of a global variable, from its type.
@@ -1303,16 +1220,32 @@ fn build_manifest(
 /// Write the variant's WGSL files and `manifest.json` into `dir`. Each file is written to a
 /// temporary file first and renamed into place, so a failure leaves no half-written file.
 pub fn write_variant(variant: &Variant, dir: &Path) -> Result<(), InstanceError> {
+    write_variant_in(variant, dir, &[])
+}
+
+/// [`write_variant`], and every pass also in each of `langs` ([`backends`]) beside its WGSL.
+/// Every file is generated before any is written: a backend error writes nothing.
+pub fn write_variant_in(
+    variant: &Variant,
+    dir: &Path,
+    langs: &[backends::OutputLang],
+) -> Result<(), InstanceError> {
     let io = |path: &Path| {
         let path = path.to_owned();
         move |source| InstanceError::Io { path, source }
     };
-    std::fs::create_dir_all(dir).map_err(io(dir))?;
     let mut files: Vec<(PathBuf, Vec<u8>)> = variant
         .passes
         .iter()
         .map(|p| (dir.join(pass_file(p.kind)), p.wgsl.clone().into_bytes()))
         .collect();
+    for &lang in langs {
+        for p in &variant.passes {
+            let bytes = backends::write_pass(p, lang)?;
+            files.push((dir.join(backends::pass_file_in(p, lang)), bytes));
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
     let mut manifest = serde_json::to_vec_pretty(&variant.manifest).expect("manifest serializes");
     manifest.push(b'\n');
     files.push((dir.join("manifest.json"), manifest));
