@@ -1252,7 +1252,10 @@ pub fn write_variant_in(
     // Write every temporary file before renaming any, so an error leaves the directory as it was.
     let mut temps = Vec::new();
     for (path, bytes) in &files {
-        let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+        // `NAME.EXT.tmpPID`: passes in several languages share their stem.
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(format!(".tmp{}", std::process::id()));
+        let tmp = PathBuf::from(tmp);
         if let Err(e) = std::fs::write(&tmp, bytes) {
             for t in &temps {
                 let _ = std::fs::remove_file(t);
