@@ -297,3 +297,94 @@ fn bad_session_names_the_field() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("resolution"), "{err}");
 }
+
+/// GLSL input by extension: marble's GLSL twin has about as many cacheable nodes as the WGSL one.
+#[test]
+fn glsl_marble_nodes() {
+    let count = |shader: &str| {
+        let (code, out, err) = reproj(&["nodes", shader, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["nodes"].as_array().unwrap().len() as f64
+    };
+    let (w, g) = (
+        count("shaders/marble.wgsl"),
+        count("shaders/glsl/marble.frag"),
+    );
+    assert!((g - w).abs() <= 0.05 * w, "GLSL {g}, WGSL {w}");
+    // `--lang-in` reads a file whatever its extension.
+    let dir = tempfile::tempdir().unwrap();
+    let renamed = dir.path().join("marble.txt");
+    std::fs::copy(root().join("shaders/glsl/marble.frag"), &renamed).unwrap();
+    let renamed = renamed.to_str().unwrap();
+    let (code, out, err) = reproj(&["nodes", renamed, "--lang-in", "glsl"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("391 cacheable"), "{out}");
+}
+
+/// A shader with no cacheable node says why, one line per reason, and exits 0.
+#[test]
+fn no_cacheable_node_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("flat.wgsl");
+    std::fs::write(
+        &path,
+        "@fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {\n\
+         \x20   if length(sin(p * 9.0)) > 0.5 { discard; }\n\
+         \x20   return vec4<f32>(p, 1.0);\n}\n",
+    )
+    .unwrap();
+    let (code, out, err) = reproj(&["nodes", path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].contains("no cacheable node"), "{out}");
+    assert!(lines.contains(&"  discontinuous: 3"), "{out}");
+    assert!(lines.iter().any(|l| l.starts_with("  trivial: ")), "{out}");
+    assert!(lines.iter().any(|l| l.starts_with("hint: ")), "{out}");
+}
+
+/// A GLSL shader whose output cannot be traced to the entry's return: exit 2, one message.
+#[test]
+fn untraceable_glsl_output_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("unwritten.frag");
+    std::fs::write(
+        &path,
+        "#version 450\nlayout(location = 0) in vec3 p;\nlayout(location = 0) out vec4 c;\n\
+         void main() {\n    vec3 unused = sin(p);\n}\n",
+    )
+    .unwrap();
+    let (code, out, err) = reproj(&["nodes", path.to_str().unwrap()]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("unwritten.frag") && err.contains("never written"),
+        "{err}"
+    );
+    assert!(out.is_empty(), "{out}");
+}
+
+/// `instance --lang`: the passes in GLSL, HLSL, MSL and SPIR-V beside the WGSL, from a GLSL input.
+#[test]
+fn instance_writes_other_languages() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("v");
+    let (code, stdout, err) = reproj(&[
+        "instance",
+        "shaders/glsl/marble.frag",
+        "--node",
+        "root",
+        "--strategy",
+        "2pass",
+        "--lang",
+        "glsl,hlsl,msl,spv",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for stem in ["pass1_shade_hits", "pass2_shade_misses"] {
+        for ext in ["wgsl", "frag", "hlsl", "metal", "spv"] {
+            let f = out.join(format!("{stem}.{ext}"));
+            assert!(f.is_file(), "{} missing; {stdout}", f.display());
+        }
+    }
+}

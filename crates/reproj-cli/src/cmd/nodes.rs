@@ -14,14 +14,13 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
         table.nodes.retain(|n| n.cacheable);
     }
     let mut out = std::io::stdout().lock();
-    if let (Some(lines), false) = (&why, args.json) {
-        // An honest answer, not an error: say why and exit 0.
+    // No cacheable node is an honest answer, not an error: say why (after the table with
+    // `--all`) and exit 0.
+    if let (Some(lines), false, false) = (&why, args.json, args.all) {
         for line in lines {
             writeln!(out, "{line}")?;
         }
-        if !args.all {
-            return Ok(());
-        }
+        return Ok(());
     }
     if args.json {
         serde_json::to_writer_pretty(&mut out, &table)?;
@@ -68,6 +67,9 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
             n.overlap,
             format!("{}:{}", n.line, n.col),
         )?;
+    }
+    for line in why.iter().flatten() {
+        writeln!(out, "{line}")?;
     }
     Ok(())
 }
