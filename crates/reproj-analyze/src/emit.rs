@@ -3,10 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use reproj_front::{NormalizeOptions, enumerate, normalize};
+use reproj_front::{LoadOptions, load};
 use reproj_instance::{
-    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, VARIANT_FILES, Variant, instance,
-    variant_files,
+    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, VARIANT_FILES, Variant,
+    backends::OutputLang, instance, variant_files,
 };
 use reproj_io::Replace;
 use reproj_models::Metric;
@@ -39,6 +39,8 @@ pub struct EmitOptions {
     /// The shader to instance (`None`: the profile's, relative to the profile file). Either way
     /// it must be the shader that was profiled, up to comments and formatting.
     pub shader: Option<PathBuf>,
+    /// Languages to write the passes in besides WGSL.
+    pub langs: Vec<OutputLang>,
 }
 
 /// Schema name of an [`EmitReport`] (`report.json`).
@@ -158,7 +160,9 @@ pub fn emit(
         .shader
         .clone()
         .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
-    let shader = reproj_front::load_file(&shader_path)?;
+    let loaded = load(&shader_path, Some(&profile.entry), &LoadOptions::default())?;
+    // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
+    let shader = loaded.shader.to_wgsl()?;
     let fresh = match &profile.shader.ir_hash {
         Some(h) => ir_hash(&shader) == *h,
         None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
@@ -252,13 +256,6 @@ pub fn emit(
                         path: profile_path.to_owned(),
                         message: format!("node {}: {e}", node.id),
                     })?;
-            let norm = normalize(
-                &shader,
-                &NormalizeOptions {
-                    entry: Some(profile.entry.clone()),
-                },
-            )?;
-            let table = enumerate(&shader, &norm);
             let sel = if node.root {
                 NodeSelector::Root
             } else {
@@ -266,8 +263,8 @@ pub fn emit(
             };
             let variant = instance(
                 &shader,
-                &norm,
-                &table,
+                &loaded.norm,
+                &loaded.table,
                 sel,
                 &InstanceOptions {
                     strategy,
@@ -280,7 +277,7 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            for (name, bytes) in variant_files(&variant) {
+            for (name, bytes) in variant_files(&variant, &opts.langs)? {
                 staging.write(name, &bytes)?;
             }
             for p in &variant.manifest.passes {
@@ -311,7 +308,14 @@ pub fn emit(
             let name = shader_path
                 .file_name()
                 .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
-            staging.write(&name, shader.source.as_bytes())?;
+            // The file as it was given (GLSL or SPIR-V stay what they were).
+            let original = std::fs::read(&shader_path).map_err(|source| {
+                AnalyzeError::Front(reproj_front::FrontError::Io {
+                    path: shader_path.clone(),
+                    source,
+                })
+            })?;
+            staging.write(&name, &original)?;
             report
                 .files
                 .push(opts.out.join(&name).display().to_string());
@@ -349,7 +353,7 @@ pub fn verify(
     session: &Session,
     renderer: &Renderer,
 ) -> Result<(), AnalyzeError> {
-    let shader = reproj_front::load_file(Path::new(&report.shader))?;
+    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
     let entry = shader.fragment_entry(Some(&profile.entry))?;
     let opts = RenderOptions {
         png_dir: None,

@@ -130,6 +130,7 @@ fn static_session_profiles_without_nan_and_emits() {
             strategy: None,
             integration: Default::default(),
             shader: None,
+            langs: Vec::new(),
         },
     )
     .unwrap();

@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand};
 
 mod cmd;
 
-/// Automatic reprojection-cache optimizer for WGSL fragment shaders.
+/// Automatic reprojection-cache optimizer for WGSL, GLSL and SPIR-V fragment shaders.
 #[derive(Debug, Parser)]
 #[command(name = "reproj", version, about, long_about = None)]
 struct Cli {
@@ -59,8 +59,11 @@ pub struct ReportArgs {
 /// Arguments of `reproj render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// The WGSL shader.
+    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
+    /// The shader's language, when its extension does not say.
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
     /// The session file.
     #[arg(long)]
     pub session: PathBuf,
@@ -103,8 +106,11 @@ pub struct RenderArgs {
 /// Arguments of `reproj analyze`.
 #[derive(Debug, Args)]
 pub struct AnalyzeArgs {
-    /// The WGSL shader.
+    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
+    /// The shader's language, when its extension does not say.
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
     /// The session file.
     #[arg(long)]
     pub session: PathBuf,
@@ -215,6 +221,9 @@ pub struct EmitArgs {
     /// comments and formatting).
     #[arg(long)]
     pub shader: Option<PathBuf>,
+    /// Also write every pass in these languages, beside its WGSL (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub lang: Vec<LangArg>,
     /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
     /// below this: for CI, "nothing under the budget is worth it".
     #[arg(long)]
@@ -224,8 +233,11 @@ pub struct EmitArgs {
 /// Arguments of `reproj nodes`.
 #[derive(Debug, Args)]
 pub struct NodesArgs {
-    /// The WGSL shader.
+    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
+    /// The shader's language, when its extension does not say.
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
     /// Fragment entry point (needed when the module has several).
     #[arg(long)]
     pub entry: Option<String>,
@@ -361,11 +373,39 @@ pub enum FrameLoadArg {
     Load,
 }
 
+/// Input language of the shader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LangInArg {
+    Wgsl,
+    /// GLSL fragment shader (naga's GLSL front end: 4.50).
+    Glsl,
+    /// SPIR-V binary.
+    Spv,
+}
+
+/// Language the passes are written in besides WGSL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LangArg {
+    /// WGSL only (always written: the manifest and the replay use it).
+    Wgsl,
+    /// GLSL 4.50 (`.frag`, the pass's entry point).
+    Glsl,
+    /// HLSL, shader model 5.1 (`.hlsl`).
+    Hlsl,
+    /// Metal Shading Language 2.1 (`.metal`).
+    Msl,
+    /// SPIR-V binary (`.spv`).
+    Spv,
+}
+
 /// Arguments of `reproj instance`.
 #[derive(Debug, Args)]
 pub struct InstanceArgs {
-    /// The WGSL shader.
+    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
+    /// The shader's language, when its extension does not say.
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
     /// Node id from `reproj nodes`, or `root` for the final color.
     #[arg(long)]
     pub node: String,
@@ -382,6 +422,9 @@ pub struct InstanceArgs {
     pub cache: CacheArgs,
     #[command(flatten)]
     pub integration: IntegrationArgs,
+    /// Also write every pass in these languages, beside its WGSL (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub lang: Vec<LangArg>,
 }
 
 /// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and

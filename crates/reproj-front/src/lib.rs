@@ -1,6 +1,6 @@
 //! The reproj front end.
 //!
-//! Reads a WGSL fragment shader with naga and turns it into what the rest of the pipeline works on:
+//! Reads a WGSL, GLSL or SPIR-V fragment shader with naga and turns it into what the rest of the pipeline works on:
 //! one normalized fragment function whose output color is the root of an expression DAG (helpers
 //! inlined, local loads forwarded in straight-line code), and the list of candidate nodes of that DAG,
 //! each cacheable or culled with a reason. Results live in side tables keyed by naga
@@ -8,11 +8,16 @@
 
 pub mod ir;
 pub mod liveness;
+pub mod load;
 pub mod nodes;
 pub mod normalize;
 pub mod parse;
 pub mod rebuild;
 
+pub use load::{CullSummary, LoadOptions, Loaded, load};
 pub use nodes::{CullReason, Node, NodeTable, enumerate};
 pub use normalize::{NormalizeOptions, Normalized, normalize};
-pub use parse::{FrontError, Shader, load_file, parse_shader, validator};
+pub use parse::{
+    FrontError, Lang, Shader, load_file, load_file_as, parse_glsl, parse_shader, parse_spirv,
+    validator,
+};

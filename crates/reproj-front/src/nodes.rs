@@ -40,6 +40,40 @@ pub enum CullReason {
 }
 
 impl CullReason {
+    /// Every reason, in declaration order.
+    pub const ALL: [CullReason; 6] = [
+        CullReason::InLoop,
+        CullReason::NonUniformBranch,
+        CullReason::Discontinuous,
+        CullReason::Derivative,
+        CullReason::PayloadType,
+        CullReason::Trivial,
+    ];
+
+    /// What a shader whose work is mostly culled for this reason could change.
+    pub fn hint(self) -> &'static str {
+        match self {
+            CullReason::InLoop => {
+                "the work is inside loops: a value read after the loop (a variable it accumulates) can be cached"
+            }
+            CullReason::NonUniformBranch => {
+                "the work is inside branches on per-pixel values: compute both sides and `select`, or branch on a uniform"
+            }
+            CullReason::Discontinuous => {
+                "the work reaches the color only through comparisons, rounding or conversions, which reprojection would blur"
+            }
+            CullReason::Derivative => {
+                "the work feeds derivatives or implicit-LOD texture samples, which need neighbouring pixels"
+            }
+            CullReason::PayloadType => {
+                "the values are not f32/f16 data of at most 4 components, so no cache texture holds them"
+            }
+            CullReason::Trivial => {
+                "every expression is cheaper than a cache lookup: there is nothing worth caching"
+            }
+        }
+    }
+
     pub fn as_str(self) -> &'static str {
         match self {
             CullReason::InLoop => "in-loop",
@@ -266,7 +300,9 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
     let mut nodes = Vec::new();
     for (h, e) in fun.expressions.iter() {
         let inner = info[h].ty.inner_with(types);
-        let Some(ty) = node_type(inner) else { continue };
+        let Some(ty) = node_type(inner, types) else {
+            continue;
+        };
         let is_root = h == norm.root;
         let sub = closure(h, None);
         let cost: f64 = (0..n).filter(|&i| sub[i]).map(|i| weight[i]).sum();
@@ -403,26 +439,35 @@ fn span_text(shader: &Shader, span: naga::Span) -> (u32, u32, String) {
     (loc.line_number, loc.line_position, text)
 }
 
-/// WGSL name of a node's type, or `None` if expressions of this type are not nodes.
-fn node_type(inner: &TypeInner) -> Option<String> {
-    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
-        (naga::ScalarKind::Float, 4) => Some("f32"),
-        (naga::ScalarKind::Float, 2) => Some("f16"),
-        (naga::ScalarKind::AbstractFloat, _) => Some("f32"),
+/// WGSL name of a node's type (naga's own printer), or `None` if expressions of this type are not
+/// nodes (only f32/f16 scalars, vectors and matrices are).
+fn node_type(inner: &TypeInner, types: &naga::UniqueArena<naga::Type>) -> Option<String> {
+    use naga::common::wgsl::TypeContext;
+    let float = |s: naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, 2 | 4) => Some(s),
+        (naga::ScalarKind::AbstractFloat, _) => Some(naga::Scalar::F32),
         _ => None,
     };
-    match inner {
-        TypeInner::Scalar(s) => scalar(s).map(str::to_owned),
-        TypeInner::Vector { size, scalar: s } => {
-            scalar(s).map(|t| format!("vec{}<{t}>", *size as u8))
-        }
+    let inner = match *inner {
+        TypeInner::Scalar(s) => TypeInner::Scalar(float(s)?),
+        TypeInner::Vector { size, scalar } => TypeInner::Vector {
+            size,
+            scalar: float(scalar)?,
+        },
         TypeInner::Matrix {
             columns,
             rows,
-            scalar: s,
-        } => scalar(s).map(|t| format!("mat{}x{}<{t}>", *columns as u8, *rows as u8)),
-        _ => None,
-    }
+            scalar,
+        } => TypeInner::Matrix {
+            columns,
+            rows,
+            scalar: float(scalar)?,
+        },
+        _ => return None,
+    };
+    let mut name = String::new();
+    types.write_type_inner(&inner, &mut name).ok()?;
+    Some(name)
 }
 
 /// Static cost of one operation (see `docs/COST.md`): ALU operations cost per component;

@@ -10,9 +10,8 @@ use std::collections::HashMap;
 
 use naga::{Expression, Handle, Span};
 
-use crate::liveness::liveness;
-use crate::parse::{FrontError, Shader, validator};
-use crate::rebuild::{Mode, RebuildOptions, rebuild};
+use crate::parse::{FrontError, Lang, Shader, validator};
+use crate::rebuild::{Rewrite, rebuild_live};
 
 /// A normalized shader: one fragment entry point whose result is the root of an expression DAG.
 #[derive(Debug, Clone)]
@@ -55,26 +54,9 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         FrontError::UnsupportedAt { span, what } => shader.unsupported(span, what),
         e => e,
     };
-    let first = rebuild(
-        &shader.module,
-        &ep.function,
-        &RebuildOptions {
-            mode: Some(Mode::Normalize),
-            ..Default::default()
-        },
-    )
-    .map_err(located)?;
-    let live = liveness(&first.function);
-    let second = rebuild(
-        &shader.module,
-        &first.function,
-        &RebuildOptions {
-            live: Some(&live),
-            ..Default::default()
-        },
-    )
-    .map_err(located)?;
-    let root_value = second.root.ok_or_else(|| {
+    let rebuilt =
+        rebuild_live(&shader.module, &ep.function, &Rewrite::Normalize).map_err(located)?;
+    let root_value = rebuilt.root.ok_or_else(|| {
         shader.unsupported(
             ep.function
                 .body
@@ -85,15 +67,10 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
             "the entry point must end with a `return` of its output",
         )
     })?;
-    let mut call_site = HashMap::new();
-    for (old, span) in &first.call_site {
-        if let Some(Some(new)) = second.map.get(old.index()) {
-            call_site.entry(*new).or_insert(*span);
-        }
-    }
+    let call_site = rebuilt.call_site;
     let mut module = shader.module.clone();
     module.entry_points = vec![naga::EntryPoint {
-        function: second.function,
+        function: rebuilt.function,
         ..ep.clone()
     }];
     module.functions = naga::Arena::new();
@@ -143,6 +120,9 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         }
         _ => root_value,
     };
+    if shader.lang != Lang::Wgsl {
+        check_traced(shader, &module, root)?;
+    }
     // The root must be a node (f32/f16 data), or `NodeTable::root` has nothing to find.
     let root_ty = info.get_entry_point(0)[root].ty.inner_with(&module.types);
     if !matches!(
@@ -164,4 +144,54 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         root,
         call_site,
     })
+}
+
+/// GLSL and SPIR-V outputs are variables that a wrapper entry point reads back after calling the
+/// real `main`: after normalization the output must be the value written, or a load of a local
+/// variable whose stores the node table follows. A zero (never written) or a load from memory
+/// reproj does not follow means the output could not be traced: say so rather than report nothing
+/// cacheable.
+fn check_traced(
+    shader: &Shader,
+    module: &naga::Module,
+    root: Handle<Expression>,
+) -> Result<(), FrontError> {
+    let fun = &module.entry_points[0].function;
+    let span = fun.expressions.get_span(root);
+    let lang = match shader.lang {
+        Lang::Glsl => "GLSL",
+        _ => "SPIR-V",
+    };
+    // The value the output is made of, past member and component selection.
+    let mut value = root;
+    while let Expression::AccessIndex { base, .. }
+    | Expression::Access { base, .. }
+    | Expression::Swizzle { vector: base, .. } = fun.expressions[value]
+    {
+        value = base;
+    }
+    match fun.expressions[value] {
+        Expression::ZeroValue(_) => Err(shader.unsupported(
+            span,
+            format!(
+                "the output is never written: the {lang} entry point returns its output variable \
+                 unwritten (write it in `main`, outside helpers with early returns)"
+            ),
+        )),
+        Expression::Load { pointer }
+            if crate::ir::root_local(&fun.expressions, pointer).is_none() =>
+        {
+            let name = crate::ir::root_global(&fun.expressions, pointer)
+                .and_then(|g| module.global_variables[g].name.clone())
+                .unwrap_or_else(|| "memory".into());
+            Err(shader.unsupported(
+                span,
+                format!(
+                    "the output is read back from `{name}`, which reproj cannot follow to the value \
+                     written (the {lang} output must be written from values computed in `main`)"
+                ),
+            ))
+        }
+        _ => Ok(()),
+    }
 }

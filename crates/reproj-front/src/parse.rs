@@ -1,15 +1,54 @@
-//! Parsing, validation and entry-point choice.
+//! Parsing, validation and entry-point choice, for the three input languages.
+//!
+//! WGSL and GLSL (fragment stage) keep their own text as the source that diagnostics and node
+//! positions point into. SPIR-V has no text: its module is written out as WGSL by naga and parsed
+//! again, so that every span points into that WGSL.
 
 use std::path::{Path, PathBuf};
 
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
-/// A parsed and validated WGSL module with its source text, kept together so that every later
+/// The language of a shader file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Lang {
+    Wgsl,
+    /// GLSL 4.50 (or what naga's GLSL front end reads), fragment stage.
+    Glsl,
+    /// A SPIR-V binary.
+    SpirV,
+}
+
+impl Lang {
+    /// The language a file's extension names: `.wgsl`, `.glsl`/`.frag`, `.spv`; `None` for any
+    /// other extension.
+    pub fn from_path(path: &Path) -> Option<Lang> {
+        match path.extension()?.to_str()? {
+            "wgsl" => Some(Lang::Wgsl),
+            "glsl" | "frag" => Some(Lang::Glsl),
+            "spv" => Some(Lang::SpirV),
+            _ => None,
+        }
+    }
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Lang::Wgsl => "wgsl",
+            Lang::Glsl => "glsl",
+            Lang::SpirV => "spv",
+        }
+    }
+}
+
+/// A parsed and validated module with its source text, kept together so that every later
 /// diagnostic can point into the text.
 #[derive(Debug, Clone)]
 pub struct Shader {
     /// Path used in diagnostics (`file:line:col`).
     pub path: PathBuf,
+    /// The language the file was written in.
+    pub lang: Lang,
+    /// The text spans point into: the file itself for WGSL and GLSL, the WGSL naga writes for a
+    /// SPIR-V module.
     pub source: String,
     pub module: naga::Module,
     pub info: ModuleInfo,
@@ -60,21 +99,105 @@ pub fn validator() -> Validator {
     Validator::new(ValidationFlags::all(), Capabilities::all())
 }
 
-/// Read a shader file from disk, then [`parse_shader`].
+/// Read a shader file from disk in the language its extension names (WGSL for any other
+/// extension), then parse and validate it.
 pub fn load_file(path: &Path) -> Result<Shader, FrontError> {
-    let source = std::fs::read_to_string(path).map_err(|source| FrontError::Io {
+    load_file_as(path, None)
+}
+
+/// Read a shader file in `lang`, or in the language its extension names when `None` (WGSL for any
+/// other extension), then parse and validate it.
+pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontError> {
+    let io = |source| FrontError::Io {
         path: path.to_owned(),
         source,
-    })?;
-    parse_shader(path, source)
+    };
+    let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
+    match lang {
+        Lang::SpirV => parse_spirv(path, &std::fs::read(path).map_err(io)?),
+        text => parse_text(path, text, std::fs::read_to_string(path).map_err(io)?),
+    }
 }
 
 /// Parse WGSL text and validate the module. Errors carry naga's rendered diagnostic.
 pub fn parse_shader(path: &Path, source: String) -> Result<Shader, FrontError> {
+    parse_text(path, Lang::Wgsl, source)
+}
+
+/// Parse GLSL fragment-shader text (naga's GLSL front end) and validate the module.
+pub fn parse_glsl(path: &Path, source: String) -> Result<Shader, FrontError> {
+    parse_text(path, Lang::Glsl, source)
+}
+
+/// Parse a SPIR-V binary (naga's SPIR-V front end), validate it, and make its WGSL the source
+/// text (see the module docs).
+pub fn parse_spirv(path: &Path, bytes: &[u8]) -> Result<Shader, FrontError> {
     let path_str = path.display().to_string();
-    let module = naga::front::wgsl::parse_str(&source).map_err(|e| FrontError::Parse {
-        diagnostic: e.emit_to_string_with_path(&source, &path_str),
+    let options = naga::front::spv::Options {
+        adjust_coordinate_space: false,
+        strict_capabilities: false,
+        block_ctx_dump_prefix: None,
+    };
+    let module =
+        naga::front::spv::parse_u8_slice(bytes, &options).map_err(|e| FrontError::Parse {
+            diagnostic: format!("error: {path_str}: invalid SPIR-V: {e}\n"),
+        })?;
+    // Spans of a SPIR-V module are byte offsets into the binary: report errors without them.
+    let info = validator()
+        .validate(&module)
+        .map_err(|e| FrontError::Validation {
+            diagnostic: format!(
+                "error: {path_str}: the SPIR-V module is not valid: {}\n",
+                chain(&e)
+            ),
+        })?;
+    let wgsl = write_wgsl(&module, &info).map_err(|what| FrontError::Unsupported {
+        location: path_str.clone(),
+        diagnostic: format!("error: {path_str}: unsupported: {what}\n"),
+        what,
     })?;
+    let shader = parse_text(path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
+        what: format!("naga's WGSL of {path_str} does not parse again: {e}"),
+    })?;
+    Ok(Shader {
+        lang: Lang::SpirV,
+        ..shader
+    })
+}
+
+/// An error and its sources, `: `-separated.
+fn chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut source = e.source();
+    while let Some(inner) = source {
+        s.push_str(": ");
+        s.push_str(&inner.to_string());
+        source = inner.source();
+    }
+    s
+}
+
+/// `module` as WGSL text (naga's writer), for the languages that are not WGSL.
+fn write_wgsl(module: &naga::Module, info: &ModuleInfo) -> Result<String, String> {
+    naga::back::wgsl::write_string(module, info, naga::back::wgsl::WriterFlags::empty())
+        .map_err(|e| format!("naga cannot write this module as WGSL ({e})"))
+}
+
+fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontError> {
+    let path_str = path.display().to_string();
+    let module = match lang {
+        Lang::Glsl => naga::front::glsl::Frontend::default()
+            .parse(
+                &naga::front::glsl::Options::from(naga::ShaderStage::Fragment),
+                &source,
+            )
+            .map_err(|e| FrontError::Parse {
+                diagnostic: e.emit_to_string_with_path(&source, &path_str),
+            })?,
+        _ => naga::front::wgsl::parse_str(&source).map_err(|e| FrontError::Parse {
+            diagnostic: e.emit_to_string_with_path(&source, &path_str),
+        })?,
+    };
     let info = validator().validate(&module).map_err(|e| {
         let mut diagnostic = e.emit_to_string_with_path(&source, &path_str);
         if !e.spans().any(|(span, _)| span.to_range().is_some()) {
@@ -89,6 +212,7 @@ pub fn parse_shader(path: &Path, source: String) -> Result<Shader, FrontError> {
     })?;
     Ok(Shader {
         path: path.to_owned(),
+        lang,
         source,
         module,
         info,
@@ -129,6 +253,27 @@ fn unspanned_location(
 }
 
 impl Shader {
+    /// The same shader with WGSL source text, as the replay renders it: itself for WGSL (and
+    /// SPIR-V, whose source is already WGSL), naga's WGSL of the module for GLSL. Spans of the
+    /// result point into the WGSL.
+    pub fn to_wgsl(&self) -> Result<Shader, FrontError> {
+        if self.lang != Lang::Glsl {
+            return Ok(self.clone());
+        }
+        let path = self.path.display();
+        let wgsl = write_wgsl(&self.module, &self.info).map_err(|what| FrontError::Internal {
+            what: format!("{path}: {what}"),
+        })?;
+        let shader =
+            parse_text(&self.path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
+                what: format!("naga's WGSL of {path} does not parse again: {e}"),
+            })?;
+        Ok(Shader {
+            lang: self.lang,
+            ..shader
+        })
+    }
+
     /// Index of the fragment entry point: `name` if given, else the only one.
     pub fn fragment_entry(&self, name: Option<&str>) -> Result<usize, FrontError> {
         let frags: Vec<(usize, &naga::EntryPoint)> = self

@@ -4,8 +4,9 @@
 //! in place: it walks the source function's statements in order and appends translated expressions
 //! and statements to a new [`naga::Function`]. One walker serves every rewrite:
 //!
-//! - the front end's normalization ([`Mode::Normalize`]): inline calls, forward local loads in
-//!   straight-line code, share identical pure expressions;
+//! - the front end's normalization ([`Mode::Normalize`]): inline calls, turn module-scope
+//!   `var<private>` globals into locals, forward local loads in straight-line code, share identical
+//!   pure expressions;
 //! - plain copies ([`Mode::Copy`]) that keep only live code ([`crate::liveness`]), replace one
 //!   expression by another, or stop after one expression and return it (the instancer's passes).
 
@@ -16,13 +17,27 @@ use naga::{Block, Expression, Function, Handle, LocalVariable, Span, Statement};
 use crate::ir;
 use crate::parse::FrontError;
 
-/// What a rebuild does besides copying.
+/// Whether calls are inlined and expressions shared (internal: chosen by the [`Rewrite`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
+enum Mode {
     /// Inline calls, forward loads, share identical pure expressions.
     Normalize,
     /// Copy as is (calls are an error: run on normalized functions).
     Copy,
+}
+
+/// What one [`rebuild`] does to the function it copies.
+#[derive(Debug, Clone)]
+pub enum Rewrite<'a> {
+    /// Inline every call, turn module-scope `var<private>` globals into locals, forward loads in
+    /// straight-line code, share identical pure expressions (the front end's normalization).
+    Normalize,
+    /// Copy only the live expressions and statements (of a call-free function).
+    KeepLive(&'a crate::liveness::Liveness),
+    /// Copy, reading one expression from the cache instead of computing it.
+    CacheRead(CacheRead),
+    /// Copy up to one expression and return it (the recompute slice).
+    StopAfter(StopAfter),
 }
 
 /// Replacement of one source expression by the cached payload, narrowed to `components` floats.
@@ -56,14 +71,12 @@ pub struct StopAfter {
     pub vec4: Handle<naga::Type>,
 }
 
-/// Options of [`rebuild`].
+/// The rewrite as flags the walker tests.
 #[derive(Debug, Clone, Default)]
-pub struct RebuildOptions<'a> {
-    pub mode: Option<Mode>,
-    /// Keep only these expressions and statements (by pre-order statement index).
-    pub live: Option<&'a crate::liveness::Liveness>,
-    pub cache_read: Option<CacheRead>,
-    pub stop_after: Option<StopAfter>,
+struct Opts<'a> {
+    live: Option<&'a crate::liveness::Liveness>,
+    cache_read: Option<CacheRead>,
+    stop_after: Option<StopAfter>,
 }
 
 /// The rebuilt function and its side tables.
@@ -78,13 +91,62 @@ pub struct Rebuilt {
     pub map: Vec<Option<Handle<Expression>>>,
 }
 
-/// Rebuild `module.entry_points[entry].function` (or `fun` if given) under `opts`.
+/// `rewrite`, then [`Rewrite::KeepLive`] on the result: the rewritten function with its dead code
+/// removed. The side tables map from `fun` to the final function.
+pub fn rebuild_live(
+    module: &naga::Module,
+    fun: &Function,
+    rewrite: &Rewrite,
+) -> Result<Rebuilt, FrontError> {
+    let first = rebuild(module, fun, rewrite)?;
+    let live = crate::liveness::liveness(&first.function);
+    let second = rebuild(module, &first.function, &Rewrite::KeepLive(&live))?;
+    let through = |h: Handle<Expression>| second.map.get(h.index()).copied().flatten();
+    let mut call_site = HashMap::new();
+    for (old, span) in &first.call_site {
+        if let Some(new) = through(*old) {
+            call_site.entry(new).or_insert(*span);
+        }
+    }
+    Ok(Rebuilt {
+        function: second.function,
+        root: second.root,
+        call_site,
+        map: first.map.iter().map(|m| m.and_then(through)).collect(),
+    })
+}
+
+/// Rebuild the function `fun` of `module` in order under `rewrite`.
 pub fn rebuild(
     module: &naga::Module,
     fun: &Function,
-    opts: &RebuildOptions,
+    rewrite: &Rewrite,
 ) -> Result<Rebuilt, FrontError> {
-    let mode = opts.mode.unwrap_or(Mode::Copy);
+    let (mode, opts) = match rewrite {
+        Rewrite::Normalize => (Mode::Normalize, Opts::default()),
+        Rewrite::KeepLive(live) => (
+            Mode::Copy,
+            Opts {
+                live: Some(live),
+                ..Default::default()
+            },
+        ),
+        Rewrite::CacheRead(c) => (
+            Mode::Copy,
+            Opts {
+                cache_read: Some(c.clone()),
+                ..Default::default()
+            },
+        ),
+        Rewrite::StopAfter(s) => (
+            Mode::Copy,
+            Opts {
+                stop_after: Some(s.clone()),
+                ..Default::default()
+            },
+        ),
+    };
+    let opts = &opts;
     let mut out = Out {
         module,
         mode,
@@ -104,6 +166,7 @@ pub fn rebuild(
         cse: vec![HashMap::new()],
         pre_cse: HashMap::new(),
         env: HashMap::new(),
+        privates: HashMap::new(),
         stored_log: Vec::new(),
         call_site: HashMap::new(),
         root: None,
@@ -133,6 +196,9 @@ pub fn rebuild(
         for (h, _) in fun.local_variables.iter() {
             out.local(&mut ctx, h);
         }
+    }
+    if mode == Mode::Normalize {
+        out.init_privates();
     }
     out.init_locals(&mut ctx, fun)?;
     out.walk_block(&mut ctx, &fun.body)?;
@@ -186,13 +252,15 @@ impl<'f> Ctx<'f> {
 struct Out<'m, 'o> {
     module: &'m naga::Module,
     mode: Mode,
-    opts: &'o RebuildOptions<'o>,
+    opts: &'o Opts<'o>,
     fun: Function,
     emitter: naga::proc::Emitter,
     blocks: Vec<Block>,
     cse: Vec<HashMap<String, Handle<Expression>>>,
     pre_cse: HashMap<String, Handle<Expression>>,
     env: HashMap<Handle<LocalVariable>, Handle<Expression>>,
+    /// Module-scope `var<private>` globals and the locals that replace them when normalizing.
+    privates: HashMap<Handle<naga::GlobalVariable>, Handle<LocalVariable>>,
     stored_log: Vec<Handle<LocalVariable>>,
     call_site: HashMap<Handle<Expression>, Span>,
     root: Option<Handle<Expression>>,
@@ -323,6 +391,49 @@ impl Out<'_, '_> {
         Ok(())
     }
 
+    /// Normalizing: every module-scope `var<private>` becomes a local of the entry point, stored
+    /// its initial value first. Private variables live for one invocation and the normalized entry
+    /// point is the only function left, so this keeps the meaning; it lets the load forwarding see
+    /// through the pattern naga's GLSL and SPIR-V front ends produce (inputs copied into private
+    /// globals, the real `main` called from a wrapper entry point, the output read back).
+    fn init_privates(&mut self) {
+        for (g, var) in self.module.global_variables.iter() {
+            if var.space != naga::AddressSpace::Private {
+                continue;
+            }
+            let span = self.module.global_variables.get_span(g);
+            let local = self.fun.local_variables.append(
+                LocalVariable {
+                    name: var.name.clone(),
+                    ty: var.ty,
+                    init: None,
+                },
+                span,
+            );
+            self.privates.insert(g, local);
+            let value = match var.init {
+                Some(init) => self.global_expression(init),
+                None => self.append(Expression::ZeroValue(var.ty), span),
+            };
+            let ptr = self.append(Expression::LocalVariable(local), span);
+            self.store(ptr, value, span);
+        }
+    }
+
+    /// A module-scope constant expression (a private global's initializer) copied into the function.
+    fn global_expression(&mut self, h: Handle<Expression>) -> Handle<Expression> {
+        let exprs = &self.module.global_expressions;
+        let span = exprs.get_span(h);
+        let mut e = exprs[h].clone();
+        let mapped: Vec<_> = ir::operands(&e)
+            .into_iter()
+            .map(|o| self.global_expression(o))
+            .collect();
+        let mut it = mapped.into_iter();
+        ir::map_operands(&mut e, &mut |_| it.next().unwrap());
+        self.append(e, span)
+    }
+
     /// The new local variable for a source local, created on first use.
     fn local(&mut self, ctx: &mut Ctx, v: Handle<LocalVariable>) -> Handle<LocalVariable> {
         if let Some(nv) = ctx.locals[v.index()] {
@@ -389,6 +500,9 @@ impl Out<'_, '_> {
             Expression::LocalVariable(v) => {
                 let nv = self.local(ctx, v);
                 self.append(Expression::LocalVariable(nv), span)
+            }
+            Expression::GlobalVariable(g) if self.privates.contains_key(&g) => {
+                self.append(Expression::LocalVariable(self.privates[&g]), span)
             }
             Expression::CallResult(_) => {
                 return Err(unsupported(span, "a call result used before its call"));
@@ -536,6 +650,7 @@ impl Out<'_, '_> {
             loop {
                 match ctx.fun.expressions[p] {
                     Expression::LocalVariable(v) => return ctx.locals[v.index()],
+                    Expression::GlobalVariable(g) => return self.privates.get(&g).copied(),
                     Expression::FunctionArgument(i) if !ctx.is_top => {
                         return ir::root_local(&self.fun.expressions, ctx.args[i as usize]);
                     }
@@ -845,7 +960,10 @@ impl Out<'_, '_> {
         for a in arguments {
             args.push(self.translate(ctx, *a)?);
         }
-        let mut cctx = Ctx::new(callee, false, ctx.call_site.or(Some(span)), args);
+        // A call with no span (the wrapper entry point naga's GLSL and SPIR-V front ends add
+        // around `main`) is no call site: the calls inside `main` are.
+        let site = ctx.call_site.or(span.is_defined().then_some(span));
+        let mut cctx = Ctx::new(callee, false, site, args);
         cctx.locals = vec![None; callee.local_variables.len()];
         for (h, _) in callee.local_variables.iter() {
             self.local(&mut cctx, h);

@@ -11,9 +11,10 @@
 use std::path::Path;
 
 use naga::{Handle, Module};
-use reproj_front::rebuild::{CacheRead, CacheSource, Mode, RebuildOptions, StopAfter, rebuild};
-use reproj_front::{Node, NodeTable, Normalized, Shader, liveness::liveness, validator};
+use reproj_front::rebuild::{CacheRead, CacheSource, Rewrite, StopAfter, rebuild_live};
+use reproj_front::{Node, NodeTable, Normalized, Shader, validator};
 
+pub mod backends;
 pub mod import;
 pub mod manifest;
 mod strategy;
@@ -172,6 +173,9 @@ pub enum InstanceError {
     },
     #[error(transparent)]
     Write(#[from] reproj_io::WriteError),
+    /// A naga backend could not write a pass in another language.
+    #[error("cannot write {file}: {what}")]
+    Backend { file: String, what: String },
     #[error(transparent)]
     Front(#[from] reproj_front::FrontError),
     /// A bug in reproj: a generated module did not validate or round-trip.
@@ -361,15 +365,11 @@ fn strategy_passes(
     let mut shade = rebuild_entry(
         norm,
         &base,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            cache_read: Some(CacheRead {
-                target,
-                source: CacheSource::Argument(payload_arg),
-                components,
-            }),
-            ..Default::default()
-        },
+        &Rewrite::CacheRead(CacheRead {
+            target,
+            source: CacheSource::Argument(payload_arg),
+            components,
+        }),
         first,
     )?;
     shade.arguments = entry.arguments.clone();
@@ -431,7 +431,6 @@ fn strategy_passes(
     Ok(passes)
 }
 
-/// The normalized entry point rebuilt under `opts`, then with dead code removed.
 /// The slice of the entry point that computes the node and returns it as a `vec4<f32>`
 /// (zero-padded), with that `vec4<f32>` type, added to `module` if it was missing.
 fn recompute_slice(
@@ -445,44 +444,29 @@ fn recompute_slice(
     let fun = rebuild_entry(
         norm,
         module,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            stop_after: Some(StopAfter {
-                target,
-                components,
-                vec4,
-            }),
-            ..Default::default()
-        },
+        &Rewrite::StopAfter(StopAfter {
+            target,
+            components,
+            vec4,
+        }),
         pass,
     )?;
     Ok((fun, vec4))
 }
 
+/// The normalized entry point rewritten by `rewrite`, with its dead code removed.
 fn rebuild_entry(
     norm: &Normalized,
     module: &Module,
-    opts: &RebuildOptions,
+    rewrite: &Rewrite,
     pass: PassKind,
 ) -> Result<naga::Function, InstanceError> {
-    let internal = |e: reproj_front::FrontError| InstanceError::Internal {
-        pass,
-        what: e.to_string(),
-    };
-    let fun = norm.function();
-    let first = rebuild(module, fun, opts).map_err(internal)?;
-    let live = liveness(&first.function);
-    let second = rebuild(
-        module,
-        &first.function,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            live: Some(&live),
-            ..Default::default()
-        },
-    )
-    .map_err(internal)?;
-    Ok(second.function)
+    rebuild_live(module, norm.function(), rewrite)
+        .map(|r| r.function)
+        .map_err(|e| InstanceError::Internal {
+            pass,
+            what: e.to_string(),
+        })
 }
 
 fn vec_type(
@@ -547,15 +531,11 @@ fn shade_pass(
     let fun = rebuild_entry(
         norm,
         &module,
-        &RebuildOptions {
-            mode: Some(Mode::Copy),
-            cache_read: Some(CacheRead {
-                target,
-                source: CacheSource::Texture { image, position },
-                components,
-            }),
-            ..Default::default()
-        },
+        &Rewrite::CacheRead(CacheRead {
+            target,
+            source: CacheSource::Texture { image, position },
+            components,
+        }),
         PassKind::Shade,
     )?;
     // The shader's entry, reading the node from the cache, becomes `reproj_shade`; a small entry
@@ -768,73 +748,10 @@ pub fn pass_file(kind: PassKind) -> &'static str {
     }
 }
 
+/// WGSL spelling of a type (naga's own printer; structs by name).
 fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
-    use naga::TypeInner as T;
-    let t = &module.types[ty];
-    if let Some(name) = &t.name {
-        return name.clone();
-    }
-    let scalar = |s: &naga::Scalar| match (s.kind, s.width) {
-        (naga::ScalarKind::Float, 4) => "f32",
-        (naga::ScalarKind::Float, 2) => "f16",
-        (naga::ScalarKind::Sint, _) => "i32",
-        (naga::ScalarKind::Uint, _) => "u32",
-        (naga::ScalarKind::Bool, _) => "bool",
-        _ => "?",
-    };
-    match &t.inner {
-        T::Scalar(s) => scalar(s).into(),
-        T::Vector { size, scalar: s } => format!("vec{}<{}>", *size as u8, scalar(s)),
-        T::Matrix {
-            columns,
-            rows,
-            scalar: s,
-        } => format!("mat{}x{}<{}>", *columns as u8, *rows as u8, scalar(s)),
-        T::Sampler { comparison } => if *comparison {
-            "sampler_comparison"
-        } else {
-            "sampler"
-        }
-        .into(),
-        T::Image {
-            dim,
-            arrayed,
-            class,
-        } => {
-            let d = match dim {
-                naga::ImageDimension::D1 => "1d",
-                naga::ImageDimension::D2 => "2d",
-                naga::ImageDimension::D3 => "3d",
-                naga::ImageDimension::Cube => "cube",
-            };
-            let a = if *arrayed { "_array" } else { "" };
-            match class {
-                naga::ImageClass::Sampled { kind, multi } => {
-                    let k = scalar(&naga::Scalar {
-                        kind: *kind,
-                        width: 4,
-                    });
-                    let m = if *multi { "multisampled_" } else { "" };
-                    format!("texture_{m}{d}{a}<{k}>")
-                }
-                naga::ImageClass::Depth { multi } => {
-                    format!(
-                        "texture_depth_{}{d}{a}",
-                        if *multi { "multisampled_" } else { "" }
-                    )
-                }
-                naga::ImageClass::Storage { format, access } => {
-                    format!("texture_storage_{d}{a}<{format:?}, {access:?}>")
-                }
-                naga::ImageClass::External => "texture_external".into(),
-            }
-        }
-        T::Array { base, size, .. } => match size {
-            naga::ArraySize::Constant(n) => format!("array<{}, {n}>", type_name(module, *base)),
-            _ => format!("array<{}>", type_name(module, *base)),
-        },
-        other => format!("{other:?}"),
-    }
+    use naga::common::wgsl::TypeContext;
+    module.to_ctx().type_to_string(ty)
 }
 
 /// The bind group layout entry of a global variable, from its type.
@@ -1297,31 +1214,55 @@ fn build_manifest(
 }
 
 /// The file extensions a variant directory holds: [`write_variant`] replaces a directory that
-/// holds only these (and refuses any other), so a stale pass from another strategy never lingers.
-pub const VARIANT_FILES: &[&str] = &["wgsl", "json"];
+/// holds only these (and refuses any other), so a stale pass from another strategy or language
+/// never lingers.
+pub const VARIANT_FILES: &[&str] = &["wgsl", "json", "frag", "hlsl", "metal", "spv"];
 
 /// Write the variant's WGSL files and `manifest.json` as the directory `dir`, whole: everything is
 /// written into a staging directory beside it, which then replaces `dir`
 /// ([`reproj_io::StagedDir`]), so a failure leaves `dir` as it was and a success leaves no file
 /// of an earlier variant.
 pub fn write_variant(variant: &Variant, dir: &Path) -> Result<(), InstanceError> {
+    write_variant_in(variant, dir, &[])
+}
+
+/// [`write_variant`], and every pass also in each of `langs` ([`backends`]) beside its WGSL.
+/// Every file is generated before any is written: a backend error writes nothing.
+pub fn write_variant_in(
+    variant: &Variant,
+    dir: &Path,
+    langs: &[backends::OutputLang],
+) -> Result<(), InstanceError> {
+    let files = variant_files(variant, langs)?;
     let staged = reproj_io::StagedDir::new(dir, reproj_io::Replace::OwnFiles(VARIANT_FILES))?;
-    for (name, bytes) in variant_files(variant) {
+    for (name, bytes) in files {
         staged.write(name, &bytes)?;
     }
     staged.commit()?;
     Ok(())
 }
 
-/// The files of a variant directory, by name: each pass's WGSL and `manifest.json`.
-pub fn variant_files(variant: &Variant) -> Vec<(&'static str, Vec<u8>)> {
-    let mut files: Vec<(&'static str, Vec<u8>)> = variant
+/// The files of a variant directory, by name: each pass's WGSL, each pass in each of `langs`,
+/// and `manifest.json`.
+pub fn variant_files(
+    variant: &Variant,
+    langs: &[backends::OutputLang],
+) -> Result<Vec<(String, Vec<u8>)>, InstanceError> {
+    let mut files: Vec<(String, Vec<u8>)> = variant
         .passes
         .iter()
-        .map(|p| (pass_file(p.kind), p.wgsl.clone().into_bytes()))
+        .map(|p| (pass_file(p.kind).to_owned(), p.wgsl.clone().into_bytes()))
         .collect();
+    for &lang in langs {
+        for p in &variant.passes {
+            files.push((
+                backends::pass_file_in(p, lang),
+                backends::write_pass(p, lang)?,
+            ));
+        }
+    }
     let mut manifest = serde_json::to_vec_pretty(&variant.manifest).expect("manifest serializes");
     manifest.push(b'\n');
-    files.push(("manifest.json", manifest));
-    files
+    files.push(("manifest.json".to_owned(), manifest));
+    Ok(files)
 }

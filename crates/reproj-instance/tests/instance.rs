@@ -430,3 +430,76 @@ fn color_passes_write_the_depth_copy() {
         }
     }
 }
+
+/// The GLSL twin of marble (`shaders/glsl/marble.frag`): its root and a spread of its cacheable
+/// nodes instance in every strategy, every pass validates (inside `instance`) and survives a WGSL
+/// round trip.
+#[test]
+fn glsl_marble_instances_in_every_strategy() {
+    let shader = load_file(&root().join("shaders/glsl/marble.frag")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
+    assert!(ids.len() > 300, "{}", ids.len());
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        for &id in ids.iter().step_by(37) {
+            let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
+                .unwrap_or_else(|e| panic!("node {id} ({strategy}): {e}"));
+            check_round_trip(&v);
+        }
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        check_round_trip(&v);
+    }
+}
+
+/// `--lang`: every pass of marble's variants in GLSL, HLSL, MSL and SPIR-V, beside the WGSL.
+#[test]
+fn passes_are_written_in_every_output_language() {
+    use reproj_instance::backends::{OutputLang, pass_file_in};
+    let (shader, norm, table) = load("marble.wgsl");
+    let langs = [
+        OutputLang::Glsl,
+        OutputLang::Hlsl,
+        OutputLang::Msl,
+        OutputLang::SpirV,
+    ];
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        reproj_instance::write_variant_in(&v, dir.path(), &langs).unwrap();
+        for p in &v.passes {
+            for lang in langs {
+                let bytes = std::fs::read(dir.path().join(pass_file_in(p, lang))).unwrap();
+                let entry = &p.module.entry_points[0].name;
+                match lang {
+                    OutputLang::SpirV => {
+                        // SPIR-V magic number, and naga reads it back as a valid module.
+                        assert_eq!(bytes[..4], 0x0723_0203u32.to_le_bytes());
+                        let m = naga::front::spv::parse_u8_slice(&bytes, &Default::default())
+                            .unwrap_or_else(|e| panic!("{strategy} {:?}: {e}", p.kind));
+                        reproj_front::validator().validate(&m).unwrap();
+                    }
+                    OutputLang::Glsl => {
+                        let text = String::from_utf8(bytes).unwrap();
+                        assert!(text.starts_with("#version 450"), "{text}");
+                        assert!(text.contains("void main()"), "{text}");
+                    }
+                    OutputLang::Hlsl | OutputLang::Msl => {
+                        let text = String::from_utf8(bytes).unwrap();
+                        assert!(text.contains(entry.as_str()), "{lang:?} lacks {entry}");
+                    }
+                }
+            }
+        }
+    }
+}

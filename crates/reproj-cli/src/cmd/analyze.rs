@@ -8,7 +8,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 use reproj_analyze::{
     AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze, emit::write_atomic,
 };
-use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
 use reproj_replay::{Renderer, RendererOptions, Session};
 
 use super::{analyze_error, front_error, replay_error};
@@ -51,15 +50,17 @@ impl Progress for Bar {
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    let shader = load_file(&args.shader).map_err(front_error)?;
-    let norm = normalize(
-        &shader,
-        &NormalizeOptions {
-            entry: args.entry.clone(),
-        },
-    )
-    .map_err(front_error)?;
-    let table = enumerate(&shader, &norm);
+    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    if let Some(lines) = super::no_cacheable_lines(&loaded.table) {
+        // Nothing to profile: an honest answer, exit 0 without a profile.
+        for line in lines {
+            writeln!(stdout, "{line}")?;
+        }
+        return Ok(());
+    }
+    let (norm, table) = (&loaded.norm, &loaded.table);
+    // The replay renders WGSL: a GLSL shader is analyzed as naga's WGSL of it.
+    let shader = loaded.shader.to_wgsl().map_err(front_error)?;
     let session_bytes = std::fs::read(&args.session)
         .map_err(|e| super::UserError(format!("cannot read {}: {e}", args.session.display())))?;
     let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
@@ -128,8 +129,8 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     );
     let input = AnalyzeInput {
         shader: &shader,
-        norm: &norm,
-        table: &table,
+        norm,
+        table,
         session_path: &args.session,
         session_bytes: &session_bytes,
         session: &session,

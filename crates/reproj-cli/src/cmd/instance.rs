@@ -2,30 +2,23 @@
 
 use std::io::Write;
 
-use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
-use reproj_instance::{NodeSelector, instance, write_variant};
+use reproj_instance::{NodeSelector, instance, write_variant_in};
 
-use super::{UserError, front_error, instance_error};
+use super::{UserError, instance_error};
 use crate::InstanceArgs;
 
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
     let selector: NodeSelector = args.node.parse().map_err(UserError)?;
-    let shader = load_file(&args.shader).map_err(front_error)?;
-    let norm = normalize(
-        &shader,
-        &NormalizeOptions {
-            entry: args.entry.clone(),
-        },
-    )
-    .map_err(front_error)?;
-    let table = enumerate(&shader, &norm);
+    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    let (shader, norm, table) = (&loaded.shader, &loaded.norm, &loaded.table);
     let opts = super::integrate(
         super::instance_options(args.cache, args.delta_n),
         args.integration,
     );
-    let variant = instance(&shader, &norm, &table, selector, &opts).map_err(instance_error)?;
-    write_variant(&variant, &args.out).map_err(instance_error)?;
+    let variant = instance(shader, norm, table, selector, &opts).map_err(instance_error)?;
+    let langs = super::output_langs(&args.lang);
+    write_variant_in(&variant, &args.out, &langs).map_err(instance_error)?;
     let m = &variant.manifest;
     writeln!(
         stdout,
@@ -37,12 +30,15 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         m.node.col,
         args.out.display()
     )?;
-    for p in &m.passes {
+    for (p, pass) in m.passes.iter().zip(&variant.passes) {
+        let mut files = p.file.clone();
+        for &lang in &langs {
+            files += &format!(", {}", reproj_instance::backends::pass_file_in(pass, lang));
+        }
         writeln!(
             stdout,
-            "  {:<10} {}",
+            "  {:<10} {files}",
             format!("{:?}", p.kind).to_lowercase(),
-            p.file
         )?;
     }
     writeln!(

@@ -43,6 +43,65 @@ pub fn front_error(e: reproj_front::FrontError) -> anyhow::Error {
     }
 }
 
+/// The front end's language for `--lang-in` (`None`: by extension).
+pub fn lang_in(l: Option<crate::LangInArg>) -> Option<reproj_front::Lang> {
+    l.map(|l| match l {
+        crate::LangInArg::Wgsl => reproj_front::Lang::Wgsl,
+        crate::LangInArg::Glsl => reproj_front::Lang::Glsl,
+        crate::LangInArg::Spv => reproj_front::Lang::SpirV,
+    })
+}
+
+/// Load, normalize and enumerate a shader file (see [`reproj_front::load`]).
+pub fn load_shader(
+    path: &std::path::Path,
+    entry: Option<&str>,
+    lang: Option<crate::LangInArg>,
+) -> anyhow::Result<reproj_front::Loaded> {
+    let options = reproj_front::LoadOptions {
+        lang: lang_in(lang),
+    };
+    reproj_front::load(path, entry, &options).map_err(front_error)
+}
+
+/// The backends `--lang` asks for (WGSL is always written).
+pub fn output_langs(langs: &[crate::LangArg]) -> Vec<reproj_instance::backends::OutputLang> {
+    use reproj_instance::backends::OutputLang as O;
+    let mut out = Vec::new();
+    for l in langs {
+        let o = match l {
+            crate::LangArg::Wgsl => continue,
+            crate::LangArg::Glsl => O::Glsl,
+            crate::LangArg::Hlsl => O::Hlsl,
+            crate::LangArg::Msl => O::Msl,
+            crate::LangArg::Spv => O::SpirV,
+        };
+        if !out.contains(&o) {
+            out.push(o);
+        }
+    }
+    out
+}
+
+/// Why a shader has no cacheable node, one line per culling reason with its count, then a hint
+/// (`None` when some node is cacheable).
+pub fn no_cacheable_lines(table: &reproj_front::NodeTable) -> Option<Vec<String>> {
+    if table.cacheable().next().is_some() {
+        return None;
+    }
+    let summary = table.cull_summary();
+    let mut lines = vec![format!(
+        "{}: no cacheable node among {} nodes:",
+        table.shader,
+        table.nodes.len()
+    )];
+    for (reason, count) in &summary.counts {
+        lines.push(format!("  {reason}: {count}"));
+    }
+    lines.push(format!("hint: {}", summary.hint));
+    Some(lines)
+}
+
 /// Classify an instancer error: internal errors are bugs, the rest are the user's input.
 pub fn instance_error(e: reproj_instance::InstanceError) -> anyhow::Error {
     match e {

@@ -2,27 +2,26 @@
 
 use std::io::Write;
 
-use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
-
-use super::front_error;
 use crate::NodesArgs;
 
 pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
-    let shader = load_file(&args.shader).map_err(front_error)?;
-    let norm = normalize(
-        &shader,
-        &NormalizeOptions {
-            entry: args.entry.clone(),
-        },
-    )
-    .map_err(front_error)?;
-    let mut table = enumerate(&shader, &norm);
+    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    let mut table = loaded.table;
     let total = table.nodes.len();
     let cacheable = table.cacheable().count();
+    let why = super::no_cacheable_lines(&table);
     if !args.all {
         table.nodes.retain(|n| n.cacheable);
     }
     let mut out = std::io::stdout().lock();
+    // No cacheable node is an honest answer, not an error: say why (after the table with
+    // `--all`) and exit 0.
+    if let (Some(lines), false, false) = (&why, args.json, args.all) {
+        for line in lines {
+            writeln!(out, "{line}")?;
+        }
+        return Ok(());
+    }
     if args.json {
         serde_json::to_writer_pretty(&mut out, &table)?;
         writeln!(out)?;
@@ -68,6 +67,9 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
             n.overlap,
             format!("{}:{}", n.line, n.col),
         )?;
+    }
+    for line in why.iter().flatten() {
+        writeln!(out, "{line}")?;
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use reproj_front::{NormalizeOptions, enumerate, load_file, normalize};
+use reproj_front::{Loaded, load_file_as};
 use reproj_instance::{NodeSelector, instance};
 use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
 
@@ -14,7 +14,9 @@ const FRAME_FILES: &[&str] = &["png", "f32"];
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    let shader = load_file(&args.shader).map_err(front_error)?;
+    let input = load_file_as(&args.shader, super::lang_in(args.lang_in)).map_err(front_error)?;
+    // The replay renders WGSL: a GLSL shader is rendered as naga's WGSL of it.
+    let shader = input.to_wgsl().map_err(front_error)?;
     let entry = shader
         .fragment_entry(args.entry.as_deref())
         .map_err(front_error)?;
@@ -70,18 +72,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         (None, None) => None,
         (Some(node), _) => {
             let sel: NodeSelector = node.parse().map_err(UserError)?;
-            let norm = normalize(
-                &shader,
-                &NormalizeOptions {
-                    entry: args.entry.clone(),
-                },
-            )
-            .map_err(front_error)?;
-            let table = enumerate(&shader, &norm);
+            let loaded = Loaded::new(input, args.entry.as_deref()).map_err(front_error)?;
             let variant = instance(
-                &shader,
-                &norm,
-                &table,
+                &loaded.shader,
+                &loaded.norm,
+                &loaded.table,
                 sel,
                 &super::instance_options(args.cache, args.delta_n.unwrap_or(8)),
             )

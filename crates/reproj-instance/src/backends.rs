@@ -1,0 +1,109 @@
+//! The passes in other shading languages, through naga's backends.
+//!
+//! WGSL stays the source of truth (the manifest names the `.wgsl` files, the replay renders them);
+//! `--lang` adds each pass in GLSL 4.50, HLSL (shader model 5.1), MSL 2.1 or SPIR-V beside it,
+//! written from the same validated module. GLSL holds one entry point per file: the pass's
+//! (entry point 0, the one the manifest names); the others hold every entry point.
+
+use std::path::PathBuf;
+
+use crate::{InstanceError, PassModule, pass_file};
+
+/// A shading language the passes can be written in besides WGSL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OutputLang {
+    Glsl,
+    Hlsl,
+    Msl,
+    SpirV,
+}
+
+impl OutputLang {
+    /// File extension of a pass in this language.
+    pub fn extension(self) -> &'static str {
+        match self {
+            OutputLang::Glsl => "frag",
+            OutputLang::Hlsl => "hlsl",
+            OutputLang::Msl => "metal",
+            OutputLang::SpirV => "spv",
+        }
+    }
+}
+
+/// File name of `pass` in `lang`: the WGSL file's name with the language's extension.
+pub fn pass_file_in(pass: &PassModule, lang: OutputLang) -> String {
+    PathBuf::from(pass_file(pass.kind))
+        .with_extension(lang.extension())
+        .display()
+        .to_string()
+}
+
+/// `pass` written in `lang`, after validating its module again.
+pub fn write_pass(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, InstanceError> {
+    let fail = |what: String| InstanceError::Backend {
+        file: pass_file_in(pass, lang),
+        what,
+    };
+    let module = &pass.module;
+    let info = reproj_front::validator()
+        .validate(module)
+        .map_err(|e| fail(format!("the module does not validate: {e}")))?;
+    let entry = module
+        .entry_points
+        .first()
+        .ok_or_else(|| fail("the pass has no entry point".into()))?;
+    match lang {
+        OutputLang::Glsl => {
+            use naga::back::glsl;
+            let mut text = String::new();
+            let options = glsl::Options {
+                version: glsl::Version::Desktop(450),
+                writer_flags: glsl::WriterFlags::empty(),
+                ..Default::default()
+            };
+            let pipeline = glsl::PipelineOptions {
+                shader_stage: entry.stage,
+                entry_point: entry.name.clone(),
+                multiview: None,
+            };
+            glsl::Writer::new(
+                &mut text,
+                module,
+                &info,
+                &options,
+                &pipeline,
+                naga::proc::BoundsCheckPolicies::default(),
+            )
+            .and_then(|mut w| w.write())
+            .map_err(|e| fail(e.to_string()))?;
+            Ok(text.into_bytes())
+        }
+        OutputLang::Hlsl => {
+            use naga::back::hlsl;
+            let mut text = String::new();
+            let options = hlsl::Options::default();
+            let pipeline = hlsl::PipelineOptions::default();
+            hlsl::Writer::new(&mut text, &options, &pipeline)
+                .write(module, &info, None)
+                .map_err(|e| fail(e.to_string()))?;
+            Ok(text.into_bytes())
+        }
+        OutputLang::Msl => {
+            use naga::back::msl;
+            let options = msl::Options {
+                lang_version: (2, 1),
+                ..Default::default()
+            };
+            let (text, _) =
+                msl::write_string(module, &info, &options, &msl::PipelineOptions::default())
+                    .map_err(|e| fail(e.to_string()))?;
+            Ok(text.into_bytes())
+        }
+        OutputLang::SpirV => {
+            use naga::back::spv;
+            let words = spv::write_vec(module, &info, &spv::Options::default(), None)
+                .map_err(|e| fail(e.to_string()))?;
+            Ok(words.iter().flat_map(|w| w.to_le_bytes()).collect())
+        }
+    }
+}
