@@ -6,6 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/ensure-vulkan.sh
+# The ꟻLIP metric (nv-flip) builds C++: install a compiler (and the check tools) when none is here.
+command -v c++ >/dev/null 2>&1 || bash scripts/ensure-tools.sh
 # Headless: keep Mesa's device-select layer from looking for a display.
 export NODEVICE_SELECT="${NODEVICE_SELECT:-1}"
 # lavapipe runs shaders on the CPU: give it the machine's cores.

@@ -7,6 +7,9 @@
 # (`cargo install naga-cli`) and tint (built from Dawn) are not installed here.
 set -uo pipefail
 missing=()
+# nv-flip (the ꟻLIP metric) builds NVIDIA's C++ reference with the `cc` crate: the build needs a
+# C++ compiler.
+command -v c++ >/dev/null 2>&1 || missing+=(g++)
 command -v glslangValidator >/dev/null 2>&1 || missing+=(glslang-tools)
 command -v spirv-val >/dev/null 2>&1 || missing+=(spirv-tools)
 command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || missing+=(chromium)
