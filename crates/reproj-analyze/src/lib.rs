@@ -52,13 +52,19 @@ impl AnalyzeError {
     /// True when the error comes from the user's input rather than a bug or the machine.
     pub fn is_user_error(&self) -> bool {
         match self {
-            AnalyzeError::Front(reproj_front::FrontError::Internal { .. }) => false,
-            AnalyzeError::Instance(reproj_instance::InstanceError::Internal { .. }) => false,
-            AnalyzeError::Replay(e) => !matches!(
-                e,
-                reproj_replay::ReplayError::Gpu { .. } | reproj_replay::ReplayError::Device { .. }
-            ),
+            AnalyzeError::Front(e) => e.is_user_error(),
+            AnalyzeError::Instance(e) => e.is_user_error(),
+            AnalyzeError::Replay(e) => e.is_user_error(),
             _ => true,
+        }
+    }
+
+    /// The source diagnostic of a front-end error about a place in the shader.
+    pub fn diagnostic(&self) -> Option<&reproj_front::SourceDiagnostic> {
+        match self {
+            AnalyzeError::Front(e) => e.diagnostic(),
+            AnalyzeError::Instance(e) => e.diagnostic(),
+            _ => None,
         }
     }
 }

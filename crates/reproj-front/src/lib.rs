@@ -6,6 +6,7 @@
 //! each cacheable or culled with a reason. Results live in side tables keyed by naga
 //! `Handle<Expression>`; the IR is only rebuilt, never annotated.
 
+pub mod diagnostic;
 pub mod ir;
 pub mod liveness;
 pub mod load;
@@ -14,6 +15,7 @@ pub mod normalize;
 pub mod parse;
 pub mod rebuild;
 
+pub use diagnostic::{Message, SourceDiagnostic};
 pub use load::{CullSummary, LoadOptions, Loaded, load};
 pub use nodes::{CullReason, Node, NodeTable, enumerate};
 pub use normalize::{NormalizeOptions, Normalized, normalize};

@@ -6,6 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::diagnostic::{self, Message, SourceDiagnostic};
+
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
 /// The language of a shader file.
@@ -64,10 +66,12 @@ pub enum FrontError {
         #[source]
         source: std::io::Error,
     },
-    #[error("{diagnostic}")]
-    Parse { diagnostic: String },
-    #[error("{diagnostic}")]
-    Validation { diagnostic: String },
+    /// The text does not parse. Kept as data: the CLI renders it with the source line and a caret.
+    #[error("{0}")]
+    Parse(SourceDiagnostic),
+    /// The module parses but naga's validator rejects it.
+    #[error("{0}")]
+    Validation(SourceDiagnostic),
     #[error("{path}: the module has no @fragment entry point")]
     NoFragmentEntry { path: PathBuf },
     #[error("{path}: the module has several @fragment entry points ({}); choose one with --entry", names.join(", "))]
@@ -78,20 +82,32 @@ pub enum FrontError {
         name: String,
         available: Vec<String>,
     },
-    /// `diagnostic`: the message with the source line and a caret under the construct, rendered
-    /// like naga's parse errors ([`Shader::unsupported`]).
-    #[error("{diagnostic}")]
-    Unsupported {
-        location: String,
-        what: String,
-        diagnostic: String,
-    },
+    /// A construct reproj does not handle, at its place in the source ([`Shader::unsupported`]).
+    #[error("{0}")]
+    Unsupported(SourceDiagnostic),
     /// An unsupported construct inside the IR, before it is given a file location.
     #[error("unsupported: {what}")]
     UnsupportedAt { span: naga::Span, what: String },
     /// A bug in reproj: an invariant did not hold.
     #[error("internal error: {what}")]
     Internal { what: String },
+}
+
+impl FrontError {
+    /// True when the error comes from the user's input (exit code 2), false for a bug in reproj.
+    pub fn is_user_error(&self) -> bool {
+        !matches!(self, FrontError::Internal { .. })
+    }
+
+    /// The source diagnostic, for errors about a place in the shader (rendered by the CLI).
+    pub fn diagnostic(&self) -> Option<&SourceDiagnostic> {
+        match self {
+            FrontError::Parse(d) | FrontError::Validation(d) | FrontError::Unsupported(d) => {
+                Some(d)
+            }
+            _ => None,
+        }
+    }
 }
 
 /// Validator used everywhere in reproj: every check on, every capability allowed.
@@ -138,23 +154,30 @@ pub fn parse_spirv(path: &Path, bytes: &[u8]) -> Result<Shader, FrontError> {
         strict_capabilities: false,
         block_ctx_dump_prefix: None,
     };
-    let module =
-        naga::front::spv::parse_u8_slice(bytes, &options).map_err(|e| FrontError::Parse {
-            diagnostic: format!("error: {path_str}: invalid SPIR-V: {e}\n"),
-        })?;
+    let module = naga::front::spv::parse_u8_slice(bytes, &options).map_err(|e| {
+        FrontError::Parse(SourceDiagnostic::new(
+            path.to_owned(),
+            "",
+            vec![Message::new(format!("invalid SPIR-V: {e}"))],
+        ))
+    })?;
     // Spans of a SPIR-V module are byte offsets into the binary: report errors without them.
-    let info = validator()
-        .validate(&module)
-        .map_err(|e| FrontError::Validation {
-            diagnostic: format!(
-                "error: {path_str}: the SPIR-V module is not valid: {}\n",
+    let info = validator().validate(&module).map_err(|e| {
+        FrontError::Validation(SourceDiagnostic::new(
+            path.to_owned(),
+            "",
+            vec![Message::new(format!(
+                "the SPIR-V module is not valid: {}",
                 chain(&e)
-            ),
-        })?;
-    let wgsl = write_wgsl(&module, &info).map_err(|what| FrontError::Unsupported {
-        location: path_str.clone(),
-        diagnostic: format!("error: {path_str}: unsupported: {what}\n"),
-        what,
+            ))],
+        ))
+    })?;
+    let wgsl = write_wgsl(&module, &info).map_err(|what| {
+        FrontError::Unsupported(SourceDiagnostic::new(
+            path.to_owned(),
+            "",
+            vec![Message::new(format!("unsupported: {what}"))],
+        ))
     })?;
     let shader = parse_text(path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
         what: format!("naga's WGSL of {path_str} does not parse again: {e}"),
@@ -191,24 +214,30 @@ fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontEr
                 &naga::front::glsl::Options::from(naga::ShaderStage::Fragment),
                 &source,
             )
-            .map_err(|e| FrontError::Parse {
-                diagnostic: e.emit_to_string_with_path(&source, &path_str),
+            .map_err(|e| {
+                FrontError::Parse(SourceDiagnostic::new(
+                    path.to_owned(),
+                    &source,
+                    diagnostic::from_glsl(&e),
+                ))
             })?,
-        _ => naga::front::wgsl::parse_str(&source).map_err(|e| FrontError::Parse {
-            diagnostic: e.emit_to_string_with_path(&source, &path_str),
+        _ => naga::front::wgsl::parse_str(&source).map_err(|e| {
+            FrontError::Parse(SourceDiagnostic::new(
+                path.to_owned(),
+                &source,
+                diagnostic::from_wgsl(&e),
+            ))
         })?,
     };
     let info = validator().validate(&module).map_err(|e| {
-        let mut diagnostic = e.emit_to_string_with_path(&source, &path_str);
-        if !e.spans().any(|(span, _)| span.to_range().is_some()) {
-            // naga gives some errors (a whole entry point's) no span: name the place ourselves.
-            let at = unspanned_location(&e, &module, &source, &path_str);
-            diagnostic = match diagnostic.strip_prefix("error: ") {
-                Some(rest) => format!("error: {at}{rest}"),
-                None => format!("{at}{diagnostic}"),
-            };
-        }
-        FrontError::Validation { diagnostic }
+        // naga gives some errors (a whole entry point's) no span: name the place ourselves.
+        let at = (!e.spans().any(|(span, _)| span.to_range().is_some()))
+            .then(|| unspanned_location(&e, &module, &source, &path_str));
+        FrontError::Validation(SourceDiagnostic::new(
+            path.to_owned(),
+            &source,
+            diagnostic::from_validation(&e, at),
+        ))
     })?;
     Ok(Shader {
         path: path.to_owned(),
@@ -246,9 +275,9 @@ fn unspanned_location(
         Some(i) => {
             let line = source[..i].matches('\n').count() + 1;
             let col = i - source[..i].rfind('\n').map_or(0, |n| n + 1) + 1;
-            format!("{path}:{line}:{col}: ")
+            format!("{path}:{line}:{col}")
         }
-        None => format!("{path}: "),
+        None => path.to_owned(),
     }
 }
 
@@ -316,27 +345,16 @@ impl Shader {
     /// An unsupported-construct error at `span`: `file:line:col`, and the source line with a caret
     /// under the construct (codespan, as naga renders parse errors).
     pub fn unsupported(&self, span: naga::Span, what: impl Into<String>) -> FrontError {
-        use codespan_reporting::diagnostic::{Diagnostic, Label};
-        use codespan_reporting::files::SimpleFile;
-        let what = what.into();
-        let location = self.location(span);
-        let path = self.path.display().to_string();
-        let files = SimpleFile::new(path, self.source.as_str());
-        let mut diagnostic = Diagnostic::error().with_message(format!("unsupported: {what}"));
-        if let Some(range) = span.to_range() {
-            diagnostic = diagnostic.with_labels(vec![Label::primary((), range)]);
+        let mut m = Message::new(format!("unsupported: {}", what.into()));
+        match span.to_range() {
+            Some(range) => m.labels.push((range, String::new())),
+            None => m.at = Some(self.location(span)),
         }
-        let diagnostic = codespan_reporting::term::emit_into_string(
-            &codespan_reporting::term::Config::default(),
-            &files,
-            &diagnostic,
-        )
-        .unwrap_or_else(|_| format!("error: {location}: unsupported: {what}\n"));
-        FrontError::Unsupported {
-            location,
-            what,
-            diagnostic,
-        }
+        FrontError::Unsupported(SourceDiagnostic::new(
+            self.path.clone(),
+            &self.source,
+            vec![m],
+        ))
     }
 
     pub fn location(&self, span: naga::Span) -> String {

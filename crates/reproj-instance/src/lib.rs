@@ -183,6 +183,26 @@ pub enum InstanceError {
     Internal { pass: PassKind, what: String },
 }
 
+impl InstanceError {
+    /// True when the error comes from the user's input or the machine (exit code 2), false for a
+    /// bug in reproj.
+    pub fn is_user_error(&self) -> bool {
+        match self {
+            InstanceError::Internal { .. } => false,
+            InstanceError::Front(f) => f.is_user_error(),
+            _ => true,
+        }
+    }
+
+    /// The source diagnostic of a front-end error about a place in the shader.
+    pub fn diagnostic(&self) -> Option<&reproj_front::SourceDiagnostic> {
+        match self {
+            InstanceError::Front(f) => f.diagnostic(),
+            _ => None,
+        }
+    }
+}
+
 /// Build the variant of `shader` that caches `node`.
 pub fn instance(
     shader: &Shader,

@@ -122,3 +122,11 @@ pub enum ReplayError {
     #[error("cannot encode {path}: {message}")]
     Image { path: PathBuf, message: String },
 }
+
+impl ReplayError {
+    /// True when the error comes from the user's input (exit code 2); false for a missing driver
+    /// or a GPU failure, which are not.
+    pub fn is_user_error(&self) -> bool {
+        !matches!(self, ReplayError::Gpu { .. } | ReplayError::Device { .. })
+    }
+}

@@ -34,6 +34,16 @@ pub enum ReportError {
     Png(String),
 }
 
+impl ReportError {
+    /// The source diagnostic of a front-end error about a place in the shader.
+    pub fn diagnostic(&self) -> Option<&reproj_front::SourceDiagnostic> {
+        match self {
+            ReportError::Analyze(e) => e.diagnostic(),
+            _ => None,
+        }
+    }
+}
+
 impl From<reproj_front::FrontError> for ReportError {
     fn from(e: reproj_front::FrontError) -> Self {
         ReportError::Analyze(e.into())

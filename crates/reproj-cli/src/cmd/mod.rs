@@ -35,12 +35,9 @@ impl std::fmt::Display for Unmet {
 
 impl std::error::Error for Unmet {}
 
-/// Classify a front-end error.
+/// A front-end error, kept typed ([`finish`] decides the exit code and renders its diagnostic).
 pub fn front_error(e: reproj_front::FrontError) -> anyhow::Error {
-    match e {
-        reproj_front::FrontError::Internal { .. } => anyhow::Error::new(e),
-        e => anyhow::Error::new(UserError(e.to_string())),
-    }
+    anyhow::Error::new(e)
 }
 
 /// The front end's language for `--lang-in` (`None`: by extension).
@@ -102,31 +99,57 @@ pub fn no_cacheable_lines(table: &reproj_front::NodeTable) -> Option<Vec<String>
     Some(lines)
 }
 
-/// Classify an instancer error: internal errors are bugs, the rest are the user's input.
+/// An instancer error, kept typed.
 pub fn instance_error(e: reproj_instance::InstanceError) -> anyhow::Error {
-    match e {
-        reproj_instance::InstanceError::Internal { .. } => anyhow::Error::new(e),
-        reproj_instance::InstanceError::Front(f) => front_error(f),
-        e => anyhow::Error::new(UserError(e.to_string())),
-    }
+    anyhow::Error::new(e)
 }
 
-/// Classify a replay error: a missing driver or a GPU failure is not the user's input.
+/// A replay error, kept typed.
 pub fn replay_error(e: reproj_replay::ReplayError) -> anyhow::Error {
-    use reproj_replay::ReplayError as R;
-    match e {
-        R::Gpu { .. } | R::Device { .. } => anyhow::Error::new(e),
-        e => anyhow::Error::new(UserError(e.to_string())),
-    }
+    anyhow::Error::new(e)
 }
 
-/// Classify an analyze/emit error.
+/// An analyze/emit error, kept typed.
 pub fn analyze_error(e: reproj_analyze::AnalyzeError) -> anyhow::Error {
-    if e.is_user_error() {
-        anyhow::Error::new(UserError(e.to_string()))
-    } else {
-        anyhow::Error::new(e)
+    anyhow::Error::new(e)
+}
+
+/// How an error ends the process: its exit code (2: the user's input or files, 1: a bug or the
+/// machine, 3: a bar the user set was not met) and, for an error about a place in a shader, the
+/// source diagnostic to show. The one place that decides, for every error type reproj has.
+fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) {
+    let user = |yes: bool| if yes { 2 } else { 1 };
+    for c in e.chain() {
+        if c.downcast_ref::<Unmet>().is_some() {
+            return (3, None);
+        }
+        if c.downcast_ref::<UserError>().is_some()
+            || c.downcast_ref::<reproj_io::ReadError>().is_some()
+            || c.downcast_ref::<reproj_io::WriteError>().is_some()
+            || c.downcast_ref::<reproj_replay::SessionError>().is_some()
+        {
+            return (2, None);
+        }
+        if let Some(f) = c.downcast_ref::<reproj_front::FrontError>() {
+            return (user(f.is_user_error()), f.diagnostic());
+        }
+        if let Some(i) = c.downcast_ref::<reproj_instance::InstanceError>() {
+            return (user(i.is_user_error()), i.diagnostic());
+        }
+        if let Some(r) = c.downcast_ref::<reproj_replay::ReplayError>() {
+            return (user(r.is_user_error()), None);
+        }
+        if let Some(a) = c.downcast_ref::<reproj_analyze::AnalyzeError>() {
+            return (user(a.is_user_error()), a.diagnostic());
+        }
+        if let Some(r) = c.downcast_ref::<reproj_report::ReportError>() {
+            return (user(r.is_user_error()), r.diagnostic());
+        }
+        if let Some(r) = c.downcast_ref::<reproj_charts::ChartError>() {
+            return (user(matches!(r, reproj_charts::ChartError::Write(_))), None);
+        }
     }
+    (1, None)
 }
 
 /// Instancer options from the CLI's cache flags and a default Δn (3pass unless one is named).
@@ -221,31 +244,29 @@ pub fn relative_to(dir: &std::path::Path, path: &std::path::Path) -> String {
 
 /// Print the error (if any) and choose the exit code.
 pub fn finish(result: anyhow::Result<()>) -> ExitCode {
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            // `reproj nodes x.wgsl | head` closes the pipe early: not an error.
-            if is_broken_pipe(&e) {
-                return ExitCode::SUCCESS;
-            }
-            if let Some(u) = e.downcast_ref::<Unmet>() {
-                eprintln!("reproj: {u}");
-                return ExitCode::from(3);
-            }
-            if let Some(u) = e.downcast_ref::<UserError>() {
-                let msg = u.0.trim_end();
-                if msg.starts_with("error") {
-                    eprintln!("{msg}");
-                } else {
-                    eprintln!("error: {msg}");
-                }
-                ExitCode::from(2)
+    let Err(e) = result else {
+        return ExitCode::SUCCESS;
+    };
+    // `reproj nodes x.wgsl | head` closes the pipe early: not an error.
+    if is_broken_pipe(&e) {
+        return ExitCode::SUCCESS;
+    }
+    let (code, diagnostic) = classify(&e);
+    match (code, diagnostic) {
+        (3, _) => eprintln!("reproj: {e}"),
+        (_, Some(d)) => eprint!("{}", d.render()),
+        (2, None) => {
+            let msg = e.to_string();
+            let msg = msg.trim_end();
+            if msg.starts_with("error") {
+                eprintln!("{msg}");
             } else {
-                eprintln!("error: {e:#}");
-                ExitCode::from(1)
+                eprintln!("error: {msg}");
             }
         }
+        _ => eprintln!("error: {e:#}"),
     }
+    ExitCode::from(code)
 }
 
 /// Did writing to stdout fail because its reader went away? Commands print through a locked

@@ -32,8 +32,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         .frames
         .as_deref()
         .map(|dir| reproj_io::StagedDir::new(dir, reproj_io::Replace::OwnFiles(FRAME_FILES)))
-        .transpose()
-        .map_err(|e| UserError(e.to_string()))?;
+        .transpose()?;
     let opts = RenderOptions {
         png_dir: frames.as_ref().map(|f| f.path().to_owned()),
         max_frames: args.max_frames,
@@ -114,7 +113,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     };
     if let Some(frames) = frames {
-        frames.commit().map_err(|e| UserError(e.to_string()))?;
+        frames.commit()?;
     }
     if args.json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;

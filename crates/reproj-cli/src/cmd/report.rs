@@ -48,13 +48,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     let mut progress = |line: &str| {
         eprintln!("[{:6.1}s] {line}", start.elapsed().as_secs_f64());
     };
-    let html = report(&profile, &args.profile, &opts, &renderer, &mut progress).map_err(|e| {
-        if e.is_user_error() {
-            anyhow::Error::new(UserError(e.to_string()))
-        } else {
-            anyhow::Error::new(e)
-        }
-    })?;
+    let html = report(&profile, &args.profile, &opts, &renderer, &mut progress)?;
     reproj_analyze::emit::write_atomic(&args.out, html.as_bytes()).map_err(analyze_error)?;
     writeln!(
         stdout,
