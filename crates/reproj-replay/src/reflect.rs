@@ -175,12 +175,18 @@ fn float_components(module: &Module, ty: Handle<naga::Type>) -> Option<u32> {
     }
 }
 
+/// A type as WGSL spells it (`texture_2d_array<f32>`, `DirectionalLight`), by naga's own printer.
 fn type_text(module: &Module, ty: Handle<naga::Type>) -> String {
+    use naga::common::wgsl::TypeContext;
     let t = &module.types[ty];
     if let Some(n) = &t.name {
         return n.clone();
     }
-    format!("{:?}", t.inner)
+    let mut out = String::new();
+    match module.types.write_type_inner(&t.inner, &mut out) {
+        Ok(()) => out,
+        Err(_) => format!("{:?}", t.inner),
+    }
 }
 
 fn collect_input(

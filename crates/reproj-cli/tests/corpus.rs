@@ -1,0 +1,186 @@
+//! The corpus (`shaders/corpus/`, sessions in `sessions/corpus/`): engine-style fragment shaders,
+//! each run through the real binary and compared with the committed table
+//! `shaders/corpus/expected.json`, so that a shader that stops parsing, loses cacheable nodes, stops
+//! validating or rendering (or starts to) fails here. Per shader it records: whether `nodes` parses
+//! it, the cacheable node count, the outcome of `instance` for the root and the costliest other
+//! cacheable node in each strategy, and the outcome of `render --node root --delta-n 4
+//! --max-frames 4`. An outcome is `ok` or the one-line message of an exit-2 rejection; anything
+//! else (a panic, another exit code, a message over several lines, files left behind by a
+//! rejection) fails outright. Everything is written in temporary directories.
+//!
+//! After an intended change: `REPROJ_BLESS=1 cargo test -p reproj-cli --test corpus`, review the
+//! diff of `expected.json` and update `docs/CORPUS.md`.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde_json::{Value, json};
+
+mod common;
+use common::{root, run};
+
+const STRATEGIES: [&str; 3] = ["3pass", "2pass", "fused"];
+
+/// `ok` for exit 0; the message for a clean exit-2 rejection; panics on anything else.
+fn outcome(what: &str, (code, _out, err): (i32, String, String)) -> String {
+    match code {
+        0 => "ok".into(),
+        2 => {
+            let msg = err.trim();
+            assert!(
+                !msg.is_empty() && !msg.contains("panicked") && msg.lines().count() == 1,
+                "{what}: exit 2 without one clear line:\n{err}"
+            );
+            msg.to_owned()
+        }
+        _ => panic!("{what}: exit {code}\n{err}"),
+    }
+}
+
+fn is_empty_dir(dir: &Path) -> bool {
+    std::fs::read_dir(dir).unwrap().next().is_none()
+}
+
+/// The measured row of one shader.
+fn measure(shader: &Path, session: &Path) -> Value {
+    let name = shader.file_stem().unwrap().to_str().unwrap().to_owned();
+    let sh = shader.to_str().unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let (code, out, err) = run(tmp.path(), &["nodes", sh, "--json"]);
+    if code != 0 {
+        let msg = outcome(&format!("{name}: nodes"), (code, out, err));
+        assert!(is_empty_dir(tmp.path()), "{name}: nodes wrote files");
+        return json!({"parses": false, "error": msg});
+    }
+    let nodes: Value = serde_json::from_str(&out).expect("nodes --json");
+    let nodes = nodes["nodes"].as_array().unwrap();
+    let costliest = nodes
+        .iter()
+        .filter(|n| n["root"] == false)
+        .max_by(|a, b| {
+            let (ca, cb) = (a["cost"].as_f64().unwrap(), b["cost"].as_f64().unwrap());
+            // Ties go to the earlier node, so the choice is stable.
+            ca.total_cmp(&cb)
+                .then(b["id"].as_u64().cmp(&a["id"].as_u64()))
+        })
+        .map(|n| n["id"].to_string());
+
+    let mut variants = BTreeMap::new();
+    let mut targets = vec![("root".to_owned(), "root".to_owned())];
+    if let Some(id) = &costliest {
+        targets.push((format!("costliest ({id})"), id.clone()));
+    }
+    for (label, node) in &targets {
+        for strategy in STRATEGIES {
+            let dir = tmp.path().join(format!("v-{node}-{strategy}"));
+            let args = [
+                "instance",
+                sh,
+                "--node",
+                node,
+                "--strategy",
+                strategy,
+                "--out",
+                dir.to_str().unwrap(),
+            ];
+            let what = format!("{name}: instance {node} {strategy}");
+            let o = outcome(&what, run(tmp.path(), &args));
+            if o == "ok" {
+                assert!(dir.join("manifest.json").is_file(), "{what}: no manifest");
+                std::fs::remove_dir_all(&dir).unwrap();
+            } else {
+                assert!(!dir.exists(), "{what}: a rejection wrote {}", dir.display());
+            }
+            variants.insert(format!("{label} {strategy}"), o);
+        }
+    }
+
+    let args = [
+        "render",
+        sh,
+        "--session",
+        session.to_str().unwrap(),
+        "--node",
+        "root",
+        "--delta-n",
+        "4",
+        "--max-frames",
+        "4",
+    ];
+    let render = outcome(&format!("{name}: render"), run(tmp.path(), &args));
+    assert!(is_empty_dir(tmp.path()), "{name}: render wrote files");
+    json!({
+        "parses": true,
+        "cacheable": nodes.len(),
+        "variants": variants,
+        "render": render,
+    })
+}
+
+#[test]
+fn corpus_matches_its_table() {
+    let root = root();
+    let dir = root.join("shaders/corpus");
+    let mut shaders: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+        .collect();
+    shaders.sort();
+    assert!(
+        shaders.len() >= 15,
+        "the corpus has {} shaders",
+        shaders.len()
+    );
+    let doc = std::fs::read_to_string(root.join("docs/CORPUS.md")).unwrap();
+
+    let mut measured = serde_json::Map::new();
+    for shader in &shaders {
+        let name = shader.file_stem().unwrap().to_str().unwrap();
+        let session = root.join(format!("sessions/corpus/{name}.json"));
+        assert!(
+            session.is_file(),
+            "{name}: no session {}",
+            session.display()
+        );
+        assert!(
+            doc.contains(&format!("`{name}.wgsl`")),
+            "docs/CORPUS.md has no row for {name}.wgsl"
+        );
+        measured.insert(name.to_owned(), measure(shader, &session));
+    }
+    let measured = Value::Object(measured);
+
+    let table = dir.join("expected.json");
+    if std::env::var_os("REPROJ_BLESS").is_some() {
+        let text = serde_json::to_string_pretty(&measured).unwrap() + "\n";
+        std::fs::write(&table, text).unwrap();
+        return;
+    }
+    let expected: Value =
+        serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).expect("expected.json");
+    let (Value::Object(exp), Value::Object(got)) = (&expected, &measured) else {
+        unreachable!()
+    };
+    let mut diffs = Vec::new();
+    for name in exp.keys().chain(got.keys()) {
+        let (e, g) = (exp.get(name), got.get(name));
+        if e != g
+            && !diffs
+                .iter()
+                .any(|d: &String| d.starts_with(&format!("{name}:")))
+        {
+            diffs.push(format!(
+                "{name}:\n  expected {}\n  measured {}",
+                e.map_or("(absent)".into(), Value::to_string),
+                g.map_or("(absent)".into(), Value::to_string)
+            ));
+        }
+    }
+    assert!(
+        diffs.is_empty(),
+        "the corpus differs from shaders/corpus/expected.json (after an intended change: \
+         REPROJ_BLESS=1 cargo test -p reproj-cli --test corpus):\n{}",
+        diffs.join("\n")
+    );
+}
