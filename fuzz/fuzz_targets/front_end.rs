@@ -36,8 +36,16 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let Ok(shader) = parse_shader(Path::new("fuzz.wgsl"), text.to_owned()) else {
-        return;
+    let shader = match parse_shader(Path::new("fuzz.wgsl"), text.to_owned()) {
+        Ok(shader) => shader,
+        Err(e) => {
+            // What the CLI shows: the diagnostic rendered from its spans (must not panic).
+            if let Some(d) = e.diagnostic() {
+                let _ = d.render();
+            }
+            let _ = e.to_string();
+            return;
+        }
     };
     let entries: Vec<String> = shader
         .module
@@ -53,7 +61,12 @@ fuzz_target!(|data: &[u8]| {
             // `Internal` means a reproj invariant did not hold; with REPROJ_FUZZ_STRICT=1 it
             // counts as a crash too.
             Err(e @ FrontError::Internal { .. }) if strict() => panic!("{e}"),
-            Err(_) => continue,
+            Err(e) => {
+                if let Some(d) = e.diagnostic() {
+                    let _ = d.render();
+                }
+                continue;
+            }
         };
         if strict() {
             round_trip(&norm.module, &norm.info);
