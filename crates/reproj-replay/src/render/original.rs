@@ -1,7 +1,6 @@
 //! The reference loop: render the original shader over the session.
 
 use std::collections::BTreeSet;
-use std::time::Instant;
 
 use reproj_front::Shader;
 
@@ -80,11 +79,9 @@ impl Renderer {
         let mut report = self.new_report("original", shader, &iface.entry, session);
         let mut out_frames = Vec::with_capacity(frames as usize);
         let mut out_depth = Vec::with_capacity(frames as usize);
-        // Frames submitted but not read back yet: (frame, CPU time when measured alone).
-        let mut pending: Vec<(u32, Option<f64>)> = Vec::new();
-        let mut batch_t0 = Instant::now();
+        let mut batch = FrameBatch::new("", slots, frames);
         for f in 0..frames {
-            let slot = pending.len() as u32;
+            let slot = batch.slot();
             self.write_frame_uniforms(session, &scene, f);
             let mut enc = self.device.create_command_encoder(&Default::default());
             {
@@ -120,22 +117,12 @@ impl Renderer {
             frame_rb.copy(&mut rb, &color, slot);
             let at = slot as u64 * depth_rb.slot_bytes;
             keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
-            if slot == 0 {
-                batch_t0 = Instant::now();
-            }
-            let cpu = self.submit_frame(enc, rb, &format!("rendering frame {f}"))?;
-            pending.push((f, cpu));
-            if pending.len() < slots as usize && f + 1 < frames {
+            if !batch.submit(self, enc, rb, f)? {
                 continue;
             }
 
             // Read the batch back with one wait.
-            self.map_read(&rb_bufs)?;
-            let batch_ms = batch_t0.elapsed().as_secs_f64() * 1e3 / pending.len() as f64;
-            self.check_errors(&format!("rendering frames {}..={f}", pending[0].0))?;
-            for (slot, &(f, cpu)) in pending.iter().enumerate() {
-                let slot = slot as u32;
-                let cpu_ms = cpu.unwrap_or(batch_ms);
+            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
                 let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
                 let depth: Vec<f32> = bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?);
                 let covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
@@ -169,10 +156,8 @@ impl Renderer {
                 });
                 out_frames.push(pixels);
                 out_depth.push(depth);
-            }
-            Self::unmap_all(&rb_bufs);
-            self.check_errors(&format!("reading frames {}..={f}", pending[0].0))?;
-            pending.clear();
+                Ok(())
+            })?;
         }
         report.summarize();
         Ok(Reference {

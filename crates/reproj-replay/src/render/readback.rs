@@ -268,3 +268,78 @@ impl Renderer {
         out
     }
 }
+
+/// The frame loops' batching, shared by the reference and the variant loop: each frame is
+/// submitted into the next slot, and the batch is read back with one host wait when its slots are
+/// full or the last frame is in (see the module docs of `render`).
+pub(super) struct FrameBatch<'a> {
+    /// `""` or `"variant "`: goes into messages.
+    what: &'a str,
+    slots: u32,
+    frames: u32,
+    /// Frames submitted but not read back yet: (frame, CPU time when measured alone).
+    pending: Vec<(u32, Option<f64>)>,
+    /// When the batch's first frame was submitted.
+    t0: Instant,
+}
+
+impl<'a> FrameBatch<'a> {
+    pub(super) fn new(what: &'a str, slots: u32, frames: u32) -> FrameBatch<'a> {
+        FrameBatch {
+            what,
+            slots,
+            frames,
+            pending: Vec::new(),
+            t0: Instant::now(),
+        }
+    }
+
+    /// The slot the next frame's images and queries go in.
+    pub(super) fn slot(&self) -> u32 {
+        self.pending.len() as u32
+    }
+
+    /// Submit frame `f` ([`Renderer::submit_frame`]); true when the batch must now be read back.
+    pub(super) fn submit(
+        &mut self,
+        r: &Renderer,
+        render: wgpu::CommandEncoder,
+        readback: wgpu::CommandEncoder,
+        f: u32,
+    ) -> Result<bool, ReplayError> {
+        if self.pending.is_empty() {
+            self.t0 = Instant::now();
+        }
+        let cpu = r.submit_frame(
+            render,
+            readback,
+            &format!("rendering {}frame {f}", self.what),
+        )?;
+        self.pending.push((f, cpu));
+        Ok(self.pending.len() >= self.slots as usize || f + 1 >= self.frames)
+    }
+
+    /// Map `bufs` with one wait, call `each(slot, frame, cpu_ms)` for the batch's frames in order
+    /// (`cpu_ms`: the frame's own CPU time, else the batch's wall time per frame), unmap, and start
+    /// a new batch.
+    pub(super) fn read_back(
+        &mut self,
+        r: &Renderer,
+        bufs: &[&wgpu::Buffer],
+        mut each: impl FnMut(u32, u32, f64) -> Result<(), ReplayError>,
+    ) -> Result<(), ReplayError> {
+        r.map_read(bufs)?;
+        let batch_ms = self.t0.elapsed().as_secs_f64() * 1e3 / self.pending.len() as f64;
+        let first = self.pending[0].0;
+        let last = self.pending[self.pending.len() - 1].0;
+        let what = self.what;
+        r.check_errors(&format!("rendering {what}frames {first}..={last}"))?;
+        for (slot, &(f, cpu)) in self.pending.iter().enumerate() {
+            each(slot as u32, f, cpu.unwrap_or(batch_ms))?;
+        }
+        Renderer::unmap_all(bufs);
+        r.check_errors(&format!("reading {what}frames {first}..={last}"))?;
+        self.pending.clear();
+        Ok(())
+    }
+}

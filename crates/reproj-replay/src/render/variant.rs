@@ -2,7 +2,6 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-use std::time::Instant;
 
 use reproj_front::Shader;
 use reproj_instance::CacheFormat;
@@ -402,11 +401,9 @@ impl Renderer {
                 .flatten()
                 .any(|(t, load)| *t == Attachment::Frame && !load)
         });
-        // Frames submitted but not read back yet: (frame, CPU time when measured alone).
-        let mut pending: Vec<(u32, Option<f64>)> = Vec::new();
-        let mut batch_t0 = Instant::now();
+        let mut batch = FrameBatch::new("variant ", slots, frames);
         for f in 0..frames {
-            let slot = pending.len() as u32;
+            let slot = batch.slot();
             let cur = (f % 2) as usize;
             let b = &binds[cur];
             self.write_frame_uniforms(session, &scene, f);
@@ -519,23 +516,12 @@ impl Renderer {
                 }
                 cls_rb.copy(&mut enc, &cls, slot);
             }
-            if slot == 0 {
-                batch_t0 = Instant::now();
-            }
-            let cpu = self.submit_frame(render, enc, &format!("rendering variant frame {f}"))?;
-            pending.push((f, cpu));
-            if pending.len() < slots as usize && f + 1 < frames {
+            if !batch.submit(self, render, enc, f)? {
                 continue;
             }
 
             // Read the batch back with one wait.
-            self.map_read(&rb_bufs)?;
-            let batch_ms = batch_t0.elapsed().as_secs_f64() * 1e3 / pending.len() as f64;
-            let first = pending[0].0;
-            self.check_errors(&format!("rendering variant frames {first}..={f}"))?;
-            for (slot, &(f, cpu)) in pending.iter().enumerate() {
-                let slot = slot as u32;
-                let cpu_ms = cpu.unwrap_or(batch_ms);
+            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
                 let (errs, pixels) = errors.read(slot, reference, f)?;
                 let cls_px = match &cls_rb {
                     Some(c) => Some(c.image(slot)?),
@@ -614,10 +600,8 @@ impl Renderer {
                     flip,
                     ssim,
                 });
-            }
-            Self::unmap_all(&rb_bufs);
-            self.check_errors(&format!("reading variant frames {first}..={f}"))?;
-            pending.clear();
+                Ok(())
+            })?;
             // Swap happens through the parity of the next frame.
         }
         report.summarize();
