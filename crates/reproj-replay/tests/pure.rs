@@ -196,7 +196,17 @@ fn vertex_stage_validates_and_feeds_every_input() {
         (2, Attribute::Uv),
     ]);
     for prev_clip in [None, Some(5)] {
-        let text = vertex_wgsl(2, &iface.inputs, &mapping, prev_clip).unwrap();
+        // A variant's fragment stage reads the previous clip position as one more input, which the
+        // session does not map: the vertex stage computes it.
+        let mut inputs = iface.inputs.clone();
+        inputs.extend(prev_clip.map(|location| reflect::FragInput {
+            location,
+            components: 4,
+            interpolation: None,
+            sampling: None,
+            name: "prev_clip".into(),
+        }));
+        let text = vertex_wgsl(2, &inputs, &mapping, prev_clip).unwrap();
         let module = naga::front::wgsl::parse_str(&text).unwrap();
         reproj_front::validator().validate(&module).unwrap();
         let ep = &module.entry_points[0];
