@@ -19,6 +19,8 @@ pub mod import;
 pub mod manifest;
 mod strategy;
 
+pub mod contract;
+
 pub use manifest::*;
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
@@ -26,8 +28,9 @@ const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
 /// The three-pass strategy's pass-1 entry, appended to the library.
 const REPROJECT_ENTRY: &str = include_str!("reproject.wgsl");
 
-/// Highest bind group index a variant may use (WebGPU's default `maxBindGroups` is 4).
-pub const MAX_BIND_GROUPS: u32 = 4;
+pub use contract::MAX_BIND_GROUPS;
+use contract::ReprojParams;
+use std::mem::offset_of;
 
 /// Which node to cache.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -538,9 +541,12 @@ fn shade_pass(
     );
     let image = module.global_variables.append(
         naga::GlobalVariable {
-            name: Some("reproj_cur_payload".into()),
+            name: Some(contract::CUR_PAYLOAD.into()),
             space: naga::AddressSpace::Handle,
-            binding: Some(naga::ResourceBinding { group, binding: 3 }),
+            binding: Some(naga::ResourceBinding {
+                group,
+                binding: contract::CUR_PAYLOAD_BINDING,
+            }),
             ty: image_ty,
             init: None,
             memory_decorations: Default::default(),
@@ -883,26 +889,26 @@ fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) -> Vec<Bindin
                 (BindingResource::Own, true)
             } else {
                 match name.as_str() {
-                    "reproj_params" => (BindingResource::Params, false),
-                    "reproj_prev_payload" => (
+                    contract::PARAMS => (BindingResource::Params, false),
+                    contract::PREV_PAYLOAD => (
                         BindingResource::Texture {
                             role: ROLE_PREV_PAYLOAD.into(),
                         },
                         reconstruct == Reconstruct::Bilinear,
                     ),
-                    "reproj_cur_payload" => (
+                    contract::CUR_PAYLOAD => (
                         BindingResource::Texture {
                             role: ROLE_CUR_PAYLOAD.into(),
                         },
                         false,
                     ),
-                    "reproj_prev_depth" => (
+                    contract::PREV_DEPTH => (
                         BindingResource::Texture {
                             role: ROLE_PREV_DEPTH_COPY.into(),
                         },
                         false,
                     ),
-                    "reproj_linear_sampler" => (
+                    contract::LINEAR_SAMPLER => (
                         BindingResource::Sampler {
                             name: SAMPLER_LINEAR.into(),
                         },
@@ -1069,7 +1075,7 @@ fn build_manifest(
                 .module
                 .entry_points
                 .iter()
-                .find(|e| e.name != "reproj_classify")
+                .find(|e| e.name != contract::CLASSIFY_ENTRY)
                 .map_or_else(String::new, |e| e.name.clone()),
             bindings: bindings(&p.module, group, opts.reconstruct),
             colors,
@@ -1183,21 +1189,26 @@ fn build_manifest(
             delta_n: opts.delta_n,
             block: opts.block,
             depth_epsilon: opts.depth_epsilon,
-            size: 16,
+            size: contract::PARAMS_SIZE,
             fields: vec![
                 field(
                     "delta_n",
-                    0,
+                    offset_of!(ReprojParams, delta_n) as u32,
                     ScalarType::U32,
                     ParamValue::Steady {
                         value: f64::from(opts.delta_n),
                         first: 1.0,
                     },
                 ),
-                field("clock", 4, ScalarType::U32, ParamValue::FrameIndex),
+                field(
+                    "clock",
+                    offset_of!(ReprojParams, clock) as u32,
+                    ScalarType::U32,
+                    ParamValue::FrameIndex,
+                ),
                 field(
                     "block",
-                    8,
+                    offset_of!(ReprojParams, block) as u32,
                     ScalarType::U32,
                     ParamValue::Constant {
                         value: f64::from(opts.block),
@@ -1205,7 +1216,7 @@ fn build_manifest(
                 ),
                 field(
                     "depth_epsilon",
-                    12,
+                    offset_of!(ReprojParams, depth_epsilon) as u32,
                     ScalarType::F32,
                     ParamValue::Constant {
                         // The f32's shortest decimal (0.01, not 0.009999999776482582).

@@ -503,3 +503,40 @@ fn passes_are_written_in_every_output_language() {
         }
     }
 }
+
+/// The manifest's `params` layout (size, field names and offsets) is the contract's
+/// `#[repr(C)]` `ReprojParams`, and its added bindings are the contract's, by name and number,
+/// in every strategy.
+#[test]
+fn manifest_params_and_bindings_match_the_contract() {
+    use reproj_instance::contract::{ADDED_BINDINGS, PARAMS_OFFSETS, PARAMS_SIZE, ReprojParams};
+    let (shader, norm, table) = load("marble.wgsl");
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        let params = &v.manifest.params;
+        assert_eq!(params.size, PARAMS_SIZE);
+        assert_eq!(params.size as usize, std::mem::size_of::<ReprojParams>());
+        let fields: Vec<(&str, u32)> = params
+            .fields
+            .iter()
+            .map(|f| (f.name.as_str(), f.offset))
+            .collect();
+        assert_eq!(fields, PARAMS_OFFSETS.to_vec(), "{strategy:?}");
+        for pass in &v.manifest.passes {
+            for b in pass.bindings.iter().filter(|b| b.added) {
+                assert!(
+                    ADDED_BINDINGS.contains(&(b.name.as_str(), b.binding)),
+                    "{strategy:?} {:?}: added binding {} at {} is not in the contract",
+                    pass.kind,
+                    b.name,
+                    b.binding
+                );
+            }
+        }
+    }
+}

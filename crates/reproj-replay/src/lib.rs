@@ -4,7 +4,7 @@
 //!
 //! # Pieces
 //!
-//! - [`Session`] (`session.rs`, schema in `SESSION.md`): resolution, frames, geometry, camera and
+//! - [`Session`] (`session/`, schema in `SESSION.md`): resolution, frames, geometry, camera and
 //!   light paths, uniform values, textures, samplers, and which vertex attribute feeds each
 //!   fragment `@location`.
 //! - [`reflect`]: the fragment entry point's interface from the naga module: inputs, uniform structs

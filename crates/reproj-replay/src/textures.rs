@@ -1,5 +1,5 @@
 //! Texture data: generated (noise, normal map, environment, checker, solid) or read from image
-//! files, with CPU mip chains. Uploading is in `render.rs`.
+//! files, with CPU mip chains. Uploading is in `assets.rs`.
 
 use glam::{Vec3, Vec4};
 

@@ -1,0 +1,102 @@
+//! The crate layering: the GPU stays in the replay. Reads the workspace's `Cargo.lock` (the whole
+//! resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly or
+//! through any dependency: only reproj-replay, the crates built on it, and the example host.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+/// Package name → names of its dependencies (every version of a name merged: over-approximate).
+/// Also the workspace's own packages (those without a `source`).
+fn lock_graph() -> (BTreeMap<String, BTreeSet<String>>, BTreeSet<String>) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../Cargo.lock");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut local = BTreeSet::new();
+    for block in text.split("[[package]]").skip(1) {
+        let mut name = None;
+        let mut has_source = false;
+        let mut deps = BTreeSet::new();
+        let mut in_deps = false;
+        for line in block.lines() {
+            let line = line.trim();
+            if let Some(v) = line.strip_prefix("name = ") {
+                name = Some(v.trim_matches('"').to_owned());
+            } else if line.starts_with("source = ") {
+                has_source = true;
+            } else if line == "dependencies = [" {
+                in_deps = true;
+            } else if in_deps && line == "]" {
+                in_deps = false;
+            } else if in_deps {
+                let dep = line.trim_end_matches(',').trim_matches('"');
+                deps.insert(dep.split(' ').next().unwrap().to_owned());
+            }
+        }
+        let name = name.expect("every [[package]] has a name");
+        if !has_source {
+            local.insert(name.clone());
+        }
+        graph.entry(name).or_default().extend(deps);
+    }
+    (graph, local)
+}
+
+fn reaches(graph: &BTreeMap<String, BTreeSet<String>>, from: &str, target: &str) -> bool {
+    let mut seen = BTreeSet::new();
+    let mut stack = vec![from.to_owned()];
+    while let Some(p) = stack.pop() {
+        if p == target {
+            return true;
+        }
+        if seen.insert(p.clone())
+            && let Some(deps) = graph.get(&p)
+        {
+            stack.extend(deps.iter().cloned());
+        }
+    }
+    false
+}
+
+#[test]
+fn only_the_replay_and_its_users_depend_on_wgpu() {
+    let (graph, local) = lock_graph();
+    let gpu_free = [
+        "reproj-front",
+        "reproj-instance",
+        "reproj-models",
+        "reproj-select",
+        "reproj-charts",
+        "reproj-io",
+    ];
+    for name in gpu_free {
+        assert!(local.contains(name), "{name} is not a workspace crate");
+        assert!(
+            !reaches(&graph, name, "wgpu"),
+            "{name} depends on wgpu (directly or through a dependency): the GPU belongs to reproj-replay"
+        );
+    }
+    let with_gpu: BTreeSet<&str> = local
+        .iter()
+        .filter(|p| reaches(&graph, p, "wgpu"))
+        .map(String::as_str)
+        .collect();
+    let expected = BTreeSet::from([
+        "reproj-analyze",
+        "reproj-cli",
+        "reproj-host",
+        "reproj-replay",
+        "reproj-report",
+    ]);
+    assert_eq!(with_gpu, expected);
+    // Of the library crates, only the replay names wgpu itself; the others reach it through it
+    // (the example host is a host: it renders with wgpu on its own).
+    for p in &with_gpu {
+        if *p != "reproj-replay" && *p != "reproj-host" {
+            assert!(
+                !graph[*p].contains("wgpu"),
+                "{p} depends on wgpu directly; use it through reproj-replay"
+            );
+            assert!(reaches(&graph, p, "reproj-replay"), "{p}");
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! The contract between the instancer and whoever runs its passes (the replay, a host): the names
+//! and binding numbers of the bindings the instancer adds to the variant's group, the layout of the
+//! `reproj_params` uniform buffer as a `#[repr(C)]` struct, the debug classification entry point
+//! and the bind group limit. Both sides use these items, so a renamed binding or a moved field is a
+//! compile error or a failing test (`contract_matches_library`, `params_layout_matches_struct`)
+//! instead of a run-time failure on a GPU.
+
+use bytemuck::{Pod, Zeroable};
+
+/// Bind groups a variant may use: indices `0..MAX_BIND_GROUPS` (WebGPU's default `maxBindGroups`).
+pub const MAX_BIND_GROUPS: u32 = 4;
+
+/// The debug entry point of the first pass's module: green hit, red miss, blue refresh
+/// (rgba8unorm target, no discard).
+pub const CLASSIFY_ENTRY: &str = "reproj_classify";
+
+/// The `reproj_params` uniform buffer ([`ReprojParams`]).
+pub const PARAMS: &str = "reproj_params";
+/// Binding number of [`PARAMS`] in the variant's group.
+pub const PARAMS_BINDING: u32 = 0;
+/// The previous frame's payload texture.
+pub const PREV_PAYLOAD: &str = "reproj_prev_payload";
+/// Binding number of [`PREV_PAYLOAD`].
+pub const PREV_PAYLOAD_BINDING: u32 = 1;
+/// The previous frame's depth copy (r32float, read as a float texture).
+pub const PREV_DEPTH: &str = "reproj_prev_depth";
+/// Binding number of [`PREV_DEPTH`].
+pub const PREV_DEPTH_BINDING: u32 = 2;
+/// The current frame's payload, read by the passes after the one that writes it.
+pub const CUR_PAYLOAD: &str = "reproj_cur_payload";
+/// Binding number of [`CUR_PAYLOAD`].
+pub const CUR_PAYLOAD_BINDING: u32 = 3;
+/// Linear clamp-to-edge sampler: bilinear reconstruction of the payload.
+pub const LINEAR_SAMPLER: &str = "reproj_linear_sampler";
+/// Binding number of [`LINEAR_SAMPLER`].
+pub const LINEAR_SAMPLER_BINDING: u32 = 5;
+/// Nearest clamp-to-edge sampler, declared by variants written by earlier versions (the replay
+/// still binds it; this instancer no longer declares it).
+pub const POINT_SAMPLER: &str = "reproj_point_sampler";
+
+/// Every binding this instancer adds to the variant's group: (name, binding number).
+pub const ADDED_BINDINGS: [(&str, u32); 5] = [
+    (PARAMS, PARAMS_BINDING),
+    (PREV_PAYLOAD, PREV_PAYLOAD_BINDING),
+    (PREV_DEPTH, PREV_DEPTH_BINDING),
+    (CUR_PAYLOAD, CUR_PAYLOAD_BINDING),
+    (LINEAR_SAMPLER, LINEAR_SAMPLER_BINDING),
+];
+
+/// The `reproj_params` uniform buffer, byte for byte as the lookup library's `ReprojParams`
+/// declares it (WGSL uniform layout: four 4-byte scalars, 16 bytes). Write it with
+/// [`bytemuck::bytes_of`].
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct ReprojParams {
+    /// Refresh period Δn: each k×k block is recomputed once every Δn frames (1 on the first frame).
+    pub delta_n: u32,
+    /// Frame counter.
+    pub clock: u32,
+    /// Refresh block size k in pixels.
+    pub block: u32,
+    /// Relative depth tolerance of the hit test.
+    pub depth_epsilon: f32,
+}
+
+/// Size in bytes of the `reproj_params` buffer.
+pub const PARAMS_SIZE: u32 = std::mem::size_of::<ReprojParams>() as u32;
+
+impl ReprojParams {
+    /// The values of frame `frame`: Δn is 1 on frame 0 (the previous frame's textures hold
+    /// nothing), `delta_n` after; the clock is the frame index.
+    pub fn for_frame(frame: u32, delta_n: u32, block: u32, depth_epsilon: f32) -> ReprojParams {
+        ReprojParams {
+            delta_n: if frame == 0 { 1 } else { delta_n },
+            clock: frame,
+            block,
+            depth_epsilon,
+        }
+    }
+}
+
+/// Byte offsets of the fields of [`ReprojParams`], by WGSL member name.
+pub const PARAMS_OFFSETS: [(&str, u32); 4] = [
+    (
+        "delta_n",
+        std::mem::offset_of!(ReprojParams, delta_n) as u32,
+    ),
+    ("clock", std::mem::offset_of!(ReprojParams, clock) as u32),
+    ("block", std::mem::offset_of!(ReprojParams, block) as u32),
+    (
+        "depth_epsilon",
+        std::mem::offset_of!(ReprojParams, depth_epsilon) as u32,
+    ),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Reconstruct, library_text};
+
+    fn library() -> naga::Module {
+        let text = library_text(1, 7, Reconstruct::Bilinear);
+        naga::front::wgsl::parse_str(&text).expect("the lookup library parses")
+    }
+
+    /// The lookup library declares exactly the contract's bindings, by name and number.
+    #[test]
+    fn contract_matches_library() {
+        let m = library();
+        let declared: Vec<(String, u32)> = m
+            .global_variables
+            .iter()
+            .filter_map(|(_, g)| Some((g.name.clone()?, g.binding.as_ref()?.binding)))
+            .collect();
+        for (name, binding) in &declared {
+            assert!(
+                ADDED_BINDINGS.contains(&(name.as_str(), *binding)),
+                "the library declares {name} at binding {binding}, which the contract does not list"
+            );
+        }
+        // The current payload is added by the instancer in code (not the library).
+        for (name, binding) in ADDED_BINDINGS.iter().filter(|(n, _)| *n != CUR_PAYLOAD) {
+            assert!(
+                declared.contains(&(name.to_string(), *binding)),
+                "the contract lists {name} at binding {binding}, the library does not declare it"
+            );
+        }
+    }
+
+    /// The WGSL struct `ReprojParams` has the Rust struct's size and field offsets.
+    #[test]
+    fn params_struct_matches_wgsl() {
+        let m = library();
+        let (_, ty) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("ReprojParams"))
+            .expect("the library declares ReprojParams");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("ReprojParams is not a struct");
+        };
+        assert_eq!(*span, PARAMS_SIZE);
+        let wgsl: Vec<(String, u32)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+            .collect();
+        let rust: Vec<(String, u32)> = PARAMS_OFFSETS
+            .iter()
+            .map(|(n, o)| (n.to_string(), *o))
+            .collect();
+        assert_eq!(wgsl, rust);
+    }
+
+    #[test]
+    fn for_frame_refreshes_everything_on_frame_zero() {
+        let p = ReprojParams::for_frame(0, 8, 4, 0.01);
+        assert_eq!((p.delta_n, p.clock, p.block), (1, 0, 4));
+        let p = ReprojParams::for_frame(3, 8, 4, 0.01);
+        assert_eq!((p.delta_n, p.clock), (8, 3));
+        let bytes = bytemuck::bytes_of(&p);
+        assert_eq!(bytes.len(), PARAMS_SIZE as usize);
+        assert_eq!(&bytes[0..4], &8u32.to_le_bytes());
+        assert_eq!(&bytes[4..8], &3u32.to_le_bytes());
+        assert_eq!(&bytes[12..16], &0.01f32.to_le_bytes());
+    }
+}

@@ -1,0 +1,223 @@
+//! The headless wgpu renderer: the original shader (reference frames) and cached variants.
+//!
+//! # Batched readback
+//!
+//! Every frame must come back to the host (reference frames, error metrics, PNGs) together with its
+//! occlusion and timestamp queries. Reading each frame back synchronously (map, wait, copy) costs
+//! several host/device round trips per frame, which on a software device (Mesa lavapipe) took about
+//! as much wall time as rendering itself. So the frame loops batch the readback: each frame's
+//! submission copies its color image (and classification map) into its own slot of a `K`-slot
+//! [`Staging`] buffer and resolves its queries into its own slot of the [`QueryKit`] buffers; the
+//! host maps and waits once per `K` frames ([`Renderer::batch_len`]) and then computes the records
+//! of those frames in order. Results are unchanged: frame times still come from each frame's own
+//! GPU timestamps, and queue order keeps each frame's uniform writes, render and copies in sequence.
+//! Only `cpu_ms` is amortized: the wall time of a batch's submit + wait divided by its frames.
+//! Without timestamp queries (frame time = CPU submit + wait) nothing is batched: `K` = 1 and each
+//! frame's render submission is waited for and timed alone, as before.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicU64;
+use std::sync::{Arc, Mutex};
+
+use reproj_instance::{MANIFEST_KIND, Manifest};
+
+use crate::ReplayError;
+use crate::assets::Assets;
+use crate::metrics::{AdapterReport, RenderReport};
+use crate::reduce::{self, GpuReference};
+
+mod bind;
+mod device;
+mod original;
+mod pipeline;
+mod readback;
+mod scene;
+mod variant;
+
+use bind::*;
+use pipeline::*;
+use readback::*;
+use scene::*;
+
+pub(crate) use bind::tex_dim;
+pub(crate) use readback::{Staging, readback_row_bytes};
+
+pub use reproj_instance::contract::{CLASSIFY_ENTRY, MAX_BIND_GROUPS};
+
+const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const CLASSIFY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The depth copy a variant's color passes write and the next frame's lookup reads.
+const DEPTH_COPY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// The depth copy is cleared to the far plane, like a depth buffer.
+const DEPTH_COPY_CLEAR: wgpu::Color = wgpu::Color {
+    r: 1.0,
+    g: 0.0,
+    b: 0.0,
+    a: 0.0,
+};
+
+/// How to open the GPU.
+#[derive(Debug, Clone, Default)]
+pub struct RendererOptions {
+    /// Backend list as for `WGPU_BACKEND` (`"vulkan"`, `"vk"`, ...), of backends this build has
+    /// ([`crate::compiled_backends`]). None: the `WGPU_BACKEND` environment variable, else Vulkan.
+    pub backend: Option<String>,
+    /// Time with CPU submit + wait even if the adapter has timestamp queries.
+    pub cpu_timing: bool,
+}
+
+/// Per-render options.
+#[derive(Debug, Clone)]
+pub struct RenderOptions {
+    /// Write PNGs here (frames; for variants also hit maps and error maps).
+    pub png_dir: Option<PathBuf>,
+    /// Render only the first N frames of the session.
+    pub max_frames: Option<u32>,
+    /// Variants: render the `reproj_classify` entry point each frame (hit map and exact
+    /// hit / miss / refresh pixel counts). Ignored when the pass-1 module has no such entry point.
+    pub classify: bool,
+    /// With `png_dir`: also write each frame's exact RGBA f32 values as `frame_NNN.f32`
+    /// ([`output::write_frame_raw`]).
+    pub raw_frames: bool,
+    /// Variants: compute the perceptual metrics ([`crate::perceptual`]: ꟻLIP and SSIM over the
+    /// covered pixels) on frames `f` with `f % k == 0`, reading those frames back (with
+    /// `png_dir`, also their ꟻLIP maps). `None`: not computed.
+    pub perceptual_stride: Option<u32>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            png_dir: None,
+            max_frames: None,
+            classify: true,
+            raw_frames: false,
+            perceptual_stride: None,
+        }
+    }
+}
+
+/// Reference frames of the original shader: RGBA f32, row-major, top row first, one per frame,
+/// with their depth; the same frames stay on the GPU for the error reduction of variants.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    pub width: u32,
+    pub height: u32,
+    pub frames: Vec<Vec<f32>>,
+    /// Depth per pixel of each frame, row-major, top row first: 1 where nothing was drawn. The
+    /// pixels with depth < 1 are the *covered* ones, over which the MSE and PSNR are taken.
+    pub depth: Vec<Vec<f32>>,
+    pub report: RenderReport,
+    /// The frames and depths on the renderer's device.
+    pub(crate) gpu: GpuReference,
+}
+
+/// A cached variant to render: the three pass modules in `manifest.passes` order, the manifest,
+/// and the runtime parameters.
+#[derive(Debug, Clone)]
+pub struct VariantInput {
+    /// WGSL text of each pass, in `manifest.passes` order.
+    pub sources: Vec<String>,
+    pub manifest: Manifest,
+    /// Refresh period Δn (≥ 1).
+    pub delta_n: u32,
+    /// Refresh block size k (≥ 1).
+    pub block: u32,
+    /// Depth tolerance ε.
+    pub depth_epsilon: f32,
+    /// Label used in messages (directory or node name).
+    pub label: String,
+}
+
+impl VariantInput {
+    /// From WGSL texts and a manifest; k and ε from the manifest's defaults.
+    pub fn new(sources: Vec<String>, manifest: Manifest, delta_n: u32) -> Self {
+        let label = format!("{} node {}", manifest.shader, manifest.node.id);
+        VariantInput {
+            sources,
+            block: manifest.params.block,
+            depth_epsilon: manifest.params.depth_epsilon,
+            manifest,
+            delta_n,
+            label,
+        }
+    }
+
+    /// From naga modules (written back to WGSL with naga's writer).
+    pub fn from_modules(
+        modules: &[naga::Module],
+        manifest: Manifest,
+        delta_n: u32,
+    ) -> Result<Self, ReplayError> {
+        let mut sources = Vec::new();
+        for (i, m) in modules.iter().enumerate() {
+            let info = reproj_front::validator()
+                .validate(m)
+                .map_err(|e| ReplayError::Variant {
+                    message: format!("pass module {i} does not validate: {e}"),
+                })?;
+            let text =
+                naga::back::wgsl::write_string(m, &info, naga::back::wgsl::WriterFlags::empty())
+                    .map_err(|e| ReplayError::Variant {
+                        message: format!("pass module {i}: cannot write WGSL: {e}"),
+                    })?;
+            sources.push(text);
+        }
+        Ok(Self::new(sources, manifest, delta_n))
+    }
+
+    /// From a directory holding `manifest.json` and the pass files it names.
+    pub fn from_dir(dir: &Path, delta_n: u32) -> Result<Self, ReplayError> {
+        let mpath = dir.join("manifest.json");
+        let manifest: Manifest = reproj_io::read_json(&mpath, &MANIFEST_KIND)?;
+        let mut sources = Vec::new();
+        for p in &manifest.passes {
+            let f = dir.join(&p.file);
+            sources.push(
+                std::fs::read_to_string(&f).map_err(|e| ReplayError::Variant {
+                    message: format!("cannot read {}: {e}", f.display()),
+                })?,
+            );
+        }
+        let mut v = Self::new(sources, manifest, delta_n);
+        v.label = dir.display().to_string();
+        Ok(v)
+    }
+}
+
+/// The GPU: instance, adapter, device and queue, plus what the adapter supports, and what is kept
+/// across replays: the session's meshes and textures, the error reduction pipeline.
+pub struct Renderer {
+    _instance: wgpu::Instance,
+    adapter_info: AdapterReport,
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
+    timestamps: bool,
+    timestamp_period: f32,
+    errors: Arc<Mutex<Vec<String>>>,
+    /// Unique per renderer in the process: tells whose device a [`Reference`]'s textures are on.
+    pub(crate) id: u64,
+    assets: Assets,
+    reduce_kernel: Mutex<Option<reduce::Kernel>>,
+    /// Render pipelines kept across replays (see [`Renderer::pipeline`]).
+    pipelines: Mutex<HashMap<String, Pipe>>,
+    pipeline_hits: AtomicU64,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("adapter", &self.adapter_info)
+            .field("timestamps", &self.timestamps)
+            .finish()
+    }
+}
+
+pub(crate) fn gpu_err(what: impl Into<String>, e: impl std::fmt::Display) -> ReplayError {
+    ReplayError::Gpu {
+        what: what.into(),
+        message: e.to_string(),
+    }
+}

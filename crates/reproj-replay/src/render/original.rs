@@ -1,0 +1,206 @@
+//! The reference loop: render the original shader over the session.
+
+use std::collections::BTreeSet;
+
+use reproj_front::Shader;
+
+use crate::ReplayError;
+use crate::metrics::{self, FrameRecord, RenderReport};
+use crate::output;
+use crate::reduce::{GpuReference, Keeper};
+use crate::reflect::{self};
+use crate::session::Session;
+use crate::vertex;
+
+use super::*;
+
+impl Renderer {
+    pub(super) fn frame_count(session: &Session, opts: &RenderOptions) -> u32 {
+        opts.max_frames
+            .map_or(session.frames, |m| m.min(session.frames))
+            .max(1)
+    }
+
+    /// Render the original shader's fragment entry `entry_index` over the session: the reference
+    /// frames (kept in memory) and a report with frame times and shaded-pixel counts.
+    pub fn render_original(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        opts: &RenderOptions,
+    ) -> Result<Reference, ReplayError> {
+        session.validate()?;
+        let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
+        let [w, h] = session.resolution;
+        let frames = Self::frame_count(session, opts);
+        let used: BTreeSet<u32> = iface.groups().into_iter().collect();
+        let vgroup = free_group(&used)?;
+        let scene = self.build_scene(session, &[&iface], None)?;
+        let vs_src = vertex::vertex_wgsl(vgroup, &iface.inputs, &session.inputs, None)?;
+        let vs = self.shader_module("replay vertex stage", &vs_src)?;
+        let fs = self.shader_module(&shader.path.display().to_string(), &shader.source)?;
+        let bindings = self.bindings("original", &iface, &scene, None, None)?;
+        let pipe = self.pipeline(
+            "original",
+            [&vs_src, &shader.source],
+            &vs,
+            &fs,
+            &iface.entry,
+            &bindings,
+            &scene,
+            vgroup,
+            &[Some(FRAME_FORMAT)],
+            wgpu::CompareFunction::Less,
+            true,
+        )?;
+
+        let color = self.target("frame color", w, h, FRAME_FORMAT, false);
+        let color_view = color.create_view(&Default::default());
+        let depth = self.target("depth", w, h, DEPTH_FORMAT, false);
+        let depth_view = depth.create_view(&Default::default());
+        let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
+        let q = QueryKit::new(self, 1, slots);
+        let frame_rb = Staging::new(self, "frame readback", w, h, 16, slots);
+        let depth_rb = Staging::new(self, "depth readback", w, h, 4, slots);
+        let keeper = Keeper::new(self, w, h);
+        let mut gpu = GpuReference::new(self);
+        let mut rb_bufs = q.read_buffers();
+        rb_bufs.push(&frame_rb.buf);
+        rb_bufs.push(&depth_rb.buf);
+        let bg = session.background;
+        let clear = wgpu::Color {
+            r: bg[0] as f64,
+            g: bg[1] as f64,
+            b: bg[2] as f64,
+            a: bg[3] as f64,
+        };
+
+        let mut report = self.new_report("original", shader, &iface.entry, session);
+        let mut out_frames = Vec::with_capacity(frames as usize);
+        let mut out_depth = Vec::with_capacity(frames as usize);
+        let mut batch = FrameBatch::new("", slots, frames);
+        for f in 0..frames {
+            let slot = batch.slot();
+            self.write_frame_uniforms(session, &scene, f);
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("original"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(clear),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: q.writes(0),
+                    occlusion_query_set: Some(&q.occlusion),
+                    multiview_mask: None,
+                });
+                pass.begin_occlusion_query(0);
+                self.draw(&mut pass, &pipe, &bindings, &scene, vgroup);
+                pass.end_occlusion_query();
+            }
+            q.resolve(&mut enc, slot);
+            let mut rb = self.device.create_command_encoder(&Default::default());
+            frame_rb.copy(&mut rb, &color, slot);
+            let at = slot as u64 * depth_rb.slot_bytes;
+            keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
+            if !batch.submit(self, enc, rb, f)? {
+                continue;
+            }
+
+            // Read the batch back with one wait.
+            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
+                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
+                let depth: Vec<f32> = bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?);
+                let covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
+                let (occ, pass_ms, span) = q.read(slot)?;
+                let frame_ms = span.unwrap_or(cpu_ms);
+                if let Some(dir) = &opts.png_dir {
+                    output::write_frame(dir, f, w, h, &pixels)?;
+                    if opts.raw_frames {
+                        output::write_frame_raw(dir, f, &pixels)?;
+                    }
+                }
+                report.frames.push(FrameRecord {
+                    frame: f,
+                    frame_ms,
+                    cpu_ms,
+                    pass_ms,
+                    shaded: occ[0],
+                    hits: 0,
+                    recomputes: occ[0],
+                    hit_px: None,
+                    miss_px: None,
+                    refresh_px: None,
+                    hit_rate: 0.0,
+                    error: 0.0,
+                    mse: 0.0,
+                    covered,
+                    psnr: metrics::PSNR_CAP,
+                    max_abs_diff: 0.0,
+                    flip: None,
+                    ssim: None,
+                });
+                out_frames.push(pixels);
+                out_depth.push(depth);
+                Ok(())
+            })?;
+        }
+        report.summarize();
+        Ok(Reference {
+            width: w,
+            height: h,
+            frames: out_frames,
+            depth: out_depth,
+            report,
+            gpu,
+        })
+    }
+
+    pub(super) fn new_report(
+        &self,
+        kind: &str,
+        shader: &Shader,
+        entry: &str,
+        session: &Session,
+    ) -> RenderReport {
+        RenderReport {
+            schema: metrics::RENDER_REPORT_SCHEMA.into(),
+            version: metrics::RENDER_REPORT_VERSION,
+            kind: kind.into(),
+            shader: shader.path.display().to_string(),
+            entry: entry.into(),
+            session: session.display_name(),
+            resolution: session.resolution,
+            adapter: self.adapter_info.clone(),
+            timing: self.timing_method(),
+            node: None,
+            delta_n: None,
+            block: None,
+            depth_epsilon: None,
+            error: 0.0,
+            error_worst: None,
+            flip: None,
+            ssim: None,
+            mse: 0.0,
+            psnr: metrics::PSNR_CAP,
+            hit_rate: 0.0,
+            frame_ms: 0.0,
+            cpu_ms: 0.0,
+            frames: Vec::new(),
+        }
+    }
+}

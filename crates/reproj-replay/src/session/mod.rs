@@ -1,0 +1,80 @@
+//! Session files: what a scene needs to drive a fragment shader, and nothing more.
+//!
+//! A session is a JSON document (`sessions/*.json`) with `"schema": "reproj.session"` and
+//! `"version": 1`. The full field reference, with units and defaults, is `SESSION.md` beside this
+//! crate's `Cargo.toml`; in short:
+//!
+//! ```json
+//! {
+//!   "schema": "reproj.session", "version": 1,
+//!   "resolution": [256, 256], "frames": 150, "fps": 30,
+//!   "geometry": { "objects": [ { "mesh": { "sphere": { "radius": 1.0, "segments": 64 } },
+//!                                "transform": { "keys": [ { "frame": 0, "rotation": { "axis_angle": { "axis": [0,1,0], "deg": 0 } } },
+//!                                                         { "frame": 149, "rotation": { "axis_angle": { "axis": [0,1,0], "deg": 90 } } } ] } } ] },
+//!   "camera": { "orbit": { "center": [0,0,0], "radius": 3, "height": 0.5, "start_deg": 0, "end_deg": 30 } },
+//!   "light":  { "keys": [ { "frame": 0, "position": [4,4,4] } ] },
+//!   "uniforms": { "shininess": 32, "base_color": [1, 0.9, 0.8], "wobble": { "keys": [ { "frame": 0, "value": 0 }, { "frame": 149, "value": 1 } ] } },
+//!   "textures": { "albedo_map": { "kind": "noise", "size": 256, "params": { "scale": 8 } } },
+//!   "samplers": { "linear_sampler": { "filter": "linear", "address": "repeat" } },
+//!   "inputs": { "0": "position", "1": "normal", "2": "uv" }
+//! }
+//! ```
+//!
+//! Every key-framed quantity is linearly interpolated over the frame index and held constant
+//! before its first key and after its last one; a single key is a constant.
+//! Loading reports malformed documents with the JSON path of the offending field
+//! (`camera.keys[1].eye: invalid length 2, expected an array of length 3`).
+
+use std::path::{Path, PathBuf};
+
+mod animate;
+mod schema;
+mod validate;
+
+pub use animate::{CameraState, FrameState};
+pub use schema::*;
+
+impl Session {
+    /// Read, parse and validate a session file. Relative paths inside it resolve against its
+    /// directory.
+    pub fn load(path: impl AsRef<Path>) -> Result<Session, SessionError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| reproj_io::ReadError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let base = path.parent().map(Path::to_owned).unwrap_or_default();
+        Self::from_json(&text, path, &base)
+    }
+
+    /// Parse and validate session JSON text. `path` is used in messages, `base_dir` resolves
+    /// relative paths.
+    pub fn from_json(text: &str, path: &Path, base_dir: &Path) -> Result<Session, SessionError> {
+        let mut s: Session = reproj_io::parse_json(text, path, &SESSION_KIND)?;
+        s.base_dir = base_dir.to_owned();
+        s.path = path.to_owned();
+        s.sort_keys();
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// Resolve a path from the session file against its directory.
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_owned()
+        } else {
+            self.base_dir.join(p)
+        }
+    }
+
+    /// A short name for reports: the file name, else the description.
+    pub fn display_name(&self) -> String {
+        if self.path.as_os_str().is_empty() {
+            self.description
+                .clone()
+                .unwrap_or_else(|| "(inline session)".into())
+        } else {
+            self.path.display().to_string()
+        }
+    }
+}

@@ -1,0 +1,606 @@
+//! The session document: its types, as serde reads them (field reference: `SESSION.md`).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+/// The value of the `schema` field.
+pub const SESSION_SCHEMA: &str = "reproj.session";
+/// The supported `version`.
+pub const SESSION_VERSION: u32 = 1;
+
+/// What [`reproj_io::parse_json`] expects of a session file.
+pub const SESSION_KIND: reproj_io::Kind = reproj_io::Kind {
+    schema: SESSION_SCHEMA,
+    versions: SESSION_VERSION..=SESSION_VERSION,
+    hint: "",
+};
+
+/// Errors loading or validating a session file. Every message names the file and, where it applies,
+/// the JSON path of the field at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    /// The file cannot be read, is not JSON, is not a session of a version this reproj reads, or
+    /// does not match the schema (the error names the field, e.g. `geometry.objects[0].mesh`).
+    #[error(transparent)]
+    Read(#[from] reproj_io::ReadError),
+    /// The JSON matched the schema but a value is out of range or inconsistent.
+    #[error("{path}: field `{field}`: {message}")]
+    Invalid {
+        path: PathBuf,
+        field: String,
+        message: String,
+    },
+}
+
+fn default_fps() -> f32 {
+    30.0
+}
+fn default_background() -> [f32; 4] {
+    [0.0, 0.0, 0.0, 1.0]
+}
+fn default_inputs() -> BTreeMap<u32, Attribute> {
+    BTreeMap::from([
+        (0, Attribute::Position),
+        (1, Attribute::Normal),
+        (2, Attribute::Uv),
+        (3, Attribute::Tangent),
+        (4, Attribute::ObjectPosition),
+    ])
+}
+
+/// A session: resolution, frame count, scene and the data bound to the shader's interface.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Session {
+    /// Always `"reproj.session"`.
+    pub schema: String,
+    /// Always 1.
+    pub version: u32,
+    /// Free text.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Render target size in pixels, `[width, height]`.
+    pub resolution: [u32; 2],
+    /// Number of frames to render.
+    pub frames: u32,
+    /// Frames per second: `time = frame / fps` seconds. Default 30.
+    #[serde(default = "default_fps")]
+    pub fps: f32,
+    /// Clear color of the frame (linear RGBA). Default `[0, 0, 0, 1]`.
+    #[serde(default = "default_background")]
+    pub background: [f32; 4],
+    pub geometry: Geometry,
+    pub camera: CameraPath,
+    pub light: PointPath,
+    /// Uniform struct fields by name (any struct, any uniform variable).
+    #[serde(default)]
+    pub uniforms: BTreeMap<String, UniformValue>,
+    /// Textures by shader variable name.
+    #[serde(default)]
+    pub textures: BTreeMap<String, TextureSpec>,
+    /// Samplers by shader variable name; one not listed is linear / repeat.
+    #[serde(default)]
+    pub samplers: BTreeMap<String, SamplerSpec>,
+    /// Fragment input `@location` → vertex attribute. Default: the shaders/README.md convention
+    /// (0 position, 1 normal, 2 uv, 3 tangent, 4 object_position).
+    #[serde(default = "default_inputs")]
+    pub inputs: BTreeMap<u32, Attribute>,
+    /// Directory that relative paths (OBJ files, images) are resolved against: the session file's
+    /// directory. Not part of the file.
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+    /// Where the session was loaded from (for messages). Not part of the file.
+    #[serde(skip)]
+    pub path: PathBuf,
+}
+
+/// The scene's objects, all drawn every frame with the same shader.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    pub objects: Vec<Object>,
+}
+
+/// One drawn object.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    pub mesh: Mesh,
+    /// Model transform; default identity.
+    #[serde(default)]
+    pub transform: Transform,
+    /// Face culling: `"back"` (default) or `"none"`.
+    #[serde(default)]
+    pub cull: Cull,
+}
+
+/// Face culling of an object (counter-clockwise triangles are front faces).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Cull {
+    #[default]
+    Back,
+    None,
+}
+
+/// A mesh: procedural or loaded from an OBJ file. Written as a one-key object, e.g.
+/// `{"sphere": {"radius": 1}}`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Mesh {
+    /// UV sphere centred at the origin. `segments` around the Y axis (default 64), `rings` from
+    /// pole to pole (default segments / 2).
+    Sphere {
+        radius: f32,
+        #[serde(default = "default_segments")]
+        segments: u32,
+        #[serde(default)]
+        rings: Option<u32>,
+    },
+    /// Torus around the Y axis: `major_radius` R (centre of the tube), `minor_radius` r (tube).
+    Torus {
+        major_radius: f32,
+        minor_radius: f32,
+        #[serde(default = "default_segments")]
+        segments: u32,
+        #[serde(default = "default_sides")]
+        sides: u32,
+    },
+    /// Square in the XZ plane centred at the origin, normal +Y, side `size`; uv spans
+    /// `[0, uv_scale]`. `subdivisions` quads per side (default 1).
+    Plane {
+        size: f32,
+        #[serde(default = "default_one")]
+        subdivisions: u32,
+        #[serde(default = "default_uv_scale")]
+        uv_scale: f32,
+    },
+    /// Axis-aligned box centred at the origin with side lengths `size` (x, y, z).
+    Cube { size: [f32; 3] },
+    /// Surface of revolution around the Y axis (chess-like pieces): `profile` is a list of
+    /// `[radius, y]` points from bottom to top, revolved with `segments` steps.
+    Lathe {
+        profile: Vec<[f32; 2]>,
+        #[serde(default = "default_segments")]
+        segments: u32,
+    },
+    /// Wavefront OBJ file (path relative to the session file); triangulated. Missing normals are
+    /// computed (smooth), missing uvs are 0, tangents come from the uvs.
+    Obj {
+        path: PathBuf,
+        /// Uniform scale applied to the vertex positions. Default 1.
+        #[serde(default = "default_uv_scale")]
+        scale: f32,
+    },
+}
+
+fn default_segments() -> u32 {
+    64
+}
+fn default_sides() -> u32 {
+    32
+}
+fn default_one() -> u32 {
+    1
+}
+fn default_uv_scale() -> f32 {
+    1.0
+}
+
+/// Animated model transform: `keys` interpolated over the frame index. The model matrix is
+/// `translate * rotate * scale`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    pub keys: Vec<TransformKey>,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform {
+            keys: vec![TransformKey::default()],
+        }
+    }
+}
+
+/// One key of a [`Transform`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformKey {
+    /// Frame index of the key (may be fractional). Default 0.
+    #[serde(default)]
+    pub frame: f32,
+    /// World units. Default `[0, 0, 0]`.
+    #[serde(default)]
+    pub translation: [f32; 3],
+    /// Default none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<Rotation>,
+    /// A number (uniform) or `[x, y, z]`. Default 1.
+    #[serde(default)]
+    pub scale: Scale,
+}
+
+impl Default for TransformKey {
+    fn default() -> Self {
+        TransformKey {
+            frame: 0.0,
+            translation: [0.0; 3],
+            rotation: None,
+            scale: Scale::default(),
+        }
+    }
+}
+
+/// A rotation, `{"axis_angle": {"axis": [0,1,0], "deg": 90}}` or `{"euler_deg": [x, y, z]}`
+/// (applied in X, then Y, then Z order). Between two keys of the same form the parameters
+/// (angle, Euler angles) are interpolated, so 0° → 360° is a full turn; between keys of different
+/// forms the rotations are slerped.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Rotation {
+    AxisAngle { axis: [f32; 3], deg: f32 },
+    EulerDeg([f32; 3]),
+}
+
+/// Scale of a transform key.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Scale {
+    Uniform(f32),
+    PerAxis([f32; 3]),
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Scale::Uniform(1.0)
+    }
+}
+
+/// Camera path: `{"keys": [...]}` or `{"orbit": {...}}`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum CameraPath {
+    Keys(Vec<CameraKey>),
+    Orbit(CameraOrbit),
+}
+
+/// One camera key. Projection: perspective, right-handed, depth range [0, 1].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraKey {
+    #[serde(default)]
+    pub frame: f32,
+    pub eye: [f32; 3],
+    pub target: [f32; 3],
+    #[serde(default = "default_up")]
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees. Default 45.
+    #[serde(default = "default_fov")]
+    pub fov_y_deg: f32,
+    /// Default 0.1.
+    #[serde(default = "default_near")]
+    pub near: f32,
+    /// Default 100.
+    #[serde(default = "default_far")]
+    pub far: f32,
+}
+
+/// A camera circling `center` at `radius` and `height` above it, looking at `center`; the angle
+/// goes linearly from `start_deg` at frame 0 to `end_deg` at the last frame (0° is +X, 90° is +Z).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraOrbit {
+    #[serde(default)]
+    pub center: [f32; 3],
+    pub radius: f32,
+    #[serde(default)]
+    pub height: f32,
+    #[serde(default)]
+    pub start_deg: f32,
+    #[serde(default)]
+    pub end_deg: f32,
+    #[serde(default = "default_up")]
+    pub up: [f32; 3],
+    #[serde(default = "default_fov")]
+    pub fov_y_deg: f32,
+    #[serde(default = "default_near")]
+    pub near: f32,
+    #[serde(default = "default_far")]
+    pub far: f32,
+}
+
+fn default_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_fov() -> f32 {
+    45.0
+}
+fn default_near() -> f32 {
+    0.1
+}
+fn default_far() -> f32 {
+    100.0
+}
+
+/// A moving point (the light): `{"keys": [{"frame": 0, "position": [x,y,z]}, ...]}` or
+/// `{"orbit": {"center", "radius", "height", "start_deg", "end_deg"}}`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PointPath {
+    Keys(Vec<PointKey>),
+    Orbit(PointOrbit),
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointKey {
+    #[serde(default)]
+    pub frame: f32,
+    pub position: [f32; 3],
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointOrbit {
+    #[serde(default)]
+    pub center: [f32; 3],
+    pub radius: f32,
+    #[serde(default)]
+    pub height: f32,
+    #[serde(default)]
+    pub start_deg: f32,
+    #[serde(default)]
+    pub end_deg: f32,
+}
+
+/// A uniform field value: a constant (number, array, nested arrays: flattened in order) or
+/// `{"keys": [{"frame": f, "value": ...}, ...]}` interpolated per component.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum UniformValue {
+    Keys { keys: Vec<UniformKey> },
+    Const(Value),
+}
+
+/// One key of an animated uniform.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UniformKey {
+    #[serde(default)]
+    pub frame: f32,
+    pub value: Value,
+}
+
+/// A number or a (nested) list of numbers.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Value {
+    Number(f64),
+    List(Vec<Value>),
+}
+
+impl Value {
+    /// All numbers, depth first.
+    pub fn flatten(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        fn go(v: &Value, out: &mut Vec<f64>) {
+            match v {
+                Value::Number(x) => out.push(*x),
+                Value::List(l) => l.iter().for_each(|v| go(v, out)),
+            }
+        }
+        go(self, &mut out);
+        out
+    }
+}
+
+/// A texture bound to a shader variable: generated (`kind`) or read from an image file (`file`,
+/// or `faces` for a cube map). Exactly one of `kind`, `file`, `faces`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<TextureKind>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<PathBuf>,
+    /// Six images +X, −X, +Y, −Y, +Z, −Z for a `texture_cube`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub faces: Option<Vec<PathBuf>>,
+    /// Edge length in texels of a generated texture (square; a cube face; a 3D texture's edge).
+    /// Default 256.
+    #[serde(default = "default_tex_size")]
+    pub size: u32,
+    #[serde(default)]
+    pub params: TextureParams,
+    /// Texel format: `rgba8unorm` (default for everything but environments),
+    /// `rgba8unorm-srgb` (values are decoded from sRGB when sampled) or `rgba16float`
+    /// (default for `environment`, which is HDR).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<TexFormat>,
+    /// Build a full mip chain (box filter). Default true.
+    #[serde(default = "default_true")]
+    pub mipmaps: bool,
+}
+
+fn default_tex_size() -> u32 {
+    256
+}
+fn default_true() -> bool {
+    true
+}
+
+/// Generated texture kinds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TextureKind {
+    /// Tileable fractal value noise v in [0, 1], as `mix(color_low, color_high, v)` (default grey
+    /// r = g = b = v, alpha 1).
+    Noise,
+    /// Tangent-space normal map from a tileable noise height field, encoded `n * 0.5 + 0.5`.
+    NormalMap,
+    /// Sky / ground environment with a sun: a cube map for `texture_cube`, an equirectangular
+    /// (longitude × latitude) map for `texture_2d`.
+    Environment,
+    /// Two-color checkerboard.
+    Checker,
+    /// One color.
+    Solid,
+}
+
+/// Texel formats a session can ask for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TexFormat {
+    Rgba8unorm,
+    Rgba8unormSrgb,
+    Rgba16float,
+}
+
+/// Parameters of generated textures; each kind reads the ones it needs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TextureParams {
+    /// Random seed (noise, normal_map, environment clouds). Default 1.
+    pub seed: u32,
+    /// Noise base frequency in cells per texture edge (noise, normal_map). Default 8.
+    pub scale: f32,
+    /// Octaves of fractal noise. Default 4.
+    pub octaves: u32,
+    /// Normal map bump strength (slope multiplier). Default 1.
+    pub strength: f32,
+    /// Solid color (linear RGBA). Default `[1, 1, 1, 1]`.
+    pub color: [f32; 4],
+    /// Noise: colors at noise value 0 and 1 (linear RGBA). Defaults black and white.
+    pub color_low: [f32; 4],
+    pub color_high: [f32; 4],
+    /// Checker colors. Defaults white and grey 0.2.
+    pub color_a: [f32; 4],
+    pub color_b: [f32; 4],
+    /// Checker squares per texture edge. Default 8.
+    pub squares: u32,
+    /// Environment: direction towards the sun (normalized internally). Default `[0.5, 0.6, 0.3]`.
+    pub sun_direction: [f32; 3],
+    /// Environment: sun radiance added over the sky (HDR). Default 20.
+    pub sun_intensity: f32,
+    /// Environment colors (linear RGB): zenith, horizon and ground.
+    pub sky_color: [f32; 3],
+    pub horizon_color: [f32; 3],
+    pub ground_color: [f32; 3],
+}
+
+impl Default for TextureParams {
+    fn default() -> Self {
+        TextureParams {
+            seed: 1,
+            scale: 8.0,
+            octaves: 4,
+            strength: 1.0,
+            color: [1.0; 4],
+            color_low: [0.0, 0.0, 0.0, 1.0],
+            color_high: [1.0; 4],
+            color_a: [1.0; 4],
+            color_b: [0.2, 0.2, 0.2, 1.0],
+            squares: 8,
+            sun_direction: [0.5, 0.6, 0.3],
+            sun_intensity: 20.0,
+            sky_color: [0.25, 0.45, 0.85],
+            horizon_color: [0.8, 0.85, 0.9],
+            ground_color: [0.25, 0.22, 0.2],
+        }
+    }
+}
+
+/// A sampler by shader variable name.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SamplerSpec {
+    /// Magnification and minification filter. Default linear.
+    #[serde(default)]
+    pub filter: Filter,
+    /// Filter between mip levels. Default linear.
+    #[serde(default)]
+    pub mipmap_filter: Filter,
+    /// Address mode on all axes. Default repeat.
+    #[serde(default)]
+    pub address: Address,
+    /// Maximum anisotropy (1 = off; needs all filters linear). Default 1.
+    #[serde(default = "default_aniso")]
+    pub anisotropy: u16,
+}
+
+impl Default for SamplerSpec {
+    fn default() -> Self {
+        SamplerSpec {
+            filter: Filter::Linear,
+            mipmap_filter: Filter::Linear,
+            address: Address::Repeat,
+            anisotropy: 1,
+        }
+    }
+}
+
+fn default_aniso() -> u16 {
+    1
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Filter {
+    #[default]
+    Linear,
+    Nearest,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Address {
+    #[default]
+    Repeat,
+    Clamp,
+    Mirror,
+}
+
+/// Vertex attributes a fragment input can be fed from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Attribute {
+    /// World-space position (vec3; a vec4 input gets w = 1).
+    Position,
+    /// World-space normal, normalized per vertex (vec3; vec4 gets w = 0).
+    Normal,
+    /// Texture coordinates (vec2).
+    Uv,
+    /// World-space tangent along +u, normalized per vertex, w = handedness ±1 (vec4).
+    Tangent,
+    /// Object-space position (vec3; vec4 gets w = 1).
+    ObjectPosition,
+    /// Object-space normal (vec3; vec4 gets w = 0).
+    ObjectNormal,
+}
+
+impl Attribute {
+    /// Natural component count.
+    pub fn components(self) -> u32 {
+        match self {
+            Attribute::Uv => 2,
+            Attribute::Tangent => 4,
+            _ => 3,
+        }
+    }
+    /// Name as written in session files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Attribute::Position => "position",
+            Attribute::Normal => "normal",
+            Attribute::Uv => "uv",
+            Attribute::Tangent => "tangent",
+            Attribute::ObjectPosition => "object_position",
+            Attribute::ObjectNormal => "object_normal",
+        }
+    }
+}
