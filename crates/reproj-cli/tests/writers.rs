@@ -210,3 +210,35 @@ fn emit_and_merge_keep_their_previous_output() {
         &[],
     );
 }
+
+#[test]
+fn report_keeps_the_previous_page() {
+    let tmp = setup();
+    for (dn, out) in [("2,4", "a.profile.json"), ("2,8", "b.profile.json")] {
+        let mut args = analyze(dn, &["--no-charts"]);
+        args[5] = out;
+        let (code, _, err) = run(tmp.path(), &args);
+        assert_eq!(code, 0, "{err}");
+    }
+    check(
+        tmp.path(),
+        &[
+            "report",
+            "a.profile.json",
+            "--out",
+            "r.html",
+            "--max-rendered",
+            "1",
+        ],
+        &[
+            "report",
+            "b.profile.json",
+            "--out",
+            "r.html",
+            "--max-rendered",
+            "1",
+        ],
+        "r.html",
+        &[],
+    );
+}
