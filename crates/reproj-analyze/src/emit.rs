@@ -398,10 +398,5 @@ pub fn verify(
 fn write_report(report: &EmitReport, out: &Path) -> Result<(), AnalyzeError> {
     let mut json = serde_json::to_vec_pretty(report).expect("report serializes");
     json.push(b'\n');
-    write_atomic(&out.join("report.json"), &json)
-}
-
-/// Write a file atomically ([`reproj_io::write_file`]).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), AnalyzeError> {
-    Ok(reproj_io::write_file(path, bytes)?)
+    Ok(reproj_io::write_file(&out.join("report.json"), &json)?)
 }

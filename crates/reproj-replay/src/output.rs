@@ -42,12 +42,7 @@ pub fn write_png_rgba8(
             path: path.to_owned(),
             message: e.to_string(),
         })?;
-    write_atomic(path, &bytes)
-}
-
-/// Write `bytes` to `path` atomically ([`reproj_io::write_file`]), creating the directory.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReplayError> {
-    Ok(reproj_io::write_file(path, bytes)?)
+    Ok(reproj_io::write_file(path, &bytes)?)
 }
 
 /// RGBA f32 linear frame → sRGB-encoded RGBA8 (clamped, alpha forced to 255).
@@ -91,9 +86,12 @@ pub fn write_frame(
     height: u32,
     rgba: &[f32],
 ) -> Result<PathBuf, ReplayError> {
-    let p = dir.join(format!("frame_{index:03}.png"));
-    write_png_rgba8(&p, width, height, &frame_to_rgba8(rgba))?;
-    Ok(p)
+    write_srgb_frame(
+        &dir.join(format!("frame_{index:03}.png")),
+        width,
+        height,
+        rgba,
+    )
 }
 
 /// `frame_NNN.f32` from an RGBA f32 linear frame: no header, `width × height × 4` little-endian
@@ -102,7 +100,7 @@ pub fn write_frame(
 pub fn write_frame_raw(dir: &Path, index: u32, rgba: &[f32]) -> Result<PathBuf, ReplayError> {
     let p = dir.join(format!("frame_{index:03}.f32"));
     let bytes: Vec<u8> = rgba.iter().flat_map(|x| x.to_le_bytes()).collect();
-    write_atomic(&p, &bytes)?;
+    reproj_io::write_file(&p, &bytes)?;
     Ok(p)
 }
 
@@ -114,9 +112,23 @@ pub fn write_reference_frame(
     height: u32,
     rgba: &[f32],
 ) -> Result<PathBuf, ReplayError> {
-    let p = dir.join(format!("ref_{index:03}.png"));
-    write_png_rgba8(&p, width, height, &frame_to_rgba8(rgba))?;
-    Ok(p)
+    write_srgb_frame(
+        &dir.join(format!("ref_{index:03}.png")),
+        width,
+        height,
+        rgba,
+    )
+}
+
+/// A linear RGBA f32 frame as an sRGB PNG at `path`.
+fn write_srgb_frame(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: &[f32],
+) -> Result<PathBuf, ReplayError> {
+    write_png_rgba8(path, width, height, &frame_to_rgba8(rgba))?;
+    Ok(path.to_owned())
 }
 
 /// `errmap_NNN.png` from per-pixel errors, with its colour bar ([`errmap_rgba8`]).

@@ -41,50 +41,36 @@ pub fn of_render(r: &RenderReport) -> Vec<Metric> {
     ]
 }
 
-fn error(value: f64) -> Metric {
+/// A metric's value (`None` when missing or not finite), with how to print it.
+fn metric(name: &'static str, value: Option<f64>, unit: &'static str, decimals: u32) -> Metric {
     Metric {
-        name: "error",
-        value: Some(value).filter(|v| v.is_finite()),
-        unit: "",
-        decimals: 5,
+        name,
+        value: value.filter(|v| v.is_finite()),
+        unit,
+        decimals,
     }
+}
+
+/// The paper's mean per-pixel L2 error.
+fn error(value: f64) -> Metric {
+    metric("error", Some(value), "", 5)
 }
 
 /// Mean ꟻLIP over the covered pixels (`docs/SCHEMAS.md`).
 fn flip(value: Option<f64>) -> Metric {
-    Metric {
-        name: "ꟻLIP",
-        value: value.filter(|v| v.is_finite()),
-        unit: "",
-        decimals: 4,
-    }
+    metric("ꟻLIP", value, "", 4)
 }
 
 /// ꟻLIP of the worst frame: a stale highlight or refresh speckle shows here first.
 fn flip_worst(value: Option<f64>) -> Metric {
-    Metric {
-        name: "ꟻLIP worst frame",
-        value: value.filter(|v| v.is_finite()),
-        unit: "",
-        decimals: 4,
-    }
+    metric("ꟻLIP worst frame", value, "", 4)
 }
 
 /// Mean SSIM over the covered pixels.
 fn ssim(value: Option<f64>) -> Metric {
-    Metric {
-        name: "SSIM",
-        value: value.filter(|v| v.is_finite()),
-        unit: "",
-        decimals: 4,
-    }
+    metric("SSIM", value, "", 4)
 }
 
 fn psnr(value: Option<f64>) -> Metric {
-    Metric {
-        name: "PSNR",
-        value: value.filter(|v| v.is_finite()),
-        unit: "dB",
-        decimals: 2,
-    }
+    metric("PSNR", value, "dB", 2)
 }

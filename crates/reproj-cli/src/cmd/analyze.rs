@@ -5,12 +5,9 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use reproj_analyze::{
-    AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze, emit::write_atomic,
-};
+use reproj_analyze::{AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze};
 use reproj_replay::{Renderer, RendererOptions, Session};
 
-use super::{analyze_error, front_error, replay_error};
 use crate::AnalyzeArgs;
 
 /// A progress bar with ETA on stderr; without a terminal, one line per step instead.
@@ -60,15 +57,14 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     }
     let (norm, table) = (&loaded.norm, &loaded.table);
     // The replay renders WGSL: a GLSL shader is analyzed as naga's WGSL of it.
-    let shader = loaded.shader.to_wgsl().map_err(front_error)?;
+    let shader = loaded.shader.to_wgsl()?;
     let session_bytes = std::fs::read(&args.session)
         .map_err(|e| super::UserError(format!("cannot read {}: {e}", args.session.display())))?;
-    let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
+    let session = Session::load(&args.session)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
-    })
-    .map_err(replay_error)?;
+    })?;
     let stem = args.shader.file_stem().map_or_else(
         || "shader".to_string(),
         |s| s.to_string_lossy().into_owned(),
@@ -135,7 +131,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         session_bytes: &session_bytes,
         session: &session,
     };
-    let mut profile = analyze(&input, &renderer, &opts, &Bar(bar)).map_err(analyze_error)?;
+    let mut profile = analyze(&input, &renderer, &opts, &Bar(bar))?;
     // Paths relative to the profile's directory: the profile and the files it names can be
     // committed together and used from any working directory.
     let dir = out.parent().unwrap_or(std::path::Path::new(""));
@@ -143,7 +139,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     profile.session.path = super::relative_to(dir, &args.session);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
-    write_atomic(&out, &json).map_err(analyze_error)?;
+    reproj_io::write_file(&out, &json)?;
     if let Some(j) = &opts.journal {
         let _ = std::fs::remove_file(&j.path);
     }

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile, verify};
 use reproj_replay::{Renderer, RendererOptions, Session};
 
-use super::{UserError, analyze_error, cache_format, replay_error};
+use super::{UserError, cache_format};
 use crate::EmitArgs;
 
 pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
@@ -21,12 +21,12 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     let profile_path = match &args.profile {
         Some(p) => p.clone(),
         None => {
-            let p = latest_profile(&PathBuf::from(".")).map_err(analyze_error)?;
+            let p = latest_profile(&PathBuf::from("."))?;
             eprintln!("using the newest profile here: {}", p.display());
             p
         }
     };
-    let profile = load_profile(&profile_path).map_err(analyze_error)?;
+    let profile = load_profile(&profile_path)?;
     let stem = std::path::Path::new(&profile.shader.path)
         .file_stem()
         .map_or_else(
@@ -49,18 +49,17 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         shader: args.shader.clone(),
         langs: super::output_langs(&args.lang),
     };
-    let (mut report, variant) = emit(&profile, &profile_path, &opts).map_err(analyze_error)?;
+    let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
     if args.verify {
         let session_path = args
             .session
             .as_ref()
             .expect("clap requires --session with --verify");
-        let session = Session::load(session_path).map_err(|e| replay_error(e.into()))?;
+        let session = Session::load(session_path)?;
         let renderer = Renderer::new(&RendererOptions {
             backend: args.backend.clone(),
             cpu_timing: false,
-        })
-        .map_err(replay_error)?;
+        })?;
         verify(
             &mut report,
             &opts.out,
@@ -68,8 +67,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             &profile,
             &session,
             &renderer,
-        )
-        .map_err(analyze_error)?;
+        )?;
     }
     let unmet = args.min_speedup.and_then(|min| {
         let (speedup, how) = match (report.measured_speedup, report.predicted_speedup) {

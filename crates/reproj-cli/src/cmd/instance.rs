@@ -4,7 +4,7 @@ use std::io::Write;
 
 use reproj_instance::{NodeSelector, instance, write_variant_in};
 
-use super::{UserError, instance_error};
+use super::UserError;
 use crate::InstanceArgs;
 
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
@@ -16,9 +16,9 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         super::instance_options(args.cache, args.delta_n),
         args.integration,
     );
-    let variant = instance(shader, norm, table, selector, &opts).map_err(instance_error)?;
+    let variant = instance(shader, norm, table, selector, &opts)?;
     let langs = super::output_langs(&args.lang);
-    write_variant_in(&variant, &args.out, &langs).map_err(instance_error)?;
+    write_variant_in(&variant, &args.out, &langs)?;
     let m = &variant.manifest;
     writeln!(
         stdout,

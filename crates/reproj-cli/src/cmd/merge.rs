@@ -1,8 +1,7 @@
 //! `reproj merge`: join shard profiles into one.
 
-use reproj_analyze::emit::{load_profile, resolve, write_atomic};
+use reproj_analyze::emit::{load_profile, resolve};
 
-use super::analyze_error;
 use crate::MergeArgs;
 
 pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
@@ -11,9 +10,9 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     }
     let mut shards = Vec::new();
     for path in &args.shards {
-        shards.push((path.clone(), load_profile(path).map_err(analyze_error)?));
+        shards.push((path.clone(), load_profile(path)?));
     }
-    let mut merged = reproj_analyze::merge(&shards).map_err(analyze_error)?;
+    let mut merged = reproj_analyze::merge(&shards)?;
     // Paths relative to the merged profile, wherever the shards were.
     let (first_path, first) = &shards[0];
     let dir = args.out.parent().unwrap_or(std::path::Path::new(""));
@@ -21,7 +20,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     merged.session.path = super::relative_to(dir, &resolve(&first.session.path, first_path));
     let mut json = serde_json::to_vec_pretty(&merged)?;
     json.push(b'\n');
-    write_atomic(&args.out, &json).map_err(analyze_error)?;
+    reproj_io::write_file(&args.out, &json)?;
     let usable = merged
         .nodes
         .iter()

@@ -35,11 +35,6 @@ impl std::fmt::Display for Unmet {
 
 impl std::error::Error for Unmet {}
 
-/// A front-end error, kept typed ([`finish`] decides the exit code and renders its diagnostic).
-pub fn front_error(e: reproj_front::FrontError) -> anyhow::Error {
-    anyhow::Error::new(e)
-}
-
 /// The front end's language for `--lang-in` (`None`: by extension).
 pub fn lang_in(l: Option<crate::LangInArg>) -> Option<reproj_front::Lang> {
     l.map(|l| match l {
@@ -58,7 +53,7 @@ pub fn load_shader(
     let options = reproj_front::LoadOptions {
         lang: lang_in(lang),
     };
-    reproj_front::load(path, entry, &options).map_err(front_error)
+    Ok(reproj_front::load(path, entry, &options)?)
 }
 
 /// The backends `--lang` asks for (WGSL is always written).
@@ -97,21 +92,6 @@ pub fn no_cacheable_lines(table: &reproj_front::NodeTable) -> Option<Vec<String>
     }
     lines.push(format!("hint: {}", summary.hint));
     Some(lines)
-}
-
-/// An instancer error, kept typed.
-pub fn instance_error(e: reproj_instance::InstanceError) -> anyhow::Error {
-    anyhow::Error::new(e)
-}
-
-/// A replay error, kept typed.
-pub fn replay_error(e: reproj_replay::ReplayError) -> anyhow::Error {
-    anyhow::Error::new(e)
-}
-
-/// An analyze/emit error, kept typed.
-pub fn analyze_error(e: reproj_analyze::AnalyzeError) -> anyhow::Error {
-    anyhow::Error::new(e)
 }
 
 /// How an error ends the process: its exit code (2: the user's input or files, 1: a bug or the

@@ -6,7 +6,7 @@ use reproj_front::{Loaded, load_file_as};
 use reproj_instance::{NodeSelector, instance};
 use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
 
-use super::{UserError, front_error, instance_error, replay_error};
+use super::UserError;
 use crate::RenderArgs;
 
 /// What `render --frames DIR` writes (and so what DIR may hold for it to be replaced).
@@ -14,18 +14,15 @@ const FRAME_FILES: &[&str] = &["png", "f32"];
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    let input = load_file_as(&args.shader, super::lang_in(args.lang_in)).map_err(front_error)?;
+    let input = load_file_as(&args.shader, super::lang_in(args.lang_in))?;
     // The replay renders WGSL: a GLSL shader is rendered as naga's WGSL of it.
-    let shader = input.to_wgsl().map_err(front_error)?;
-    let entry = shader
-        .fragment_entry(args.entry.as_deref())
-        .map_err(front_error)?;
-    let session = Session::load(&args.session).map_err(|e| replay_error(e.into()))?;
+    let shader = input.to_wgsl()?;
+    let entry = shader.fragment_entry(args.entry.as_deref())?;
+    let session = Session::load(&args.session)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
-    })
-    .map_err(replay_error)?;
+    })?;
     // `--frames DIR` is written aside and replaces DIR whole at the end: a failed or
     // interrupted render leaves the previous frames as they were.
     let frames = args
@@ -42,19 +39,17 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let has_variant = args.node.is_some() || args.variant.is_some();
     // With a variant, the original's frames go beside the variant's as `ref_NNN.png`.
-    let reference = renderer
-        .render_original(
-            &shader,
-            entry,
-            &session,
-            &RenderOptions {
-                classify: false,
-                png_dir: opts.png_dir.clone().filter(|_| !has_variant),
-                raw_frames: opts.raw_frames && !has_variant,
-                ..opts.clone()
-            },
-        )
-        .map_err(replay_error)?;
+    let reference = renderer.render_original(
+        &shader,
+        entry,
+        &session,
+        &RenderOptions {
+            classify: false,
+            png_dir: opts.png_dir.clone().filter(|_| !has_variant),
+            raw_frames: opts.raw_frames && !has_variant,
+            ..opts.clone()
+        },
+    )?;
     if let Some(dir) = opts.png_dir.as_ref().filter(|_| has_variant) {
         for (i, frame) in reference.frames.iter().enumerate() {
             reproj_replay::output::write_reference_frame(
@@ -63,23 +58,21 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 reference.width,
                 reference.height,
                 frame,
-            )
-            .map_err(replay_error)?;
+            )?;
         }
     }
     let variant_input = match (&args.node, &args.variant) {
         (None, None) => None,
         (Some(node), _) => {
             let sel: NodeSelector = node.parse().map_err(UserError)?;
-            let loaded = Loaded::new(input, args.entry.as_deref()).map_err(front_error)?;
+            let loaded = Loaded::new(input, args.entry.as_deref())?;
             let variant = instance(
                 &loaded.shader,
                 &loaded.norm,
                 &loaded.table,
                 sel,
                 &super::instance_options(args.cache, args.delta_n.unwrap_or(8)),
-            )
-            .map_err(instance_error)?;
+            )?;
             Some(VariantInput::new(
                 variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
                 variant.manifest.clone(),
@@ -87,7 +80,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             ))
         }
         (None, Some(dir)) => {
-            let mut input = VariantInput::from_dir(dir, 1).map_err(replay_error)?;
+            let mut input = VariantInput::from_dir(dir, 1)?;
             input.delta_n = args.delta_n.unwrap_or(input.manifest.params.delta_n);
             Some(input)
         }
@@ -95,9 +88,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let report = match &variant_input {
         None => reference.report,
         Some(input) => {
-            let r = renderer
-                .render_variant(&shader, &session, input, &reference, &opts)
-                .map_err(replay_error)?;
+            let r = renderer.render_variant(&shader, &session, input, &reference, &opts)?;
             // Speedup against the original measured in this same run.
             eprintln!(
                 "original: {:.3} ms/frame; variant: {:.3} ms/frame; speedup {:.2}x",

@@ -7,7 +7,7 @@ use reproj_analyze::load_profile;
 use reproj_replay::{Renderer, RendererOptions};
 use reproj_report::{ReportOptions, report};
 
-use super::{UserError, analyze_error, replay_error};
+use super::UserError;
 use crate::ReportArgs;
 
 pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
@@ -33,12 +33,11 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let profile = load_profile(&args.profile).map_err(analyze_error)?;
+    let profile = load_profile(&args.profile)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
-    })
-    .map_err(replay_error)?;
+    })?;
     let opts = ReportOptions {
         session: args.session.clone(),
         shader: args.shader.clone(),
@@ -49,7 +48,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         eprintln!("[{:6.1}s] {line}", start.elapsed().as_secs_f64());
     };
     let html = report(&profile, &args.profile, &opts, &renderer, &mut progress)?;
-    reproj_analyze::emit::write_atomic(&args.out, html.as_bytes()).map_err(analyze_error)?;
+    reproj_io::write_file(&args.out, html.as_bytes())?;
     writeln!(
         stdout,
         "wrote {} ({} KiB)",
