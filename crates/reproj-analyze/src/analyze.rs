@@ -28,6 +28,9 @@ pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
 pub const DEFAULT_HOLDOUT: [u32; 2] = [6, 30];
 /// Default [`AnalyzeOptions::perceptual_stride`]: ꟻLIP and SSIM on every 5th frame.
 pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
+/// Default [`AnalyzeOptions::probe_frames`]: a third of the paper's 150-frame sessions, three
+/// refresh cycles at Δn = 16 and one at Δn = 50.
+pub const DEFAULT_PROBE_FRAMES: u32 = 50;
 
 /// Options of [`analyze`].
 #[derive(Debug, Clone)]
@@ -59,6 +62,9 @@ pub struct AnalyzeOptions {
     pub perceptual_stride: u32,
     /// At how many of the training periods each node is replayed.
     pub sampling: Sampling,
+    /// Compare the strategies of a node on the session's first N frames (at the longest training
+    /// period) and replay only the fastest over the whole session. `None`: the whole session.
+    pub probe_frames: Option<u32>,
 }
 
 /// At how many of the training periods `analyze` replays each node.
@@ -165,6 +171,7 @@ impl Default for AnalyzeOptions {
             journal: None,
             shard: None,
             sampling: Sampling::default(),
+            probe_frames: Some(DEFAULT_PROBE_FRAMES),
             perceptual_stride: DEFAULT_PERCEPTUAL_STRIDE,
         }
     }
@@ -263,7 +270,7 @@ pub fn analyze(
         Some(j) => {
             let key = content_hash(
                 format!(
-                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {}",
+                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {} {:?}",
                     content_hash(input.shader.source.as_bytes()),
                     content_hash(input.session_bytes),
                     opts.delta_n_train,
@@ -275,6 +282,7 @@ pub fn analyze(
                     renderer.adapter().name,
                     renderer.timing_method(),
                     opts.perceptual_stride,
+                    opts.probe_frames,
                 )
                 .as_bytes(),
             );
@@ -292,7 +300,13 @@ pub fn analyze(
             Some(journal)
         }
     };
-    progress.start(1 + (ids.len() * (1 + plan.len() + extra)) as u64);
+    let session_frames = opts
+        .max_frames
+        .map_or(input.session.frames, |m| m.min(input.session.frames))
+        .max(1);
+    // Whether strategies may be compared on a prefix: then the kept one costs one more replay.
+    let probing = extra > 0 && opts.probe_frames.is_some_and(|p| p < session_frames);
+    progress.start(1 + (ids.len() * (1 + plan.len() + extra + usize::from(probing))) as u64);
 
     let render_opts = RenderOptions {
         png_dir: None,
@@ -337,12 +351,11 @@ pub fn analyze(
         } else {
             NodeSelector::Id(id)
         };
-        // Each strategy at the longest period; keep the fastest.
-        let mut tried: Vec<Tried> = Vec::new();
+        // The strategies still in the running for this node.
+        let mut to_try: Vec<(usize, Strategy)> = Vec::new();
         for (si, &strategy) in opts.strategies.iter().enumerate() {
-            let block = opts.block.unwrap_or(strategy.default_block());
             match pruner.verdict(si) {
-                Verdict::Try => {}
+                Verdict::Try => to_try.push((si, strategy)),
                 Verdict::PruneNow => {
                     progress.note(&format!(
                         "{strategy}: at least {:.2}× slower than the fastest strategy at Δn = {longest} for {} nodes; not tried for the remaining nodes",
@@ -350,13 +363,25 @@ pub fn analyze(
                         StrategyPruner::LOSSES
                     ));
                     progress.step(&format!("node {id} {strategy} pruned"));
-                    continue;
                 }
-                Verdict::Pruned => {
-                    progress.step(&format!("node {id} {strategy} pruned"));
-                    continue;
-                }
+                Verdict::Pruned => progress.step(&format!("node {id} {strategy} pruned")),
             }
+        }
+        // Several strategies are compared on the session's first `probe` frames at the longest
+        // period; only the fastest is then replayed over the whole session.
+        let probe = opts
+            .probe_frames
+            .filter(|&p| to_try.len() > 1 && p < session_frames);
+        if probing && probe.is_none() {
+            progress.step(&format!("node {id}: one strategy left, no probe"));
+        }
+        let probe_opts = RenderOptions {
+            max_frames: probe.or(render_opts.max_frames),
+            ..render_opts.clone()
+        };
+        let mut tried: Vec<Tried> = Vec::new();
+        for &(si, strategy) in &to_try {
+            let block = opts.block.unwrap_or(strategy.default_block());
             let inst = InstanceOptions {
                 strategy,
                 block,
@@ -387,6 +412,7 @@ pub fn analyze(
                     strategy: strategy.name().into(),
                     block,
                     delta_n: longest,
+                    frames: probe,
                 },
                 || {
                     replay(
@@ -396,15 +422,19 @@ pub fn analyze(
                         &variant,
                         longest,
                         &reference,
-                        &render_opts,
+                        &probe_opts,
                         &mut time,
                     )
                 },
             )?;
-            progress.step(&format!("node {id} {strategy} Δn={longest}"));
+            let on = match probe {
+                Some(p) => format!(" on {p} frames"),
+                None => String::new(),
+            };
+            progress.step(&format!("node {id} {strategy} Δn={longest}{on}"));
             if let Err(e) = &res {
                 progress.note(&format!(
-                    "node {id} ({strategy}): replay failed at Δn={longest}: {e}"
+                    "node {id} ({strategy}): replay failed at Δn={longest}{on}: {e}"
                 ));
             }
             tried.push(Tried {
@@ -420,10 +450,23 @@ pub fn analyze(
             .enumerate()
             .filter_map(|(i, t)| t.res.as_ref().ok().map(|(m, _)| (i, m.frame_ms)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
+        // The original's time over the same frames (frame 0 excluded, as in every mean).
+        let original_ms = match probe {
+            Some(p) => {
+                let prefix =
+                    &original.frame_times_ms[..(p as usize - 1).min(original.frame_times_ms.len())];
+                if prefix.is_empty() {
+                    original.frame_ms
+                } else {
+                    mean(prefix.iter().copied())
+                }
+            }
+            None => original.frame_ms,
+        };
         if let Some((_, best_ms)) = best {
             for t in &tried {
                 if let Ok((m, _)) = &t.res {
-                    pruner.record(t.si, m.frame_ms / best_ms, best_ms < original.frame_ms);
+                    pruner.record(t.si, m.frame_ms / best_ms, best_ms < original_ms);
                 }
             }
         }
@@ -440,6 +483,8 @@ pub fn analyze(
                         error: m.error,
                         pass_ms: pass_ms.clone(),
                         kept: Some(i) == best,
+                        frames: probe,
+                        original_ms: Some(original_ms),
                     });
                 }
             }
@@ -450,7 +495,7 @@ pub fn analyze(
                 .filter_map(|t| t.res.as_ref().err().cloned())
                 .next()
                 .unwrap_or_else(|| "no strategy could be replayed".into());
-            for _ in &plan {
+            for _ in 0..plan.len() + usize::from(probe.is_some()) {
                 progress.step(&format!("node {id}"));
             }
             raws.push(Raw {
@@ -470,7 +515,72 @@ pub fn analyze(
             ..
         } = tried.swap_remove(best);
         let (sources, variant) = built.expect("a replayed strategy was instanced");
-        let (first, _) = res.expect("the best strategy replayed");
+        let (probed, _) = res.expect("the best strategy replayed");
+        let first = match probe {
+            None => probed,
+            Some(p) if probed.frame_ms >= original_ms && !node.root => {
+                // Slower than the original on the probe's frames: not worth a whole replay.
+                let why = format!(
+                    "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms over the first {p} frames, {strategy}): it cannot pay off",
+                    probed.frame_ms, original_ms
+                );
+                progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
+                for _ in 0..=plan.len() {
+                    progress.step(&format!("node {id}"));
+                }
+                raws.push(Raw {
+                    id,
+                    strategy,
+                    block,
+                    measurements: Vec::new(),
+                    failure: Some(why),
+                });
+                continue;
+            }
+            Some(_) => {
+                let res = journaled(
+                    &mut journal,
+                    ReplayKey {
+                        node: id,
+                        strategy: strategy.name().into(),
+                        block,
+                        delta_n: longest,
+                        frames: None,
+                    },
+                    || {
+                        replay(
+                            renderer,
+                            input,
+                            &sources,
+                            &variant,
+                            longest,
+                            &reference,
+                            &render_opts,
+                            &mut time,
+                        )
+                    },
+                )?;
+                progress.step(&format!("node {id} {strategy} Δn={longest}"));
+                match res {
+                    Ok((m, _)) => m,
+                    Err(e) => {
+                        let why = format!("replay failed at Δn={longest}: {e}");
+                        progress.note(&format!("node {id}: set aside: {why}"));
+                        for _ in &plan {
+                            progress.step(&format!("node {id}"));
+                        }
+                        raws.push(Raw {
+                            id,
+                            strategy,
+                            block,
+                            measurements: Vec::new(),
+                            failure: Some(why),
+                        });
+                        continue;
+                    }
+                }
+            }
+        };
         let mut measurements = vec![first];
         let mut failure = None;
         let m0 = &measurements[0];
@@ -504,6 +614,7 @@ pub fn analyze(
                     strategy: strategy.name().into(),
                     block,
                     delta_n: dn,
+                    frames: None,
                 },
                 || {
                     replay(

@@ -43,6 +43,9 @@ pub(crate) struct ReplayKey {
     pub strategy: String,
     pub block: u32,
     pub delta_n: u32,
+    /// A strategy probe over the session's first N frames; `None`: the whole session.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u32>,
 }
 
 /// One replay's result: the measurement and mean per-pass times, or why it failed.
@@ -69,6 +72,7 @@ fn original_key() -> ReplayKey {
         strategy: "original".into(),
         block: 0,
         delta_n: 1,
+        frames: None,
     }
 }
 

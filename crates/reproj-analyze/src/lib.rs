@@ -11,7 +11,8 @@ pub mod prune;
 use std::path::PathBuf;
 
 pub use analyze::{
-    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, Progress, Sampling, Silent, analyze,
+    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, DEFAULT_PROBE_FRAMES, Progress,
+    Sampling, Silent, analyze,
 };
 pub use emit::{
     EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,

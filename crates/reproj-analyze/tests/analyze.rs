@@ -182,6 +182,69 @@ fn static_session_profiles_without_nan_and_emits() {
     assert_eq!(report.measured_error, Some(rendered.error));
 }
 
+/// With `probe_frames`, a node's strategies race over the session's first frames only; the kept
+/// one is then replayed over the whole session (or set aside when even its probe lost to the
+/// original over the same frames).
+#[test]
+fn strategies_race_on_a_prefix_then_the_kept_one_replays_the_session() {
+    let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let sum = table.cacheable().find(|n| n.text == "s3 + n4").unwrap().id;
+    let session_path = root().join("sessions/marble.json");
+    let session_bytes = std::fs::read(&session_path).unwrap();
+    let mut session = Session::load(&session_path).unwrap();
+    session.resolution = [64, 64];
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let opts = AnalyzeOptions {
+        delta_n_train: vec![2, 6, 10],
+        delta_n_holdout: vec![4],
+        nodes: Some(vec![sum]),
+        max_frames: Some(8),
+        probe_frames: Some(4),
+        ..AnalyzeOptions::default()
+    };
+    let input = AnalyzeInput {
+        shader: &shader,
+        norm: &norm,
+        table: &table,
+        session_path: &session_path,
+        session_bytes: &session_bytes,
+        session: &session,
+    };
+    let profile = analyze(&input, &renderer, &opts, &Silent).unwrap();
+    assert_eq!(profile.strategy_probes.len(), 2 * 3);
+    for p in &profile.strategy_probes {
+        assert_eq!(p.frames, Some(4), "{p:?}");
+        assert!(p.original_ms.is_some_and(|ms| ms > 0.0), "{p:?}");
+    }
+    for n in &profile.nodes {
+        let kept = profile
+            .strategy_probes
+            .iter()
+            .find(|p| p.node == n.id && p.kept)
+            .unwrap();
+        assert_eq!(kept.strategy, n.strategy);
+        if n.measurements.is_empty() {
+            // Set aside on the probe alone: only a non-root node, and it says so.
+            assert!(!n.root);
+            let NodeStatus::SetAside { reason } = &n.status else {
+                panic!("{n:?}")
+            };
+            assert!(reason.contains("first 4 frames"), "{reason}");
+            continue;
+        }
+        // The kept strategy's replay at the longest period covers the whole session (7 timed
+        // frames: frame 0 is left out), like every other period's.
+        let m0 = &n.measurements[0];
+        assert_eq!(m0.delta_n, 10);
+        for m in &n.measurements {
+            assert_eq!(m.frames.len(), 7, "Δn = {}", m.delta_n);
+        }
+    }
+}
+
 /// Path and values of the first place two JSON values differ.
 fn first_difference(a: &serde_json::Value, b: &serde_json::Value, at: String) -> String {
     use serde_json::Value as V;

@@ -282,6 +282,13 @@ pub struct StrategyProbe {
     #[serde(default)]
     pub pass_ms: Vec<f64>,
     pub kept: bool,
+    /// The probe replayed the session's first N frames only (`analyze --probe-frames`); `None`:
+    /// the whole session (profiles before probes, or a session no longer than the probe).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u32>,
+    /// The original's mean frame time over the same frames, ms.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub original_ms: Option<f64>,
 }
 
 /// Where the analysis time went, in seconds.

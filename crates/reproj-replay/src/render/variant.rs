@@ -14,6 +14,7 @@ use crate::reduce::{FrameErrors, PixelsBack};
 use crate::reflect::{self, Interface};
 use crate::session::Session;
 use crate::vertex;
+use rayon::prelude::*;
 
 use reproj_instance::contract;
 
@@ -402,6 +403,11 @@ impl Renderer {
                 .any(|(t, load)| *t == Attachment::Frame && !load)
         });
         let mut batch = FrameBatch::new("variant ", slots, frames);
+        // Frames read back for ꟻLIP and SSIM, scored after their batch is read back. The metrics
+        // are the costliest CPU work of a replay (about 60 ms per 256×256 frame): they run on
+        // every core, but only between batches, when no timed frame is in flight (on a CPU
+        // adapter they would otherwise slow the frames being measured).
+        let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
         for f in 0..frames {
             let slot = batch.slot();
             let cur = (f % 2) as usize;
@@ -554,20 +560,8 @@ impl Renderer {
                     _ => 0.0,
                 };
                 let frame_ms = span.unwrap_or(cpu_ms);
-                let (mut flip, mut ssim) = (None, None);
                 if let Some(pixels) = pixels.as_ref().filter(|_| perceptual(f)) {
-                    let fi = f as usize;
-                    let (e, map) = perceptual::compare_perceptual(
-                        pixels,
-                        &reference.frames[fi],
-                        &reference.depth[fi],
-                        w,
-                        h,
-                    );
-                    (flip, ssim) = (Some(e.flip), Some(e.ssim));
-                    if let Some(dir) = &opts.png_dir {
-                        output::write_flipmap(dir, f, w, h, &map)?;
-                    }
+                    to_score.push((f, pixels.clone()));
                 }
                 if let (Some(dir), Some(pixels)) = (&opts.png_dir, &pixels) {
                     let refr = &reference.frames[f as usize];
@@ -597,11 +591,33 @@ impl Renderer {
                     covered: errs.covered,
                     psnr: errs.psnr(),
                     max_abs_diff: errs.max_abs_diff,
-                    flip,
-                    ssim,
+                    flip: None,
+                    ssim: None,
                 });
                 Ok(())
             })?;
+            let scored: Vec<_> = to_score
+                .par_drain(..)
+                .map(|(f, pixels)| {
+                    let fi = f as usize;
+                    let (e, map) = perceptual::compare_perceptual(
+                        &pixels,
+                        &reference.frames[fi],
+                        &reference.depth[fi],
+                        w,
+                        h,
+                    );
+                    (f, e, map)
+                })
+                .collect();
+            for (f, e, map) in scored {
+                if let Some(r) = report.frames.iter_mut().rev().find(|r| r.frame == f) {
+                    (r.flip, r.ssim) = (Some(e.flip), Some(e.ssim));
+                }
+                if let Some(dir) = &opts.png_dir {
+                    output::write_flipmap(dir, f, w, h, &map)?;
+                }
+            }
             // Swap happens through the parity of the next frame.
         }
         report.summarize();
