@@ -26,8 +26,14 @@ use crate::prune::{PruneOptions, profile_candidates};
 pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
 /// Periods used only to check the models.
 pub const DEFAULT_HOLDOUT: [u32; 2] = [6, 30];
-/// Default [`AnalyzeOptions::perceptual_stride`]: ꟻLIP and SSIM on every 5th frame.
+/// The stride `emit` and `report` use for a profile that does not record its own (profiles
+/// before version 4 had no perceptual metrics).
 pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
+/// Without [`AnalyzeOptions::perceptual_stride`], ꟻLIP and SSIM are computed on about this many
+/// frames of each replay (every 10th frame of a 150-frame session). The mean of a metric over
+/// 15 frames is what its model needs; more frames cost CPU time (ꟻLIP is about 60 ms per
+/// 256×256 frame on one core, as much as rendering the frame several times on lavapipe).
+pub const DEFAULT_PERCEPTUAL_FRAMES: u32 = 15;
 /// Default [`AnalyzeOptions::probe_frames`]: a third of the paper's 150-frame sessions, three
 /// refresh cycles at Δn = 16 and one at Δn = 50.
 pub const DEFAULT_PROBE_FRAMES: u32 = 50;
@@ -58,8 +64,9 @@ pub struct AnalyzeOptions {
     pub shard: Option<Shard>,
     /// Compute the perceptual metrics (ꟻLIP, SSIM) of every replay on the frames `f` with
     /// `f % perceptual_stride == 0` (≥ 1): reading frames back and comparing them on the CPU
-    /// costs time, the L2 error is reduced on the GPU for every frame.
-    pub perceptual_stride: u32,
+    /// costs time, the L2 error is reduced on the GPU for every frame. `None`: the stride that
+    /// scores about [`DEFAULT_PERCEPTUAL_FRAMES`] frames of the replayed session.
+    pub perceptual_stride: Option<u32>,
     /// At how many of the training periods each node is replayed.
     pub sampling: Sampling,
     /// Compare the strategies of a node on the session's first N frames (at the longest training
@@ -172,7 +179,7 @@ impl Default for AnalyzeOptions {
             shard: None,
             sampling: Sampling::default(),
             probe_frames: Some(DEFAULT_PROBE_FRAMES),
-            perceptual_stride: DEFAULT_PERCEPTUAL_STRIDE,
+            perceptual_stride: None,
         }
     }
 }
@@ -265,6 +272,13 @@ pub fn analyze(
         return Err(AnalyzeError::Options("no strategy to profile".into()));
     }
     let extra = opts.strategies.len() - 1;
+    let session_frames = opts
+        .max_frames
+        .map_or(input.session.frames, |m| m.min(input.session.frames))
+        .max(1);
+    let stride = opts
+        .perceptual_stride
+        .unwrap_or(session_frames.div_ceil(DEFAULT_PERCEPTUAL_FRAMES));
     let mut journal = match &opts.journal {
         None => None,
         Some(j) => {
@@ -281,7 +295,7 @@ pub fn analyze(
                     opts.max_frames,
                     renderer.adapter().name,
                     renderer.timing_method(),
-                    opts.perceptual_stride,
+                    stride,
                     opts.probe_frames,
                 )
                 .as_bytes(),
@@ -300,10 +314,6 @@ pub fn analyze(
             Some(journal)
         }
     };
-    let session_frames = opts
-        .max_frames
-        .map_or(input.session.frames, |m| m.min(input.session.frames))
-        .max(1);
     // Whether strategies may be compared on a prefix: then the kept one costs one more replay.
     let probing = extra > 0 && opts.probe_frames.is_some_and(|p| p < session_frames);
     progress.start(1 + (ids.len() * (1 + plan.len() + extra + usize::from(probing))) as u64);
@@ -313,7 +323,7 @@ pub fn analyze(
         max_frames: opts.max_frames,
         classify: false,
         raw_frames: false,
-        perceptual_stride: Some(opts.perceptual_stride),
+        perceptual_stride: Some(stride),
     };
     let mut time = AnalysisTime::default();
     let t = Instant::now();
@@ -768,7 +778,7 @@ pub fn analyze(
         frames: reference.frames.len() as u32,
         delta_n_train: opts.delta_n_train.clone(),
         delta_n_holdout: opts.delta_n_holdout.clone(),
-        perceptual_stride: Some(opts.perceptual_stride),
+        perceptual_stride: Some(stride),
         block: opts.block.unwrap_or(Strategy::ThreePass.default_block()),
         depth_epsilon: opts.instance.depth_epsilon,
         original,
@@ -865,7 +875,7 @@ fn fit_metric(
 }
 
 fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
-    if opts.perceptual_stride == 0 {
+    if opts.perceptual_stride == Some(0) {
         return Err(AnalyzeError::Options(
             "the perceptual metrics' frame stride must be at least 1".into(),
         ));

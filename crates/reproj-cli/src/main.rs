@@ -148,10 +148,10 @@ pub struct AnalyzeArgs {
     #[arg(long, default_value_t = reproj_analyze::DEFAULT_PROBE_FRAMES)]
     pub probe_frames: u32,
     /// Compute ꟻLIP and SSIM on every Nth frame of each replay (0, N, 2N, ...): each such frame
-    /// is read back and compared on the CPU. Recorded in the profile.
-    #[arg(long, default_value_t = reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
-          value_parser = clap::value_parser!(u32).range(1..))]
-    pub metric_stride: u32,
+    /// is read back and compared on the CPU. Default: about 15 frames per replay (every 10th of
+    /// a 150-frame session). Recorded in the profile.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub metric_stride: Option<u32>,
     #[command(flatten)]
     pub cache: CacheArgs,
     /// Fragment entry point.
