@@ -14,6 +14,12 @@
 #                 3.0 and desktop OpenGL
 #   spirv-val     naga's SPIR-V of the module, checked by SPIRV-Tools
 #
+# and on what `reproj instance --lang glsl,spv` itself writes beside the WGSL (reproj's own
+# backend options, not the naga CLI's):
+#
+#   reproj glsl   each pass's .frag (GLSL 4.50) compiled by glslangValidator
+#   reproj spv    each pass's .spv checked by spirv-val
+#
 # and prints per tool how many passed (`glslang es300: 66/66`). A tool that is not installed is
 # skipped with a line saying so. Exit status: 0 when everything that ran passed, 1 on any failure,
 # 2 on a usage error.
@@ -89,6 +95,8 @@ if have naga && have spirv-val; then
 else
     have spirv-val || echo "skipped: spirv-val (not installed: apt-get install spirv-tools)"
 fi
+have glslangValidator && tools+=("reproj glsl")
+have spirv-val && tools+=("reproj spv")
 
 declare -A ok total
 for t in "${tools[@]}"; do ok[$t]=0; total[$t]=0; done
@@ -144,7 +152,7 @@ for shader in "${shaders[@]}"; do
         read -r node strategy extra <<<"$spec"
         dir="$work/$stem/${node}_${strategy}${extra:+_nearest_f16}"
         # shellcheck disable=SC2086
-        if ! msg=$("$reproj" instance "$shader" --node "$node" --strategy "$strategy" $extra --out "$dir" 2>&1); then
+        if ! msg=$("$reproj" instance "$shader" --node "$node" --strategy "$strategy" $extra --lang glsl,spv --out "$dir" 2>&1); then
             failures=$((failures + 1))
             printf 'FAIL [reproj instance] %s node %s %s %s\n%s\n' "$shader" "$node" "$strategy" "$extra" "$msg" >>"$fail_log"
             continue
@@ -153,6 +161,15 @@ for shader in "${shaders[@]}"; do
         # Compiler outputs go elsewhere, so that a kept directory can be checked again.
         outdir="$work/compiled/$stem/$(basename "$dir")"
         mkdir -p "$outdir"
+        for f in "$dir"/*.frag; do
+            have glslangValidator || break
+            check "reproj glsl" "$stem/$(basename "$dir")/$(basename "$f")" \
+                "glslangValidator -S frag $f" glslangValidator -S frag "$f"
+        done
+        for f in "$dir"/*.spv; do
+            have spirv-val || break
+            check "reproj spv" "$stem/$(basename "$dir")/$(basename "$f")" "spirv-val $f" spirv-val "$f"
+        done
         for f in "$dir"/*.wgsl; do
             what="$stem/$(basename "$dir")/$(basename "$f")"
             o="$outdir/$(basename "$f" .wgsl)"

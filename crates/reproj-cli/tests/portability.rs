@@ -46,4 +46,13 @@ fn emitted_passes_compile_with_naga_tint_glslang_and_spirv_val() {
         };
         assert!(stdout.contains(name), "{name} missing from\n{stdout}");
     }
+    // What `instance --lang glsl,spv` writes itself is compiled too.
+    for (tool, name) in [
+        ("glslangValidator", "reproj glsl:"),
+        ("spirv-val", "reproj spv:"),
+    ] {
+        if present.contains(&tool) {
+            assert!(stdout.contains(name), "{name} missing from\n{stdout}");
+        }
+    }
 }
