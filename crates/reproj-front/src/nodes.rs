@@ -363,6 +363,8 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
                     None => (0, 0, String::new()),
                 }
             }
+            (false, _) => operand_span(shader, &fun.expressions, e)
+                .map_or((0, 0, String::new()), |s| span_text(shader, s)),
             _ => span_text(shader, span),
         };
         let call = norm.call_site.get(&h).map(|s| {
@@ -396,6 +398,52 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         total_cost,
         nodes,
     }
+}
+
+/// A span for an expression the front end left without one (naga's GLSL reader gives built-in
+/// calls none): the union of its operands' spans, widened to the call around them when the text
+/// before the first operand is `name(`, so that `mix(a, b, t)` reads as written.
+fn operand_span(
+    shader: &Shader,
+    exprs: &naga::Arena<Expression>,
+    e: &Expression,
+) -> Option<naga::Span> {
+    let text = |s: &naga::Span| s.to_range().and_then(|r| shader.source.get(r));
+    // Operands spanned where they are used (a constant's span is its declaration, elsewhere).
+    let one_expression = |s: &naga::Span| text(s).is_some_and(|t| !t.contains([';', '{', '}']));
+    let spans: Vec<naga::Span> = ir::operands(e)
+        .into_iter()
+        .map(|o| exprs.get_span(o))
+        .filter(|s| s.is_defined() && one_expression(s))
+        .collect();
+    let union = spans.iter().copied().reduce(|mut a, b| {
+        a.subsume(b);
+        a
+    })?;
+    let span = if one_expression(&union) {
+        union
+    } else {
+        // Operands far apart: the last one, nearest the use.
+        *spans
+            .iter()
+            .max_by_key(|s| s.to_range().map_or(0, |r| r.start))?
+    };
+    let range = span.to_range()?;
+    let before = shader.source.get(..range.start)?.trim_end();
+    let Some(open) = before.strip_suffix('(') else {
+        return Some(span);
+    };
+    let name_len = open
+        .bytes()
+        .rev()
+        .take_while(|b| b.is_ascii_alphanumeric() || *b == b'_')
+        .count();
+    if name_len == 0 {
+        return Some(span);
+    }
+    // The name alone: `span_text` extends a call's name to its closing parenthesis.
+    let start = open.len() - name_len;
+    Some(naga::Span::new(start as u32, open.len() as u32))
 }
 
 fn span_text(shader: &Shader, span: naga::Span) -> (u32, u32, String) {

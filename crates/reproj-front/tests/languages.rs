@@ -52,6 +52,35 @@ fn glsl_marble_has_the_nodes_of_its_wgsl_twin() {
     }
 }
 
+/// naga's GLSL reader gives built-in calls no span: their nodes take their operands' place,
+/// widened to the call (`normalize(l + v)`), so nearly every node has a file position.
+#[test]
+fn glsl_built_in_calls_get_a_position_from_their_operands() {
+    let glsl = load(
+        &root().join("shaders/glsl/marble.frag"),
+        None,
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let nodes = &glsl.table.nodes;
+    let unplaced = nodes.iter().filter(|n| n.line == 0).count();
+    assert!(
+        unplaced * 20 < nodes.len(),
+        "{unplaced} of {} nodes without a position",
+        nodes.len()
+    );
+    assert!(
+        nodes
+            .iter()
+            .any(|n| n.text == "normalize(l + v)" && n.line > 0),
+        "the half vector's `normalize` call is not named as written"
+    );
+    // No text runs across a declaration (a constant's span is where it is declared).
+    for n in nodes {
+        assert!(!n.text.contains(';'), "node {}: {:?}", n.id, n.text);
+    }
+}
+
 #[test]
 fn marble_through_spirv_has_the_same_nodes() {
     let path = root().join("shaders/marble.wgsl");
