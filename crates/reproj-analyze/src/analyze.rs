@@ -263,7 +263,7 @@ pub fn analyze(
         Some(j) => {
             let key = content_hash(
                 format!(
-                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {}",
+                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {} {}",
                     content_hash(input.shader.source.as_bytes()),
                     content_hash(input.session_bytes),
                     opts.delta_n_train,
@@ -275,6 +275,7 @@ pub fn analyze(
                     renderer.adapter().name,
                     renderer.timing_method(),
                     opts.perceptual_stride,
+                    input.norm.unroll.max_trip,
                 )
                 .as_bytes(),
             );
@@ -638,6 +639,7 @@ pub fn analyze(
             ir_hash: Some(crate::emit::ir_hash(input.shader)),
         },
         entry: input.norm.entry.clone(),
+        unroll: input.norm.unroll.max_trip,
         session: Source {
             path: input.session_path.display().to_string(),
             hash: content_hash(input.session_bytes),

@@ -412,3 +412,57 @@ fn every_strategy_reproduces_the_original_and_reuses_its_cache() {
         }
     });
 }
+
+/// An unrolled shader renders as the original: at Δn = 1 the variants of the unrolled ambient
+/// occlusion shader (its root and per-iteration partial sums, nodes only unrolling makes) match
+/// the original shader's frames.
+#[test]
+fn unrolled_shader_reproduces_the_original_at_delta_n_1() {
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let session = Session::load(root().join("sessions/test_static.json")).unwrap();
+    let shader = load_file(&root().join("shaders/ambient_occlusion.wgsl")).unwrap();
+    let norm = normalize(
+        &shader,
+        &reproj_front::NormalizeOptions {
+            entry: None,
+            unroll: reproj_front::UnrollOptions { max_trip: 32 },
+        },
+    )
+    .unwrap();
+    let table = enumerate(&shader, &norm);
+    let rolled = enumerate(&shader, &normalize(&shader, &Default::default()).unwrap());
+    assert!(table.cacheable().count() > rolled.cacheable().count() * 4);
+    let entry = shader.fragment_entry(None).unwrap();
+    // The reference is the original, loops and all.
+    let reference = renderer
+        .render_original(&shader, entry, &session, &opts(2))
+        .unwrap();
+    let cacheable: Vec<_> = table.cacheable().collect();
+    let picks = [0, cacheable.len() / 3, 2 * cacheable.len() / 3, cacheable.len() - 1];
+    let mut selectors: Vec<NodeSelector> = picks
+        .iter()
+        .map(|&i| NodeSelector::Id(cacheable[i].id))
+        .collect();
+    selectors.push(NodeSelector::Root);
+    for sel in selectors {
+        let v = instance(&shader, &norm, &table, sel, &InstanceOptions::default()).unwrap();
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            1,
+        );
+        let report = renderer
+            .render_variant(&shader, &session, &input, &reference, &opts(2))
+            .unwrap_or_else(|e| panic!("node {sel:?}: {e}"));
+        for f in &report.frames {
+            assert!(
+                f.max_abs_diff <= 1e-4,
+                "unrolled node {sel:?}: frame {} differs by {} at Δn = 1",
+                f.frame,
+                f.max_abs_diff
+            );
+            assert_eq!(f.hits, 0, "Δn = 1 refreshes every pixel");
+        }
+    }
+}

@@ -10,7 +10,12 @@ use crate::InstanceArgs;
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
     let selector: NodeSelector = args.node.parse().map_err(UserError)?;
-    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    let loaded = super::load_shader(
+        &args.shader,
+        args.entry.as_deref(),
+        args.lang_in,
+        &args.unroll,
+    )?;
     let (shader, norm, table) = (&loaded.shader, &loaded.norm, &loaded.table);
     let opts = super::integrate(
         super::instance_options(args.cache, args.delta_n),
