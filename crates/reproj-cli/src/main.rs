@@ -424,7 +424,8 @@ pub struct InstanceArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
-    /// Node id from `reproj nodes`, or `root` for the final color.
+    /// Node id from `reproj nodes`, or `root` for the final color; several ids separated by
+    /// commas (`3,7`) cache those nodes together, packed in one payload of at most 4 floats.
     #[arg(long)]
     pub node: String,
     #[command(flatten)]
