@@ -55,7 +55,7 @@ fuzz_target!(|data: &[u8]| {
         .map(|ep| ep.name.clone())
         .collect();
     for name in entries {
-        let opts = NormalizeOptions { entry: Some(name) };
+        let opts = NormalizeOptions { entry: Some(name), ..Default::default() };
         let norm = match normalize(&shader, &opts) {
             Ok(norm) => norm,
             // `Internal` means a reproj invariant did not hold; with REPROJ_FUZZ_STRICT=1 it

@@ -284,7 +284,7 @@ pub fn analyze(
         Some(j) => {
             let key = content_hash(
                 format!(
-                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {} {:?}",
+                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {} {:?} {}",
                     content_hash(input.shader.source.as_bytes()),
                     content_hash(input.session_bytes),
                     opts.delta_n_train,
@@ -297,6 +297,7 @@ pub fn analyze(
                     renderer.timing_method(),
                     stride,
                     opts.probe_frames,
+                    input.norm.unroll.max_trip,
                 )
                 .as_bytes(),
             );
@@ -759,6 +760,7 @@ pub fn analyze(
             ir_hash: Some(crate::emit::ir_hash(input.shader)),
         },
         entry: input.norm.entry.clone(),
+        unroll: input.norm.unroll.max_trip,
         session: Source {
             path: input.session_path.display().to_string(),
             hash: content_hash(input.session_bytes),

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use reproj_front::{LoadOptions, load};
+use reproj_front::{LoadOptions, UnrollOptions, load};
 use reproj_instance::{
     CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, VARIANT_FILES, Variant,
     backends::OutputLang, instance, variant_files,
@@ -160,7 +160,13 @@ pub fn emit(
         .shader
         .clone()
         .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
-    let loaded = load(&shader_path, Some(&profile.entry), &LoadOptions::default())?;
+    let load_options = LoadOptions {
+        unroll: UnrollOptions {
+            max_trip: profile.unroll,
+        },
+        ..Default::default()
+    };
+    let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;
     // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
     let shader = loaded.shader.to_wgsl()?;
     let fresh = match &profile.shader.ir_hash {

@@ -32,6 +32,7 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             ("version", p.version.to_string()),
             ("shader.hash", p.shader.hash.clone()),
             ("entry", p.entry.clone()),
+            ("unroll", p.unroll.to_string()),
             ("session.hash", p.session.hash.clone()),
             ("machine.adapter", p.machine.adapter.clone()),
             ("machine.timing_method", p.machine.timing_method.clone()),

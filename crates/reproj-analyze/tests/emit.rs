@@ -100,6 +100,7 @@ fn profile(shader: &Path) -> Profile {
         delta_n_train: vec![2, 10, 18, 26, 34, 42, 50],
         delta_n_holdout: vec![],
         perceptual_stride: None,
+        unroll: 0,
         block: 4,
         depth_epsilon: 0.01,
         original: OriginalRecord {

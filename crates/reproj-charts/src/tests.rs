@@ -165,6 +165,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         .collect();
     Profile {
         perceptual_stride: None,
+        unroll: 0,
         schema: "reproj.profile".to_string(),
         version: PROFILE_VERSION,
         shader: Source {

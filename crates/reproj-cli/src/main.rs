@@ -111,6 +111,8 @@ pub struct AnalyzeArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub unroll: UnrollArg,
     /// The session file.
     #[arg(long)]
     pub session: PathBuf,
@@ -234,6 +236,20 @@ pub struct EmitArgs {
     pub min_speedup: Option<f64>,
 }
 
+/// Loop unrolling before the nodes are listed (`nodes`, `instance`, `analyze`; `emit` takes it
+/// from the profile).
+#[derive(Debug, Args)]
+pub struct UnrollArg {
+    /// Unroll loops with a constant trip count of at most N iterations (nested loops multiply)
+    /// before listing nodes, so each iteration's values become nodes; 0: off. Off by default:
+    /// node ids, node tables and the profiles recorded so far stay as they were, and unrolling
+    /// multiplies a loop shader's nodes (ambient_occlusion: 35 cacheable → 843 at 32), which
+    /// only pays when a per-iteration value is worth caching. Ids differ between values: pass
+    /// the same N to `nodes`, `instance` and `analyze`.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub unroll: u32,
+}
+
 /// Arguments of `reproj nodes`.
 #[derive(Debug, Args)]
 pub struct NodesArgs {
@@ -245,6 +261,8 @@ pub struct NodesArgs {
     /// Fragment entry point (needed when the module has several).
     #[arg(long)]
     pub entry: Option<String>,
+    #[command(flatten)]
+    pub unroll: UnrollArg,
     /// Print JSON (schema: docs/SCHEMAS.md#nodes) instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -410,9 +428,12 @@ pub struct InstanceArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
-    /// Node id from `reproj nodes`, or `root` for the final color.
+    /// Node id from `reproj nodes`, or `root` for the final color; several ids separated by
+    /// commas (`3,7`) cache those nodes together, packed in one payload of at most 4 floats.
     #[arg(long)]
     pub node: String,
+    #[command(flatten)]
+    pub unroll: UnrollArg,
     /// Output directory (created if needed).
     #[arg(long, value_parser = output_path)]
     pub out: PathBuf,

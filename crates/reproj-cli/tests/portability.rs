@@ -36,7 +36,7 @@ fn emitted_passes_compile_with_naga_tint_glslang_and_spirv_val() {
     assert!(stdout.contains("check-portability: all passed"), "{stdout}");
     // Every installed tool checked something (glslang and spirv-val compile naga's output).
     let naga = present.contains(&"naga");
-    for t in present {
+    for &t in &present {
         let name = match t {
             "glslangValidator" if naga => "glslang es300:",
             "spirv-val" if naga => "spirv-val:",

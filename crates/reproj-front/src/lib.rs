@@ -14,6 +14,7 @@ pub mod nodes;
 pub mod normalize;
 pub mod parse;
 pub mod rebuild;
+pub mod unroll;
 
 pub use diagnostic::{Message, SourceDiagnostic};
 pub use load::{CullSummary, LoadOptions, Loaded, load};
@@ -23,3 +24,4 @@ pub use parse::{
     FrontError, Lang, Shader, load_file, load_file_as, parse_glsl, parse_shader, parse_spirv,
     validator,
 };
+pub use unroll::{UnrollOptions, Unrolled, unroll};

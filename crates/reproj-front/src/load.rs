@@ -6,12 +6,15 @@ use std::path::Path;
 use crate::nodes::{CullReason, NodeTable, enumerate};
 use crate::normalize::{NormalizeOptions, Normalized, normalize};
 use crate::parse::{FrontError, Lang, Shader, load_file_as};
+use crate::unroll::UnrollOptions;
 
 /// Options of [`load`].
 #[derive(Debug, Clone, Copy, Default)]
 pub struct LoadOptions {
     /// The input language; `None` chooses by the file's extension (WGSL for an unknown one).
     pub lang: Option<Lang>,
+    /// Loops to unroll before the nodes are enumerated.
+    pub unroll: UnrollOptions,
 }
 
 /// A loaded shader: the parsed module, its normalized fragment entry point and its node table.
@@ -26,16 +29,26 @@ pub struct Loaded {
 /// its nodes.
 pub fn load(path: &Path, entry: Option<&str>, options: &LoadOptions) -> Result<Loaded, FrontError> {
     let shader = load_file_as(path, options.lang)?;
-    Loaded::new(shader, entry)
+    Loaded::with_unroll(shader, entry, options.unroll)
 }
 
 impl Loaded {
     /// Normalize and enumerate an already parsed shader (see [`load`]).
     pub fn new(shader: Shader, entry: Option<&str>) -> Result<Loaded, FrontError> {
+        Loaded::with_unroll(shader, entry, UnrollOptions::OFF)
+    }
+
+    /// [`Loaded::new`], unrolling loops as `unroll` says before enumerating.
+    pub fn with_unroll(
+        shader: Shader,
+        entry: Option<&str>,
+        unroll: UnrollOptions,
+    ) -> Result<Loaded, FrontError> {
         let norm = normalize(
             &shader,
             &NormalizeOptions {
                 entry: entry.map(str::to_owned),
+                unroll,
             },
         )?;
         let table = enumerate(&shader, &norm);

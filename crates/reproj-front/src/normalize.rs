@@ -11,7 +11,8 @@ use std::collections::HashMap;
 use naga::{Expression, Handle, Span};
 
 use crate::parse::{FrontError, Lang, Shader, validator};
-use crate::rebuild::{Rewrite, rebuild_live};
+use crate::rebuild::{Rebuilt, Rewrite, rebuild_live};
+use crate::unroll::{UnrollOptions, unroll};
 
 /// A normalized shader: one fragment entry point whose result is the root of an expression DAG.
 #[derive(Debug, Clone)]
@@ -25,6 +26,8 @@ pub struct Normalized {
     pub root: Handle<Expression>,
     /// Expressions that came from an inlined helper, with the span of the call in the entry point.
     pub call_site: HashMap<Handle<Expression>, Span>,
+    /// The unrolling it was normalized with (node ids depend on it).
+    pub unroll: UnrollOptions,
 }
 
 impl Normalized {
@@ -44,6 +47,9 @@ impl Normalized {
 pub struct NormalizeOptions {
     /// Fragment entry point name; `None` picks the only one.
     pub entry: Option<String>,
+    /// Constant-trip loops to unroll after inlining (their iterations then forward like
+    /// straight-line code, so per-iteration values become nodes).
+    pub unroll: UnrollOptions,
 }
 
 /// Normalize the chosen fragment entry point of `shader`.
@@ -56,6 +62,7 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
     };
     let rebuilt =
         rebuild_live(&shader.module, &ep.function, &Rewrite::Normalize).map_err(located)?;
+    let rebuilt = unroll_and_forward(&shader.module, rebuilt, &opts.unroll).map_err(located)?;
     let root_value = rebuilt.root.ok_or_else(|| {
         shader.unsupported(
             ep.function
@@ -143,7 +150,34 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         entry: ep.name.clone(),
         root,
         call_site,
+        unroll: opts.unroll,
     })
+}
+
+/// Unroll the loops of a normalized function and normalize it again, so that the unrolled
+/// iterations forward like straight-line code; the call sites follow the copies.
+fn unroll_and_forward(
+    module: &naga::Module,
+    rebuilt: Rebuilt,
+    options: &UnrollOptions,
+) -> Result<Rebuilt, FrontError> {
+    if options.max_trip == 0 {
+        return Ok(rebuilt);
+    }
+    let unrolled = unroll(module, &rebuilt.function, options);
+    if unrolled.loops == 0 {
+        return Ok(rebuilt);
+    }
+    let again = rebuild_live(module, &unrolled.function, &Rewrite::Normalize)?;
+    let mut call_site = HashMap::new();
+    for (copy, origin) in unrolled.origin.iter().enumerate() {
+        if let (Some(origin), Some(Some(new))) = (origin, again.map.get(copy))
+            && let Some(span) = rebuilt.call_site.get(origin)
+        {
+            call_site.entry(*new).or_insert(*span);
+        }
+    }
+    Ok(Rebuilt { call_site, ..again })
 }
 
 /// GLSL and SPIR-V outputs are variables that a wrapper entry point reads back after calling the

@@ -40,13 +40,40 @@ pub enum Rewrite<'a> {
     StopAfter(StopAfter),
 }
 
-/// Replacement of one source expression by the cached payload, narrowed to `components` floats.
+/// One cached expression's place in the payload: `components` floats from `offset`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Slot {
+    /// The expression (source handle).
+    pub target: Handle<Expression>,
+    pub offset: u32,
+    pub components: u32,
+}
+
+impl Slot {
+    /// Pack expressions of the given float counts one after the other from offset 0.
+    pub fn pack(nodes: &[(Handle<Expression>, u32)]) -> Vec<Slot> {
+        let mut offset = 0;
+        nodes
+            .iter()
+            .map(|&(target, components)| {
+                let slot = Slot {
+                    target,
+                    offset,
+                    components,
+                };
+                offset += components;
+                slot
+            })
+            .collect()
+    }
+}
+
+/// Replacement of source expressions by their slots of the cached payload.
 #[derive(Debug, Clone)]
 pub struct CacheRead {
-    /// The expression to replace (source handle).
-    pub target: Handle<Expression>,
+    /// The expressions to replace; their floats fit in the payload's four.
+    pub slots: Vec<Slot>,
     pub source: CacheSource,
-    pub components: u32,
 }
 
 /// Where [`CacheRead`] finds the payload (a `vec4<f32>`).
@@ -63,11 +90,11 @@ pub enum CacheSource {
     Argument(u32),
 }
 
-/// Stop after one expression and return it, zero-padded to a `vec4<f32>` (the recompute pass).
+/// Stop once every slot's expression is computed and return them packed in a zero-padded
+/// `vec4<f32>` (the recompute pass). With several slots, each must be computed outside branches.
 #[derive(Debug, Clone)]
 pub struct StopAfter {
-    pub target: Handle<Expression>,
-    pub components: u32,
+    pub slots: Vec<Slot>,
     pub vec4: Handle<naga::Type>,
 }
 
@@ -172,6 +199,10 @@ pub fn rebuild(
         root: None,
         stmt_index: 0,
         stopped: false,
+        stop_values: opts
+            .stop_after
+            .as_ref()
+            .map_or(Vec::new(), |s| vec![None; s.slots.len()]),
         depth: 0,
         calls: 0,
     };
@@ -266,6 +297,8 @@ struct Out<'m, 'o> {
     root: Option<Handle<Expression>>,
     stmt_index: usize,
     stopped: bool,
+    /// The values of [`StopAfter`]'s slots computed so far.
+    stop_values: Vec<Option<Handle<Expression>>>,
     depth: usize,
     /// Depth of inlined calls (with `depth`, bounded by [`MAX_NESTING`]).
     calls: usize,
@@ -487,10 +520,10 @@ impl Out<'_, '_> {
         let span = ctx.fun.expressions.get_span(h);
         if let Some(cr) = &self.opts.cache_read
             && ctx.is_top
-            && cr.target == h
+            && let Some(slot) = cr.slots.iter().find(|s| s.target == h)
         {
-            let cr = cr.clone();
-            let m = self.cache_read(&cr, span);
+            let (slot, source) = (*slot, cr.source);
+            let m = self.cache_read(slot, source, span);
             ctx.map[h.index()] = Some(m);
             return Ok(m);
         }
@@ -539,38 +572,36 @@ impl Out<'_, '_> {
         Ok(new)
     }
 
-    fn cache_read(&mut self, cr: &CacheRead, span: Span) -> Handle<Expression> {
+    fn cache_read(&mut self, slot: Slot, source: CacheSource, span: Span) -> Handle<Expression> {
         use naga::{Expression as E, SwizzleComponent as S};
-        let texel = match cr.source {
+        let texel = match source {
             CacheSource::Texture { image, position } => self.texture_read(image, position, span),
             CacheSource::Argument(i) => self.append(E::FunctionArgument(i), span),
         };
-        match cr.components {
-            1 => self.append(
-                E::AccessIndex {
-                    base: texel,
-                    index: 0,
-                },
-                span,
-            ),
-            2 => self.append(
-                E::Swizzle {
-                    size: naga::VectorSize::Bi,
-                    vector: texel,
-                    pattern: [S::X, S::Y, S::X, S::X],
-                },
-                span,
-            ),
-            3 => self.append(
-                E::Swizzle {
-                    size: naga::VectorSize::Tri,
-                    vector: texel,
-                    pattern: [S::X, S::Y, S::Z, S::X],
-                },
-                span,
-            ),
-            _ => texel,
-        }
+        let at = |i: u32| [S::X, S::Y, S::Z, S::W][((slot.offset + i) % 4) as usize];
+        let size = match slot.components {
+            1 => {
+                return self.append(
+                    E::AccessIndex {
+                        base: texel,
+                        index: slot.offset,
+                    },
+                    span,
+                );
+            }
+            4 if slot.offset == 0 => return texel,
+            2 => naga::VectorSize::Bi,
+            3 => naga::VectorSize::Tri,
+            _ => naga::VectorSize::Quad,
+        };
+        self.append(
+            E::Swizzle {
+                size,
+                vector: texel,
+                pattern: [at(0), at(1), at(2), at(3)],
+            },
+            span,
+        )
     }
 
     fn texture_read(
@@ -621,12 +652,13 @@ impl Out<'_, '_> {
         )
     }
 
-    fn payload_return(&mut self, stop: &StopAfter, value: Handle<Expression>, span: Span) {
-        let v = match stop.components {
-            4 => value,
-            n => {
-                let mut comps = vec![value];
-                for _ in n..4 {
+    fn payload_return(&mut self, stop: &StopAfter, values: &[Handle<Expression>], span: Span) {
+        let used: u32 = stop.slots.iter().map(|s| s.components).sum();
+        let v = match (values, used) {
+            (&[value], 4) => value,
+            _ => {
+                let mut comps = values.to_vec();
+                for _ in used..4 {
                     comps.push(self.append(Expression::Literal(naga::Literal::F32(0.0)), span));
                 }
                 self.append(
@@ -760,12 +792,23 @@ impl Out<'_, '_> {
                     let m = self.translate(ctx, h)?;
                     if let Some(stop) = &self.opts.stop_after
                         && ctx.is_top
-                        && stop.target == h
+                        && let Some(i) = stop.slots.iter().position(|s| s.target == h)
                     {
-                        let stop = stop.clone();
-                        self.payload_return(&stop, m, span);
-                        self.stopped = true;
-                        return Ok(());
+                        if stop.slots.len() > 1 && self.depth > 0 {
+                            return Err(unsupported(
+                                span,
+                                "nodes cached together must be computed outside branches",
+                            ));
+                        }
+                        self.stop_values[i] = Some(m);
+                        if let Some(values) =
+                            self.stop_values.iter().copied().collect::<Option<Vec<_>>>()
+                        {
+                            let stop = stop.clone();
+                            self.payload_return(&stop, &values, span);
+                            self.stopped = true;
+                            return Ok(());
+                        }
                     }
                 }
             }

@@ -45,7 +45,13 @@ fn run(path: &Path, source: String) -> String {
     let mut out = Vec::new();
     for entry in names {
         let label = entry.clone().unwrap_or_else(|| "<default>".into());
-        match normalize(&shader, &NormalizeOptions { entry }) {
+        match normalize(
+            &shader,
+            &NormalizeOptions {
+                entry,
+                ..Default::default()
+            },
+        ) {
             Ok(norm) => {
                 if let Err(e) = round_trip(&norm.module, &norm.info) {
                     panic!("{label}: the normalized module does not round-trip through WGSL: {e}");

@@ -108,6 +108,7 @@ fn marble_through_spirv_has_the_same_nodes() {
         None,
         &LoadOptions {
             lang: Some(Lang::SpirV),
+            ..Default::default()
         },
     )
     .unwrap();

@@ -11,7 +11,7 @@
 use std::path::Path;
 
 use naga::{Handle, Module};
-use reproj_front::rebuild::{CacheRead, CacheSource, Rewrite, StopAfter, rebuild_live};
+use reproj_front::rebuild::{CacheRead, CacheSource, Rewrite, Slot, StopAfter, rebuild_live};
 use reproj_front::{Node, NodeTable, Normalized, Shader, validator};
 
 pub mod backends;
@@ -167,6 +167,12 @@ pub enum InstanceError {
     BadBlock(u32),
     #[error("the refresh period must be at least 1")]
     BadDeltaN,
+    #[error(
+        "nodes {ids} hold {components} floats together: a payload holds 4 (cache nodes of fewer components together)"
+    )]
+    PayloadTooWide { ids: String, components: u32 },
+    #[error("node {id} is listed twice")]
+    RepeatedNode { id: String },
     #[error("the {format} cache holds {channels} float(s) but node {id} has {components}")]
     FormatTooNarrow {
         format: &'static str,
@@ -214,16 +220,53 @@ pub fn instance(
     node: NodeSelector,
     opts: &InstanceOptions,
 ) -> Result<Variant, InstanceError> {
+    instance_nodes(shader, norm, table, &[node], opts)
+}
+
+/// Build the variant of `shader` that caches `nodes` together: their floats packed one after the
+/// other, in the order given, in one payload texture (at most 4 floats in all).
+pub fn instance_nodes(
+    shader: &Shader,
+    norm: &Normalized,
+    table: &NodeTable,
+    nodes: &[NodeSelector],
+    opts: &InstanceOptions,
+) -> Result<Variant, InstanceError> {
     if opts.block != 1 && !opts.block.is_multiple_of(2) || opts.block == 0 {
         return Err(InstanceError::BadBlock(opts.block));
     }
     if opts.delta_n == 0 {
         return Err(InstanceError::BadDeltaN);
     }
-    let node = pick(table, node)?;
-    let target = node
-        .handle
-        .expect("nodes from enumerate carry their handle");
+    let picked = nodes
+        .iter()
+        .map(|&n| pick(table, n))
+        .collect::<Result<Vec<&Node>, _>>()?;
+    for (i, n) in picked.iter().enumerate() {
+        if picked[..i].iter().any(|m| m.id == n.id) {
+            return Err(InstanceError::RepeatedNode { id: node_id(n) });
+        }
+    }
+    let components: u32 = picked.iter().map(|n| n.components).sum();
+    if components > 4 {
+        return Err(InstanceError::PayloadTooWide {
+            ids: picked
+                .iter()
+                .map(|n| node_id(n))
+                .collect::<Vec<_>>()
+                .join(", "),
+            components,
+        });
+    }
+    let slots = Slot::pack(
+        &picked
+            .iter()
+            .map(|n| {
+                let target = n.handle.expect("nodes from enumerate carry their handle");
+                (target, n.components)
+            })
+            .collect::<Vec<_>>(),
+    );
     let group = match opts.group {
         None => free_group(&shader.module)?,
         Some(g) => {
@@ -235,17 +278,16 @@ pub fn instance(
         }
     };
     let prev_clip_location = prev_clip_location(&norm.module);
-    let components = node.components;
     let cache_format = opts.cache_format.resolve(components);
     if cache_format.channels() < components {
         return Err(InstanceError::FormatTooNarrow {
             format: cache_format.name(),
             channels: cache_format.channels(),
-            id: if node.root {
-                "root".into()
-            } else {
-                node.id.to_string()
-            },
+            id: picked
+                .iter()
+                .map(|n| node_id(n))
+                .collect::<Vec<_>>()
+                .join("+"),
             components,
         });
     }
@@ -253,22 +295,17 @@ pub fn instance(
     let passes = match opts.strategy {
         Strategy::ThreePass => vec![
             reproject_pass(&library)?,
-            recompute_pass(norm, target, components)?,
-            shade_pass(norm, target, components, group)?,
+            recompute_pass(norm, &slots)?,
+            shade_pass(norm, &slots, group)?,
         ],
-        Strategy::Fused | Strategy::TwoPass => strategy_passes(
-            norm,
-            target,
-            components,
-            &library,
-            opts.strategy,
-            prev_clip_location,
-        )?,
+        Strategy::Fused | Strategy::TwoPass => {
+            strategy_passes(norm, &slots, &library, opts.strategy, prev_clip_location)?
+        }
     };
     let manifest = build_manifest(
         shader,
         norm,
-        node,
+        &picked,
         opts,
         cache_format,
         group,
@@ -276,6 +313,15 @@ pub fn instance(
         &passes,
     );
     Ok(Variant { manifest, passes })
+}
+
+/// A node's id as the CLI and the manifest spell it.
+fn node_id(node: &Node) -> String {
+    if node.root {
+        "root".into()
+    } else {
+        node.id.to_string()
+    }
 }
 
 fn pick(table: &NodeTable, sel: NodeSelector) -> Result<&Node, InstanceError> {
@@ -373,8 +419,7 @@ fn reproject_pass(library: &str) -> Result<PassModule, InstanceError> {
 /// The passes of the fused and two-pass strategies (see [`strategy`]).
 fn strategy_passes(
     norm: &Normalized,
-    target: Handle<naga::Expression>,
-    components: u32,
+    slots: &[Slot],
     library: &str,
     which: Strategy,
     prev_clip_location: u32,
@@ -382,16 +427,15 @@ fn strategy_passes(
     let kinds = strategy::entries(which);
     let first = strategy::pass_kind(kinds[0]);
     let mut base = norm.module.clone();
-    let (recompute, vec4) = recompute_slice(norm, &mut base, target, components, first)?;
+    let (recompute, vec4) = recompute_slice(norm, &mut base, slots, first)?;
     let entry = norm.function().clone();
     let payload_arg = entry.arguments.len() as u32;
     let mut shade = rebuild_entry(
         norm,
         &base,
         &Rewrite::CacheRead(CacheRead {
-            target,
+            slots: slots.to_vec(),
             source: CacheSource::Argument(payload_arg),
-            components,
         }),
         first,
     )?;
@@ -459,8 +503,7 @@ fn strategy_passes(
 fn recompute_slice(
     norm: &Normalized,
     module: &mut Module,
-    target: Handle<naga::Expression>,
-    components: u32,
+    slots: &[Slot],
     pass: PassKind,
 ) -> Result<(naga::Function, Handle<naga::Type>), InstanceError> {
     let vec4 = vec_type(module, naga::VectorSize::Quad, naga::Scalar::F32);
@@ -468,8 +511,7 @@ fn recompute_slice(
         norm,
         module,
         &Rewrite::StopAfter(StopAfter {
-            target,
-            components,
+            slots: slots.to_vec(),
             vec4,
         }),
         pass,
@@ -506,23 +548,14 @@ fn vec_type(
     )
 }
 
-fn recompute_pass(
-    norm: &Normalized,
-    target: Handle<naga::Expression>,
-    components: u32,
-) -> Result<PassModule, InstanceError> {
+fn recompute_pass(norm: &Normalized, slots: &[Slot]) -> Result<PassModule, InstanceError> {
     let mut module = norm.module.clone();
-    let (fun, _) = recompute_slice(norm, &mut module, target, components, PassKind::Recompute)?;
+    let (fun, _) = recompute_slice(norm, &mut module, slots, PassKind::Recompute)?;
     module.entry_points[0].function = fun;
     finish(PassKind::Recompute, module)
 }
 
-fn shade_pass(
-    norm: &Normalized,
-    target: Handle<naga::Expression>,
-    components: u32,
-    group: u32,
-) -> Result<PassModule, InstanceError> {
+fn shade_pass(norm: &Normalized, slots: &[Slot], group: u32) -> Result<PassModule, InstanceError> {
     let mut module = norm.module.clone();
     let vec4f = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
     let image_ty = module.types.insert(
@@ -558,9 +591,8 @@ fn shade_pass(
         norm,
         &module,
         &Rewrite::CacheRead(CacheRead {
-            target,
+            slots: slots.to_vec(),
             source: CacheSource::Texture { image, position },
-            components,
         }),
         PassKind::Shade,
     )?;
@@ -958,7 +990,7 @@ fn reproj_prev_clip(prev_view_proj: mat4x4<f32>, prev_model: mat4x4<f32>, positi
 fn build_manifest(
     shader: &Shader,
     norm: &Normalized,
-    node: &Node,
+    nodes: &[&Node],
     opts: &InstanceOptions,
     cache_format: CacheFormat,
     group: u32,
@@ -1133,6 +1165,34 @@ fn build_manifest(
         ty,
         value,
     };
+    let mut offset = 0;
+    let infos: Vec<NodeInfo> = nodes
+        .iter()
+        .map(|node| {
+            let info = NodeInfo {
+                id: node_id(node),
+                text: node.text.clone(),
+                line: node.line,
+                col: node.col,
+                ty: node.ty.clone(),
+                components: node.components,
+                offset,
+            };
+            offset += node.components;
+            info
+        })
+        .collect();
+    if nodes.len() > 1 {
+        notes.push(format!(
+            "The payload holds {} nodes, each at its offset: {}.",
+            nodes.len(),
+            infos
+                .iter()
+                .map(|i| format!("node {} at {}", i.id, i.offset))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
     Manifest {
         schema: "reproj.manifest".into(),
         version: MANIFEST_VERSION,
@@ -1141,18 +1201,8 @@ fn build_manifest(
             |f| f.to_string_lossy().into_owned(),
         ),
         entry: norm.entry.clone(),
-        node: NodeInfo {
-            id: if node.root {
-                "root".into()
-            } else {
-                node.id.to_string()
-            },
-            text: node.text.clone(),
-            line: node.line,
-            col: node.col,
-            ty: node.ty.clone(),
-            components: node.components,
-        },
+        node: infos[0].clone(),
+        also: infos[1..].to_vec(),
         strategy: opts.strategy,
         reconstruct: opts.reconstruct,
         cache_format,

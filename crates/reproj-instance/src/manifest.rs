@@ -10,12 +10,12 @@ use serde::{Deserialize, Serialize};
 /// Version 3: fully machine-readable: structured layout entries and resources per binding, the
 /// textures and samplers to create, the ping-pong plan, load/clear values as numbers, conventions,
 /// the vertex-stage contract, the params layout field by field.
-pub const MANIFEST_VERSION: u32 = 3;
+pub const MANIFEST_VERSION: u32 = 4;
 
 /// What [`reproj_io::read_json`] expects of a `manifest.json`.
 pub const MANIFEST_KIND: reproj_io::Kind = reproj_io::Kind {
     schema: "reproj.manifest",
-    versions: MANIFEST_VERSION..=MANIFEST_VERSION,
+    versions: 3..=MANIFEST_VERSION,
     hint: "write the variant again with `reproj instance` or `reproj emit`",
 };
 
@@ -188,7 +188,11 @@ pub struct Manifest {
     /// Original shader file name and fragment entry point.
     pub shader: String,
     pub entry: String,
+    /// The cached node (the first, at payload offset 0, when several are cached together).
     pub node: NodeInfo,
+    /// Further nodes cached in the same payload, each at its `offset` (version 4; empty: one node).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<NodeInfo>,
     /// How the passes are laid out.
     pub strategy: Strategy,
     /// How the first pass reconstructs the previous payload.
@@ -230,6 +234,13 @@ pub struct NodeInfo {
     pub ty: String,
     /// Number of payload floats (1..=4).
     pub components: u32,
+    /// Index of its first float in the payload (version 4; 0 before).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub offset: u32,
+}
+
+fn is_zero(v: &u32) -> bool {
+    *v == 0
 }
 
 /// Coordinate conventions (WebGPU's).

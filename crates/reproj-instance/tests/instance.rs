@@ -540,3 +540,62 @@ fn manifest_params_and_bindings_match_the_contract() {
         }
     }
 }
+
+/// Two nodes cached together: their floats packed one after the other (the manifest says where),
+/// the recompute pass returns both, the shade pass reads both from the payload and no longer
+/// computes either; more than four floats, or a node twice, is refused.
+#[test]
+fn two_nodes_share_one_payload() {
+    use reproj_instance::instance_nodes;
+    let (shader, norm, table) = load("ambient_occlusion.wgsl");
+    let (s, m) = (
+        node_by_text(&table, "static_ao"),
+        node_by_text(&table, "moving_ao"),
+    );
+    let pair = [NodeSelector::Id(s), NodeSelector::Id(m)];
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        let v = instance_nodes(&shader, &norm, &table, &pair, &opts).unwrap();
+        check_round_trip(&v);
+        let manifest = &v.manifest;
+        assert_eq!(manifest.node.id, s.to_string());
+        assert_eq!((manifest.node.offset, manifest.also.len()), (0, 1));
+        assert_eq!(manifest.also[0].id, m.to_string());
+        assert_eq!(manifest.also[0].offset, 1);
+        assert_eq!(manifest.cache_format.channels(), 2);
+        if strategy == Strategy::ThreePass {
+            // Pass 3 reads both from the cache: neither loop is left.
+            assert!(!pass(&v, PassKind::Shade).contains("loop"));
+            assert!(pass(&v, PassKind::Recompute).contains("loop"));
+        }
+    }
+    let (_, envmap_norm, envmap_table) = load("envmap.wgsl");
+    let vec3s: Vec<u32> = envmap_table
+        .cacheable()
+        .filter(|n| n.components == 3 && !n.root)
+        .map(|n| n.id)
+        .take(2)
+        .collect();
+    let envmap = load_file(&root().join("shaders/envmap.wgsl")).unwrap();
+    let wide = [NodeSelector::Id(vec3s[0]), NodeSelector::Id(vec3s[1])];
+    let e = instance_nodes(
+        &envmap,
+        &envmap_norm,
+        &envmap_table,
+        &wide,
+        &InstanceOptions::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, InstanceError::PayloadTooWide { components: 6, .. }),
+        "{e}"
+    );
+    let twice = [NodeSelector::Id(s), NodeSelector::Id(s)];
+    let e =
+        instance_nodes(&shader, &norm, &table, &twice, &InstanceOptions::default()).unwrap_err();
+    assert!(matches!(e, InstanceError::RepeatedNode { .. }), "{e}");
+}

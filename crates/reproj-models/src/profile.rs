@@ -17,7 +17,7 @@ use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary
 /// `ssim`; per node `flip_fit` and `dssim_fit`; per held-out check `measured_flip` and
 /// `predicted_flip`. Older files still load (without them: `emit --metric flip` asks to re-run
 /// `analyze`).
-pub const PROFILE_VERSION: u32 = 4;
+pub const PROFILE_VERSION: u32 = 5;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -35,6 +35,10 @@ pub struct Profile {
     pub version: u32,
     pub shader: Source,
     pub entry: String,
+    /// Loops of at most this many iterations were unrolled before the nodes were listed (0: none;
+    /// version 5, 0 before). Node ids depend on it: `emit` normalizes the shader the same way.
+    #[serde(default)]
+    pub unroll: u32,
     pub session: Source,
     /// Where it was measured.
     pub machine: Machine,

@@ -412,3 +412,132 @@ fn every_strategy_reproduces_the_original_and_reuses_its_cache() {
         }
     });
 }
+
+/// An unrolled shader renders as the original: at Δn = 1 the variants of the unrolled ambient
+/// occlusion shader (its root and per-iteration partial sums, nodes only unrolling makes) match
+/// the original shader's frames.
+#[test]
+fn unrolled_shader_reproduces_the_original_at_delta_n_1() {
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let session = Session::load(root().join("sessions/test_static.json")).unwrap();
+    let shader = load_file(&root().join("shaders/ambient_occlusion.wgsl")).unwrap();
+    let norm = normalize(
+        &shader,
+        &reproj_front::NormalizeOptions {
+            entry: None,
+            unroll: reproj_front::UnrollOptions { max_trip: 32 },
+        },
+    )
+    .unwrap();
+    let table = enumerate(&shader, &norm);
+    let rolled = enumerate(&shader, &normalize(&shader, &Default::default()).unwrap());
+    assert!(table.cacheable().count() > rolled.cacheable().count() * 4);
+    let entry = shader.fragment_entry(None).unwrap();
+    // The reference is the original, loops and all.
+    let reference = renderer
+        .render_original(&shader, entry, &session, &opts(2))
+        .unwrap();
+    let cacheable: Vec<_> = table.cacheable().collect();
+    let picks = [
+        0,
+        cacheable.len() / 3,
+        2 * cacheable.len() / 3,
+        cacheable.len() - 1,
+    ];
+    let mut selectors: Vec<NodeSelector> = picks
+        .iter()
+        .map(|&i| NodeSelector::Id(cacheable[i].id))
+        .collect();
+    selectors.push(NodeSelector::Root);
+    for sel in selectors {
+        let v = instance(&shader, &norm, &table, sel, &InstanceOptions::default()).unwrap();
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            1,
+        );
+        let report = renderer
+            .render_variant(&shader, &session, &input, &reference, &opts(2))
+            .unwrap_or_else(|e| panic!("node {sel:?}: {e}"));
+        for f in &report.frames {
+            assert!(
+                f.max_abs_diff <= 1e-4,
+                "unrolled node {sel:?}: frame {} differs by {} at Δn = 1",
+                f.frame,
+                f.max_abs_diff
+            );
+            assert_eq!(f.hits, 0, "Δn = 1 refreshes every pixel");
+        }
+    }
+}
+
+/// A variant caching two nodes together (packed in one payload) reproduces the original at
+/// Δn = 1 in the three-pass, two-pass and fused strategies, and reuses its cache when nothing
+/// moves.
+#[test]
+fn two_node_variant_reproduces_the_original_at_delta_n_1() {
+    use reproj_instance::{Strategy, instance_nodes};
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let session = Session::load(root().join("sessions/test_static.json")).unwrap();
+    for name in ["ambient_occlusion", "envmap"] {
+        let shader = load_file(&root().join(format!("shaders/{name}.wgsl"))).unwrap();
+        let norm = normalize(&shader, &Default::default()).unwrap();
+        let table = enumerate(&shader, &norm);
+        let entry = shader.fragment_entry(None).unwrap();
+        let reference = renderer
+            .render_original(&shader, entry, &session, &opts(3))
+            .unwrap();
+        // The two costliest non-root nodes whose floats fit in one payload together.
+        let mut nodes: Vec<_> = table.cacheable().filter(|n| !n.root).collect();
+        nodes.sort_by(|a, b| b.cost.total_cmp(&a.cost));
+        let first = nodes[0];
+        let second = nodes[1..]
+            .iter()
+            .find(|n| n.components + first.components <= 4)
+            .expect("a second node that fits");
+        let pair = [NodeSelector::Id(first.id), NodeSelector::Id(second.id)];
+        for strategy in [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused] {
+            let what = format!("{name} nodes {} + {} {strategy:?}", first.id, second.id);
+            let options = InstanceOptions {
+                strategy,
+                ..Default::default()
+            };
+            let v = instance_nodes(&shader, &norm, &table, &pair, &options)
+                .unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_eq!(v.manifest.also.len(), 1);
+            assert_eq!(v.manifest.also[0].offset, first.components);
+            for delta_n in [1, 8] {
+                let input = VariantInput::new(
+                    v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                    v.manifest.clone(),
+                    delta_n,
+                );
+                let report = renderer
+                    .render_variant(&shader, &session, &input, &reference, &opts(3))
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                for f in &report.frames {
+                    if delta_n == 1 {
+                        assert!(
+                            f.max_abs_diff <= 1e-4,
+                            "{what}: frame {} differs by {} at Δn = 1",
+                            f.frame,
+                            f.max_abs_diff
+                        );
+                        assert_eq!(f.hits, 0, "{what}: Δn = 1 refreshes every pixel");
+                    } else if f.frame > 0 {
+                        // Nothing moves: the reused payload is the one computed, exactly.
+                        assert!(f.hits > 0, "{what}: no hits at Δn = 8");
+                        assert!(
+                            f.error < 1e-4,
+                            "{what}: frame {} error {} reusing the cache",
+                            f.frame,
+                            f.error
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

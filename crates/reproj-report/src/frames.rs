@@ -79,6 +79,9 @@ pub fn render_choice(
         shader,
         &NormalizeOptions {
             entry: Some(profile.entry.clone()),
+            unroll: reproj_front::UnrollOptions {
+                max_trip: profile.unroll,
+            },
         },
     )?;
     let table = enumerate(shader, &norm);

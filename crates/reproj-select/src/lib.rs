@@ -8,6 +8,10 @@
 //! `t̂` with `ε̂ ≤ ε_max` that beats the original, ties broken by lower Δn then lower node id.
 //! [`pareto`] gives the error-vs-time frontier of the same predictions, for charts.
 
+pub mod combine;
+
+pub use combine::{SetPrediction, best_set, combined_timing, predict_set};
+
 use reproj_models::{ErrorFitFailure, ErrorFitStatus, HitRateFit, TimingFit, predicted_frame_ms};
 use serde::{Deserialize, Serialize};
 

@@ -242,3 +242,27 @@ fn pareto_frontier_is_monotone_and_undominated() {
         }
     }
 }
+
+/// Two nodes cached together: the hit rate is shared, the errors add, the hit savings add.
+#[test]
+fn a_set_combines_the_single_node_models() {
+    use reproj_select::{best_set, combined_timing, predict, predict_set};
+    let hr = HitRateFit::from_mu(0.9);
+    // c₀ = 10 ms / M = 2e-5 ms per pixel; A saves 1.4e-5 on a hit, C saves 0.4e-5.
+    let a = node(1, 0.02, 0.1, 0.6e-5, 2.2e-5);
+    let c = node(3, 0.005, 0.1, 1.6e-5, 2.1e-5);
+    let timing = combined_timing(&[&a, &c], ORIGINAL_MS).unwrap();
+    assert!((timing.hit_ms.unwrap() - 0.2e-5).abs() < 1e-12);
+    assert_eq!(timing.miss_ms, Some(2.2e-5));
+    let pair = predict_set(&[&a, &c], &hr, ORIGINAL_MS, 10).unwrap();
+    let (pa, pc) = (predict(&a, &hr, 10).unwrap(), predict(&c, &hr, 10).unwrap());
+    assert_eq!(pair.node_ids, vec![1, 3]);
+    assert_eq!(pair.hit_rate, pa.hit_rate);
+    assert!((pair.predicted_error - (pa.predicted_error + pc.predicted_error)).abs() < 1e-12);
+    assert!(pair.predicted_ms < pa.predicted_ms.min(pc.predicted_ms));
+    // Under a budget only the pair's summed error must fit.
+    let best = best_set(&[&a, &c], &hr, ORIGINAL_MS, pa.predicted_error, (2, 50)).unwrap();
+    assert!(best.predicted_error <= pa.predicted_error);
+    assert!(best.delta_n < 10);
+    assert!(best_set(&[&a, &c], &hr, ORIGINAL_MS, 0.0, (2, 50)).is_none());
+}

@@ -13,9 +13,11 @@ use std::path::Path;
 use anyhow::{Context, bail};
 use serde::Deserialize;
 
-/// The schema name and the one version this host reads.
+/// The schema name and the versions this host reads (version 4 only added which nodes the payload
+/// holds, which a host need not know).
 pub const SCHEMA: &str = "reproj.manifest";
-pub const VERSION: u64 = 3;
+pub const VERSION: u64 = 4;
+pub const OLDEST_VERSION: u64 = 3;
 
 #[derive(Debug, Deserialize)]
 pub struct Manifest {
@@ -246,9 +248,9 @@ impl Manifest {
             );
         }
         let version = head.get("version").and_then(|v| v.as_u64());
-        if version != Some(VERSION) {
+        if !version.is_some_and(|v| (OLDEST_VERSION..=VERSION).contains(&v)) {
             bail!(
-                "{}: manifest version {} is not supported: this host reads version {VERSION} (write the variant again with a reproj that writes version {VERSION}, or update the host)",
+                "{}: manifest version {} is not supported: this host reads versions {OLDEST_VERSION} to {VERSION} (write the variant again with a reproj that writes version {VERSION}, or update the host)",
                 path.display(),
                 version.map_or_else(|| "(missing)".to_string(), |v| v.to_string())
             );

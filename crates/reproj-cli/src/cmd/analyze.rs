@@ -47,7 +47,12 @@ impl Progress for Bar {
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    let loaded = super::load_shader(
+        &args.shader,
+        args.entry.as_deref(),
+        args.lang_in,
+        &args.unroll,
+    )?;
     if let Some(lines) = super::no_cacheable_lines(&loaded.table) {
         // Nothing to profile: an honest answer, exit 0 without a profile.
         for line in lines {

@@ -1,22 +1,32 @@
-//! `reproj instance`: write the variant that caches one node.
+//! `reproj instance`: write the variant that caches one node, or several packed in one payload.
 
 use std::io::Write;
 
-use reproj_instance::{NodeSelector, instance, write_variant_in};
+use reproj_instance::{NodeSelector, instance_nodes, write_variant_in};
 
 use super::UserError;
 use crate::InstanceArgs;
 
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    let selector: NodeSelector = args.node.parse().map_err(UserError)?;
-    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    let selectors = args
+        .node
+        .split(',')
+        .map(|s| s.trim().parse::<NodeSelector>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(UserError)?;
+    let loaded = super::load_shader(
+        &args.shader,
+        args.entry.as_deref(),
+        args.lang_in,
+        &args.unroll,
+    )?;
     let (shader, norm, table) = (&loaded.shader, &loaded.norm, &loaded.table);
     let opts = super::integrate(
         super::instance_options(args.cache, args.delta_n),
         args.integration,
     );
-    let variant = instance(shader, norm, table, selector, &opts)?;
+    let variant = instance_nodes(shader, norm, table, &selectors, &opts)?;
     let langs = super::output_langs(&args.lang);
     write_variant_in(&variant, &args.out, &langs)?;
     let m = &variant.manifest;
@@ -30,6 +40,13 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         m.node.col,
         args.out.display()
     )?;
+    for n in &m.also {
+        writeln!(
+            stdout,
+            "  and node {} `{}` ({}, line {}:{}) at payload offset {}",
+            n.id, n.text, n.ty, n.line, n.col, n.offset
+        )?;
+    }
     for (p, pass) in m.passes.iter().zip(&variant.passes) {
         let mut files = p.file.clone();
         for &lang in &langs {

@@ -49,9 +49,13 @@ pub fn load_shader(
     path: &std::path::Path,
     entry: Option<&str>,
     lang: Option<crate::LangInArg>,
+    unroll: &crate::UnrollArg,
 ) -> anyhow::Result<reproj_front::Loaded> {
     let options = reproj_front::LoadOptions {
         lang: lang_in(lang),
+        unroll: reproj_front::UnrollOptions {
+            max_trip: unroll.unroll,
+        },
     };
     Ok(reproj_front::load(path, entry, &options)?)
 }

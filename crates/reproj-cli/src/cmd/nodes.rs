@@ -5,7 +5,12 @@ use std::io::Write;
 use crate::NodesArgs;
 
 pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
-    let loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    let loaded = super::load_shader(
+        &args.shader,
+        args.entry.as_deref(),
+        args.lang_in,
+        &args.unroll,
+    )?;
     let mut table = loaded.table;
     let total = table.nodes.len();
     let cacheable = table.cacheable().count();
