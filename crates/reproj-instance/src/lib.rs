@@ -17,11 +17,13 @@ use reproj_front::{Node, NodeTable, Normalized, Shader, validator};
 pub mod backends;
 pub mod import;
 pub mod manifest;
+mod simplify;
 mod strategy;
 
 pub mod contract;
 
 pub use manifest::*;
+pub use simplify::{Replacement, SimplifyOptions, Simplified, probe, simplify};
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
 const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
@@ -181,6 +183,12 @@ pub enum InstanceError {
     Backend { file: String, what: String },
     #[error(transparent)]
     Front(#[from] reproj_front::FrontError),
+    /// A node cannot be replaced by a constant (code simplification).
+    #[error("node {id} (`{text}`) cannot be replaced by a constant: {why}")]
+    NotReplaceable { id: u32, text: String, why: String },
+    /// A bug in reproj: a simplified shader did not validate or round-trip.
+    #[error("internal error in a simplified shader: {what}")]
+    InternalSimplified { what: String },
     /// A bug in reproj: a generated module did not validate or round-trip.
     #[error("internal error in the {pass:?} pass: {what}")]
     Internal { pass: PassKind, what: String },
@@ -191,7 +199,7 @@ impl InstanceError {
     /// bug in reproj.
     pub fn is_user_error(&self) -> bool {
         match self {
-            InstanceError::Internal { .. } => false,
+            InstanceError::Internal { .. } | InstanceError::InternalSimplified { .. } => false,
             InstanceError::Front(f) => f.is_user_error(),
             _ => true,
         }
@@ -713,8 +721,22 @@ fn allow_quad_uniform_derivatives(module: &mut Module) {
 }
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
-fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceError> {
-    let internal = |what: String| InstanceError::Internal { pass, what };
+fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
+    let (module, info, wgsl) = finish_module(module, |what| InstanceError::Internal { pass, what })?;
+    Ok(PassModule {
+        kind: pass,
+        module,
+        info,
+        wgsl,
+    })
+}
+
+/// Validate, compact, validate again and write `module` as WGSL that is a fixed point of parse →
+/// validate → write; `internal` makes the error of a step that fails (a bug in reproj).
+pub(crate) fn finish_module(
+    mut module: Module,
+    internal: impl Fn(String) -> InstanceError,
+) -> Result<(Module, naga::valid::ModuleInfo, String), InstanceError> {
     validator().validate(&module).map_err(|e| {
         internal(format!(
             "does not validate before compaction: {}",
@@ -745,12 +767,7 @@ fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceErro
         })?;
         let again = write_wgsl(&reparsed, &reinfo).map_err(&internal)?;
         if again == text {
-            return Ok(PassModule {
-                kind: pass,
-                module: reparsed,
-                info: reinfo,
-                wgsl: text,
-            });
+            return Ok((reparsed, reinfo, text));
         }
         if round == 1 {
             return Err(internal(
