@@ -38,15 +38,41 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     let (code, _, err) = reproj(
         dir,
         &[
-            "analyze", "tiny.wgsl", "--session", "tiny.json", "--out", "tiny.profile.json",
-            "--delta-n", "2,4,8", "--holdout", "6", "--max-nodes", "3", "--no-charts",
+            "analyze",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--out",
+            "tiny.profile.json",
+            "--delta-n",
+            "2,4,8",
+            "--holdout",
+            "6",
+            "--max-nodes",
+            "3",
+            "--no-charts",
         ],
     );
     assert_eq!(code, 0, "{err}");
     let args = [
-        "compare", "tiny.wgsl", "--session", "tiny.json", "--speedup", "1.5", "--profile",
-        "tiny.profile.json", "--max-frames", "6", "--candidates", "3", "--max-steps", "2",
-        "--resize-tries", "2", "--out", "cmp",
+        "compare",
+        "tiny.wgsl",
+        "--session",
+        "tiny.json",
+        "--speedup",
+        "1.5",
+        "--profile",
+        "tiny.profile.json",
+        "--max-frames",
+        "6",
+        "--candidates",
+        "3",
+        "--max-steps",
+        "2",
+        "--resize-tries",
+        "2",
+        "--out",
+        "cmp",
     ];
     let (code, out, err) = reproj(dir, &args);
     assert_eq!(code, 0, "{err}");
@@ -60,7 +86,13 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     files.sort();
     assert_eq!(
         files,
-        ["compare.json", "compare.png", "compare.svg", "crops.png", "simplified.wgsl"]
+        [
+            "compare.json",
+            "compare.png",
+            "compare.svg",
+            "crops.png",
+            "simplified.wgsl"
+        ]
     );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("cmp/compare.json")).unwrap())
@@ -89,7 +121,10 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     let wgsl = std::fs::read_to_string(dir.join("cmp/simplified.wgsl")).unwrap();
     reproj_front::parse_shader(Path::new("simplified.wgsl"), wgsl).unwrap();
     let crops = image::open(dir.join("cmp/crops.png")).unwrap();
-    assert!(crops.width() > 4 * crops.height() / 2, "four panels side by side");
+    assert!(
+        crops.width() > 4 * crops.height() / 2,
+        "four panels side by side"
+    );
 
     // --json prints the same document.
     let mut json_args = args.to_vec();
@@ -107,17 +142,47 @@ fn bad_compare_input_exits_2_and_writes_nothing() {
     let dir = tmp.path();
     setup(dir);
     let cases: [&[&str]; 3] = [
-        &["compare", "tiny.wgsl", "--session", "tiny.json", "--speedup", "0.5", "--out", "o"],
-        &["compare", "missing.wgsl", "--session", "tiny.json", "--speedup", "2", "--out", "o"],
         &[
-            "compare", "tiny.wgsl", "--session", "tiny.json", "--speedup", "2", "--profile",
-            "nope.profile.json", "--out", "o",
+            "compare",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "0.5",
+            "--out",
+            "o",
+        ],
+        &[
+            "compare",
+            "missing.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "2",
+            "--out",
+            "o",
+        ],
+        &[
+            "compare",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "2",
+            "--profile",
+            "nope.profile.json",
+            "--out",
+            "o",
         ],
     ];
     for args in cases {
         let (code, out, err) = reproj(dir, args);
         assert_eq!(code, 2, "{args:?}: {out}{err}");
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: one message: {err}");
+        assert_eq!(
+            err.trim().lines().count(),
+            1,
+            "{args:?}: one message: {err}"
+        );
         assert!(!dir.join("o").exists(), "{args:?} wrote output");
     }
 }

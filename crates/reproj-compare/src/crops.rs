@@ -80,7 +80,12 @@ pub fn crops_png(
     let mut bytes = Vec::new();
     use image::ImageEncoder;
     image::codecs::png::PngEncoder::new(&mut bytes)
-        .write_image(&img, out_w as u32, out_h as u32, image::ExtendedColorType::Rgba8)
+        .write_image(
+            &img,
+            out_w as u32,
+            out_h as u32,
+            image::ExtendedColorType::Rgba8,
+        )
         .map_err(|e| CompareError::Internal {
             what: "cannot encode crops.png".into(),
             message: e.to_string(),
@@ -110,6 +115,9 @@ mod tests {
         let r = region(16, 16, &[0.5; 256], 0);
         let png = crops_png(&frames, [16, 16], &r).unwrap();
         let img = image::load_from_memory(&png).unwrap();
-        assert_eq!((img.width(), img.height()), (2 * 128 + GAP as u32, 2 * 128 + GAP as u32));
+        assert_eq!(
+            (img.width(), img.height()),
+            (2 * 128 + GAP as u32, 2 * 128 + GAP as u32)
+        );
     }
 }

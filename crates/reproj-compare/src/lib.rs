@@ -248,7 +248,8 @@ pub fn compare(
     let mut methods = Vec::new();
     let mut crop_frames = vec![("reference".to_string(), reference.frames[mid].clone())];
 
-    let (resize_detail, resize_frames, resize_result) = resize::resize(&ctx, shader, entry, &opts.resize)?;
+    let (resize_detail, resize_frames, resize_result) =
+        resize::resize(&ctx, shader, entry, &opts.resize)?;
     methods.push(resize_result);
     crop_frames.push(("resize".into(), resize_frames[mid].clone()));
     drop(resize_frames);
@@ -382,8 +383,18 @@ pub fn write_outputs(c: &mut Comparison, dir: &Path) -> Result<Vec<String>, Comp
         .iter()
         .map(|m| {
             let points: Vec<reproj_charts::ComparePoint> = match m.method.as_str() {
-                "resize" => r.resize.tries.iter().map(|t| point(t.speedup, t.error)).collect(),
-                "simplify" => r.simplify.steps.iter().map(|s| point(s.speedup, s.error)).collect(),
+                "resize" => r
+                    .resize
+                    .tries
+                    .iter()
+                    .map(|t| point(t.speedup, t.error))
+                    .collect(),
+                "simplify" => r
+                    .simplify
+                    .steps
+                    .iter()
+                    .map(|s| point(s.speedup, s.error))
+                    .collect(),
                 _ => vec![point(m.speedup, m.scores.error)],
             };
             reproj_charts::CompareSeries {
@@ -429,9 +440,8 @@ pub fn write_outputs(c: &mut Comparison, dir: &Path) -> Result<Vec<String>, Comp
         (dir.join(names[3]), crops),
         (dir.join(names[4]), c.simplified_wgsl.clone().into_bytes()),
     ];
-    std::fs::create_dir_all(dir).map_err(|e| {
-        CompareError::Options(format!("cannot create {}: {e}", dir.display()))
-    })?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| CompareError::Options(format!("cannot create {}: {e}", dir.display())))?;
     reproj_io::write_files(&files)?;
     Ok(png.warnings)
 }

@@ -96,12 +96,13 @@ pub(crate) fn reproj(
         .iter()
         .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
         .expect("the frontier comes from the profile's nodes");
-    let strategy: Strategy = node.strategy.parse().map_err(|e: String| {
-        reproj_analyze::AnalyzeError::BadProfile {
-            path: profile_path.to_owned(),
-            message: format!("node {}: {e}", node.id),
-        }
-    })?;
+    let strategy: Strategy =
+        node.strategy
+            .parse()
+            .map_err(|e: String| reproj_analyze::AnalyzeError::BadProfile {
+                path: profile_path.to_owned(),
+                message: format!("node {}: {e}", node.id),
+            })?;
     let variant = instance(
         shader,
         &loaded.norm,
@@ -170,7 +171,11 @@ pub(crate) fn reproj(
             reached_target: measured >= ctx.target,
             scores: Scores {
                 error: r.error,
-                psnr: if r.psnr.is_finite() { r.psnr } else { reproj_replay::metrics::PSNR_CAP },
+                psnr: if r.psnr.is_finite() {
+                    r.psnr
+                } else {
+                    reproj_replay::metrics::PSNR_CAP
+                },
                 flip: r.flip.map(|f| f.mean),
             },
             setting: format!(

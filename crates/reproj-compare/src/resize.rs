@@ -66,7 +66,10 @@ pub(crate) fn resize(
     let mut best: Option<(usize, Vec<Vec<f32>>)> = None;
     let miss = |s: f64| (s.max(1e-9) / ctx.target).ln().abs();
     for _ in 0..opts.tries.max(1) {
-        let size = [scaled(w, scale, opts.min_side), scaled(h, scale, opts.min_side)];
+        let size = [
+            scaled(w, scale, opts.min_side),
+            scaled(h, scale, opts.min_side),
+        ];
         if tries.iter().any(|t| t.resolution == size) {
             break;
         }
@@ -79,10 +82,8 @@ pub(crate) fn resize(
             .collect();
         let speedup = ctx.speedup(frame_ms);
         let error = ctx.score(&up, false).error;
-        ctx.progress.step(&format!(
-            "resize {}×{}: {speedup:.2}×",
-            size[0], size[1]
-        ));
+        ctx.progress
+            .step(&format!("resize {}×{}: {speedup:.2}×", size[0], size[1]));
         tries.push(ResizeTry {
             scale,
             resolution: size,
@@ -91,7 +92,10 @@ pub(crate) fn resize(
             error,
         });
         let i = tries.len() - 1;
-        if best.as_ref().is_none_or(|(b, _)| miss(speedup) < miss(tries[*b].speedup)) {
+        if best
+            .as_ref()
+            .is_none_or(|(b, _)| miss(speedup) < miss(tries[*b].speedup))
+        {
             best = Some((i, up));
         }
         if miss(speedup) <= (1.0 + opts.tolerance).ln() {

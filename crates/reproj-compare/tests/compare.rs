@@ -46,7 +46,10 @@ fn simplification_removes_the_least_error_node_first() {
     let first = &steps[0];
     // The uniform-only term: no error, and the largest saving of the error-free nodes.
     assert!(first.text.contains("flat"), "{first:#?}");
-    assert!(!first.text.contains("stripes") && !first.text.contains("tex"), "{first:#?}");
+    assert!(
+        !first.text.contains("stripes") && !first.text.contains("tex"),
+        "{first:#?}"
+    );
     assert!(first.error < 1e-6, "{first:#?}");
     // It was chosen over candidates that do cost error.
     assert!(first.rejected.iter().any(|&(_, e)| e > 1e-3), "{first:#?}");
@@ -59,7 +62,10 @@ fn simplification_removes_the_least_error_node_first() {
     assert_eq!(methods, ["resize", "simplify"]);
     for m in &c.report.methods {
         assert!(m.speedup.is_finite() && m.speedup > 0.0, "{m:?}");
-        assert!(m.scores.error.is_finite() && m.scores.psnr.is_finite(), "{m:?}");
+        assert!(
+            m.scores.error.is_finite() && m.scores.psnr.is_finite(),
+            "{m:?}"
+        );
         assert!(m.scores.flip.is_some_and(f64::is_finite), "{m:?}");
         assert!(!m.reached_target);
     }

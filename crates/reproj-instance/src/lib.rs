@@ -23,7 +23,7 @@ mod strategy;
 pub mod contract;
 
 pub use manifest::*;
-pub use simplify::{Replacement, SimplifyOptions, Simplified, probe, simplify};
+pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
 const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
@@ -722,7 +722,8 @@ fn allow_quad_uniform_derivatives(module: &mut Module) {
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
 fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
-    let (module, info, wgsl) = finish_module(module, |what| InstanceError::Internal { pass, what })?;
+    let (module, info, wgsl) =
+        finish_module(module, |what| InstanceError::Internal { pass, what })?;
     Ok(PassModule {
         kind: pass,
         module,

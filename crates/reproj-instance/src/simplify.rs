@@ -51,7 +51,9 @@ pub fn simplify(
     let mut constants = Vec::with_capacity(opts.replace.len());
     for r in &opts.replace {
         let node = replaceable(norm, table, r.node)?;
-        let target = node.handle.expect("nodes from enumerate carry their handle");
+        let target = node
+            .handle
+            .expect("nodes from enumerate carry their handle");
         if constants.iter().any(|c: &Constant| c.target == target) {
             continue;
         }
@@ -80,7 +82,9 @@ pub fn simplify(
 /// node's value at every covered pixel.
 pub fn probe(norm: &Normalized, table: &NodeTable, id: u32) -> Result<Simplified, InstanceError> {
     let node = replaceable(norm, table, id)?;
-    let target = node.handle.expect("nodes from enumerate carry their handle");
+    let target = node
+        .handle
+        .expect("nodes from enumerate carry their handle");
     let pass = recompute_pass(norm, target, node.components)?;
     debug_assert_eq!(pass.kind, PassKind::Recompute);
     Ok(Simplified {
@@ -97,7 +101,9 @@ fn replaceable<'t>(
     id: u32,
 ) -> Result<&'t Node, InstanceError> {
     let node = pick(table, NodeSelector::Id(id))?;
-    let handle = node.handle.expect("nodes from enumerate carry their handle");
+    let handle = node
+        .handle
+        .expect("nodes from enumerate carry their handle");
     let inner = norm.function_info()[handle]
         .ty
         .inner_with(&norm.module.types);

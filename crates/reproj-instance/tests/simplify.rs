@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use reproj_front::{Loaded, LoadOptions, load};
+use reproj_front::{LoadOptions, Loaded, load};
 use reproj_instance::{InstanceError, Replacement, SimplifyOptions, probe, simplify};
 
 fn fixture() -> Loaded {
@@ -47,7 +47,11 @@ fn a_replaced_node_becomes_its_constant_and_its_subtree_goes() {
     round_trips(&s.wgsl);
     assert!(s.wgsl.contains("0.625f"), "{}", s.wgsl);
     assert!(!s.wgsl.contains("40f"), "the subtree is dead: {}", s.wgsl);
-    assert!(!s.wgsl.contains("9f"), "only the node's one component: {}", s.wgsl);
+    assert!(
+        !s.wgsl.contains("9f"),
+        "only the node's one component: {}",
+        s.wgsl
+    );
     // Nothing replaced: the shader computes what it did.
     let same = simplify(&l.norm, &l.table, &SimplifyOptions::default()).unwrap();
     round_trips(&same.wgsl);
@@ -83,7 +87,11 @@ fn vector_nodes_and_several_nodes_are_replaced_together() {
     .unwrap();
     round_trips(&s.wgsl);
     assert!(!s.wgsl.contains("textureSample"), "{}", s.wgsl);
-    assert!(s.wgsl.contains("vec3<f32>(0.25f, 0.5f, 0.75f)"), "{}", s.wgsl);
+    assert!(
+        s.wgsl.contains("vec3<f32>(0.25f, 0.5f, 0.75f)"),
+        "{}",
+        s.wgsl
+    );
 }
 
 #[test]
@@ -92,7 +100,11 @@ fn the_probe_returns_the_node_and_bad_nodes_are_refused() {
     let stripes = node(&l, "0.5 + 0.5 * sin(in.world_pos.x * 40.0)");
     let p = probe(&l.norm, &l.table, stripes).unwrap();
     round_trips(&p.wgsl);
-    assert!(p.wgsl.contains("40f") && !p.wgsl.contains("textureSample"), "{}", p.wgsl);
+    assert!(
+        p.wgsl.contains("40f") && !p.wgsl.contains("textureSample"),
+        "{}",
+        p.wgsl
+    );
     let root = l.table.root().id;
     let max = l.table.nodes.last().unwrap().id;
     assert!(matches!(

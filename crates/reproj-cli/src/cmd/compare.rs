@@ -91,7 +91,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     writeln!(
         stdout,
         "{}: {} frames at {}×{} on {}; original {:.3} ms/frame; target {:.2}×",
-        r.shader, r.frames, r.resolution[0], r.resolution[1], r.adapter, r.original_ms, r.target_speedup
+        r.shader,
+        r.frames,
+        r.resolution[0],
+        r.resolution[1],
+        r.adapter,
+        r.original_ms,
+        r.target_speedup
     )?;
     writeln!(
         stdout,
@@ -114,6 +120,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     if r.reproj.is_none() {
         writeln!(stdout, "(no --profile: reproj's own choice not compared)")?;
     }
-    writeln!(stdout, "! = target speedup not reached; files in {}", out.display())?;
+    writeln!(
+        stdout,
+        "! = target speedup not reached; files in {}",
+        out.display()
+    )?;
     Ok(())
 }
