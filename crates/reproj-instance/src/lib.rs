@@ -723,7 +723,7 @@ fn allow_quad_uniform_derivatives(module: &mut Module) {
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
 fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
     let (module, info, wgsl) =
-        finish_module(module, |what| InstanceError::Internal { pass, what })?;
+        finish_module(module, 2, |what| InstanceError::Internal { pass, what })?;
     Ok(PassModule {
         kind: pass,
         module,
@@ -733,9 +733,11 @@ fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
 }
 
 /// Validate, compact, validate again and write `module` as WGSL that is a fixed point of parse →
-/// validate → write; `internal` makes the error of a step that fails (a bug in reproj).
+/// validate → write within `rounds` trips; `internal` makes the error of a step that fails (a bug
+/// in reproj).
 pub(crate) fn finish_module(
     mut module: Module,
+    rounds: usize,
     internal: impl Fn(String) -> InstanceError,
 ) -> Result<(Module, naga::valid::ModuleInfo, String), InstanceError> {
     validator().validate(&module).map_err(|e| {
@@ -752,8 +754,9 @@ pub(crate) fn finish_module(
         ))
     })?;
     let mut text = write_wgsl(&module, &info).map_err(&internal)?;
-    // The text may change once (names, literal spellings) and must then stop changing.
-    for round in 0..2 {
+    // The text may change (names, literal spellings; constants naga folds on parsing) and must
+    // then stop changing.
+    for round in 0..rounds {
         let reparsed = naga::front::wgsl::parse_str(&text).map_err(|e| {
             internal(format!(
                 "written WGSL does not parse: {}",
@@ -770,7 +773,7 @@ pub(crate) fn finish_module(
         if again == text {
             return Ok((reparsed, reinfo, text));
         }
-        if round == 1 {
+        if round + 1 == rounds {
             return Err(internal(
                 "the WGSL round trip does not reach a fixed point".into(),
             ));

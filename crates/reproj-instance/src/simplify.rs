@@ -6,7 +6,8 @@
 //! the recompute slice (the node's value as the color output, zero-padded to a `vec4<f32>`), the
 //! simplified shader the whole function under [`Rewrite::Constants`] with its dead code removed,
 //! so the subtree of a replaced node disappears unless the rest of the shader still uses it.
-//! Every module is validated, compacted, validated again and written as round-trip WGSL.
+//! Every module is validated, compacted, validated again and written as round-trip WGSL (a few
+//! trips allowed: naga folds the constants on parsing, which can cascade).
 
 use naga::Module;
 use reproj_front::rebuild::{Constant, Rewrite, rebuild_live};
@@ -73,7 +74,7 @@ pub fn simplify(
         .map_err(|e| internal(e.to_string()))?
         .function;
     module.entry_points[0].function = fun;
-    let (module, info, wgsl) = finish_module(module, internal)?;
+    let (module, info, wgsl) = finish_module(module, 4, internal)?;
     Ok(Simplified { module, info, wgsl })
 }
 
