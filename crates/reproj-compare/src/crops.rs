@@ -35,10 +35,9 @@ pub fn region(width: u32, height: u32, depth: &[f32], frame: u32) -> CropRegion 
             n += 1;
         }
     }
-    let (cx, cy) = if n == 0 {
-        (width / 2, height / 2)
-    } else {
-        ((sx / n) as u32, (sy / n) as u32)
+    let (cx, cy) = match (sx.checked_div(n), sy.checked_div(n)) {
+        (Some(x), Some(y)) => (x as u32, y as u32),
+        _ => (width / 2, height / 2),
     };
     CropRegion {
         frame,
