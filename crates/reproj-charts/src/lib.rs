@@ -18,6 +18,7 @@
 //! Every chart is drawn whatever the profile holds (no node, no measurement, all errors 0, one Δn,
 //! identical times): empty data give an empty, labeled chart, never a panic or an empty axis.
 
+mod compare;
 mod draw;
 mod font;
 mod glyph;
@@ -32,6 +33,7 @@ use reproj_select::{
     DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, pareto, select,
 };
 
+pub use compare::{Compare, ComparePoint, CompareSeries, compare_chart};
 pub use font::{FONT_ENV, font_path};
 
 /// Files written by [`write_charts`].
@@ -221,7 +223,7 @@ fn write_charts_with(
 }
 
 /// Encode an RGB8 buffer as PNG.
-fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
+pub(crate) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
     use image::ImageEncoder;
     let mut bytes = Vec::new();
     image::codecs::png::PngEncoder::new(&mut bytes)

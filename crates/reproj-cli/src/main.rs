@@ -33,6 +33,56 @@ enum Command {
     /// Write one self-contained HTML page of a profile: trade-off chart with a budget slider,
     /// frames of every selection, model charts, the table of fits.
     Report(ReportArgs),
+    /// Compare reprojection with reduced-resolution rendering and code simplification at equal
+    /// frame time: error (L2, PSNR, ꟻLIP) per method, a chart and side-by-side crops.
+    Compare(CompareArgs),
+}
+
+/// Arguments of `reproj compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
+    pub shader: PathBuf,
+    /// The shader's language, when its extension does not say.
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
+    /// Fragment entry point (default: the only one).
+    #[arg(long)]
+    pub entry: Option<String>,
+    /// The session file.
+    #[arg(long)]
+    pub session: PathBuf,
+    /// The speedup over the original every method aims at (> 1).
+    #[arg(long)]
+    pub speedup: f64,
+    /// Profile from `reproj analyze` of this shader, for reproj's own choice (without one, only
+    /// resizing and simplification are compared).
+    #[arg(long)]
+    pub profile: Option<PathBuf>,
+    /// Output directory (default `out/compare-SHADER`): compare.json, compare.svg/png, crops.png,
+    /// simplified.wgsl.
+    #[arg(long, value_parser = output_path)]
+    pub out: Option<PathBuf>,
+    /// Replay only the first N frames of the session.
+    #[arg(long)]
+    pub max_frames: Option<u32>,
+    /// Simplification: nodes tried per step (those with the largest static saving).
+    #[arg(long, default_value_t = 6)]
+    pub candidates: usize,
+    /// Simplification: most nodes replaced.
+    #[arg(long, default_value_t = 8)]
+    pub max_steps: usize,
+    /// Resizing: most scales rendered in the search.
+    #[arg(long, default_value_t = 4)]
+    pub resize_tries: usize,
+    /// Longest refresh period reproj may choose.
+    #[arg(long, default_value_t = 50)]
+    pub max_delta_n: u32,
+    /// Print compare.json instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    pub backend: Option<String>,
 }
 
 /// Arguments of `reproj report`.
@@ -475,6 +525,7 @@ fn main() -> ExitCode {
         Command::Merge(args) => cmd::merge::run(&args),
         Command::Emit(args) => cmd::emit::run(&args),
         Command::Report(args) => cmd::report::run(&args),
+        Command::Compare(args) => cmd::compare::run(&args),
     };
     cmd::finish(result)
 }

@@ -83,6 +83,7 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
     let expected = BTreeSet::from([
         "reproj-analyze",
         "reproj-cli",
+        "reproj-compare",
         "reproj-host",
         "reproj-replay",
         "reproj-report",

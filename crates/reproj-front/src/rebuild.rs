@@ -8,7 +8,8 @@
 //!   `var<private>` globals into locals, forward local loads in straight-line code, share identical
 //!   pure expressions;
 //! - plain copies ([`Mode::Copy`]) that keep only live code ([`crate::liveness`]), replace one
-//!   expression by another, or stop after one expression and return it (the instancer's passes).
+//!   expression by another, or stop after one expression and return it (the instancer's passes),
+//!   or replace expressions by constants (code simplification, `reproj compare`).
 
 use std::collections::{HashMap, HashSet};
 
@@ -38,6 +39,21 @@ pub enum Rewrite<'a> {
     CacheRead(CacheRead),
     /// Copy up to one expression and return it (the recompute slice).
     StopAfter(StopAfter),
+    /// Copy, with each listed expression replaced by a constant (code simplification).
+    Constants(&'a [Constant]),
+}
+
+/// Replacement of one source expression of the top-level function by a constant `f32` scalar or
+/// `vecN<f32>`: the first `components` of `value`.
+#[derive(Debug, Clone)]
+pub struct Constant {
+    /// The expression to replace (source handle).
+    pub target: Handle<Expression>,
+    pub value: [f32; 4],
+    /// 1 (an `f32`) to 4.
+    pub components: u32,
+    /// The `vecN<f32>` type of the expression (`None` for a scalar).
+    pub vector: Option<Handle<naga::Type>>,
 }
 
 /// One cached expression's place in the payload: `components` floats from `offset`.
@@ -104,6 +120,7 @@ struct Opts<'a> {
     live: Option<&'a crate::liveness::Liveness>,
     cache_read: Option<CacheRead>,
     stop_after: Option<StopAfter>,
+    constants: &'a [Constant],
 }
 
 /// The rebuilt function and its side tables.
@@ -169,6 +186,13 @@ pub fn rebuild(
             Mode::Copy,
             Opts {
                 stop_after: Some(s.clone()),
+                ..Default::default()
+            },
+        ),
+        Rewrite::Constants(c) => (
+            Mode::Copy,
+            Opts {
+                constants: c,
                 ..Default::default()
             },
         ),
@@ -527,6 +551,13 @@ impl Out<'_, '_> {
             ctx.map[h.index()] = Some(m);
             return Ok(m);
         }
+        if ctx.is_top
+            && let Some(c) = self.opts.constants.iter().find(|c| c.target == h)
+        {
+            let m = self.constant(c, span);
+            ctx.map[h.index()] = Some(m);
+            return Ok(m);
+        }
         let src = &ctx.fun.expressions[h];
         let new = match *src {
             Expression::FunctionArgument(i) if !ctx.is_top => ctx.args[i as usize],
@@ -602,6 +633,24 @@ impl Out<'_, '_> {
             },
             span,
         )
+    }
+
+    fn constant(&mut self, c: &Constant, span: Span) -> Handle<Expression> {
+        let n = c.components.clamp(1, 4) as usize;
+        let literals: Vec<_> = c.value[..n]
+            .iter()
+            .map(|&v| self.append(Expression::Literal(naga::Literal::F32(v)), span))
+            .collect();
+        match c.vector {
+            Some(ty) if n > 1 => self.append(
+                Expression::Compose {
+                    ty,
+                    components: literals,
+                },
+                span,
+            ),
+            _ => literals[0],
+        }
     }
 
     fn texture_read(

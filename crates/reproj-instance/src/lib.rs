@@ -17,11 +17,13 @@ use reproj_front::{Node, NodeTable, Normalized, Shader, validator};
 pub mod backends;
 pub mod import;
 pub mod manifest;
+mod simplify;
 mod strategy;
 
 pub mod contract;
 
 pub use manifest::*;
+pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
 const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
@@ -187,6 +189,12 @@ pub enum InstanceError {
     Backend { file: String, what: String },
     #[error(transparent)]
     Front(#[from] reproj_front::FrontError),
+    /// A node cannot be replaced by a constant (code simplification).
+    #[error("node {id} (`{text}`) cannot be replaced by a constant: {why}")]
+    NotReplaceable { id: u32, text: String, why: String },
+    /// A bug in reproj: a simplified shader did not validate or round-trip.
+    #[error("internal error in a simplified shader: {what}")]
+    InternalSimplified { what: String },
     /// A bug in reproj: a generated module did not validate or round-trip.
     #[error("internal error in the {pass:?} pass: {what}")]
     Internal { pass: PassKind, what: String },
@@ -197,7 +205,7 @@ impl InstanceError {
     /// bug in reproj.
     pub fn is_user_error(&self) -> bool {
         match self {
-            InstanceError::Internal { .. } => false,
+            InstanceError::Internal { .. } | InstanceError::InternalSimplified { .. } => false,
             InstanceError::Front(f) => f.is_user_error(),
             _ => true,
         }
@@ -745,8 +753,25 @@ fn allow_quad_uniform_derivatives(module: &mut Module) {
 }
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
-fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceError> {
-    let internal = |what: String| InstanceError::Internal { pass, what };
+fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
+    let (module, info, wgsl) =
+        finish_module(module, 2, |what| InstanceError::Internal { pass, what })?;
+    Ok(PassModule {
+        kind: pass,
+        module,
+        info,
+        wgsl,
+    })
+}
+
+/// Validate, compact, validate again and write `module` as WGSL that is a fixed point of parse →
+/// validate → write within `rounds` trips; `internal` makes the error of a step that fails (a bug
+/// in reproj).
+pub(crate) fn finish_module(
+    mut module: Module,
+    rounds: usize,
+    internal: impl Fn(String) -> InstanceError,
+) -> Result<(Module, naga::valid::ModuleInfo, String), InstanceError> {
     validator().validate(&module).map_err(|e| {
         internal(format!(
             "does not validate before compaction: {}",
@@ -761,8 +786,9 @@ fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceErro
         ))
     })?;
     let mut text = write_wgsl(&module, &info).map_err(&internal)?;
-    // The text may change once (names, literal spellings) and must then stop changing.
-    for round in 0..2 {
+    // The text may change (names, literal spellings; constants naga folds on parsing) and must
+    // then stop changing.
+    for round in 0..rounds {
         let reparsed = naga::front::wgsl::parse_str(&text).map_err(|e| {
             internal(format!(
                 "written WGSL does not parse: {}",
@@ -777,14 +803,9 @@ fn finish(pass: PassKind, mut module: Module) -> Result<PassModule, InstanceErro
         })?;
         let again = write_wgsl(&reparsed, &reinfo).map_err(&internal)?;
         if again == text {
-            return Ok(PassModule {
-                kind: pass,
-                module: reparsed,
-                info: reinfo,
-                wgsl: text,
-            });
+            return Ok((reparsed, reinfo, text));
         }
-        if round == 1 {
+        if round + 1 == rounds {
             return Err(internal(
                 "the WGSL round trip does not reach a fixed point".into(),
             ));

@@ -11,7 +11,7 @@ use reproj_replay::{Renderer, RendererOptions, Session};
 use crate::AnalyzeArgs;
 
 /// A progress bar with ETA on stderr; without a terminal, one line per step instead.
-struct Bar(ProgressBar);
+pub(crate) struct Bar(pub(crate) ProgressBar);
 
 impl Progress for Bar {
     fn start(&self, total: u64) {
@@ -43,6 +43,16 @@ impl Progress for Bar {
     fn finish(&self) {
         self.0.finish_and_clear();
     }
+}
+
+/// The progress bar of a command that replays (analyze, compare).
+pub(crate) fn bar() -> ProgressBar {
+    ProgressBar::new(0).with_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} replays, ETA {eta} {msg}",
+        )
+        .expect("valid template"),
+    )
 }
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
@@ -123,12 +133,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
     );
-    let bar = ProgressBar::new(0).with_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} replays, ETA {eta} {msg}",
-        )
-        .expect("valid template"),
-    );
+    let bar = bar();
     let input = AnalyzeInput {
         shader: &shader,
         norm,

@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 pub mod analyze;
 pub mod charts;
+pub mod compare;
 pub mod emit;
 pub mod instance;
 pub mod merge;
@@ -125,6 +126,9 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
         }
         if let Some(a) = c.downcast_ref::<reproj_analyze::AnalyzeError>() {
             return (user(a.is_user_error()), a.diagnostic());
+        }
+        if let Some(r) = c.downcast_ref::<reproj_compare::CompareError>() {
+            return (user(r.is_user_error()), r.diagnostic());
         }
         if let Some(r) = c.downcast_ref::<reproj_report::ReportError>() {
             return (user(r.is_user_error()), r.diagnostic());

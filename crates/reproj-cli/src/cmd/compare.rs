@@ -1,0 +1,129 @@
+//! `reproj compare`: reprojection against reduced-resolution rendering and code simplification at
+//! equal frame time (the paper's Fig. 10); a table or `compare.json` on stdout, files in `--out`.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use reproj_analyze::load_profile;
+use reproj_compare::{CompareInput, CompareOptions, compare, write_outputs};
+use reproj_replay::{Renderer, RendererOptions, Session};
+
+use super::UserError;
+use super::analyze::{Bar, bar};
+use crate::CompareArgs;
+
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    if !(args.speedup.is_finite() && args.speedup > 1.0) {
+        return Err(UserError(format!(
+            "--speedup must be a number above 1, got {}",
+            args.speedup
+        ))
+        .into());
+    }
+    if args.candidates == 0 || args.max_steps == 0 || args.resize_tries == 0 {
+        return Err(UserError(
+            "--candidates, --max-steps and --resize-tries must be at least 1".into(),
+        )
+        .into());
+    }
+    if args.max_frames == Some(0) {
+        return Err(UserError("--max-frames must be at least 1".into()).into());
+    }
+    let mut loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
+    // The replay renders WGSL: a GLSL or SPIR-V shader is compared as naga's WGSL of it.
+    loaded.shader = loaded.shader.to_wgsl()?;
+    let session = Session::load(&args.session)?;
+    let profile = match &args.profile {
+        Some(p) => Some((load_profile(p)?, p.clone())),
+        None => None,
+    };
+    let stem = args
+        .shader
+        .file_stem()
+        .map_or_else(|| "shader".into(), |s| s.to_string_lossy().into_owned());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("compare-{stem}")));
+    let renderer = Renderer::new(&RendererOptions {
+        backend: args.backend.clone(),
+        cpu_timing: false,
+    })?;
+    eprintln!(
+        "comparing {} over {} on {} ({} cores, LP_NUM_THREADS={}) at {}×",
+        args.shader.display(),
+        args.session.display(),
+        renderer.adapter().name,
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into()),
+        args.speedup
+    );
+    let input = CompareInput {
+        loaded: &loaded,
+        entry: args.entry.as_deref(),
+        session: &session,
+        profile: profile.as_ref().map(|(p, path)| (p, path.as_path())),
+    };
+    let opts = CompareOptions {
+        target_speedup: args.speedup,
+        max_frames: args.max_frames,
+        resize: reproj_compare::resize::ResizeOptions {
+            tries: args.resize_tries,
+            ..Default::default()
+        },
+        simplify: reproj_compare::simplify::SimplifyOptions {
+            candidates: args.candidates,
+            max_steps: args.max_steps,
+        },
+        max_delta_n: args.max_delta_n,
+        ..Default::default()
+    };
+    let mut result = compare(&renderer, &input, &opts, &Bar(bar()))?;
+    for w in write_outputs(&mut result, &out)? {
+        eprintln!("warning: {w}");
+    }
+    let r = &result.report;
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        writeln!(stdout, "{}", serde_json::to_string_pretty(r)?)?;
+        return Ok(());
+    }
+    writeln!(
+        stdout,
+        "{}: {} frames at {}×{} on {}; original {:.3} ms/frame; target {:.2}×",
+        r.shader,
+        r.frames,
+        r.resolution[0],
+        r.resolution[1],
+        r.adapter,
+        r.original_ms,
+        r.target_speedup
+    )?;
+    writeln!(
+        stdout,
+        "{:<9} {:>8} {:>10} {:>9} {:>7}  setting",
+        "method", "speedup", "L2", "PSNR dB", "ꟻLIP"
+    )?;
+    for m in &r.methods {
+        writeln!(
+            stdout,
+            "{:<9} {:>7.2}{} {:>10.5} {:>9.2} {:>7}  {}",
+            m.method,
+            m.speedup,
+            if m.reached_target { "×" } else { "!" },
+            m.scores.error,
+            m.scores.psnr,
+            m.scores.flip.map_or("-".into(), |f| format!("{f:.4}")),
+            m.setting
+        )?;
+    }
+    if r.reproj.is_none() {
+        writeln!(stdout, "(no --profile: reproj's own choice not compared)")?;
+    }
+    writeln!(
+        stdout,
+        "! = target speedup not reached; files in {}",
+        out.display()
+    )?;
+    Ok(())
+}

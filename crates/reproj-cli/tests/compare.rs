@@ -1,0 +1,188 @@
+//! `reproj compare` through the real binary on a tiny session: the table, `compare.json` (every
+//! number finite), the chart and crops; reproj's own choice from a profile; bad input exits 2 and
+//! writes nothing.
+
+use std::path::Path;
+
+mod common;
+use common::{root, run as reproj};
+
+fn numbers(v: &serde_json::Value, path: &str, out: &mut Vec<(String, f64)>) {
+    match v {
+        serde_json::Value::Number(n) => out.push((path.into(), n.as_f64().unwrap())),
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                numbers(x, &format!("{path}[{i}]"), out);
+            }
+        }
+        serde_json::Value::Object(o) => {
+            for (k, x) in o {
+                numbers(x, &format!("{path}.{k}"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+fn setup(dir: &Path) {
+    let data = root().join("crates/reproj-replay/tests/data");
+    std::fs::copy(data.join("tiny.wgsl"), dir.join("tiny.wgsl")).unwrap();
+    std::fs::copy(data.join("tiny_moving.json"), dir.join("tiny.json")).unwrap();
+}
+
+#[test]
+fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    setup(dir);
+    let (code, _, err) = reproj(
+        dir,
+        &[
+            "analyze",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--out",
+            "tiny.profile.json",
+            "--delta-n",
+            "2,4,8",
+            "--holdout",
+            "6",
+            "--max-nodes",
+            "3",
+            "--no-charts",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let args = [
+        "compare",
+        "tiny.wgsl",
+        "--session",
+        "tiny.json",
+        "--speedup",
+        "1.5",
+        "--profile",
+        "tiny.profile.json",
+        "--max-frames",
+        "6",
+        "--candidates",
+        "3",
+        "--max-steps",
+        "2",
+        "--resize-tries",
+        "2",
+        "--out",
+        "cmp",
+    ];
+    let (code, out, err) = reproj(dir, &args);
+    assert_eq!(code, 0, "{err}");
+    for method in ["resize", "simplify", "reproj"] {
+        assert!(out.lines().any(|l| l.starts_with(method)), "{out}");
+    }
+    let mut files: Vec<String> = std::fs::read_dir(dir.join("cmp"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(
+        files,
+        [
+            "compare.json",
+            "compare.png",
+            "compare.svg",
+            "crops.png",
+            "simplified.wgsl"
+        ]
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("cmp/compare.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["schema"], "reproj.compare");
+    assert_eq!(json["version"], 1);
+    assert_eq!(json["frames"], 4, "--max-frames 6 of a 4-frame session");
+    let methods: Vec<&str> = json["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["method"].as_str().unwrap())
+        .collect();
+    assert_eq!(methods, ["resize", "simplify", "reproj"]);
+    for m in json["methods"].as_array().unwrap() {
+        // serde_json writes NaN as null: a missing number is a failure here.
+        for key in ["speedup", "frame_ms", "error", "psnr", "flip"] {
+            assert!(m[key].is_number(), "{key} of {m}");
+        }
+    }
+    let mut all = Vec::new();
+    numbers(&json, "", &mut all);
+    assert!(all.iter().all(|(_, v)| v.is_finite()), "{all:?}");
+    assert!(json["reproj"]["delta_n"].as_u64().unwrap() >= 2);
+    // The simplified shader is valid WGSL.
+    let wgsl = std::fs::read_to_string(dir.join("cmp/simplified.wgsl")).unwrap();
+    reproj_front::parse_shader(Path::new("simplified.wgsl"), wgsl).unwrap();
+    let crops = image::open(dir.join("cmp/crops.png")).unwrap();
+    assert!(
+        crops.width() > 4 * crops.height() / 2,
+        "four panels side by side"
+    );
+
+    // --json prints the same document.
+    let mut json_args = args.to_vec();
+    json_args.push("--json");
+    *json_args.iter_mut().find(|a| **a == "cmp").unwrap() = "cmp2";
+    let (code, out, err) = reproj(dir, &json_args);
+    assert_eq!(code, 0, "{err}");
+    let printed: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(printed["schema"], "reproj.compare");
+}
+
+#[test]
+fn bad_compare_input_exits_2_and_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    setup(dir);
+    let cases: [&[&str]; 3] = [
+        &[
+            "compare",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "0.5",
+            "--out",
+            "o",
+        ],
+        &[
+            "compare",
+            "missing.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "2",
+            "--out",
+            "o",
+        ],
+        &[
+            "compare",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "2",
+            "--profile",
+            "nope.profile.json",
+            "--out",
+            "o",
+        ],
+    ];
+    for args in cases {
+        let (code, out, err) = reproj(dir, args);
+        assert_eq!(code, 2, "{args:?}: {out}{err}");
+        assert_eq!(
+            err.trim().lines().count(),
+            1,
+            "{args:?}: one message: {err}"
+        );
+        assert!(!dir.join("o").exists(), "{args:?} wrote output");
+    }
+}

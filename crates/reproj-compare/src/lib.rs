@@ -1,0 +1,451 @@
+//! `reproj compare`: is reprojection the right tool for this shader at all? The paper's Fig. 10
+//! compares, at equal speed, three ways to shade fewer operations per frame:
+//!
+//! - **resize** ([`resize`]): the original rendered at a reduced resolution, upsampled bilinearly
+//!   to full size; the scale is searched by measurement until the frame time meets the target;
+//! - **simplify** ([`simplify`]): Pellacini-style code simplification — greedily replace the node
+//!   whose removal costs the least error per saved time by its session mean, until the target;
+//! - **reproj** ([`reproj`]): reproj's own choice from a profile at the target speedup, rendered.
+//!
+//! Each is rendered with the replay (one renderer, no second one) and scored against the
+//! full-resolution original with the replay's metrics (L2, PSNR, ꟻLIP). [`write_outputs`] writes
+//! the JSON report (schema `reproj.compare`, `docs/SCHEMAS.md`), the chart and side-by-side crops.
+
+pub mod crops;
+pub mod reproj;
+pub mod resize;
+pub mod simplify;
+
+use std::path::{Path, PathBuf};
+
+use reproj_analyze::Progress;
+use reproj_front::{Loaded, Shader};
+use reproj_models::Profile;
+use reproj_replay::metrics::{self, PSNR_CAP};
+use reproj_replay::{Reference, RenderOptions, Renderer, Session};
+use serde::{Deserialize, Serialize};
+
+/// Schema name of a [`CompareReport`] (`compare.json`).
+pub const COMPARE_SCHEMA: &str = "reproj.compare";
+/// Version of the [`CompareReport`] schema. Bump on any incompatible change.
+pub const COMPARE_VERSION: u32 = 1;
+
+/// What can go wrong in `compare`.
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    #[error(transparent)]
+    Front(#[from] reproj_front::FrontError),
+    #[error(transparent)]
+    Instance(#[from] reproj_instance::InstanceError),
+    #[error(transparent)]
+    Replay(#[from] reproj_replay::ReplayError),
+    #[error(transparent)]
+    Analyze(#[from] reproj_analyze::AnalyzeError),
+    #[error(transparent)]
+    Write(#[from] reproj_io::WriteError),
+    #[error(transparent)]
+    Chart(#[from] reproj_charts::ChartError),
+    /// An option out of range (the target speedup, a count).
+    #[error("{0}")]
+    Options(String),
+    /// The shader has no node code simplification could replace.
+    #[error("{shader}: no cacheable f32 or vecN<f32> node to simplify")]
+    NothingToSimplify { shader: String },
+    /// The profile has no usable (node, Δn) to render.
+    #[error("{path}: the profile has no node with usable fits; reproj has nothing to compare")]
+    NoSelection { path: PathBuf },
+    /// A bug or the machine: a temporary file, an image that would not encode.
+    #[error("{what}: {message}")]
+    Internal { what: String, message: String },
+}
+
+impl CompareError {
+    /// True when the error comes from the user's input (exit code 2), false for a bug, a GPU
+    /// failure or the machine.
+    pub fn is_user_error(&self) -> bool {
+        match self {
+            CompareError::Front(e) => e.is_user_error(),
+            CompareError::Instance(e) => e.is_user_error(),
+            CompareError::Replay(e) => e.is_user_error(),
+            CompareError::Analyze(e) => e.is_user_error(),
+            CompareError::Chart(_) | CompareError::Internal { .. } => false,
+            _ => true,
+        }
+    }
+
+    /// The source diagnostic of a front-end error about a place in the shader.
+    pub fn diagnostic(&self) -> Option<&reproj_front::SourceDiagnostic> {
+        match self {
+            CompareError::Front(e) => e.diagnostic(),
+            CompareError::Instance(e) => e.diagnostic(),
+            CompareError::Analyze(e) => e.diagnostic(),
+            _ => None,
+        }
+    }
+}
+
+/// What [`compare`] works on.
+#[derive(Debug)]
+pub struct CompareInput<'a> {
+    /// The shader as loaded (normalized, its nodes enumerated); WGSL (GLSL and SPIR-V are written
+    /// as WGSL by the caller, as `analyze` does).
+    pub loaded: &'a Loaded,
+    /// Its fragment entry point's name (`None`: the only one).
+    pub entry: Option<&'a str>,
+    pub session: &'a Session,
+    /// The profile from `analyze` and its path, for reproj's own choice; `None`: compare resize
+    /// and simplification only.
+    pub profile: Option<(&'a Profile, &'a Path)>,
+}
+
+/// Options of [`compare`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompareOptions {
+    /// The speedup over the original every method aims at (> 1).
+    pub target_speedup: f64,
+    /// Render only the first N frames of the session.
+    pub max_frames: Option<u32>,
+    pub resize: resize::ResizeOptions,
+    pub simplify: simplify::SimplifyOptions,
+    /// Longest refresh period reproj may choose.
+    pub max_delta_n: u32,
+    /// ꟻLIP is computed on frames `f` with `f % stride == 0`.
+    pub perceptual_stride: u32,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        CompareOptions {
+            target_speedup: 2.0,
+            max_frames: None,
+            resize: Default::default(),
+            simplify: Default::default(),
+            max_delta_n: 50,
+            perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
+        }
+    }
+}
+
+/// The errors of one method's frames against the original.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Scores {
+    /// Mean per-pixel L2 RGB distance over all pixels and frames (the error budgets bound).
+    pub error: f64,
+    /// PSNR of the MSE pooled over the covered pixels of every frame (dB, capped at 100).
+    pub psnr: f64,
+    /// Mean ꟻLIP over the covered pixels of the frames on the perceptual stride.
+    pub flip: Option<f64>,
+}
+
+/// One method's result at (or as near as it got to) the target speedup.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MethodResult {
+    /// `resize`, `simplify` or `reproj`.
+    pub method: String,
+    /// Mean measured frame time over frames 1.., ms.
+    pub frame_ms: f64,
+    /// Original frame time / `frame_ms`, both measured in this run.
+    pub speedup: f64,
+    /// Whether `speedup` is at least the target.
+    pub reached_target: bool,
+    #[serde(flatten)]
+    pub scores: Scores,
+    /// What was chosen, in words (the scale, the removed nodes, the node and Δn).
+    pub setting: String,
+}
+
+/// `compare.json`: the comparison, as printed with `--json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CompareReport {
+    /// Always [`COMPARE_SCHEMA`].
+    pub schema: String,
+    /// [`COMPARE_VERSION`].
+    pub version: u32,
+    pub shader: String,
+    pub entry: String,
+    pub session: String,
+    /// Full resolution, `[width, height]`.
+    pub resolution: [u32; 2],
+    /// Frames rendered per replay.
+    pub frames: u32,
+    pub adapter: String,
+    /// `timestamps` or `cpu`.
+    pub timing: String,
+    pub target_speedup: f64,
+    /// The original's mean measured frame time over frames 1.., ms.
+    pub original_ms: f64,
+    /// One entry per method that ran: resize, simplify, then reproj.
+    pub methods: Vec<MethodResult>,
+    pub resize: resize::ResizeDetail,
+    pub simplify: simplify::SimplifyDetail,
+    /// `None` without a profile.
+    pub reproj: Option<reproj::ReprojDetail>,
+    /// Where the crops were taken.
+    pub crops: crops::CropRegion,
+    /// Files written, in `write_outputs` order (empty until written).
+    pub files: Vec<String>,
+}
+
+/// A finished comparison: the report and what the output files are made from.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    pub report: CompareReport,
+    /// The crop frame of each method (reference first), RGBA f32 at full resolution.
+    pub crop_frames: Vec<(String, Vec<f32>)>,
+    /// The crop frame's reference depth (covered pixels).
+    pub crop_depth: Vec<f32>,
+    /// WGSL of the final simplified shader.
+    pub simplified_wgsl: String,
+}
+
+/// Render the original, then each method at the target speedup; score each against the
+/// original.
+pub fn compare(
+    renderer: &Renderer,
+    input: &CompareInput,
+    opts: &CompareOptions,
+    progress: &dyn Progress,
+) -> Result<Comparison, CompareError> {
+    if !(opts.target_speedup.is_finite() && opts.target_speedup > 1.0) {
+        return Err(CompareError::Options(format!(
+            "the target speedup must be a number above 1, got {}",
+            opts.target_speedup
+        )));
+    }
+    if opts.perceptual_stride == 0 {
+        return Err(CompareError::Options(
+            "the perceptual stride must be at least 1".into(),
+        ));
+    }
+    let shader = &input.loaded.shader;
+    let entry = shader.fragment_entry(input.entry)?;
+    let render_opts = RenderOptions {
+        png_dir: None,
+        max_frames: opts.max_frames,
+        classify: false,
+        raw_frames: false,
+        perceptual_stride: None,
+    };
+    progress.start(
+        1 + opts.resize.tries as u64
+            + (opts.simplify.max_steps * 2 * opts.simplify.candidates) as u64
+            + u64::from(input.profile.is_some()),
+    );
+    let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
+    progress.step("original");
+    let original_ms = reference.report.frame_ms;
+    let frames = reference.frames.len() as u32;
+    let mid = (frames / 2) as usize;
+    let ctx = Ctx {
+        renderer,
+        session: input.session,
+        reference: &reference,
+        render_opts: &render_opts,
+        stride: opts.perceptual_stride,
+        target: opts.target_speedup,
+        progress,
+    };
+    let mut methods = Vec::new();
+    let mut crop_frames = vec![("reference".to_string(), reference.frames[mid].clone())];
+
+    let (resize_detail, resize_frames, resize_result) =
+        resize::resize(&ctx, shader, entry, &opts.resize)?;
+    methods.push(resize_result);
+    crop_frames.push(("resize".into(), resize_frames[mid].clone()));
+    drop(resize_frames);
+
+    let simplified = simplify::simplify(&ctx, input.loaded, &opts.simplify)?;
+    methods.push(simplified.result);
+    crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
+
+    let reproj_detail = match input.profile {
+        Some((profile, path)) => {
+            let r = reproj::reproj(&ctx, input.loaded, entry, profile, path, opts, mid as u32)?;
+            methods.push(r.result);
+            crop_frames.push(("reproj".into(), r.crop_frame));
+            Some(r.detail)
+        }
+        None => None,
+    };
+    progress.finish();
+    let [w, h] = input.session.resolution;
+    let crop_depth = reference.depth[mid].clone();
+    let region = crops::region(w, h, &crop_depth, mid as u32);
+    let report = CompareReport {
+        schema: COMPARE_SCHEMA.into(),
+        version: COMPARE_VERSION,
+        shader: shader.path.display().to_string(),
+        entry: shader.module.entry_points[entry].name.clone(),
+        session: input.session.display_name(),
+        resolution: [w, h],
+        frames,
+        adapter: reference.report.adapter.name.clone(),
+        timing: format!("{:?}", reference.report.timing).to_lowercase(),
+        target_speedup: opts.target_speedup,
+        original_ms,
+        methods,
+        resize: resize_detail,
+        simplify: simplified.detail,
+        reproj: reproj_detail,
+        crops: region,
+        files: Vec::new(),
+    };
+    Ok(Comparison {
+        report,
+        crop_frames,
+        crop_depth,
+        simplified_wgsl: simplified.wgsl,
+    })
+}
+
+/// What every method's renders share.
+pub(crate) struct Ctx<'a> {
+    pub(crate) renderer: &'a Renderer,
+    pub(crate) session: &'a Session,
+    pub(crate) reference: &'a Reference,
+    pub(crate) render_opts: &'a RenderOptions,
+    pub(crate) stride: u32,
+    pub(crate) target: f64,
+    pub(crate) progress: &'a dyn Progress,
+}
+
+impl Ctx<'_> {
+    /// Original frame time / `frame_ms` (0 when `frame_ms` is not positive).
+    pub(crate) fn speedup(&self, frame_ms: f64) -> f64 {
+        if frame_ms > 0.0 {
+            self.reference.report.frame_ms / frame_ms
+        } else {
+            0.0
+        }
+    }
+
+    /// L2 error and PSNR of `frames` (full resolution) against the reference; ꟻLIP too when
+    /// `perceptual`.
+    pub(crate) fn score(&self, frames: &[Vec<f32>], perceptual: bool) -> Scores {
+        let r = self.reference;
+        let (mut sum_error, mut sum_sq, mut covered) = (0.0, 0.0, 0u64);
+        let mut flips = Vec::new();
+        for (f, frame) in frames.iter().enumerate() {
+            let e = metrics::compare(frame, &r.frames[f], &r.depth[f]);
+            sum_error += e.error();
+            sum_sq += e.sum_sq;
+            covered += e.covered;
+            if perceptual && (f as u32).is_multiple_of(self.stride) {
+                let (p, _) = reproj_replay::perceptual::compare_perceptual(
+                    frame,
+                    &r.frames[f],
+                    &r.depth[f],
+                    r.width,
+                    r.height,
+                );
+                flips.push(p.flip);
+            }
+        }
+        let n = frames.len().max(1) as f64;
+        let psnr = metrics::psnr(metrics::mse(sum_sq, covered));
+        Scores {
+            error: sum_error / n,
+            psnr: if psnr.is_finite() { psnr } else { PSNR_CAP },
+            flip: (!flips.is_empty()).then(|| flips.iter().sum::<f64>() / flips.len() as f64),
+        }
+    }
+
+    /// Render `shader` (a module reproj wrote, as WGSL) like the original: its frames and mean
+    /// frame time.
+    pub(crate) fn render_wgsl(
+        &self,
+        name: &str,
+        wgsl: &str,
+    ) -> Result<(Vec<Vec<f32>>, f64), CompareError> {
+        let shader = reproj_front::parse_shader(Path::new(name), wgsl.to_string())?;
+        self.render_shader(&shader, 0, self.session)
+    }
+
+    pub(crate) fn render_shader(
+        &self,
+        shader: &Shader,
+        entry: usize,
+        session: &Session,
+    ) -> Result<(Vec<Vec<f32>>, f64), CompareError> {
+        let r = self
+            .renderer
+            .render_original(shader, entry, session, self.render_opts)?;
+        Ok((r.frames, r.report.frame_ms))
+    }
+}
+
+/// Write `compare.json`, the chart (`compare.svg`, `compare.png`), the crops (`crops.png`) and
+/// the simplified shader (`simplified.wgsl`) into `dir`, all or none; record them in the report.
+pub fn write_outputs(c: &mut Comparison, dir: &Path) -> Result<Vec<String>, CompareError> {
+    let r = &c.report;
+    let series = r
+        .methods
+        .iter()
+        .map(|m| {
+            let points: Vec<reproj_charts::ComparePoint> = match m.method.as_str() {
+                "resize" => r
+                    .resize
+                    .tries
+                    .iter()
+                    .map(|t| point(t.speedup, t.error))
+                    .collect(),
+                "simplify" => r
+                    .simplify
+                    .steps
+                    .iter()
+                    .map(|s| point(s.speedup, s.error))
+                    .collect(),
+                _ => vec![point(m.speedup, m.scores.error)],
+            };
+            reproj_charts::CompareSeries {
+                method: m.method.clone(),
+                points,
+            }
+        })
+        .collect();
+    let chart = reproj_charts::Compare {
+        title: format!(
+            "{}: error at equal frame time (target {:.2}×)",
+            Path::new(&r.shader)
+                .file_name()
+                .map_or_else(|| r.shader.clone(), |n| n.to_string_lossy().into_owned()),
+            r.target_speedup
+        ),
+        subtitle: format!(
+            "{} frames at {}×{}, {} ({} timing)",
+            r.frames, r.resolution[0], r.resolution[1], r.adapter, r.timing
+        ),
+        target: r.target_speedup,
+        series,
+    };
+    let (svg, png) = reproj_charts::compare_chart(&chart)?;
+    let crops = crops::crops_png(&c.crop_frames, r.resolution, &r.crops)?;
+    let names = [
+        "compare.json",
+        "compare.svg",
+        "compare.png",
+        "crops.png",
+        "simplified.wgsl",
+    ];
+    c.report.files = names
+        .iter()
+        .map(|n| dir.join(n).display().to_string())
+        .collect();
+    let mut json = serde_json::to_vec_pretty(&c.report).expect("the report serializes");
+    json.push(b'\n');
+    let files: Vec<(PathBuf, Vec<u8>)> = vec![
+        (dir.join(names[0]), json),
+        (dir.join(names[1]), svg.into_bytes()),
+        (dir.join(names[2]), png.bytes),
+        (dir.join(names[3]), crops),
+        (dir.join(names[4]), c.simplified_wgsl.clone().into_bytes()),
+    ];
+    std::fs::create_dir_all(dir)
+        .map_err(|e| CompareError::Options(format!("cannot create {}: {e}", dir.display())))?;
+    reproj_io::write_files(&files)?;
+    Ok(png.warnings)
+}
+
+fn point(speedup: f64, error: f64) -> reproj_charts::ComparePoint {
+    reproj_charts::ComparePoint { speedup, error }
+}

@@ -1,0 +1,252 @@
+//! Greedy code simplification (Pellacini 2005, as the paper's § 5.4 used it): replace the node
+//! whose removal costs the least error per saved time by a constant — its mean over the covered
+//! pixels of the session — and repeat on the simplified shader until it is fast enough.
+//!
+//! Each step renders, for each of the `candidates` nodes with the largest static saving (cost not
+//! shared with the rest of the shader, `docs/COST.md`) that are still live, the shader with that
+//! node also replaced, and measures its error. The node with the least `error / saving` is removed
+//! (ties: the larger saving, then the lower id). The saving is the static estimate — measured frame
+//! times on a shared machine are too noisy to rank candidates — but the stop is measured: the
+//! step's own render gives its frame time, and the search ends at the first step whose speedup
+//! reaches the target (or after `max_steps`, or when no candidate is left). A node's mean comes
+//! from one render of its probe ([`reproj_instance::probe`]) and is kept across steps.
+
+use std::collections::{BTreeMap, HashSet};
+
+use reproj_front::{Loaded, Node};
+use reproj_instance::{Replacement, probe, simplify as simplified_shader};
+use serde::{Deserialize, Serialize};
+
+use crate::{CompareError, Ctx, MethodResult};
+
+/// Options of the greedy search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimplifyOptions {
+    /// Nodes tried per step (those with the largest static saving).
+    pub candidates: usize,
+    /// Most nodes removed.
+    pub max_steps: usize,
+}
+
+impl Default for SimplifyOptions {
+    fn default() -> Self {
+        SimplifyOptions {
+            candidates: 6,
+            max_steps: 8,
+        }
+    }
+}
+
+/// One removed node.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimplifyStep {
+    pub node: u32,
+    pub text: String,
+    pub line: u32,
+    /// The constant it was replaced by (its first `components` values).
+    pub value: Vec<f32>,
+    /// Static saving (cost units of `docs/COST.md`).
+    pub saving: f64,
+    /// Mean per-pixel L2 error of the shader after this step.
+    pub error: f64,
+    /// Measured frame time and speedup of the shader after this step.
+    pub frame_ms: f64,
+    pub speedup: f64,
+    /// The other candidates of this step: node id and error.
+    pub rejected: Vec<(u32, f64)>,
+}
+
+/// The greedy search.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimplifyDetail {
+    pub candidates: usize,
+    pub steps: Vec<SimplifyStep>,
+}
+
+/// The result of [`simplify`].
+#[derive(Debug, Clone)]
+pub(crate) struct Simplification {
+    pub(crate) detail: SimplifyDetail,
+    pub(crate) result: MethodResult,
+    pub(crate) frames: Vec<Vec<f32>>,
+    pub(crate) wgsl: String,
+}
+
+/// Run the greedy search (see the module docs).
+pub(crate) fn simplify(
+    ctx: &Ctx,
+    loaded: &Loaded,
+    opts: &SimplifyOptions,
+) -> Result<Simplification, CompareError> {
+    let table = &loaded.table;
+    let fun = loaded.norm.function();
+    let replaceable: Vec<&Node> = table
+        .cacheable()
+        .filter(|n| !n.root && (1..=4).contains(&n.components))
+        .filter(|n| probe(&loaded.norm, table, n.id).is_ok())
+        .collect();
+    if replaceable.is_empty() {
+        return Err(CompareError::NothingToSimplify {
+            shader: table.shader.clone(),
+        });
+    }
+    let mut means: BTreeMap<u32, [f32; 4]> = BTreeMap::new();
+    let mut removed: Vec<Replacement> = Vec::new();
+    let mut dead: HashSet<naga::Handle<naga::Expression>> = HashSet::new();
+    let mut steps: Vec<SimplifyStep> = Vec::new();
+    let mut last: Option<(Vec<Vec<f32>>, String, f64)> = None;
+    for _ in 0..opts.max_steps.max(1) {
+        let mut pool: Vec<&Node> = replaceable
+            .iter()
+            .copied()
+            .filter(|n| !removed.iter().any(|r| r.node == n.id))
+            .filter(|n| !n.handle.is_some_and(|h| dead.contains(&h)))
+            .collect();
+        pool.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
+        pool.retain(|n| saving(n) > 0.0);
+        pool.truncate(opts.candidates.max(1));
+        if pool.is_empty() {
+            break;
+        }
+        let mut tried: Vec<Tried> = Vec::new();
+        for node in pool {
+            let value = match means.get(&node.id) {
+                Some(v) => *v,
+                None => {
+                    let v = node_mean(ctx, loaded, node)?;
+                    means.insert(node.id, v);
+                    v
+                }
+            };
+            let mut replace = removed.clone();
+            replace.push(Replacement {
+                node: node.id,
+                value,
+            });
+            let s = simplified_shader(
+                &loaded.norm,
+                table,
+                &reproj_instance::SimplifyOptions {
+                    replace: replace.clone(),
+                },
+            )?;
+            let (frames, frame_ms) = ctx.render_wgsl("simplified.wgsl", &s.wgsl)?;
+            let error = ctx.score(&frames, false).error;
+            ctx.progress
+                .step(&format!("simplify: node {} error {error:.5}", node.id));
+            tried.push(Tried {
+                node,
+                value,
+                error,
+                frame_ms,
+                frames,
+                wgsl: s.wgsl,
+            });
+        }
+        let best = pick(&tried);
+        let chosen = tried.swap_remove(best);
+        let rejected = tried.iter().map(|t| (t.node.id, t.error)).collect();
+        let speedup = ctx.speedup(chosen.frame_ms);
+        let node = chosen.node;
+        if let Some(h) = node.handle {
+            dead.extend(reproj_front::nodes::subtree(fun, h));
+        }
+        removed.push(Replacement {
+            node: node.id,
+            value: chosen.value,
+        });
+        steps.push(SimplifyStep {
+            node: node.id,
+            text: node.text.clone(),
+            line: node.line,
+            value: chosen.value[..node.components as usize].to_vec(),
+            saving: saving(node),
+            error: chosen.error,
+            frame_ms: chosen.frame_ms,
+            speedup,
+            rejected,
+        });
+        last = Some((chosen.frames, chosen.wgsl, chosen.frame_ms));
+        if speedup >= ctx.target {
+            break;
+        }
+    }
+    let (frames, wgsl, frame_ms) = last.ok_or_else(|| CompareError::NothingToSimplify {
+        shader: table.shader.clone(),
+    })?;
+    let speedup = ctx.speedup(frame_ms);
+    let scores = ctx.score(&frames, true);
+    let result = MethodResult {
+        method: "simplify".into(),
+        frame_ms,
+        speedup,
+        reached_target: speedup >= ctx.target,
+        scores,
+        setting: format!(
+            "{} node(s) replaced by their session mean: {}",
+            steps.len(),
+            steps
+                .iter()
+                .map(|s| s.node.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
+    Ok(Simplification {
+        detail: SimplifyDetail {
+            candidates: opts.candidates,
+            steps,
+        },
+        result,
+        frames,
+        wgsl,
+    })
+}
+
+/// One candidate of a step, rendered.
+struct Tried<'a> {
+    node: &'a Node,
+    value: [f32; 4],
+    error: f64,
+    frame_ms: f64,
+    frames: Vec<Vec<f32>>,
+    wgsl: String,
+}
+
+/// The candidate with the least error per saved cost; ties: larger saving, then lower id.
+fn pick(tried: &[Tried]) -> usize {
+    let key = |t: &Tried| (t.error / saving(t.node), saving(t.node), t.node.id);
+    (0..tried.len())
+        .min_by(|&a, &b| {
+            let (ka, kb) = (key(&tried[a]), key(&tried[b]));
+            ka.0.total_cmp(&kb.0)
+                .then(kb.1.total_cmp(&ka.1))
+                .then(ka.2.cmp(&kb.2))
+        })
+        .expect("at least one candidate")
+}
+
+/// Static saving of replacing `node`: its cost not shared with the rest of the shader.
+pub fn saving(node: &Node) -> f64 {
+    (node.cost - node.overlap).max(0.0)
+}
+
+/// The node's mean over the covered pixels of every rendered frame, from one render of its probe.
+fn node_mean(ctx: &Ctx, loaded: &Loaded, node: &Node) -> Result<[f32; 4], CompareError> {
+    let p = probe(&loaded.norm, &loaded.table, node.id)?;
+    let (frames, _) = ctx.render_wgsl(&format!("probe_node_{}.wgsl", node.id), &p.wgsl)?;
+    let mut sum = [0.0f64; 4];
+    let mut n = 0u64;
+    for (f, frame) in frames.iter().enumerate() {
+        for (px, &depth) in frame.chunks_exact(4).zip(&ctx.reference.depth[f]) {
+            if depth < 1.0 {
+                for c in 0..4 {
+                    sum[c] += f64::from(px[c]);
+                }
+                n += 1;
+            }
+        }
+    }
+    let n = n.max(1) as f64;
+    Ok(sum.map(|s| (s / n) as f32))
+}

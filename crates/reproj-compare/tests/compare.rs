@@ -1,0 +1,75 @@
+//! The comparison on lavapipe over a tiny session: greedy simplification removes the node that
+//! costs the least error per saved time first, resizing searches a scale, every number is finite.
+
+use std::path::PathBuf;
+
+use reproj_analyze::Silent;
+use reproj_compare::{CompareInput, CompareOptions, compare, simplify::SimplifyOptions};
+use reproj_front::{LoadOptions, load};
+use reproj_replay::{Renderer, RendererOptions, Session};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn simplification_removes_the_least_error_node_first() {
+    let loaded = load(
+        &root().join("crates/reproj-compare/tests/data/flat_and_stripes.wgsl"),
+        None,
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let session =
+        Session::load(root().join("crates/reproj-replay/tests/data/tiny_moving.json")).unwrap();
+    let renderer = Renderer::new(&RendererOptions::default()).unwrap();
+    let input = CompareInput {
+        loaded: &loaded,
+        entry: None,
+        session: &session,
+        profile: None,
+    };
+    let opts = CompareOptions {
+        // Out of reach: the search takes its two steps.
+        target_speedup: 1000.0,
+        max_frames: Some(4),
+        simplify: SimplifyOptions {
+            candidates: 10,
+            max_steps: 2,
+        },
+        perceptual_stride: 2,
+        ..Default::default()
+    };
+    let c = compare(&renderer, &input, &opts, &Silent).unwrap();
+    let steps = &c.report.simplify.steps;
+    assert_eq!(steps.len(), 2, "{steps:#?}");
+    let first = &steps[0];
+    // A uniform-only term: the same value everywhere, so no error for its saving.
+    assert!(first.text.contains("g * 1.3"), "{first:#?}");
+    for varying in ["world_pos", "uv", "stripes", "tex"] {
+        assert!(!first.text.contains(varying), "{first:#?}");
+    }
+    assert!(first.error < 1e-6, "{first:#?}");
+    // It was chosen over candidates that do cost error.
+    assert!(first.rejected.iter().any(|&(_, e)| e > 1e-3), "{first:#?}");
+    // Its subtree is gone from the candidates of the next step.
+    assert_ne!(steps[1].node, first.node);
+    assert!(steps[1].error >= first.error);
+
+    let methods: Vec<&str> = c.report.methods.iter().map(|m| m.method.as_str()).collect();
+    assert_eq!(methods, ["resize", "simplify"]);
+    for m in &c.report.methods {
+        assert!(m.speedup.is_finite() && m.speedup > 0.0, "{m:?}");
+        assert!(
+            m.scores.error.is_finite() && m.scores.psnr.is_finite(),
+            "{m:?}"
+        );
+        assert!(m.scores.flip.is_some_and(f64::is_finite), "{m:?}");
+        assert!(!m.reached_target);
+    }
+    let resize = &c.report.resize;
+    assert!(!resize.tries.is_empty() && resize.chosen < resize.tries.len());
+    // Resized frames lose detail: some error.
+    assert!(c.report.methods[0].scores.error > 0.0);
+    assert_eq!(c.crop_frames.len(), 3);
+}
