@@ -10,7 +10,7 @@
 //! trips allowed: naga folds the constants on parsing, which can cascade).
 
 use naga::Module;
-use reproj_front::rebuild::{Constant, Rewrite, rebuild_live};
+use reproj_front::rebuild::{Constant, Rewrite, Slot, rebuild_live};
 use reproj_front::{Node, NodeTable, Normalized};
 
 use crate::{InstanceError, NodeSelector, PassKind, finish_module, pick, recompute_pass, vec_type};
@@ -86,7 +86,7 @@ pub fn probe(norm: &Normalized, table: &NodeTable, id: u32) -> Result<Simplified
     let target = node
         .handle
         .expect("nodes from enumerate carry their handle");
-    let pass = recompute_pass(norm, target, node.components)?;
+    let pass = recompute_pass(norm, &Slot::pack(&[(target, node.components)]))?;
     debug_assert_eq!(pass.kind, PassKind::Recompute);
     Ok(Simplified {
         module: pass.module,

@@ -29,14 +29,19 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     if args.max_frames == Some(0) {
         return Err(UserError("--max-frames must be at least 1".into()).into());
     }
-    let mut loaded = super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in)?;
-    // The replay renders WGSL: a GLSL or SPIR-V shader is compared as naga's WGSL of it.
-    loaded.shader = loaded.shader.to_wgsl()?;
-    let session = Session::load(&args.session)?;
     let profile = match &args.profile {
         Some(p) => Some((load_profile(p)?, p.clone())),
         None => None,
     };
+    // Node ids are those of the profile's node table: the loops it unrolled are unrolled here.
+    let unroll = crate::UnrollArg {
+        unroll: profile.as_ref().map_or(0, |(p, _)| p.unroll),
+    };
+    let mut loaded =
+        super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in, &unroll)?;
+    // The replay renders WGSL: a GLSL or SPIR-V shader is compared as naga's WGSL of it.
+    loaded.shader = loaded.shader.to_wgsl()?;
+    let session = Session::load(&args.session)?;
     let stem = args
         .shader
         .file_stem()
