@@ -106,7 +106,13 @@ impl Assets {
         spec: &TextureSpec,
         dim: TexDim,
     ) -> Result<wgpu::TextureView, ReplayError> {
-        let files = spec.file.is_some() || spec.faces.is_some();
+        let files = spec.file.is_some()
+            || spec.faces.is_some()
+            || spec
+                .layers
+                .iter()
+                .flatten()
+                .any(|l| l.file.is_some() || l.faces.is_some());
         let k = key(spec, &format!("{dim:?}"), files, session);
         let mut cache = self.textures.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(v) = cache.get(&k) {

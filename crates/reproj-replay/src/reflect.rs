@@ -30,9 +30,13 @@ pub enum ScalarTy {
     U32,
 }
 
-/// A uniform struct member (a field the replay fills by name).
+/// A leaf of a uniform (or storage) buffer: a scalar, vector or matrix, or a fixed-size array of
+/// them, which the replay fills by name.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UniformField {
+    /// The leaf's path from the buffer's struct: a member name (`shininess`), members of nested
+    /// structs joined by dots (`sun.color`), elements of arrays of structs indexed
+    /// (`lights[2].position`).
     pub name: String,
     /// Byte offset within the buffer.
     pub offset: u32,
@@ -83,10 +87,70 @@ impl UniformField {
     }
 }
 
+/// A read-only storage buffer's layout: its fixed leaves and, when it ends in a runtime-sized
+/// array, where that array lies and the leaves of one element. The element count comes from the
+/// session ([`StorageLayout::with_len`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StorageLayout {
+    /// naga's size of the buffer's type (with one element of a runtime-sized array).
+    pub size: u32,
+    /// The leaves outside the runtime-sized array.
+    pub fields: Vec<UniformField>,
+    pub runtime: Option<RuntimeArray>,
+}
+
+/// The runtime-sized array a storage buffer ends with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RuntimeArray {
+    /// Its path in the buffer (`lights`; empty when the buffer is the array).
+    pub name: String,
+    pub offset: u32,
+    pub stride: u32,
+    /// The leaves of element 0, named from the element (`position`, `color`); one leaf with an
+    /// empty name when the element is a scalar, vector or matrix.
+    pub element: Vec<UniformField>,
+}
+
+impl StorageLayout {
+    /// The buffer's size and leaves with `n` elements in its runtime-sized array: the elements of
+    /// an array of structs are leaves `lights[i].position`, an array of scalars, vectors or
+    /// matrices is one leaf of `n` elements.
+    pub fn with_len(&self, n: u32) -> (u32, Vec<UniformField>) {
+        let mut fields = self.fields.clone();
+        let Some(rt) = &self.runtime else {
+            return (self.size, fields);
+        };
+        match rt.element.as_slice() {
+            [one] if one.name.is_empty() => fields.push(UniformField {
+                name: rt.name.clone(),
+                offset: rt.offset,
+                count: n,
+                stride: rt.stride,
+                ..one.clone()
+            }),
+            element => {
+                for i in 0..n {
+                    for e in element {
+                        fields.push(UniformField {
+                            name: format!("{}[{i}].{}", rt.name, e.name),
+                            offset: rt.offset + i * rt.stride + e.offset,
+                            ..e.clone()
+                        });
+                    }
+                }
+            }
+        }
+        let size = self.size.max(rt.offset + n * rt.stride);
+        (size.next_multiple_of(4), fields)
+    }
+}
+
 /// Texture dimensionality the replay can provide.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TexDim {
     D2,
+    /// `texture_2d_array`: layers of 2D images of one size.
+    D2Array,
     D3,
     Cube,
 }
@@ -100,7 +164,10 @@ pub enum ResourceKind {
         size: u32,
         fields: Vec<UniformField>,
     },
-    /// A float texture (`texture_2d<f32>`, `texture_cube<f32>`, `texture_3d<f32>`).
+    /// `var<storage, read>`: filled from the session's `buffers` by the variable's name.
+    Storage(StorageLayout),
+    /// A float texture (`texture_2d<f32>`, `texture_2d_array<f32>`, `texture_cube<f32>`,
+    /// `texture_3d<f32>`).
     Texture {
         dim: TexDim,
     },
@@ -109,8 +176,8 @@ pub enum ResourceKind {
     Sampler {
         comparison: bool,
     },
-    /// Something the replay cannot provide (storage buffers, storage or integer textures, arrays,
-    /// multisampled textures). The string says what.
+    /// Something the replay cannot provide (read-write storage buffers, storage or integer
+    /// textures, arrays of textures, multisampled textures). The string says what.
     Unsupported(String),
 }
 
@@ -241,6 +308,48 @@ fn collect_input(
     }
 }
 
+/// The leaves of a value of type `ty` at byte `offset` called `name`, appended to `out`: structs
+/// and fixed-size arrays of structs are walked (offsets from naga's layouter and the members'
+/// own offsets, so the WGSL uniform and storage layout rules hold), everything else is one leaf.
+fn uniform_leaves(
+    module: &Module,
+    layouter: &Layouter,
+    name: &str,
+    ty: Handle<naga::Type>,
+    offset: u32,
+    out: &mut Vec<UniformField>,
+) -> Result<(), String> {
+    match module.types[ty].inner {
+        TypeInner::Struct { ref members, .. } => {
+            for m in members {
+                let mname = m.name.clone().unwrap_or_default();
+                let path = if name.is_empty() {
+                    mname
+                } else {
+                    format!("{name}.{mname}")
+                };
+                uniform_leaves(module, layouter, &path, m.ty, offset + m.offset, out)?;
+            }
+            Ok(())
+        }
+        TypeInner::Array {
+            base,
+            size: ArraySize::Constant(n),
+            stride,
+        } if matches!(module.types[base].inner, TypeInner::Struct { .. }) => {
+            for i in 0..n.get() {
+                let path = format!("{name}[{i}]");
+                uniform_leaves(module, layouter, &path, base, offset + i * stride, out)?;
+            }
+            Ok(())
+        }
+        _ => {
+            out.push(uniform_leaf(module, layouter, name, ty, offset)?);
+            Ok(())
+        }
+    }
+}
+
 fn uniform_leaf(
     module: &Module,
     layouter: &Layouter,
@@ -308,6 +417,56 @@ fn uniform_leaf(
         });
     }
     Err(bad())
+}
+
+/// The layout of a read-only storage buffer of type `ty`.
+fn storage_layout(
+    module: &Module,
+    layouter: &Layouter,
+    ty: Handle<naga::Type>,
+) -> Result<StorageLayout, String> {
+    let size = layouter[ty].size;
+    let runtime_of = |name: &str, ty: Handle<naga::Type>, offset: u32| -> Result<_, String> {
+        let TypeInner::Array {
+            base,
+            size: ArraySize::Dynamic,
+            stride,
+        } = module.types[ty].inner
+        else {
+            return Ok(None);
+        };
+        let mut element = Vec::new();
+        uniform_leaves(module, layouter, "", base, 0, &mut element)?;
+        Ok(Some(RuntimeArray {
+            name: name.to_owned(),
+            offset,
+            stride,
+            element,
+        }))
+    };
+    let mut fields = Vec::new();
+    let mut runtime = runtime_of("", ty, 0)?;
+    if runtime.is_none() {
+        match &module.types[ty].inner {
+            TypeInner::Struct { members, .. } => {
+                for m in members {
+                    let mname = m.name.clone().unwrap_or_default();
+                    match runtime_of(&mname, m.ty, m.offset)? {
+                        Some(rt) => runtime = Some(rt),
+                        None => {
+                            uniform_leaves(module, layouter, &mname, m.ty, m.offset, &mut fields)?
+                        }
+                    }
+                }
+            }
+            _ => uniform_leaves(module, layouter, "", ty, 0, &mut fields)?,
+        }
+    }
+    Ok(StorageLayout {
+        size,
+        fields,
+        runtime,
+    })
 }
 
 /// Reflect the fragment entry point `entry_index` of a validated module.
@@ -395,32 +554,18 @@ pub fn reflect(
         let kind = match gv.space {
             AddressSpace::Uniform => {
                 let size = layouter[gv.ty].size;
-                match inner {
-                    TypeInner::Struct { members, .. } => {
-                        let mut fields = Vec::new();
-                        let mut err = None;
-                        for m in members {
-                            let mname = m.name.clone().unwrap_or_default();
-                            match uniform_leaf(module, &layouter, &mname, m.ty, m.offset) {
-                                Ok(f) => fields.push(f),
-                                Err(e) => {
-                                    err = Some(e);
-                                    break;
-                                }
-                            }
-                        }
-                        match err {
-                            Some(e) => ResourceKind::Unsupported(format!("`{name}`: {e}")),
-                            None => ResourceKind::Uniform { size, fields },
-                        }
+                // A struct's leaves are named from its members; a plain value by the variable.
+                let root = match inner {
+                    TypeInner::Struct { .. } => "",
+                    _ => name.as_str(),
+                };
+                let mut fields = Vec::new();
+                match uniform_leaves(module, &layouter, root, gv.ty, 0, &mut fields) {
+                    Ok(()) => ResourceKind::Uniform { size, fields },
+                    Err(e) if root.is_empty() => {
+                        ResourceKind::Unsupported(format!("`{name}`: {e}"))
                     }
-                    _ => match uniform_leaf(module, &layouter, &name, gv.ty, 0) {
-                        Ok(f) => ResourceKind::Uniform {
-                            size,
-                            fields: vec![f],
-                        },
-                        Err(e) => ResourceKind::Unsupported(e),
-                    },
+                    Err(e) => ResourceKind::Unsupported(e),
                 }
             }
             AddressSpace::Handle => match *inner {
@@ -431,6 +576,7 @@ pub fn reflect(
                 } => {
                     let d = match (dim, arrayed) {
                         (ImageDimension::D2, false) => Some(TexDim::D2),
+                        (ImageDimension::D2, true) => Some(TexDim::D2Array),
                         (ImageDimension::D3, false) => Some(TexDim::D3),
                         (ImageDimension::Cube, false) => Some(TexDim::Cube),
                         _ => None,
@@ -447,7 +593,7 @@ pub fn reflect(
                             ResourceKind::DepthTexture
                         }
                         _ => ResourceKind::Unsupported(format!(
-                            "texture `{name}` ({}): the replay provides float 2D, 3D and cube textures only",
+                            "texture `{name}` ({}): the replay provides float 2D, 2D-array, 3D and cube textures and 2D depth textures only",
                             type_text(module, gv.ty)
                         )),
                     }
@@ -458,9 +604,15 @@ pub fn reflect(
                     type_text(module, gv.ty)
                 )),
             },
-            AddressSpace::Storage { .. } => ResourceKind::Unsupported(format!(
-                "storage buffer `{name}`: the replay provides no storage buffers"
-            )),
+            AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => {
+                ResourceKind::Unsupported(format!(
+                    "storage buffer `{name}` is read_write: the replay provides read-only storage buffers"
+                ))
+            }
+            AddressSpace::Storage { .. } => match storage_layout(module, &layouter, gv.ty) {
+                Ok(layout) => ResourceKind::Storage(layout),
+                Err(e) => ResourceKind::Unsupported(format!("storage buffer `{name}`: {e}")),
+            },
             _ => continue,
         };
         resources.push(Resource {

@@ -7,27 +7,46 @@
 //! camera and object matrices from [`Session::frame_state`], the uniform layouts from
 //! [`crate::reflect::reflect`].
 //!
-//! A uniform field is filled by name: from the session's `uniforms` when it has the name, else
-//! automatically for the names in [`AUTOMATIC_FIELDS`] (`camera_pos`: the camera's eye;
+//! A uniform field is filled by name: from the session's `uniforms` when it has the name (a
+//! member of a nested struct by its path, `sun.color` from `{"sun": {"color": ...}}`), else
+//! automatically by its member name for the names in [`AUTOMATIC_FIELDS`] (`camera_pos`: the camera's eye;
 //! `light_pos`; `time`: seconds since frame 0; `frame`: the frame index; `resolution`: width and
-//! height in pixels; vectors wider than the value are padded with 0, and a 4th component of 1 for
-//! positions), else with zeros. Fields whose name starts with `_` are padding.
+//! height in pixels; `view_proj` and `inv_view_proj`: the camera's view-projection and its inverse;
+//! vectors wider than the value are padded with 0, and a 4th component of 1 for positions), else
+//! with zeros. Fields whose name starts with `_` are padding.
 
-use crate::reflect::UniformField;
-use crate::session::{FrameState, Session};
+use crate::reflect::{StorageLayout, UniformField};
+use crate::session::{FrameState, Session, UniformValue, path_steps};
 
 /// Uniform field names filled from the scene when the session's `uniforms` does not give them.
-pub const AUTOMATIC_FIELDS: [&str; 5] = ["camera_pos", "light_pos", "time", "frame", "resolution"];
+pub const AUTOMATIC_FIELDS: [&str; 7] = [
+    "camera_pos",
+    "light_pos",
+    "time",
+    "frame",
+    "resolution",
+    "view_proj",
+    "inv_view_proj",
+];
 
-/// Whether the session must provide field `name` in its `uniforms` (it is neither padding nor
-/// one of the [`AUTOMATIC_FIELDS`]).
+/// The last member name of a leaf path (`color` of `sun.color`, `position` of
+/// `lights[2].position`): what padding and the [`AUTOMATIC_FIELDS`] are recognized by.
+fn member_name(path: &str) -> &str {
+    let last = path.rsplit('.').next().unwrap_or(path);
+    last.split('[').next().unwrap_or(last)
+}
+
+/// Whether the session must provide field `name` (a leaf path, see
+/// [`crate::reflect::UniformField::name`]) in its `uniforms`: its member name is neither padding
+/// nor one of the [`AUTOMATIC_FIELDS`].
 pub fn session_must_provide(name: &str) -> bool {
-    !name.starts_with('_') && !AUTOMATIC_FIELDS.contains(&name)
+    let m = member_name(name);
+    !m.starts_with('_') && !AUTOMATIC_FIELDS.contains(&m)
 }
 
 /// The values (column-major, arrays flattened) of uniform field `field` on the frame `state`.
 pub fn field_values(session: &Session, state: &FrameState, field: &UniformField) -> Vec<f64> {
-    if let Some(v) = session.uniforms.get(&field.name) {
+    if let Some(v) = session.uniform(&field.name) {
         return v.at(state.frame as f32);
     }
     let pad = |mut v: Vec<f64>, w: f64| {
@@ -36,11 +55,24 @@ pub fn field_values(session: &Session, state: &FrameState, field: &UniformField)
         }
         v
     };
-    match field.name.as_str() {
+    match member_name(&field.name) {
         "camera_pos" => pad(state.camera.eye.to_array().map(f64::from).to_vec(), 1.0),
         "light_pos" => pad(state.light_pos.to_array().map(f64::from).to_vec(), 1.0),
         "time" => pad(vec![f64::from(state.time)], 0.0),
         "frame" => pad(vec![f64::from(state.frame)], 0.0),
+        "view_proj" => state
+            .camera
+            .view_proj
+            .to_cols_array()
+            .map(f64::from)
+            .to_vec(),
+        "inv_view_proj" => state
+            .camera
+            .view_proj
+            .inverse()
+            .to_cols_array()
+            .map(f64::from)
+            .to_vec(),
         "resolution" => pad(
             vec![
                 f64::from(session.resolution[0]),
@@ -50,6 +82,87 @@ pub fn field_values(session: &Session, state: &FrameState, field: &UniformField)
         ),
         _ => vec![0.0; field.len()],
     }
+}
+
+/// The session's value of storage buffer `buffer`'s leaf `leaf` (a path below the buffer).
+fn storage_value<'a>(session: &'a Session, buffer: &str, leaf: &str) -> Option<&'a UniformValue> {
+    session.buffers.get(buffer)?.lookup(&path_steps(leaf))
+}
+
+/// The size and leaves of storage buffer `buffer` (laid out as `layout`) for the session's
+/// contents: a runtime-sized array gets as many elements as the session's list has. The error
+/// names every leaf the session does not give, or gives with the wrong number of values.
+pub fn storage_fields(
+    session: &Session,
+    buffer: &str,
+    layout: &StorageLayout,
+) -> Result<(u32, Vec<UniformField>), String> {
+    let n = match &layout.runtime {
+        None => 0,
+        Some(rt) => match storage_value(session, buffer, &rt.name) {
+            Some(UniformValue::Array(items)) => items.len() as u32,
+            Some(v) if v.is_leaf() => {
+                let per = rt.element.first().map_or(1, UniformField::len).max(1);
+                (v.len() / per) as u32
+            }
+            _ => {
+                return Err(format!(
+                    "storage buffer `{buffer}`: the session gives no list for its runtime-sized array `{}`",
+                    if rt.name.is_empty() { buffer } else { &rt.name }
+                ));
+            }
+        },
+    };
+    let (size, fields) = layout.with_len(n);
+    let mut bad = Vec::new();
+    for f in &fields {
+        if f.name
+            .rsplit('.')
+            .next()
+            .is_some_and(|m| m.starts_with('_'))
+        {
+            continue;
+        }
+        let shown = if f.name.is_empty() { buffer } else { &f.name };
+        match storage_value(session, buffer, &f.name) {
+            None => bad.push(format!("`{shown}` ({}) is missing", f.ty)),
+            Some(v) if !v.is_leaf() || v.len() != f.len() => bad.push(format!(
+                "`{shown}` is {} ({} values) but the session gives {}",
+                f.ty,
+                f.len(),
+                if v.is_leaf() {
+                    format!("{} values", v.len())
+                } else {
+                    "an object or a list of objects".into()
+                }
+            )),
+            Some(_) => {}
+        }
+    }
+    if bad.is_empty() {
+        Ok((size, fields))
+    } else {
+        Err(format!("storage buffer `{buffer}`: {}", bad.join(", ")))
+    }
+}
+
+/// The contents of storage buffer `buffer` of `size` bytes with `fields` (from
+/// [`storage_fields`]) on the frame `state`.
+pub fn storage_bytes(
+    session: &Session,
+    state: &FrameState,
+    buffer: &str,
+    size: u32,
+    fields: &[UniformField],
+) -> Vec<u8> {
+    let mut bytes = vec![0u8; size.max(16) as usize];
+    for f in fields {
+        let values = storage_value(session, buffer, &f.name)
+            .map(|v| v.at(state.frame as f32))
+            .unwrap_or_default();
+        f.write(&mut bytes, &values);
+    }
+    bytes
 }
 
 /// The contents of a uniform buffer of `size` bytes (at least 16) with `fields` on the frame

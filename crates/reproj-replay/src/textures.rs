@@ -1,5 +1,5 @@
 //! Texture data: generated (noise, normal map, environment, checker, solid) or read from image
-//! files, with CPU mip chains. Uploading is in `assets.rs`.
+//! files, 2D arrays assembled from layers of either, with CPU mip chains. Uploading is in `assets.rs`.
 
 use glam::{Vec3, Vec4};
 
@@ -7,13 +7,13 @@ use crate::reflect::TexDim;
 use crate::session::{Session, TexFormat, TextureKind, TextureSpec};
 
 /// Texel data of one texture, f32 RGBA, all mip levels; each level holds `layers` images (6 for a
-/// cube, 1 otherwise) or, for 3D, `depth` slices.
+/// cube, the layer count for a 2D array, 1 otherwise) or, for 3D, `depth` slices.
 #[derive(Debug, Clone)]
 pub struct TextureData {
     pub dim: TexDim,
     pub width: u32,
     pub height: u32,
-    /// Cube: 6; 2D: 1; 3D: depth.
+    /// Cube: 6; 2D array: its layers; 2D: 1; 3D: depth.
     pub layers: u32,
     pub format: TexFormat,
     /// `levels[m]` = texels of mip m, layer-major then row-major.
@@ -203,6 +203,81 @@ pub fn build(
     spec: &TextureSpec,
     dim: TexDim,
 ) -> Result<TextureData, String> {
+    match (&spec.layers, dim) {
+        (Some(layers), TexDim::D2Array) => build_array(session, name, spec, layers),
+        (Some(_), _) => Err(format!(
+            "texture `{name}` gives `layers`, which fill a texture_2d_array, but the shader's texture is {}",
+            dim_text(dim)
+        )),
+        (None, TexDim::D2Array) => Err(format!(
+            "texture `{name}` is a texture_2d_array; give its images in `layers` (a list of texture specs)"
+        )),
+        (None, _) => build_single(session, name, spec, dim),
+    }
+}
+
+fn dim_text(dim: TexDim) -> &'static str {
+    match dim {
+        TexDim::D2 => "a texture_2d",
+        TexDim::D2Array => "a texture_2d_array",
+        TexDim::D3 => "a texture_3d",
+        TexDim::Cube => "a texture_cube",
+    }
+}
+
+/// A `texture_2d_array` from its layers: each built as a 2D texture without mips, all of one
+/// size and format (the array's `format`, when given, applies to every layer), then the array's
+/// mip chain.
+fn build_array(
+    session: &Session,
+    name: &str,
+    spec: &TextureSpec,
+    layers: &[TextureSpec],
+) -> Result<TextureData, String> {
+    let mut out: Option<TextureData> = None;
+    for (i, layer) in layers.iter().enumerate() {
+        let mut layer = layer.clone();
+        layer.mipmaps = false;
+        if spec.format.is_some() {
+            layer.format = spec.format;
+        }
+        let lname = format!("{name}.layers[{i}]");
+        let d = build_single(session, &lname, &layer, TexDim::D2)?;
+        match &mut out {
+            None => out = Some(d),
+            Some(o) => {
+                if (d.width, d.height) != (o.width, o.height) {
+                    return Err(format!(
+                        "texture `{lname}` is {}×{}, layer 0 is {}×{}: the layers of an array need one size",
+                        d.width, d.height, o.width, o.height
+                    ));
+                }
+                if d.format != o.format {
+                    return Err(format!(
+                        "texture `{lname}` has format {:?}, layer 0 {:?}: give the array one `format`",
+                        d.format, o.format
+                    ));
+                }
+                o.levels[0].extend_from_slice(&d.levels[0]);
+                o.layers += 1;
+            }
+        }
+    }
+    let mut data = out.ok_or_else(|| format!("texture `{name}` has no layers"))?;
+    data.dim = TexDim::D2Array;
+    if spec.mipmaps {
+        data.build_mips();
+    }
+    Ok(data)
+}
+
+/// Build one texture that is not an array.
+fn build_single(
+    session: &Session,
+    name: &str,
+    spec: &TextureSpec,
+    dim: TexDim,
+) -> Result<TextureData, String> {
     let p = &spec.params;
     let size = spec.size;
     let mut data = if let Some(kind) = spec.kind {
@@ -252,6 +327,11 @@ pub fn build(
                     format,
                     levels: vec![texels],
                 }
+            }
+            (_, TexDim::D2Array) => {
+                return Err(format!(
+                    "texture `{name}` is a texture_2d_array; give its images in `layers`"
+                ));
             }
             (_, TexDim::Cube) => {
                 return Err(format!(
@@ -370,9 +450,10 @@ pub fn build(
             _ => return Err(format!("texture `{name}` has neither `kind` nor `file`")),
         };
         let expect = if dim == TexDim::Cube { 6 } else { 1 };
-        if dim == TexDim::D3 {
+        if matches!(dim, TexDim::D3 | TexDim::D2Array) {
             return Err(format!(
-                "texture `{name}` is a texture_3d; image files make 2D or cube textures"
+                "texture `{name}` is {}; image files make 2D or cube textures",
+                dim_text(dim)
             ));
         }
         if files.len() != expect {

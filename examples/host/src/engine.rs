@@ -272,7 +272,7 @@ impl Engine {
                 ResourceKind::Uniform { size, fields } => {
                     for f in fields {
                         if scene::session_must_provide(&f.name)
-                            && !session.uniforms.contains_key(&f.name)
+                            && session.uniform(&f.name).is_none()
                         {
                             missing.push(format!("uniform field `{}`", f.name));
                         }
@@ -432,6 +432,7 @@ impl Engine {
         Ok(tex.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(match dim {
                 TexDim::D2 => wgpu::TextureViewDimension::D2,
+                TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
                 TexDim::D3 => wgpu::TextureViewDimension::D3,
                 TexDim::Cube => wgpu::TextureViewDimension::Cube,
             }),
@@ -697,6 +698,7 @@ impl Original {
                         sample_type: wgpu::TextureSampleType::Float { filterable: true },
                         view_dimension: match dim {
                             TexDim::D2 => wgpu::TextureViewDimension::D2,
+                            TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
                             TexDim::D3 => wgpu::TextureViewDimension::D3,
                             TexDim::Cube => wgpu::TextureViewDimension::Cube,
                         },

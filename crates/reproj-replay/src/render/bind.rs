@@ -37,6 +37,7 @@ pub(super) struct Bindings {
 pub(crate) fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
     match d {
         TexDim::D2 => wgpu::TextureViewDimension::D2,
+        TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
         TexDim::D3 => wgpu::TextureViewDimension::D3,
         TexDim::Cube => wgpu::TextureViewDimension::Cube,
     }
@@ -121,6 +122,21 @@ impl Renderer {
                             buf.as_entire_binding(),
                         )
                     }
+                    ResourceKind::Storage(_) => {
+                        let buf = &scene
+                            .storage
+                            .get(&r.name)
+                            .ok_or_else(|| missing("storage buffer"))?
+                            .0;
+                        (
+                            wgpu::BindingType::Buffer {
+                                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                                has_dynamic_offset: false,
+                                min_binding_size: None,
+                            },
+                            buf.as_entire_binding(),
+                        )
+                    }
                     ResourceKind::Texture { dim } => {
                         let view = if in_added {
                             match (r.name.as_str(), added) {
@@ -156,6 +172,13 @@ impl Renderer {
                             (contract::PREV_DEPTH, Some(a)) if in_added => a
                                 .prev_depth_buffer
                                 .ok_or_else(|| missing("depth texture"))?,
+                            _ if !in_added => {
+                                &scene
+                                    .depth
+                                    .get(&r.name)
+                                    .ok_or_else(|| missing("depth texture"))?
+                                    .view
+                            }
                             _ => return Err(missing("depth texture")),
                         };
                         (
@@ -182,13 +205,17 @@ impl Renderer {
                             wgpu::BindingResource::Sampler(s),
                         )
                     }
-                    ResourceKind::Sampler { .. } => {
+                    ResourceKind::Sampler { comparison } => {
                         let s = scene
                             .samplers
                             .get(&r.name)
                             .ok_or_else(|| missing("sampler"))?;
                         (
-                            wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                            wgpu::BindingType::Sampler(if *comparison {
+                                wgpu::SamplerBindingType::Comparison
+                            } else {
+                                wgpu::SamplerBindingType::Filtering
+                            }),
                             wgpu::BindingResource::Sampler(s),
                         )
                     }

@@ -28,6 +28,7 @@ use crate::metrics::{AdapterReport, RenderReport};
 use crate::reduce::{self, GpuReference};
 
 mod bind;
+mod depth;
 mod device;
 mod original;
 mod pipeline;

@@ -1,11 +1,12 @@
-//! A session's GPU resources (meshes, textures, samplers, uniform buffers) and the per-frame uniform writes.
+//! A session's GPU resources (meshes, textures, samplers, uniform and storage buffers, depth
+//! passes) and the per-frame writes.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::num::NonZeroU64;
 
 use crate::ReplayError;
 use crate::reflect::{self, Interface, ResourceKind, TexDim};
-use crate::session::{Address, Cull, Filter, Session};
+use crate::session::{Address, Compare, Cull, Filter, SamplerSpec, Session};
 use crate::vertex::TransformUniform;
 
 use super::*;
@@ -17,6 +18,10 @@ pub(super) struct Scene {
     pub(super) samplers: HashMap<String, wgpu::Sampler>,
     /// Uniform buffers by variable name, with their reflected fields.
     pub(super) uniforms: BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)>,
+    /// Read-only storage buffers by variable name, with their leaves for the session's data.
+    pub(super) storage: BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)>,
+    /// The session's depth passes, by the depth texture variable they fill.
+    pub(super) depth: BTreeMap<String, super::depth::DepthPassGpu>,
     pub(super) vertex_bgl: wgpu::BindGroupLayout,
 }
 
@@ -52,8 +57,13 @@ impl Renderer {
         let mut missing_textures = Vec::new();
         let mut unsupported = Vec::new();
         let mut tex_needed: BTreeMap<String, TexDim> = BTreeMap::new();
-        let mut samp_needed: BTreeSet<String> = BTreeSet::new();
+        let mut samp_needed: BTreeSet<(String, bool)> = BTreeSet::new();
+        let mut missing_buffers = Vec::new();
+        let mut missing_depth = Vec::new();
         let mut uni_needed: BTreeMap<String, (u32, Vec<reflect::UniformField>)> = BTreeMap::new();
+        let mut storage_needed: BTreeMap<String, (u32, Vec<reflect::UniformField>)> =
+            BTreeMap::new();
+        let mut depth_needed: BTreeSet<String> = BTreeSet::new();
         for iface in ifaces {
             for r in &iface.resources {
                 if Some(r.group) == skip_group {
@@ -65,8 +75,12 @@ impl Renderer {
                             if !crate::scene::session_must_provide(&f.name) {
                                 continue;
                             }
-                            match session.uniforms.get(&f.name) {
+                            match session.uniform(&f.name) {
                                 None => missing_fields.push(format!("`{}` (field of uniform `{}`)", f.name, r.name)),
+                                Some(v) if !v.is_leaf() => unsupported.push(format!(
+                                    "uniform field `{}` is {} but the session gives it an object or a list of objects",
+                                    f.name, f.ty
+                                )),
                                 Some(v) if v.len() != f.len() => unsupported.push(format!(
                                     "uniform field `{}` is {} ({} values) but the session gives {} values",
                                     f.name,
@@ -86,14 +100,34 @@ impl Renderer {
                             tex_needed.insert(r.name.clone(), *dim);
                         }
                     }
-                    ResourceKind::Sampler { comparison } => {
-                        if *comparison {
-                            unsupported.push(format!("comparison sampler `{}`", r.name));
+                    ResourceKind::Storage(layout) => {
+                        if !session.buffers.contains_key(&r.name) {
+                            missing_buffers.push(format!("`{}`", r.name));
+                            continue;
                         }
-                        samp_needed.insert(r.name.clone());
+                        match crate::scene::storage_fields(session, &r.name, layout) {
+                            Ok(sf) => {
+                                storage_needed.insert(r.name.clone(), sf);
+                            }
+                            Err(e) => unsupported.push(e),
+                        }
+                    }
+                    ResourceKind::Sampler { comparison } => {
+                        let compare = session.samplers.get(&r.name).and_then(|s| s.compare);
+                        if !*comparison && compare.is_some() {
+                            unsupported.push(format!(
+                                "sampler `{}` is a plain `sampler`, but the session gives it a `compare` function",
+                                r.name
+                            ));
+                        }
+                        samp_needed.insert((r.name.clone(), *comparison));
                     }
                     ResourceKind::DepthTexture => {
-                        unsupported.push(format!("depth texture `{}`", r.name));
+                        if session.depth_passes.contains_key(&r.name) {
+                            depth_needed.insert(r.name.clone());
+                        } else {
+                            missing_depth.push(format!("`{}`", r.name));
+                        }
                     }
                     ResourceKind::Unsupported(what) => unsupported.push(what.clone()),
                 }
@@ -103,12 +137,30 @@ impl Renderer {
         missing_textures.dedup();
         missing_fields.sort();
         missing_fields.dedup();
-        if !missing_textures.is_empty() || !missing_fields.is_empty() {
+        missing_buffers.sort();
+        missing_buffers.dedup();
+        missing_depth.sort();
+        missing_depth.dedup();
+        if !missing_textures.is_empty()
+            || !missing_fields.is_empty()
+            || !missing_buffers.is_empty()
+            || !missing_depth.is_empty()
+        {
             let mut names = missing_textures
                 .iter()
                 .map(|t| format!("texture {t}"))
                 .collect::<Vec<_>>();
             names.extend(missing_fields.iter().map(|f| format!("uniform {f}")));
+            names.extend(
+                missing_buffers
+                    .iter()
+                    .map(|b| format!("storage buffer {b} (in `buffers`)")),
+            );
+            names.extend(
+                missing_depth
+                    .iter()
+                    .map(|d| format!("depth texture {d} (in `depth_passes`)")),
+            );
             return Err(ReplayError::MissingResources {
                 what: "resources the shader declares".into(),
                 names,
@@ -177,8 +229,29 @@ impl Renderer {
                 }
                 // Samplers.
                 let mut samplers = HashMap::new();
-                for name in &samp_needed {
-                    let spec = session.samplers.get(name).cloned().unwrap_or_default();
+                for (name, comparison) in &samp_needed {
+                    let spec = session
+                        .samplers
+                        .get(name)
+                        .cloned()
+                        .unwrap_or(if *comparison {
+                            SamplerSpec {
+                                address: Address::Clamp,
+                                ..Default::default()
+                            }
+                        } else {
+                            SamplerSpec::default()
+                        });
+                    let compare = comparison.then(|| match spec.compare.unwrap_or_default() {
+                        Compare::Never => wgpu::CompareFunction::Never,
+                        Compare::Less => wgpu::CompareFunction::Less,
+                        Compare::Equal => wgpu::CompareFunction::Equal,
+                        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
+                        Compare::Greater => wgpu::CompareFunction::Greater,
+                        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
+                        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
+                        Compare::Always => wgpu::CompareFunction::Always,
+                    });
                     let f = |x: Filter| match x {
                         Filter::Linear => wgpu::FilterMode::Linear,
                         Filter::Nearest => wgpu::FilterMode::Nearest,
@@ -203,6 +276,7 @@ impl Renderer {
                         min_filter: f(spec.filter),
                         mipmap_filter: mf,
                         anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
+                        compare,
                         ..Default::default()
                     });
                     samplers.insert(name.clone(), s);
@@ -218,11 +292,28 @@ impl Renderer {
                     });
                     uniforms.insert(name, (buf, size, fields));
                 }
+                let mut storage = BTreeMap::new();
+                for (name, (size, fields)) in storage_needed {
+                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&name),
+                        size: size.max(16) as u64,
+                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    storage.insert(name, (buf, size, fields));
+                }
+                let mut depth = BTreeMap::new();
+                for name in depth_needed {
+                    let pass = self.depth_pass(session, &name, &objects, &vertex_bgl)?;
+                    depth.insert(name, pass);
+                }
                 Ok(Scene {
                     objects,
                     textures,
                     samplers,
                     uniforms,
+                    storage,
+                    depth,
                     vertex_bgl,
                 })
             },
@@ -246,6 +337,13 @@ impl Renderer {
         for (buf, size, fields) in scene.uniforms.values() {
             let bytes = crate::scene::uniform_bytes(session, &st, *size, fields);
             self.queue.write_buffer(buf, 0, &bytes);
+        }
+        for (name, (buf, size, fields)) in &scene.storage {
+            let bytes = crate::scene::storage_bytes(session, &st, name, *size, fields);
+            self.queue.write_buffer(buf, 0, &bytes);
+        }
+        if !scene.depth.is_empty() {
+            self.render_depth_passes(session, scene, &st);
         }
     }
 }

@@ -209,9 +209,11 @@ impl CameraPath {
 }
 
 impl UniformValue {
-    /// Value at a frame, flattened (see [`Value::flatten`]).
+    /// Value at a frame, flattened (see [`Value::flatten`]); empty for a struct or an array of
+    /// structs, whose leaves are looked up one by one ([`UniformValue::lookup`]).
     pub fn at(&self, frame: f32) -> Vec<f64> {
         match self {
+            UniformValue::Struct(_) | UniformValue::Array(_) => Vec::new(),
             UniformValue::Const(v) => v.flatten(),
             UniformValue::Keys { keys } => {
                 let fs: Vec<f32> = keys.iter().map(|k| k.frame).collect();
@@ -226,9 +228,11 @@ impl UniformValue {
         }
     }
 
-    /// Number of components (of the first key for key-framed values).
+    /// Number of components (of the first key for key-framed values; 0 for a struct or an array
+    /// of structs).
     pub fn len(&self) -> usize {
         match self {
+            UniformValue::Struct(_) | UniformValue::Array(_) => 0,
             UniformValue::Const(v) => v.flatten().len(),
             UniformValue::Keys { keys } => {
                 keys.first().map(|k| k.value.flatten().len()).unwrap_or(0)
@@ -242,6 +246,26 @@ impl UniformValue {
 }
 
 impl Session {
+    /// The view-projection depth pass `pass` draws frame `state` with (column-major values; a
+    /// value of the wrong length, which validation rejects, gives the identity).
+    pub fn depth_view_proj(&self, pass: &DepthPass, state: &FrameState) -> Mat4 {
+        let value = match &pass.view_proj {
+            ViewProj::Camera => return state.camera.view_proj,
+            ViewProj::Uniform(u) => self.uniform(u),
+            ViewProj::Matrix(m) => Some(m),
+        };
+        let v: Vec<f32> = value
+            .map(|v| v.at(state.frame as f32))
+            .unwrap_or_default()
+            .into_iter()
+            .map(|x| x as f32)
+            .collect();
+        match <[f32; 16]>::try_from(v.as_slice()) {
+            Ok(cols) => Mat4::from_cols_array(&cols),
+            Err(_) => Mat4::IDENTITY,
+        }
+    }
+
     /// Width / height.
     pub fn aspect(&self) -> f32 {
         self.resolution[0] as f32 / self.resolution[1] as f32

@@ -80,9 +80,21 @@ pub struct Session {
     /// Textures by shader variable name.
     #[serde(default)]
     pub textures: BTreeMap<String, TextureSpec>,
-    /// Samplers by shader variable name; one not listed is linear / repeat.
+    /// Samplers by shader variable name; one not listed is linear / repeat (a comparison sampler:
+    /// linear / clamp, compare `less_equal`).
     #[serde(default)]
     pub samplers: BTreeMap<String, SamplerSpec>,
+    /// Read-only storage buffers (`var<storage, read>`) by shader variable name: the buffer's
+    /// contents as a uniform value — an object of the struct's members (nested structs as
+    /// objects, arrays of structs as lists of objects, a runtime-sized array as long as the list
+    /// given), or a list for a buffer that is an array. Leaves may be key-framed.
+    #[serde(default)]
+    pub buffers: BTreeMap<String, UniformValue>,
+    /// Depth textures (`texture_depth_2d`) by shader variable name, each rendered every frame by
+    /// a depth-only pass over the scene's objects before the shader's own pass: a shadow map
+    /// from a light's view-projection, or a depth pre-pass from the camera.
+    #[serde(default)]
+    pub depth_passes: BTreeMap<String, DepthPass>,
     /// Fragment input `@location` → vertex attribute. Default: the shaders/README.md convention
     /// (0 position, 1 normal, 2 uv, 3 tangent, 4 object_position).
     #[serde(default = "default_inputs")]
@@ -358,13 +370,120 @@ pub struct PointOrbit {
     pub end_deg: f32,
 }
 
-/// A uniform field value: a constant (number, array, nested arrays: flattened in order) or
-/// `{"keys": [{"frame": f, "value": ...}, ...]}` interpolated per component.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+/// A uniform field value: a constant (number, array, nested arrays: flattened in order),
+/// `{"keys": [{"frame": f, "value": ...}, ...]}` interpolated per component, an object of a
+/// struct's members by name (`{"color": [1, 1, 1], "intensity": 3}`, nesting as deep as the
+/// structs do), or a list of such objects for an array of structs. An object whose only key is
+/// `keys` is key frames, never a struct with a member named `keys`.
+///
+/// Read by hand rather than by serde's untagged enums so that a bad value names what was expected
+/// and what was found.
+#[derive(Debug, Clone, Serialize)]
 #[serde(untagged)]
 pub enum UniformValue {
-    Keys { keys: Vec<UniformKey> },
+    Keys {
+        keys: Vec<UniformKey>,
+    },
     Const(Value),
+    /// A struct's members by name.
+    Struct(BTreeMap<String, UniformValue>),
+    /// The elements of an array of structs.
+    Array(Vec<UniformValue>),
+}
+
+/// One step of the path of a uniform leaf inside a (nested) struct: a member name or an index.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathStep<'a> {
+    Member(&'a str),
+    Index(usize),
+}
+
+/// The steps of a leaf path as reflection writes it (`sun.color`, `lights[2].position`).
+pub fn path_steps(path: &str) -> Vec<PathStep<'_>> {
+    let mut out = Vec::new();
+    for part in path.split('.') {
+        let (name, rest) = part.split_once('[').unwrap_or((part, ""));
+        if !name.is_empty() {
+            out.push(PathStep::Member(name));
+        }
+        for idx in rest.split('[') {
+            if let Ok(i) = idx.trim_end_matches(']').parse() {
+                out.push(PathStep::Index(i));
+            }
+        }
+    }
+    out
+}
+
+impl UniformValue {
+    /// The value at `steps` below this one (`self` for no steps). An index into a constant list
+    /// of numbers is not a step: arrays of scalars and vectors are one leaf.
+    pub fn lookup(&self, steps: &[PathStep<'_>]) -> Option<&UniformValue> {
+        let Some((first, rest)) = steps.split_first() else {
+            return Some(self);
+        };
+        match (self, first) {
+            (UniformValue::Struct(m), PathStep::Member(n)) => m.get(*n)?.lookup(rest),
+            (UniformValue::Array(a), PathStep::Index(i)) => a.get(*i)?.lookup(rest),
+            _ => None,
+        }
+    }
+
+    /// Whether this is a leaf (numbers, constant or key-framed) rather than a struct or an array
+    /// of structs.
+    pub fn is_leaf(&self) -> bool {
+        matches!(self, UniformValue::Keys { .. } | UniformValue::Const(_))
+    }
+
+    /// Read one value from JSON; the error says what was expected and what was found.
+    pub fn from_json(v: serde_json::Value) -> Result<UniformValue, String> {
+        use serde_json::Value as J;
+        let kind = |v: &J| match v {
+            J::Null => "null",
+            J::Bool(_) => "a boolean",
+            J::Number(_) => "a number",
+            J::String(_) => "a string",
+            J::Array(_) => "a list",
+            J::Object(_) => "an object",
+        };
+        const EXPECTED: &str = "expected a number, a list of numbers, {\"keys\": [{\"frame\", \"value\"}, ...]}, an object of struct members or a list of such objects";
+        match v {
+            J::Object(m) if m.len() == 1 && m.contains_key("keys") => {
+                let keys = m.into_iter().next().map(|(_, k)| k).unwrap_or(J::Null);
+                serde_json::from_value(keys)
+                    .map(|keys| UniformValue::Keys { keys })
+                    .map_err(|e| format!("key frames: {e}"))
+            }
+            J::Object(m) => {
+                let mut out = BTreeMap::new();
+                for (k, v) in m {
+                    let v = UniformValue::from_json(v).map_err(|e| format!("member `{k}`: {e}"))?;
+                    out.insert(k, v);
+                }
+                Ok(UniformValue::Struct(out))
+            }
+            J::Array(items) if !items.is_empty() && items.iter().all(J::is_object) => {
+                let mut out = Vec::new();
+                for (i, v) in items.into_iter().enumerate() {
+                    out.push(UniformValue::from_json(v).map_err(|e| format!("[{i}]: {e}"))?);
+                }
+                Ok(UniformValue::Array(out))
+            }
+            v => {
+                let found = kind(&v);
+                Value::from_json(&v)
+                    .map(UniformValue::Const)
+                    .ok_or_else(|| format!("{EXPECTED}; found {found}"))
+            }
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for UniformValue {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = serde_json::Value::deserialize(d)?;
+        UniformValue::from_json(v).map_err(serde::de::Error::custom)
+    }
 }
 
 /// One key of an animated uniform.
@@ -385,6 +504,19 @@ pub enum Value {
 }
 
 impl Value {
+    /// A number or a (nested) list of numbers; `None` for anything else (an empty list is a list).
+    fn from_json(v: &serde_json::Value) -> Option<Value> {
+        match v {
+            serde_json::Value::Number(n) => n.as_f64().map(Value::Number),
+            serde_json::Value::Array(items) => items
+                .iter()
+                .map(Value::from_json)
+                .collect::<Option<Vec<_>>>()
+                .map(Value::List),
+            _ => None,
+        }
+    }
+
     /// All numbers, depth first.
     pub fn flatten(&self) -> Vec<f64> {
         let mut out = Vec::new();
@@ -399,8 +531,10 @@ impl Value {
     }
 }
 
-/// A texture bound to a shader variable: generated (`kind`) or read from an image file (`file`,
-/// or `faces` for a cube map). Exactly one of `kind`, `file`, `faces`.
+/// A texture bound to a shader variable: generated (`kind`), read from an image file (`file`,
+/// or `faces` for a cube map) or, for a `texture_2d_array`, a list of `layers`, each a texture of
+/// its own (generated or a file, all of one size). Exactly one of `kind`, `file`, `faces`,
+/// `layers`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureSpec {
@@ -411,6 +545,11 @@ pub struct TextureSpec {
     /// Six images +X, −X, +Y, −Y, +Z, −Z for a `texture_cube`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub faces: Option<Vec<PathBuf>>,
+    /// The layers of a `texture_2d_array`, in order; each is a 2D texture spec (no `layers` of
+    /// its own) and all must come out the same size. Their `mipmaps` are ignored: this spec's
+    /// apply to the array.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<Vec<TextureSpec>>,
     /// Edge length in texels of a generated texture (square; a cube face; a 3D texture's edge).
     /// Default 256.
     #[serde(default = "default_tex_size")]
@@ -531,6 +670,10 @@ pub struct SamplerSpec {
     /// Maximum anisotropy (1 = off; needs all filters linear). Default 1.
     #[serde(default = "default_aniso")]
     pub anisotropy: u16,
+    /// The comparison of a `sampler_comparison` (default `less_equal`); an error on a plain
+    /// sampler.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compare: Option<Compare>,
 }
 
 impl Default for SamplerSpec {
@@ -540,6 +683,7 @@ impl Default for SamplerSpec {
             mipmap_filter: Filter::Linear,
             address: Address::Repeat,
             anisotropy: 1,
+            compare: None,
         }
     }
 }
@@ -563,6 +707,45 @@ pub enum Address {
     Repeat,
     Clamp,
     Mirror,
+}
+
+/// A depth-only pass that renders every object of the scene into a depth texture
+/// (`depth32float`, cleared to 1, compare `less`, each object's face culling).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DepthPass {
+    /// Texture size in texels, `[width, height]`. Default: the session's resolution.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<[u32; 2]>,
+    /// The view-projection the objects are drawn with.
+    pub view_proj: ViewProj,
+}
+
+/// The view-projection of a [`DepthPass`]: `"camera"` (the session camera's, a depth
+/// pre-pass), `{"uniform": "light_view_proj"}` (the value of a uniform field the session gives,
+/// so the pass and the shader agree by construction) or `{"matrix": [16 numbers, column-major]}`
+/// (constant or `{"keys": ...}`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ViewProj {
+    Camera,
+    Uniform(String),
+    Matrix(UniformValue),
+}
+
+/// Comparison function of a comparison sampler: the test is `reference OP texel`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Compare {
+    Never,
+    Less,
+    Equal,
+    #[default]
+    LessEqual,
+    Greater,
+    NotEqual,
+    GreaterEqual,
+    Always,
 }
 
 /// Vertex attributes a fragment input can be fed from.

@@ -25,7 +25,64 @@ fn unordered(s: &Session, field: String) -> SessionError {
     )
 }
 
+impl UniformValue {
+    /// Sort the key frames of this value and of every value nested in it.
+    pub(crate) fn sort_keys(&mut self) {
+        match self {
+            UniformValue::Keys { keys } => keys.sort_by(|a, b| a.frame.total_cmp(&b.frame)),
+            UniformValue::Const(_) => {}
+            UniformValue::Struct(m) => m.values_mut().for_each(UniformValue::sort_keys),
+            UniformValue::Array(a) => a.iter_mut().for_each(UniformValue::sort_keys),
+        }
+    }
+
+    /// Key frames of this value and every nested one: present, in order, all of one length.
+    /// The error is (JSON path, message).
+    pub(crate) fn check_keys(&self, field: &str) -> Result<(), (String, String)> {
+        match self {
+            UniformValue::Const(_) => Ok(()),
+            UniformValue::Struct(m) => m
+                .iter()
+                .try_for_each(|(k, v)| v.check_keys(&format!("{field}.{k}"))),
+            UniformValue::Array(a) => a
+                .iter()
+                .enumerate()
+                .try_for_each(|(i, v)| v.check_keys(&format!("{field}[{i}]"))),
+            UniformValue::Keys { keys } => {
+                let field = format!("{field}.keys");
+                if keys.is_empty() {
+                    return Err((field, "needs at least one key".into()));
+                }
+                if !in_order(keys.iter().map(|k| k.frame)) {
+                    return Err((
+                        field,
+                        "keys must be in frame order (Session::load sorts them)".into(),
+                    ));
+                }
+                let n = keys[0].value.flatten().len();
+                if keys.iter().any(|k| k.value.flatten().len() != n) {
+                    return Err((
+                        field,
+                        "every key needs the same number of components".into(),
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
 impl Session {
+    /// The session's value of the uniform leaf at `path` (`shininess`, `sun.color`,
+    /// `lights[2].position`, as [`crate::reflect`] names the leaves).
+    pub fn uniform(&self, path: &str) -> Option<&UniformValue> {
+        let steps = path_steps(path);
+        let (PathStep::Member(first), rest) = steps.split_first()? else {
+            return None;
+        };
+        self.uniforms.get(*first)?.lookup(rest)
+    }
+
     /// Sort every key-framed path (object transforms, camera, light, uniforms) by frame, as
     /// loading does before validation: key frames may be written in any order.
     pub fn sort_keys(&mut self) {
@@ -38,9 +95,12 @@ impl Session {
         if let PointPath::Keys(keys) = &mut self.light {
             keys.sort_by(|a, b| a.frame.total_cmp(&b.frame));
         }
-        for u in self.uniforms.values_mut() {
-            if let UniformValue::Keys { keys } = u {
-                keys.sort_by(|a, b| a.frame.total_cmp(&b.frame));
+        for u in self.uniforms.values_mut().chain(self.buffers.values_mut()) {
+            u.sort_keys();
+        }
+        for d in self.depth_passes.values_mut() {
+            if let ViewProj::Matrix(m) = &mut d.view_proj {
+                m.sort_keys();
             }
         }
     }
@@ -207,47 +267,11 @@ impl Session {
             }
         }
         for (name, u) in self.uniforms.iter() {
-            if let UniformValue::Keys { keys } = u {
-                if keys.is_empty() {
-                    return Err(SessionError::Invalid {
-                        path: self.path.clone(),
-                        field: format!("uniforms.{name}.keys"),
-                        message: "needs at least one key".into(),
-                    });
-                }
-                if !in_order(keys.iter().map(|k| k.frame)) {
-                    return Err(unordered(self, format!("uniforms.{name}.keys")));
-                }
-                let n = keys[0].value.flatten().len();
-                if keys.iter().any(|k| k.value.flatten().len() != n) {
-                    return Err(SessionError::Invalid {
-                        path: self.path.clone(),
-                        field: format!("uniforms.{name}.keys"),
-                        message: "every key needs the same number of components".into(),
-                    });
-                }
-            }
+            u.check_keys(&format!("uniforms.{name}"))
+                .map_err(|(field, message)| self.invalid(field, message))?;
         }
         for (name, t) in &self.textures {
-            let forms =
-                t.kind.is_some() as u32 + t.file.is_some() as u32 + t.faces.is_some() as u32;
-            if forms != 1 {
-                return Err(self.invalid(
-                    format!("textures.{name}"),
-                    "give exactly one of `kind`, `file`, `faces`",
-                ));
-            }
-            if let Some(f) = &t.faces
-                && f.len() != 6
-            {
-                return Err(self.invalid(
-                    format!("textures.{name}.faces"),
-                    "needs six images (+X, −X, +Y, −Y, +Z, −Z)",
-                ));
-            }
-            if t.size == 0 || t.size > 4096 {
-                return Err(self.invalid(format!("textures.{name}.size"), "must be in 1..=4096"));
-            }
+            self.check_texture(&format!("textures.{name}"), t, true)?;
         }
         for (name, s) in &self.samplers {
             if s.anisotropy == 0 || s.anisotropy > 16 {
@@ -255,6 +279,86 @@ impl Session {
                     self.invalid(format!("samplers.{name}.anisotropy"), "must be in 1..=16")
                 );
             }
+        }
+        for (name, b) in &self.buffers {
+            b.check_keys(&format!("buffers.{name}"))
+                .map_err(|(field, message)| self.invalid(field, message))?;
+        }
+        for (name, d) in &self.depth_passes {
+            let field = format!("depth_passes.{name}");
+            if let Some([w, h]) = d.size
+                && (w == 0 || h == 0 || w > 8192 || h > 8192)
+            {
+                return Err(self.invalid(
+                    format!("{field}.size"),
+                    format!("{w}×{h} is out of range (1..=8192 each)"),
+                ));
+            }
+            let matrix = match &d.view_proj {
+                ViewProj::Camera => None,
+                ViewProj::Uniform(u) => Some(self.uniform(u).ok_or_else(|| {
+                    self.invalid(
+                        format!("{field}.view_proj.uniform"),
+                        format!("the session's `uniforms` has no `{u}`"),
+                    )
+                })?),
+                ViewProj::Matrix(m) => {
+                    m.check_keys(&format!("{field}.view_proj.matrix"))
+                        .map_err(|(f, message)| self.invalid(f, message))?;
+                    Some(m)
+                }
+            };
+            if let Some(m) = matrix
+                && m.len() != 16
+            {
+                return Err(self.invalid(
+                    format!("{field}.view_proj"),
+                    format!(
+                        "a view-projection is a mat4x4 (16 numbers, column-major); this value has {}",
+                        m.len()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// One texture spec at JSON path `field`; `layers` are allowed at the top level only.
+    fn check_texture(&self, field: &str, t: &TextureSpec, top: bool) -> Result<(), SessionError> {
+        let forms = t.kind.is_some() as u32
+            + t.file.is_some() as u32
+            + t.faces.is_some() as u32
+            + t.layers.is_some() as u32;
+        if forms != 1 {
+            return Err(self.invalid(
+                field,
+                "give exactly one of `kind`, `file`, `faces`, `layers`",
+            ));
+        }
+        if let Some(layers) = &t.layers {
+            if !top {
+                return Err(self.invalid(
+                    format!("{field}.layers"),
+                    "a layer cannot have layers of its own",
+                ));
+            }
+            if layers.is_empty() || layers.len() > 256 {
+                return Err(self.invalid(format!("{field}.layers"), "needs 1..=256 layers"));
+            }
+            for (i, l) in layers.iter().enumerate() {
+                self.check_texture(&format!("{field}.layers[{i}]"), l, false)?;
+            }
+        }
+        if let Some(f) = &t.faces
+            && f.len() != 6
+        {
+            return Err(self.invalid(
+                format!("{field}.faces"),
+                "needs six images (+X, −X, +Y, −Y, +Z, −Z)",
+            ));
+        }
+        if t.size == 0 || t.size > 4096 {
+            return Err(self.invalid(format!("{field}.size"), "must be in 1..=4096"));
         }
         Ok(())
     }
