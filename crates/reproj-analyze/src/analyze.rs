@@ -386,9 +386,14 @@ pub fn analyze(
         if probing && probe.is_none() {
             progress.step(&format!("node {id}: one strategy left, no probe"));
         }
-        let probe_opts = RenderOptions {
-            max_frames: probe.or(render_opts.max_frames),
-            ..render_opts.clone()
+        // A probe decides on time alone: no frame is read back for the perceptual metrics.
+        let probe_opts = match probe {
+            Some(p) => RenderOptions {
+                max_frames: Some(p),
+                perceptual_stride: None,
+                ..render_opts.clone()
+            },
+            None => render_opts.clone(),
         };
         let mut tried: Vec<Tried> = Vec::new();
         for &(si, strategy) in &to_try {
