@@ -532,26 +532,15 @@ pub fn analyze(
         } = tried.swap_remove(best);
         let (sources, variant) = built.expect("a replayed strategy was instanced");
         let (probed, _) = res.expect("the best strategy replayed");
-        let first = match probe {
-            None => probed,
+        let first: Result<Measurement, String> = match probe {
+            None => Ok(probed),
             Some(p) if probed.frame_ms >= original_ms && !node.root => {
                 // Slower than the original on the probe's frames: not worth a whole replay.
-                let why = format!(
+                progress.step(&format!("node {id} {strategy} Δn={longest} skipped"));
+                Err(format!(
                     "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms over the first {p} frames, {strategy}): it cannot pay off",
                     probed.frame_ms, original_ms
-                );
-                progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
-                for _ in 0..=plan.len() {
-                    progress.step(&format!("node {id}"));
-                }
-                raws.push(Raw {
-                    id,
-                    strategy,
-                    block,
-                    measurements: Vec::new(),
-                    failure: Some(why),
-                });
-                continue;
+                ))
             }
             Some(_) => {
                 let res = journaled(
@@ -577,24 +566,25 @@ pub fn analyze(
                     },
                 )?;
                 progress.step(&format!("node {id} {strategy} Δn={longest}"));
-                match res {
-                    Ok((m, _)) => m,
-                    Err(e) => {
-                        let why = format!("replay failed at Δn={longest}: {e}");
-                        progress.note(&format!("node {id}: set aside: {why}"));
-                        for _ in &plan {
-                            progress.step(&format!("node {id}"));
-                        }
-                        raws.push(Raw {
-                            id,
-                            strategy,
-                            block,
-                            measurements: Vec::new(),
-                            failure: Some(why),
-                        });
-                        continue;
-                    }
+                res.map(|(m, _)| m)
+                    .map_err(|e| format!("replay failed at Δn={longest}: {e}"))
+            }
+        };
+        let first = match first {
+            Ok(m) => m,
+            Err(why) => {
+                progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
+                for _ in &plan {
+                    progress.step(&format!("node {id}"));
                 }
+                raws.push(Raw {
+                    id,
+                    strategy,
+                    block,
+                    measurements: Vec::new(),
+                    failure: Some(why),
+                });
+                continue;
             }
         };
         let mut measurements = vec![first];
