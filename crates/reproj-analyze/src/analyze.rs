@@ -532,74 +532,24 @@ pub fn analyze(
         } = tried.swap_remove(best);
         let (sources, variant) = built.expect("a replayed strategy was instanced");
         let (probed, _) = res.expect("the best strategy replayed");
-        let first: Result<Measurement, String> = match probe {
-            None => Ok(probed),
-            Some(p) if probed.frame_ms >= original_ms && !node.root => {
-                // Slower than the original on the probe's frames: not worth a whole replay.
-                progress.step(&format!("node {id} {strategy} Δn={longest} skipped"));
-                Err(format!(
-                    "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms over the first {p} frames, {strategy}): it cannot pay off",
-                    probed.frame_ms, original_ms
-                ))
-            }
-            Some(_) => {
-                let res = journaled(
-                    &mut journal,
-                    ReplayKey {
-                        node: id,
-                        strategy: strategy.name().into(),
-                        block,
-                        delta_n: longest,
-                        frames: None,
-                    },
-                    || {
-                        replay(
-                            renderer,
-                            input,
-                            &sources,
-                            &variant,
-                            longest,
-                            &reference,
-                            &render_opts,
-                            &mut time,
-                        )
-                    },
-                )?;
-                progress.step(&format!("node {id} {strategy} Δn={longest}"));
-                res.map(|(m, _)| m)
-                    .map_err(|e| format!("replay failed at Δn={longest}: {e}"))
-            }
+        // Without a probe the kept strategy's replay at the longest period is the node's first
+        // measurement; after one, that replay over the whole session leads the node's plan.
+        // (A probe that lost to the original over its frames is not worth that whole replay.)
+        let mut failure = too_slow(&probed, node.root, original_ms, longest, strategy, probe);
+        let (mut measurements, node_plan) = match probe {
+            None => (vec![probed], plan.clone()),
+            Some(_) => (
+                Vec::new(),
+                std::iter::once((longest, false))
+                    .chain(plan.iter().copied())
+                    .collect(),
+            ),
         };
-        let first = match first {
-            Ok(m) => m,
-            Err(why) => {
-                progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
-                for _ in &plan {
-                    progress.step(&format!("node {id}"));
-                }
-                raws.push(Raw {
-                    id,
-                    strategy,
-                    block,
-                    measurements: Vec::new(),
-                    failure: Some(why),
-                });
-                continue;
-            }
-        };
-        let mut measurements = vec![first];
-        let mut failure = None;
-        let m0 = &measurements[0];
-        if m0.frame_ms >= original.frame_ms && !node.root {
-            let why = format!(
-                "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms, {strategy}): it cannot pay off",
-                m0.frame_ms, original.frame_ms
-            );
+        if let Some(why) = &failure {
             progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
-            failure = Some(why);
         }
         let mut confirmed = None;
-        for &(dn, skippable) in &plan {
+        for &(dn, skippable) in &node_plan {
             if failure.is_some() {
                 progress.step(&format!("node {id} Δn={dn}"));
                 continue;
@@ -636,7 +586,16 @@ pub fn analyze(
                 },
             )?;
             match res {
-                Ok((m, _)) => measurements.push(m),
+                Ok((m, _)) => {
+                    if dn == longest {
+                        failure =
+                            too_slow(&m, node.root, original.frame_ms, longest, strategy, None);
+                        if let Some(why) = &failure {
+                            progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
+                        }
+                    }
+                    measurements.push(m);
+                }
                 Err(e) => {
                     progress.note(&format!(
                         "node {id}: set aside: replay failed at Δn={dn}: {e}"
@@ -798,6 +757,26 @@ pub(crate) fn fit_session_hit_rate<'a>(
         .map(|m| (m.delta_n as f64, m.hit_rate))
         .collect();
     fit_hit_rate(&samples)
+}
+
+/// Why a non-root node whose variant at the longest period is no faster than the original (over
+/// the first `probe` frames, or the whole session) cannot pay off; `None` when it may.
+fn too_slow(
+    m: &Measurement,
+    root: bool,
+    original_ms: f64,
+    longest: u32,
+    strategy: Strategy,
+    probe: Option<u32>,
+) -> Option<String> {
+    if root || m.frame_ms < original_ms {
+        return None;
+    }
+    let over = probe.map_or(String::new(), |p| format!(" over the first {p} frames"));
+    Some(format!(
+        "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms{over}, {strategy}): it cannot pay off",
+        m.frame_ms, original_ms
+    ))
 }
 
 /// The journal's result for `key`, else `run` it and record the result.
