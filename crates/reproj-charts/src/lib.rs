@@ -18,6 +18,7 @@
 //! Every chart is drawn whatever the profile holds (no node, no measurement, all errors 0, one Δn,
 //! identical times): empty data give an empty, labeled chart, never a panic or an empty axis.
 
+mod caption;
 mod compare;
 mod draw;
 mod font;
@@ -33,6 +34,7 @@ use reproj_select::{
     DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, pareto, select,
 };
 
+pub use caption::{Caption, draw_captions};
 pub use compare::{Compare, ComparePoint, CompareSeries, compare_chart};
 pub use font::{FONT_ENV, font_path};
 

@@ -53,8 +53,16 @@ pub struct CompareArgs {
     #[arg(long)]
     pub session: PathBuf,
     /// The speedup over the original every method aims at (> 1).
-    #[arg(long)]
-    pub speedup: f64,
+    #[arg(
+        long,
+        required_unless_present = "max_error",
+        conflicts_with = "max_error"
+    )]
+    pub speedup: Option<f64>,
+    /// Aim instead at the speedup reproj's own selection is predicted to reach under this error
+    /// budget (as `emit --max-error`; needs --profile).
+    #[arg(long, requires = "profile")]
+    pub max_error: Option<f64>,
     /// Profile from `reproj analyze` of this shader, for reproj's own choice (without one, only
     /// resizing and simplification are compared).
     #[arg(long)]

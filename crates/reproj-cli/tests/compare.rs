@@ -122,7 +122,7 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     reproj_front::parse_shader(Path::new("simplified.wgsl"), wgsl).unwrap();
     let crops = image::open(dir.join("cmp/crops.png")).unwrap();
     assert!(
-        crops.width() > 4 * crops.height() / 2,
+        crops.width() > 3 * crops.height() / 2,
         "four panels side by side"
     );
 
@@ -134,6 +134,35 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     assert_eq!(code, 0, "{err}");
     let printed: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(printed["schema"], "reproj.compare");
+    assert!(printed.get("max_error").is_none(), "{printed}");
+
+    // An error budget instead of a speedup: every method aims at what reproj's selection under it
+    // is predicted to reach — or, when reproj keeps the original there, one clear error.
+    let budget_args: Vec<&str> = json_args
+        .iter()
+        .map(|a| match *a {
+            "--speedup" => "--max-error",
+            "1.5" => "0.5",
+            "cmp2" => "cmp3",
+            a => a,
+        })
+        .collect();
+    let (code, out, err) = reproj(dir, &budget_args);
+    if code == 0 {
+        let printed: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(printed["max_error"], 0.5);
+        let target = printed["target_speedup"].as_f64().unwrap();
+        let predicted = printed["reproj"]["predicted_speedup"].as_f64().unwrap();
+        assert!(
+            target > 1.0 && (target - predicted).abs() < 1e-9,
+            "{printed}"
+        );
+        assert!(printed["reproj"]["predicted_error"].as_f64().unwrap() <= 0.5);
+    } else {
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("keeps the original shader"), "{err}");
+        assert!(!dir.join("cmp3").exists());
+    }
 }
 
 #[test]
@@ -183,6 +212,39 @@ fn bad_compare_input_exits_2_and_writes_nothing() {
             1,
             "{args:?}: one message: {err}"
         );
+        assert!(!dir.join("o").exists(), "{args:?} wrote output");
+    }
+    // A budget needs a profile, and is given instead of a speedup: usage errors.
+    let usage: [&[&str]; 2] = [
+        &[
+            "compare",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "o",
+        ],
+        &[
+            "compare",
+            "tiny.wgsl",
+            "--session",
+            "tiny.json",
+            "--speedup",
+            "2",
+            "--max-error",
+            "0.01",
+            "--profile",
+            "p.json",
+            "--out",
+            "o",
+        ],
+    ];
+    for args in usage {
+        let (code, out, err) = reproj(dir, args);
+        assert_eq!(code, 2, "{args:?}: {out}{err}");
+        assert!(err.contains("--max-error"), "{args:?}: {err}");
         assert!(!dir.join("o").exists(), "{args:?} wrote output");
     }
 }

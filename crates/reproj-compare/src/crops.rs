@@ -2,7 +2,9 @@
 //! for the reference and each method, in `compare.json`'s `crops.order`, enlarged by pixel
 //! replication to at least 128 pixels; below each method, its per-pixel L2 error as the replay's
 //! heat map (`output::heat`, the scale of `render`'s error maps). 4 white pixels between panels.
+//! Above each, its name and what it measured (speedup, PSNR), in the charts' font.
 
+use reproj_charts::{Caption, draw_captions};
 use reproj_replay::metrics::pixel_errors;
 use reproj_replay::output::{frame_to_rgba8, heat};
 use serde::{Deserialize, Serialize};
@@ -47,35 +49,79 @@ pub fn region(width: u32, height: u32, depth: &[f32], frame: u32) -> CropRegion 
     }
 }
 
-/// The crops PNG of `frames` (name, RGBA f32 full frame; the reference first).
+/// One column of the crops: a full frame and the two caption lines above it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Panel<'a> {
+    /// `reference` or the method's name (bold).
+    pub name: String,
+    /// What to read beside it: the measured speedup and PSNR, or the original's frame time.
+    pub detail: String,
+    /// RGBA f32 full frame.
+    pub frame: &'a [f32],
+}
+
+/// Height of the caption band above the crops, pixels.
+const CAPTION: usize = 40;
+
+/// The crops PNG of `panels` (the reference first) and the warnings of its captions (no font:
+/// the crops are drawn without them).
 pub fn crops_png(
-    frames: &[(String, Vec<f32>)],
+    panels: &[Panel<'_>],
     [width, _]: [u32; 2],
     r: &CropRegion,
-) -> Result<Vec<u8>, CompareError> {
+) -> Result<(Vec<u8>, Vec<String>), CompareError> {
     let size = r.size as usize;
     let zoom = 128usize.div_ceil(size).max(1);
     let side = size * zoom;
-    let n = frames.len();
+    let n = panels.len();
     let out_w = n * side + (n - 1) * GAP;
-    let out_h = 2 * side + GAP;
-    let mut img = vec![255u8; out_w * out_h * 4];
-    let reference = &frames[0].1;
-    for (k, (_, frame)) in frames.iter().enumerate() {
-        let srgb = frame_to_rgba8(frame);
-        let errors = pixel_errors(frame, reference);
+    let out_h = CAPTION + 2 * side + GAP;
+    let mut img = vec![255u8; out_w * out_h * 3];
+    let reference = panels[0].frame;
+    for (k, panel) in panels.iter().enumerate() {
+        let srgb = frame_to_rgba8(panel.frame);
+        let errors = pixel_errors(panel.frame, reference);
         for y in 0..side {
             for x in 0..side {
                 let (fx, fy) = (r.x as usize + x / zoom, r.y as usize + y / zoom);
                 let i = fy * width as usize + fx;
                 let ox = k * (side + GAP) + x;
-                let top = (y * out_w + ox) * 4;
-                img[top..top + 4].copy_from_slice(&srgb[i * 4..i * 4 + 4]);
-                let bottom = ((y + side + GAP) * out_w + ox) * 4;
-                img[bottom..bottom + 4].copy_from_slice(&heat(errors[i]));
+                let top = ((CAPTION + y) * out_w + ox) * 3;
+                img[top..top + 3].copy_from_slice(&srgb[i * 4..i * 4 + 3]);
+                let bottom = ((CAPTION + y + side + GAP) * out_w + ox) * 3;
+                img[bottom..bottom + 3].copy_from_slice(&heat(errors[i])[..3]);
             }
         }
     }
+    let captions: Vec<Caption> = panels
+        .iter()
+        .enumerate()
+        .flat_map(|(k, p)| {
+            let x = (k * (side + GAP) + side / 2) as i32;
+            [
+                Caption {
+                    x,
+                    y: 3,
+                    text: p.name.clone(),
+                    size: 16.0,
+                    bold: true,
+                },
+                Caption {
+                    x,
+                    y: 21,
+                    text: p.detail.clone(),
+                    size: 13.0,
+                    bold: false,
+                },
+            ]
+        })
+        .collect();
+    let internal = |what: &str, message: String| CompareError::Internal {
+        what: what.into(),
+        message,
+    };
+    let warnings = draw_captions(&mut img, (out_w as u32, out_h as u32), &captions)
+        .map_err(|e| internal("cannot label crops.png", e))?;
     let mut bytes = Vec::new();
     use image::ImageEncoder;
     image::codecs::png::PngEncoder::new(&mut bytes)
@@ -83,13 +129,10 @@ pub fn crops_png(
             &img,
             out_w as u32,
             out_h as u32,
-            image::ExtendedColorType::Rgba8,
+            image::ExtendedColorType::Rgb8,
         )
-        .map_err(|e| CompareError::Internal {
-            what: "cannot encode crops.png".into(),
-            message: e.to_string(),
-        })?;
-    Ok(bytes)
+        .map_err(|e| internal("cannot encode crops.png", e.to_string()))?;
+    Ok((bytes, warnings))
 }
 
 #[cfg(test)]
@@ -110,13 +153,24 @@ mod tests {
     #[test]
     fn crops_are_laid_out_side_by_side_with_error_maps_below() {
         let a = vec![0.5f32; 16 * 16 * 4];
-        let frames = vec![("reference".to_string(), a.clone()), ("x".into(), a)];
+        let panel = |name: &str| Panel {
+            name: name.into(),
+            detail: "1.00×".into(),
+            frame: &a,
+        };
         let r = region(16, 16, &[0.5; 256], 0);
-        let png = crops_png(&frames, [16, 16], &r).unwrap();
-        let img = image::load_from_memory(&png).unwrap();
+        let (png, warnings) = crops_png(&[panel("reference"), panel("x")], [16, 16], &r).unwrap();
+        let img = image::load_from_memory(&png).unwrap().to_rgb8();
         assert_eq!(
             (img.width(), img.height()),
-            (2 * 128 + GAP as u32, 2 * 128 + GAP as u32)
+            (2 * 128 + GAP as u32, (CAPTION + 2 * 128 + GAP) as u32)
         );
+        // The caption band is inked when a font is found, and left white otherwise.
+        let band_inked = (0..img.width())
+            .flat_map(|x| (0..CAPTION as u32).map(move |y| (x, y)))
+            .any(|(x, y)| img.get_pixel(x, y)[0] < 128);
+        assert_eq!(band_inked, warnings.is_empty());
+        // The crop itself starts below the band: mid-grey, not white.
+        assert!(img.get_pixel(10, CAPTION as u32 + 10)[0] < 250);
     }
 }

@@ -51,6 +51,16 @@ pub enum CompareError {
     /// The shader has no node code simplification could replace.
     #[error("{shader}: no cacheable f32 or vecN<f32> node to simplify")]
     NothingToSimplify { shader: String },
+    /// Under the error budget given as the target, reproj keeps the original shader: there is no
+    /// speedup to compare at.
+    #[error(
+        "{path}: under the error budget {max_error}, reproj keeps the original shader ({reason}); give --speedup instead"
+    )]
+    KeepsOriginal {
+        path: PathBuf,
+        max_error: f64,
+        reason: String,
+    },
     /// The profile has no usable (node, Δn) to render.
     #[error("{path}: the profile has no node with usable fits; reproj has nothing to compare")]
     NoSelection { path: PathBuf },
@@ -98,11 +108,21 @@ pub struct CompareInput<'a> {
     pub profile: Option<(&'a Profile, &'a Path)>,
 }
 
+/// What every method aims at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Target {
+    /// This speedup over the original (> 1).
+    Speedup(f64),
+    /// The speedup reproj's own selection under this error budget (mean per-pixel L2, as
+    /// `emit --max-error`) is predicted to reach; needs a profile.
+    Budget(f64),
+}
+
 /// Options of [`compare`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct CompareOptions {
-    /// The speedup over the original every method aims at (> 1).
-    pub target_speedup: f64,
+    /// What every method aims at.
+    pub target: Target,
     /// Render only the first N frames of the session.
     pub max_frames: Option<u32>,
     pub resize: resize::ResizeOptions,
@@ -116,7 +136,7 @@ pub struct CompareOptions {
 impl Default for CompareOptions {
     fn default() -> Self {
         CompareOptions {
-            target_speedup: 2.0,
+            target: Target::Speedup(2.0),
             max_frames: None,
             resize: Default::default(),
             simplify: Default::default(),
@@ -172,6 +192,10 @@ pub struct CompareReport {
     /// `timestamps` or `cpu`.
     pub timing: String,
     pub target_speedup: f64,
+    /// The error budget the target speedup was derived from (reproj's predicted speedup under
+    /// it), when the target was given as a budget.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_error: Option<f64>,
     /// The original's mean measured frame time over frames 1.., ms.
     pub original_ms: f64,
     /// One entry per method that ran: resize, simplify, then reproj.
@@ -206,10 +230,28 @@ pub fn compare(
     opts: &CompareOptions,
     progress: &dyn Progress,
 ) -> Result<Comparison, CompareError> {
-    if !(opts.target_speedup.is_finite() && opts.target_speedup > 1.0) {
+    let planned = match input.profile {
+        Some((profile, path)) => Some(reproj::plan(
+            input.loaded,
+            profile,
+            path,
+            opts.target,
+            opts.max_delta_n,
+        )?),
+        None => None,
+    };
+    let (target, max_error) = match (opts.target, &planned) {
+        (Target::Speedup(x), _) => (x, None),
+        (Target::Budget(e), Some(p)) => (p.predicted_speedup, Some(e)),
+        (Target::Budget(_), None) => {
+            return Err(CompareError::Options(
+                "an error budget as the target needs a profile: reproj's selection under it sets the speedup".into(),
+            ));
+        }
+    };
+    if !(target.is_finite() && target > 1.0) {
         return Err(CompareError::Options(format!(
-            "the target speedup must be a number above 1, got {}",
-            opts.target_speedup
+            "the target speedup must be a number above 1, got {target}"
         )));
     }
     if opts.perceptual_stride == 0 {
@@ -242,7 +284,7 @@ pub fn compare(
         reference: &reference,
         render_opts: &render_opts,
         stride: opts.perceptual_stride,
-        target: opts.target_speedup,
+        target,
         progress,
     };
     let mut methods = Vec::new();
@@ -258,14 +300,14 @@ pub fn compare(
     methods.push(simplified.result);
     crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
 
-    let reproj_detail = match input.profile {
-        Some((profile, path)) => {
-            let r = reproj::reproj(&ctx, input.loaded, entry, profile, path, opts, mid as u32)?;
+    let reproj_detail = match (input.profile, &planned) {
+        (Some((profile, path)), Some(planned)) => {
+            let r = reproj::reproj(&ctx, input.loaded, profile, path, planned, mid as u32)?;
             methods.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
             Some(r.detail)
         }
-        None => None,
+        _ => None,
     };
     progress.finish();
     let [w, h] = input.session.resolution;
@@ -281,7 +323,8 @@ pub fn compare(
         frames,
         adapter: reference.report.adapter.name.clone(),
         timing: format!("{:?}", reference.report.timing).to_lowercase(),
-        target_speedup: opts.target_speedup,
+        target_speedup: target,
+        max_error,
         original_ms,
         methods,
         resize: resize_detail,
@@ -419,7 +462,19 @@ pub fn write_outputs(c: &mut Comparison, dir: &Path) -> Result<Vec<String>, Comp
         series,
     };
     let (svg, png) = reproj_charts::compare_chart(&chart)?;
-    let crops = crops::crops_png(&c.crop_frames, r.resolution, &r.crops)?;
+    let panels: Vec<crops::Panel<'_>> = c
+        .crop_frames
+        .iter()
+        .map(|(name, frame)| crops::Panel {
+            name: name.clone(),
+            detail: match r.methods.iter().find(|m| &m.method == name) {
+                Some(m) => format!("{:.2}× · {:.1} dB", m.speedup, m.scores.psnr),
+                None => format!("{:.2} ms/frame", r.original_ms),
+            },
+            frame,
+        })
+        .collect();
+    let (crops, mut warnings) = crops::crops_png(&panels, r.resolution, &r.crops)?;
     let names = [
         "compare.json",
         "compare.svg",
@@ -443,7 +498,9 @@ pub fn write_outputs(c: &mut Comparison, dir: &Path) -> Result<Vec<String>, Comp
     std::fs::create_dir_all(dir)
         .map_err(|e| CompareError::Options(format!("cannot create {}: {e}", dir.display())))?;
     reproj_io::write_files(&files)?;
-    Ok(png.warnings)
+    warnings.retain(|w| !png.warnings.contains(w));
+    warnings.extend(png.warnings);
+    Ok(warnings)
 }
 
 fn point(speedup: f64, error: f64) -> reproj_charts::ComparePoint {

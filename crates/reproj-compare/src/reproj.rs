@@ -1,7 +1,8 @@
 //! reproj's own choice at the target speedup: from the profile's error-vs-time Pareto frontier
 //! (`reproj_select::pareto`, the models `emit` selects with, L2 error), the point with the least
 //! predicted error whose predicted speedup reaches the target, or the fastest point when none
-//! does. It is instanced like `emit` does and rendered with the replay, so its speedup and error
+//! does. With an error budget instead, the choice is `emit`'s (`reproj_select::select`) and its
+//! predicted speedup becomes every method's target. It is instanced like `emit` does and rendered with the replay, so its speedup and error
 //! are measured in the same run as the other methods'.
 
 use std::path::Path;
@@ -10,13 +11,13 @@ use reproj_analyze::emit::{ir_hash, resolve};
 use reproj_front::Loaded;
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
 use reproj_models::content_hash;
-use reproj_models::profile::NodeStatus;
+use reproj_models::profile::{NodeProfile, NodeStatus};
 use reproj_models::{Metric, Profile};
 use reproj_replay::{RenderOptions, VariantInput};
-use reproj_select::{NodeRecord, pareto};
+use reproj_select::{DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, pareto, select};
 use serde::{Deserialize, Serialize};
 
-use crate::{CompareError, CompareOptions, Ctx, MethodResult, Scores};
+use crate::{CompareError, Ctx, MethodResult, Scores, Target};
 
 /// What reproj chose.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -38,16 +39,25 @@ pub(crate) struct ReprojRun {
     pub(crate) crop_frame: Vec<f32>,
 }
 
-/// Choose, instance and render reproj's variant; `crop` is the frame kept for the crops.
-pub(crate) fn reproj(
-    ctx: &Ctx,
+/// reproj's choice before rendering: the profiled node and where on its models.
+pub(crate) struct Planned<'p> {
+    node: &'p NodeProfile,
+    delta_n: u32,
+    predicted_error: f64,
+    /// The profile's original frame time / `predicted_ms`.
+    pub(crate) predicted_speedup: f64,
+}
+
+/// Choose reproj's (node, Δn) from the profile: for a target speedup, the frontier point with the
+/// least predicted error that reaches it (the fastest when none does); for an error budget, what
+/// `emit --max-error` selects.
+pub(crate) fn plan<'p>(
     loaded: &Loaded,
-    _entry: usize,
-    profile: &Profile,
+    profile: &'p Profile,
     profile_path: &Path,
-    opts: &CompareOptions,
-    crop: u32,
-) -> Result<ReprojRun, CompareError> {
+    target: Target,
+    max_delta_n: u32,
+) -> Result<Planned<'p>, CompareError> {
     let shader = &loaded.shader;
     let fresh = match &profile.shader.ir_hash {
         Some(h) => ir_hash(shader) == *h,
@@ -78,24 +88,83 @@ pub(crate) fn reproj(
             })
         })
         .collect();
-    let front = pareto(&records, &profile.hit_rate, 2, opts.max_delta_n);
-    let speedup = |ms: f64| profile.original.frame_ms / ms;
-    let choice = front
-        .iter()
-        .filter(|p| speedup(p.predicted_ms) >= ctx.target)
-        .min_by(|a, b| a.predicted_error.total_cmp(&b.predicted_error))
-        .or_else(|| {
-            front
+    let original_ms = profile.original.frame_ms;
+    let speedup = |ms: f64| original_ms / ms;
+    let (node_id, strategy, delta_n, predicted_error, predicted_ms) = match target {
+        Target::Speedup(target) => {
+            let front = pareto(
+                &records,
+                &profile.hit_rate,
+                DEFAULT_MIN_DELTA_N,
+                max_delta_n,
+            );
+            let choice = front
                 .iter()
-                .max_by(|a, b| speedup(a.predicted_ms).total_cmp(&speedup(b.predicted_ms)))
-        })
-        .ok_or_else(|| CompareError::NoSelection {
-            path: profile_path.to_owned(),
-        })?;
+                .filter(|p| speedup(p.predicted_ms) >= target)
+                .min_by(|a, b| a.predicted_error.total_cmp(&b.predicted_error))
+                .or_else(|| {
+                    front
+                        .iter()
+                        .max_by(|a, b| speedup(a.predicted_ms).total_cmp(&speedup(b.predicted_ms)))
+                })
+                .ok_or_else(|| CompareError::NoSelection {
+                    path: profile_path.to_owned(),
+                })?;
+            (
+                choice.node_id,
+                choice.strategy.clone(),
+                choice.delta_n,
+                choice.predicted_error,
+                choice.predicted_ms,
+            )
+        }
+        Target::Budget(max_error) => {
+            let opts = SelectOptions {
+                max_error,
+                min_delta_n: DEFAULT_MIN_DELTA_N,
+                max_delta_n,
+            };
+            match select(&records, &profile.hit_rate, original_ms, &opts) {
+                Selection::Node(c) => (
+                    c.node_id,
+                    c.strategy,
+                    c.delta_n,
+                    c.predicted_error,
+                    c.predicted_ms,
+                ),
+                Selection::Original { reason } => {
+                    return Err(CompareError::KeepsOriginal {
+                        path: profile_path.to_owned(),
+                        max_error,
+                        reason: reason.to_string(),
+                    });
+                }
+            }
+        }
+    };
     let node = usable
         .iter()
-        .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
-        .expect("the frontier comes from the profile's nodes");
+        .find(|n| n.id == node_id && n.strategy == strategy)
+        .expect("the choice comes from the profile's nodes");
+    Ok(Planned {
+        node,
+        delta_n,
+        predicted_error,
+        predicted_speedup: speedup(predicted_ms),
+    })
+}
+
+/// Instance and render the planned variant; `crop` is the frame kept for the crops.
+pub(crate) fn reproj(
+    ctx: &Ctx,
+    loaded: &Loaded,
+    profile: &Profile,
+    profile_path: &Path,
+    planned: &Planned<'_>,
+    crop: u32,
+) -> Result<ReprojRun, CompareError> {
+    let shader = &loaded.shader;
+    let node = planned.node;
     let strategy: Strategy =
         node.strategy
             .parse()
@@ -114,7 +183,7 @@ pub(crate) fn reproj(
         },
         &InstanceOptions {
             strategy,
-            delta_n: choice.delta_n,
+            delta_n: planned.delta_n,
             block: node.block.unwrap_or(profile.block),
             depth_epsilon: profile.depth_epsilon,
             ..Default::default()
@@ -123,7 +192,7 @@ pub(crate) fn reproj(
     let input = VariantInput::new(
         variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
         variant.manifest.clone(),
-        choice.delta_n,
+        planned.delta_n,
     );
     let tmp = tempfile::tempdir().map_err(|e| CompareError::Internal {
         what: "cannot make a temporary directory".into(),
@@ -160,9 +229,9 @@ pub(crate) fn reproj(
             node: node_name.clone(),
             text: node.text.clone(),
             strategy: node.strategy.clone(),
-            delta_n: choice.delta_n,
-            predicted_error: choice.predicted_error,
-            predicted_speedup: speedup(choice.predicted_ms),
+            delta_n: planned.delta_n,
+            predicted_error: planned.predicted_error,
+            predicted_speedup: planned.predicted_speedup,
         },
         result: MethodResult {
             method: "reproj".into(),
@@ -180,7 +249,7 @@ pub(crate) fn reproj(
             },
             setting: format!(
                 "node {node_name} cached at Δn = {} ({})",
-                choice.delta_n, node.strategy
+                planned.delta_n, node.strategy
             ),
         },
         crop_frame,

@@ -31,7 +31,7 @@ fn simplification_removes_the_least_error_node_first() {
     };
     let opts = CompareOptions {
         // Out of reach: the search takes its two steps.
-        target_speedup: 1000.0,
+        target: reproj_compare::Target::Speedup(1000.0),
         max_frames: Some(4),
         simplify: SimplifyOptions {
             candidates: 10,

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use reproj_analyze::load_profile;
-use reproj_compare::{CompareInput, CompareOptions, compare, write_outputs};
+use reproj_compare::{CompareInput, CompareOptions, Target, compare, write_outputs};
 use reproj_replay::{Renderer, RendererOptions, Session};
 
 use super::UserError;
@@ -13,13 +13,19 @@ use super::analyze::{Bar, bar};
 use crate::CompareArgs;
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    if !(args.speedup.is_finite() && args.speedup > 1.0) {
-        return Err(UserError(format!(
-            "--speedup must be a number above 1, got {}",
-            args.speedup
-        ))
-        .into());
-    }
+    let target = match (args.speedup, args.max_error) {
+        (Some(x), _) if !(x.is_finite() && x > 1.0) => {
+            return Err(UserError(format!("--speedup must be a number above 1, got {x}")).into());
+        }
+        (Some(x), _) => Target::Speedup(x),
+        (None, Some(e)) if !(e.is_finite() && e >= 0.0) => {
+            return Err(UserError(format!("--max-error must be a number ≥ 0, got {e}")).into());
+        }
+        (None, Some(e)) => Target::Budget(e),
+        (None, None) => {
+            return Err(UserError("give --speedup or --max-error".into()).into());
+        }
+    };
     if args.candidates == 0 || args.max_steps == 0 || args.resize_tries == 0 {
         return Err(UserError(
             "--candidates, --max-steps and --resize-tries must be at least 1".into(),
@@ -55,13 +61,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         cpu_timing: false,
     })?;
     eprintln!(
-        "comparing {} over {} on {} ({} cores, LP_NUM_THREADS={}) at {}×",
+        "comparing {} over {} on {} ({} cores, LP_NUM_THREADS={}) at {}",
         args.shader.display(),
         args.session.display(),
         renderer.adapter().name,
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into()),
-        args.speedup
+        match target {
+            Target::Speedup(x) => format!("{x}×"),
+            Target::Budget(e) => format!("reproj's predicted speedup under error {e}"),
+        }
     );
     let input = CompareInput {
         loaded: &loaded,
@@ -70,7 +79,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         profile: profile.as_ref().map(|(p, path)| (p, path.as_path())),
     };
     let opts = CompareOptions {
-        target_speedup: args.speedup,
+        target,
         max_frames: args.max_frames,
         resize: reproj_compare::resize::ResizeOptions {
             tries: args.resize_tries,
@@ -95,14 +104,17 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     writeln!(
         stdout,
-        "{}: {} frames at {}×{} on {}; original {:.3} ms/frame; target {:.2}×",
+        "{}: {} frames at {}×{} on {}; original {:.3} ms/frame; target {:.2}×{}",
         r.shader,
         r.frames,
         r.resolution[0],
         r.resolution[1],
         r.adapter,
         r.original_ms,
-        r.target_speedup
+        r.target_speedup,
+        r.max_error.map_or_else(String::new, |e| format!(
+            " (reproj's predicted speedup under error {e})"
+        ))
     )?;
     writeln!(
         stdout,
