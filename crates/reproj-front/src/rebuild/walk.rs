@@ -1,0 +1,428 @@
+//! The statement walker: blocks in order, control flow, loop-carried kills and inlined calls.
+
+use super::*;
+
+impl Out<'_, '_> {
+    /// Local variables stored anywhere in `block` (source side), for loop-carried kills.
+    pub(super) fn stored_in(
+        &self,
+        ctx: &Ctx,
+        block: &Block,
+        out: &mut HashSet<Handle<LocalVariable>>,
+    ) {
+        let src_root = |mut p: Handle<Expression>| -> Option<Handle<LocalVariable>> {
+            loop {
+                match ctx.fun.expressions[p] {
+                    Expression::LocalVariable(v) => return ctx.locals[v.index()],
+                    Expression::GlobalVariable(g) => return self.privates.get(&g).copied(),
+                    Expression::FunctionArgument(i) if !ctx.is_top => {
+                        return ir::root_local(&self.fun.expressions, ctx.args[i as usize]);
+                    }
+                    Expression::Access { base, .. } | Expression::AccessIndex { base, .. } => {
+                        p = base
+                    }
+                    _ => return None,
+                }
+            }
+        };
+        for stmt in block.iter() {
+            match stmt {
+                Statement::Store { pointer, .. } => out.extend(src_root(*pointer)),
+                Statement::Call { arguments, .. } => {
+                    for a in arguments {
+                        out.extend(src_root(*a));
+                    }
+                }
+                Statement::Block(b) => self.stored_in(ctx, b, out),
+                Statement::If { accept, reject, .. } => {
+                    self.stored_in(ctx, accept, out);
+                    self.stored_in(ctx, reject, out);
+                }
+                Statement::Switch { cases, .. } => {
+                    for c in cases {
+                        self.stored_in(ctx, &c.body, out);
+                    }
+                }
+                Statement::Loop {
+                    body, continuing, ..
+                } => {
+                    self.stored_in(ctx, body, out);
+                    self.stored_in(ctx, continuing, out);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    pub(super) fn walk_block(&mut self, ctx: &mut Ctx, block: &Block) -> Result<(), FrontError> {
+        for (stmt, span) in block.span_iter() {
+            let index = self.stmt_index;
+            self.stmt_index += 1;
+            if self.stopped {
+                self.skip(stmt);
+                continue;
+            }
+            let live = (ctx.is_top && !matches!(stmt, Statement::Emit(_)))
+                .then(|| self.opts.live.is_none_or(|l| l.stmts.contains(&index)));
+            if live == Some(false) {
+                self.skip(stmt);
+                continue;
+            }
+            self.walk_stmt(ctx, stmt, *span)?;
+        }
+        Ok(())
+    }
+
+    /// Advance the statement counter over a statement that is not copied.
+    pub(super) fn skip(&mut self, stmt: &Statement) {
+        let count = |b: &Block, s: &mut Self| {
+            for st in b.iter() {
+                s.stmt_index += 1;
+                s.skip(st);
+            }
+        };
+        match stmt {
+            Statement::Block(b) => count(b, self),
+            Statement::If { accept, reject, .. } => {
+                count(accept, self);
+                count(reject, self);
+            }
+            Statement::Switch { cases, .. } => {
+                for c in cases {
+                    count(&c.body, self);
+                }
+            }
+            Statement::Loop {
+                body, continuing, ..
+            } => {
+                count(body, self);
+                count(continuing, self);
+            }
+            _ => {}
+        }
+    }
+
+    pub(super) fn nested(&mut self, ctx: &mut Ctx, block: &Block) -> Result<Block, FrontError> {
+        self.enter();
+        self.walk_block(ctx, block)?;
+        Ok(self.exit())
+    }
+
+    pub(super) fn walk_stmt(
+        &mut self,
+        ctx: &mut Ctx,
+        stmt: &Statement,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        if self.depth + self.calls > MAX_NESTING {
+            return Err(unsupported(
+                span,
+                format!("more than {MAX_NESTING} nested blocks and helper calls"),
+            ));
+        }
+        match stmt {
+            Statement::Emit(range) => {
+                for h in range.clone() {
+                    if ctx.is_top && !self.is_live_expr(h) {
+                        continue;
+                    }
+                    let m = self.translate(ctx, h)?;
+                    if let Some(stop) = &self.opts.stop_after
+                        && ctx.is_top
+                        && let Some(i) = stop.slots.iter().position(|s| s.target == h)
+                    {
+                        if stop.slots.len() > 1 && self.depth > 0 {
+                            return Err(unsupported(
+                                span,
+                                "nodes cached together must be computed outside branches",
+                            ));
+                        }
+                        self.stop_values[i] = Some(m);
+                        if let Some(values) =
+                            self.stop_values.iter().copied().collect::<Option<Vec<_>>>()
+                        {
+                            let stop = stop.clone();
+                            self.payload_return(&stop, &values, span);
+                            self.stopped = true;
+                            return Ok(());
+                        }
+                    }
+                }
+            }
+            Statement::Block(b) => {
+                // Values stored inside the block were emitted in its scope: do not forward them
+                // past it (naga's validator does not catch an expression used out of scope).
+                let mark = self.stored_log.len();
+                let nb = self.nested(ctx, b)?;
+                self.kill_since(mark);
+                self.push_stmt(Statement::Block(nb), span);
+            }
+            Statement::If {
+                condition,
+                accept,
+                reject,
+            } => {
+                let c = self.translate(ctx, *condition)?;
+                let mark = self.stored_log.len();
+                let before = self.env.clone();
+                let a = self.nested(ctx, accept)?;
+                self.env = before.clone();
+                let r = self.nested(ctx, reject)?;
+                self.env = before;
+                self.kill_since(mark);
+                self.push_stmt(
+                    Statement::If {
+                        condition: c,
+                        accept: a,
+                        reject: r,
+                    },
+                    span,
+                );
+            }
+            Statement::Switch { selector, cases } => {
+                let s = self.translate(ctx, *selector)?;
+                let mark = self.stored_log.len();
+                let before = self.env.clone();
+                let mut new_cases = Vec::with_capacity(cases.len());
+                for case in cases {
+                    self.env = before.clone();
+                    new_cases.push(naga::SwitchCase {
+                        value: case.value,
+                        body: self.nested(ctx, &case.body)?,
+                        fall_through: case.fall_through,
+                    });
+                }
+                self.env = before;
+                self.kill_since(mark);
+                self.push_stmt(
+                    Statement::Switch {
+                        selector: s,
+                        cases: new_cases,
+                    },
+                    span,
+                );
+            }
+            Statement::Loop {
+                body,
+                continuing,
+                break_if,
+            } => {
+                let mut carried = HashSet::new();
+                self.stored_in(ctx, body, &mut carried);
+                self.stored_in(ctx, continuing, &mut carried);
+                for v in &carried {
+                    self.env.remove(v);
+                }
+                let mark = self.stored_log.len();
+                let before = self.env.clone();
+                let b = self.nested(ctx, body)?;
+                self.enter();
+                self.walk_block(ctx, continuing)?;
+                let bi = match break_if {
+                    Some(h) => Some(self.translate(ctx, *h)?),
+                    None => None,
+                };
+                let c = self.exit();
+                self.env = before;
+                self.kill_since(mark);
+                self.push_stmt(
+                    Statement::Loop {
+                        body: b,
+                        continuing: c,
+                        break_if: bi,
+                    },
+                    span,
+                );
+            }
+            Statement::Break | Statement::Continue | Statement::Kill => {
+                self.push_stmt(stmt.clone(), span)
+            }
+            Statement::Return { value } => {
+                if ctx.is_top {
+                    let v = match (value, &self.opts.stop_after) {
+                        // A return before the cached node in the recompute pass: its value is not
+                        // the payload; return zero.
+                        (_, Some(stop)) => {
+                            Some(self.append(Expression::ZeroValue(stop.vec4), span))
+                        }
+                        (Some(v), None) => Some(self.translate(ctx, *v)?),
+                        (None, None) => None,
+                    };
+                    if self.depth == 0 {
+                        self.root = v;
+                    }
+                    self.push_stmt(Statement::Return { value: v }, span);
+                } else {
+                    ctx.ret = match value {
+                        Some(v) => Some(self.translate(ctx, *v)?),
+                        None => None,
+                    };
+                }
+            }
+            Statement::Store { pointer, value } => {
+                let p = self.translate(ctx, *pointer)?;
+                let v = self.translate(ctx, *value)?;
+                self.store(p, v, span);
+            }
+            Statement::ImageStore {
+                image,
+                coordinate,
+                array_index,
+                value,
+            } => {
+                let image = self.translate(ctx, *image)?;
+                let coordinate = self.translate(ctx, *coordinate)?;
+                let array_index = match array_index {
+                    Some(a) => Some(self.translate(ctx, *a)?),
+                    None => None,
+                };
+                let value = self.translate(ctx, *value)?;
+                self.push_stmt(
+                    Statement::ImageStore {
+                        image,
+                        coordinate,
+                        array_index,
+                        value,
+                    },
+                    span,
+                );
+            }
+            Statement::Call {
+                function,
+                arguments,
+                result,
+            } => {
+                if !self.normalize() {
+                    return Err(unsupported(
+                        span,
+                        "a function call in a normalized function",
+                    ));
+                }
+                self.inline_call(ctx, *function, arguments, *result, span)?;
+            }
+            other => {
+                let what = format!("the statement {:?}", std::mem::discriminant(other));
+                let name = match other {
+                    Statement::ControlBarrier(_) | Statement::MemoryBarrier(_) => "a barrier",
+                    Statement::Atomic { .. } | Statement::ImageAtomic { .. } => {
+                        "an atomic operation"
+                    }
+                    Statement::WorkGroupUniformLoad { .. } => "workgroupUniformLoad",
+                    Statement::RayQuery { .. } | Statement::RayPipelineFunction(_) => "ray queries",
+                    Statement::SubgroupBallot { .. }
+                    | Statement::SubgroupGather { .. }
+                    | Statement::SubgroupCollectiveOperation { .. } => "subgroup operations",
+                    _ => what.as_str(),
+                };
+                return Err(unsupported(span, format!("{name} in a fragment shader")));
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn kill_since(&mut self, mark: usize) {
+        for v in &self.stored_log[mark..] {
+            self.env.remove(v);
+        }
+    }
+
+    pub(super) fn inline_call(
+        &mut self,
+        ctx: &mut Ctx,
+        function: Handle<Function>,
+        arguments: &[Handle<Expression>],
+        result: Option<Handle<Expression>>,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        let callee = &self.module.functions[function];
+        check_single_return(callee)?;
+        let mut args = Vec::with_capacity(arguments.len());
+        for a in arguments {
+            args.push(self.translate(ctx, *a)?);
+        }
+        // A call with no span (the wrapper entry point naga's GLSL and SPIR-V front ends add
+        // around `main`) is no call site: the calls inside `main` are.
+        let site = ctx.call_site.or(span.is_defined().then_some(span));
+        let mut cctx = Ctx::new(callee, false, site, args);
+        cctx.locals = vec![None; callee.local_variables.len()];
+        for (h, _) in callee.local_variables.iter() {
+            self.local(&mut cctx, h);
+        }
+        // Statement indices only count the top-level function.
+        let saved_index = self.stmt_index;
+        self.calls += 1;
+        self.init_locals(&mut cctx, callee)?;
+        self.walk_block(&mut cctx, &callee.body)?;
+        self.calls -= 1;
+        self.stmt_index = saved_index;
+        if let Some(r) = result {
+            match cctx.ret {
+                Some(v) => ctx.map[r.index()] = Some(v),
+                None => {
+                    return Err(unsupported(
+                        span,
+                        format!(
+                            "fn {} returns no value on its last statement",
+                            callee.name.as_deref().unwrap_or("?")
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A helper can be inlined when its only `return` is its last top-level statement.
+fn check_single_return(fun: &Function) -> Result<(), FrontError> {
+    fn find_return(block: &Block) -> Option<Span> {
+        for (s, span) in block.span_iter() {
+            let nested = match s {
+                Statement::Return { .. } => return Some(*span),
+                Statement::Block(b) => find_return(b),
+                Statement::If { accept, reject, .. } => {
+                    find_return(accept).or_else(|| find_return(reject))
+                }
+                Statement::Switch { cases, .. } => cases.iter().find_map(|c| find_return(&c.body)),
+                Statement::Loop {
+                    body, continuing, ..
+                } => find_return(body).or_else(|| find_return(continuing)),
+                _ => None,
+            };
+            if nested.is_some() {
+                return nested;
+            }
+        }
+        None
+    }
+    let n = fun.body.len();
+    let stmts = fun.body.span_iter().enumerate();
+    for (i, (s, span)) in stmts {
+        let is_last_return = i + 1 == n && matches!(s, Statement::Return { .. });
+        if is_last_return {
+            break;
+        }
+        let early = match s {
+            Statement::Return { .. } => Some(*span),
+            Statement::Block(b) => find_return(b),
+            Statement::If { accept, reject, .. } => {
+                find_return(accept).or_else(|| find_return(reject))
+            }
+            Statement::Switch { cases, .. } => cases.iter().find_map(|c| find_return(&c.body)),
+            Statement::Loop {
+                body, continuing, ..
+            } => find_return(body).or_else(|| find_return(continuing)),
+            _ => None,
+        };
+        if let Some(span) = early {
+            return Err(FrontError::UnsupportedAt {
+                span,
+                what: format!(
+                    "early return in helper fn {} (helpers are inlined; end them with a single return)",
+                    fun.name.as_deref().unwrap_or("?")
+                ),
+            });
+        }
+    }
+    Ok(())
+}
