@@ -54,7 +54,7 @@ pub(crate) fn render_rgb(
     Ok(rgb)
 }
 
-fn draw<DB: DrawingBackend>(
+pub(crate) fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     chart: &Chart,
     theme: &Theme,
@@ -64,8 +64,8 @@ where
 {
     root.fill(&WHITE)?;
     match chart {
-        Chart::Tradeoff(t) => tradeoff(root, t, theme),
-        Chart::HitRate(h) => hit_rate(root, h, theme),
+        Chart::Tradeoff(t) => crate::tradeoff::tradeoff(root, t, theme),
+        Chart::HitRate(h) => crate::hitrate::hit_rate(root, h, theme),
         Chart::Models(m) => crate::models::draw(root, m, theme),
     }
 }
@@ -74,7 +74,7 @@ where
 // Style.
 
 /// Node colors (Tableau 10 without its grey, then three more).
-const PALETTE: [RGBColor; 12] = [
+pub(crate) const PALETTE: [RGBColor; 12] = [
     RGBColor(0x1f, 0x77, 0xb4),
     RGBColor(0xff, 0x7f, 0x0e),
     RGBColor(0x2c, 0xa0, 0x2c),
@@ -90,9 +90,9 @@ const PALETTE: [RGBColor; 12] = [
 ];
 pub(crate) const INK: RGBColor = RGBColor(0x20, 0x20, 0x20);
 pub(crate) const MUTED: RGBColor = RGBColor(0x60, 0x60, 0x60);
-const GREY: RGBColor = RGBColor(0xa8, 0xa8, 0xa8);
-const GRID_LIGHT: RGBColor = RGBColor(0xf0, 0xf0, 0xf0);
-const GRID_BOLD: RGBColor = RGBColor(0xdc, 0xdc, 0xdc);
+pub(crate) const GREY: RGBColor = RGBColor(0xa8, 0xa8, 0xa8);
+pub(crate) const GRID_LIGHT: RGBColor = RGBColor(0xf0, 0xf0, 0xf0);
+pub(crate) const GRID_BOLD: RGBColor = RGBColor(0xdc, 0xdc, 0xdc);
 pub(crate) const WARN: RGBColor = RGBColor(0xb0, 0x30, 0x20);
 
 pub(crate) fn color(i: usize) -> RGBColor {
@@ -219,7 +219,7 @@ pub(crate) fn formatter(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
 }
 
 /// `2.5e-4`, `1e-3`.
-fn sci(v: f64) -> String {
+pub(crate) fn sci(v: f64) -> String {
     if v == 0.0 {
         return "0".to_string();
     }
@@ -228,7 +228,7 @@ fn sci(v: f64) -> String {
 }
 
 /// A value of a log axis (`v` = log10 of it): `0.001`, `0.02`, `1e-5`.
-fn log_label(v: &f64) -> String {
+pub(crate) fn log_label(v: &f64) -> String {
     let x = 10f64.powf(*v);
     if (1e-4..1e4).contains(&x) {
         let digits = (3.0 - x.log10().floor()).clamp(0.0, 7.0) as usize;
@@ -245,7 +245,7 @@ fn log_label(v: &f64) -> String {
 
 /// How errors are placed on the y axis of the trade-off chart.
 #[derive(Debug, Clone, Copy)]
-enum YScale {
+pub(crate) enum YScale {
     Linear,
     /// log10, values below `floor` (zeros) drawn at `floor`.
     Log {
@@ -254,7 +254,7 @@ enum YScale {
 }
 
 impl YScale {
-    fn map(self, e: f64) -> f64 {
+    pub(crate) fn map(self, e: f64) -> f64 {
         match self {
             YScale::Linear => e,
             YScale::Log { floor } => e.max(floor).log10(),
@@ -391,7 +391,7 @@ where
 }
 
 /// Legend rows in a white box with a thin border; `(x, y)` is the top-left corner.
-fn legend_box<DB: DrawingBackend>(
+pub(crate) fn legend_box<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     (x, y): (i32, i32),
     width: i32,
@@ -425,7 +425,7 @@ where
 }
 
 /// Text in the middle of a chart's plotting area (e.g. "no data").
-fn note_center<DB: DrawingBackend, CT: CoordTranslate>(
+pub(crate) fn note_center<DB: DrawingBackend, CT: CoordTranslate>(
     area: &DrawingArea<DB, CT>,
     lines: &[&str],
     theme: &Theme,
@@ -444,430 +444,10 @@ where
     Ok(())
 }
 
-// ---------------------------------------------------------------------------------------------
-// Chart 1: error vs frame time (Fig. 7).
-
-fn tradeoff<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    t: &Tradeoff,
-    theme: &Theme,
-) -> DrawResult
-where
-    DB::ErrorType: 'static,
-{
-    header(root, &t.title, &t.subtitle, theme)?;
-    let (w, _) = root.dim_in_pixel();
-    let (_, body) = root.split_vertically(64);
-    let legend_w = 300;
-    let (plot, legend) = body.split_horizontally(w as i32 - legend_w);
-
-    let errors: Vec<f64> = t
-        .paths
-        .iter()
-        .flat_map(|p| p.points.iter().map(|q| q.2))
-        .chain(t.pareto.iter().map(|p| p.1))
-        .collect();
-    let positive: Vec<f64> = errors.iter().copied().filter(|e| *e > 0.0).collect();
-    let (pmin, pmax) = positive
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(a, b), &e| (a.min(e), b.max(e)));
-    let has_zero = errors.iter().any(|e| *e <= 0.0);
-    let scale = if positive.len() >= 2 && pmax / pmin >= 30.0 {
-        YScale::Log { floor: pmin / 2.0 }
-    } else {
-        YScale::Linear
-    };
-    let xs = t
-        .paths
-        .iter()
-        .flat_map(|p| p.points.iter().map(|q| q.1))
-        .chain(t.pareto.iter().map(|p| p.0))
-        .chain(t.original_ms);
-    let (x0, x1) = span(xs, (0.0, 1.0), 0.06, true);
-    let (y0, y1) = span(
-        errors.iter().map(|e| scale.map(*e)),
-        (0.0, 0.01),
-        0.06,
-        true,
-    );
-
-    let mut chart = ChartBuilder::on(&plot)
-        .margin_top(6)
-        .margin_left(8)
-        .margin_right(18)
-        .margin_bottom(8)
-        .x_label_area_size(48)
-        .y_label_area_size(78)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    let x_fmt = formatter(x0, x1);
-    let lin_fmt = formatter(y0, y1);
-    type BoxedFmt = Box<dyn Fn(&f64) -> String>;
-    let (y_desc, y_fmt, y_labels): (String, BoxedFmt, usize) = match scale {
-        YScale::Linear => (
-            "error: mean per-pixel L2 RGB distance".to_string(),
-            Box::new(lin_fmt),
-            8,
-        ),
-        YScale::Log { .. } => (
-            format!(
-                "error: mean per-pixel L2 RGB (log scale{})",
-                if has_zero { "; 0 at bottom" } else { "" }
-            ),
-            Box::new(log_label),
-            ((y1 - y0).ceil() as usize + 1).clamp(3, 10),
-        ),
-    };
-    mesh_style(
-        &mut chart,
-        theme,
-        &Axes {
-            x_desc: "mean frame time (ms)",
-            y_desc: &y_desc,
-            x_fmt: &x_fmt,
-            y_fmt: &*y_fmt,
-            labels: (10, y_labels),
-            label_size: 13.0,
-            y_light_lines: if matches!(scale, YScale::Log { .. }) {
-                0
-            } else {
-                2
-            },
-        },
-    )?;
-
-    let pt = |q: &(u32, f64, f64)| (q.1, scale.map(q.2));
-    // Unhighlighted usable nodes, thin grey; set-aside nodes, grey dashed.
-    for p in t.paths.iter().filter(|p| p.color.is_none()) {
-        let pts: Vec<(f64, f64)> = p.points.iter().map(pt).collect();
-        if p.set_aside {
-            chart.draw_series(DashedLineSeries::new(
-                pts.clone(),
-                5,
-                4,
-                GREY.stroke_width(1),
-            ))?;
-            chart.draw_series(pts.iter().map(|&q| Circle::new(q, 2, GREY.stroke_width(1))))?;
-        } else {
-            chart.draw_series(LineSeries::new(pts.clone(), GREY.mix(0.7).stroke_width(1)))?;
-            chart.draw_series(pts.iter().map(|&q| Circle::new(q, 1, GREY.filled())))?;
-        }
-    }
-    // Predicted frontier, dotted.
-    if !t.pareto.is_empty() {
-        let pts: Vec<(f64, f64)> = t.pareto.iter().map(|p| (p.0, scale.map(p.1))).collect();
-        chart.draw_series(DashedLineSeries::new(
-            pts.clone(),
-            2,
-            4,
-            INK.stroke_width(2),
-        ))?;
-    }
-    // The original's frame time.
-    if let Some(orig) = t.original_ms {
-        chart.draw_series(DashedLineSeries::new(
-            vec![(orig, y0), (orig, y1)],
-            9,
-            6,
-            INK.stroke_width(2),
-        ))?;
-        let right = orig > x0 + 0.7 * (x1 - x0);
-        let (h, dx) = if right {
-            (HPos::Right, -6)
-        } else {
-            (HPos::Left, 6)
-        };
-        chart.draw_series(std::iter::once(
-            EmptyElement::at((orig, y1))
-                + Text::new(
-                    format!("original {} ms", fmt_ms(orig)),
-                    (dx, 6),
-                    at(&theme.bold(13.0), h, VPos::Top),
-                ),
-        ))?;
-    }
-    // Highlighted nodes, colored, with Δn at the path ends.
-    for p in t.paths.iter().filter(|p| p.color.is_some()) {
-        let c = color(p.color.unwrap_or(0));
-        let pts: Vec<(f64, f64)> = p.points.iter().map(pt).collect();
-        chart.draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?;
-        chart.draw_series(pts.iter().map(|&q| Circle::new(q, 3, c.filled())))?;
-        let style = theme.style(11.0, c, true);
-        let ends: Vec<&(u32, f64, f64)> = match (p.points.first(), p.points.last()) {
-            (Some(a), Some(b)) if a.0 != b.0 => vec![a, b],
-            (Some(a), _) => vec![a],
-            _ => vec![],
-        };
-        for q in ends {
-            chart.draw_series(std::iter::once(
-                EmptyElement::at(pt(q))
-                    + Text::new(
-                        format!("{}", q.0),
-                        (5, -4),
-                        at(&style, HPos::Left, VPos::Bottom),
-                    ),
-            ))?;
-        }
-    }
-    // The selections at the budgets: a black ring on the predicted point, labelled.
-    for (i, (ms, e, label)) in t.marks.iter().enumerate() {
-        let q = (*ms, scale.map(*e));
-        chart.draw_series(std::iter::once(Circle::new(q, 8, INK.stroke_width(2))))?;
-        let right = *ms > x0 + 0.6 * (x1 - x0);
-        let (h, dx) = if right {
-            (HPos::Right, -12)
-        } else {
-            (HPos::Left, 12)
-        };
-        // Alternate above and below, so neighbouring labels do not overlap.
-        let (v, dy) = if i % 2 == 0 {
-            (VPos::Bottom, -6)
-        } else {
-            (VPos::Top, 6)
-        };
-        chart.draw_series(std::iter::once(
-            EmptyElement::at(q) + Text::new(label.clone(), (dx, dy), at(&theme.bold(12.0), h, v)),
-        ))?;
-    }
-    if t.paths.is_empty() {
-        note_center(
-            chart.plotting_area(),
-            &["no measurements in this profile", "(no node was replayed)"],
-            theme,
-        )?;
-    }
-
-    // Legend, in its own column.
-    let mut rows: Vec<(Sample, String)> = Vec::new();
-    for p in t.paths.iter().filter(|p| p.color.is_some()) {
-        rows.push((
-            Sample::Line {
-                color: color(p.color.unwrap_or(0)),
-                width: 2,
-                marker: true,
-            },
-            p.label.clone(),
-        ));
-    }
-    if t.others > 0 {
-        rows.push((
-            Sample::Line {
-                color: GREY,
-                width: 1,
-                marker: false,
-            },
-            format!("{} other usable node{} (grey)", t.others, plural(t.others)),
-        ));
-    }
-    let aside = t.paths.iter().filter(|p| p.set_aside).count();
-    if aside > 0 && aside <= 3 {
-        for p in t.paths.iter().filter(|p| p.set_aside) {
-            rows.push((
-                Sample::Dashed {
-                    color: GREY,
-                    width: 1,
-                    dash: 5,
-                    gap: 4,
-                },
-                format!("{} (set aside)", crate::truncate(&p.label, 26)),
-            ));
-        }
-    } else if aside > 0 {
-        rows.push((
-            Sample::Dashed {
-                color: GREY,
-                width: 1,
-                dash: 5,
-                gap: 4,
-            },
-            format!("{aside} set-aside node{} (grey dashed)", plural(aside)),
-        ));
-    }
-    if !t.pareto.is_empty() {
-        rows.push((
-            Sample::Dashed {
-                color: INK,
-                width: 2,
-                dash: 2,
-                gap: 4,
-            },
-            "predicted Pareto frontier".to_string(),
-        ));
-    }
-    if !t.marks.is_empty() {
-        rows.push((
-            Sample::Ring { color: INK },
-            "selection at a budget ε (predicted)".to_string(),
-        ));
-    }
-    if let Some(orig) = t.original_ms {
-        rows.push((
-            Sample::Dashed {
-                color: INK,
-                width: 2,
-                dash: 9,
-                gap: 6,
-            },
-            format!("original shader ({} ms)", fmt_ms(orig)),
-        ));
-    }
-    let head = at(&theme.bold(14.0), HPos::Left, VPos::Top);
-    legend.draw_text("node (id: expression)", &head, (8, 8))?;
-    let style = theme.text(12.5);
-    for (i, (sample, label)) in rows.iter().enumerate() {
-        legend_row(&legend, (10, 40 + i as i32 * 22), *sample, label, &style)?;
-    }
-    let foot = 40 + rows.len() as i32 * 22 + 12;
-    let notes = [
-        "lower left is better: faster, less error;",
-        "left of the dashed line = faster than the",
-        "original; numbers on paths: Δn",
-    ];
-    for (i, line) in notes.iter().enumerate() {
-        legend.draw_text(
-            line,
-            &at(&theme.muted(12.0), HPos::Left, VPos::Top),
-            (10, foot + i as i32 * 17),
-        )?;
-    }
-    Ok(())
-}
-
-fn plural(n: usize) -> &'static str {
-    if n == 1 { "" } else { "s" }
-}
-
-/// Milliseconds with 3 significant digits or 2 decimals.
-fn fmt_ms(ms: f64) -> String {
-    if ms >= 100.0 {
-        format!("{ms:.0}")
-    } else if ms >= 10.0 {
-        format!("{ms:.1}")
-    } else {
-        format!("{ms:.2}")
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Chart 2: hit rate vs Δn (Fig. 5).
-
-fn hit_rate<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    h: &HitRate,
-    theme: &Theme,
-) -> DrawResult
-where
-    DB::ErrorType: 'static,
-{
-    header(root, &h.title, &h.subtitle, theme)?;
-    let (_, body) = root.split_vertically(64);
-    let x1 = h.max_delta_n.max(2.0) * 1.03;
-    let mut chart = ChartBuilder::on(&body)
-        .margin_top(6)
-        .margin_left(8)
-        .margin_right(24)
-        .margin_bottom(8)
-        .x_label_area_size(48)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..x1, 0.0..1.05)?;
-    let x_fmt = formatter(0.0, x1);
-    let y_fmt = formatter(0.0, 1.05);
-    mesh_style(
-        &mut chart,
-        theme,
-        &Axes {
-            x_desc: "refresh period Δn (frames)",
-            y_desc: "hit rate (hits / shaded pixels)",
-            x_fmt: &x_fmt,
-            y_fmt: &y_fmt,
-            labels: (12, 11),
-            label_size: 13.0,
-            y_light_lines: 2,
-        },
-    )?;
-    let train_color = PALETTE[0];
-    let held_color = PALETTE[1];
-    let fit_color = PALETTE[3];
-    if let Some(mu) = h.mu {
-        let curve: Vec<(f64, f64)> = (0..=400)
-            .map(|i| 1.0 + (x1 - 1.0) * f64::from(i) / 400.0)
-            .map(|dn| (dn, mu * (1.0 - 1.0 / dn)))
-            .collect();
-        chart.draw_series(LineSeries::new(curve, fit_color.stroke_width(2)))?;
-        chart.draw_series(DashedLineSeries::new(
-            vec![(0.0, mu), (x1, mu)],
-            6,
-            5,
-            fit_color.mix(0.6).stroke_width(1),
-        ))?;
-        chart.draw_series(std::iter::once(
-            EmptyElement::at((x1, mu))
-                + Text::new(
-                    format!("µ = {mu:.3}"),
-                    (-6, -4),
-                    at(
-                        &theme.style(13.0, fit_color, true),
-                        HPos::Right,
-                        VPos::Bottom,
-                    ),
-                ),
-        ))?;
-    }
-    chart.draw_series(
-        h.train
-            .iter()
-            .map(|&p| Circle::new(p, 4, train_color.mix(0.55).filled())),
-    )?;
-    chart.draw_series(
-        h.holdout
-            .iter()
-            .map(|&p| Circle::new(p, 5, held_color.stroke_width(2))),
-    )?;
-    if h.train.is_empty() && h.holdout.is_empty() {
-        note_center(
-            chart.plotting_area(),
-            &["no hit-rate measurements in this profile"],
-            theme,
-        )?;
-    }
-    let mut rows = Vec::new();
-    if !h.train.is_empty() {
-        rows.push((
-            Sample::Dot {
-                color: train_color,
-                filled: true,
-            },
-            "measured, training Δn (one per node)".to_string(),
-        ));
-    }
-    if !h.holdout.is_empty() {
-        rows.push((
-            Sample::Dot {
-                color: held_color,
-                filled: false,
-            },
-            "measured, held-out Δn".to_string(),
-        ));
-    }
-    if h.mu.is_some() {
-        rows.push((
-            Sample::Line {
-                color: fit_color,
-                width: 2,
-                marker: false,
-            },
-            "model µ(1 − 1/Δn)".to_string(),
-        ));
-    }
-    if !rows.is_empty() {
-        let (xr, yr) = chart.plotting_area().get_pixel_range();
-        let (bx, by) = (xr.end - 330, yr.end - 20 - (rows.len() as i32 * 20 + 10));
-        legend_box(root, (bx, by), 320, &rows, theme)?;
-    }
-    Ok(())
-}
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tradeoff::fmt_ms;
 
     #[test]
     fn spans_are_never_empty() {

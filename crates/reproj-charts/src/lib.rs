@@ -23,7 +23,9 @@ mod compare;
 mod draw;
 mod font;
 mod glyph;
+mod hitrate;
 mod models;
+mod tradeoff;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
