@@ -23,106 +23,10 @@ use crate::render::{Reference, Renderer, Staging, gpu_err, readback_row_bytes};
 /// Pixels per side of the tile one workgroup reduces (16×16 threads, 4×4 pixels each).
 const TILE: u32 = 64;
 
-const SHADER: &str = r#"
-// One workgroup reduces a 64×64 tile of the frame: 16×16 threads each sum a 4×4 block, then a
-// tree over the workgroup. Keep `Partial` in step with the Rust struct of the same name.
-struct Partial {
-    l2: f32,        // sum of the per-pixel L2 RGB distance, channels clamped to [0, 1]
-    sq: f32,        // sum over covered pixels of the squared (clamped) RGB differences
-    covered: u32,   // pixels where the reference depth < 1
-    max_bits: u32,  // bits of the largest |difference| over RGBA (a non-negative f32: ordered as u32)
-    flags: u32,     // 1: NaN in some pixel's RGB; 2: NaN in a covered pixel's RGB
-}
+/// The reduction kernel (`reduce.wgsl`).
+const SHADER: &str = include_str!("reduce.wgsl");
 
-@group(0) @binding(0) var frame_color: texture_2d<f32>;
-@group(0) @binding(1) var ref_color: texture_2d<f32>;
-@group(0) @binding(2) var ref_depth: texture_2d<f32>;
-@group(0) @binding(3) var<storage, read_write> partials: array<Partial>;
-
-const SIDE: u32 = 16u;
-const BLOCK: u32 = 4u;
-const INF_BITS: u32 = 0x7f800000u;
-
-var<workgroup> w_l2: array<f32, 256>;
-var<workgroup> w_sq: array<f32, 256>;
-var<workgroup> w_cov: array<u32, 256>;
-var<workgroup> w_max: array<u32, 256>;
-var<workgroup> w_flags: array<u32, 256>;
-
-fn nan3(v: vec3<f32>) -> bool {
-    let b = bitcast<vec3<u32>>(v) & vec3<u32>(0x7fffffffu);
-    return any(b > vec3<u32>(INF_BITS));
-}
-
-// |d| as bits, NaN as +inf.
-fn abs_bits(d: f32) -> u32 {
-    let b = bitcast<u32>(d) & 0x7fffffffu;
-    return select(b, INF_BITS, b > INF_BITS);
-}
-
-@compute @workgroup_size(16, 16)
-fn reduce(
-    @builtin(workgroup_id) wg: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(local_invocation_index) li: u32,
-) {
-    let size = textureDimensions(frame_color);
-    let origin = wg.xy * (SIDE * BLOCK) + lid.xy * BLOCK;
-    var l2 = 0.0;
-    var sq = 0.0;
-    var cov = 0u;
-    var mx = 0u;
-    var flags = 0u;
-    for (var j = 0u; j < BLOCK; j++) {
-        for (var i = 0u; i < BLOCK; i++) {
-            let p = origin + vec2<u32>(i, j);
-            if p.x < size.x && p.y < size.y {
-                let a = textureLoad(frame_color, p, 0);
-                let b = textureLoad(ref_color, p, 0);
-                let covered = textureLoad(ref_depth, p, 0).r < 1.0;
-                mx = max(mx, max(max(abs_bits(a.r - b.r), abs_bits(a.g - b.g)),
-                                 max(abs_bits(a.b - b.b), abs_bits(a.a - b.a))));
-                if nan3(a.rgb) || nan3(b.rgb) {
-                    flags |= select(1u, 3u, covered);
-                } else {
-                    let d = clamp(a.rgb, vec3<f32>(0.0), vec3<f32>(1.0))
-                          - clamp(b.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
-                    let s = d.r * d.r + d.g * d.g + d.b * d.b;
-                    l2 += sqrt(s);
-                    if covered {
-                        sq += s;
-                    }
-                }
-                if covered {
-                    cov += 1u;
-                }
-            }
-        }
-    }
-    w_l2[li] = l2;
-    w_sq[li] = sq;
-    w_cov[li] = cov;
-    w_max[li] = mx;
-    w_flags[li] = flags;
-    workgroupBarrier();
-    for (var s = 128u; s > 0u; s >>= 1u) {
-        if li < s {
-            w_l2[li] += w_l2[li + s];
-            w_sq[li] += w_sq[li + s];
-            w_cov[li] += w_cov[li + s];
-            w_max[li] = max(w_max[li], w_max[li + s]);
-            w_flags[li] |= w_flags[li + s];
-        }
-        workgroupBarrier();
-    }
-    if li == 0u {
-        partials[wg.y * groups.x + wg.x] = Partial(w_l2[0], w_sq[0], w_cov[0], w_max[0], w_flags[0]);
-    }
-}
-"#;
-
-/// One tile's sums, as the shader writes them (`struct Partial` in [`SHADER`]).
+/// One tile's sums, as the shader writes them (`struct Partial` in `reduce.wgsl`).
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 struct Partial {
