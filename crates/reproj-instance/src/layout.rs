@@ -1,0 +1,496 @@
+//! The manifest of a variant: bind group layouts from the passes' globals, the frame plan (targets,
+//! roles, attachments), the parameters and the vertex contract a host follows (`docs/PASSES.md`).
+
+use super::*;
+
+/// WGSL spelling of a type (naga's own printer; structs by name).
+pub(crate) fn type_name(module: &Module, ty: Handle<naga::Type>) -> String {
+    use naga::common::wgsl::TypeContext;
+    module.to_ctx().type_to_string(ty)
+}
+
+/// The bind group layout entry of a global variable, from its type.
+pub(crate) fn layout_entry(
+    module: &Module,
+    g: &naga::GlobalVariable,
+    filterable: bool,
+) -> LayoutEntry {
+    use naga::TypeInner as T;
+    let inner = &module.types[g.ty].inner;
+    match (g.space, inner) {
+        (naga::AddressSpace::Uniform, _) => LayoutEntry::Buffer {
+            buffer_type: "uniform".into(),
+            min_binding_size: u64::from(inner.size(module.to_ctx())),
+        },
+        (naga::AddressSpace::Storage { access }, _) => LayoutEntry::Buffer {
+            buffer_type: if access.contains(naga::StorageAccess::STORE) {
+                "storage"
+            } else {
+                "read-only-storage"
+            }
+            .into(),
+            min_binding_size: u64::from(inner.size(module.to_ctx())),
+        },
+        (_, T::Sampler { comparison }) => LayoutEntry::Sampler {
+            sampler_type: if *comparison {
+                "comparison"
+            } else if filterable {
+                "filtering"
+            } else {
+                "non-filtering"
+            }
+            .into(),
+        },
+        (
+            _,
+            T::Image {
+                dim,
+                arrayed,
+                class,
+            },
+        ) => {
+            let view_dimension = match (dim, arrayed) {
+                (naga::ImageDimension::D1, _) => "1d",
+                (naga::ImageDimension::D2, false) => "2d",
+                (naga::ImageDimension::D2, true) => "2d-array",
+                (naga::ImageDimension::D3, _) => "3d",
+                (naga::ImageDimension::Cube, false) => "cube",
+                (naga::ImageDimension::Cube, true) => "cube-array",
+            }
+            .to_string();
+            match class {
+                naga::ImageClass::Sampled { kind, multi } => LayoutEntry::Texture {
+                    sample_type: match kind {
+                        naga::ScalarKind::Sint => "sint",
+                        naga::ScalarKind::Uint => "uint",
+                        _ if filterable => "float",
+                        _ => "unfilterable-float",
+                    }
+                    .into(),
+                    view_dimension,
+                    multisampled: *multi,
+                },
+                naga::ImageClass::Depth { multi } => LayoutEntry::Texture {
+                    sample_type: "depth".into(),
+                    view_dimension,
+                    multisampled: *multi,
+                },
+                naga::ImageClass::Storage { format, access } => LayoutEntry::StorageTexture {
+                    format: format!("{format:?}").to_lowercase(),
+                    access: if access
+                        .contains(naga::StorageAccess::LOAD | naga::StorageAccess::STORE)
+                    {
+                        "read-write"
+                    } else if access.contains(naga::StorageAccess::STORE) {
+                        "write-only"
+                    } else {
+                        "read-only"
+                    }
+                    .into(),
+                    view_dimension,
+                },
+                naga::ImageClass::External => LayoutEntry::Texture {
+                    sample_type: "float".into(),
+                    view_dimension,
+                    multisampled: false,
+                },
+            }
+        }
+        _ => LayoutEntry::Buffer {
+            buffer_type: "uniform".into(),
+            min_binding_size: u64::from(inner.size(module.to_ctx())),
+        },
+    }
+}
+
+/// The bindings of a pass module: the shader's own (bound as for the original) and the
+/// instancer's, each with its layout entry and the resource it takes.
+pub(crate) fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) -> Vec<Binding> {
+    let mut out: Vec<Binding> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            let name = g.name.clone().unwrap_or_default();
+            let space = match g.space {
+                naga::AddressSpace::Uniform => "uniform ",
+                naga::AddressSpace::Storage { .. } => "storage ",
+                _ => "",
+            };
+            let added = b.group == group;
+            let (resource, filterable) = if !added {
+                (BindingResource::Own, true)
+            } else {
+                match name.as_str() {
+                    contract::PARAMS => (BindingResource::Params, false),
+                    contract::PREV_PAYLOAD => (
+                        BindingResource::Texture {
+                            role: ROLE_PREV_PAYLOAD.into(),
+                        },
+                        reconstruct == Reconstruct::Bilinear,
+                    ),
+                    contract::CUR_PAYLOAD => (
+                        BindingResource::Texture {
+                            role: ROLE_CUR_PAYLOAD.into(),
+                        },
+                        false,
+                    ),
+                    contract::PREV_DEPTH => (
+                        BindingResource::Texture {
+                            role: ROLE_PREV_DEPTH_COPY.into(),
+                        },
+                        false,
+                    ),
+                    contract::LINEAR_SAMPLER => (
+                        BindingResource::Sampler {
+                            name: SAMPLER_LINEAR.into(),
+                        },
+                        true,
+                    ),
+                    other => unreachable!("the lookup library declares no binding `{other}`"),
+                }
+            };
+            Some(Binding {
+                group: b.group,
+                binding: b.binding,
+                name,
+                ty: format!("{space}{}", type_name(module, g.ty)),
+                added,
+                layout: layout_entry(module, g, filterable),
+                resource,
+            })
+        })
+        .collect();
+    out.sort_by_key(|b| (b.group, b.binding));
+    out
+}
+
+/// Texture roles of the [`FramePlan`].
+pub const ROLE_CUR_PAYLOAD: &str = "cur_payload";
+pub const ROLE_PREV_PAYLOAD: &str = "prev_payload";
+pub const ROLE_CUR_DEPTH: &str = "cur_depth";
+/// The depth attachment (one texture: the depth buffer is not kept from one frame to the next).
+pub const ROLE_CUR_DEPTH_COPY: &str = "cur_depth_copy";
+/// The previous frame's depth, as the passes that wrote its color copied it (r32float).
+pub const ROLE_PREV_DEPTH_COPY: &str = "prev_depth_copy";
+/// The frame target's attachment name.
+pub const ATTACHMENT_FRAME: &str = "frame";
+/// Sampler names.
+pub const SAMPLER_LINEAR: &str = "linear";
+
+/// The WGSL of the vertex contract's helper.
+pub(crate) const VERTEX_CONTRACT_WGSL: &str = "\
+// reproj: the vertex's clip-space position in the previous frame. Write the result to the vertex
+// output at @location(prev_clip_location); the clip position itself must be @invariant.
+fn reproj_prev_clip(prev_view_proj: mat4x4<f32>, prev_model: mat4x4<f32>, position: vec3<f32>) -> vec4<f32> {
+    return prev_view_proj * (prev_model * vec4<f32>(position, 1.0));
+}
+";
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn build_manifest(
+    shader: &Shader,
+    norm: &Normalized,
+    nodes: &[&Node],
+    opts: &InstanceOptions,
+    cache_format: CacheFormat,
+    group: u32,
+    prev_clip_location: u32,
+    passes: &[PassModule],
+) -> Manifest {
+    let clear_cache = || LoadOp::Clear {
+        value: Some(vec![0.0; 4]),
+    };
+    let cache = |location: u32, load: LoadOp| ColorTarget {
+        location,
+        attachment: ROLE_CUR_PAYLOAD.into(),
+        format: Some(cache_format.name().into()),
+        load,
+        store: true,
+        blend: None,
+    };
+    let frame_first = || match opts.frame_load {
+        FrameLoad::Clear => LoadOp::Clear { value: None },
+        FrameLoad::Load => LoadOp::Load,
+    };
+    let frame = |load: LoadOp| ColorTarget {
+        location: 0,
+        attachment: ATTACHMENT_FRAME.into(),
+        format: None,
+        load,
+        store: true,
+        blend: None,
+    };
+    let clear_depth = || LoadOp::Clear {
+        value: Some(vec![1.0]),
+    };
+    let depth = |compare: &str, write: bool, load: LoadOp| DepthState {
+        attachment: ROLE_CUR_DEPTH.into(),
+        format: "depth32float".into(),
+        compare: compare.into(),
+        write,
+        load,
+        store: true,
+        stencil: None,
+    };
+    let depth_copy = |location: u32, load: LoadOp| ColorTarget {
+        location,
+        attachment: ROLE_CUR_DEPTH_COPY.into(),
+        format: Some("r32float".into()),
+        load,
+        store: true,
+        blend: None,
+    };
+    let clear_depth_copy = || LoadOp::Clear {
+        value: Some(vec![1.0, 0.0, 0.0, 0.0]),
+    };
+    // The location of an output struct member (the cache and the depth copy follow the shader's
+    // outputs).
+    let location_of = |p: &PassModule, name: &str| {
+        let ep = &p.module.entry_points[0];
+        let ty = ep
+            .function
+            .result
+            .as_ref()
+            .map(|r| &p.module.types[r.ty].inner);
+        match ty {
+            Some(naga::TypeInner::Struct { members, .. }) => members
+                .iter()
+                .find(|m| m.name.as_deref() == Some(name))
+                .and_then(|m| match m.binding {
+                    Some(naga::Binding::Location { location, .. }) => Some(location),
+                    _ => None,
+                })
+                .unwrap_or(1),
+            _ => 1,
+        }
+    };
+    let cache_at = |p: &PassModule| location_of(p, strategy::CACHE_MEMBER);
+    let depth_at = |p: &PassModule| location_of(p, strategy::DEPTH_MEMBER);
+    let pass = |p: &PassModule| {
+        let (colors, depth) = match p.kind {
+            PassKind::Reproject => (
+                vec![cache(0, clear_cache())],
+                depth("less", true, clear_depth()),
+            ),
+            PassKind::Recompute => (
+                vec![cache(0, LoadOp::Load)],
+                depth("less", true, LoadOp::Load),
+            ),
+            PassKind::Shade => (
+                vec![
+                    frame(frame_first()),
+                    depth_copy(depth_at(p), clear_depth_copy()),
+                ],
+                depth("equal", false, LoadOp::Load),
+            ),
+            PassKind::Fused | PassKind::ShadeHits => (
+                vec![
+                    frame(frame_first()),
+                    cache(cache_at(p), clear_cache()),
+                    depth_copy(depth_at(p), clear_depth_copy()),
+                ],
+                depth("less", true, clear_depth()),
+            ),
+            PassKind::ShadeMisses => (
+                vec![
+                    frame(LoadOp::Load),
+                    cache(cache_at(p), LoadOp::Load),
+                    depth_copy(depth_at(p), LoadOp::Load),
+                ],
+                depth("less", true, LoadOp::Load),
+            ),
+        };
+        Pass {
+            kind: p.kind,
+            file: pass_file(p.kind).into(),
+            entry: p
+                .module
+                .entry_points
+                .iter()
+                .find(|e| e.name != contract::CLASSIFY_ENTRY)
+                .map_or_else(String::new, |e| e.name.clone()),
+            bindings: bindings(&p.module, group, opts.reconstruct),
+            colors,
+            depth,
+        }
+    };
+    let draw = match opts.strategy {
+        Strategy::ThreePass => "All three passes draw",
+        Strategy::TwoPass => "Both passes draw",
+        Strategy::Fused => "The pass draws",
+    };
+    let mut notes = vec![
+        format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
+        format!(
+            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
+        ),
+        "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
+        "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
+        "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
+        "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
+    ];
+    if opts.frame_load == FrameLoad::Load {
+        notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());
+    }
+    let texture = |name: &str, format: &str| TextureDesc {
+        name: name.into(),
+        format: format.into(),
+        size: TextureSize::Frame,
+        usage: vec![TextureUsage::RenderAttachment, TextureUsage::TextureBinding],
+        mip_levels: 1,
+        sample_count: 1,
+    };
+    let plan = |a: &str, b: &str| {
+        [
+            (ROLE_CUR_PAYLOAD, format!("payload_{a}")),
+            (ROLE_PREV_PAYLOAD, format!("payload_{b}")),
+            (ROLE_CUR_DEPTH_COPY, format!("depth_copy_{a}")),
+            (ROLE_PREV_DEPTH_COPY, format!("depth_copy_{b}")),
+            (ROLE_CUR_DEPTH, "depth".to_string()),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect()
+    };
+    let sampler = |name: &str, f: Filter| SamplerDesc {
+        name: name.into(),
+        mag_filter: f,
+        min_filter: f,
+        mipmap_filter: Filter::Nearest,
+        address_mode: "clamp-to-edge".into(),
+    };
+    let field = |name: &str, offset: u32, ty: ScalarType, value: ParamValue| ParamField {
+        name: name.into(),
+        offset,
+        ty,
+        value,
+    };
+    let mut offset = 0;
+    let infos: Vec<NodeInfo> = nodes
+        .iter()
+        .map(|node| {
+            let info = NodeInfo {
+                id: node_id(node),
+                text: node.text.clone(),
+                line: node.line,
+                col: node.col,
+                ty: node.ty.clone(),
+                components: node.components,
+                offset,
+            };
+            offset += node.components;
+            info
+        })
+        .collect();
+    if nodes.len() > 1 {
+        notes.push(format!(
+            "The payload holds {} nodes, each at its offset: {}.",
+            nodes.len(),
+            infos
+                .iter()
+                .map(|i| format!("node {} at {}", i.id, i.offset))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    Manifest {
+        schema: "reproj.manifest".into(),
+        version: MANIFEST_VERSION,
+        shader: shader.path.file_name().map_or_else(
+            || shader.path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        ),
+        entry: norm.entry.clone(),
+        node: infos[0].clone(),
+        also: infos[1..].to_vec(),
+        strategy: opts.strategy,
+        reconstruct: opts.reconstruct,
+        cache_format,
+        required_features: if !cache_format.is_half() && opts.reconstruct == Reconstruct::Bilinear {
+            vec!["float32-filterable".into()]
+        } else {
+            Vec::new()
+        },
+        group,
+        conventions: Conventions::default(),
+        vertex: VertexContract {
+            invariant_position: true,
+            prev_clip_location,
+            inputs: vec![
+                VertexInput {
+                    name: "prev_view_proj".into(),
+                    ty: "mat4x4<f32>".into(),
+                    meaning: "the previous frame's view-projection matrix (this frame's on the first frame)".into(),
+                },
+                VertexInput {
+                    name: "prev_model".into(),
+                    ty: "mat4x4<f32>".into(),
+                    meaning: "the object's model matrix in the previous frame".into(),
+                },
+                VertexInput {
+                    name: "position".into(),
+                    ty: "vec3<f32>".into(),
+                    meaning: "the vertex's object-space position".into(),
+                },
+            ],
+            wgsl: VERTEX_CONTRACT_WGSL.into(),
+        },
+        params: Params {
+            delta_n: opts.delta_n,
+            block: opts.block,
+            depth_epsilon: opts.depth_epsilon,
+            size: contract::PARAMS_SIZE,
+            fields: vec![
+                field(
+                    "delta_n",
+                    offset_of!(ReprojParams, delta_n) as u32,
+                    ScalarType::U32,
+                    ParamValue::Steady {
+                        value: f64::from(opts.delta_n),
+                        first: 1.0,
+                    },
+                ),
+                field(
+                    "clock",
+                    offset_of!(ReprojParams, clock) as u32,
+                    ScalarType::U32,
+                    ParamValue::FrameIndex,
+                ),
+                field(
+                    "block",
+                    offset_of!(ReprojParams, block) as u32,
+                    ScalarType::U32,
+                    ParamValue::Constant {
+                        value: f64::from(opts.block),
+                    },
+                ),
+                field(
+                    "depth_epsilon",
+                    offset_of!(ReprojParams, depth_epsilon) as u32,
+                    ScalarType::F32,
+                    ParamValue::Constant {
+                        // The f32's shortest decimal (0.01, not 0.009999999776482582).
+                        value: opts.depth_epsilon.to_string().parse().unwrap_or_default(),
+                    },
+                ),
+            ],
+        },
+        textures: vec![
+            texture("payload_0", cache_format.name()),
+            texture("payload_1", cache_format.name()),
+            texture("depth_copy_0", "r32float"),
+            texture("depth_copy_1", "r32float"),
+            TextureDesc {
+                usage: vec![TextureUsage::RenderAttachment],
+                ..texture("depth", "depth32float")
+            },
+        ],
+        samplers: vec![sampler(SAMPLER_LINEAR, Filter::Linear)],
+        frames: FramePlan {
+            ping_pong: vec![plan("0", "1"), plan("1", "0")],
+        },
+        passes: passes.iter().map(pass).collect(),
+        notes,
+    }
+}

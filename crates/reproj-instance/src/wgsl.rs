@@ -1,0 +1,158 @@
+//! Finishing a pass module: dead code out, validate, compact, validate again, then WGSL that
+//! reaches a fixed point on a round trip (naga's invented names dropped, `diagnostic` directives
+//! kept); and the file name of each pass.
+
+use super::*;
+
+/// Write WGSL. Names naga's writer invented on an earlier trip (`_e12`, `_e12_1`, ...) are dropped
+/// first, so that the writer invents them again the same way and the text reaches a fixed point.
+/// The module's global `diagnostic(...)` directives, which naga's writer leaves out, are written
+/// first.
+pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
+    fn generated(name: &str) -> bool {
+        name.strip_prefix("_e").is_some_and(|rest| {
+            !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_')
+        })
+    }
+    let mut module = module.clone();
+    let strip = |f: &mut naga::Function| f.named_expressions.retain(|_, name| !generated(name));
+    for (_, f) in module.functions.iter_mut() {
+        strip(f);
+    }
+    for ep in &mut module.entry_points {
+        strip(&mut ep.function);
+    }
+    let text =
+        naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
+            .map_err(|e| e.to_string())?;
+    Ok(diagnostic_directives(&module) + &text)
+}
+
+/// The module's global diagnostic filters as WGSL directives, outermost first.
+pub(crate) fn diagnostic_directives(module: &Module) -> String {
+    use naga::diagnostic_filter::{
+        FilterableTriggeringRule as R, Severity, StandardFilterableTriggeringRule as S,
+    };
+    let mut lines = Vec::new();
+    let mut node = module.diagnostic_filter_leaf;
+    while let Some(h) = node {
+        let n = &module.diagnostic_filters[h];
+        let severity = match n.inner.new_severity {
+            Severity::Off => "off",
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        };
+        let rule = match &n.inner.triggering_rule {
+            R::Standard(S::DerivativeUniformity) => "derivative_uniformity".to_string(),
+            R::Unknown(name) => name.to_string(),
+            R::User(parts) => format!("{}.{}", parts[0], parts[1]),
+        };
+        lines.push(format!("diagnostic({severity}, {rule});\n"));
+        node = n.parent;
+    }
+    lines.reverse();
+    if lines.is_empty() {
+        String::new()
+    } else {
+        lines.concat() + "\n"
+    }
+}
+
+/// Turn WGSL's `derivative_uniformity` diagnostic off for the whole module (see the fused entry in
+/// [`strategy`]: its recompute branch is uniform over each 2×2 quad, which the analysis cannot see).
+pub(crate) fn allow_quad_uniform_derivatives(module: &mut Module) {
+    use naga::diagnostic_filter::{
+        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
+        StandardFilterableTriggeringRule,
+    };
+    let node = DiagnosticFilterNode {
+        inner: DiagnosticFilter {
+            new_severity: Severity::Off,
+            triggering_rule: FilterableTriggeringRule::Standard(
+                StandardFilterableTriggeringRule::DerivativeUniformity,
+            ),
+        },
+        parent: module.diagnostic_filter_leaf,
+    };
+    module.diagnostic_filter_leaf = Some(
+        module
+            .diagnostic_filters
+            .append(node, naga::Span::UNDEFINED),
+    );
+}
+
+/// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
+pub(crate) fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
+    let (module, info, wgsl) =
+        finish_module(module, 2, |what| InstanceError::Internal { pass, what })?;
+    Ok(PassModule {
+        kind: pass,
+        module,
+        info,
+        wgsl,
+    })
+}
+
+/// Validate, compact, validate again and write `module` as WGSL that is a fixed point of parse →
+/// validate → write within `rounds` trips; `internal` makes the error of a step that fails (a bug
+/// in reproj).
+pub(crate) fn finish_module(
+    mut module: Module,
+    rounds: usize,
+    internal: impl Fn(String) -> InstanceError,
+) -> Result<(Module, naga::valid::ModuleInfo, String), InstanceError> {
+    validator().validate(&module).map_err(|e| {
+        internal(format!(
+            "does not validate before compaction: {}",
+            e.as_inner()
+        ))
+    })?;
+    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+    let info = validator().validate(&module).map_err(|e| {
+        internal(format!(
+            "does not validate after compaction: {}",
+            e.as_inner()
+        ))
+    })?;
+    let mut text = write_wgsl(&module, &info).map_err(&internal)?;
+    // The text may change (names, literal spellings; constants naga folds on parsing) and must
+    // then stop changing.
+    for round in 0..rounds {
+        let reparsed = naga::front::wgsl::parse_str(&text).map_err(|e| {
+            internal(format!(
+                "written WGSL does not parse: {}",
+                e.emit_to_string(&text)
+            ))
+        })?;
+        let reinfo = validator().validate(&reparsed).map_err(|e| {
+            internal(format!(
+                "written WGSL does not validate: {}",
+                e.emit_to_string(&text)
+            ))
+        })?;
+        let again = write_wgsl(&reparsed, &reinfo).map_err(&internal)?;
+        if again == text {
+            return Ok((reparsed, reinfo, text));
+        }
+        if round + 1 == rounds {
+            return Err(internal(
+                "the WGSL round trip does not reach a fixed point".into(),
+            ));
+        }
+        text = again;
+    }
+    unreachable!()
+}
+
+/// File name of a pass's WGSL beside the manifest.
+pub fn pass_file(kind: PassKind) -> &'static str {
+    match kind {
+        PassKind::Reproject => "pass1_reproject.wgsl",
+        PassKind::Recompute => "pass2_recompute.wgsl",
+        PassKind::Shade => "pass3_shade.wgsl",
+        PassKind::Fused => "pass1_fused.wgsl",
+        PassKind::ShadeHits => "pass1_shade_hits.wgsl",
+        PassKind::ShadeMisses => "pass2_shade_misses.wgsl",
+    }
+}
