@@ -448,11 +448,13 @@ pub fn write_outputs(c: &mut Comparison, dir: &Path) -> Result<Vec<String>, Comp
         .collect();
     let chart = reproj_charts::Compare {
         title: format!(
-            "{}: error at equal frame time (target {:.2}×)",
+            "{}: error at equal frame time (target {:.2}×{})",
             Path::new(&r.shader)
                 .file_name()
                 .map_or_else(|| r.shader.clone(), |n| n.to_string_lossy().into_owned()),
-            r.target_speedup
+            r.target_speedup,
+            r.max_error
+                .map_or_else(String::new, |e| format!(", reproj's under error {e}"))
         ),
         subtitle: format!(
             "{} frames at {}×{}, {} ({} timing)",

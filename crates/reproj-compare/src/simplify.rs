@@ -2,13 +2,16 @@
 //! whose removal costs the least error per saved time by a constant — its mean over the covered
 //! pixels of the session — and repeat on the simplified shader until it is fast enough.
 //!
-//! Each step renders, for each of the `candidates` nodes with the largest static saving (cost not
-//! shared with the rest of the shader, `docs/COST.md`) that are still live, the shader with that
-//! node also replaced, and measures its error. The node with the least `error / saving` is removed
-//! (ties: the larger saving, then the lower id). The saving is the static estimate — measured frame
-//! times on a shared machine are too noisy to rank candidates — but the stop is measured: the
-//! step's own render gives its frame time, and the search ends at the first step whose speedup
-//! reaches the target (or after `max_steps`, or when no candidate is left). A node's mean comes
+//! Each step renders, for each of `candidates` live nodes, the shader with that node also
+//! replaced, and measures its error and frame time. The candidates are half those with the largest
+//! static saving (cost not shared with the rest of the shader, `docs/COST.md`) and half those whose
+//! saving is nearest the saving still needed for the target (`cost × (1 − 1/target)` less what the
+//! steps so far saved), so the search can take a small step when a small one is enough instead of
+//! jumping to the largest subtree. When some candidates reach the target speedup as measured, the
+//! one with the least error among them is removed and the search ends there; otherwise the node
+//! with the least `error / saving` is removed (ties: the larger saving, then the lower id) — the
+//! saving being the static estimate, as measured times on a shared machine are too noisy to rank
+//! candidates by. The search also ends after `max_steps`, or when no candidate is left. A node's mean comes
 //! from one render of its probe ([`reproj_instance::probe`]) and is kept across steps.
 
 use std::collections::{BTreeMap, HashSet};
@@ -22,7 +25,7 @@ use crate::{CompareError, Ctx, MethodResult};
 /// Options of the greedy search.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimplifyOptions {
-    /// Nodes tried per step (those with the largest static saving).
+    /// Nodes tried per step (half with the largest static saving, half nearest the saving needed).
     pub candidates: usize,
     /// Most nodes removed.
     pub max_steps: usize,
@@ -90,6 +93,7 @@ pub(crate) fn simplify(
             shader: table.shader.clone(),
         });
     }
+    let total = table.root().cost;
     let mut means: BTreeMap<u32, [f32; 4]> = BTreeMap::new();
     let mut removed: Vec<Replacement> = Vec::new();
     let mut dead: HashSet<naga::Handle<naga::Expression>> = HashSet::new();
@@ -102,9 +106,10 @@ pub(crate) fn simplify(
             .filter(|n| !removed.iter().any(|r| r.node == n.id))
             .filter(|n| !n.handle.is_some_and(|h| dead.contains(&h)))
             .collect();
-        pool.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
         pool.retain(|n| saving(n) > 0.0);
-        pool.truncate(opts.candidates.max(1));
+        let saved: f64 = steps.iter().map(|s| s.saving).sum();
+        let needed = (total * (1.0 - 1.0 / ctx.target) - saved).max(0.0);
+        let pool = candidate_pool(pool, needed, opts.candidates.max(1));
         if pool.is_empty() {
             break;
         }
@@ -143,7 +148,7 @@ pub(crate) fn simplify(
                 wgsl: s.wgsl,
             });
         }
-        let best = pick(&tried);
+        let best = pick(&tried, |t| ctx.speedup(t.frame_ms) >= ctx.target);
         let chosen = tried.swap_remove(best);
         let rejected = tried.iter().map(|t| (t.node.id, t.error)).collect();
         let speedup = ctx.speedup(chosen.frame_ms);
@@ -213,17 +218,50 @@ struct Tried<'a> {
     wgsl: String,
 }
 
-/// The candidate with the least error per saved cost; ties: larger saving, then lower id.
-fn pick(tried: &[Tried]) -> usize {
-    let key = |t: &Tried| (t.error / saving(t.node), saving(t.node), t.node.id);
+/// The candidate to remove: the least error among those that `reach` the target, else the least
+/// error per saved cost; ties: larger saving, then lower id.
+fn pick(tried: &[Tried], reach: impl Fn(&Tried) -> bool) -> usize {
+    let reaching = tried.iter().any(&reach);
+    let key = |t: &Tried| {
+        let per = if reaching {
+            t.error
+        } else {
+            t.error / saving(t.node)
+        };
+        (!reach(t) && reaching, per, saving(t.node), t.node.id)
+    };
     (0..tried.len())
         .min_by(|&a, &b| {
             let (ka, kb) = (key(&tried[a]), key(&tried[b]));
-            ka.0.total_cmp(&kb.0)
-                .then(kb.1.total_cmp(&ka.1))
-                .then(ka.2.cmp(&kb.2))
+            ka.0.cmp(&kb.0)
+                .then(ka.1.total_cmp(&kb.1))
+                .then(kb.2.total_cmp(&ka.2))
+                .then(ka.3.cmp(&kb.3))
         })
         .expect("at least one candidate")
+}
+
+/// `n` candidates from `pool`: half with the largest saving, the rest with the saving nearest
+/// `needed` (each in order, no node twice).
+fn candidate_pool(mut pool: Vec<&Node>, needed: f64, n: usize) -> Vec<&Node> {
+    pool.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
+    let mut chosen: Vec<&Node> = pool.iter().copied().take(n.div_ceil(2)).collect();
+    let mut near = pool.clone();
+    near.sort_by(|a, b| {
+        (saving(a) - needed)
+            .abs()
+            .total_cmp(&(saving(b) - needed).abs())
+            .then(a.id.cmp(&b.id))
+    });
+    for node in near {
+        if chosen.len() >= n {
+            break;
+        }
+        if !chosen.iter().any(|c| c.id == node.id) {
+            chosen.push(node);
+        }
+    }
+    chosen
 }
 
 /// Static saving of replacing `node`: its cost not shared with the rest of the shader.
@@ -249,4 +287,67 @@ fn node_mean(ctx: &Ctx, loaded: &Loaded, node: &Node) -> Result<[f32; 4], Compar
     }
     let n = n.max(1) as f64;
     Ok(sum.map(|s| (s / n) as f32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use reproj_front::{LoadOptions, load};
+
+    fn loaded() -> Loaded {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/flat_and_stripes.wgsl");
+        load(&path, None, &LoadOptions::default()).unwrap()
+    }
+
+    fn tried<'a>(node: &'a Node, error: f64, frame_ms: f64) -> Tried<'a> {
+        Tried {
+            node,
+            value: [0.0; 4],
+            error,
+            frame_ms,
+            frames: Vec::new(),
+            wgsl: String::new(),
+        }
+    }
+
+    #[test]
+    fn the_pool_mixes_the_largest_savings_with_those_nearest_the_need() {
+        let l = loaded();
+        let mut nodes: Vec<&Node> = l.table.cacheable().filter(|n| saving(n) > 0.0).collect();
+        assert!(nodes.len() >= 4, "{}", nodes.len());
+        nodes.sort_by(|a, b| saving(a).total_cmp(&saving(b)).then(a.id.cmp(&b.id)));
+        let smallest = nodes[0];
+        let largest = nodes[nodes.len() - 1];
+        let pool = candidate_pool(nodes.clone(), saving(smallest), 2);
+        let ids: Vec<u32> = pool.iter().map(|n| n.id).collect();
+        assert_eq!(pool.len(), 2);
+        assert_eq!(saving(pool[0]), saving(largest), "{ids:?}");
+        assert!(
+            pool.iter().any(|n| saving(n) == saving(smallest)),
+            "a node as small as the need: {ids:?}"
+        );
+        // No node twice, and never more than asked.
+        let pool = candidate_pool(nodes.clone(), saving(largest), nodes.len() + 3);
+        assert_eq!(pool.len(), nodes.len());
+    }
+
+    #[test]
+    fn a_candidate_reaching_the_target_wins_by_error_alone() {
+        let l = loaded();
+        let mut nodes: Vec<&Node> = l.table.cacheable().filter(|n| saving(n) > 0.0).collect();
+        nodes.sort_by(|a, b| saving(a).total_cmp(&saving(b)));
+        let (small, big) = (nodes[0], nodes[nodes.len() - 1]);
+        assert!(saving(big) > saving(small));
+        // Slow: the least error per saving wins, the big node here.
+        let t = [tried(small, 0.010, 9.0), tried(big, 0.012, 8.0)];
+        let slow = |t: &Tried| t.frame_ms < 1.0;
+        assert_eq!(t[pick(&t, slow)].node.id, big.id);
+        // Both reach the target: the lower error wins whatever it saves.
+        let fast = |_: &Tried| true;
+        assert_eq!(t[pick(&t, fast)].node.id, small.id);
+        // Only the big one reaches it: it wins even with more error.
+        let big_only = |t: &Tried| t.node.id == big.id;
+        assert_eq!(t[pick(&t, big_only)].node.id, big.id);
+    }
 }
