@@ -74,8 +74,8 @@ pub struct CompareArgs {
     /// Replay only the first N frames of the session.
     #[arg(long)]
     pub max_frames: Option<u32>,
-    /// Simplification: nodes tried per step (half with the largest static saving, half nearest
-    /// the saving still needed for the target).
+    /// Simplification: nodes with the largest static saving tried per step (and half as many
+    /// more nearest the saving still needed for the target).
     #[arg(long, default_value_t = 6)]
     pub candidates: usize,
     /// Simplification: most nodes replaced.

@@ -270,7 +270,10 @@ pub fn compare(
     };
     progress.start(
         1 + opts.resize.tries as u64
-            + (opts.simplify.max_steps * 2 * opts.simplify.candidates) as u64
+            + (opts.simplify.max_steps
+                * 2
+                * (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)))
+                as u64
             + u64::from(input.profile.is_some()),
     );
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;

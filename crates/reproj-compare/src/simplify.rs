@@ -3,11 +3,11 @@
 //! pixels of the session — and repeat on the simplified shader until it is fast enough.
 //!
 //! Each step renders, for each of `candidates` live nodes, the shader with that node also
-//! replaced, and measures its error and frame time. The candidates are half those with the largest
-//! static saving (cost not shared with the rest of the shader, `docs/COST.md`) and half those whose
-//! saving is nearest the saving still needed for the target (`cost × (1 − 1/target)` less what the
-//! steps so far saved), so the search can take a small step when a small one is enough instead of
-//! jumping to the largest subtree. When some candidates reach the target speedup as measured, the
+//! replaced, and measures its error and frame time. The candidates are those with the largest
+//! static saving (cost not shared with the rest of the shader, `docs/COST.md`) and half as many
+//! more whose saving is nearest the saving still needed for the target (`cost × (1 − 1/target)`
+//! less what the steps so far saved), so the search can take a small step when a small one is
+//! enough instead of only jumping to the largest subtrees. When some candidates reach the target speedup as measured, the
 //! one with the least error among them is removed and the search ends there; otherwise the node
 //! with the least `error / saving` is removed (ties: the larger saving, then the lower id) — the
 //! saving being the static estimate, as measured times on a shared machine are too noisy to rank
@@ -25,7 +25,8 @@ use crate::{CompareError, Ctx, MethodResult};
 /// Options of the greedy search.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimplifyOptions {
-    /// Nodes tried per step (half with the largest static saving, half nearest the saving needed).
+    /// Nodes with the largest static saving tried per step (half as many more are tried among
+    /// those nearest the saving still needed).
     pub candidates: usize,
     /// Most nodes removed.
     pub max_steps: usize,
@@ -241,11 +242,12 @@ fn pick(tried: &[Tried], reach: impl Fn(&Tried) -> bool) -> usize {
         .expect("at least one candidate")
 }
 
-/// `n` candidates from `pool`: half with the largest saving, the rest with the saving nearest
-/// `needed` (each in order, no node twice).
+/// Candidates from `pool`: the `n` with the largest saving, then `n / 2` more (rounded up) with
+/// the saving nearest `needed` (each in order, no node twice).
 fn candidate_pool(mut pool: Vec<&Node>, needed: f64, n: usize) -> Vec<&Node> {
     pool.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
-    let mut chosen: Vec<&Node> = pool.iter().copied().take(n.div_ceil(2)).collect();
+    let mut chosen: Vec<&Node> = pool.iter().copied().take(n).collect();
+    let n = n + n.div_ceil(2);
     let mut near = pool.clone();
     near.sort_by(|a, b| {
         (saving(a) - needed)
@@ -319,7 +321,7 @@ mod tests {
         nodes.sort_by(|a, b| saving(a).total_cmp(&saving(b)).then(a.id.cmp(&b.id)));
         let smallest = nodes[0];
         let largest = nodes[nodes.len() - 1];
-        let pool = candidate_pool(nodes.clone(), saving(smallest), 2);
+        let pool = candidate_pool(nodes.clone(), saving(smallest), 1);
         let ids: Vec<u32> = pool.iter().map(|n| n.id).collect();
         assert_eq!(pool.len(), 2);
         assert_eq!(saving(pool[0]), saving(largest), "{ids:?}");
@@ -330,6 +332,8 @@ mod tests {
         // No node twice, and never more than asked.
         let pool = candidate_pool(nodes.clone(), saving(largest), nodes.len() + 3);
         assert_eq!(pool.len(), nodes.len());
+        // n largest, then n / 2 near the need: 2 + 1.
+        assert_eq!(candidate_pool(nodes.clone(), saving(smallest), 2).len(), 3);
     }
 
     #[test]
