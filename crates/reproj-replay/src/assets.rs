@@ -62,7 +62,12 @@ impl Assets {
         session: &Session,
         m: &Mesh,
     ) -> Result<MeshGpu, ReplayError> {
-        let k = key(m, "mesh", matches!(m, Mesh::Obj { .. }), session);
+        let k = key(
+            m,
+            "mesh",
+            matches!(m, Mesh::Obj { .. } | Mesh::Gltf { .. }),
+            session,
+        );
         let mut cache = self.meshes.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(g) = cache.get(&k) {
             self.hit();
@@ -108,6 +113,7 @@ impl Assets {
     ) -> Result<wgpu::TextureView, ReplayError> {
         let files = spec.file.is_some()
             || spec.faces.is_some()
+            || spec.gltf.is_some()
             || spec
                 .layers
                 .iter()

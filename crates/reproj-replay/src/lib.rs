@@ -53,6 +53,7 @@
 
 mod assets;
 pub mod backend;
+mod gltf;
 pub mod mesh;
 pub mod metrics;
 pub mod output;

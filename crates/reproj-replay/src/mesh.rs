@@ -1,4 +1,4 @@
-//! Meshes: procedural shapes and OBJ files, as one interleaved vertex layout.
+//! Meshes: procedural shapes, OBJ files and glTF primitives, as one interleaved vertex layout.
 
 use std::f32::consts::{PI, TAU};
 
@@ -183,7 +183,7 @@ fn lathe(profile: &[[f32; 2]], segments: u32) -> MeshData {
 }
 
 /// Per-vertex tangents from uvs (accumulated per triangle, Gram–Schmidt against the normal).
-fn compute_tangents(m: &mut MeshData) {
+pub(crate) fn compute_tangents(m: &mut MeshData) {
     let n = m.vertices.len();
     let mut tan = vec![Vec3::ZERO; n];
     let mut bit = vec![Vec3::ZERO; n];
@@ -229,7 +229,7 @@ fn compute_tangents(m: &mut MeshData) {
     }
 }
 
-fn smooth_normals(m: &mut MeshData) {
+pub(crate) fn smooth_normals(m: &mut MeshData) {
     let mut acc = vec![Vec3::ZERO; m.vertices.len()];
     for tri in m.indices.chunks_exact(3) {
         let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
@@ -319,6 +319,11 @@ pub fn build(session: &Session, mesh: &Mesh) -> Result<MeshData, String> {
         Mesh::Cube { size } => cube(*size),
         Mesh::Lathe { profile, segments } => lathe(profile, *segments),
         Mesh::Obj { path, scale } => obj(session, path, *scale)?,
+        Mesh::Gltf {
+            path,
+            mesh,
+            primitive,
+        } => crate::gltf::mesh(session, path, *mesh, *primitive)?,
     })
 }
 

@@ -4,7 +4,7 @@
 use glam::{Vec3, Vec4};
 
 use crate::reflect::TexDim;
-use crate::session::{Session, TexFormat, TextureKind, TextureSpec};
+use crate::session::{MaterialSlot, Session, TexFormat, TextureKind, TextureSpec};
 
 /// Texel data of one texture, f32 RGBA, all mip levels; each level holds `layers` images (6 for a
 /// cube, the layer count for a 2D array, 1 otherwise) or, for 3D, `depth` slices.
@@ -441,6 +441,29 @@ fn build_single(
                     levels: vec![texels],
                 }
             }
+        }
+    } else if let Some(g) = &spec.gltf {
+        if dim != TexDim::D2 {
+            return Err(format!(
+                "texture `{name}` is {}; a glTF material's texture is 2D",
+                dim_text(dim)
+            ));
+        }
+        let (width, height, texels) =
+            crate::gltf::texture(session, g).map_err(|e| format!("texture `{name}`: {e}"))?;
+        // Base color and emissive textures hold sRGB values (glTF 2.0 § 3.9.2).
+        let srgb = matches!(g.slot, MaterialSlot::BaseColor | MaterialSlot::Emissive);
+        TextureData {
+            dim,
+            width,
+            height,
+            layers: 1,
+            format: spec.format.unwrap_or(if srgb {
+                TexFormat::Rgba8unormSrgb
+            } else {
+                TexFormat::Rgba8unorm
+            }),
+            levels: vec![texels],
         }
     } else {
         let format = spec.format.unwrap_or(TexFormat::Rgba8unorm);

@@ -178,6 +178,16 @@ impl CameraPath {
                     a.far + (b.far - a.far) * t,
                 )
             }
+            // Replaced by keys when the session is loaded (`crate::gltf::expand`); a session
+            // built by hand with it gets a camera at +Z looking at the origin.
+            CameraPath::Gltf => (
+                Vec3::new(0.0, 0.0, 3.0),
+                Vec3::ZERO,
+                Vec3::Y,
+                45.0,
+                0.1,
+                100.0,
+            ),
             CameraPath::Orbit(o) => {
                 let a = orbit_angle(o.start_deg, o.end_deg, frame, frames);
                 let c = Vec3::from(o.center);

@@ -53,6 +53,7 @@ impl Session {
         let mut s: Session = reproj_io::parse_json(text, path, &SESSION_KIND)?;
         s.base_dir = base_dir.to_owned();
         s.path = path.to_owned();
+        crate::gltf::expand(&mut s)?;
         s.sort_keys();
         s.validate()?;
         Ok(s)

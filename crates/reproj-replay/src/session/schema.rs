@@ -71,7 +71,13 @@ pub struct Session {
     /// Clear color of the frame (linear RGBA). Default `[0, 0, 0, 1]`.
     #[serde(default = "default_background")]
     pub background: [f32; 4],
+    /// The objects drawn; may be left out when `gltf` brings them.
+    #[serde(default)]
     pub geometry: Geometry,
+    /// A glTF 2.0 scene whose mesh nodes become objects of `geometry` (animated by the file's
+    /// node animations), and whose first camera `"camera": "gltf"` follows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gltf: Option<GltfScene>,
     pub camera: CameraPath,
     pub light: PointPath,
     /// Uniform struct fields by name (any struct, any uniform variable).
@@ -109,7 +115,7 @@ pub struct Session {
 }
 
 /// The scene's objects, all drawn every frame with the same shader.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Geometry {
     pub objects: Vec<Object>,
@@ -188,6 +194,58 @@ pub enum Mesh {
         #[serde(default = "default_uv_scale")]
         scale: f32,
     },
+    /// One triangle primitive of a glTF 2.0 file's mesh, in the mesh's own space (the `gltf`
+    /// scene import writes these). Missing normals are computed (smooth), missing uvs are 0.
+    Gltf {
+        path: PathBuf,
+        #[serde(default)]
+        mesh: usize,
+        #[serde(default)]
+        primitive: usize,
+    },
+}
+
+/// A glTF 2.0 scene to import (`.gltf` with its buffers and images in files or data URIs, or
+/// `.glb`). Every node of the scene that has a mesh becomes one object per triangle primitive,
+/// with the node's world transform sampled at every frame (time = frame / fps) from the file's
+/// animations (translation, rotation and scale channels; LINEAR, STEP and CUBICSPLINE).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GltfScene {
+    /// The file, relative to the session file.
+    pub path: PathBuf,
+    /// Scene index. Default: the file's default scene, else the first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<usize>,
+    /// Face culling of the imported objects. Default `"back"` (glTF's single-sided materials).
+    #[serde(default)]
+    pub cull: Cull,
+}
+
+/// A texture of a glTF material, as a texture spec's `gltf` form.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GltfTexture {
+    /// The file, relative to the session file.
+    pub path: PathBuf,
+    /// Material index. Default 0.
+    #[serde(default)]
+    pub material: usize,
+    /// Which of the material's textures. Default `base_color`.
+    #[serde(default)]
+    pub slot: MaterialSlot,
+}
+
+/// The textures a glTF material can name.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialSlot {
+    #[default]
+    BaseColor,
+    MetallicRoughness,
+    Normal,
+    Occlusion,
+    Emissive,
 }
 
 fn default_segments() -> u32 {
@@ -279,6 +337,9 @@ impl Default for Scale {
 pub enum CameraPath {
     Keys(Vec<CameraKey>),
     Orbit(CameraOrbit),
+    /// `"gltf"`: the first camera of the `gltf` scene (perspective), following its node; turned
+    /// into `keys`, one per frame, when the session is loaded.
+    Gltf,
 }
 
 /// One camera key. Projection: perspective, right-handed, depth range [0, 1].
@@ -534,7 +595,7 @@ impl Value {
 /// A texture bound to a shader variable: generated (`kind`), read from an image file (`file`,
 /// or `faces` for a cube map) or, for a `texture_2d_array`, a list of `layers`, each a texture of
 /// its own (generated or a file, all of one size). Exactly one of `kind`, `file`, `faces`,
-/// `layers`.
+/// `layers`, `gltf`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureSpec {
@@ -550,6 +611,9 @@ pub struct TextureSpec {
     /// apply to the array.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layers: Option<Vec<TextureSpec>>,
+    /// A texture of a glTF file's material (a 2D texture).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gltf: Option<GltfTexture>,
     /// Edge length in texels of a generated texture (square; a cube face; a 3D texture's edge).
     /// Default 256.
     #[serde(default = "default_tex_size")]

@@ -105,7 +105,11 @@ impl Session {
         }
     }
 
-    fn invalid(&self, field: impl Into<String>, message: impl Into<String>) -> SessionError {
+    pub(crate) fn invalid(
+        &self,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> SessionError {
         SessionError::Invalid {
             path: self.path.clone(),
             field: field.into(),
@@ -207,7 +211,7 @@ impl Session {
                         ));
                     }
                 }
-                Mesh::Obj { .. } => {}
+                Mesh::Obj { .. } | Mesh::Gltf { .. } => {}
             }
             if [
                 matches!(&o.mesh, Mesh::Sphere { segments, rings, .. } if *segments > 4096 || rings.is_some_and(|r| r > 4096)),
@@ -245,6 +249,9 @@ impl Session {
                         });
                     }
                 }
+            }
+            CameraPath::Gltf => {
+                return Err(self.invalid("camera", "\"gltf\" needs a `gltf` scene with a camera"));
             }
             CameraPath::Orbit(o) => {
                 if !(o.near > 0.0 && o.far > o.near && o.fov_y_deg > 0.0 && o.fov_y_deg < 180.0) {
@@ -328,11 +335,12 @@ impl Session {
         let forms = t.kind.is_some() as u32
             + t.file.is_some() as u32
             + t.faces.is_some() as u32
-            + t.layers.is_some() as u32;
+            + t.layers.is_some() as u32
+            + t.gltf.is_some() as u32;
         if forms != 1 {
             return Err(self.invalid(
                 field,
-                "give exactly one of `kind`, `file`, `faces`, `layers`",
+                "give exactly one of `kind`, `file`, `faces`, `layers`, `gltf`",
             ));
         }
         if let Some(layers) = &t.layers {

@@ -1,0 +1,596 @@
+//! glTF 2.0 scenes in sessions, through the `gltf` crate.
+//!
+//! A session's `gltf` field imports a scene when the session is loaded ([`expand`]): every node
+//! with a mesh becomes one object per triangle primitive (`Mesh::Gltf`), its world transform
+//! sampled at every frame from the file's animations, and `"camera": "gltf"` becomes one camera
+//! key per frame from the first camera node. The renderer then sees an ordinary session; the mesh
+//! data ([`mesh`]) and material textures ([`texture`]) are read from the file when the replay
+//! builds its GPU assets. A file is imported once per process ([`import`]).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock};
+
+use glam::{Mat4, Quat, Vec3};
+use gltf::animation::{Interpolation, Property, util::ReadOutputs};
+
+use crate::mesh::{MeshData, Vertex};
+use crate::session::{
+    CameraKey, CameraPath, GltfTexture, MaterialSlot, Mesh, Object, Rotation, Scale, Session,
+    SessionError, Transform, TransformKey,
+};
+
+/// A file's document, buffers and decoded images.
+pub(crate) struct Imported {
+    doc: gltf::Document,
+    buffers: Vec<gltf::buffer::Data>,
+    images: Vec<gltf::image::Data>,
+}
+
+type Cache = Mutex<HashMap<PathBuf, Arc<Imported>>>;
+
+/// Import `path` (resolved against the session), once per process.
+pub(crate) fn import(session: &Session, path: &Path) -> Result<Arc<Imported>, String> {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    let full = session.resolve(path);
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(i) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&full) {
+        return Ok(i.clone());
+    }
+    let (doc, buffers, images) =
+        gltf::import(&full).map_err(|e| format!("cannot import {}: {e}", full.display()))?;
+    let imported = Arc::new(Imported {
+        doc,
+        buffers,
+        images,
+    });
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(full, imported.clone());
+    Ok(imported)
+}
+
+/// Triangles of primitive `primitive` of mesh `mesh`, in the mesh's space.
+pub(crate) fn mesh(
+    session: &Session,
+    path: &Path,
+    mesh: usize,
+    primitive: usize,
+) -> Result<MeshData, String> {
+    let g = import(session, path)?;
+    let file = path.display();
+    let m = g
+        .doc
+        .meshes()
+        .nth(mesh)
+        .ok_or_else(|| format!("{file} has no mesh {mesh}"))?;
+    let p = m
+        .primitives()
+        .nth(primitive)
+        .ok_or_else(|| format!("{file}: mesh {mesh} has no primitive {primitive}"))?;
+    if p.mode() != gltf::mesh::Mode::Triangles {
+        return Err(format!(
+            "{file}: mesh {mesh} primitive {primitive} draws {:?}; reproj draws triangles",
+            p.mode()
+        ));
+    }
+    let reader = p.reader(|b| g.buffers.get(b.index()).map(|d| &d.0[..]));
+    let positions: Vec<[f32; 3]> = reader
+        .read_positions()
+        .ok_or_else(|| format!("{file}: mesh {mesh} primitive {primitive} has no POSITION"))?
+        .collect();
+    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
+    let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    if indices.len() < 3 || !indices.len().is_multiple_of(3) {
+        return Err(format!(
+            "{file}: mesh {mesh} primitive {primitive} has {} indices, not whole triangles",
+            indices.len()
+        ));
+    }
+    if let Some(&bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+        return Err(format!(
+            "{file}: mesh {mesh} primitive {primitive}: index {bad} past its {} vertices",
+            positions.len()
+        ));
+    }
+    let n = positions.len();
+    let same_len = |len: usize, what: &str| {
+        if len == n {
+            Ok(())
+        } else {
+            Err(format!(
+                "{file}: mesh {mesh} primitive {primitive}: {len} {what} for {n} positions"
+            ))
+        }
+    };
+    if let Some(v) = &normals {
+        same_len(v.len(), "normals")?;
+    }
+    if let Some(v) = &uvs {
+        same_len(v.len(), "uvs")?;
+    }
+    let mut data = MeshData {
+        vertices: (0..n)
+            .map(|i| Vertex {
+                position: positions[i],
+                normal: normals.as_ref().map_or([0.0; 3], |v| v[i]),
+                uv: uvs.as_ref().map_or([0.0; 2], |v| v[i]),
+                tangent: [1.0, 0.0, 0.0, 1.0],
+            })
+            .collect(),
+        indices,
+    };
+    if normals.is_none() {
+        crate::mesh::smooth_normals(&mut data);
+    }
+    crate::mesh::compute_tangents(&mut data);
+    Ok(data)
+}
+
+/// The texels (RGBA, linear f32 of the stored values) of a material's texture: width, height,
+/// texels top row first.
+pub(crate) fn texture(
+    session: &Session,
+    t: &GltfTexture,
+) -> Result<(u32, u32, Vec<[f32; 4]>), String> {
+    let g = import(session, &t.path)?;
+    let file = t.path.display();
+    let m = g
+        .doc
+        .materials()
+        .nth(t.material)
+        .ok_or_else(|| format!("{file} has no material {}", t.material))?;
+    let texture = match t.slot {
+        MaterialSlot::BaseColor => m
+            .pbr_metallic_roughness()
+            .base_color_texture()
+            .map(|i| i.texture()),
+        MaterialSlot::MetallicRoughness => m
+            .pbr_metallic_roughness()
+            .metallic_roughness_texture()
+            .map(|i| i.texture()),
+        MaterialSlot::Normal => m.normal_texture().map(|i| i.texture()),
+        MaterialSlot::Occlusion => m.occlusion_texture().map(|i| i.texture()),
+        MaterialSlot::Emissive => m.emissive_texture().map(|i| i.texture()),
+    }
+    .ok_or_else(|| {
+        format!(
+            "{file}: material {} has no {:?} texture",
+            t.material, t.slot
+        )
+    })?;
+    let image = g
+        .images
+        .get(texture.source().index())
+        .ok_or_else(|| format!("{file}: image {} is missing", texture.source().index()))?;
+    use gltf::image::Format as F;
+    let channels = match image.format {
+        F::R8 => 1,
+        F::R8G8 => 2,
+        F::R8G8B8 => 3,
+        F::R8G8B8A8 => 4,
+        other => {
+            return Err(format!(
+                "{file}: image {} is {other:?}; reproj reads 8-bit images",
+                texture.source().index()
+            ));
+        }
+    };
+    let texels = image
+        .pixels
+        .chunks_exact(channels)
+        .map(|p| {
+            let c = |i: usize| f32::from(p[i.min(channels - 1)]) / 255.0;
+            match channels {
+                1 => [c(0), c(0), c(0), 1.0],
+                2 => [c(0), c(0), c(0), c(1)],
+                3 => [c(0), c(1), c(2), 1.0],
+                _ => [c(0), c(1), c(2), c(3)],
+            }
+        })
+        .collect();
+    Ok((image.width, image.height, texels))
+}
+
+/// One node's local transform, as glTF stores it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Trs {
+    t: Vec3,
+    r: Quat,
+    s: Vec3,
+}
+
+impl Trs {
+    fn matrix(&self) -> Mat4 {
+        Mat4::from_scale_rotation_translation(self.s, self.r, self.t)
+    }
+}
+
+/// One animation channel's keyframes.
+struct Channel {
+    node: usize,
+    times: Vec<f32>,
+    /// One value per key (three per key, in-tangent / value / out-tangent, for CUBICSPLINE);
+    /// translations and scales use the first three components.
+    values: Vec<[f32; 4]>,
+    property: Property,
+    interpolation: Interpolation,
+}
+
+impl Channel {
+    /// The value at `time` (held before the first key and after the last).
+    fn sample(&self, time: f32) -> [f32; 4] {
+        let cubic = self.interpolation == Interpolation::CubicSpline;
+        let value = |k: usize| {
+            if cubic {
+                self.values[3 * k + 1]
+            } else {
+                self.values[k]
+            }
+        };
+        let n = self.times.len();
+        if n == 0 {
+            return [0.0, 0.0, 0.0, 1.0];
+        }
+        if time <= self.times[0] {
+            return value(0);
+        }
+        if time >= self.times[n - 1] {
+            return value(n - 1);
+        }
+        let k = self.times.partition_point(|&t| t <= time) - 1;
+        let (t0, t1) = (self.times[k], self.times[k + 1]);
+        let dt = t1 - t0;
+        let u = if dt > 0.0 { (time - t0) / dt } else { 0.0 };
+        let rotation = self.property == Property::Rotation;
+        match self.interpolation {
+            Interpolation::Step => value(k),
+            Interpolation::Linear => {
+                let (a, b) = (value(k), value(k + 1));
+                if rotation {
+                    Quat::from_array(a)
+                        .normalize()
+                        .slerp(Quat::from_array(b).normalize(), u)
+                        .to_array()
+                } else {
+                    std::array::from_fn(|i| a[i] + (b[i] - a[i]) * u)
+                }
+            }
+            Interpolation::CubicSpline => {
+                let (p0, m0) = (value(k), self.values[3 * k + 2]);
+                let (p1, m1) = (value(k + 1), self.values[3 * (k + 1)]);
+                let (u2, u3) = (u * u, u * u * u);
+                let h = [
+                    2.0 * u3 - 3.0 * u2 + 1.0,
+                    u3 - 2.0 * u2 + u,
+                    -2.0 * u3 + 3.0 * u2,
+                    u3 - u2,
+                ];
+                let v: [f32; 4] = std::array::from_fn(|i| {
+                    h[0] * p0[i] + h[1] * m0[i] * dt + h[2] * p1[i] + h[3] * m1[i] * dt
+                });
+                if rotation {
+                    Quat::from_array(v).normalize().to_array()
+                } else {
+                    v
+                }
+            }
+        }
+    }
+}
+
+/// The file's animation channels that move nodes (morph target weights are left out).
+fn channels(g: &Imported) -> Vec<Channel> {
+    let mut out = Vec::new();
+    for anim in g.doc.animations() {
+        for ch in anim.channels() {
+            let reader = ch.reader(|b| g.buffers.get(b.index()).map(|d| &d.0[..]));
+            let (Some(times), Some(outputs)) = (reader.read_inputs(), reader.read_outputs()) else {
+                continue;
+            };
+            let values: Vec<[f32; 4]> = match outputs {
+                ReadOutputs::Translations(v) => v.map(|[x, y, z]| [x, y, z, 0.0]).collect(),
+                ReadOutputs::Scales(v) => v.map(|[x, y, z]| [x, y, z, 0.0]).collect(),
+                ReadOutputs::Rotations(v) => v.into_f32().collect(),
+                ReadOutputs::MorphTargetWeights(_) => continue,
+            };
+            out.push(Channel {
+                node: ch.target().node().index(),
+                times: times.collect(),
+                values,
+                property: ch.target().property(),
+                interpolation: ch.sampler().interpolation(),
+            });
+        }
+    }
+    out
+}
+
+/// Every node's local transform at `time`: the stored one with the animated parts replaced.
+fn locals_at(g: &Imported, channels: &[Channel], time: f32) -> Vec<Trs> {
+    let mut locals: Vec<Trs> = g
+        .doc
+        .nodes()
+        .map(|n| {
+            let (t, r, s) = n.transform().decomposed();
+            Trs {
+                t: Vec3::from(t),
+                r: Quat::from_array(r),
+                s: Vec3::from(s),
+            }
+        })
+        .collect();
+    for c in channels {
+        let v = c.sample(time);
+        let l = &mut locals[c.node];
+        match c.property {
+            Property::Translation => l.t = Vec3::new(v[0], v[1], v[2]),
+            Property::Rotation => l.r = Quat::from_array(v).normalize(),
+            Property::Scale => l.s = Vec3::new(v[0], v[1], v[2]),
+            Property::MorphTargetWeights => {}
+        }
+    }
+    locals
+}
+
+/// World matrices of the scene's nodes (depth first from its roots), with their nodes.
+fn world<'a>(
+    scene: &gltf::Scene<'a>,
+    locals: &[Trs],
+) -> Result<Vec<(gltf::Node<'a>, Mat4)>, String> {
+    fn visit<'a>(
+        node: gltf::Node<'a>,
+        parent: Mat4,
+        locals: &[Trs],
+        depth: usize,
+        out: &mut Vec<(gltf::Node<'a>, Mat4)>,
+    ) -> Result<(), String> {
+        if depth > 64 {
+            return Err("the node hierarchy is deeper than 64 levels (a cycle?)".into());
+        }
+        let m = parent * locals[node.index()].matrix();
+        out.push((node.clone(), m));
+        for child in node.children() {
+            visit(child, m, locals, depth + 1, out)?;
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    for root in scene.nodes() {
+        visit(root, Mat4::IDENTITY, locals, 0, &mut out)?;
+    }
+    Ok(out)
+}
+
+/// A transform key from a world matrix.
+fn key(frame: f32, m: Mat4) -> TransformKey {
+    let (s, r, t) = m.to_scale_rotation_translation();
+    let (axis, angle) = r.normalize().to_axis_angle();
+    TransformKey {
+        frame,
+        translation: t.to_array(),
+        rotation: (angle.abs() > 1e-7).then(|| Rotation::AxisAngle {
+            axis: axis.to_array(),
+            deg: angle.to_degrees(),
+        }),
+        scale: Scale::PerAxis(s.to_array()),
+    }
+}
+
+/// Import the session's `gltf` scene (see the module docs). A session without one is left as it is.
+pub(crate) fn expand(session: &mut Session) -> Result<(), SessionError> {
+    let Some(spec) = session.gltf.clone() else {
+        if matches!(session.camera, CameraPath::Gltf) {
+            return Err(session.invalid("camera", "\"gltf\" needs a `gltf` scene"));
+        }
+        return Ok(());
+    };
+    let bad = |field: &str, message: String| SessionError::Invalid {
+        path: session.path.clone(),
+        field: field.into(),
+        message,
+    };
+    let g = import(session, &spec.path).map_err(|m| bad("gltf.path", m))?;
+    let scene = match spec.scene {
+        Some(i) => g.doc.scenes().nth(i).ok_or_else(|| {
+            bad(
+                "gltf.scene",
+                format!(
+                    "{} has {} scene(s), not {i}",
+                    spec.path.display(),
+                    g.doc.scenes().len()
+                ),
+            )
+        })?,
+        None => g
+            .doc
+            .default_scene()
+            .or_else(|| g.doc.scenes().next())
+            .ok_or_else(|| bad("gltf.path", format!("{} has no scene", spec.path.display())))?,
+    };
+    let channels = channels(&g);
+    let frames = session.frames;
+    let fps = session.fps;
+    // World matrices per frame, by node index.
+    let mut per_frame: Vec<HashMap<usize, Mat4>> = Vec::with_capacity(frames as usize);
+    for f in 0..frames {
+        let locals = locals_at(&g, &channels, f as f32 / fps);
+        let w = world(&scene, &locals).map_err(|m| bad("gltf", m))?;
+        per_frame.push(w.into_iter().map(|(n, m)| (n.index(), m)).collect());
+    }
+    let nodes = world(&scene, &locals_at(&g, &channels, 0.0)).map_err(|m| bad("gltf", m))?;
+    let mut added = 0;
+    for (node, _) in &nodes {
+        let Some(mesh) = node.mesh() else { continue };
+        let moving = per_frame
+            .windows(2)
+            .any(|w| w[0][&node.index()] != w[1][&node.index()]);
+        let keys: Vec<TransformKey> = if moving {
+            (0..frames)
+                .map(|f| key(f as f32, per_frame[f as usize][&node.index()]))
+                .collect()
+        } else {
+            vec![key(0.0, per_frame[0][&node.index()])]
+        };
+        for p in mesh.primitives() {
+            if p.mode() != gltf::mesh::Mode::Triangles {
+                return Err(bad(
+                    "gltf",
+                    format!(
+                        "{}: node {} mesh {} primitive {} draws {:?}; reproj draws triangles",
+                        spec.path.display(),
+                        node.name().unwrap_or("?"),
+                        mesh.index(),
+                        p.index(),
+                        p.mode()
+                    ),
+                ));
+            }
+            session.geometry.objects.push(Object {
+                name: Some(format!(
+                    "{}/{}",
+                    node.name()
+                        .map_or_else(|| format!("node {}", node.index()), str::to_owned),
+                    p.index()
+                )),
+                mesh: Mesh::Gltf {
+                    path: spec.path.clone(),
+                    mesh: mesh.index(),
+                    primitive: p.index(),
+                },
+                transform: Transform { keys: keys.clone() },
+                cull: spec.cull,
+            });
+            added += 1;
+        }
+    }
+    if added == 0 {
+        return Err(bad(
+            "gltf",
+            format!("{}: the scene has no mesh to draw", spec.path.display()),
+        ));
+    }
+    if matches!(session.camera, CameraPath::Gltf) {
+        let Some((cam_node, camera)) = nodes
+            .iter()
+            .find_map(|(n, _)| n.camera().map(|c| (n.index(), c)))
+        else {
+            return Err(bad(
+                "camera",
+                format!(
+                    "\"gltf\": {} has no camera in its scene",
+                    spec.path.display()
+                ),
+            ));
+        };
+        let gltf::camera::Projection::Perspective(p) = camera.projection() else {
+            return Err(bad(
+                "camera",
+                "\"gltf\": the file's camera is orthographic; reproj renders perspective".into(),
+            ));
+        };
+        let near = p.znear();
+        let far = p.zfar().unwrap_or(near * 10_000.0);
+        let keys = (0..frames)
+            .map(|f| {
+                let m = per_frame[f as usize][&cam_node];
+                let eye = m.transform_point3(Vec3::ZERO);
+                let forward = m.transform_vector3(Vec3::NEG_Z).normalize_or(Vec3::NEG_Z);
+                let up = m.transform_vector3(Vec3::Y).normalize_or(Vec3::Y);
+                CameraKey {
+                    frame: f as f32,
+                    eye: eye.to_array(),
+                    target: (eye + forward).to_array(),
+                    up: up.to_array(),
+                    fov_y_deg: p.yfov().to_degrees(),
+                    near,
+                    far,
+                }
+            })
+            .collect();
+        session.camera = CameraPath::Keys(keys);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn channel(interpolation: Interpolation, property: Property, values: Vec<[f32; 4]>) -> Channel {
+        Channel {
+            node: 0,
+            times: vec![0.0, 1.0],
+            values,
+            property,
+            interpolation,
+        }
+    }
+
+    #[test]
+    fn linear_step_and_cubic_channels_sample_their_keys_and_between() {
+        let c = channel(
+            Interpolation::Linear,
+            Property::Translation,
+            vec![[0.0, 0.0, 0.0, 0.0], [2.0, 4.0, 0.0, 0.0]],
+        );
+        assert_eq!(c.sample(0.0), [0.0; 4]);
+        assert_eq!(c.sample(0.5), [1.0, 2.0, 0.0, 0.0]);
+        assert_eq!(
+            c.sample(9.0),
+            [2.0, 4.0, 0.0, 0.0],
+            "held after the last key"
+        );
+        let s = channel(
+            Interpolation::Step,
+            Property::Scale,
+            vec![[1.0, 1.0, 1.0, 0.0], [3.0, 3.0, 3.0, 0.0]],
+        );
+        assert_eq!(s.sample(0.99), [1.0, 1.0, 1.0, 0.0]);
+        assert_eq!(s.sample(1.0), [3.0, 3.0, 3.0, 0.0]);
+        let q = Quat::from_rotation_y(std::f32::consts::FRAC_PI_2);
+        let r = channel(
+            Interpolation::Linear,
+            Property::Rotation,
+            vec![Quat::IDENTITY.to_array(), q.to_array()],
+        );
+        let half = Quat::from_array(r.sample(0.5));
+        assert!(half.angle_between(Quat::from_rotation_y(std::f32::consts::FRAC_PI_4)) < 1e-5);
+        // Cubic spline with zero tangents: the values at the keys, smooth in between.
+        let z = [0.0; 4];
+        let cubic = Channel {
+            values: vec![z, [0.0, 0.0, 0.0, 0.0], z, z, [1.0, 0.0, 0.0, 0.0], z],
+            ..channel(Interpolation::CubicSpline, Property::Translation, vec![])
+        };
+        assert_eq!(cubic.sample(0.0)[0], 0.0);
+        assert_eq!(cubic.sample(1.0)[0], 1.0);
+        assert!((cubic.sample(0.5)[0] - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_world_matrix_round_trips_through_a_transform_key() {
+        let m = Mat4::from_scale_rotation_translation(
+            Vec3::new(1.0, 2.0, 1.0),
+            Quat::from_rotation_x(0.7),
+            Vec3::new(1.0, -2.0, 3.0),
+        );
+        let k = key(3.0, m);
+        let Some(Rotation::AxisAngle { axis, deg }) = k.rotation else {
+            panic!("{k:?}")
+        };
+        let back = Mat4::from_scale_rotation_translation(
+            match k.scale {
+                Scale::PerAxis(s) => Vec3::from(s),
+                Scale::Uniform(s) => Vec3::splat(s),
+            },
+            Quat::from_axis_angle(Vec3::from(axis), deg.to_radians()),
+            Vec3::from(k.translation),
+        );
+        assert!(back.abs_diff_eq(m, 1e-5), "{back} vs {m}");
+    }
+}
