@@ -1,6 +1,7 @@
 //! The "engine": what a real engine already has before it runs reproj's output — its geometry, its
 //! per-frame camera and object transforms, its vertex stage, the original shader's own uniforms,
-//! textures and samplers, and its frame target.
+//! storage buffers, textures and samplers, the depth passes it draws before the frame (shadow
+//! maps, depth pre-passes), and its frame target.
 //!
 //! Here all of that is the recorded session, built with reproj-replay's public, GPU-free modules
 //! (session animation, meshes, texels, uniform reflection and packing) so that this host draws
@@ -15,7 +16,7 @@ use std::path::Path;
 use anyhow::{Context, anyhow, bail};
 use bytemuck::{Pod, Zeroable};
 use reproj_replay::reflect::{self, FragInput, Interface, ResourceKind, TexDim};
-use reproj_replay::session::{Address, Attribute, Cull, Filter, TexFormat};
+use reproj_replay::session::{Address, Attribute, Compare, Cull, Filter, SamplerSpec, TexFormat};
 use reproj_replay::{Session, mesh, scene, textures};
 
 use crate::gpu::Gpu;
@@ -57,8 +58,26 @@ enum Own {
         size: u32,
         fields: Vec<reflect::UniformField>,
     },
+    /// A read-only storage buffer filled from the session's `buffers` every frame.
+    Storage {
+        buf: wgpu::Buffer,
+        size: u32,
+        fields: Vec<reflect::UniformField>,
+    },
     Texture(wgpu::TextureView),
+    /// A `texture_depth_2d` the engine renders every frame: index into `Engine::depth_passes`.
+    Depth(usize),
     Sampler(wgpu::Sampler),
+}
+
+/// A depth pass the session declares (a shadow map from a light, a depth pre-pass from the
+/// camera): every object drawn depth-only with the pass's view-projection, before the frame.
+struct DepthPass {
+    name: String,
+    view: wgpu::TextureView,
+    /// Per-object transform buffers and bind groups (the vertex layout), in object order.
+    transforms: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
+    pipes: Pipelines,
 }
 
 /// One render pipeline per face-culling mode the scene's objects use.
@@ -79,6 +98,7 @@ pub struct Engine {
     iface: Interface,
     objects: Vec<Object>,
     own: BTreeMap<(u32, u32), Own>,
+    depth_passes: Vec<DepthPass>,
     /// The bind group of the per-object transforms.
     pub vertex_group: u32,
     vertex_layout: wgpu::BindGroupLayout,
@@ -266,6 +286,7 @@ impl Engine {
 
         // The original shader's own resources, by group and binding.
         let mut own = BTreeMap::new();
+        let mut depth_passes = Vec::new();
         let mut missing = Vec::new();
         for r in &iface.resources {
             let res = match &r.kind {
@@ -295,8 +316,62 @@ impl Engine {
                         continue;
                     }
                 },
-                ResourceKind::Sampler { comparison: false } => {
-                    let spec = session.samplers.get(&r.name).cloned().unwrap_or_default();
+                ResourceKind::Storage(layout) => {
+                    let (size, fields) = scene::storage_fields(&session, &r.name, layout)
+                        .map_err(|e| anyhow!("{e}"))?;
+                    Own::Storage {
+                        buf: dev.create_buffer(&wgpu::BufferDescriptor {
+                            label: Some(&r.name),
+                            size: u64::from(size.max(16)),
+                            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                            mapped_at_creation: false,
+                        }),
+                        size,
+                        fields,
+                    }
+                }
+                ResourceKind::DepthTexture => {
+                    if !session.depth_passes.contains_key(&r.name) {
+                        missing.push(format!("depth pass `{}`", r.name));
+                        continue;
+                    }
+                    depth_passes.push(Self::depth_pass(
+                        gpu,
+                        &session,
+                        &r.name,
+                        &objects,
+                        &vertex_layout,
+                    )?);
+                    Own::Depth(depth_passes.len() - 1)
+                }
+                ResourceKind::Sampler { comparison } => {
+                    // An unlisted comparison sampler clamps (as the replay's does).
+                    let spec = session.samplers.get(&r.name).cloned().unwrap_or_else(|| {
+                        if *comparison {
+                            SamplerSpec {
+                                address: Address::Clamp,
+                                ..Default::default()
+                            }
+                        } else {
+                            SamplerSpec::default()
+                        }
+                    });
+                    if !*comparison && spec.compare.is_some() {
+                        bail!(
+                            "sampler `{}` is a plain `sampler`, but the session gives it a `compare` function",
+                            r.name
+                        );
+                    }
+                    let compare = comparison.then(|| match spec.compare.unwrap_or_default() {
+                        Compare::Never => wgpu::CompareFunction::Never,
+                        Compare::Less => wgpu::CompareFunction::Less,
+                        Compare::Equal => wgpu::CompareFunction::Equal,
+                        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
+                        Compare::Greater => wgpu::CompareFunction::Greater,
+                        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
+                        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
+                        Compare::Always => wgpu::CompareFunction::Always,
+                    });
                     let filter = |f: Filter| match f {
                         Filter::Linear => wgpu::FilterMode::Linear,
                         Filter::Nearest => wgpu::FilterMode::Nearest,
@@ -320,6 +395,7 @@ impl Engine {
                             Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
                         },
                         anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
+                        compare,
                         ..Default::default()
                     }))
                 }
@@ -370,6 +446,7 @@ impl Engine {
             iface,
             objects,
             own,
+            depth_passes,
             vertex_group,
             vertex_layout,
         })
@@ -444,7 +521,9 @@ impl Engine {
     pub fn own_resource(&self, group: u32, binding: u32) -> Option<wgpu::BindingResource<'_>> {
         Some(match self.own.get(&(group, binding))? {
             Own::Uniform { buf, .. } => buf.as_entire_binding(),
+            Own::Storage { buf, .. } => buf.as_entire_binding(),
             Own::Texture(view) => wgpu::BindingResource::TextureView(view),
+            Own::Depth(i) => wgpu::BindingResource::TextureView(&self.depth_passes[*i].view),
             Own::Sampler(s) => wgpu::BindingResource::Sampler(s),
         })
     }
@@ -467,10 +546,187 @@ impl Engine {
             gpu.queue
                 .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
         }
-        for own in self.own.values() {
-            if let Own::Uniform { buf, size, fields } = own {
-                let bytes = scene::uniform_bytes(&self.session, &st, *size, fields);
-                gpu.queue.write_buffer(buf, 0, &bytes);
+        for (&(group, binding), own) in &self.own {
+            match own {
+                Own::Uniform { buf, size, fields } => {
+                    let bytes = scene::uniform_bytes(&self.session, &st, *size, fields);
+                    gpu.queue.write_buffer(buf, 0, &bytes);
+                }
+                Own::Storage { buf, size, fields } => {
+                    let Some(r) = self
+                        .iface
+                        .resources
+                        .iter()
+                        .find(|r| r.group == group && r.binding == binding)
+                    else {
+                        continue;
+                    };
+                    let bytes = scene::storage_bytes(&self.session, &st, &r.name, *size, fields);
+                    gpu.queue.write_buffer(buf, 0, &bytes);
+                }
+                _ => {}
+            }
+        }
+        for d in &self.depth_passes {
+            let vp = self
+                .session
+                .depth_view_proj(&self.session.depth_passes[&d.name], &st);
+            for ((buf, _), model) in d.transforms.iter().zip(&st.models) {
+                let u = ObjectUniform {
+                    view_proj: vp.to_cols_array_2d(),
+                    prev_view_proj: vp.to_cols_array_2d(),
+                    model: model.to_cols_array_2d(),
+                    prev_model: model.to_cols_array_2d(),
+                    normal_matrix: glam::Mat4::IDENTITY.to_cols_array_2d(),
+                };
+                gpu.queue.write_buffer(buf, 0, bytemuck::bytes_of(&u));
+            }
+        }
+    }
+
+    /// The GPU side of the session's depth pass filling depth texture `name`: a `depth32float`
+    /// texture, a transform buffer per object, a depth-only pipeline per culling mode.
+    fn depth_pass(
+        gpu: &Gpu,
+        session: &Session,
+        name: &str,
+        objects: &[Object],
+        vertex_layout: &wgpu::BindGroupLayout,
+    ) -> anyhow::Result<DepthPass> {
+        let dev = &gpu.device;
+        let [w, h] = session.depth_passes[name]
+            .size
+            .unwrap_or(session.resolution);
+        let view = dev
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some(name),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let transforms = objects
+            .iter()
+            .map(|_| {
+                let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(name),
+                    size: size_of::<ObjectUniform>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(name),
+                    layout: vertex_layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: buf.as_entire_binding(),
+                    }],
+                });
+                (buf, group)
+            })
+            .collect();
+        // The same clip-space arithmetic as the engine's vertex stage.
+        let vs = Self::shader_module(
+            gpu,
+            "host depth pass vertex stage",
+            &format!(
+                "struct HostObject {{\n    view_proj: mat4x4<f32>,\n    prev_view_proj: mat4x4<f32>,\n    \
+                 model: mat4x4<f32>,\n    prev_model: mat4x4<f32>,\n    normal_matrix: mat4x4<f32>,\n}};\n\
+                 @group(0) @binding(0) var<uniform> host_object: HostObject;\n\
+                 @vertex\nfn {VERTEX_ENTRY}(@location(0) position: vec3<f32>) -> @builtin(position) @invariant vec4<f32> {{\n    \
+                 let world = host_object.model * vec4<f32>(position, 1.0);\n    \
+                 return host_object.view_proj * world;\n}}\n"
+            ),
+        )?;
+        let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(name),
+            bind_group_layouts: &[Some(vertex_layout)],
+            immediate_size: 0,
+        });
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3];
+        let mut pipes = HashMap::new();
+        for cull in [Cull::Back, Cull::None] {
+            if !objects.iter().any(|o| o.cull == cull) {
+                continue;
+            }
+            let p = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(name),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &vs,
+                    entry_point: Some(VERTEX_ENTRY),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: size_of::<mesh::Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attrs,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: (cull == Cull::Back).then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            });
+            pipes.insert(cull, p);
+        }
+        gpu.check(&format!("building depth pass `{name}`"))?;
+        Ok(DepthPass {
+            name: name.to_owned(),
+            view,
+            transforms,
+            pipes,
+        })
+    }
+
+    /// Record the session's depth passes for the frame (after [`Engine::write_frame`]), ahead of
+    /// the frame's own passes: the textures the shader samples are this frame's.
+    pub fn encode_depth_passes(&self, enc: &mut wgpu::CommandEncoder) {
+        for d in &self.depth_passes {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(&d.name),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &d.view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            for (o, (_, group)) in self.objects.iter().zip(&d.transforms) {
+                if let Some(p) = d.pipes.get(&o.cull) {
+                    pass.set_pipeline(p);
+                }
+                pass.set_bind_group(0, group, &[]);
+                pass.set_vertex_buffer(0, o.vbuf.slice(..));
+                pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..o.count, 0, 0..1);
             }
         }
     }
@@ -694,6 +950,19 @@ impl Original {
                         has_dynamic_offset: false,
                         min_binding_size: NonZeroU64::new(u64::from(*size)),
                     },
+                    ResourceKind::Storage(_) => wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    ResourceKind::DepthTexture => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    ResourceKind::Sampler { comparison: true } => {
+                        wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)
+                    }
                     ResourceKind::Texture { dim } => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: true },
                         view_dimension: match dim {

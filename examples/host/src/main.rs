@@ -182,6 +182,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         // The engine's per-frame updates, then the variant's.
         engine.write_frame(&gpu, f);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
+        engine.encode_depth_passes(&mut enc);
         match &mode {
             Mode::Variant(v) => {
                 v.write_params(&gpu, f);
