@@ -156,7 +156,7 @@ fn host(variant: Option<&Path>, out: &Path, extra: &[&str]) {
 fn read_raw(path: &Path) -> Vec<f32> {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     assert!(
-        !bytes.is_empty() && bytes.len() % 16 == 0,
+        !bytes.is_empty() && bytes.len().is_multiple_of(16),
         "{}",
         path.display()
     );
