@@ -16,6 +16,7 @@ pub mod reproj;
 pub mod resize;
 pub mod simplify;
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
 use reproj_analyze::Progress;
@@ -268,14 +269,16 @@ pub fn compare(
         raw_frames: false,
         perceptual_stride: None,
     };
-    progress.start(
-        1 + opts.resize.tries as u64
-            + (opts.simplify.max_steps
-                * 2
-                * (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)))
-                as u64
-            + u64::from(input.profile.is_some()),
-    );
+    // The simplification's length is not known ahead (it stops when the target is reached): the
+    // total assumes two steps and is re-estimated as each method ends.
+    let counted = Counted {
+        inner: progress,
+        done: Cell::new(0),
+    };
+    let progress = &counted;
+    let per_step = (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)) as u64;
+    let reproj_steps = u64::from(input.profile.is_some());
+    progress.remaining(1 + opts.resize.tries as u64 + 2 * per_step + reproj_steps);
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
     progress.step("original");
     let original_ms = reference.report.frame_ms;
@@ -298,8 +301,10 @@ pub fn compare(
     methods.push(resize_result);
     crop_frames.push(("resize".into(), resize_frames[mid].clone()));
     drop(resize_frames);
+    progress.remaining(2 * per_step + reproj_steps);
 
     let simplified = simplify::simplify(&ctx, input.loaded, &opts.simplify)?;
+    progress.remaining(reproj_steps);
     methods.push(simplified.result);
     crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
 
@@ -342,6 +347,35 @@ pub fn compare(
         crop_depth,
         simplified_wgsl: simplified.wgsl,
     })
+}
+
+/// A [`Progress`] that counts finished steps, so the total can be re-estimated mid-way.
+struct Counted<'a> {
+    inner: &'a dyn Progress,
+    done: Cell<u64>,
+}
+
+impl Counted<'_> {
+    /// `n` more steps are expected after those done.
+    fn remaining(&self, n: u64) {
+        self.inner.start(self.done.get() + n);
+    }
+}
+
+impl Progress for Counted<'_> {
+    fn start(&self, total: u64) {
+        self.inner.start(total);
+    }
+    fn step(&self, what: &str) {
+        self.done.set(self.done.get() + 1);
+        self.inner.step(what);
+    }
+    fn note(&self, line: &str) {
+        self.inner.note(line);
+    }
+    fn finish(&self) {
+        self.inner.finish();
+    }
 }
 
 /// What every method's renders share.
