@@ -3,8 +3,8 @@
 //! `shaders/corpus/expected.json`, so that a shader that stops parsing, loses cacheable nodes, stops
 //! validating or rendering (or starts to) fails here. Per shader it records: whether `nodes` parses
 //! it, the cacheable node count, the outcome of `instance` for the root and the costliest other
-//! cacheable node in each strategy, and the outcome of `render --node root --delta-n 4
-//! --max-frames 4`. An outcome is `ok` or the one-line message of an exit-2 rejection; anything
+//! cacheable node in each strategy, the outcome of `render --node root --delta-n 4
+//! --max-frames 4`, and that of a short `analyze` (12 frames, two nodes, 2pass). An outcome is `ok` or the one-line message of an exit-2 rejection; anything
 //! else (a panic, another exit code, a message over several lines, files left behind by a
 //! rejection) fails outright. Everything is written in temporary directories.
 //!
@@ -109,11 +109,52 @@ fn measure(shader: &Path, session: &Path) -> Value {
     ];
     let render = outcome(&format!("{name}: render"), run(tmp.path(), &args));
     assert!(is_empty_dir(tmp.path()), "{name}: render wrote files");
+
+    // A short analysis: the root and the node with the largest predicted saving, 2pass, three
+    // training periods and one held out, over 12 frames. Only the outcome is recorded (which
+    // nodes prove usable depends on timings).
+    let profile = tmp.path().join("p.profile.json");
+    let args = [
+        "analyze",
+        sh,
+        "--session",
+        session.to_str().unwrap(),
+        "--max-frames",
+        "12",
+        "--max-nodes",
+        "2",
+        "--delta-n",
+        "2,4,6",
+        "--holdout",
+        "3",
+        "--probe-frames",
+        "6",
+        "--strategy",
+        "2pass",
+        "--no-charts",
+        "--out",
+        profile.to_str().unwrap(),
+    ];
+    let analyze = outcome(&format!("{name}: analyze"), run(tmp.path(), &args));
+    if analyze == "ok" {
+        let p: Value = serde_json::from_str(&std::fs::read_to_string(&profile).unwrap())
+            .expect("the profile is JSON");
+        assert!(
+            !p["nodes"].as_array().unwrap().is_empty(),
+            "{name}: analyze profiled no node"
+        );
+    } else {
+        assert!(
+            !profile.exists(),
+            "{name}: a rejected analyze wrote its profile"
+        );
+    }
     json!({
         "parses": true,
         "cacheable": nodes.len(),
         "variants": variants,
         "render": render,
+        "analyze": analyze,
     })
 }
 
