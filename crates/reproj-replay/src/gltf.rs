@@ -16,7 +16,7 @@ use gltf::animation::{Interpolation, Property, util::ReadOutputs};
 
 use crate::mesh::{MeshData, Vertex};
 use crate::session::{
-    CameraKey, CameraPath, GltfTexture, MaterialSlot, Mesh, Object, Rotation, Scale, Session,
+    CameraKey, CameraPath, Cull, GltfTexture, MaterialSlot, Mesh, Object, Rotation, Scale, Session,
     SessionError, Transform, TransformKey,
 };
 
@@ -464,7 +464,12 @@ pub(crate) fn expand(session: &mut Session) -> Result<(), SessionError> {
                     primitive: p.index(),
                 },
                 transform: Transform { keys: keys.clone() },
-                cull: spec.cull,
+                // A double-sided material is drawn from both sides, as glTF asks.
+                cull: if p.material().double_sided() {
+                    Cull::None
+                } else {
+                    spec.cull
+                },
             });
             added += 1;
         }

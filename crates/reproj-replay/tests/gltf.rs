@@ -191,3 +191,33 @@ fn the_animated_boxes_move_and_the_rest_holds_still() {
     let px = |f: &[f32], x: usize, y: usize| f[(y * w + x) * 4..(y * w + x) * 4 + 3].to_vec();
     assert_eq!(px(first, 32, 22), px(last, 32, 22));
 }
+
+#[test]
+fn double_sided_materials_are_not_culled() {
+    use reproj_replay::session::Cull;
+    assert!(
+        boxes()
+            .geometry
+            .objects
+            .iter()
+            .all(|o| o.cull == Cull::Back)
+    );
+    // The same file with its material double-sided (its buffers are data URIs: it moves freely).
+    let tmp = tempfile::tempdir().unwrap();
+    let mut g: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("sessions/gltf/boxes.gltf")).unwrap(),
+    )
+    .unwrap();
+    g["materials"][0]["doubleSided"] = true.into();
+    std::fs::write(tmp.path().join("two_sided.gltf"), g.to_string()).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("sessions/gltf_boxes.json")).unwrap(),
+    )
+    .unwrap();
+    v["gltf"]["path"] = "two_sided.gltf".into();
+    v["textures"]["albedo_map"]["gltf"]["path"] = "two_sided.gltf".into();
+    let path = tmp.path().join("s.json");
+    let s = Session::from_json(&v.to_string(), &path, tmp.path()).unwrap();
+    assert_eq!(s.geometry.objects.len(), 4);
+    assert!(s.geometry.objects.iter().all(|o| o.cull == Cull::None));
+}

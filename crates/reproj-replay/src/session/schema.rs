@@ -217,7 +217,8 @@ pub struct GltfScene {
     /// Scene index. Default: the file's default scene, else the first.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene: Option<usize>,
-    /// Face culling of the imported objects. Default `"back"` (glTF's single-sided materials).
+    /// Face culling of the imported objects. Default `"back"`; primitives whose material is
+    /// double-sided are never culled.
     #[serde(default)]
     pub cull: Cull,
 }
