@@ -266,3 +266,74 @@ fn a_set_combines_the_single_node_models() {
     assert!(best.delta_n < 10);
     assert!(best_set(&[&a, &c], &hr, ORIGINAL_MS, 0.0, (2, 50)).is_none());
 }
+
+/// A measured set with its own fits (error α, hit cost `hit_ms`).
+fn set(members: &[u32], alpha: f64, hit_ms: f64) -> reproj_select::SetRecord {
+    reproj_select::SetRecord {
+        members: members.to_vec(),
+        texts: members.iter().map(|id| format!("node{id}")).collect(),
+        strategy: "3pass".into(),
+        error: error_fit(alpha, 0.1),
+        timing: TimingFit::from_costs(hit_ms, 2.0e-5, 0.5, M),
+        mean_pixels: M,
+    }
+}
+
+#[test]
+fn a_set_wins_only_when_predicted_faster_under_the_budget() {
+    use reproj_select::select_with_sets;
+    let mu = HitRateFit::from_mu(0.9);
+    let ns = nodes();
+    let opts = SelectOptions::new(0.01);
+    let single = choice(&select(&ns, &mu, ORIGINAL_MS, &opts)).clone();
+    assert!(single.members.is_empty());
+    // No set: what `select` picks.
+    assert_eq!(
+        select_with_sets(&ns, &[], &mu, ORIGINAL_MS, &opts),
+        select(&ns, &mu, ORIGINAL_MS, &opts)
+    );
+    // A set faster than every node, with a low error: it wins.
+    let fast = set(&[2, 3], 0.004, 3e-6);
+    let c = choice(&select_with_sets(
+        &ns,
+        std::slice::from_ref(&fast),
+        &mu,
+        ORIGINAL_MS,
+        &opts,
+    ))
+    .clone();
+    assert_eq!(c.members, vec![2, 3]);
+    assert_eq!((c.node_id, c.node_text.as_str()), (2, "node2 + node3"));
+    assert!(c.predicted_ms < single.predicted_ms && c.predicted_error <= 0.01);
+    assert!((c.predicted_speedup - ORIGINAL_MS / c.predicted_ms).abs() < 1e-12);
+    // The same set over the budget at every Δn: the single node stays.
+    let tight = SelectOptions::new(0.002);
+    let over = set(&[2, 3], 0.5, 3e-6);
+    assert_eq!(
+        select_with_sets(&ns, &[over], &mu, ORIGINAL_MS, &tight),
+        select(&ns, &mu, ORIGINAL_MS, &tight)
+    );
+    // Slower than the chosen node: the node stays.
+    let slow = set(&[2, 3], 0.001, 1.5e-5);
+    assert_eq!(
+        select_with_sets(&ns, &[slow], &mu, ORIGINAL_MS, &opts),
+        Selection::Node(single.clone())
+    );
+    // Nothing under the budget but the set: the set, not the original.
+    let c = choice(&select_with_sets(
+        &ns,
+        &[set(&[2, 3], 0.0, 1e-5)],
+        &mu,
+        ORIGINAL_MS,
+        &SelectOptions::new(0.0),
+    ))
+    .clone();
+    assert_eq!(c.members, vec![2, 3]);
+    // An invalid budget keeps the original whatever the sets.
+    assert!(matches!(
+        select_with_sets(&ns, &[fast], &mu, ORIGINAL_MS, &SelectOptions::new(-1.0)),
+        Selection::Original {
+            reason: OriginalReason::InvalidBudget { .. }
+        }
+    ));
+}
