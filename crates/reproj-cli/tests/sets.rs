@@ -1,7 +1,7 @@
 //! The set search through the real binary: `analyze` on `tests/data/two_terms.wgsl` (two
 //! independent expensive terms, lit by a moving light) replays pairs of its best single nodes,
-//! `emit` picks the pair that caches both terms and `emit --verify` measures it; with `--no-sets`
-//! the profile records no set. Renders on the machine's Vulkan adapter (lavapipe in CI).
+//! `emit` picks the pair that caches both terms (`a` and `b`: the two nodes pruning keeps besides
+//! the root) and `emit --verify` measures it; with `--no-sets` the profile records no set. Renders on the machine's Vulkan adapter (lavapipe in CI).
 
 mod common;
 
@@ -12,7 +12,8 @@ use common::{root, run};
 const SHADER: &str = "crates/reproj-cli/tests/data/two_terms.wgsl";
 const SESSION: &str = "crates/reproj-cli/tests/data/two_terms.json";
 
-fn analyze(profile: &Path, extra: &[&str]) -> serde_json::Value {
+/// `analyze` into `profile`: the profile and the command's stderr.
+fn analyze(profile: &Path, extra: &[&str]) -> (serde_json::Value, String) {
     let mut args = vec![
         "analyze",
         SHADER,
@@ -33,16 +34,19 @@ fn analyze(profile: &Path, extra: &[&str]) -> serde_json::Value {
     args.extend_from_slice(extra);
     let (code, out, err) = run(&root(), &args);
     assert_eq!(code, 0, "{out}\n{err}");
-    serde_json::from_str(&std::fs::read_to_string(profile).unwrap()).unwrap()
+    let json = serde_json::from_str(&std::fs::read_to_string(profile).unwrap()).unwrap();
+    (json, err)
 }
 
+/// One test, so that no other replay runs beside these (timings decide what is set aside).
 #[test]
-fn analyze_replays_pairs_and_emit_picks_the_pair_of_both_terms() {
+fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_none() {
     let tmp = tempfile::tempdir().unwrap();
     let profile_path = tmp.path().join("two_terms.profile.json");
-    let profile = analyze(&profile_path, &[]);
+    let (profile, log) = analyze(&profile_path, &[]);
     assert_eq!(profile["version"], 6);
-    let sets = profile["sets"].as_array().expect("sets recorded");
+    assert!(log.contains("sets: 1 pairs among the top 2 nodes"), "{log}");
+    let sets = profile["sets"].as_array().expect(&log);
     assert!(!sets.is_empty(), "{profile:#}");
     for s in sets {
         let members = s["members"].as_array().unwrap();
@@ -95,12 +99,10 @@ fn analyze_replays_pairs_and_emit_picks_the_pair_of_both_terms() {
     let measured = report["measured_error"].as_f64().unwrap();
     assert!(measured <= 0.02, "{report:#}");
     assert!(report["measured_ms"].as_f64().unwrap() > 0.0);
-}
 
-#[test]
-fn no_sets_records_none() {
-    let tmp = tempfile::tempdir().unwrap();
-    let profile = analyze(&tmp.path().join("p.profile.json"), &["--no-sets"]);
+    // `--no-sets`: no search, nothing recorded.
+    let (profile, log) = analyze(&tmp.path().join("p.profile.json"), &["--no-sets"]);
     assert_eq!(profile["version"], 6);
     assert!(profile.get("sets").is_none(), "{:#}", profile["sets"]);
+    assert!(!log.contains("sets:"), "{log}");
 }
