@@ -564,6 +564,42 @@ mod tests {
     }
 
     #[test]
+    fn a_set_aside_pair_is_recorded_and_never_grown() {
+        let cands = [
+            cand(1, 1.6e-5, 1, &[]),
+            cand(2, 1.7e-5, 1, &[]),
+            cand(3, 1.8e-5, 1, &[]),
+        ];
+        let opts = SetSearchOptions {
+            replays: 1,
+            ..Default::default()
+        };
+        let hit_rate = HitRateFit::from_mu(0.9);
+        let ctx = SetContext {
+            hit_rate: &hit_rate,
+            original_ms: ORIGINAL_MS,
+            delta_n: 50,
+        };
+        let notes = Notes::default();
+        // Slower than the original: the replay sets it aside.
+        let mut measure = |members: &[&SetCandidate]| {
+            let mut set = fake(members, 12.0);
+            set.status = NodeStatus::SetAside {
+                reason: "slower than the original".into(),
+            };
+            Ok(set)
+        };
+        let sets = search_sets(&cands, &ctx, &opts, &mut measure, &notes).unwrap();
+        assert_eq!(sets.len(), 1);
+        assert!(matches!(sets[0].status, NodeStatus::SetAside { .. }));
+        let notes = notes.0.into_inner();
+        assert!(
+            notes.last().unwrap().contains("no pair was usable"),
+            "{notes:?}"
+        );
+    }
+
+    #[test]
     fn growth_stops_when_not_measured_faster_or_at_the_limit() {
         // Savings that add without reaching the whole shader's cost.
         let cands = [
