@@ -248,12 +248,35 @@ fn pareto_frontier_is_monotone_and_undominated() {
 fn a_set_combines_the_single_node_models() {
     use reproj_select::{best_set, combined_timing, predict, predict_set};
     let hr = HitRateFit::from_mu(0.9);
-    // c₀ = 10 ms / M = 2e-5 ms per pixel; A saves 1.4e-5 on a hit, C saves 0.4e-5.
+    // A hit of A costs 1.6e-5 less than its miss, of C 0.5e-5 less: a hit of the pair 2.1e-5
+    // less than the pair's miss (the dearer one, 2.2e-5).
     let a = node(1, 0.02, 0.1, 0.6e-5, 2.2e-5);
     let c = node(3, 0.005, 0.1, 1.6e-5, 2.1e-5);
     let timing = combined_timing(&[&a, &c], ORIGINAL_MS).unwrap();
-    assert!((timing.hit_ms.unwrap() - 0.2e-5).abs() < 1e-12);
+    assert!((timing.hit_ms.unwrap() - 0.1e-5).abs() < 1e-12);
     assert_eq!(timing.miss_ms, Some(2.2e-5));
+    assert!((timing.overhead_ms.unwrap() - 0.5).abs() < 1e-12);
+    // Fits that put the time in the overhead (hits clamped to 0, as lavapipe's do) combine to the
+    // same frame times as fits that split it: only A + γ·B is determined.
+    let pa = |n: &NodeRecord| {
+        let (h, m, o) = (
+            n.timing.hit_ms.unwrap(),
+            n.timing.miss_ms.unwrap(),
+            n.timing.overhead_ms.unwrap(),
+        );
+        NodeRecord {
+            timing: TimingFit::from_costs(0.0, m - h, o + M * h, M),
+            ..n.clone()
+        }
+    };
+    let shifted = combined_timing(&[&pa(&a), &pa(&c)], ORIGINAL_MS).unwrap();
+    for gamma in [0.0, 0.5, 0.9, 1.0] {
+        let (x, y) = (
+            timing.frame_ms(gamma, M).unwrap(),
+            shifted.frame_ms(gamma, M).unwrap(),
+        );
+        assert!((x - y).abs() < 1e-9, "γ = {gamma}: {x} vs {y}");
+    }
     let pair = predict_set(&[&a, &c], &hr, ORIGINAL_MS, 10).unwrap();
     let (pa, pc) = (predict(&a, &hr, 10).unwrap(), predict(&c, &hr, 10).unwrap());
     assert_eq!(pair.node_ids, vec![1, 3]);
