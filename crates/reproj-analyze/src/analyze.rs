@@ -21,6 +21,7 @@ use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput
 use crate::AnalyzeError;
 use crate::journal::{Journal, JournalOptions, ReplayKey, ReplayResult};
 use crate::prune::{PruneOptions, profile_candidates};
+use crate::sets::SetSearchOptions;
 
 /// The paper's training periods (seeds 002 §4.2).
 pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
@@ -72,6 +73,9 @@ pub struct AnalyzeOptions {
     /// Compare the strategies of a node on the session's first N frames (at the longest training
     /// period) and replay only the fastest over the whole session. `None`: the whole session.
     pub probe_frames: Option<u32>,
+    /// After the single nodes, search sets of nodes cached together ([`crate::sets`]). `None`:
+    /// no set is formed (`--no-sets`).
+    pub sets: Option<SetSearchOptions>,
 }
 
 /// At how many of the training periods `analyze` replays each node.
@@ -110,7 +114,7 @@ impl Default for Sampling {
 /// `longest` comes first and is replayed by the caller; then the shortest and middle training
 /// periods, the held-out ones, and the remaining training periods (skippable under
 /// [`Sampling::Adaptive`]).
-fn period_plan(opts: &AnalyzeOptions, longest: u32) -> Vec<(u32, bool)> {
+pub(crate) fn period_plan(opts: &AnalyzeOptions, longest: u32) -> Vec<(u32, bool)> {
     let mut train: Vec<u32> = opts.delta_n_train.clone();
     train.sort_unstable();
     train.dedup();
@@ -180,6 +184,7 @@ impl Default for AnalyzeOptions {
             sampling: Sampling::default(),
             probe_frames: Some(DEFAULT_PROBE_FRAMES),
             perceptual_stride: None,
+            sets: Some(SetSearchOptions::default()),
         }
     }
 }
@@ -192,6 +197,11 @@ pub trait Progress {
     fn step(&self, what: &str);
     /// A line worth showing (a node set aside, ...).
     fn note(&self, line: &str);
+    /// `more` replays will follow beyond those announced by `start` (the set search decides
+    /// how many it replays as it goes).
+    fn extend(&self, more: u64) {
+        let _ = more;
+    }
     fn finish(&self);
 }
 
@@ -343,6 +353,18 @@ pub fn analyze(
         // A resumed run keeps the first run's original times: they decide what is set aside.
         original = j.original(original)?;
     }
+    let mut rp = Replayer {
+        renderer,
+        input,
+        reference: &reference,
+        render_opts,
+        opts,
+        progress,
+        journal,
+        time,
+        original_ms: original.frame_ms,
+        longest,
+    };
 
     // Replays, node by node.
     struct Raw {
@@ -391,9 +413,9 @@ pub fn analyze(
             Some(p) => RenderOptions {
                 max_frames: Some(p),
                 perceptual_stride: None,
-                ..render_opts.clone()
+                ..rp.render_opts.clone()
             },
-            None => render_opts.clone(),
+            None => rp.render_opts.clone(),
         };
         let mut tried: Vec<Tried> = Vec::new();
         for &(si, strategy) in &to_try {
@@ -405,7 +427,7 @@ pub fn analyze(
             };
             let t = Instant::now();
             let variant = instance(input.shader, input.norm, input.table, sel, &inst);
-            time.instancing_s += t.elapsed().as_secs_f64();
+            rp.time.instancing_s += t.elapsed().as_secs_f64();
             let variant = match variant {
                 Ok(v) => v,
                 Err(e) => {
@@ -421,27 +443,19 @@ pub fn analyze(
                 }
             };
             let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-            let res = journaled(
-                &mut journal,
+            let res = rp.replay(
                 ReplayKey {
                     node: id,
                     strategy: strategy.name().into(),
                     block,
                     delta_n: longest,
                     frames: probe,
+                    set: Vec::new(),
                 },
-                || {
-                    replay(
-                        renderer,
-                        input,
-                        &sources,
-                        &variant,
-                        longest,
-                        &reference,
-                        &probe_opts,
-                        &mut time,
-                    )
-                },
+                &sources,
+                &variant,
+                longest,
+                Some(&probe_opts),
             )?;
             let on = match probe {
                 Some(p) => format!(" on {p} frames"),
@@ -548,63 +562,23 @@ pub fn analyze(
         if let Some(why) = &failure {
             progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
         }
-        let mut confirmed = None;
-        for &(dn, skippable) in &node_plan {
-            if failure.is_some() {
-                progress.step(&format!("node {id} Δn={dn}"));
-                continue;
-            }
-            if skippable {
-                let holds = *confirmed.get_or_insert_with(|| model_holds(&measurements, opts));
-                if holds {
-                    progress.step(&format!(
-                        "node {id} Δn={dn} skipped: the error model predicts the held-out periods"
-                    ));
-                    continue;
-                }
-            }
-            let res = journaled(
-                &mut journal,
-                ReplayKey {
-                    node: id,
-                    strategy: strategy.name().into(),
-                    block,
-                    delta_n: dn,
-                    frames: None,
-                },
-                || {
-                    replay(
-                        renderer,
-                        input,
-                        &sources,
-                        &variant,
-                        dn,
-                        &reference,
-                        &render_opts,
-                        &mut time,
-                    )
-                },
-            )?;
-            match res {
-                Ok((m, _)) => {
-                    if dn == longest {
-                        failure =
-                            too_slow(&m, node.root, original.frame_ms, longest, strategy, None);
-                        if let Some(why) = &failure {
-                            progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
-                        }
-                    }
-                    measurements.push(m);
-                }
-                Err(e) => {
-                    progress.note(&format!(
-                        "node {id}: set aside: replay failed at Δn={dn}: {e}"
-                    ));
-                    failure = Some(format!("replay failed at Δn={dn}: {e}"));
-                }
-            }
-            progress.step(&format!("node {id} {strategy} Δn={dn}"));
-        }
+        let subject = Subject {
+            node: id,
+            set: Vec::new(),
+            who: format!("node {id}"),
+            text: node.text.clone(),
+            root: node.root,
+            strategy,
+            block,
+        };
+        rp.replay_plan(
+            &subject,
+            &sources,
+            &variant,
+            &node_plan,
+            &mut measurements,
+            &mut failure,
+        )?;
         raws.push(Raw {
             id,
             strategy,
@@ -613,17 +587,9 @@ pub fn analyze(
             failure,
         });
     }
-    progress.finish();
-    if let Some(j) = &journal {
-        progress.note(&format!(
-            "replayed {}, reused {} recorded by an earlier run",
-            j.recorded, j.reused
-        ));
-    }
 
     // Fits.
     let t = Instant::now();
-    let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
     let hit_rate = fit_session_hit_rate(
         raws.iter().flat_map(|r| &r.measurements),
         &opts.delta_n_train,
@@ -632,47 +598,20 @@ pub fn analyze(
         .par_iter()
         .map(|raw| {
             let node = input.table.get(raw.id).expect("ids come from the table");
-            let train: Vec<&Measurement> =
-                raw.measurements.iter().filter(|m| is_train(m)).collect();
-            let held: Vec<&Measurement> =
-                raw.measurements.iter().filter(|m| !is_train(m)).collect();
-            let error_fit = fit_error(
-                &train
-                    .iter()
-                    .map(|m| (m.delta_n as f64, m.error))
-                    .collect::<Vec<_>>(),
-                &ErrorFitOptions::default(),
+            let Fitted {
+                error_fit,
+                flip_fit,
+                dssim_fit,
+                timing_fit,
+                holdout,
+                status,
+            } = fit_replays(
+                &raw.measurements,
+                raw.failure.as_deref(),
+                opts,
+                &hit_rate,
+                mean_pixels,
             );
-            let flip_fit = fit_metric(&train, |m| m.flip.map(|s| s.mean));
-            let dssim_fit = fit_metric(&train, |m| m.ssim.map(|s| 1.0 - s.mean));
-            let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> {
-                ms.iter().flat_map(|m| m.frames.iter().copied()).collect()
-            };
-            let timing_fit = fit_timing_with_holdout(&frames(&train), &frames(&held));
-            let holdout = held
-                .iter()
-                .map(|m| HoldoutCheck {
-                    delta_n: m.delta_n,
-                    measured_error: m.error,
-                    predicted_error: error_fit
-                        .predict(m.delta_n as f64)
-                        .filter(|v| v.is_finite()),
-                    measured_ms: m.frame_ms,
-                    predicted_ms: predicted_frame_ms(
-                        &timing_fit,
-                        &hit_rate,
-                        m.delta_n as f64,
-                        mean_pixels,
-                    )
-                    .filter(|v| v.is_finite()),
-                    measured_flip: m.flip.map(|s| s.mean),
-                    predicted_flip: flip_fit
-                        .as_ref()
-                        .and_then(|f| f.predict(m.delta_n as f64))
-                        .filter(|v| v.is_finite()),
-                })
-                .collect();
-            let status = status(raw.failure.as_deref(), &error_fit, &timing_fit);
             NodeProfile {
                 id: raw.id,
                 root: node.root,
@@ -701,7 +640,23 @@ pub fn analyze(
             progress.note(&format!("node {} `{}`: set aside: {reason}", n.id, n.text));
         }
     }
-    time.fitting_s = t.elapsed().as_secs_f64();
+    rp.time.fitting_s += t.elapsed().as_secs_f64();
+
+    let sets = match &opts.sets {
+        // A shard sees only its part of the nodes: sets are searched over whole analyses.
+        Some(set_opts) if ids.len() > 1 && opts.shard.is_none() => {
+            crate::sets::analyze_sets(&mut rp, &nodes, &hit_rate, mean_pixels, set_opts)?
+        }
+        _ => Vec::new(),
+    };
+    progress.finish();
+    if let Some(j) = &rp.journal {
+        progress.note(&format!(
+            "replayed {}, reused {} recorded by an earlier run",
+            j.recorded, j.reused
+        ));
+    }
+    let mut time = rp.time;
     time.total_s = started.elapsed().as_secs_f64();
 
     let adapter = renderer.adapter();
@@ -741,6 +696,7 @@ pub fn analyze(
         hit_rate,
         nodes,
         strategy_probes: probes,
+        sets,
         time,
         shard: opts.shard,
     })
@@ -779,21 +735,208 @@ fn too_slow(
     ))
 }
 
-/// The journal's result for `key`, else `run` it and record the result.
-fn journaled(
-    journal: &mut Option<Journal>,
-    key: ReplayKey,
-    run: impl FnOnce() -> ReplayResult,
-) -> Result<ReplayResult, AnalyzeError> {
-    let Some(j) = journal else {
-        return Ok(run());
-    };
-    if let Some(r) = j.get(&key) {
-        return Ok(r);
+/// What every replay of one analysis shares: the renderer and the reference, the options, the
+/// journal and the time tally. Single nodes and sets of nodes are replayed through it alike.
+pub(crate) struct Replayer<'a, 'b> {
+    pub(crate) renderer: &'a Renderer,
+    pub(crate) input: &'a AnalyzeInput<'b>,
+    pub(crate) reference: &'a reproj_replay::Reference,
+    /// The options of a whole-session replay.
+    pub(crate) render_opts: RenderOptions,
+    pub(crate) opts: &'a AnalyzeOptions,
+    pub(crate) progress: &'a dyn Progress,
+    pub(crate) journal: Option<Journal>,
+    pub(crate) time: AnalysisTime,
+    /// The original's mean frame time over the whole session, ms.
+    pub(crate) original_ms: f64,
+    /// The longest training period (replayed first).
+    pub(crate) longest: u32,
+}
+
+/// What [`Replayer::replay_plan`] replays: a node, or a set of nodes cached together.
+pub(crate) struct Subject {
+    /// The node (a set's first member).
+    pub(crate) node: u32,
+    /// A set's members in payload order; empty for a single node.
+    pub(crate) set: Vec<u32>,
+    /// How notes name it (`node 34`, `set 22+39`).
+    pub(crate) who: String,
+    pub(crate) text: String,
+    pub(crate) root: bool,
+    pub(crate) strategy: Strategy,
+    pub(crate) block: u32,
+}
+
+impl Replayer<'_, '_> {
+    /// Replay one variant at `delta_n` over the whole session (`render_opts`: `None`) or as
+    /// `render_opts` says, or take the journal's record of that replay; a new replay is recorded.
+    pub(crate) fn replay(
+        &mut self,
+        key: ReplayKey,
+        sources: &[String],
+        variant: &reproj_instance::Variant,
+        delta_n: u32,
+        render_opts: Option<&RenderOptions>,
+    ) -> Result<ReplayResult, AnalyzeError> {
+        let run = |time: &mut AnalysisTime| {
+            replay(
+                self.renderer,
+                self.input,
+                sources,
+                variant,
+                delta_n,
+                self.reference,
+                render_opts.unwrap_or(&self.render_opts),
+                time,
+            )
+        };
+        let Some(j) = &mut self.journal else {
+            return Ok(run(&mut self.time));
+        };
+        if let Some(r) = j.get(&key) {
+            return Ok(r);
+        }
+        let r = run(&mut self.time);
+        j.record(key, &r)?;
+        Ok(r)
     }
-    let r = run();
-    j.record(key, &r)?;
-    Ok(r)
+
+    /// Replay `subject`'s variant over the whole session at the periods of `plan` in order
+    /// ((Δn, skippable): a skippable period is left out once the error model predicts the
+    /// held-out measurements, [`Sampling::Adaptive`]), appending to `measurements`. A replay that
+    /// fails, or one at the longest period no faster than the original (a non-root subject),
+    /// sets `failure`; the remaining periods are then only counted for the progress bar.
+    pub(crate) fn replay_plan(
+        &mut self,
+        subject: &Subject,
+        sources: &[String],
+        variant: &reproj_instance::Variant,
+        plan: &[(u32, bool)],
+        measurements: &mut Vec<Measurement>,
+        failure: &mut Option<String>,
+    ) -> Result<(), AnalyzeError> {
+        let Subject {
+            who,
+            text,
+            strategy,
+            ..
+        } = subject;
+        let mut confirmed = None;
+        for &(dn, skippable) in plan {
+            if failure.is_some() {
+                self.progress.step(&format!("{who} Δn={dn}"));
+                continue;
+            }
+            if skippable {
+                let holds = *confirmed.get_or_insert_with(|| model_holds(measurements, self.opts));
+                if holds {
+                    self.progress.step(&format!(
+                        "{who} Δn={dn} skipped: the error model predicts the held-out periods"
+                    ));
+                    continue;
+                }
+            }
+            let key = ReplayKey {
+                node: subject.node,
+                strategy: strategy.name().into(),
+                block: subject.block,
+                delta_n: dn,
+                frames: None,
+                set: subject.set.clone(),
+            };
+            match self.replay(key, sources, variant, dn, None)? {
+                Ok((m, _)) => {
+                    if dn == self.longest {
+                        *failure = too_slow(
+                            &m,
+                            subject.root,
+                            self.original_ms,
+                            self.longest,
+                            *strategy,
+                            None,
+                        );
+                        if let Some(why) = &failure {
+                            self.progress
+                                .note(&format!("{who} `{text}`: set aside: {why}"));
+                        }
+                    }
+                    measurements.push(m);
+                }
+                Err(e) => {
+                    self.progress
+                        .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));
+                    *failure = Some(format!("replay failed at Δn={dn}: {e}"));
+                }
+            }
+            self.progress.step(&format!("{who} {strategy} Δn={dn}"));
+        }
+        Ok(())
+    }
+}
+
+/// The fits of one node's (or set's) replays and its status.
+pub(crate) struct Fitted {
+    pub(crate) error_fit: ErrorFit,
+    pub(crate) flip_fit: Option<ErrorFit>,
+    pub(crate) dssim_fit: Option<ErrorFit>,
+    pub(crate) timing_fit: TimingFit,
+    pub(crate) holdout: Vec<HoldoutCheck>,
+    pub(crate) status: NodeStatus,
+}
+
+/// Fit the error models (L2, ꟻLIP, 1 − SSIM) to the measurements at the training periods and the
+/// timing model to their frames, check both at the held-out periods, and say whether the result
+/// is usable (`failure`: why the replays already set it aside).
+pub(crate) fn fit_replays(
+    measurements: &[Measurement],
+    failure: Option<&str>,
+    opts: &AnalyzeOptions,
+    hit_rate: &reproj_models::HitRateFit,
+    mean_pixels: f64,
+) -> Fitted {
+    let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
+    let train: Vec<&Measurement> = measurements.iter().filter(|m| is_train(m)).collect();
+    let held: Vec<&Measurement> = measurements.iter().filter(|m| !is_train(m)).collect();
+    let error_fit = fit_error(
+        &train
+            .iter()
+            .map(|m| (m.delta_n as f64, m.error))
+            .collect::<Vec<_>>(),
+        &ErrorFitOptions::default(),
+    );
+    let flip_fit = fit_metric(&train, |m| m.flip.map(|s| s.mean));
+    let dssim_fit = fit_metric(&train, |m| m.ssim.map(|s| 1.0 - s.mean));
+    let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> {
+        ms.iter().flat_map(|m| m.frames.iter().copied()).collect()
+    };
+    let timing_fit = fit_timing_with_holdout(&frames(&train), &frames(&held));
+    let holdout = held
+        .iter()
+        .map(|m| HoldoutCheck {
+            delta_n: m.delta_n,
+            measured_error: m.error,
+            predicted_error: error_fit
+                .predict(m.delta_n as f64)
+                .filter(|v| v.is_finite()),
+            measured_ms: m.frame_ms,
+            predicted_ms: predicted_frame_ms(&timing_fit, hit_rate, m.delta_n as f64, mean_pixels)
+                .filter(|v| v.is_finite()),
+            measured_flip: m.flip.map(|s| s.mean),
+            predicted_flip: flip_fit
+                .as_ref()
+                .and_then(|f| f.predict(m.delta_n as f64))
+                .filter(|v| v.is_finite()),
+        })
+        .collect();
+    let status = status(failure, &error_fit, &timing_fit);
+    Fitted {
+        error_fit,
+        flip_fit,
+        dssim_fit,
+        timing_fit,
+        holdout,
+        status,
+    }
 }
 
 /// Replay one variant at `delta_n`: its measurement and mean per-pass times (frame 0 excluded).

@@ -1,4 +1,5 @@
-//! `emit`: select the fastest (node, Δn) under an error budget from a profile and write its passes.
+//! `emit`: select the fastest (node or set of nodes, Δn) under an error budget from a profile and
+//! write its passes.
 //! Needs no GPU; `verify` re-renders the selection to check the prediction.
 
 use std::path::{Path, PathBuf};
@@ -6,7 +7,7 @@ use std::path::{Path, PathBuf};
 use reproj_front::{LoadOptions, UnrollOptions, load};
 use reproj_instance::{
     CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, VARIANT_FILES, Variant,
-    backends::OutputLang, instance, variant_files,
+    backends::OutputLang, instance, instance_nodes, variant_files,
 };
 use reproj_io::Replace;
 use reproj_models::Metric;
@@ -14,7 +15,7 @@ use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
 use reproj_replay::metrics::{MetricSummary, PSNR_CAP, psnr};
 use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
-use reproj_select::{NodeRecord, SelectOptions, Selection, select};
+use reproj_select::{NodeRecord, SelectOptions, Selection, SetRecord, select_with_sets};
 use serde::{Deserialize, Serialize};
 
 use crate::AnalyzeError;
@@ -48,7 +49,10 @@ pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
 /// Version of the [`EmitReport`] schema. Bump on any incompatible change.
 /// Version 2: `metric` (what `max_error` and `predicted_error` are), `measured_flip`,
 /// `measured_ssim`.
-pub const EMIT_REPORT_VERSION: u32 = 2;
+/// Version 3: the choice may be a set of nodes cached together: `node` is then the member ids
+/// joined by `+` (`"22+39"`), `node_text` their texts joined by ` + `, `line`/`col` the first
+/// member's.
+pub const EMIT_REPORT_VERSION: u32 = 3;
 
 fn emit_report_schema() -> String {
     EMIT_REPORT_SCHEMA.into()
@@ -72,7 +76,8 @@ pub struct EmitReport {
     #[serde(default)]
     pub metric: Metric,
     pub max_error: f64,
-    /// Node id, `"root"`, or `null` when the original shader is kept.
+    /// Node id, `"root"`, a set's member ids joined by `+` (`"22+39"`, version 3), or `null` when
+    /// the original shader is kept.
     pub node: Option<String>,
     pub node_text: Option<String>,
     /// Variant strategy of the choice (`3pass`, `2pass`, `fused`).
@@ -207,13 +212,33 @@ pub fn emit(
             })
         })
         .collect();
+    let usable_sets: Vec<_> = profile
+        .sets
+        .iter()
+        .filter(|s| s.status == NodeStatus::Ok)
+        .filter(|s| opts.strategy.is_none_or(|st| st.name() == s.strategy))
+        .collect();
+    let set_records: Vec<SetRecord> = usable_sets
+        .iter()
+        .filter_map(|s| {
+            Some(SetRecord {
+                members: s.members.clone(),
+                texts: s.texts.clone(),
+                strategy: s.strategy.clone(),
+                error: s.fit(opts.metric)?.clone(),
+                timing: s.timing_fit.clone(),
+                mean_pixels: profile.original.mean_pixels,
+            })
+        })
+        .collect();
     let select_opts = SelectOptions {
         max_error: opts.max_error,
         min_delta_n: opts.min_delta_n,
         max_delta_n: opts.max_delta_n,
     };
-    let selection = select(
+    let selection = select_with_sets(
         &records,
+        &set_records,
         &profile.hit_rate,
         profile.original.frame_ms,
         &select_opts,
@@ -249,6 +274,50 @@ pub fn emit(
     };
     let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
     let variant = match selection {
+        Selection::Node(choice) if !choice.members.is_empty() => {
+            let set = usable_sets
+                .iter()
+                .find(|s| s.members == choice.members && s.strategy == choice.strategy)
+                .expect("the selection comes from the profile's sets");
+            let strategy: Strategy =
+                set.strategy
+                    .parse()
+                    .map_err(|e: String| AnalyzeError::BadProfile {
+                        path: profile_path.to_owned(),
+                        message: format!("set {}: {e}", set.name()),
+                    })?;
+            let sels: Vec<NodeSelector> =
+                set.members.iter().map(|&id| NodeSelector::Id(id)).collect();
+            let variant = instance_nodes(
+                &shader,
+                &loaded.norm,
+                &loaded.table,
+                &sels,
+                &InstanceOptions {
+                    strategy,
+                    reconstruct: Default::default(),
+                    cache_format: opts.cache_format,
+                    delta_n: choice.delta_n,
+                    block: set.block,
+                    depth_epsilon: profile.depth_epsilon,
+                    group: opts.integration.group,
+                    frame_load: opts.integration.frame_load,
+                },
+            )?;
+            write_variant(&variant, &staging, opts, &mut report)?;
+            let first = profile.nodes.iter().find(|n| n.id == set.members[0]);
+            report.node = Some(set.name());
+            report.node_text = Some(choice.node_text.clone());
+            report.strategy = Some(set.strategy.clone());
+            report.line = first.map(|n| n.line);
+            report.col = first.map(|n| n.col);
+            report.delta_n = Some(choice.delta_n);
+            report.predicted_error = Some(choice.predicted_error);
+            report.predicted_psnr = set.mse_at(choice.delta_n).map(psnr);
+            report.predicted_ms = Some(choice.predicted_ms);
+            report.predicted_speedup = Some(choice.predicted_speedup);
+            Some(variant)
+        }
         Selection::Node(choice) => {
             let node = profile
                 .nodes
@@ -283,17 +352,7 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            for (name, bytes) in variant_files(&variant, &opts.langs)? {
-                staging.write(name, &bytes)?;
-            }
-            for p in &variant.manifest.passes {
-                report
-                    .files
-                    .push(opts.out.join(&p.file).display().to_string());
-            }
-            report
-                .files
-                .push(opts.out.join("manifest.json").display().to_string());
+            write_variant(&variant, &staging, opts, &mut report)?;
             report.node = Some(if node.root {
                 "root".into()
             } else {
@@ -335,6 +394,27 @@ pub fn emit(
     write_report(&report, staging.path())?;
     staging.commit()?;
     Ok((report, variant))
+}
+
+/// Stage the variant's files (passes in every language, manifest) and list them in the report.
+fn write_variant(
+    variant: &Variant,
+    staging: &reproj_io::StagedDir,
+    opts: &EmitOptions,
+    report: &mut EmitReport,
+) -> Result<(), AnalyzeError> {
+    for (name, bytes) in variant_files(variant, &opts.langs)? {
+        staging.write(name, &bytes)?;
+    }
+    for p in &variant.manifest.passes {
+        report
+            .files
+            .push(opts.out.join(&p.file).display().to_string());
+    }
+    report
+        .files
+        .push(opts.out.join("manifest.json").display().to_string());
+    Ok(())
 }
 
 /// FNV-1a 64 of the shader's IR written back as WGSL by naga: the same for two sources that differ

@@ -4,9 +4,9 @@
 //! Format: JSON Lines. The first line is a header naming the journal's schema and a key over
 //! everything that decides a replay's result (shader, session, periods, nodes, strategies, options,
 //! adapter); a journal with another key is from another analysis and is started over. Each further
-//! line is one replay: node, strategy, block, Δn and its measurement or failure. A line is written
-//! with one `write` of the whole line and synced, so a kill leaves at most one torn last line,
-//! which reading ignores.
+//! line is one replay: node (or set of nodes, `set`), strategy, block, Δn and its measurement or
+//! failure. A line is written with one `write` of the whole line and synced, so a kill leaves at
+//! most one torn last line, which reading ignores.
 
 use std::collections::HashMap;
 use std::io::Write;
@@ -46,6 +46,10 @@ pub(crate) struct ReplayKey {
     /// A strategy probe over the session's first N frames; `None`: the whole session.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frames: Option<u32>,
+    /// A set of nodes cached together: its members in payload order (`node` is the first);
+    /// empty for a single node.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set: Vec<u32>,
 }
 
 /// One replay's result: the measurement and mean per-pass times, or why it failed.
@@ -73,6 +77,7 @@ fn original_key() -> ReplayKey {
         block: 0,
         delta_n: 1,
         frames: None,
+        set: Vec::new(),
     }
 }
 

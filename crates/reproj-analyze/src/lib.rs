@@ -7,6 +7,7 @@ pub mod emit;
 pub mod journal;
 pub mod merge;
 pub mod prune;
+pub mod sets;
 
 use std::path::PathBuf;
 
@@ -21,6 +22,7 @@ pub use emit::{
 pub use journal::JournalOptions;
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
+pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
 
 /// What can go wrong in `analyze` or `emit`.
 #[derive(Debug, thiserror::Error)]

@@ -271,3 +271,91 @@ fn first_difference(a: &serde_json::Value, b: &serde_json::Value, at: String) ->
         _ => format!("{at}: {a} vs {b}"),
     }
 }
+
+/// The set search on a shader with two independent expensive terms (`a`, `b`: each a loop's sum
+/// over the surface point, lit by a moving light): the pair is replayed at the single nodes'
+/// periods, a second run with the same journal replays nothing (set replays are keyed too), and
+/// `emit` picks the pair, writing one payload for both.
+#[test]
+fn two_independent_terms_make_a_pair_that_emit_picks() {
+    let data = root().join("crates/reproj-cli/tests/data");
+    let shader_path = data.join("two_terms.wgsl");
+    let shader = load_file(&shader_path).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let id = |text: &str| table.cacheable().find(|n| n.text == text).unwrap().id;
+    let (a, b) = (id("a"), id("b"));
+    let session_path = data.join("two_terms.json");
+    let session_bytes = std::fs::read(&session_path).unwrap();
+    let session = Session::load(&session_path).unwrap();
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let dir = tempfile::tempdir().unwrap();
+    let opts = AnalyzeOptions {
+        delta_n_train: vec![2, 8, 16, 24],
+        delta_n_holdout: vec![4],
+        nodes: Some(vec![a, b]),
+        strategies: vec![reproj_instance::Strategy::ThreePass],
+        journal: Some(reproj_analyze::JournalOptions {
+            path: dir.path().join("two_terms.profile.journal"),
+            fresh: false,
+        }),
+        ..AnalyzeOptions::default()
+    };
+    let input = AnalyzeInput {
+        shader: &shader,
+        norm: &norm,
+        table: &table,
+        session_path: &session_path,
+        session_bytes: &session_bytes,
+        session: &session,
+    };
+    let profile = analyze(&input, &renderer, &opts, &Silent).unwrap();
+    assert_eq!(profile.sets.len(), 1, "one pair, nothing to grow it with");
+    let set = &profile.sets[0];
+    let mut members = set.members.clone();
+    members.sort_unstable();
+    assert_eq!(members, {
+        let mut m = vec![a, b];
+        m.sort_unstable();
+        m
+    });
+    assert_eq!(set.status, NodeStatus::Ok, "{set:?}");
+    // The longest period first, then the single nodes' plan; a prediction beside each.
+    assert_eq!(set.measurements[0].delta_n, 24);
+    assert!(set.measurements.len() >= 4);
+    assert_eq!(set.predicted.len(), set.measurements.len());
+    assert!(set.predicted.iter().all(|p| p.frame_ms.is_some()));
+
+    // Resumed from the journal: the same measurements, no replay.
+    let again = analyze(&input, &renderer, &opts, &Silent).unwrap();
+    assert_eq!(again.sets[0].measurements, set.measurements);
+
+    let path = dir.path().join("two_terms.profile.json");
+    std::fs::write(&path, serde_json::to_string(&profile).unwrap()).unwrap();
+    let (report, variant) = emit(
+        &load_profile(&path).unwrap(),
+        &path,
+        &EmitOptions {
+            max_error: 0.01,
+            metric: Default::default(),
+            min_delta_n: 2,
+            max_delta_n: 50,
+            out: dir.path().join("out"),
+            cache_format: Default::default(),
+            strategy: None,
+            integration: Default::default(),
+            shader: Some(shader_path.clone()),
+            langs: Vec::new(),
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        report.node.as_deref(),
+        Some(set.name().as_str()),
+        "{report:?}"
+    );
+    assert_eq!(report.version, 3);
+    let variant = variant.unwrap();
+    assert_eq!(variant.manifest.also.len(), 1);
+}

@@ -116,6 +116,7 @@ fn profile(shader: &Path) -> Profile {
             node(root_id, true, "vec4<f32>(color, 1.0)", 0.2, 0.00005, 0.0011),
         ],
         strategy_probes: Vec::new(),
+        sets: Vec::new(),
         time: AnalysisTime::default(),
         shard: None,
     }

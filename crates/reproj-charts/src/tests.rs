@@ -200,6 +200,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         hit_rate,
         nodes,
         strategy_probes: Vec::new(),
+        sets: Vec::new(),
         time: AnalysisTime::default(),
         shard: None,
     }

@@ -213,6 +213,20 @@ pub struct AnalyzeArgs {
     /// a 150-frame session). Recorded in the profile.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub metric_stride: Option<u32>,
+    /// Do not search sets of nodes cached together (by default, after the single nodes, pairs
+    /// among the best of them are ranked by their combined prediction, the best replayed, and the
+    /// best measured grown by one node at a time).
+    #[arg(long, conflicts_with_all = ["set_top", "set_replays", "set_max_nodes"])]
+    pub no_sets: bool,
+    /// Form pairs among the K single nodes with the largest predicted saving.
+    #[arg(long, value_name = "K", default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..))]
+    pub set_top: u32,
+    /// Replay the R pairs predicted fastest.
+    #[arg(long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub set_replays: u32,
+    /// Grow the best measured set up to N nodes (2: pairs only; a payload holds 4 floats).
+    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(2..=4))]
+    pub set_max_nodes: u32,
     #[command(flatten)]
     pub cache: CacheArgs,
     /// Fragment entry point.

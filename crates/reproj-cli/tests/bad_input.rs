@@ -568,6 +568,33 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "half",
         ),
         case(
+            "analyze set search over fewer than two nodes",
+            &[],
+            &[
+                "analyze",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--set-top",
+                "1",
+            ],
+            "--set-top",
+        ),
+        case(
+            "analyze no sets and a set option",
+            &[],
+            &[
+                "analyze",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--no-sets",
+                "--set-max-nodes",
+                "2",
+            ],
+            "--no-sets",
+        ),
+        case(
             "emit negative budget",
             &[],
             &[

@@ -17,7 +17,10 @@ use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary
 /// `ssim`; per node `flip_fit` and `dssim_fit`; per held-out check `measured_flip` and
 /// `predicted_flip`. Older files still load (without them: `emit --metric flip` asks to re-run
 /// `analyze`).
-pub const PROFILE_VERSION: u32 = 5;
+/// Version 5: `unroll`.
+/// Version 6: `sets`, node sets cached together in one payload and replayed (`analyze`'s greedy
+/// set search). Older files still load without them.
+pub const PROFILE_VERSION: u32 = 6;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -65,6 +68,10 @@ pub struct Profile {
     /// Every strategy tried per node at the longest training Δn, and which one was kept.
     #[serde(default)]
     pub strategy_probes: Vec<StrategyProbe>,
+    /// Sets of nodes cached together in one payload and replayed, best first as the search met
+    /// them (version 6; empty: none was formed, `--no-sets`, or an older profile).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<SetProfile>,
     /// Wall-clock time of the analysis and where it went.
     pub time: AnalysisTime,
     /// Set on a shard's profile (`analyze --shard i/N`); `reproj merge` joins the N shards into
@@ -223,6 +230,65 @@ pub struct NodeProfile {
     pub status: NodeStatus,
 }
 
+/// A set of nodes cached together in one payload (`reproj instance --node 22,39`), replayed and
+/// fitted like a single node (version 6).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SetProfile {
+    /// The member node ids, in payload order.
+    pub members: Vec<u32>,
+    /// The members' source texts, in the same order.
+    pub texts: Vec<String>,
+    /// Variant strategy and refresh block size k of the measurements.
+    pub strategy: String,
+    pub block: u32,
+    pub measurements: Vec<Measurement>,
+    /// The set's error and time predicted from its members' single-node fits (`reproj-select`'s
+    /// `combine`) at each measured Δn, beside what the replay measured.
+    #[serde(default)]
+    pub predicted: Vec<SetPredicted>,
+    pub error_fit: ErrorFit,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip_fit: Option<ErrorFit>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dssim_fit: Option<ErrorFit>,
+    pub timing_fit: TimingFit,
+    pub holdout: Vec<HoldoutCheck>,
+    #[serde(flatten)]
+    pub status: NodeStatus,
+}
+
+/// A set's combined prediction at one Δn (`None`: a member's fits could not predict it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SetPredicted {
+    pub delta_n: u32,
+    pub error: Option<f64>,
+    pub frame_ms: Option<f64>,
+}
+
+impl SetProfile {
+    /// How reports name the set: the member ids joined by `+` (`"22+39"`).
+    pub fn name(&self) -> String {
+        self.members
+            .iter()
+            .map(u32::to_string)
+            .collect::<Vec<_>>()
+            .join("+")
+    }
+
+    /// The error model fitted to `metric` (`None`: not measured).
+    pub fn fit(&self, metric: Metric) -> Option<&ErrorFit> {
+        match metric {
+            Metric::L2 => Some(&self.error_fit),
+            Metric::Flip => self.flip_fit.as_ref(),
+        }
+    }
+
+    /// The MSE at `delta_n`, interpolated as [`NodeProfile::mse_at`] does.
+    pub fn mse_at(&self, delta_n: u32) -> Option<f64> {
+        mse_at(&self.measurements, delta_n)
+    }
+}
+
 impl Measurement {
     /// The measured value of `metric`: the mean over the replay's frames (`None`: not measured).
     pub fn value(&self, metric: Metric) -> Option<f64> {
@@ -247,25 +313,30 @@ impl NodeProfile {
     /// measured period from 0 at Δn = 1 (every pixel refreshed every frame: the original).
     /// `None` above the longest measured period, or when no measurement recorded an MSE.
     pub fn mse_at(&self, delta_n: u32) -> Option<f64> {
-        let mut points: Vec<(f64, f64)> = self
-            .measurements
-            .iter()
-            .filter_map(|m| Some((f64::from(m.delta_n), m.mse.filter(|v| v.is_finite())?)))
-            .collect();
-        if points.is_empty() {
-            return None;
-        }
-        points.push((1.0, 0.0));
-        points.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let x = f64::from(delta_n.max(1));
-        let i = points.partition_point(|p| p.0 < x);
-        let (x1, y1) = *points.get(i)?;
-        if x1 == x || i == 0 {
-            return Some(y1);
-        }
-        let (x0, y0) = points[i - 1];
-        Some(y0 + (y1 - y0) * (x - x0) / (x1 - x0))
+        mse_at(&self.measurements, delta_n)
     }
+}
+
+/// The MSE at `delta_n` from measured MSEs, interpolated linearly between neighbouring periods
+/// (see [`NodeProfile::mse_at`]).
+fn mse_at(measurements: &[Measurement], delta_n: u32) -> Option<f64> {
+    let mut points: Vec<(f64, f64)> = measurements
+        .iter()
+        .filter_map(|m| Some((f64::from(m.delta_n), m.mse.filter(|v| v.is_finite())?)))
+        .collect();
+    if points.is_empty() {
+        return None;
+    }
+    points.push((1.0, 0.0));
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let x = f64::from(delta_n.max(1));
+    let i = points.partition_point(|p| p.0 < x);
+    let (x1, y1) = *points.get(i)?;
+    if x1 == x || i == 0 {
+        return Some(y1);
+    }
+    let (x0, y0) = points[i - 1];
+    Some(y0 + (y1 - y0) * (x - x0) / (x1 - x0))
 }
 
 fn three_pass() -> String {

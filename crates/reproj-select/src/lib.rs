@@ -225,6 +225,11 @@ pub struct Choice {
     pub original_ms: f64,
     /// `original_ms / predicted_ms` (> 1).
     pub predicted_speedup: f64,
+    /// For a set of nodes cached together ([`select_with_sets`]): every member id in payload
+    /// order (`node_id` is the first, `node_text` the texts joined by ` + `). Empty for a single
+    /// node.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<u32>,
 }
 
 /// Why the original shader is kept.
@@ -364,5 +369,95 @@ pub fn select(
         predicted_ms: best.predicted_ms,
         original_ms,
         predicted_speedup: original_ms / best.predicted_ms,
+        members: Vec::new(),
+    })
+}
+
+/// What the selector knows of a set of nodes cached together in one payload, replayed and fitted
+/// like a node (`analyze`'s set search).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SetRecord {
+    /// The member ids, in payload order.
+    pub members: Vec<u32>,
+    /// The members' source texts, in the same order.
+    pub texts: Vec<String>,
+    /// The variant strategy its models were measured with.
+    pub strategy: String,
+    /// Its own fitted models (not the members' combined predictions).
+    pub error: reproj_models::ErrorFit,
+    pub timing: TimingFit,
+    /// M: mean shaded pixels per frame.
+    pub mean_pixels: f64,
+}
+
+impl SetRecord {
+    /// The set as the selector's node: its fits under the first member's id.
+    fn as_node(&self) -> NodeRecord {
+        NodeRecord {
+            id: self.members.first().copied().unwrap_or(0),
+            text: self.texts.join(" + "),
+            strategy: self.strategy.clone(),
+            error: self.error.clone(),
+            timing: self.timing.clone(),
+            mean_pixels: self.mean_pixels,
+        }
+    }
+}
+
+/// [`select`] over the single nodes and the measured sets together: the fastest predicted
+/// variant under the budget, a set only when it is predicted faster than every single node under
+/// the budget (ties keep the single node) and than the original. Sets whose fits are not usable
+/// are skipped; without usable sets this is `select`.
+pub fn select_with_sets(
+    nodes: &[NodeRecord],
+    sets: &[SetRecord],
+    hit_rate: &HitRateFit,
+    original_ms: f64,
+    opts: &SelectOptions,
+) -> Selection {
+    let single = select(nodes, hit_rate, original_ms, opts);
+    let fine = match &single {
+        Selection::Node(_) => true,
+        Selection::Original { reason } => matches!(
+            reason,
+            OriginalReason::NoUsableNodes { .. }
+                | OriginalReason::OverBudget { .. }
+                | OriginalReason::NotFaster { .. }
+        ),
+    };
+    if !fine {
+        return single;
+    }
+    let best = sets
+        .iter()
+        .filter(|s| s.members.len() > 1)
+        .flat_map(|s| {
+            let node = s.as_node();
+            (opts.min_delta_n..=opts.max_delta_n)
+                .filter_map(move |dn| predict(&node, hit_rate, dn).map(|p| (s, p)))
+        })
+        .filter(|(_, p)| p.predicted_error <= opts.max_error)
+        .min_by(|(sa, a), (sb, b)| by_time(a, b).then(sa.members.cmp(&sb.members)));
+    let Some((set, p)) = best else {
+        return single;
+    };
+    let beats = match &single {
+        Selection::Node(c) => p.predicted_ms < c.predicted_ms,
+        Selection::Original { .. } => p.predicted_ms < original_ms,
+    };
+    if !beats {
+        return single;
+    }
+    Selection::Node(Choice {
+        node_id: p.node_id,
+        node_text: set.texts.join(" + "),
+        strategy: p.strategy,
+        delta_n: p.delta_n,
+        hit_rate: p.hit_rate,
+        predicted_error: p.predicted_error,
+        predicted_ms: p.predicted_ms,
+        original_ms,
+        predicted_speedup: original_ms / p.predicted_ms,
+        members: set.members.clone(),
     })
 }

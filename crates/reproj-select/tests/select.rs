@@ -248,12 +248,35 @@ fn pareto_frontier_is_monotone_and_undominated() {
 fn a_set_combines_the_single_node_models() {
     use reproj_select::{best_set, combined_timing, predict, predict_set};
     let hr = HitRateFit::from_mu(0.9);
-    // c₀ = 10 ms / M = 2e-5 ms per pixel; A saves 1.4e-5 on a hit, C saves 0.4e-5.
+    // A hit of A costs 1.6e-5 less than its miss, of C 0.5e-5 less: a hit of the pair 2.1e-5
+    // less than the pair's miss (the dearer one, 2.2e-5).
     let a = node(1, 0.02, 0.1, 0.6e-5, 2.2e-5);
     let c = node(3, 0.005, 0.1, 1.6e-5, 2.1e-5);
     let timing = combined_timing(&[&a, &c], ORIGINAL_MS).unwrap();
-    assert!((timing.hit_ms.unwrap() - 0.2e-5).abs() < 1e-12);
+    assert!((timing.hit_ms.unwrap() - 0.1e-5).abs() < 1e-12);
     assert_eq!(timing.miss_ms, Some(2.2e-5));
+    assert!((timing.overhead_ms.unwrap() - 0.5).abs() < 1e-12);
+    // Fits that put the time in the overhead (hits clamped to 0, as lavapipe's do) combine to the
+    // same frame times as fits that split it: only A + γ·B is determined.
+    let pa = |n: &NodeRecord| {
+        let (h, m, o) = (
+            n.timing.hit_ms.unwrap(),
+            n.timing.miss_ms.unwrap(),
+            n.timing.overhead_ms.unwrap(),
+        );
+        NodeRecord {
+            timing: TimingFit::from_costs(0.0, m - h, o + M * h, M),
+            ..n.clone()
+        }
+    };
+    let shifted = combined_timing(&[&pa(&a), &pa(&c)], ORIGINAL_MS).unwrap();
+    for gamma in [0.0, 0.5, 0.9, 1.0] {
+        let (x, y) = (
+            timing.frame_ms(gamma, M).unwrap(),
+            shifted.frame_ms(gamma, M).unwrap(),
+        );
+        assert!((x - y).abs() < 1e-9, "γ = {gamma}: {x} vs {y}");
+    }
     let pair = predict_set(&[&a, &c], &hr, ORIGINAL_MS, 10).unwrap();
     let (pa, pc) = (predict(&a, &hr, 10).unwrap(), predict(&c, &hr, 10).unwrap());
     assert_eq!(pair.node_ids, vec![1, 3]);
@@ -265,4 +288,75 @@ fn a_set_combines_the_single_node_models() {
     assert!(best.predicted_error <= pa.predicted_error);
     assert!(best.delta_n < 10);
     assert!(best_set(&[&a, &c], &hr, ORIGINAL_MS, 0.0, (2, 50)).is_none());
+}
+
+/// A measured set with its own fits (error α, hit cost `hit_ms`).
+fn set(members: &[u32], alpha: f64, hit_ms: f64) -> reproj_select::SetRecord {
+    reproj_select::SetRecord {
+        members: members.to_vec(),
+        texts: members.iter().map(|id| format!("node{id}")).collect(),
+        strategy: "3pass".into(),
+        error: error_fit(alpha, 0.1),
+        timing: TimingFit::from_costs(hit_ms, 2.0e-5, 0.5, M),
+        mean_pixels: M,
+    }
+}
+
+#[test]
+fn a_set_wins_only_when_predicted_faster_under_the_budget() {
+    use reproj_select::select_with_sets;
+    let mu = HitRateFit::from_mu(0.9);
+    let ns = nodes();
+    let opts = SelectOptions::new(0.01);
+    let single = choice(&select(&ns, &mu, ORIGINAL_MS, &opts)).clone();
+    assert!(single.members.is_empty());
+    // No set: what `select` picks.
+    assert_eq!(
+        select_with_sets(&ns, &[], &mu, ORIGINAL_MS, &opts),
+        select(&ns, &mu, ORIGINAL_MS, &opts)
+    );
+    // A set faster than every node, with a low error: it wins.
+    let fast = set(&[2, 3], 0.004, 3e-6);
+    let c = choice(&select_with_sets(
+        &ns,
+        std::slice::from_ref(&fast),
+        &mu,
+        ORIGINAL_MS,
+        &opts,
+    ))
+    .clone();
+    assert_eq!(c.members, vec![2, 3]);
+    assert_eq!((c.node_id, c.node_text.as_str()), (2, "node2 + node3"));
+    assert!(c.predicted_ms < single.predicted_ms && c.predicted_error <= 0.01);
+    assert!((c.predicted_speedup - ORIGINAL_MS / c.predicted_ms).abs() < 1e-12);
+    // The same set over the budget at every Δn: the single node stays.
+    let tight = SelectOptions::new(0.002);
+    let over = set(&[2, 3], 0.5, 3e-6);
+    assert_eq!(
+        select_with_sets(&ns, &[over], &mu, ORIGINAL_MS, &tight),
+        select(&ns, &mu, ORIGINAL_MS, &tight)
+    );
+    // Slower than the chosen node: the node stays.
+    let slow = set(&[2, 3], 0.001, 1.5e-5);
+    assert_eq!(
+        select_with_sets(&ns, &[slow], &mu, ORIGINAL_MS, &opts),
+        Selection::Node(single.clone())
+    );
+    // Nothing under the budget but the set: the set, not the original.
+    let c = choice(&select_with_sets(
+        &ns,
+        &[set(&[2, 3], 0.0, 1e-5)],
+        &mu,
+        ORIGINAL_MS,
+        &SelectOptions::new(0.0),
+    ))
+    .clone();
+    assert_eq!(c.members, vec![2, 3]);
+    // An invalid budget keeps the original whatever the sets.
+    assert!(matches!(
+        select_with_sets(&ns, &[fast], &mu, ORIGINAL_MS, &SelectOptions::new(-1.0)),
+        Selection::Original {
+            reason: OriginalReason::InvalidBudget { .. }
+        }
+    ));
 }

@@ -40,6 +40,9 @@ impl Progress for Bar {
             self.0.println(line);
         }
     }
+    fn extend(&self, more: u64) {
+        self.0.inc_length(more);
+    }
     fn finish(&self) {
         self.0.finish_and_clear();
     }
@@ -120,6 +123,11 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
             fresh: args.fresh,
         }),
         shard: args.shard,
+        sets: (!args.no_sets).then_some(reproj_analyze::SetSearchOptions {
+            top: args.set_top as usize,
+            replays: args.set_replays as usize,
+            max_nodes: args.set_max_nodes as usize,
+        }),
         sampling: match args.sampling {
             crate::SamplingArg::Adaptive => reproj_analyze::Sampling::default(),
             crate::SamplingArg::Every => reproj_analyze::Sampling::Every,

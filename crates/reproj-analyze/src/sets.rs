@@ -1,0 +1,643 @@
+//! The greedy search for sets of nodes cached together in one payload (the paper leaves caching
+//! several nodes open, §6).
+//!
+//! After the single nodes are replayed and fitted, [`search_sets`] takes the `top` single nodes by
+//! predicted saving at the longest training period, forms every pair of them except nested pairs
+//! (one node inside the other's expression: the outer one's cache already skips the inner one) and
+//! pairs whose payload is wider than [`MAX_PAYLOAD_FLOATS`], ranks the pairs by the frame time
+//! `reproj-select`'s `combine` predicts from the members' single-node fits, and replays the best
+//! `replays` of them through the same replay and fit code the single nodes use
+//! ([`crate::analyze`]'s `Replayer`). The best measured set then grows by one node at a time, up to
+//! `max_nodes`, while the set's own fitted models combined with one more node's predict a faster
+//! frame and the grown set measures faster. A set slower than the original at the longest period
+//! is set aside as a single node is.
+
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance_nodes};
+use reproj_models::HitRateFit;
+use reproj_models::profile::{Measurement, NodeProfile, NodeStatus, SetPredicted, SetProfile};
+use reproj_select::{NodeRecord, predict, predict_set};
+
+use crate::AnalyzeError;
+use crate::analyze::{Fitted, Progress, Replayer, Subject, fit_replays, period_plan};
+
+/// The most floats one payload holds (an RGBA texture).
+pub const MAX_PAYLOAD_FLOATS: u32 = 4;
+
+/// Options of [`search_sets`] (`analyze --set-top`, `--set-replays`, `--set-max-nodes`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SetSearchOptions {
+    /// Pairs are formed among this many single nodes, the largest predicted savings.
+    pub top: usize,
+    /// Replay this many pairs, the fastest predicted.
+    pub replays: usize,
+    /// Grow the best measured set up to this many nodes (2: pairs only).
+    pub max_nodes: usize,
+}
+
+impl Default for SetSearchOptions {
+    fn default() -> Self {
+        SetSearchOptions {
+            top: 6,
+            replays: 3,
+            max_nodes: 3,
+        }
+    }
+}
+
+/// A single node the search may put in a set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SetCandidate {
+    /// Its fitted models (L2 error).
+    pub record: NodeRecord,
+    /// Floats of its payload.
+    pub components: u32,
+    /// Refresh block size k of its measurements.
+    pub block: u32,
+    /// Ids of the other candidates inside its expression (its subtree).
+    pub inside: Vec<u32>,
+}
+
+/// What the predictions of [`search_sets`] need: the shared hit-rate model, the original's frame
+/// time and the period at which pairs are ranked (the longest training period, replayed first).
+#[derive(Debug, Clone, Copy)]
+pub struct SetContext<'a> {
+    pub hit_rate: &'a HitRateFit,
+    pub original_ms: f64,
+    pub delta_n: u32,
+}
+
+/// Search sets among `candidates` (see the module docs). `measure` replays and fits one set
+/// (members in payload order) and returns its profile entry; the search fills in its
+/// [`SetProfile::predicted`]. Returns every set measured, in the order replayed; none (and one
+/// progress line saying why) when no pair can be formed.
+pub fn search_sets(
+    candidates: &[SetCandidate],
+    ctx: &SetContext,
+    opts: &SetSearchOptions,
+    measure: &mut dyn FnMut(&[&SetCandidate]) -> Result<SetProfile, AnalyzeError>,
+    progress: &dyn Progress,
+) -> Result<Vec<SetProfile>, AnalyzeError> {
+    // The top nodes by predicted saving (ties: lower id).
+    let mut ranked: Vec<(&SetCandidate, f64)> = candidates
+        .iter()
+        .filter_map(|c| {
+            let p = predict(&c.record, ctx.hit_rate, ctx.delta_n)?;
+            let saving = ctx.original_ms - p.predicted_ms;
+            (saving > 0.0).then_some((c, saving))
+        })
+        .collect();
+    ranked.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.record.id.cmp(&b.0.record.id)));
+    ranked.truncate(opts.top);
+    let top: Vec<&SetCandidate> = ranked.into_iter().map(|(c, _)| c).collect();
+
+    // Pairs, in payload order (the larger saving first), ranked by the combined prediction.
+    let (mut nested, mut wide) = (0usize, 0usize);
+    let mut pairs: Vec<(Vec<&SetCandidate>, f64)> = Vec::new();
+    for (i, a) in top.iter().enumerate() {
+        for b in &top[i + 1..] {
+            if is_nested(a, b) {
+                nested += 1;
+            } else if a.components + b.components > MAX_PAYLOAD_FLOATS {
+                wide += 1;
+            } else if let Some(p) = predict_set(
+                &[&a.record, &b.record],
+                ctx.hit_rate,
+                ctx.original_ms,
+                ctx.delta_n,
+            ) {
+                pairs.push((vec![*a, *b], p.predicted_ms));
+            }
+        }
+    }
+    if pairs.is_empty() {
+        progress.note(&format!(
+            "sets: no pair possible among the top {} nodes by predicted saving ({nested} nested, {wide} wider than {MAX_PAYLOAD_FLOATS} floats)",
+            top.len()
+        ));
+        return Ok(Vec::new());
+    }
+    pairs.sort_by(|a, b| a.1.total_cmp(&b.1).then_with(|| ids(&a.0).cmp(&ids(&b.0))));
+    let chosen = &pairs[..opts.replays.min(pairs.len())];
+    progress.note(&format!(
+        "sets: {} pairs among the top {} nodes ({nested} nested and {wide} too wide skipped); replaying {}",
+        pairs.len(),
+        top.len(),
+        chosen
+            .iter()
+            .map(|(m, ms)| format!("{} ({ms:.3} ms predicted at Δn = {})", name(m), ctx.delta_n))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+
+    let mut measured: Vec<SetProfile> = Vec::new();
+    for (members, _) in chosen {
+        measured.push(run(members, ctx, measure)?);
+    }
+
+    // Grow the best measured set while it is predicted to help.
+    let Some(mut best) = fastest(&measured, ctx.delta_n).cloned() else {
+        progress.note("sets: no pair was usable; no set grows");
+        return Ok(measured);
+    };
+    while best.members.len() < opts.max_nodes {
+        let members: Vec<&SetCandidate> = best
+            .members
+            .iter()
+            .filter_map(|id| candidates.iter().find(|c| c.record.id == *id))
+            .collect();
+        let width: u32 = members.iter().map(|c| c.components).sum();
+        let as_node = set_record(&best, &members);
+        let Some(now) = predict(&as_node, ctx.hit_rate, ctx.delta_n) else {
+            break;
+        };
+        let next = top
+            .iter()
+            .filter(|c| !best.members.contains(&c.record.id))
+            .filter(|c| width + c.components <= MAX_PAYLOAD_FLOATS)
+            .filter(|c| members.iter().all(|m| !is_nested(m, c)))
+            .filter_map(|c| {
+                let p = predict_set(
+                    &[&as_node, &c.record],
+                    ctx.hit_rate,
+                    ctx.original_ms,
+                    ctx.delta_n,
+                )?;
+                (p.predicted_ms < now.predicted_ms).then_some((*c, p.predicted_ms))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.record.id.cmp(&b.0.record.id)));
+        let Some((c, ms)) = next else {
+            progress.note(&format!(
+                "sets: {} grows no further: no node that fits its payload is predicted to help",
+                best.name()
+            ));
+            break;
+        };
+        let mut grown = members.clone();
+        grown.push(c);
+        progress.note(&format!(
+            "sets: growing {} by node {}: {ms:.3} ms predicted at Δn = {} vs {:.3} ms",
+            best.name(),
+            c.record.id,
+            ctx.delta_n,
+            now.predicted_ms
+        ));
+        let set = run(&grown, ctx, measure)?;
+        let faster = set.status == NodeStatus::Ok
+            && measured_ms(&set, ctx.delta_n) < measured_ms(&best, ctx.delta_n);
+        measured.push(set.clone());
+        if !faster {
+            progress.note(&format!(
+                "sets: {} is not measured faster than {}; growth stops",
+                set.name(),
+                best.name()
+            ));
+            break;
+        }
+        best = set;
+    }
+    Ok(measured)
+}
+
+/// Whether one of `a` and `b` is inside the other's expression.
+fn is_nested(a: &SetCandidate, b: &SetCandidate) -> bool {
+    a.inside.contains(&b.record.id) || b.inside.contains(&a.record.id)
+}
+
+fn ids(members: &[&SetCandidate]) -> Vec<u32> {
+    members.iter().map(|c| c.record.id).collect()
+}
+
+fn name(members: &[&SetCandidate]) -> String {
+    ids(members)
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join("+")
+}
+
+/// Measure one set and record the combined prediction at each measured period.
+fn run(
+    members: &[&SetCandidate],
+    ctx: &SetContext,
+    measure: &mut dyn FnMut(&[&SetCandidate]) -> Result<SetProfile, AnalyzeError>,
+) -> Result<SetProfile, AnalyzeError> {
+    let mut set = measure(members)?;
+    let records: Vec<&NodeRecord> = members.iter().map(|c| &c.record).collect();
+    set.predicted = set
+        .measurements
+        .iter()
+        .map(|m| {
+            let p = predict_set(&records, ctx.hit_rate, ctx.original_ms, m.delta_n);
+            SetPredicted {
+                delta_n: m.delta_n,
+                error: p.as_ref().map(|p| p.predicted_error),
+                frame_ms: p.map(|p| p.predicted_ms),
+            }
+        })
+        .collect();
+    Ok(set)
+}
+
+/// The measured frame time of `set` at `delta_n` (infinite when not measured).
+fn measured_ms(set: &SetProfile, delta_n: u32) -> f64 {
+    set.measurements
+        .iter()
+        .find(|m| m.delta_n == delta_n)
+        .map_or(f64::INFINITY, |m: &Measurement| m.frame_ms)
+}
+
+/// The usable set measured fastest at `delta_n` (ties: the first).
+fn fastest(sets: &[SetProfile], delta_n: u32) -> Option<&SetProfile> {
+    sets.iter()
+        .filter(|s| s.status == NodeStatus::Ok && measured_ms(s, delta_n).is_finite())
+        .min_by(|a, b| measured_ms(a, delta_n).total_cmp(&measured_ms(b, delta_n)))
+}
+
+/// A measured set as one node of the selector: its own fits.
+fn set_record(set: &SetProfile, members: &[&SetCandidate]) -> NodeRecord {
+    NodeRecord {
+        id: set.members.first().copied().unwrap_or(0),
+        text: set.texts.join(" + "),
+        strategy: set.strategy.clone(),
+        error: set.error_fit.clone(),
+        timing: set.timing_fit.clone(),
+        mean_pixels: members.first().map_or(0.0, |c| c.record.mean_pixels),
+    }
+}
+
+/// `analyze`'s set phase: the usable single nodes as candidates (their subtrees from the
+/// normalized function), each set instanced in its first member's strategy and block and
+/// replayed at the longest training period and then the single nodes' periods.
+pub(crate) fn analyze_sets(
+    rp: &mut Replayer,
+    nodes: &[NodeProfile],
+    hit_rate: &HitRateFit,
+    mean_pixels: f64,
+    opts: &SetSearchOptions,
+) -> Result<Vec<SetProfile>, AnalyzeError> {
+    let input = rp.input;
+    let fun = input.norm.function();
+    let usable: Vec<(&NodeProfile, &reproj_front::Node)> = nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok && !n.root)
+        .filter_map(|n| Some((n, input.table.get(n.id)?)))
+        .filter(|(_, t)| t.handle.is_some())
+        .collect();
+    let candidates: Vec<SetCandidate> = usable
+        .iter()
+        .map(|(n, t)| {
+            let sub = reproj_front::nodes::subtree(fun, t.handle.expect("filtered"));
+            SetCandidate {
+                record: NodeRecord {
+                    id: n.id,
+                    text: n.text.clone(),
+                    strategy: n.strategy.clone(),
+                    error: n.error_fit.clone(),
+                    timing: n.timing_fit.clone(),
+                    mean_pixels,
+                },
+                components: t.components,
+                block: n.block.unwrap_or(rp.opts.block.unwrap_or(8)),
+                inside: usable
+                    .iter()
+                    .filter(|(o, ot)| o.id != n.id && ot.handle.is_some_and(|h| sub.contains(&h)))
+                    .map(|(o, _)| o.id)
+                    .collect(),
+            }
+        })
+        .collect();
+    let ctx = SetContext {
+        hit_rate,
+        original_ms: rp.original_ms,
+        delta_n: rp.longest,
+    };
+    let progress = rp.progress;
+    let plan: Vec<(u32, bool)> = std::iter::once((rp.longest, false))
+        .chain(period_plan(rp.opts, rp.longest))
+        .collect();
+    let mut measure = |members: &[&SetCandidate]| -> Result<SetProfile, AnalyzeError> {
+        let first = members[0];
+        let strategy: Strategy = first.record.strategy.parse().unwrap_or(Strategy::ThreePass);
+        let block = first.block;
+        let ids: Vec<u32> = members.iter().map(|c| c.record.id).collect();
+        let who = format!("set {}", name(members));
+        let texts: Vec<String> = members.iter().map(|c| c.record.text.clone()).collect();
+        progress.extend(plan.len() as u64);
+        let t = std::time::Instant::now();
+        let variant = instance_nodes(
+            input.shader,
+            input.norm,
+            input.table,
+            &ids.iter()
+                .map(|&id| NodeSelector::Id(id))
+                .collect::<Vec<_>>(),
+            &InstanceOptions {
+                strategy,
+                block,
+                ..rp.opts.instance
+            },
+        );
+        rp.time.instancing_s += t.elapsed().as_secs_f64();
+        let mut measurements = Vec::new();
+        let mut failure = None;
+        match variant {
+            Err(e) => {
+                progress.note(&format!("{who}: cannot instance: {e}"));
+                failure = Some(format!("cannot instance: {e}"));
+                for &(dn, _) in &plan {
+                    progress.step(&format!("{who} Δn={dn}"));
+                }
+            }
+            Ok(variant) => {
+                let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
+                let subject = Subject {
+                    node: ids[0],
+                    set: ids.clone(),
+                    who: who.clone(),
+                    text: texts.join(" + "),
+                    root: false,
+                    strategy,
+                    block,
+                };
+                rp.replay_plan(
+                    &subject,
+                    &sources,
+                    &variant,
+                    &plan,
+                    &mut measurements,
+                    &mut failure,
+                )?;
+            }
+        }
+        let Fitted {
+            error_fit,
+            flip_fit,
+            dssim_fit,
+            timing_fit,
+            holdout,
+            status,
+        } = fit_replays(
+            &measurements,
+            failure.as_deref(),
+            rp.opts,
+            hit_rate,
+            mean_pixels,
+        );
+        if let (NodeStatus::SetAside { reason }, None) = (&status, &failure) {
+            progress.note(&format!("{who}: set aside: {reason}"));
+        }
+        Ok(SetProfile {
+            members: ids,
+            texts,
+            strategy: strategy.name().into(),
+            block,
+            measurements,
+            predicted: Vec::new(),
+            error_fit,
+            flip_fit,
+            dssim_fit,
+            timing_fit,
+            holdout,
+            status,
+        })
+    };
+    search_sets(&candidates, &ctx, opts, &mut measure, progress)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cell::RefCell;
+
+    use reproj_models::{ErrorFit, ErrorFitStatus, TimingFit};
+    use reproj_select::combined_timing;
+
+    use super::*;
+
+    const M: f64 = 500_000.0;
+    /// The original: 10 ms per frame (0.5 ms overhead + M · 1.9e-5 ms).
+    const ORIGINAL_MS: f64 = 10.0;
+
+    fn error_fit(alpha: f64) -> ErrorFit {
+        ErrorFit {
+            alpha: Some(alpha),
+            lambda: Some(0.1),
+            r2: Some(1.0),
+            rms_residual: Some(0.0),
+            n_samples: 7,
+            iterations: 0,
+            status: ErrorFitStatus::Ok,
+        }
+    }
+
+    /// A candidate whose hit costs `hit_ms` per pixel (the original: 1.9e-5).
+    fn cand(id: u32, hit_ms: f64, components: u32, inside: &[u32]) -> SetCandidate {
+        SetCandidate {
+            record: NodeRecord {
+                id,
+                text: format!("n{id}"),
+                strategy: "3pass".into(),
+                error: error_fit(0.001),
+                timing: TimingFit::from_costs(hit_ms, 2.0e-5, 0.5, M),
+                mean_pixels: M,
+            },
+            components,
+            block: 8,
+            inside: inside.to_vec(),
+        }
+    }
+
+    #[derive(Default)]
+    struct Notes(RefCell<Vec<String>>);
+
+    impl Progress for Notes {
+        fn start(&self, _: u64) {}
+        fn step(&self, _: &str) {}
+        fn note(&self, line: &str) {
+            self.0.borrow_mut().push(line.to_string());
+        }
+        fn finish(&self) {}
+    }
+
+    /// A measured set: its models are its members' combined ones, its time at Δn = 50 is
+    /// `ms(members)`.
+    fn fake(members: &[&SetCandidate], ms: f64) -> SetProfile {
+        let records: Vec<&NodeRecord> = members.iter().map(|c| &c.record).collect();
+        let m: Measurement = serde_json::from_value(serde_json::json!({
+            "delta_n": 50, "error": 0.001, "psnr": null, "hit_rate": 0.9, "frame_ms": ms,
+            "frames": []
+        }))
+        .unwrap();
+        SetProfile {
+            members: members.iter().map(|c| c.record.id).collect(),
+            texts: members.iter().map(|c| c.record.text.clone()).collect(),
+            strategy: "3pass".into(),
+            block: 8,
+            measurements: vec![m],
+            predicted: Vec::new(),
+            error_fit: error_fit(0.001 * members.len() as f64),
+            flip_fit: None,
+            dssim_fit: None,
+            timing_fit: combined_timing(&records, ORIGINAL_MS).unwrap(),
+            holdout: Vec::new(),
+            status: NodeStatus::Ok,
+        }
+    }
+
+    fn search(
+        cands: &[SetCandidate],
+        opts: &SetSearchOptions,
+        ms: impl Fn(&[u32]) -> f64,
+    ) -> (Vec<SetProfile>, Vec<Vec<u32>>, Vec<String>) {
+        let hit_rate = HitRateFit::from_mu(0.9);
+        let ctx = SetContext {
+            hit_rate: &hit_rate,
+            original_ms: ORIGINAL_MS,
+            delta_n: 50,
+        };
+        let notes = Notes::default();
+        let mut replayed = Vec::new();
+        let mut measure = |members: &[&SetCandidate]| {
+            let ids: Vec<u32> = members.iter().map(|c| c.record.id).collect();
+            replayed.push(ids.clone());
+            Ok(fake(members, ms(&ids)))
+        };
+        let sets = search_sets(cands, &ctx, opts, &mut measure, &notes).unwrap();
+        (sets, replayed, notes.0.into_inner())
+    }
+
+    #[test]
+    fn nested_and_wide_pairs_are_not_formed() {
+        // 1 holds 2 (nested); 1 and 3 are vec3s (6 floats together).
+        let cands = [
+            cand(1, 2e-6, 3, &[2]),
+            cand(2, 1e-5, 1, &[]),
+            cand(3, 4e-6, 3, &[]),
+        ];
+        let opts = SetSearchOptions {
+            replays: 10,
+            max_nodes: 2,
+            ..Default::default()
+        };
+        let (sets, replayed, _) = search(&cands, &opts, |_| 5.0);
+        assert_eq!(replayed, [vec![3, 2]], "only the pair that is neither");
+        assert_eq!(sets.len(), 1);
+        // Predictions are recorded at the measured periods.
+        assert_eq!(sets[0].predicted.len(), 1);
+        assert!(sets[0].predicted[0].frame_ms.is_some());
+
+        // Nothing possible: one line, nothing replayed or recorded.
+        let (sets, replayed, notes) = search(&cands[..2], &opts, |_| 5.0);
+        assert!(sets.is_empty() && replayed.is_empty());
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(
+            notes[0].contains("no pair possible") && notes[0].contains("1 nested"),
+            "{notes:?}"
+        );
+    }
+
+    #[test]
+    fn pairs_are_ranked_by_the_combined_prediction() {
+        let cands = [
+            cand(1, 1.4e-5, 1, &[]),
+            cand(2, 1.1e-5, 1, &[]),
+            cand(3, 1.2e-5, 1, &[]),
+            cand(4, 1.6e-5, 1, &[]),
+            // Slower than the original: never a candidate.
+            cand(5, 3e-5, 1, &[]),
+        ];
+        let opts = SetSearchOptions {
+            replays: 2,
+            max_nodes: 2,
+            ..Default::default()
+        };
+        let (_, replayed, _) = search(&cands, &opts, |_| 5.0);
+        // The cheapest hits together first; payload order by saving.
+        assert_eq!(replayed, [vec![2, 3], vec![2, 1]]);
+        // Only the top K by saving pair up.
+        let top2 = SetSearchOptions {
+            top: 2,
+            replays: 10,
+            max_nodes: 2,
+        };
+        let (_, replayed, _) = search(&cands, &top2, |_| 5.0);
+        assert_eq!(replayed, [vec![2, 3]]);
+    }
+
+    #[test]
+    fn a_set_aside_pair_is_recorded_and_never_grown() {
+        let cands = [
+            cand(1, 1.6e-5, 1, &[]),
+            cand(2, 1.7e-5, 1, &[]),
+            cand(3, 1.8e-5, 1, &[]),
+        ];
+        let opts = SetSearchOptions {
+            replays: 1,
+            ..Default::default()
+        };
+        let hit_rate = HitRateFit::from_mu(0.9);
+        let ctx = SetContext {
+            hit_rate: &hit_rate,
+            original_ms: ORIGINAL_MS,
+            delta_n: 50,
+        };
+        let notes = Notes::default();
+        // Slower than the original: the replay sets it aside.
+        let mut measure = |members: &[&SetCandidate]| {
+            let mut set = fake(members, 12.0);
+            set.status = NodeStatus::SetAside {
+                reason: "slower than the original".into(),
+            };
+            Ok(set)
+        };
+        let sets = search_sets(&cands, &ctx, &opts, &mut measure, &notes).unwrap();
+        assert_eq!(sets.len(), 1);
+        assert!(matches!(sets[0].status, NodeStatus::SetAside { .. }));
+        let notes = notes.0.into_inner();
+        assert!(
+            notes.last().unwrap().contains("no pair was usable"),
+            "{notes:?}"
+        );
+    }
+
+    #[test]
+    fn growth_stops_when_not_measured_faster_or_at_the_limit() {
+        // Savings that add without reaching the whole shader's cost.
+        let cands = [
+            cand(1, 1.6e-5, 1, &[]),
+            cand(2, 1.7e-5, 1, &[]),
+            cand(3, 1.8e-5, 1, &[]),
+            cand(4, 1.85e-5, 1, &[]),
+        ];
+        let one = SetSearchOptions {
+            replays: 1,
+            ..Default::default()
+        };
+        // The triple measures slower than the pair: growth stops there.
+        let (sets, replayed, notes) = search(&cands, &one, |ids| 4.0 + ids.len() as f64);
+        assert_eq!(replayed, [vec![1, 2], vec![1, 2, 3]]);
+        assert_eq!(sets.len(), 2);
+        assert!(notes.last().unwrap().contains("growth stops"), "{notes:?}");
+        // Measured faster: grows to the limit (4 floats hold 4 scalars; 3 nodes by default).
+        let (_, replayed, _) = search(&cands, &one, |ids| 6.0 - ids.len() as f64);
+        assert_eq!(replayed, [vec![1, 2], vec![1, 2, 3]]);
+        let four = SetSearchOptions {
+            replays: 1,
+            max_nodes: 4,
+            ..Default::default()
+        };
+        let (_, replayed, _) = search(&cands, &four, |ids| 6.0 - ids.len() as f64);
+        assert_eq!(replayed.last().unwrap(), &vec![1, 2, 3, 4]);
+        // A vec3 pair member leaves no room for a third node.
+        let wide = [
+            cand(1, 1.6e-5, 3, &[]),
+            cand(2, 1.7e-5, 1, &[]),
+            cand(3, 1.8e-5, 1, &[]),
+        ];
+        let (_, replayed, notes) = search(&wide, &one, |ids| 6.0 - ids.len() as f64);
+        assert_eq!(replayed, [vec![1, 2]]);
+        assert!(
+            notes.last().unwrap().contains("grows no further"),
+            "{notes:?}"
+        );
+    }
+}

@@ -1,0 +1,108 @@
+//! The set search through the real binary: `analyze` on `tests/data/two_terms.wgsl` (two
+//! independent expensive terms, lit by a moving light) replays pairs of its best single nodes,
+//! `emit` picks the pair that caches both terms (`a` and `b`: the two nodes pruning keeps besides
+//! the root) and `emit --verify` measures it; with `--no-sets` the profile records no set. Renders on the machine's Vulkan adapter (lavapipe in CI).
+
+mod common;
+
+use std::path::Path;
+
+use common::{root, run};
+
+const SHADER: &str = "crates/reproj-cli/tests/data/two_terms.wgsl";
+const SESSION: &str = "crates/reproj-cli/tests/data/two_terms.json";
+
+/// `analyze` into `profile`: the profile and the command's stderr.
+fn analyze(profile: &Path, extra: &[&str]) -> (serde_json::Value, String) {
+    let mut args = vec![
+        "analyze",
+        SHADER,
+        "--session",
+        SESSION,
+        "--out",
+        profile.to_str().unwrap(),
+        "--max-nodes",
+        "6",
+        "--strategy",
+        "3pass",
+        "--delta-n",
+        "2,8,16,24",
+        "--holdout",
+        "4",
+        "--no-charts",
+    ];
+    args.extend_from_slice(extra);
+    let (code, out, err) = run(&root(), &args);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let json = serde_json::from_str(&std::fs::read_to_string(profile).unwrap()).unwrap();
+    (json, err)
+}
+
+/// One test, so that no other replay runs beside these (timings decide what is set aside).
+#[test]
+fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_none() {
+    let tmp = tempfile::tempdir().unwrap();
+    let profile_path = tmp.path().join("two_terms.profile.json");
+    let (profile, log) = analyze(&profile_path, &[]);
+    assert_eq!(profile["version"], 6);
+    assert!(log.contains("sets: 1 pairs among the top 2 nodes"), "{log}");
+    let sets = profile["sets"].as_array().expect(&log);
+    assert!(!sets.is_empty(), "{profile:#}");
+    for s in sets {
+        let members = s["members"].as_array().unwrap();
+        assert!(members.len() >= 2, "{s}");
+        assert!(!s["measurements"].as_array().unwrap().is_empty(), "{s}");
+        // The combined prediction beside each measurement.
+        assert_eq!(
+            s["predicted"].as_array().unwrap().len(),
+            s["measurements"].as_array().unwrap().len()
+        );
+    }
+
+    let out = tmp.path().join("out");
+    let (code, stdout, err) = run(
+        &root(),
+        &[
+            "emit",
+            "--profile",
+            profile_path.to_str().unwrap(),
+            "--max-error",
+            "0.01",
+            "--out",
+            out.to_str().unwrap(),
+            "--verify",
+            "--session",
+            SESSION,
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(report["version"], 3);
+    let node = report["node"]
+        .as_str()
+        .expect("a variant, not the original");
+    let members: Vec<u32> = node.split('+').map(|id| id.parse().unwrap()).collect();
+    assert!(members.len() >= 2, "emit picked {node}: {report:#}");
+    // Both loops' sums are cached: the set's texts name `a` and `b`.
+    let text = report["node_text"].as_str().unwrap();
+    assert!(text.contains(" + "), "{text}");
+    // The written manifest caches every member in one payload.
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(
+        manifest["also"].as_array().map_or(0, Vec::len),
+        members.len() - 1,
+        "{manifest:#}"
+    );
+    // Verified by replaying the set's variant.
+    let measured = report["measured_error"].as_f64().unwrap();
+    assert!(measured <= 0.02, "{report:#}");
+    assert!(report["measured_ms"].as_f64().unwrap() > 0.0);
+
+    // `--no-sets`: no search, nothing recorded.
+    let (profile, log) = analyze(&tmp.path().join("p.profile.json"), &["--no-sets"]);
+    assert_eq!(profile["version"], 6);
+    assert!(profile.get("sets").is_none(), "{:#}", profile["sets"]);
+    assert!(!log.contains("sets:"), "{log}");
+}
