@@ -1,7 +1,7 @@
 //! The set search through the real binary: `analyze` on `tests/data/two_terms.wgsl` (two
 //! independent expensive terms, lit by a moving light) replays pairs of its best single nodes,
 //! `emit` picks the pair that caches both terms (`a` and `b`: the two nodes pruning keeps besides
-//! the root) and `emit --verify` measures it; with `--no-sets` the profile records no set. Renders on the machine's Vulkan adapter (lavapipe in CI).
+//! the root) and `emit --verify` measures it; `compare` at the same budget renders that pair; with `--no-sets` the profile records no set. Renders on the machine's Vulkan adapter (lavapipe in CI).
 
 mod common;
 
@@ -99,6 +99,28 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
     let measured = report["measured_error"].as_f64().unwrap();
     assert!(measured <= 0.02, "{report:#}");
     assert!(report["measured_ms"].as_f64().unwrap() > 0.0);
+
+    // `compare` at the same budget renders the same set as reproj's method.
+    let (code, stdout, err) = run(
+        &root(),
+        &[
+            "compare",
+            SHADER,
+            "--session",
+            SESSION,
+            "--profile",
+            profile_path.to_str().unwrap(),
+            "--max-error",
+            "0.01",
+            "--out",
+            tmp.path().join("cmp").to_str().unwrap(),
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let cmp: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(cmp["reproj"]["node"], node, "{cmp:#}");
+    assert!(cmp["reproj"]["text"].as_str().unwrap().contains(" + "));
 
     // `--no-sets`: no search, nothing recorded.
     let (profile, log) = analyze(&tmp.path().join("p.profile.json"), &["--no-sets"]);

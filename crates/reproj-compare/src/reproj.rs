@@ -1,20 +1,25 @@
-//! reproj's own choice at the target speedup: from the profile's error-vs-time Pareto frontier
-//! (`reproj_select::pareto`, the models `emit` selects with, L2 error), the point with the least
-//! predicted error whose predicted speedup reaches the target, or the fastest point when none
-//! does. With an error budget instead, the choice is `emit`'s (`reproj_select::select`) and its
-//! predicted speedup becomes every method's target. It is instanced like `emit` does and rendered with the replay, so its speedup and error
-//! are measured in the same run as the other methods'.
+//! reproj's own choice at the target speedup: among the profile's error-vs-time Pareto frontier
+//! of single nodes (`reproj_select::pareto`, the models `emit` selects with, L2 error) and its
+//! measured node sets at every Δn, the point with the least predicted error whose predicted
+//! speedup reaches the target, or the fastest point when none does. With an error budget instead,
+//! the choice is `emit`'s (`reproj_select::select_with_sets`) and its predicted speedup becomes
+//! every method's target. It is instanced like `emit` does (several nodes in one payload for a
+//! set) and rendered with the replay, so its speedup and error are measured in the same run as
+//! the other methods'.
 
 use std::path::Path;
 
 use reproj_analyze::emit::{ir_hash, resolve};
 use reproj_front::Loaded;
-use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance_nodes};
 use reproj_models::content_hash;
-use reproj_models::profile::{NodeProfile, NodeStatus};
+use reproj_models::profile::{NodeProfile, NodeStatus, SetProfile};
 use reproj_models::{Metric, Profile};
 use reproj_replay::{RenderOptions, VariantInput};
-use reproj_select::{DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, pareto, select};
+use reproj_select::{
+    DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord, pareto, predict,
+    select_with_sets,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::{CompareError, Ctx, MethodResult, Scores, Target};
@@ -23,7 +28,7 @@ use crate::{CompareError, Ctx, MethodResult, Scores, Target};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReprojDetail {
     pub profile: String,
-    /// Node id, or `"root"`.
+    /// Node id, `"root"`, or a set's member ids joined by `+` (`"22+39"`).
     pub node: String,
     pub text: String,
     pub strategy: String,
@@ -39,18 +44,48 @@ pub(crate) struct ReprojRun {
     pub(crate) crop_frame: Vec<f32>,
 }
 
-/// reproj's choice before rendering: the profiled node and where on its models.
+/// What reproj caches: one profiled node, or a measured set of nodes in one payload.
+#[derive(Clone, Copy)]
+enum Pick<'p> {
+    Node(&'p NodeProfile),
+    Set(&'p SetProfile),
+}
+
+impl Pick<'_> {
+    /// The name reports use: the node id, `root`, or the set's `22+39`.
+    fn name(&self) -> String {
+        match self {
+            Pick::Node(n) if n.root => "root".into(),
+            Pick::Node(n) => n.id.to_string(),
+            Pick::Set(s) => s.name(),
+        }
+    }
+    fn text(&self) -> String {
+        match self {
+            Pick::Node(n) => n.text.clone(),
+            Pick::Set(s) => s.texts.join(" + "),
+        }
+    }
+    fn strategy(&self) -> &str {
+        match self {
+            Pick::Node(n) => &n.strategy,
+            Pick::Set(s) => &s.strategy,
+        }
+    }
+}
+
+/// reproj's choice before rendering: the profiled node or set and where on its models.
 pub(crate) struct Planned<'p> {
-    node: &'p NodeProfile,
+    pick: Pick<'p>,
     delta_n: u32,
     predicted_error: f64,
     /// The profile's original frame time / `predicted_ms`.
     pub(crate) predicted_speedup: f64,
 }
 
-/// Choose reproj's (node, Δn) from the profile: for a target speedup, the frontier point with the
-/// least predicted error that reaches it (the fastest when none does); for an error budget, what
-/// `emit --max-error` selects.
+/// Choose reproj's (node or set, Δn) from the profile: for a target speedup, the point with the
+/// least predicted error that reaches it among the single nodes' frontier and the sets' points
+/// (the fastest when none does); for an error budget, what `emit --max-error` selects.
 pub(crate) fn plan<'p>(
     loaded: &Loaded,
     profile: &'p Profile,
@@ -88,9 +123,34 @@ pub(crate) fn plan<'p>(
             })
         })
         .collect();
+    let sets: Vec<&SetProfile> = profile
+        .sets
+        .iter()
+        .filter(|s| s.status == NodeStatus::Ok && s.members.len() > 1)
+        .collect();
+    let set_records: Vec<SetRecord> = sets
+        .iter()
+        .map(|s| SetRecord {
+            members: s.members.clone(),
+            texts: s.texts.clone(),
+            strategy: s.strategy.clone(),
+            error: s.error_fit.clone(),
+            timing: s.timing_fit.clone(),
+            mean_pixels: profile.original.mean_pixels,
+        })
+        .collect();
     let original_ms = profile.original.frame_ms;
     let speedup = |ms: f64| original_ms / ms;
-    let (node_id, strategy, delta_n, predicted_error, predicted_ms) = match target {
+    let node_pick = |id: u32, strategy: &str| {
+        Pick::Node(
+            usable
+                .iter()
+                .find(|n| n.id == id && n.strategy == strategy)
+                .expect("the choice comes from the profile's nodes"),
+        )
+    };
+    // (pick, Δn, predicted error, predicted ms)
+    let (pick, delta_n, predicted_error, predicted_ms) = match target {
         Target::Speedup(target) => {
             let front = pareto(
                 &records,
@@ -98,25 +158,45 @@ pub(crate) fn plan<'p>(
                 DEFAULT_MIN_DELTA_N,
                 max_delta_n,
             );
-            let choice = front
+            let mut points: Vec<(Pick, u32, f64, f64)> = front
                 .iter()
-                .filter(|p| speedup(p.predicted_ms) >= target)
-                .min_by(|a, b| a.predicted_error.total_cmp(&b.predicted_error))
-                .or_else(|| {
-                    front
-                        .iter()
-                        .max_by(|a, b| speedup(a.predicted_ms).total_cmp(&speedup(b.predicted_ms)))
+                .map(|p| {
+                    (
+                        node_pick(p.node_id, &p.strategy),
+                        p.delta_n,
+                        p.predicted_error,
+                        p.predicted_ms,
+                    )
                 })
+                .collect();
+            for (set, rec) in sets.iter().zip(&set_records) {
+                let as_node = NodeRecord {
+                    id: rec.members[0],
+                    text: rec.texts.join(" + "),
+                    strategy: rec.strategy.clone(),
+                    error: rec.error.clone(),
+                    timing: rec.timing.clone(),
+                    mean_pixels: rec.mean_pixels,
+                };
+                for dn in DEFAULT_MIN_DELTA_N..=max_delta_n {
+                    if let Some(p) = predict(&as_node, &profile.hit_rate, dn) {
+                        points.push((Pick::Set(set), dn, p.predicted_error, p.predicted_ms));
+                    }
+                }
+            }
+            points
+                .iter()
+                .filter(|p| speedup(p.3) >= target)
+                .min_by(|a, b| a.2.total_cmp(&b.2))
+                .or_else(|| {
+                    points
+                        .iter()
+                        .max_by(|a, b| speedup(a.3).total_cmp(&speedup(b.3)))
+                })
+                .copied()
                 .ok_or_else(|| CompareError::NoSelection {
                     path: profile_path.to_owned(),
-                })?;
-            (
-                choice.node_id,
-                choice.strategy.clone(),
-                choice.delta_n,
-                choice.predicted_error,
-                choice.predicted_ms,
-            )
+                })?
         }
         Target::Budget(max_error) => {
             let opts = SelectOptions {
@@ -124,10 +204,22 @@ pub(crate) fn plan<'p>(
                 min_delta_n: DEFAULT_MIN_DELTA_N,
                 max_delta_n,
             };
-            match select(&records, &profile.hit_rate, original_ms, &opts) {
+            match select_with_sets(
+                &records,
+                &set_records,
+                &profile.hit_rate,
+                original_ms,
+                &opts,
+            ) {
+                Selection::Node(c) if !c.members.is_empty() => {
+                    let set = sets
+                        .iter()
+                        .find(|s| s.members == c.members && s.strategy == c.strategy)
+                        .expect("the choice comes from the profile's sets");
+                    (Pick::Set(set), c.delta_n, c.predicted_error, c.predicted_ms)
+                }
                 Selection::Node(c) => (
-                    c.node_id,
-                    c.strategy,
+                    node_pick(c.node_id, &c.strategy),
                     c.delta_n,
                     c.predicted_error,
                     c.predicted_ms,
@@ -142,12 +234,8 @@ pub(crate) fn plan<'p>(
             }
         }
     };
-    let node = usable
-        .iter()
-        .find(|n| n.id == node_id && n.strategy == strategy)
-        .expect("the choice comes from the profile's nodes");
     Ok(Planned {
-        node,
+        pick,
         delta_n,
         predicted_error,
         predicted_speedup: speedup(predicted_ms),
@@ -164,27 +252,35 @@ pub(crate) fn reproj(
     crop: u32,
 ) -> Result<ReprojRun, CompareError> {
     let shader = &loaded.shader;
-    let node = planned.node;
+    let pick = planned.pick;
+    let node_name = pick.name();
     let strategy: Strategy =
-        node.strategy
+        pick.strategy()
             .parse()
             .map_err(|e: String| reproj_analyze::AnalyzeError::BadProfile {
                 path: profile_path.to_owned(),
-                message: format!("node {}: {e}", node.id),
+                message: format!("node {node_name}: {e}"),
             })?;
-    let variant = instance(
+    let (selectors, block) = match pick {
+        Pick::Node(n) if n.root => (vec![NodeSelector::Root], n.block.unwrap_or(profile.block)),
+        Pick::Node(n) => (
+            vec![NodeSelector::Id(n.id)],
+            n.block.unwrap_or(profile.block),
+        ),
+        Pick::Set(s) => (
+            s.members.iter().map(|&id| NodeSelector::Id(id)).collect(),
+            s.block,
+        ),
+    };
+    let variant = instance_nodes(
         shader,
         &loaded.norm,
         &loaded.table,
-        if node.root {
-            NodeSelector::Root
-        } else {
-            NodeSelector::Id(node.id)
-        },
+        &selectors,
         &InstanceOptions {
             strategy,
             delta_n: planned.delta_n,
-            block: node.block.unwrap_or(profile.block),
+            block,
             depth_epsilon: profile.depth_epsilon,
             ..Default::default()
         },
@@ -218,17 +314,12 @@ pub(crate) fn reproj(
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
     let measured = ctx.speedup(r.frame_ms);
-    let node_name = if node.root {
-        "root".to_string()
-    } else {
-        node.id.to_string()
-    };
     Ok(ReprojRun {
         detail: ReprojDetail {
             profile: profile_path.display().to_string(),
             node: node_name.clone(),
-            text: node.text.clone(),
-            strategy: node.strategy.clone(),
+            text: pick.text(),
+            strategy: pick.strategy().to_owned(),
             delta_n: planned.delta_n,
             predicted_error: planned.predicted_error,
             predicted_speedup: planned.predicted_speedup,
@@ -248,8 +339,14 @@ pub(crate) fn reproj(
                 flip: r.flip.map(|f| f.mean),
             },
             setting: format!(
-                "node {node_name} cached at Δn = {} ({})",
-                planned.delta_n, node.strategy
+                "{} {node_name} cached at Δn = {} ({})",
+                if matches!(pick, Pick::Set(_)) {
+                    "nodes"
+                } else {
+                    "node"
+                },
+                planned.delta_n,
+                pick.strategy()
             ),
         },
         crop_frame,
