@@ -8,20 +8,20 @@ use rayon::prelude::*;
 use reproj_front::{NodeTable, Normalized, Shader};
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
 use reproj_models::profile::{
-    AnalysisTime, HoldoutCheck, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
-    Shard, Source, StrategyProbe,
+    AnalysisTime, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Shard, Source,
+    StrategyProbe,
 };
 use reproj_models::{
-    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, FrameValue, MetricSummary,
-    PROFILE_VERSION, Profile, TimingFit, TimingStatus, content_hash, fit_error, fit_hit_rate,
-    fit_timing_with_holdout, predicted_frame_ms,
+    ErrorFitOptions, PROFILE_VERSION, Profile, content_hash, fit_error, fit_hit_rate,
 };
-use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, Session};
 
 use crate::AnalyzeError;
-use crate::journal::{Journal, JournalOptions, ReplayKey, ReplayResult};
+use crate::journal::{Journal, JournalOptions, ReplayKey};
 use crate::prune::{PruneOptions, profile_candidates};
+use crate::replayer::{Fitted, Replayer, Subject, finite, fit_replays, mean, too_slow};
 use crate::sets::SetSearchOptions;
+use crate::strategies::{StrategyPruner, Verdict};
 
 /// The paper's training periods (seeds 002 §4.2).
 pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
@@ -145,7 +145,7 @@ pub(crate) fn period_plan(opts: &AnalyzeOptions, longest: u32) -> Vec<(u32, bool
 
 /// Whether the error model fitted to the training measurements so far predicts every held-out
 /// measurement within the tolerance ([`Sampling::Adaptive`]).
-fn model_holds(measurements: &[Measurement], opts: &AnalyzeOptions) -> bool {
+pub(crate) fn model_holds(measurements: &[Measurement], opts: &AnalyzeOptions) -> bool {
     let Sampling::Adaptive { tolerance } = opts.sampling else {
         return false;
     };
@@ -715,284 +715,6 @@ pub(crate) fn fit_session_hit_rate<'a>(
     fit_hit_rate(&samples)
 }
 
-/// Why a non-root node whose variant at the longest period is no faster than the original (over
-/// the first `probe` frames, or the whole session) cannot pay off; `None` when it may.
-fn too_slow(
-    m: &Measurement,
-    root: bool,
-    original_ms: f64,
-    longest: u32,
-    strategy: Strategy,
-    probe: Option<u32>,
-) -> Option<String> {
-    if root || m.frame_ms < original_ms {
-        return None;
-    }
-    let over = probe.map_or(String::new(), |p| format!(" over the first {p} frames"));
-    Some(format!(
-        "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms{over}, {strategy}): it cannot pay off",
-        m.frame_ms, original_ms
-    ))
-}
-
-/// What every replay of one analysis shares: the renderer and the reference, the options, the
-/// journal and the time tally. Single nodes and sets of nodes are replayed through it alike.
-pub(crate) struct Replayer<'a, 'b> {
-    pub(crate) renderer: &'a Renderer,
-    pub(crate) input: &'a AnalyzeInput<'b>,
-    pub(crate) reference: &'a reproj_replay::Reference,
-    /// The options of a whole-session replay.
-    pub(crate) render_opts: RenderOptions,
-    pub(crate) opts: &'a AnalyzeOptions,
-    pub(crate) progress: &'a dyn Progress,
-    pub(crate) journal: Option<Journal>,
-    pub(crate) time: AnalysisTime,
-    /// The original's mean frame time over the whole session, ms.
-    pub(crate) original_ms: f64,
-    /// The longest training period (replayed first).
-    pub(crate) longest: u32,
-}
-
-/// What [`Replayer::replay_plan`] replays: a node, or a set of nodes cached together.
-pub(crate) struct Subject {
-    /// The node (a set's first member).
-    pub(crate) node: u32,
-    /// A set's members in payload order; empty for a single node.
-    pub(crate) set: Vec<u32>,
-    /// How notes name it (`node 34`, `set 22+39`).
-    pub(crate) who: String,
-    pub(crate) text: String,
-    pub(crate) root: bool,
-    pub(crate) strategy: Strategy,
-    pub(crate) block: u32,
-}
-
-impl Replayer<'_, '_> {
-    /// Replay one variant at `delta_n` over the whole session (`render_opts`: `None`) or as
-    /// `render_opts` says, or take the journal's record of that replay; a new replay is recorded.
-    pub(crate) fn replay(
-        &mut self,
-        key: ReplayKey,
-        sources: &[String],
-        variant: &reproj_instance::Variant,
-        delta_n: u32,
-        render_opts: Option<&RenderOptions>,
-    ) -> Result<ReplayResult, AnalyzeError> {
-        let run = |time: &mut AnalysisTime| {
-            replay(
-                self.renderer,
-                self.input,
-                sources,
-                variant,
-                delta_n,
-                self.reference,
-                render_opts.unwrap_or(&self.render_opts),
-                time,
-            )
-        };
-        let Some(j) = &mut self.journal else {
-            return Ok(run(&mut self.time));
-        };
-        if let Some(r) = j.get(&key) {
-            return Ok(r);
-        }
-        let r = run(&mut self.time);
-        j.record(key, &r)?;
-        Ok(r)
-    }
-
-    /// Replay `subject`'s variant over the whole session at the periods of `plan` in order
-    /// ((Δn, skippable): a skippable period is left out once the error model predicts the
-    /// held-out measurements, [`Sampling::Adaptive`]), appending to `measurements`. A replay that
-    /// fails, or one at the longest period no faster than the original (a non-root subject),
-    /// sets `failure`; the remaining periods are then only counted for the progress bar.
-    pub(crate) fn replay_plan(
-        &mut self,
-        subject: &Subject,
-        sources: &[String],
-        variant: &reproj_instance::Variant,
-        plan: &[(u32, bool)],
-        measurements: &mut Vec<Measurement>,
-        failure: &mut Option<String>,
-    ) -> Result<(), AnalyzeError> {
-        let Subject {
-            who,
-            text,
-            strategy,
-            ..
-        } = subject;
-        let mut confirmed = None;
-        for &(dn, skippable) in plan {
-            if failure.is_some() {
-                self.progress.step(&format!("{who} Δn={dn}"));
-                continue;
-            }
-            if skippable {
-                let holds = *confirmed.get_or_insert_with(|| model_holds(measurements, self.opts));
-                if holds {
-                    self.progress.step(&format!(
-                        "{who} Δn={dn} skipped: the error model predicts the held-out periods"
-                    ));
-                    continue;
-                }
-            }
-            let key = ReplayKey {
-                node: subject.node,
-                strategy: strategy.name().into(),
-                block: subject.block,
-                delta_n: dn,
-                frames: None,
-                set: subject.set.clone(),
-            };
-            match self.replay(key, sources, variant, dn, None)? {
-                Ok((m, _)) => {
-                    if dn == self.longest {
-                        *failure = too_slow(
-                            &m,
-                            subject.root,
-                            self.original_ms,
-                            self.longest,
-                            *strategy,
-                            None,
-                        );
-                        if let Some(why) = &failure {
-                            self.progress
-                                .note(&format!("{who} `{text}`: set aside: {why}"));
-                        }
-                    }
-                    measurements.push(m);
-                }
-                Err(e) => {
-                    self.progress
-                        .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));
-                    *failure = Some(format!("replay failed at Δn={dn}: {e}"));
-                }
-            }
-            self.progress.step(&format!("{who} {strategy} Δn={dn}"));
-        }
-        Ok(())
-    }
-}
-
-/// The fits of one node's (or set's) replays and its status.
-pub(crate) struct Fitted {
-    pub(crate) error_fit: ErrorFit,
-    pub(crate) flip_fit: Option<ErrorFit>,
-    pub(crate) dssim_fit: Option<ErrorFit>,
-    pub(crate) timing_fit: TimingFit,
-    pub(crate) holdout: Vec<HoldoutCheck>,
-    pub(crate) status: NodeStatus,
-}
-
-/// Fit the error models (L2, ꟻLIP, 1 − SSIM) to the measurements at the training periods and the
-/// timing model to their frames, check both at the held-out periods, and say whether the result
-/// is usable (`failure`: why the replays already set it aside).
-pub(crate) fn fit_replays(
-    measurements: &[Measurement],
-    failure: Option<&str>,
-    opts: &AnalyzeOptions,
-    hit_rate: &reproj_models::HitRateFit,
-    mean_pixels: f64,
-) -> Fitted {
-    let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
-    let train: Vec<&Measurement> = measurements.iter().filter(|m| is_train(m)).collect();
-    let held: Vec<&Measurement> = measurements.iter().filter(|m| !is_train(m)).collect();
-    let error_fit = fit_error(
-        &train
-            .iter()
-            .map(|m| (m.delta_n as f64, m.error))
-            .collect::<Vec<_>>(),
-        &ErrorFitOptions::default(),
-    );
-    let flip_fit = fit_metric(&train, |m| m.flip.map(|s| s.mean));
-    let dssim_fit = fit_metric(&train, |m| m.ssim.map(|s| 1.0 - s.mean));
-    let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> {
-        ms.iter().flat_map(|m| m.frames.iter().copied()).collect()
-    };
-    let timing_fit = fit_timing_with_holdout(&frames(&train), &frames(&held));
-    let holdout = held
-        .iter()
-        .map(|m| HoldoutCheck {
-            delta_n: m.delta_n,
-            measured_error: m.error,
-            predicted_error: error_fit
-                .predict(m.delta_n as f64)
-                .filter(|v| v.is_finite()),
-            measured_ms: m.frame_ms,
-            predicted_ms: predicted_frame_ms(&timing_fit, hit_rate, m.delta_n as f64, mean_pixels)
-                .filter(|v| v.is_finite()),
-            measured_flip: m.flip.map(|s| s.mean),
-            predicted_flip: flip_fit
-                .as_ref()
-                .and_then(|f| f.predict(m.delta_n as f64))
-                .filter(|v| v.is_finite()),
-        })
-        .collect();
-    let status = status(failure, &error_fit, &timing_fit);
-    Fitted {
-        error_fit,
-        flip_fit,
-        dssim_fit,
-        timing_fit,
-        holdout,
-        status,
-    }
-}
-
-/// Replay one variant at `delta_n`: its measurement and mean per-pass times (frame 0 excluded).
-#[allow(clippy::too_many_arguments)]
-fn replay(
-    renderer: &Renderer,
-    input: &AnalyzeInput,
-    sources: &[String],
-    variant: &reproj_instance::Variant,
-    delta_n: u32,
-    reference: &reproj_replay::Reference,
-    render_opts: &RenderOptions,
-    time: &mut AnalysisTime,
-) -> ReplayResult {
-    let input_variant = VariantInput::new(sources.to_vec(), variant.manifest.clone(), delta_n);
-    let t = Instant::now();
-    let report = renderer
-        .render_variant(
-            input.shader,
-            input.session,
-            &input_variant,
-            reference,
-            render_opts,
-        )
-        .map_err(|e| e.to_string())?;
-    let wall = t.elapsed().as_secs_f64();
-    let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
-    time.rendering_s += gpu.min(wall);
-    time.readback_and_error_s += (wall - gpu).max(0.0);
-    let frames: Vec<_> = report.frames.iter().skip(1).collect();
-    let passes = frames.first().map_or(0, |f| f.pass_ms.len());
-    let pass_ms = (0..passes)
-        .map(|i| {
-            finite(mean(
-                frames
-                    .iter()
-                    .map(|f| f.pass_ms.get(i).copied().unwrap_or(0.0)),
-            ))
-        })
-        .collect();
-    Ok((measurement(delta_n, &report), pass_ms))
-}
-
-/// The error model fitted to one metric's means at the training periods; `None` when a
-/// measurement lacks the metric.
-fn fit_metric(
-    train: &[&Measurement],
-    value: impl Fn(&Measurement) -> Option<f64>,
-) -> Option<ErrorFit> {
-    let samples: Option<Vec<(f64, f64)>> = train
-        .iter()
-        .map(|m| Some((m.delta_n as f64, value(m)?)))
-        .collect();
-    Some(fit_error(&samples?, &ErrorFitOptions::default()))
-}
-
 fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
     if opts.perceptual_stride == Some(0) {
         return Err(AnalyzeError::Options(
@@ -1017,83 +739,6 @@ fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
     Ok(())
 }
 
-fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
-    let frames: Vec<FrameTiming> = report
-        .frames
-        .iter()
-        .skip(1)
-        .map(|f| FrameTiming {
-            hits: f.hits,
-            misses: f.recomputes,
-            time_ms: finite(f.frame_ms),
-        })
-        .collect();
-    Measurement {
-        delta_n,
-        error: finite(report.error),
-        error_worst: report.error_worst.map(frame_value),
-        flip: report.flip.map(summary),
-        ssim: report.ssim.map(summary),
-        mse: report.mse.is_finite().then_some(report.mse),
-        psnr: (report.psnr.is_finite() && report.psnr < reproj_replay::metrics::PSNR_CAP)
-            .then_some(report.psnr),
-        hit_rate: finite(report.hit_rate),
-        frame_ms: finite(report.frame_ms),
-        frames,
-    }
-}
-
-fn frame_value(v: reproj_replay::metrics::FrameValue) -> FrameValue {
-    FrameValue {
-        frame: v.frame,
-        value: finite(v.value),
-    }
-}
-
-fn summary(s: reproj_replay::metrics::MetricSummary) -> MetricSummary {
-    MetricSummary {
-        mean: finite(s.mean),
-        worst: frame_value(s.worst),
-        frames: s.frames,
-    }
-}
-
-fn status(failure: Option<&str>, error: &ErrorFit, timing: &TimingFit) -> NodeStatus {
-    if let Some(f) = failure {
-        return NodeStatus::SetAside {
-            reason: f.to_string(),
-        };
-    }
-    if let ErrorFitStatus::Failed { reason } = &error.status {
-        return NodeStatus::SetAside {
-            reason: format!("error model: {reason}"),
-        };
-    }
-    if !timing.is_usable() {
-        let why = match &timing.status {
-            TimingStatus::Failed { reason } => reason.to_string(),
-            TimingStatus::RankDeficient { undetermined, .. } => {
-                format!("rank-deficient timing system, undetermined: {undetermined:?}")
-            }
-            TimingStatus::Ok => "unusable".to_string(),
-        };
-        return NodeStatus::SetAside {
-            reason: format!("timing model: {why}"),
-        };
-    }
-    NodeStatus::Ok
-}
-
-fn mean(it: impl Iterator<Item = f64>) -> f64 {
-    let (s, n) = it.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
-    if n == 0 { 0.0 } else { s / n as f64 }
-}
-
-/// NaN and infinities never reach the profile.
-fn finite(x: f64) -> f64 {
-    if x.is_finite() { x } else { 0.0 }
-}
-
 /// One strategy tried on one node in `analyze`: its index in the options' strategies, the variant
 /// built (when it could be: pass sources and the variant), and the replay at the longest period
 /// with per-pass times.
@@ -1103,65 +748,6 @@ struct Tried {
     block: u32,
     built: Option<(Vec<String>, reproj_instance::Variant)>,
     res: Result<(Measurement, Vec<f64>), String>,
-}
-
-/// Strategy pruning in `analyze`: a strategy at least [`StrategyPruner::MARGIN`] times slower than
-/// the fastest strategy of the node at the longest Δn, for [`StrategyPruner::LOSSES`] nodes, and
-/// never the fastest where the fastest beat the original, cannot win on this adapter (fused on a CPU rasterizer, which runs both sides
-/// of its branch); it is not tried for the remaining nodes. Strategies within the margin of each
-/// other (3pass and 2pass on lavapipe) are both kept: timing noise decides between them.
-#[derive(Debug, Clone)]
-pub(crate) struct StrategyPruner {
-    losses: Vec<usize>,
-    wins: Vec<usize>,
-    announced: Vec<bool>,
-}
-
-/// What [`StrategyPruner::verdict`] says about a strategy for the next node.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Verdict {
-    Try,
-    /// Pruned from this node on (first time: say so).
-    PruneNow,
-    Pruned,
-}
-
-impl StrategyPruner {
-    pub(crate) const LOSSES: usize = 2;
-    pub(crate) const MARGIN: f64 = 1.25;
-
-    pub(crate) fn new(strategies: usize) -> Self {
-        StrategyPruner {
-            losses: vec![0; strategies],
-            wins: vec![0; strategies],
-            announced: vec![false; strategies],
-        }
-    }
-
-    /// Record one node's replay of strategy `i`: its frame time over the fastest strategy's
-    /// (1 for the fastest), and whether the fastest beat the original (being fastest among
-    /// variants that all lose to the original is no win).
-    pub(crate) fn record(&mut self, i: usize, ratio_to_best: f64, best_beats_original: bool) {
-        if ratio_to_best <= 1.0 {
-            if best_beats_original {
-                self.wins[i] += 1;
-            }
-        } else if ratio_to_best >= Self::MARGIN || !ratio_to_best.is_finite() {
-            self.losses[i] += 1;
-        }
-    }
-
-    pub(crate) fn verdict(&mut self, i: usize) -> Verdict {
-        if self.losses[i] >= Self::LOSSES && self.wins[i] == 0 {
-            if std::mem::replace(&mut self.announced[i], true) {
-                Verdict::Pruned
-            } else {
-                Verdict::PruneNow
-            }
-        } else {
-            Verdict::Try
-        }
-    }
 }
 
 #[cfg(test)]
@@ -1220,58 +806,5 @@ mod tests {
         assert!(!model_holds(&ms[..3], &o));
         ms[4] = m(30, model(30));
         assert!(!model_holds(&ms, &opts(Sampling::Every)));
-    }
-
-    #[test]
-    fn a_strategy_clearly_slower_twice_is_pruned() {
-        let mut p = StrategyPruner::new(3);
-        // Node 1: 0 fastest, 1 within the margin, 2 twice as slow.
-        p.record(0, 1.0, true);
-        p.record(1, 1.1, true);
-        p.record(2, 2.0, true);
-        // One loss is not enough.
-        assert_eq!(p.verdict(2), Verdict::Try);
-        // Node 2: 1 fastest this time.
-        p.record(0, 1.05, true);
-        p.record(1, 1.0, true);
-        p.record(2, 1.9, true);
-        assert_eq!(p.verdict(0), Verdict::Try);
-        assert_eq!(p.verdict(1), Verdict::Try);
-        assert_eq!(p.verdict(2), Verdict::PruneNow);
-        assert_eq!(p.verdict(2), Verdict::Pruned);
-    }
-
-    #[test]
-    fn strategies_within_the_margin_are_kept() {
-        let mut p = StrategyPruner::new(2);
-        for _ in 0..5 {
-            p.record(0, 1.0, true);
-            p.record(1, 1.2, true);
-        }
-        assert_eq!(p.verdict(1), Verdict::Try);
-    }
-
-    #[test]
-    fn a_strategy_that_was_fastest_once_is_kept() {
-        let mut p = StrategyPruner::new(2);
-        p.record(1, 1.0, true);
-        for _ in 0..5 {
-            p.record(1, 3.0, true);
-        }
-        assert_eq!(p.verdict(1), Verdict::Try);
-    }
-
-    #[test]
-    fn fastest_among_losers_to_the_original_is_no_win() {
-        let mut p = StrategyPruner::new(2);
-        // A tiny node: every strategy is slower than the original, 1 the least slow.
-        p.record(0, 1.3, false);
-        p.record(1, 1.0, false);
-        // Then 1 is clearly slower twice.
-        for _ in 0..2 {
-            p.record(0, 1.0, true);
-            p.record(1, 2.0, true);
-        }
-        assert_eq!(p.verdict(1), Verdict::PruneNow);
     }
 }

@@ -7,7 +7,9 @@ pub mod emit;
 pub mod journal;
 pub mod merge;
 pub mod prune;
+mod replayer;
 pub mod sets;
+mod strategies;
 
 use std::path::PathBuf;
 

@@ -18,7 +18,8 @@ use reproj_models::profile::{Measurement, NodeProfile, NodeStatus, SetPredicted,
 use reproj_select::{NodeRecord, predict, predict_set};
 
 use crate::AnalyzeError;
-use crate::analyze::{Fitted, Progress, Replayer, Subject, fit_replays, period_plan};
+use crate::analyze::{Progress, period_plan};
+use crate::replayer::{Fitted, Replayer, Subject, fit_replays};
 
 /// The most floats one payload holds (an RGBA texture).
 pub const MAX_PAYLOAD_FLOATS: u32 = 4;

@@ -1,0 +1,372 @@
+//! The replay machinery `analyze` shares between single nodes and sets of nodes: a [`Replayer`]
+//! (renderer, reference, options, journal) that replays one subject at its periods, and
+//! [`fit_replays`], which turns the measurements into the profile's fitted models and status.
+
+use std::time::Instant;
+
+use reproj_instance::Strategy;
+use reproj_models::profile::{AnalysisTime, HoldoutCheck, Measurement, NodeStatus};
+use reproj_models::{
+    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, FrameValue, MetricSummary, TimingFit,
+    TimingStatus, fit_error, fit_timing_with_holdout, predicted_frame_ms,
+};
+use reproj_replay::{RenderOptions, RenderReport, Renderer, VariantInput};
+
+use crate::AnalyzeError;
+use crate::analyze::{AnalyzeInput, AnalyzeOptions, Progress, model_holds};
+use crate::journal::{Journal, ReplayKey, ReplayResult};
+
+/// Why a non-root node whose variant at the longest period is no faster than the original (over
+/// the first `probe` frames, or the whole session) cannot pay off; `None` when it may.
+pub(crate) fn too_slow(
+    m: &Measurement,
+    root: bool,
+    original_ms: f64,
+    longest: u32,
+    strategy: Strategy,
+    probe: Option<u32>,
+) -> Option<String> {
+    if root || m.frame_ms < original_ms {
+        return None;
+    }
+    let over = probe.map_or(String::new(), |p| format!(" over the first {p} frames"));
+    Some(format!(
+        "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms{over}, {strategy}): it cannot pay off",
+        m.frame_ms, original_ms
+    ))
+}
+
+/// What every replay of one analysis shares: the renderer and the reference, the options, the
+/// journal and the time tally. Single nodes and sets of nodes are replayed through it alike.
+pub(crate) struct Replayer<'a, 'b> {
+    pub(crate) renderer: &'a Renderer,
+    pub(crate) input: &'a AnalyzeInput<'b>,
+    pub(crate) reference: &'a reproj_replay::Reference,
+    /// The options of a whole-session replay.
+    pub(crate) render_opts: RenderOptions,
+    pub(crate) opts: &'a AnalyzeOptions,
+    pub(crate) progress: &'a dyn Progress,
+    pub(crate) journal: Option<Journal>,
+    pub(crate) time: AnalysisTime,
+    /// The original's mean frame time over the whole session, ms.
+    pub(crate) original_ms: f64,
+    /// The longest training period (replayed first).
+    pub(crate) longest: u32,
+}
+
+/// What [`Replayer::replay_plan`] replays: a node, or a set of nodes cached together.
+pub(crate) struct Subject {
+    /// The node (a set's first member).
+    pub(crate) node: u32,
+    /// A set's members in payload order; empty for a single node.
+    pub(crate) set: Vec<u32>,
+    /// How notes name it (`node 34`, `set 22+39`).
+    pub(crate) who: String,
+    pub(crate) text: String,
+    pub(crate) root: bool,
+    pub(crate) strategy: Strategy,
+    pub(crate) block: u32,
+}
+
+impl Replayer<'_, '_> {
+    /// Replay one variant at `delta_n` over the whole session (`render_opts`: `None`) or as
+    /// `render_opts` says, or take the journal's record of that replay; a new replay is recorded.
+    pub(crate) fn replay(
+        &mut self,
+        key: ReplayKey,
+        sources: &[String],
+        variant: &reproj_instance::Variant,
+        delta_n: u32,
+        render_opts: Option<&RenderOptions>,
+    ) -> Result<ReplayResult, AnalyzeError> {
+        let run = |time: &mut AnalysisTime| {
+            replay(
+                self.renderer,
+                self.input,
+                sources,
+                variant,
+                delta_n,
+                self.reference,
+                render_opts.unwrap_or(&self.render_opts),
+                time,
+            )
+        };
+        let Some(j) = &mut self.journal else {
+            return Ok(run(&mut self.time));
+        };
+        if let Some(r) = j.get(&key) {
+            return Ok(r);
+        }
+        let r = run(&mut self.time);
+        j.record(key, &r)?;
+        Ok(r)
+    }
+
+    /// Replay `subject`'s variant over the whole session at the periods of `plan` in order
+    /// ((Δn, skippable): a skippable period is left out once the error model predicts the
+    /// held-out measurements, [`Sampling::Adaptive`]), appending to `measurements`. A replay that
+    /// fails, or one at the longest period no faster than the original (a non-root subject),
+    /// sets `failure`; the remaining periods are then only counted for the progress bar.
+    pub(crate) fn replay_plan(
+        &mut self,
+        subject: &Subject,
+        sources: &[String],
+        variant: &reproj_instance::Variant,
+        plan: &[(u32, bool)],
+        measurements: &mut Vec<Measurement>,
+        failure: &mut Option<String>,
+    ) -> Result<(), AnalyzeError> {
+        let Subject {
+            who,
+            text,
+            strategy,
+            ..
+        } = subject;
+        let mut confirmed = None;
+        for &(dn, skippable) in plan {
+            if failure.is_some() {
+                self.progress.step(&format!("{who} Δn={dn}"));
+                continue;
+            }
+            if skippable {
+                let holds = *confirmed.get_or_insert_with(|| model_holds(measurements, self.opts));
+                if holds {
+                    self.progress.step(&format!(
+                        "{who} Δn={dn} skipped: the error model predicts the held-out periods"
+                    ));
+                    continue;
+                }
+            }
+            let key = ReplayKey {
+                node: subject.node,
+                strategy: strategy.name().into(),
+                block: subject.block,
+                delta_n: dn,
+                frames: None,
+                set: subject.set.clone(),
+            };
+            match self.replay(key, sources, variant, dn, None)? {
+                Ok((m, _)) => {
+                    if dn == self.longest {
+                        *failure = too_slow(
+                            &m,
+                            subject.root,
+                            self.original_ms,
+                            self.longest,
+                            *strategy,
+                            None,
+                        );
+                        if let Some(why) = &failure {
+                            self.progress
+                                .note(&format!("{who} `{text}`: set aside: {why}"));
+                        }
+                    }
+                    measurements.push(m);
+                }
+                Err(e) => {
+                    self.progress
+                        .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));
+                    *failure = Some(format!("replay failed at Δn={dn}: {e}"));
+                }
+            }
+            self.progress.step(&format!("{who} {strategy} Δn={dn}"));
+        }
+        Ok(())
+    }
+}
+
+/// The fits of one node's (or set's) replays and its status.
+pub(crate) struct Fitted {
+    pub(crate) error_fit: ErrorFit,
+    pub(crate) flip_fit: Option<ErrorFit>,
+    pub(crate) dssim_fit: Option<ErrorFit>,
+    pub(crate) timing_fit: TimingFit,
+    pub(crate) holdout: Vec<HoldoutCheck>,
+    pub(crate) status: NodeStatus,
+}
+
+/// Fit the error models (L2, ꟻLIP, 1 − SSIM) to the measurements at the training periods and the
+/// timing model to their frames, check both at the held-out periods, and say whether the result
+/// is usable (`failure`: why the replays already set it aside).
+pub(crate) fn fit_replays(
+    measurements: &[Measurement],
+    failure: Option<&str>,
+    opts: &AnalyzeOptions,
+    hit_rate: &reproj_models::HitRateFit,
+    mean_pixels: f64,
+) -> Fitted {
+    let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
+    let train: Vec<&Measurement> = measurements.iter().filter(|m| is_train(m)).collect();
+    let held: Vec<&Measurement> = measurements.iter().filter(|m| !is_train(m)).collect();
+    let error_fit = fit_error(
+        &train
+            .iter()
+            .map(|m| (m.delta_n as f64, m.error))
+            .collect::<Vec<_>>(),
+        &ErrorFitOptions::default(),
+    );
+    let flip_fit = fit_metric(&train, |m| m.flip.map(|s| s.mean));
+    let dssim_fit = fit_metric(&train, |m| m.ssim.map(|s| 1.0 - s.mean));
+    let frames = |ms: &[&Measurement]| -> Vec<FrameTiming> {
+        ms.iter().flat_map(|m| m.frames.iter().copied()).collect()
+    };
+    let timing_fit = fit_timing_with_holdout(&frames(&train), &frames(&held));
+    let holdout = held
+        .iter()
+        .map(|m| HoldoutCheck {
+            delta_n: m.delta_n,
+            measured_error: m.error,
+            predicted_error: error_fit
+                .predict(m.delta_n as f64)
+                .filter(|v| v.is_finite()),
+            measured_ms: m.frame_ms,
+            predicted_ms: predicted_frame_ms(&timing_fit, hit_rate, m.delta_n as f64, mean_pixels)
+                .filter(|v| v.is_finite()),
+            measured_flip: m.flip.map(|s| s.mean),
+            predicted_flip: flip_fit
+                .as_ref()
+                .and_then(|f| f.predict(m.delta_n as f64))
+                .filter(|v| v.is_finite()),
+        })
+        .collect();
+    let status = status(failure, &error_fit, &timing_fit);
+    Fitted {
+        error_fit,
+        flip_fit,
+        dssim_fit,
+        timing_fit,
+        holdout,
+        status,
+    }
+}
+
+/// Replay one variant at `delta_n`: its measurement and mean per-pass times (frame 0 excluded).
+#[allow(clippy::too_many_arguments)]
+fn replay(
+    renderer: &Renderer,
+    input: &AnalyzeInput,
+    sources: &[String],
+    variant: &reproj_instance::Variant,
+    delta_n: u32,
+    reference: &reproj_replay::Reference,
+    render_opts: &RenderOptions,
+    time: &mut AnalysisTime,
+) -> ReplayResult {
+    let input_variant = VariantInput::new(sources.to_vec(), variant.manifest.clone(), delta_n);
+    let t = Instant::now();
+    let report = renderer
+        .render_variant(
+            input.shader,
+            input.session,
+            &input_variant,
+            reference,
+            render_opts,
+        )
+        .map_err(|e| e.to_string())?;
+    let wall = t.elapsed().as_secs_f64();
+    let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
+    time.rendering_s += gpu.min(wall);
+    time.readback_and_error_s += (wall - gpu).max(0.0);
+    let frames: Vec<_> = report.frames.iter().skip(1).collect();
+    let passes = frames.first().map_or(0, |f| f.pass_ms.len());
+    let pass_ms = (0..passes)
+        .map(|i| {
+            finite(mean(
+                frames
+                    .iter()
+                    .map(|f| f.pass_ms.get(i).copied().unwrap_or(0.0)),
+            ))
+        })
+        .collect();
+    Ok((measurement(delta_n, &report), pass_ms))
+}
+
+/// The error model fitted to one metric's means at the training periods; `None` when a
+/// measurement lacks the metric.
+fn fit_metric(
+    train: &[&Measurement],
+    value: impl Fn(&Measurement) -> Option<f64>,
+) -> Option<ErrorFit> {
+    let samples: Option<Vec<(f64, f64)>> = train
+        .iter()
+        .map(|m| Some((m.delta_n as f64, value(m)?)))
+        .collect();
+    Some(fit_error(&samples?, &ErrorFitOptions::default()))
+}
+
+fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
+    let frames: Vec<FrameTiming> = report
+        .frames
+        .iter()
+        .skip(1)
+        .map(|f| FrameTiming {
+            hits: f.hits,
+            misses: f.recomputes,
+            time_ms: finite(f.frame_ms),
+        })
+        .collect();
+    Measurement {
+        delta_n,
+        error: finite(report.error),
+        error_worst: report.error_worst.map(frame_value),
+        flip: report.flip.map(summary),
+        ssim: report.ssim.map(summary),
+        mse: report.mse.is_finite().then_some(report.mse),
+        psnr: (report.psnr.is_finite() && report.psnr < reproj_replay::metrics::PSNR_CAP)
+            .then_some(report.psnr),
+        hit_rate: finite(report.hit_rate),
+        frame_ms: finite(report.frame_ms),
+        frames,
+    }
+}
+
+fn frame_value(v: reproj_replay::metrics::FrameValue) -> FrameValue {
+    FrameValue {
+        frame: v.frame,
+        value: finite(v.value),
+    }
+}
+
+fn summary(s: reproj_replay::metrics::MetricSummary) -> MetricSummary {
+    MetricSummary {
+        mean: finite(s.mean),
+        worst: frame_value(s.worst),
+        frames: s.frames,
+    }
+}
+
+fn status(failure: Option<&str>, error: &ErrorFit, timing: &TimingFit) -> NodeStatus {
+    if let Some(f) = failure {
+        return NodeStatus::SetAside {
+            reason: f.to_string(),
+        };
+    }
+    if let ErrorFitStatus::Failed { reason } = &error.status {
+        return NodeStatus::SetAside {
+            reason: format!("error model: {reason}"),
+        };
+    }
+    if !timing.is_usable() {
+        let why = match &timing.status {
+            TimingStatus::Failed { reason } => reason.to_string(),
+            TimingStatus::RankDeficient { undetermined, .. } => {
+                format!("rank-deficient timing system, undetermined: {undetermined:?}")
+            }
+            TimingStatus::Ok => "unusable".to_string(),
+        };
+        return NodeStatus::SetAside {
+            reason: format!("timing model: {why}"),
+        };
+    }
+    NodeStatus::Ok
+}
+
+pub(crate) fn mean(it: impl Iterator<Item = f64>) -> f64 {
+    let (s, n) = it.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { 0.0 } else { s / n as f64 }
+}
+
+/// NaN and infinities never reach the profile.
+pub(crate) fn finite(x: f64) -> f64 {
+    if x.is_finite() { x } else { 0.0 }
+}
