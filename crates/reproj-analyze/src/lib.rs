@@ -6,6 +6,7 @@ pub mod analyze;
 pub mod emit;
 pub mod journal;
 pub mod merge;
+mod options;
 pub mod prune;
 mod replayer;
 pub mod sets;

@@ -13,8 +13,9 @@ use reproj_models::{
 use reproj_replay::{RenderOptions, RenderReport, Renderer, VariantInput};
 
 use crate::AnalyzeError;
-use crate::analyze::{AnalyzeInput, AnalyzeOptions, Progress, model_holds};
+use crate::analyze::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
+use crate::options::{AnalyzeOptions, model_holds};
 
 /// Why a non-root node whose variant at the longest period is no faster than the original (over
 /// the first `probe` frames, or the whole session) cannot pay off; `None` when it may.

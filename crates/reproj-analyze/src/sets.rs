@@ -18,7 +18,8 @@ use reproj_models::profile::{Measurement, NodeProfile, NodeStatus, SetPredicted,
 use reproj_select::{NodeRecord, predict, predict_set};
 
 use crate::AnalyzeError;
-use crate::analyze::{Progress, period_plan};
+use crate::analyze::Progress;
+use crate::options::period_plan;
 use crate::replayer::{Fitted, Replayer, Subject, fit_replays};
 
 /// The most floats one payload holds (an RGBA texture).

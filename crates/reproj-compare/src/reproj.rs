@@ -170,14 +170,7 @@ pub(crate) fn plan<'p>(
                 })
                 .collect();
             for (set, rec) in sets.iter().zip(&set_records) {
-                let as_node = NodeRecord {
-                    id: rec.members[0],
-                    text: rec.texts.join(" + "),
-                    strategy: rec.strategy.clone(),
-                    error: rec.error.clone(),
-                    timing: rec.timing.clone(),
-                    mean_pixels: rec.mean_pixels,
-                };
+                let as_node = rec.as_node();
                 for dn in DEFAULT_MIN_DELTA_N..=max_delta_n {
                     if let Some(p) = predict(&as_node, &profile.hit_rate, dn) {
                         points.push((Pick::Set(set), dn, p.predicted_error, p.predicted_ms));

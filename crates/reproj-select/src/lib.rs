@@ -392,7 +392,7 @@ pub struct SetRecord {
 
 impl SetRecord {
     /// The set as the selector's node: its fits under the first member's id.
-    fn as_node(&self) -> NodeRecord {
+    pub fn as_node(&self) -> NodeRecord {
         NodeRecord {
             id: self.members.first().copied().unwrap_or(0),
             text: self.texts.join(" + "),

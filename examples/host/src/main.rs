@@ -6,8 +6,10 @@
 //! reproj-host --original --shader shaders/marble.wgsl --session sessions/marble.json --out OUTDIR
 //! ```
 //!
-//! - `engine.rs` is the engine: the recorded scene (geometry, camera and object transforms, the
-//!   original shader's own uniforms, textures and samplers), its vertex stage and frame target.
+//! - `engine/` is the engine: the recorded scene (geometry, camera and object transforms, the
+//!   original shader's own uniforms, storage buffers, textures and samplers), its vertex stage and
+//!   frame target (`mod.rs`), its depth passes (`depth.rs`) and its own pass of the original
+//!   shader (`original.rs`).
 //! - `variant.rs` runs a variant from `manifest.json` alone (read by `manifest.rs` with this
 //!   crate's own types): textures, samplers, params, layouts, bind groups, pipelines, per-frame
 //!   params and ping-pong, passes in order with their load operations.

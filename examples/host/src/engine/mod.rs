@@ -19,8 +19,13 @@ use reproj_replay::reflect::{self, FragInput, Interface, ResourceKind, TexDim};
 use reproj_replay::session::{Address, Attribute, Compare, Cull, Filter, SamplerSpec, TexFormat};
 use reproj_replay::{Session, mesh, scene, textures};
 
+mod depth;
+mod original;
+
 use crate::gpu::Gpu;
 use crate::manifest::VertexContract;
+use depth::DepthPass;
+pub use original::Original;
 
 /// The engine's frame target format. The manifest's `format: null` means this format.
 pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -60,6 +65,8 @@ enum Own {
     },
     /// A read-only storage buffer filled from the session's `buffers` every frame.
     Storage {
+        /// The variable's name: its contents are the session's `buffers` entry of that name.
+        name: String,
         buf: wgpu::Buffer,
         size: u32,
         fields: Vec<reflect::UniformField>,
@@ -68,16 +75,6 @@ enum Own {
     /// A `texture_depth_2d` the engine renders every frame: index into `Engine::depth_passes`.
     Depth(usize),
     Sampler(wgpu::Sampler),
-}
-
-/// A depth pass the session declares (a shadow map from a light, a depth pre-pass from the
-/// camera): every object drawn depth-only with the pass's view-projection, before the frame.
-struct DepthPass {
-    name: String,
-    view: wgpu::TextureView,
-    /// Per-object transform buffers and bind groups (the vertex layout), in object order.
-    transforms: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
-    pipes: Pipelines,
 }
 
 /// One render pipeline per face-culling mode the scene's objects use.
@@ -320,6 +317,7 @@ impl Engine {
                     let (size, fields) = scene::storage_fields(&session, &r.name, layout)
                         .map_err(|e| anyhow!("{e}"))?;
                     Own::Storage {
+                        name: r.name.clone(),
                         buf: dev.create_buffer(&wgpu::BufferDescriptor {
                             label: Some(&r.name),
                             size: u64::from(size.max(16)),
@@ -335,7 +333,7 @@ impl Engine {
                         missing.push(format!("depth pass `{}`", r.name));
                         continue;
                     }
-                    depth_passes.push(Self::depth_pass(
+                    depth_passes.push(DepthPass::new(
                         gpu,
                         &session,
                         &r.name,
@@ -546,188 +544,34 @@ impl Engine {
             gpu.queue
                 .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
         }
-        for (&(group, binding), own) in &self.own {
+        for own in self.own.values() {
             match own {
                 Own::Uniform { buf, size, fields } => {
                     let bytes = scene::uniform_bytes(&self.session, &st, *size, fields);
                     gpu.queue.write_buffer(buf, 0, &bytes);
                 }
-                Own::Storage { buf, size, fields } => {
-                    let Some(r) = self
-                        .iface
-                        .resources
-                        .iter()
-                        .find(|r| r.group == group && r.binding == binding)
-                    else {
-                        continue;
-                    };
-                    let bytes = scene::storage_bytes(&self.session, &st, &r.name, *size, fields);
+                Own::Storage {
+                    name,
+                    buf,
+                    size,
+                    fields,
+                } => {
+                    let bytes = scene::storage_bytes(&self.session, &st, name, *size, fields);
                     gpu.queue.write_buffer(buf, 0, &bytes);
                 }
                 _ => {}
             }
         }
         for d in &self.depth_passes {
-            let vp = self
-                .session
-                .depth_view_proj(&self.session.depth_passes[&d.name], &st);
-            for ((buf, _), model) in d.transforms.iter().zip(&st.models) {
-                let u = ObjectUniform {
-                    view_proj: vp.to_cols_array_2d(),
-                    prev_view_proj: vp.to_cols_array_2d(),
-                    model: model.to_cols_array_2d(),
-                    prev_model: model.to_cols_array_2d(),
-                    normal_matrix: glam::Mat4::IDENTITY.to_cols_array_2d(),
-                };
-                gpu.queue.write_buffer(buf, 0, bytemuck::bytes_of(&u));
-            }
+            d.write(gpu, &self.session, &st);
         }
-    }
-
-    /// The GPU side of the session's depth pass filling depth texture `name`: a `depth32float`
-    /// texture, a transform buffer per object, a depth-only pipeline per culling mode.
-    fn depth_pass(
-        gpu: &Gpu,
-        session: &Session,
-        name: &str,
-        objects: &[Object],
-        vertex_layout: &wgpu::BindGroupLayout,
-    ) -> anyhow::Result<DepthPass> {
-        let dev = &gpu.device;
-        let [w, h] = session.depth_passes[name]
-            .size
-            .unwrap_or(session.resolution);
-        let view = dev
-            .create_texture(&wgpu::TextureDescriptor {
-                label: Some(name),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-            .create_view(&Default::default());
-        let transforms = objects
-            .iter()
-            .map(|_| {
-                let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(name),
-                    size: size_of::<ObjectUniform>() as u64,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(name),
-                    layout: vertex_layout,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: buf.as_entire_binding(),
-                    }],
-                });
-                (buf, group)
-            })
-            .collect();
-        // The same clip-space arithmetic as the engine's vertex stage.
-        let vs = Self::shader_module(
-            gpu,
-            "host depth pass vertex stage",
-            &format!(
-                "struct HostObject {{\n    view_proj: mat4x4<f32>,\n    prev_view_proj: mat4x4<f32>,\n    \
-                 model: mat4x4<f32>,\n    prev_model: mat4x4<f32>,\n    normal_matrix: mat4x4<f32>,\n}};\n\
-                 @group(0) @binding(0) var<uniform> host_object: HostObject;\n\
-                 @vertex\nfn {VERTEX_ENTRY}(@location(0) position: vec3<f32>) -> @builtin(position) @invariant vec4<f32> {{\n    \
-                 let world = host_object.model * vec4<f32>(position, 1.0);\n    \
-                 return host_object.view_proj * world;\n}}\n"
-            ),
-        )?;
-        let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(name),
-            bind_group_layouts: &[Some(vertex_layout)],
-            immediate_size: 0,
-        });
-        let attrs = wgpu::vertex_attr_array![0 => Float32x3];
-        let mut pipes = HashMap::new();
-        for cull in [Cull::Back, Cull::None] {
-            if !objects.iter().any(|o| o.cull == cull) {
-                continue;
-            }
-            let p = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(name),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &vs,
-                    entry_point: Some(VERTEX_ENTRY),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: size_of::<mesh::Vertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &attrs,
-                    })],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: (cull == Cull::Back).then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: None,
-                multiview_mask: None,
-                cache: None,
-            });
-            pipes.insert(cull, p);
-        }
-        gpu.check(&format!("building depth pass `{name}`"))?;
-        Ok(DepthPass {
-            name: name.to_owned(),
-            view,
-            transforms,
-            pipes,
-        })
     }
 
     /// Record the session's depth passes for the frame (after [`Engine::write_frame`]), ahead of
     /// the frame's own passes: the textures the shader samples are this frame's.
     pub fn encode_depth_passes(&self, enc: &mut wgpu::CommandEncoder) {
         for d in &self.depth_passes {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(&d.name),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &d.view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            for (o, (_, group)) in self.objects.iter().zip(&d.transforms) {
-                if let Some(p) = d.pipes.get(&o.cull) {
-                    pass.set_pipeline(p);
-                }
-                pass.set_bind_group(0, group, &[]);
-                pass.set_vertex_buffer(0, o.vbuf.slice(..));
-                pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..o.count, 0, 0..1);
-            }
+            d.encode(enc, &self.objects);
         }
     }
 
@@ -917,184 +761,5 @@ impl Engine {
             bail!("shader module {label}: {e}");
         }
         Ok(m)
-    }
-}
-
-/// The engine's own pass: the original shader, as the engine ran it before reproj.
-pub struct Original {
-    groups: Vec<(u32, wgpu::BindGroup)>,
-    pipes: Pipelines,
-    depth: wgpu::TextureView,
-}
-
-impl Original {
-    pub fn new(gpu: &Gpu, engine: &Engine) -> anyhow::Result<Original> {
-        let dev = &gpu.device;
-        let vs_src = engine.vertex_wgsl(None)?;
-        let vs = Engine::shader_module(gpu, "host vertex stage", &vs_src)?;
-        let fs = Engine::shader_module(gpu, "original shader", &engine.shader_source)?;
-        // Layouts from the engine's reflection of its own shader.
-        let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
-        for r in &engine.iface.resources {
-            by_group.entry(r.group).or_default().push(r);
-        }
-        let mut layouts = BTreeMap::new();
-        let mut groups = Vec::new();
-        for (g, rs) in &by_group {
-            let mut entries = Vec::new();
-            let mut binds = Vec::new();
-            for r in rs {
-                let ty = match &r.kind {
-                    ResourceKind::Uniform { size, .. } => wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: NonZeroU64::new(u64::from(*size)),
-                    },
-                    ResourceKind::Storage(_) => wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    ResourceKind::DepthTexture => wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    ResourceKind::Sampler { comparison: true } => {
-                        wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)
-                    }
-                    ResourceKind::Texture { dim } => wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: match dim {
-                            TexDim::D2 => wgpu::TextureViewDimension::D2,
-                            TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
-                            TexDim::D3 => wgpu::TextureViewDimension::D3,
-                            TexDim::Cube => wgpu::TextureViewDimension::Cube,
-                        },
-                        multisampled: false,
-                    },
-                    _ => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                };
-                entries.push(wgpu::BindGroupLayoutEntry {
-                    binding: r.binding,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty,
-                    count: None,
-                });
-                binds.push(wgpu::BindGroupEntry {
-                    binding: r.binding,
-                    resource: engine
-                        .own_resource(r.group, r.binding)
-                        .ok_or_else(|| anyhow!("no resource for `{}`", r.name))?,
-                });
-            }
-            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("original"),
-                entries: &entries,
-            });
-            groups.push((
-                *g,
-                dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("original"),
-                    layout: &layout,
-                    entries: &binds,
-                }),
-            ));
-            layouts.insert(*g, layout);
-        }
-        let top = layouts
-            .keys()
-            .copied()
-            .chain([engine.vertex_group])
-            .max()
-            .unwrap_or(0);
-        let bgls: Vec<Option<&wgpu::BindGroupLayout>> = (0..=top)
-            .map(|g| {
-                if g == engine.vertex_group {
-                    Some(engine.vertex_layout())
-                } else {
-                    layouts.get(&g)
-                }
-            })
-            .collect();
-        let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("original"),
-            bind_group_layouts: &bgls,
-            immediate_size: 0,
-        });
-        let pipes = engine.pipelines(
-            gpu,
-            "original",
-            &layout,
-            &vs,
-            &fs,
-            &engine.iface.entry,
-            &[Some(wgpu::ColorTargetState {
-                format: FRAME_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-            wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            },
-        );
-        let depth = dev
-            .create_texture(&wgpu::TextureDescriptor {
-                label: Some("original depth"),
-                size: engine.frame.size(),
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                view_formats: &[],
-            })
-            .create_view(&Default::default());
-        gpu.check("building the original shader's pipeline")?;
-        Ok(Original {
-            groups,
-            pipes,
-            depth,
-        })
-    }
-
-    /// Record the frame: clear color and depth, draw the scene with the original shader.
-    pub fn encode(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        engine: &Engine,
-        timer: &crate::gpu::Timer,
-    ) {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("original"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &engine.frame_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(engine.clear),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timer.writes(0),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        for (g, bg) in &self.groups {
-            pass.set_bind_group(*g, bg, &[]);
-        }
-        engine.draw(&mut pass, &self.pipes);
     }
 }

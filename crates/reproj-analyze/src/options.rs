@@ -1,0 +1,260 @@
+//! What `analyze` is asked to do: its options and their defaults (the paper's periods, the
+//! perceptual and probe frame counts), the Δn sampling plan, and the checks on the periods.
+
+use reproj_instance::{InstanceOptions, Strategy};
+use reproj_models::profile::{Measurement, Shard};
+use reproj_models::{ErrorFitOptions, fit_error};
+
+use crate::AnalyzeError;
+use crate::journal::JournalOptions;
+use crate::prune::PruneOptions;
+use crate::sets::SetSearchOptions;
+
+/// The paper's training periods (seeds 002 §4.2).
+pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
+/// Periods used only to check the models.
+pub const DEFAULT_HOLDOUT: [u32; 2] = [6, 30];
+/// The stride `emit` and `report` use for a profile that does not record its own (profiles
+/// before version 4 had no perceptual metrics).
+pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
+/// Without [`AnalyzeOptions::perceptual_stride`], ꟻLIP and SSIM are computed on about this many
+/// frames of each replay (every 10th frame of a 150-frame session). The mean of a metric over
+/// 15 frames is what its model needs; more frames cost CPU time (ꟻLIP is about 60 ms per
+/// 256×256 frame on one core, as much as rendering the frame several times on lavapipe).
+pub const DEFAULT_PERCEPTUAL_FRAMES: u32 = 15;
+/// Default [`AnalyzeOptions::probe_frames`]: a third of the paper's 150-frame sessions, three
+/// refresh cycles at Δn = 16 and one at Δn = 50.
+pub const DEFAULT_PROBE_FRAMES: u32 = 50;
+
+/// Options of [`analyze`].
+#[derive(Debug, Clone)]
+pub struct AnalyzeOptions {
+    pub delta_n_train: Vec<u32>,
+    pub delta_n_holdout: Vec<u32>,
+    /// Which nodes to profile when `nodes` is `None`.
+    pub prune: PruneOptions,
+    /// Profile exactly these node ids (the root is always added).
+    pub nodes: Option<Vec<u32>>,
+    /// Cache format, reconstruction and depth tolerance of every variant (its `strategy` and
+    /// `block` are set per strategy from `strategies` and `block`).
+    pub instance: InstanceOptions,
+    /// Strategies to try. With several, each node is replayed in each at the longest training Δn
+    /// and only the fastest is profiled further.
+    pub strategies: Vec<Strategy>,
+    /// Refresh block size k for every strategy (`None`: each strategy's default).
+    pub block: Option<u32>,
+    /// Replay only the first N frames of the session.
+    pub max_frames: Option<u32>,
+    /// Record every finished replay here and reuse what an interrupted run recorded
+    /// ([`crate::journal`]). `None`: no journal.
+    pub journal: Option<JournalOptions>,
+    /// Profile only this shard's part of the nodes ([`Shard`]; join with [`crate::merge()`]).
+    pub shard: Option<Shard>,
+    /// Compute the perceptual metrics (ꟻLIP, SSIM) of every replay on the frames `f` with
+    /// `f % perceptual_stride == 0` (≥ 1): reading frames back and comparing them on the CPU
+    /// costs time, the L2 error is reduced on the GPU for every frame. `None`: the stride that
+    /// scores about [`DEFAULT_PERCEPTUAL_FRAMES`] frames of the replayed session.
+    pub perceptual_stride: Option<u32>,
+    /// At how many of the training periods each node is replayed.
+    pub sampling: Sampling,
+    /// Compare the strategies of a node on the session's first N frames (at the longest training
+    /// period) and replay only the fastest over the whole session. `None`: the whole session.
+    pub probe_frames: Option<u32>,
+    /// After the single nodes, search sets of nodes cached together ([`crate::sets`]). `None`:
+    /// no set is formed (`--no-sets`).
+    pub sets: Option<SetSearchOptions>,
+}
+
+/// At how many of the training periods `analyze` replays each node.
+///
+/// The error model has two parameters, so three well-spread periods determine it; the others
+/// only confirm it. [`Sampling::Adaptive`] replays a node at the longest, the shortest and the
+/// middle training period and at the held-out periods, fits the error model to the three and
+/// replays the remaining training periods only when it misses a held-out measurement: a node
+/// whose error follows the model costs three fewer replays in four (marble: 9 → 5 per node).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sampling {
+    /// Every training period, as the paper did.
+    Every,
+    /// The remaining training periods only where the model fitted to three misses a held-out
+    /// measurement by more than `tolerance` × the measured error + [`Sampling::ABS_TOLERANCE`].
+    Adaptive { tolerance: f64 },
+}
+
+impl Sampling {
+    /// Absolute slack of the held-out check, in error units: measured errors this small are
+    /// within the replay's own noise.
+    pub const ABS_TOLERANCE: f64 = 2e-4;
+    /// Default relative slack of the held-out check.
+    pub const DEFAULT_TOLERANCE: f64 = 0.15;
+}
+
+impl Default for Sampling {
+    fn default() -> Self {
+        Sampling::Adaptive {
+            tolerance: Sampling::DEFAULT_TOLERANCE,
+        }
+    }
+}
+
+/// The order in which a node's periods are replayed: (Δn, whether it may be skipped).
+/// `longest` comes first and is replayed by the caller; then the shortest and middle training
+/// periods, the held-out ones, and the remaining training periods (skippable under
+/// [`Sampling::Adaptive`]).
+pub(crate) fn period_plan(opts: &AnalyzeOptions, longest: u32) -> Vec<(u32, bool)> {
+    let mut train: Vec<u32> = opts.delta_n_train.clone();
+    train.sort_unstable();
+    train.dedup();
+    let adaptive = matches!(opts.sampling, Sampling::Adaptive { .. });
+    let core: Vec<u32> = if adaptive {
+        let mut c = vec![train[0], train[train.len() / 2]];
+        c.retain(|&d| d != longest);
+        c.dedup();
+        c
+    } else {
+        train.iter().copied().filter(|&d| d != longest).collect()
+    };
+    let mut plan: Vec<(u32, bool)> = core.iter().map(|&d| (d, false)).collect();
+    plan.extend(
+        opts.delta_n_holdout
+            .iter()
+            .filter(|d| !train.contains(d))
+            .map(|&d| (d, false)),
+    );
+    plan.extend(
+        train
+            .iter()
+            .filter(|d| **d != longest && !core.contains(d))
+            .map(|&d| (d, true)),
+    );
+    plan
+}
+
+/// Whether the error model fitted to the training measurements so far predicts every held-out
+/// measurement within the tolerance ([`Sampling::Adaptive`]).
+pub(crate) fn model_holds(measurements: &[Measurement], opts: &AnalyzeOptions) -> bool {
+    let Sampling::Adaptive { tolerance } = opts.sampling else {
+        return false;
+    };
+    let samples: Vec<(f64, f64)> = measurements
+        .iter()
+        .filter(|m| opts.delta_n_train.contains(&m.delta_n))
+        .map(|m| (m.delta_n as f64, m.error))
+        .collect();
+    let fit = fit_error(&samples, &ErrorFitOptions::default());
+    let mut held = measurements
+        .iter()
+        .filter(|m| !opts.delta_n_train.contains(&m.delta_n))
+        .peekable();
+    fit.is_ok()
+        && held.peek().is_some()
+        && held.all(|m| {
+            fit.predict(m.delta_n as f64).is_some_and(|p| {
+                (p - m.error).abs() <= tolerance * m.error + Sampling::ABS_TOLERANCE
+            })
+        })
+}
+
+impl Default for AnalyzeOptions {
+    fn default() -> Self {
+        AnalyzeOptions {
+            delta_n_train: DEFAULT_TRAIN.to_vec(),
+            delta_n_holdout: DEFAULT_HOLDOUT.to_vec(),
+            prune: PruneOptions::default(),
+            nodes: None,
+            instance: InstanceOptions::default(),
+            strategies: Strategy::ALL.to_vec(),
+            block: None,
+            max_frames: None,
+            journal: None,
+            shard: None,
+            sampling: Sampling::default(),
+            probe_frames: Some(DEFAULT_PROBE_FRAMES),
+            perceptual_stride: None,
+            sets: Some(SetSearchOptions::default()),
+        }
+    }
+}
+
+pub(crate) fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
+    if opts.perceptual_stride == Some(0) {
+        return Err(AnalyzeError::Options(
+            "the perceptual metrics' frame stride must be at least 1".into(),
+        ));
+    }
+    if opts.delta_n_train.is_empty() {
+        return Err(AnalyzeError::Options(
+            "--delta-n needs at least one period".into(),
+        ));
+    }
+    if let Some(bad) = opts
+        .delta_n_train
+        .iter()
+        .chain(&opts.delta_n_holdout)
+        .find(|&&d| d < 2)
+    {
+        return Err(AnalyzeError::Options(format!(
+            "refresh periods must be at least 2 (Δn = 1 is the original shader), got {bad}"
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opts(sampling: Sampling) -> AnalyzeOptions {
+        AnalyzeOptions {
+            sampling,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn adaptive_sampling_replays_three_training_periods_then_the_held_out_ones() {
+        let plan = period_plan(&opts(Sampling::default()), 50);
+        assert_eq!(
+            plan,
+            [
+                (2, false),
+                (26, false),
+                (6, false),
+                (30, false),
+                (10, true),
+                (18, true),
+                (34, true),
+                (42, true)
+            ]
+        );
+        let every = period_plan(&opts(Sampling::Every), 50);
+        assert_eq!(
+            every.iter().map(|p| p.0).collect::<Vec<_>>(),
+            [2, 10, 18, 26, 34, 42, 6, 30]
+        );
+        assert!(every.iter().all(|p| !p.1));
+    }
+
+    /// A measurement at `dn` with error `e` (other fields are not looked at).
+    fn m(dn: u32, e: f64) -> Measurement {
+        serde_json::from_value(serde_json::json!({
+            "delta_n": dn, "error": e, "psnr": null, "hit_rate": 0.9, "frame_ms": 1.0, "frames": []
+        }))
+        .unwrap()
+    }
+
+    #[test]
+    fn the_held_out_check_decides_whether_more_periods_are_replayed() {
+        let o = opts(Sampling::default());
+        let model = |dn: u32| 0.05 * (1.0 - (-0.08 * (dn as f64 - 1.0)).exp());
+        let mut ms: Vec<Measurement> = [50, 2, 26, 6, 30].map(|d| m(d, model(d))).to_vec();
+        assert!(model_holds(&ms, &o), "an exact exponential is predicted");
+        // A held-out error 40 % off the curve: replay the other periods.
+        ms[4] = m(30, model(30) * 1.4);
+        assert!(!model_holds(&ms, &o));
+        // No held-out measurement, or `every`: never skip.
+        assert!(!model_holds(&ms[..3], &o));
+        ms[4] = m(30, model(30));
+        assert!(!model_holds(&ms, &opts(Sampling::Every)));
+    }
+}
