@@ -168,6 +168,7 @@ pub fn analyze(
     let render_opts = RenderOptions {
         png_dir: None,
         max_frames: opts.max_frames,
+        first_frame: 0,
         classify: false,
         raw_frames: false,
         perceptual_stride: Some(stride),

@@ -105,9 +105,25 @@ pub struct EmitReport {
     pub measured_flip: Option<MetricSummary>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measured_ssim: Option<MetricSummary>,
+    /// Median ms per frame of the variant and of the original, timed interleaved in one run
+    /// (`reproj-bench`).
     pub measured_ms: Option<f64>,
     pub measured_original_ms: Option<f64>,
+    /// Original time over variant time, Hodges–Lehmann over the rounds of the interleaved
+    /// timing, and its 95 % interval; `--min-speedup` gates on the interval's lower end.
     pub measured_speedup: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_speedup_ci95: Option<[f64; 2]>,
+    /// Rounds of the interleaved timing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_rounds: Option<u32>,
+    /// The machine the measured speed comes from (adapter, LP_NUM_THREADS, cores; a CPU
+    /// rasterizer says so).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_on: Option<String>,
+    /// What the timing saw of the machine (load, drift, a wide interval); empty when clean.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub timing_warnings: Vec<String>,
     pub adapter: String,
 }
 
@@ -270,6 +286,10 @@ pub fn emit(
         measured_ms: None,
         measured_original_ms: None,
         measured_speedup: None,
+        measured_speedup_ci95: None,
+        measured_rounds: None,
+        measured_on: None,
+        timing_warnings: Vec::new(),
         adapter: profile.machine.adapter.clone(),
     };
     let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
@@ -430,7 +450,9 @@ pub fn ir_hash(shader: &reproj_front::Shader) -> String {
 
 /// Re-render the selection over `session`, record measured error and speedup in `report`, and
 /// rewrite `out/report.json` (`out`: the directory [`emit`] wrote into; the shader is the one the
-/// report names).
+/// report names). The error comes from one replay of the whole session; the speed from the
+/// timing engine (`reproj-bench`: original and variant interleaved, with an interval), under
+/// `timing`.
 pub fn verify(
     report: &mut EmitReport,
     out: &Path,
@@ -438,12 +460,14 @@ pub fn verify(
     profile: &Profile,
     session: &Session,
     renderer: &Renderer,
+    timing: &reproj_bench::BenchOptions,
 ) -> Result<(), AnalyzeError> {
     let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
     let entry = shader.fragment_entry(Some(&profile.entry))?;
     let opts = RenderOptions {
         png_dir: None,
         max_frames: None,
+        first_frame: 0,
         classify: false,
         raw_frames: false,
         perceptual_stride: Some(
@@ -454,12 +478,14 @@ pub fn verify(
     };
     let reference = renderer.render_original(&shader, entry, session, &opts)?;
     report.measured_original_ms = Some(reference.report.frame_ms);
+    report.measured_on = Some(reproj_bench::Machine::of(renderer).describe());
     match variant {
         None => {
             report.measured_error = Some(0.0);
             report.measured_psnr = Some(PSNR_CAP);
             report.measured_ms = Some(reference.report.frame_ms);
             report.measured_speedup = Some(1.0);
+            report.measured_speedup_ci95 = Some([1.0, 1.0]);
         }
         Some(v) => {
             let input = VariantInput::new(
@@ -472,9 +498,28 @@ pub fn verify(
             report.measured_psnr = Some(r.psnr).filter(|p| p.is_finite());
             report.measured_flip = r.flip;
             report.measured_ssim = r.ssim;
-            report.measured_ms = Some(r.frame_ms);
-            report.measured_speedup =
-                (r.frame_ms > 0.0).then(|| reference.report.frame_ms / r.frame_ms);
+            let timed = reproj_bench::bench(
+                renderer,
+                reproj_bench::Baseline {
+                    shader: &shader,
+                    entry,
+                    reference: &reference,
+                },
+                session,
+                &[reproj_bench::Candidate {
+                    name: "the variant".into(),
+                    subject: reproj_bench::Subject::Variant(input),
+                }],
+                timing,
+                &mut |_| {},
+            )?;
+            let c = &timed.candidates[0];
+            report.measured_original_ms = Some(timed.baseline.median_ms);
+            report.measured_ms = c.median_ms;
+            report.measured_speedup = c.speedup;
+            report.measured_speedup_ci95 = c.speedup_ci95;
+            report.measured_rounds = Some(timed.rounds);
+            report.timing_warnings = timed.warnings;
         }
     }
     write_report(report, out)

@@ -155,6 +155,14 @@ fn static_session_profiles_without_nan_and_emits() {
         &back,
         &moving,
         &renderer,
+        &reproj_bench::BenchOptions {
+            stop: reproj_models::speedup::StopRule {
+                min_rounds: 3,
+                max_rounds: 3,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
     )
     .unwrap();
     let entry = shader.fragment_entry(None).unwrap();

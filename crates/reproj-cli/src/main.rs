@@ -36,6 +36,72 @@ enum Command {
     /// Compare reprojection with reduced-resolution rendering and code simplification at equal
     /// frame time: error (L2, PSNR, ꟻLIP) per method, a chart and side-by-side crops.
     Compare(CompareArgs),
+    /// Time variants or other shaders against the original, interleaved in one run: median
+    /// ms/frame and the speedup with its 95 % interval ("hyperfine for shaders").
+    Bench(BenchArgs),
+}
+
+/// Arguments of `reproj bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The original shader (the baseline): WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`).
+    pub shader: PathBuf,
+    /// The candidates: variant directories (written by `instance` or `emit`) or other shader
+    /// files over the same session (the shader itself: the A/A check).
+    pub candidates: Vec<PathBuf>,
+    /// The shader's language, when its extension does not say (the baseline and shader
+    /// candidates).
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
+    /// The session file.
+    #[arg(long)]
+    pub session: PathBuf,
+    /// Refresh period of every variant candidate (default: the Δn `emit` chose, from the
+    /// directory's report.json, else the manifest's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub delta_n: Option<u32>,
+    /// Stop after this many rounds at most (each round renders one block per subject).
+    #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub rounds: u32,
+    /// Run at least this many rounds.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub min_rounds: u32,
+    /// Stop measuring after this many seconds (checked between rounds).
+    #[arg(long, default_value_t = 30.0, value_parser = positive_seconds)]
+    pub max_time: f64,
+    /// Stop once every interval is within ± this fraction of its estimate.
+    #[arg(long, default_value_t = 0.03, value_parser = positive_fraction)]
+    pub target: f64,
+    /// Timed frames per block (each block renders one more, discarded).
+    #[arg(long, default_value_t = reproj_bench::DEFAULT_BLOCK_FRAMES, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub block: u32,
+    /// Draw the windows from the session's first N frames only.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_frames: Option<u32>,
+    /// Fragment entry point.
+    #[arg(long)]
+    pub entry: Option<String>,
+    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    pub backend: Option<String>,
+    /// Print the result as JSON (`reproj.bench` v1, docs/SCHEMAS.md).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// A time limit in seconds: finite and positive.
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    }
+}
+
+/// A fraction in (0, 1].
+fn positive_fraction(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a fraction in (0, 1]")),
+    }
 }
 
 /// Arguments of `reproj compare`.
@@ -549,6 +615,7 @@ fn main() -> ExitCode {
         Command::Emit(args) => cmd::emit::run(&args),
         Command::Report(args) => cmd::report::run(&args),
         Command::Compare(args) => cmd::compare::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
     };
     cmd::finish(result)
 }

@@ -265,6 +265,7 @@ pub fn compare(
     let render_opts = RenderOptions {
         png_dir: None,
         max_frames: opts.max_frames,
+        first_frame: 0,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

@@ -42,6 +42,7 @@ fn main() {
     let opts = RenderOptions {
         png_dir: None,
         max_frames: None,
+        first_frame: 0,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

@@ -96,6 +96,7 @@ fn main() {
     let opts = RenderOptions {
         png_dir: None,
         max_frames: Some(args.frames),
+        first_frame: 0,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

@@ -29,6 +29,7 @@ fn opts(frames: u32) -> RenderOptions {
     RenderOptions {
         png_dir: None,
         max_frames: Some(frames),
+        first_frame: 0,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

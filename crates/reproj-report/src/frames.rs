@@ -51,6 +51,7 @@ pub fn reference(
         &RenderOptions {
             png_dir: None,
             max_frames: Some(profile.frames),
+            first_frame: 0,
             classify: false,
             raw_frames: false,
             perceptual_stride: None,
@@ -120,6 +121,7 @@ pub fn render_choice(
         &RenderOptions {
             png_dir: Some(dir.path().to_owned()),
             max_frames: Some(profile.frames),
+            first_frame: 0,
             classify: true,
             raw_frames: false,
             // The perceptual metrics on the profile's frames (or analyze's default stride).

@@ -3,6 +3,7 @@
 use std::process::ExitCode;
 
 pub mod analyze;
+pub mod bench;
 pub mod charts;
 pub mod compare;
 pub mod emit;

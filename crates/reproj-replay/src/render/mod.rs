@@ -74,8 +74,13 @@ pub struct RendererOptions {
 pub struct RenderOptions {
     /// Write PNGs here (frames; for variants also hit maps and error maps).
     pub png_dir: Option<PathBuf>,
-    /// Render only the first N frames of the session.
+    /// Render only N frames of the session (from `first_frame`).
     pub max_frames: Option<u32>,
+    /// Start at this frame of the session (a window for interleaved timing, `reproj-bench`):
+    /// frames `first_frame..first_frame + N` are rendered, a variant's cache starts empty there
+    /// (that frame runs with Δn = 1) and its refresh clock is the session's frame index. Report
+    /// records keep the session's frame numbers. A variant's reference must cover the window.
+    pub first_frame: u32,
     /// Variants: render the `reproj_classify` entry point each frame (hit map and exact
     /// hit / miss / refresh pixel counts). Ignored when the pass-1 module has no such entry point.
     pub classify: bool,
@@ -93,6 +98,7 @@ impl Default for RenderOptions {
         RenderOptions {
             png_dir: None,
             max_frames: None,
+            first_frame: 0,
             classify: true,
             raw_frames: false,
             perceptual_stride: None,

@@ -15,10 +15,24 @@ use crate::vertex;
 use super::*;
 
 impl Renderer {
+    /// How many frames a render draws: the session's from `first_frame` on, at most
+    /// `max_frames`, at least one.
     pub(super) fn frame_count(session: &Session, opts: &RenderOptions) -> u32 {
-        opts.max_frames
-            .map_or(session.frames, |m| m.min(session.frames))
-            .max(1)
+        let left = session.frames.saturating_sub(opts.first_frame);
+        opts.max_frames.map_or(left, |m| m.min(left)).max(1)
+    }
+
+    /// The first frame a render draws (`first_frame`, checked against the session).
+    pub(super) fn first_frame(session: &Session, opts: &RenderOptions) -> Result<u32, ReplayError> {
+        if opts.first_frame >= session.frames {
+            return Err(ReplayError::Variant {
+                message: format!(
+                    "first frame {} is past the session's {} frames",
+                    opts.first_frame, session.frames
+                ),
+            });
+        }
+        Ok(opts.first_frame)
     }
 
     /// Render the original shader's fragment entry `entry_index` over the session: the reference
@@ -34,6 +48,7 @@ impl Renderer {
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
         let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
+        let first = Self::first_frame(session, opts)?;
         let used: BTreeSet<u32> = iface.groups().into_iter().collect();
         let vgroup = free_group(&used)?;
         let scene = self.build_scene(session, &[&iface], None)?;
@@ -79,8 +94,8 @@ impl Renderer {
         let mut report = self.new_report("original", shader, &iface.entry, session);
         let mut out_frames = Vec::with_capacity(frames as usize);
         let mut out_depth = Vec::with_capacity(frames as usize);
-        let mut batch = FrameBatch::new("", slots, frames);
-        for f in 0..frames {
+        let mut batch = FrameBatch::new("", slots, first + frames);
+        for f in first..first + frames {
             let slot = batch.slot();
             self.write_frame_uniforms(session, &scene, f);
             let mut enc = self.device.create_command_encoder(&Default::default());

@@ -79,7 +79,10 @@ impl Renderer {
         let m = &variant.manifest;
         let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
-        if reference.width != w || reference.height != h || (reference.frames.len() as u32) < frames
+        let first = Self::first_frame(session, opts)?;
+        if reference.width != w
+            || reference.height != h
+            || (reference.frames.len() as u32) < first + frames
         {
             return Err(ReplayError::ReferenceMismatch {
                 reference: format!(
@@ -88,7 +91,7 @@ impl Renderer {
                     reference.width,
                     reference.height
                 ),
-                session: format!("{frames} frames, {w}×{h}"),
+                session: format!("{} frames, {w}×{h}", first + frames),
             });
         }
         if variant.delta_n == 0 || variant.block == 0 {
@@ -336,7 +339,7 @@ impl Renderer {
             opts.perceptual_stride
                 .is_some_and(|k| f.is_multiple_of(k.max(1)))
         };
-        let errors = FrameErrors::new(self, reference, frames, slots, back)?;
+        let errors = FrameErrors::new(self, reference, first + frames, slots, back)?;
         let cls_rb = pc
             .as_ref()
             .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
@@ -402,23 +405,27 @@ impl Renderer {
                 .flatten()
                 .any(|(t, load)| *t == Attachment::Frame && !load)
         });
-        let mut batch = FrameBatch::new("variant ", slots, frames);
+        let mut batch = FrameBatch::new("variant ", slots, first + frames);
         // Frames read back for ꟻLIP and SSIM, scored after their batch is read back. The metrics
         // are the costliest CPU work of a replay (about 60 ms per 256×256 frame): they run on
         // every core, but only between batches, when no timed frame is in flight (on a CPU
         // adapter they would otherwise slow the frames being measured).
         let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
-        for f in 0..frames {
+        for f in first..first + frames {
             let slot = batch.slot();
             let cur = (f % 2) as usize;
             let b = &binds[cur];
             self.write_frame_uniforms(session, &scene, f);
-            let p = contract::ReprojParams::for_frame(
+            let mut p = contract::ReprojParams::for_frame(
                 f,
                 variant.delta_n,
                 variant.block,
                 variant.depth_epsilon,
             );
+            if f == first {
+                // The cache starts empty: the first frame refreshes everything.
+                p.delta_n = 1;
+            }
             self.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
 
             let mut enc = self.device.create_command_encoder(&Default::default());

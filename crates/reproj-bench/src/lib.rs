@@ -1,0 +1,405 @@
+//! reproj's timing engine: the one place a speed figure is measured.
+//!
+//! A speedup is a ratio of two timings, and on a shared machine (or a GPU whose clocks move) two
+//! replays taken at different moments measure the load as much as the shader. So [`bench`] renders
+//! the baseline (the original shader) and every candidate (a variant, or another shader) in
+//! *rounds*: each round picks a window of the session, and each subject renders that window as one
+//! short block — its first frame discarded (shader compilation, a variant's empty cache), the rest
+//! timed by the renderer's GPU timestamps — in an order that alternates between rounds. Each round
+//! gives one paired ratio per candidate; [`reproj_models::speedup`] turns the ratios into a
+//! Hodges–Lehmann estimate with a bootstrap 95 % interval, decides when to stop (interval within
+//! ±3 % or the time cap) and says what it saw of the machine (the baseline's own time moving, other
+//! processes busy, a wide interval) as warnings. The per-block figures are kept in the result.
+//!
+//! Analyze, `emit --verify`, `compare`, `render` and `reproj bench` all measure through here.
+
+use std::time::Instant;
+
+use reproj_front::Shader;
+use reproj_models::speedup::{
+    self, Conditions, SpeedupEstimate, StopRule, Subject as Slot, block_ms, round_order, stratum,
+    window_start,
+};
+use reproj_replay::{Reference, RenderOptions, Renderer, ReplayError, Session, VariantInput};
+use serde::{Deserialize, Serialize};
+
+/// Schema name and version of [`BenchReport`] (`docs/SCHEMAS.md`).
+pub const BENCH_SCHEMA: &str = "reproj.bench";
+pub const BENCH_VERSION: u32 = 1;
+
+/// Timed frames per block by default (after the discarded first frame).
+pub const DEFAULT_BLOCK_FRAMES: u32 = 12;
+
+/// What a candidate renders.
+#[derive(Debug, Clone)]
+pub enum Subject {
+    /// A cached variant of the baseline shader.
+    Variant(VariantInput),
+    /// Another shader over the same session (a hand-optimized version, or the original itself
+    /// for the A/A check): its fragment entry point `entry`.
+    Shader { shader: Shader, entry: usize },
+}
+
+/// One candidate, named as the report will name it.
+#[derive(Debug, Clone)]
+pub struct Candidate {
+    pub name: String,
+    pub subject: Subject,
+}
+
+/// The baseline: the original shader, and its reference frames over the whole session (a
+/// variant's replay compares against them).
+#[derive(Debug, Clone, Copy)]
+pub struct Baseline<'a> {
+    pub shader: &'a Shader,
+    pub entry: usize,
+    pub reference: &'a Reference,
+}
+
+/// How to measure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BenchOptions {
+    /// Timed frames per block (each block renders one more, discarded).
+    pub block_frames: u32,
+    /// Rounds and time.
+    pub stop: StopRule,
+    /// Use only the session's first N frames for the windows.
+    pub max_frames: Option<u32>,
+}
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        BenchOptions {
+            block_frames: DEFAULT_BLOCK_FRAMES,
+            stop: StopRule::default(),
+            max_frames: None,
+        }
+    }
+}
+
+/// Where a run stands, after each round.
+#[derive(Debug, Clone)]
+pub struct Progress<'a> {
+    pub rounds: u32,
+    pub seconds: f64,
+    pub estimates: &'a [Option<SpeedupEstimate>],
+}
+
+/// The machine the figures come from: what a reader needs to compare them with others.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Machine {
+    pub adapter: String,
+    /// The adapter's device type as wgpu reports it (`Cpu` for lavapipe).
+    pub device_type: String,
+    /// A CPU rasterizer (lavapipe, llvmpipe): its figures say nothing of a GPU's.
+    pub cpu_rasterizer: bool,
+    /// `LP_NUM_THREADS` as set for this process (lavapipe's rasterizer threads), if set.
+    pub lp_num_threads: Option<String>,
+    /// Cores the process may use.
+    pub cpus: u32,
+}
+
+impl Machine {
+    /// The machine `renderer` runs on.
+    pub fn of(renderer: &Renderer) -> Machine {
+        let a = renderer.adapter();
+        let cpu = a.device_type.eq_ignore_ascii_case("cpu")
+            || a.name.contains("llvmpipe")
+            || a.name.contains("lavapipe");
+        Machine {
+            adapter: a.name.clone(),
+            device_type: a.device_type.clone(),
+            cpu_rasterizer: cpu,
+            lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
+            cpus: std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
+        }
+    }
+
+    /// One line for the reader: `llvmpipe (LLVM 15), LP_NUM_THREADS=2, 2 cores — a CPU
+    /// rasterizer: GPU figures differ`.
+    pub fn describe(&self) -> String {
+        let mut s = format!(
+            "{}, LP_NUM_THREADS={}, {} cores",
+            self.adapter,
+            self.lp_num_threads.as_deref().unwrap_or("unset"),
+            self.cpus
+        );
+        if self.cpu_rasterizer {
+            s.push_str(" — measured on a CPU rasterizer: GPU figures differ");
+        }
+        s
+    }
+}
+
+/// The baseline's figures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BaselineFigure {
+    /// Median of the block figures, ms per frame.
+    pub median_ms: f64,
+    /// Each round's block figure (trimmed mean of its timed frames), in round order.
+    pub blocks_ms: Vec<f64>,
+    /// Each round's window (0 to 3, the quarters of the session), in round order.
+    pub windows: Vec<u32>,
+}
+
+/// One candidate's figures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CandidateFigure {
+    pub name: String,
+    /// Median of the block figures, ms per frame (`null` when no frame time was usable).
+    pub median_ms: Option<f64>,
+    /// Baseline time over candidate time (above 1: faster), Hodges–Lehmann over the rounds.
+    pub speedup: Option<f64>,
+    /// Its 95 % interval (percentile bootstrap).
+    pub speedup_ci95: Option<[f64; 2]>,
+    pub rounds: u32,
+    /// Rounds whose ratio lies far from the others (counted, kept in the robust estimate).
+    pub outliers: u32,
+    pub blocks_ms: Vec<f64>,
+}
+
+impl CandidateFigure {
+    /// The estimate, when there is one.
+    pub fn estimate(&self) -> Option<SpeedupEstimate> {
+        Some(SpeedupEstimate {
+            speedup: self.speedup?,
+            ci95: self.speedup_ci95?,
+            rounds: self.rounds,
+            outliers: self.outliers,
+            baseline_ms: 0.0,
+            candidate_ms: self.median_ms?,
+        })
+    }
+}
+
+/// What a run measured (`reproj.bench` v1, `docs/SCHEMAS.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BenchReport {
+    pub schema: String,
+    pub version: u32,
+    pub machine: Machine,
+    /// Timed frames per block, and the frames the windows were drawn from.
+    pub block_frames: u32,
+    pub session_frames: u32,
+    pub rounds: u32,
+    pub seconds: f64,
+    /// Share of the CPU other processes used while measuring (Linux; `null` elsewhere).
+    pub others_cpu: Option<f64>,
+    pub baseline: BaselineFigure,
+    pub candidates: Vec<CandidateFigure>,
+    /// Empty when the run was clean.
+    pub warnings: Vec<String>,
+}
+
+/// Measure every candidate against the baseline, interleaved (see the crate docs). `progress` is
+/// called after each round.
+pub fn bench(
+    renderer: &Renderer,
+    baseline: Baseline<'_>,
+    session: &Session,
+    candidates: &[Candidate],
+    opts: &BenchOptions,
+    progress: &mut dyn FnMut(&Progress<'_>),
+) -> Result<BenchReport, ReplayError> {
+    let frames = opts
+        .max_frames
+        .map_or(session.frames, |m| m.min(session.frames))
+        .min(baseline.reference.frames.len() as u32)
+        .max(1);
+    // One discarded frame ahead of the timed ones, when the session has room for it.
+    let timed = opts
+        .block_frames
+        .max(1)
+        .min(frames.saturating_sub(1).max(1));
+    let warm = u32::from(frames > timed);
+    let block_len = timed + warm;
+    let render = |who: Slot, first: u32, len: u32| -> Result<Vec<f64>, ReplayError> {
+        let o = RenderOptions {
+            png_dir: None,
+            max_frames: Some(len),
+            first_frame: first,
+            classify: false,
+            raw_frames: false,
+            perceptual_stride: None,
+        };
+        let recs = match who {
+            Slot::Baseline => {
+                renderer
+                    .render_original(baseline.shader, baseline.entry, session, &o)?
+                    .report
+                    .frames
+            }
+            Slot::Candidate(i) => match &candidates[i].subject {
+                Subject::Variant(v) => {
+                    renderer
+                        .render_variant(baseline.shader, session, v, baseline.reference, &o)?
+                        .frames
+                }
+                Subject::Shader { shader, entry } => {
+                    renderer
+                        .render_original(shader, *entry, session, &o)?
+                        .report
+                        .frames
+                }
+            },
+        };
+        Ok(recs.iter().map(|r| r.frame_ms).collect())
+    };
+
+    // Warm-up, not recorded: every subject builds its pipelines once.
+    for who in round_order(0, candidates.len()) {
+        render(who, 0, block_len.min(2))?;
+    }
+    let t0 = Instant::now();
+    let cpu0 = cpu_ticks();
+    let mut base_blocks: Vec<f64> = Vec::new();
+    let mut cand_blocks: Vec<Vec<f64>> = vec![Vec::new(); candidates.len()];
+    let mut strata: Vec<u32> = Vec::new();
+    let mut estimates: Vec<Option<SpeedupEstimate>> = vec![None; candidates.len()];
+    let mut rounds = 0u32;
+    loop {
+        let start = window_start(rounds, frames, block_len);
+        let mut got: Vec<(Slot, f64)> = Vec::new();
+        for who in round_order(rounds, candidates.len()) {
+            let ms = render(who, start, block_len)?;
+            let figure = block_ms(&ms[(warm as usize).min(ms.len())..]).unwrap_or(f64::NAN);
+            got.push((who, figure));
+        }
+        for (who, figure) in got {
+            match who {
+                Slot::Baseline => base_blocks.push(figure),
+                Slot::Candidate(i) => cand_blocks[i].push(figure),
+            }
+        }
+        strata.push(stratum(rounds));
+        rounds += 1;
+        for (e, c) in estimates.iter_mut().zip(&cand_blocks) {
+            *e = speedup::estimate(&strata, &base_blocks, c);
+        }
+        let seconds = t0.elapsed().as_secs_f64();
+        progress(&Progress {
+            rounds,
+            seconds,
+            estimates: &estimates,
+        });
+        if opts.stop.done(rounds, seconds, &estimates) {
+            break;
+        }
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    let others_cpu = match (cpu0, cpu_ticks()) {
+        (Some(a), Some(b)) => others_share(a, b),
+        _ => None,
+    };
+    let named: Vec<(String, Option<SpeedupEstimate>)> = candidates
+        .iter()
+        .zip(&estimates)
+        .map(|(c, e)| (c.name.clone(), *e))
+        .collect();
+    let mut warnings =
+        speedup::condition_warnings(&strata, &base_blocks, &named, &Conditions { others_cpu });
+    let wide = estimates
+        .iter()
+        .flatten()
+        .any(|e| e.half_width() > opts.stop.target_half_width);
+    if wide && rounds >= opts.stop.max_rounds.max(1) {
+        warnings.push(format!(
+            "the interval is wider than ±{:.0} % after the last of {rounds} rounds (--rounds)",
+            opts.stop.target_half_width * 100.0
+        ));
+    } else if wide {
+        warnings.push(format!(
+            "the interval is wider than ±{:.0} % after {seconds:.0} s (--max-time)",
+            opts.stop.target_half_width * 100.0
+        ));
+    }
+    let finite_median = |v: &[f64]| {
+        let f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+        (!f.is_empty()).then(|| speedup::median(&f))
+    };
+    Ok(BenchReport {
+        schema: BENCH_SCHEMA.into(),
+        version: BENCH_VERSION,
+        machine: Machine::of(renderer),
+        block_frames: timed,
+        session_frames: frames,
+        rounds,
+        seconds,
+        others_cpu,
+        baseline: BaselineFigure {
+            median_ms: finite_median(&base_blocks).unwrap_or(0.0),
+            blocks_ms: base_blocks,
+            windows: strata,
+        },
+        candidates: candidates
+            .iter()
+            .zip(&estimates)
+            .zip(cand_blocks)
+            .map(|((c, e), blocks)| CandidateFigure {
+                name: c.name.clone(),
+                median_ms: finite_median(&blocks),
+                speedup: e.map(|e| e.speedup),
+                speedup_ci95: e.map(|e| e.ci95),
+                rounds: e.map_or(0, |e| e.rounds),
+                outliers: e.map_or(0, |e| e.outliers),
+                blocks_ms: blocks,
+            })
+            .collect(),
+        warnings,
+    })
+}
+
+/// CPU time counters: (all CPUs busy, all CPUs total, this process), in clock ticks.
+type Ticks = (u64, u64, u64);
+
+/// The machine's and this process's CPU time so far (Linux `/proc`; `None` elsewhere).
+fn cpu_ticks() -> Option<Ticks> {
+    let stat = std::fs::read_to_string("/proc/stat").ok()?;
+    let cpu: Vec<u64> = stat
+        .lines()
+        .next()?
+        .split_whitespace()
+        .skip(1)
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    if cpu.len() < 4 {
+        return None;
+    }
+    // user nice system idle iowait irq softirq steal ...
+    let total: u64 = cpu.iter().take(8).sum();
+    let idle = cpu[3] + cpu.get(4).copied().unwrap_or(0);
+    let own = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which may hold spaces, in parentheses).
+    let rest = &own[own.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    // utime and stime are fields 14 and 15 of the line: 11 and 12 after the name.
+    let me = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
+    Some((total - idle, total, me))
+}
+
+/// Share of all CPU time between `a` and `b` that other processes used.
+fn others_share(a: Ticks, b: Ticks) -> Option<f64> {
+    let total = b.1.checked_sub(a.1)?;
+    if total == 0 {
+        return None;
+    }
+    let busy = b.0.saturating_sub(a.0);
+    let me = b.2.saturating_sub(a.2);
+    Some((busy.saturating_sub(me) as f64 / total as f64).clamp(0.0, 1.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cpu_share_of_others() {
+        assert_eq!(others_share((0, 0, 0), (0, 0, 0)), None);
+        // 400 ticks over the machine, 300 busy, 200 of them ours.
+        let s = others_share((100, 1000, 50), (400, 1400, 250)).unwrap();
+        assert!((s - 0.25).abs() < 1e-12);
+        if cfg!(target_os = "linux") {
+            assert!(cpu_ticks().is_some());
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! `reproj bench`: time candidates against the original shader, interleaved in one run
+//! (`reproj-bench`), and print each one's median frame time and speedup with its 95 % interval.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Duration;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use reproj_bench::{Baseline, BenchOptions, BenchReport, Candidate, Subject, bench};
+use reproj_front::load_file_as;
+use reproj_models::speedup::StopRule;
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+
+use super::UserError;
+use crate::BenchArgs;
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if args.min_rounds > args.rounds {
+        return Err(UserError(format!(
+            "--min-rounds {} is more than --rounds {}",
+            args.min_rounds, args.rounds
+        ))
+        .into());
+    }
+    let shader = load_file_as(&args.shader, super::lang_in(args.lang_in))?.to_wgsl()?;
+    let entry = shader.fragment_entry(args.entry.as_deref())?;
+    let session = Session::load(&args.session)?;
+    let mut candidates = Vec::new();
+    for path in &args.candidates {
+        candidates.push(candidate(path, args)?);
+    }
+    let renderer = Renderer::new(&RendererOptions {
+        backend: args.backend.clone(),
+        cpu_timing: false,
+    })?;
+    let bar = ProgressBar::new_spinner().with_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}").expect("template"),
+    );
+    bar.enable_steady_tick(Duration::from_millis(250));
+    bar.set_message("rendering the reference frames");
+    let reference = renderer.render_original(
+        &shader,
+        entry,
+        &session,
+        &RenderOptions {
+            max_frames: args.max_frames,
+            classify: false,
+            ..Default::default()
+        },
+    )?;
+    let opts = BenchOptions {
+        block_frames: args.block,
+        stop: StopRule {
+            min_rounds: args.min_rounds,
+            max_rounds: args.rounds,
+            target_half_width: args.target,
+            max_seconds: args.max_time,
+        },
+        max_frames: args.max_frames,
+    };
+    let report = bench(
+        &renderer,
+        Baseline {
+            shader: &shader,
+            entry,
+            reference: &reference,
+        },
+        &session,
+        &candidates,
+        &opts,
+        &mut |p| {
+            let figures: Vec<String> = p
+                .estimates
+                .iter()
+                .map(|e| e.map_or_else(|| "–".into(), |e| e.display()))
+                .collect();
+            bar.set_message(format!(
+                "round {}, {:.1} s: {}",
+                p.rounds,
+                p.seconds,
+                figures.join(", ")
+            ));
+        },
+    )?;
+    bar.finish_and_clear();
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
+    } else {
+        write_table(&mut out, &report, args)?;
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(())
+}
+
+/// A candidate from the command line: a variant directory or a shader file.
+fn candidate(path: &Path, args: &BenchArgs) -> anyhow::Result<Candidate> {
+    let name = path.display().to_string();
+    if path.is_dir() {
+        if !path.join("manifest.json").is_file() {
+            return Err(UserError(format!(
+                "{name}: not a variant directory (no manifest.json; `emit` that kept the original writes none)"
+            ))
+            .into());
+        }
+        let mut v = VariantInput::from_dir(path, 1)?;
+        v.delta_n = args
+            .delta_n
+            .or_else(|| emitted_delta_n(path))
+            .unwrap_or(v.manifest.params.delta_n);
+        return Ok(Candidate {
+            name: format!("{name} (Δn {})", v.delta_n),
+            subject: Subject::Variant(v),
+        });
+    }
+    if !path.exists() {
+        return Err(UserError(format!("{name}: no such file or directory")).into());
+    }
+    let shader = load_file_as(path, super::lang_in(args.lang_in))?.to_wgsl()?;
+    let entry = shader.fragment_entry(args.entry.as_deref())?;
+    Ok(Candidate {
+        name,
+        subject: Subject::Shader { shader, entry },
+    })
+}
+
+/// The Δn `emit` chose for the variant in `dir`, from its report.json.
+fn emitted_delta_n(dir: &Path) -> Option<u32> {
+    let text = std::fs::read_to_string(dir.join("report.json")).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    u32::try_from(v.get("delta_n")?.as_u64()?).ok()
+}
+
+fn write_table(out: &mut impl Write, r: &BenchReport, args: &BenchArgs) -> anyhow::Result<()> {
+    writeln!(
+        out,
+        "{} over {}: {} rounds of {} timed frames, {:.1} s",
+        args.shader.display(),
+        args.session.display(),
+        r.rounds,
+        r.block_frames,
+        r.seconds
+    )?;
+    writeln!(out, "on {}", r.machine.describe())?;
+    let width = r
+        .candidates
+        .iter()
+        .map(|c| c.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max("original (baseline)".len());
+    writeln!(
+        out,
+        "  {:<width$}  {:>10}  {:<24}  {:>6}  {:>8}",
+        "", "ms/frame", "speedup [95 % CI]", "rounds", "outliers"
+    )?;
+    writeln!(
+        out,
+        "  {:<width$}  {:>10.3}",
+        "original (baseline)", r.baseline.median_ms
+    )?;
+    for c in &r.candidates {
+        let ms = c
+            .median_ms
+            .map_or_else(|| "–".into(), |m| format!("{m:.3}"));
+        let s = c
+            .estimate()
+            .map_or_else(|| "no usable timing".into(), |e| e.display());
+        writeln!(
+            out,
+            "  {:<width$}  {:>10}  {:<24}  {:>6}  {:>8}",
+            c.name, ms, s, c.rounds, c.outliers
+        )?;
+    }
+    Ok(())
+}
