@@ -15,15 +15,16 @@ use reproj_models::{PROFILE_VERSION, Profile, content_hash, fit_hit_rate};
 use reproj_replay::{RenderOptions, Renderer, Session};
 
 use crate::AnalyzeError;
-use crate::journal::{Journal, ReplayKey};
+use crate::journal::Journal;
 pub use crate::options::{
     AnalyzeOptions, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
-    DEFAULT_PROBE_FRAMES, DEFAULT_TRAIN, Sampling,
+    DEFAULT_RACE, DEFAULT_TRAIN, Sampling,
 };
 use crate::options::{check_periods, period_plan};
 use crate::prune::profile_candidates;
-use crate::replayer::{Fitted, Replayer, Subject, finite, fit_replays, mean, too_slow};
+use crate::replayer::{Fitted, RaceEntry, Replayer, Subject, finite, fit_replays, mean, too_slow};
 use crate::strategies::{StrategyPruner, Verdict};
+use reproj_models::speedup::{SpeedupEstimate, separates};
 
 /// Progress of a long analysis, reported by [`analyze`] (the CLI draws a bar).
 pub trait Progress {
@@ -161,14 +162,14 @@ pub fn analyze(
             Some(journal)
         }
     };
-    // Whether strategies may be compared on a prefix: then the kept one costs one more replay.
-    let probing = extra > 0 && opts.probe_frames.is_some_and(|p| p < session_frames);
-    progress.start(1 + (ids.len() * (1 + plan.len() + extra + usize::from(probing))) as u64);
+    // Per node: each strategy instanced (or pruned), the race, the longest period and the plan.
+    progress.start(1 + (ids.len() * (3 + plan.len() + extra)) as u64);
 
     let render_opts = RenderOptions {
         png_dir: None,
         max_frames: opts.max_frames,
         first_frame: 0,
+        timing_only: false,
         classify: false,
         raw_frames: false,
         perceptual_stride: Some(stride),
@@ -201,6 +202,8 @@ pub fn analyze(
         time,
         original_ms: original.frame_ms,
         longest,
+        warned: false,
+        timing_warnings: Vec::new(),
     };
 
     // Replays, node by node.
@@ -237,24 +240,12 @@ pub fn analyze(
                 Verdict::Pruned => progress.step(&format!("node {id} {strategy} pruned")),
             }
         }
-        // Several strategies are compared on the session's first `probe` frames at the longest
-        // period; only the fastest is then replayed over the whole session.
-        let probe = opts
-            .probe_frames
-            .filter(|&p| to_try.len() > 1 && p < session_frames);
-        if probing && probe.is_none() {
-            progress.step(&format!("node {id}: one strategy left, no probe"));
-        }
-        // A probe decides on time alone: no frame is read back for the perceptual metrics.
-        let probe_opts = match probe {
-            Some(p) => RenderOptions {
-                max_frames: Some(p),
-                perceptual_stride: None,
-                ..rp.render_opts.clone()
-            },
-            None => rp.render_opts.clone(),
-        };
-        let mut tried: Vec<Tried> = Vec::new();
+        // Each strategy still in the running is instanced, then all race the original at the
+        // longest period, interleaved (`reproj-bench`): the fastest wins only where its interval
+        // separates from the simplest's, and a node is set aside only when its winner's interval
+        // lies wholly below 1×.
+        let mut built: Vec<Built> = Vec::new();
+        let mut instance_failure = None;
         for &(si, strategy) in &to_try {
             let block = opts.block.unwrap_or(strategy.default_block());
             let inst = InstanceOptions {
@@ -265,104 +256,76 @@ pub fn analyze(
             let t = Instant::now();
             let variant = instance(input.shader, input.norm, input.table, sel, &inst);
             rp.time.instancing_s += t.elapsed().as_secs_f64();
-            let variant = match variant {
-                Ok(v) => v,
+            progress.step(&format!("node {id} {strategy} instanced"));
+            match variant {
+                Ok(variant) => built.push(Built {
+                    si,
+                    strategy,
+                    block,
+                    sources: variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                    variant,
+                }),
                 Err(e) => {
                     progress.note(&format!("node {id} ({strategy}): cannot instance: {e}"));
-                    tried.push(Tried {
-                        si,
-                        strategy,
-                        block,
-                        built: None,
-                        res: Err(format!("cannot instance: {e}")),
-                    });
-                    continue;
-                }
-            };
-            let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-            let res = rp.replay(
-                ReplayKey {
-                    node: id,
-                    strategy: strategy.name().into(),
-                    block,
-                    delta_n: longest,
-                    frames: probe,
-                    set: Vec::new(),
-                },
-                &sources,
-                &variant,
-                longest,
-                Some(&probe_opts),
-            )?;
-            let on = match probe {
-                Some(p) => format!(" on {p} frames"),
-                None => String::new(),
-            };
-            progress.step(&format!("node {id} {strategy} Δn={longest}{on}"));
-            if let Err(e) = &res {
-                progress.note(&format!(
-                    "node {id} ({strategy}): replay failed at Δn={longest}{on}: {e}"
-                ));
-            }
-            tried.push(Tried {
-                si,
-                strategy,
-                block,
-                built: Some((sources, variant)),
-                res,
-            });
-        }
-        let best = tried
-            .iter()
-            .enumerate()
-            .filter_map(|(i, t)| t.res.as_ref().ok().map(|(m, _)| (i, m.frame_ms)))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        // The original's time over the same frames (frame 0 excluded, as in every mean).
-        let original_ms = match probe {
-            Some(p) => {
-                let prefix =
-                    &original.frame_times_ms[..(p as usize - 1).min(original.frame_times_ms.len())];
-                if prefix.is_empty() {
-                    original.frame_ms
-                } else {
-                    mean(prefix.iter().copied())
-                }
-            }
-            None => original.frame_ms,
-        };
-        if let Some((_, best_ms)) = best {
-            for t in &tried {
-                if let Ok((m, _)) = &t.res {
-                    pruner.record(t.si, m.frame_ms / best_ms, best_ms < original_ms);
+                    instance_failure.get_or_insert(format!("cannot instance: {e}"));
                 }
             }
         }
-        let best = best.map(|(i, _)| i);
-        if opts.strategies.len() > 1 {
-            for (i, t) in tried.iter().enumerate() {
-                if let Ok((m, pass_ms)) = &t.res {
-                    probes.push(StrategyProbe {
-                        node: id,
-                        strategy: t.strategy.name().into(),
-                        block: t.block,
-                        delta_n: longest,
-                        frame_ms: m.frame_ms,
-                        error: m.error,
-                        pass_ms: pass_ms.clone(),
-                        kept: Some(i) == best,
-                        frames: probe,
-                        original_ms: Some(original_ms),
-                    });
-                }
-            }
-        }
-        let Some(best) = best else {
-            let why = tried
+        let race = if built.is_empty() {
+            None
+        } else {
+            let entries: Vec<RaceEntry> = built
                 .iter()
-                .filter_map(|t| t.res.as_ref().err().cloned())
-                .next()
-                .unwrap_or_else(|| "no strategy could be replayed".into());
-            for _ in 0..plan.len() + usize::from(probe.is_some()) {
+                .map(|b| RaceEntry {
+                    name: b.strategy.name().to_string(),
+                    sources: &b.sources,
+                    variant: &b.variant,
+                })
+                .collect();
+            Some(rp.race(&format!("node {id}"), &entries)?)
+        };
+        progress.step(&format!("node {id} race at Δn={longest}"));
+        let estimates: Vec<Option<SpeedupEstimate>> = race
+            .as_ref()
+            .map(|r| r.candidates.iter().map(|c| c.estimate()).collect())
+            .unwrap_or_default();
+        let winner = race_winner(&built, &estimates);
+        if let Some(w) = winner
+            && let Some(best) = estimates[w]
+        {
+            for (b, e) in built.iter().zip(&estimates) {
+                // A loss counts only where the intervals separate.
+                let ratio = match e {
+                    Some(e) if separates(&best, e) => best.speedup / e.speedup,
+                    Some(_) => 1.0,
+                    None => f64::INFINITY,
+                };
+                pruner.record(b.si, ratio, best.surely_faster());
+            }
+        }
+        if let Some(r) = &race {
+            for (i, (b, c)) in built.iter().zip(&r.candidates).enumerate() {
+                probes.push(StrategyProbe {
+                    node: id,
+                    strategy: b.strategy.name().into(),
+                    block: b.block,
+                    delta_n: longest,
+                    frame_ms: finite(c.median_ms.unwrap_or(0.0)),
+                    error: None,
+                    pass_ms: Vec::new(),
+                    kept: Some(i) == winner,
+                    frames: None,
+                    original_ms: Some(finite(r.baseline.median_ms)),
+                    speedup: c.speedup.map(finite),
+                    speedup_ci95: c.speedup_ci95.map(|[lo, hi]| [finite(lo), finite(hi)]),
+                    rounds: Some(c.rounds),
+                });
+            }
+        }
+        let Some(w) = winner else {
+            let why = instance_failure
+                .unwrap_or_else(|| "no strategy could be timed (no finite frame time)".into());
+            for _ in 0..1 + plan.len() {
                 progress.step(&format!("node {id}"));
             }
             raws.push(Raw {
@@ -374,31 +337,22 @@ pub fn analyze(
             });
             continue;
         };
-        let Tried {
+        let estimate = estimates[w].expect("the winner has an estimate");
+        let Built {
             strategy,
             block,
-            built,
-            res,
+            sources,
+            variant,
             ..
-        } = tried.swap_remove(best);
-        let (sources, variant) = built.expect("a replayed strategy was instanced");
-        let (probed, _) = res.expect("the best strategy replayed");
-        // Without a probe the kept strategy's replay at the longest period is the node's first
-        // measurement; after one, that replay over the whole session leads the node's plan.
-        // (A probe that lost to the original over its frames is not worth that whole replay.)
-        let mut failure = too_slow(&probed, node.root, original_ms, longest, strategy, probe);
-        let (mut measurements, node_plan) = match probe {
-            None => (vec![probed], plan.clone()),
-            Some(_) => (
-                Vec::new(),
-                std::iter::once((longest, false))
-                    .chain(plan.iter().copied())
-                    .collect(),
-            ),
-        };
+        } = built.swap_remove(w);
+        let mut failure = too_slow(&estimate, node.root, longest, strategy);
         if let Some(why) = &failure {
             progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
         }
+        let mut measurements = Vec::new();
+        let node_plan: Vec<(u32, bool)> = std::iter::once((longest, false))
+            .chain(plan.iter().copied())
+            .collect();
         let subject = Subject {
             node: id,
             set: Vec::new(),
@@ -407,6 +361,7 @@ pub fn analyze(
             root: node.root,
             strategy,
             block,
+            raced: true,
         };
         rp.replay_plan(
             &subject,
@@ -495,6 +450,7 @@ pub fn analyze(
     }
     let mut time = rp.time;
     time.total_s = started.elapsed().as_secs_f64();
+    let timing_warnings = rp.timing_warnings;
 
     let adapter = renderer.adapter();
     Ok(Profile {
@@ -521,6 +477,7 @@ pub fn analyze(
             },
             cpu_cores: std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
+            cpu_rasterizer: reproj_bench::Machine::of(renderer).cpu_rasterizer,
         },
         resolution: input.session.resolution,
         frames: reference.frames.len() as u32,
@@ -533,6 +490,7 @@ pub fn analyze(
         hit_rate,
         nodes,
         strategy_probes: probes,
+        timing_warnings,
         sets,
         time,
         shard: opts.shard,
@@ -552,13 +510,43 @@ pub(crate) fn fit_session_hit_rate<'a>(
     fit_hit_rate(&samples)
 }
 
-/// One strategy tried on one node in `analyze`: its index in the options' strategies, the variant
-/// built (when it could be: pass sources and the variant), and the replay at the longest period
-/// with per-pass times.
-struct Tried {
+/// One strategy of one node in `analyze`, instanced: its index in the options' strategies and
+/// the variant (pass sources and the variant).
+struct Built {
     si: usize,
     strategy: Strategy,
     block: u32,
-    built: Option<(Vec<String>, reproj_instance::Variant)>,
-    res: Result<(Measurement, Vec<f64>), String>,
+    sources: Vec<String>,
+    variant: reproj_instance::Variant,
+}
+
+/// The strategy that wins a node's race: the fastest by its estimate, where its interval
+/// separates from the simplest strategy's (the fewest passes); otherwise the simplest — timing
+/// noise never decides. `None` when no strategy has an estimate.
+fn race_winner(built: &[Built], estimates: &[Option<SpeedupEstimate>]) -> Option<usize> {
+    let timed: Vec<(usize, SpeedupEstimate)> = estimates
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| Some((i, (*e)?)))
+        .collect();
+    let fastest = timed
+        .iter()
+        .max_by(|a, b| a.1.speedup.total_cmp(&b.1.speedup))?;
+    let simplest = timed
+        .iter()
+        .min_by_key(|(i, _)| (passes(built[*i].strategy), *i))?;
+    Some(if separates(&fastest.1, &simplest.1) {
+        fastest.0
+    } else {
+        simplest.0
+    })
+}
+
+/// How many passes a strategy draws per frame: the measure of simplicity a tie falls back on.
+fn passes(s: Strategy) -> u32 {
+    match s {
+        Strategy::Fused => 1,
+        Strategy::TwoPass => 2,
+        Strategy::ThreePass => 3,
+    }
 }

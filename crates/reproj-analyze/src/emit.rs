@@ -468,6 +468,7 @@ pub fn verify(
         png_dir: None,
         max_frames: None,
         first_frame: 0,
+        timing_only: false,
         classify: false,
         raw_frames: false,
         perceptual_stride: Some(

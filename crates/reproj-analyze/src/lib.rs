@@ -15,8 +15,8 @@ mod strategies;
 use std::path::PathBuf;
 
 pub use analyze::{
-    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, DEFAULT_PROBE_FRAMES, Progress,
-    Sampling, Silent, analyze,
+    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, DEFAULT_RACE, Progress, Sampling,
+    Silent, analyze,
 };
 pub use emit::{
     EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,

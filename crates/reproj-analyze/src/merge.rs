@@ -107,6 +107,7 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             readback_and_error_s: t.readback_and_error_s + p.time.readback_and_error_s,
             fitting_s: t.fitting_s + p.time.fitting_s,
             instancing_s: t.instancing_s + p.time.instancing_s,
+            timing_s: t.timing_s + p.time.timing_s,
         });
     merged.hit_rate = crate::analyze::fit_session_hit_rate(
         merged.nodes.iter().flat_map(|n| &n.measurements),

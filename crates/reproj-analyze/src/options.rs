@@ -22,9 +22,19 @@ pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
 /// 15 frames is what its model needs; more frames cost CPU time (ꟻLIP is about 60 ms per
 /// 256×256 frame on one core, as much as rendering the frame several times on lavapipe).
 pub const DEFAULT_PERCEPTUAL_FRAMES: u32 = 15;
-/// Default [`AnalyzeOptions::probe_frames`]: a third of the paper's 150-frame sessions, three
-/// refresh cycles at Δn = 16 and one at Δn = 50.
-pub const DEFAULT_PROBE_FRAMES: u32 = 50;
+/// How `analyze` times its races by default ([`AnalyzeOptions::race`]): blocks of 8 timed frames,
+/// 8 to 16 rounds (two to four per window of the session), stopping once every interval is within
+/// ±5 % or after 8 s. A race decides only where intervals separate, so a short one is enough.
+pub const DEFAULT_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
+    block_frames: 8,
+    stop: reproj_models::speedup::StopRule {
+        min_rounds: 8,
+        max_rounds: 16,
+        target_half_width: 0.05,
+        max_seconds: 8.0,
+    },
+    max_frames: None,
+};
 
 /// Options of [`analyze`].
 #[derive(Debug, Clone)]
@@ -57,9 +67,12 @@ pub struct AnalyzeOptions {
     pub perceptual_stride: Option<u32>,
     /// At how many of the training periods each node is replayed.
     pub sampling: Sampling,
-    /// Compare the strategies of a node on the session's first N frames (at the longest training
-    /// period) and replay only the fastest over the whole session. `None`: the whole session.
+    /// The strategy races and set-aside decisions draw their windows from the session's first N
+    /// frames. `None`: the whole session.
     pub probe_frames: Option<u32>,
+    /// How the races are timed: each node's strategies (and each set) against the original at
+    /// the longest training period, interleaved (`reproj-bench`).
+    pub race: reproj_bench::BenchOptions,
     /// After the single nodes, search sets of nodes cached together ([`crate::sets`]). `None`:
     /// no set is formed (`--no-sets`).
     pub sets: Option<SetSearchOptions>,
@@ -169,7 +182,8 @@ impl Default for AnalyzeOptions {
             journal: None,
             shard: None,
             sampling: Sampling::default(),
-            probe_frames: Some(DEFAULT_PROBE_FRAMES),
+            probe_frames: None,
+            race: DEFAULT_RACE,
             perceptual_stride: None,
             sets: Some(SetSearchOptions::default()),
         }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use reproj_instance::Strategy;
 use reproj_models::profile::{AnalysisTime, HoldoutCheck, Measurement, NodeStatus};
+use reproj_models::speedup::SpeedupEstimate;
 use reproj_models::{
     ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, FrameValue, MetricSummary, TimingFit,
     TimingStatus, fit_error, fit_timing_with_holdout, predicted_frame_ms,
@@ -17,24 +18,28 @@ use crate::analyze::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
 use crate::options::{AnalyzeOptions, model_holds};
 
-/// Why a non-root node whose variant at the longest period is no faster than the original (over
-/// the first `probe` frames, or the whole session) cannot pay off; `None` when it may.
+/// Why a non-root subject whose variant at the longest period is slower than the original beyond
+/// doubt (its whole interleaved-timing interval below 1×) cannot pay off; `None` when it may.
 pub(crate) fn too_slow(
-    m: &Measurement,
+    e: &SpeedupEstimate,
     root: bool,
-    original_ms: f64,
     longest: u32,
     strategy: Strategy,
-    probe: Option<u32>,
 ) -> Option<String> {
-    if root || m.frame_ms < original_ms {
+    if root || !e.surely_slower() {
         return None;
     }
-    let over = probe.map_or(String::new(), |p| format!(" over the first {p} frames"));
     Some(format!(
-        "slower than the original even at Δn = {longest} ({:.3} ms vs {:.3} ms{over}, {strategy}): it cannot pay off",
-        m.frame_ms, original_ms
+        "slower than the original even at Δn = {longest}: {} ({strategy}, timed interleaved): it cannot pay off",
+        e.display()
     ))
+}
+
+/// One variant in a race ([`Replayer::race`]).
+pub(crate) struct RaceEntry<'a> {
+    pub(crate) name: String,
+    pub(crate) sources: &'a [String],
+    pub(crate) variant: &'a reproj_instance::Variant,
 }
 
 /// What every replay of one analysis shares: the renderer and the reference, the options, the
@@ -53,6 +58,10 @@ pub(crate) struct Replayer<'a, 'b> {
     pub(crate) original_ms: f64,
     /// The longest training period (replayed first).
     pub(crate) longest: u32,
+    /// Whether a timing warning was shown already (one per analysis is enough).
+    pub(crate) warned: bool,
+    /// Every timing warning of the analysis, once each (into the profile).
+    pub(crate) timing_warnings: Vec<String>,
 }
 
 /// What [`Replayer::replay_plan`] replays: a node, or a set of nodes cached together.
@@ -67,9 +76,69 @@ pub(crate) struct Subject {
     pub(crate) root: bool,
     pub(crate) strategy: Strategy,
     pub(crate) block: u32,
+    /// Its variant already raced the original ([`Replayer::race`]); otherwise
+    /// [`Replayer::replay_plan`] races it at the longest period before replaying on.
+    pub(crate) raced: bool,
 }
 
 impl Replayer<'_, '_> {
+    /// Time `entries` (variants of one subject at the longest period) against the original,
+    /// interleaved (`reproj-bench`, under [`AnalyzeOptions::race`]): each one's speedup with its
+    /// 95 % interval. Races are not journaled: a resumed analysis times again.
+    pub(crate) fn race(
+        &mut self,
+        who: &str,
+        entries: &[RaceEntry<'_>],
+    ) -> Result<reproj_bench::BenchReport, AnalyzeError> {
+        let t = Instant::now();
+        let candidates: Vec<reproj_bench::Candidate> = entries
+            .iter()
+            .map(|e| reproj_bench::Candidate {
+                name: e.name.clone(),
+                subject: reproj_bench::Subject::Variant(VariantInput::new(
+                    e.sources.to_vec(),
+                    e.variant.manifest.clone(),
+                    self.longest,
+                )),
+            })
+            .collect();
+        let entry = self
+            .input
+            .shader
+            .fragment_entry(Some(&self.input.norm.entry))?;
+        let mut race = self.opts.race;
+        race.max_frames = match (self.opts.probe_frames, self.opts.max_frames) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        let report = reproj_bench::bench(
+            self.renderer,
+            reproj_bench::Baseline {
+                shader: self.input.shader,
+                entry,
+                reference: self.reference,
+            },
+            self.input.session,
+            &candidates,
+            &race,
+            &mut |_| {},
+        )?;
+        self.time.timing_s += t.elapsed().as_secs_f64();
+        for w in &report.warnings {
+            // The same warning for every node says nothing more: once each.
+            let kind: String = w.chars().take_while(|c| *c != ':').collect();
+            if self.timing_warnings.iter().any(|o| o.starts_with(&kind)) {
+                continue;
+            }
+            self.timing_warnings.push(w.clone());
+            if !self.warned {
+                self.progress.note(&format!("{who}: timing: {w}"));
+                self.warned = true;
+            }
+        }
+        Ok(report)
+    }
+
     /// Replay one variant at `delta_n` over the whole session (`render_opts`: `None`) or as
     /// `render_opts` says, or take the journal's record of that replay; a new replay is recorded.
     pub(crate) fn replay(
@@ -146,24 +215,27 @@ impl Replayer<'_, '_> {
                 frames: None,
                 set: subject.set.clone(),
             };
-            match self.replay(key, sources, variant, dn, None)? {
-                Ok((m, _)) => {
-                    if dn == self.longest {
-                        *failure = too_slow(
-                            &m,
-                            subject.root,
-                            self.original_ms,
-                            self.longest,
-                            *strategy,
-                            None,
-                        );
-                        if let Some(why) = &failure {
-                            self.progress
-                                .note(&format!("{who} `{text}`: set aside: {why}"));
-                        }
+            if dn == self.longest && !subject.raced && !subject.root {
+                let race = self.race(
+                    who,
+                    &[RaceEntry {
+                        name: who.clone(),
+                        sources,
+                        variant,
+                    }],
+                )?;
+                if let Some(e) = race.candidates[0].estimate() {
+                    *failure = too_slow(&e, subject.root, self.longest, *strategy);
+                    if let Some(why) = &failure {
+                        self.progress
+                            .note(&format!("{who} `{text}`: set aside: {why}"));
+                        self.progress.step(&format!("{who} {strategy} Δn={dn}"));
+                        continue;
                     }
-                    measurements.push(m);
                 }
+            }
+            match self.replay(key, sources, variant, dn, None)? {
+                Ok((m, _)) => measurements.push(m),
                 Err(e) => {
                     self.progress
                         .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));

@@ -360,6 +360,7 @@ pub(crate) fn analyze_sets(
                     root: false,
                     strategy,
                     block,
+                    raced: false,
                 };
                 rp.replay_plan(
                     &subject,

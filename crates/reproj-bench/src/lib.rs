@@ -218,6 +218,7 @@ pub fn bench(
             png_dir: None,
             max_frames: Some(len),
             first_frame: first,
+            timing_only: true,
             classify: false,
             raw_frames: false,
             perceptual_stride: None,

@@ -270,9 +270,9 @@ pub struct AnalyzeArgs {
     /// Replay only the first N frames of the session.
     #[arg(long)]
     pub max_frames: Option<u32>,
-    /// Compare a node's strategies on the session's first N frames and replay only the fastest
-    /// over the whole session (0: compare them over the whole session).
-    #[arg(long, default_value_t = reproj_analyze::DEFAULT_PROBE_FRAMES)]
+    /// Race a node's strategies (timed interleaved against the original) on windows of the
+    /// session's first N frames only (0: windows over the whole session).
+    #[arg(long, default_value_t = 0)]
     pub probe_frames: u32,
     /// Compute ꟻLIP and SSIM on every Nth frame of each replay (0, N, 2N, ...): each such frame
     /// is read back and compared on the CPU. Default: about 15 frames per replay (every 10th of

@@ -266,6 +266,7 @@ pub fn compare(
         png_dir: None,
         max_frames: opts.max_frames,
         first_frame: 0,
+        timing_only: false,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

@@ -20,7 +20,10 @@ use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary
 /// Version 5: `unroll`.
 /// Version 6: `sets`, node sets cached together in one payload and replayed (`analyze`'s greedy
 /// set search). Older files still load without them.
-pub const PROFILE_VERSION: u32 = 6;
+/// Version 7: the strategy race and the set-aside rule timed interleaved (`reproj-bench`):
+/// `strategy_probes` carry `speedup`, `speedup_ci95` and `rounds` (no `error`), `machine` says
+/// whether the adapter is a CPU rasterizer, `timing_warnings`, `time.timing_s`.
+pub const PROFILE_VERSION: u32 = 7;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -68,6 +71,10 @@ pub struct Profile {
     /// Every strategy tried per node at the longest training Δn, and which one was kept.
     #[serde(default)]
     pub strategy_probes: Vec<StrategyProbe>,
+    /// What the interleaved timing saw of the machine during the analysis (load, drift, wide
+    /// intervals), once each; empty when it was quiet (version 7 on).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub timing_warnings: Vec<String>,
     /// Sets of nodes cached together in one payload and replayed, best first as the search met
     /// them (version 6; empty: none was formed, `--no-sets`, or an older profile).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -127,6 +134,10 @@ pub struct Machine {
     pub cpu_cores: u32,
     /// `LP_NUM_THREADS` when set (lavapipe's rasterizer threads).
     pub lp_num_threads: Option<String>,
+    /// The adapter is a CPU rasterizer (lavapipe): its speed figures say nothing of a GPU's
+    /// (version 7 on).
+    #[serde(default)]
+    pub cpu_rasterizer: bool,
 }
 
 /// The original shader's measurements.
@@ -351,12 +362,24 @@ pub struct StrategyProbe {
     pub strategy: String,
     pub block: u32,
     pub delta_n: u32,
+    /// Median ms per frame of the strategy's blocks in the race (before version 7: the mean of
+    /// one replay).
     pub frame_ms: f64,
-    pub error: f64,
-    /// Per-pass mean times, ms (frame 0 excluded).
+    /// The error over the probe's frames (profiles before version 7; a race measures no error).
+    #[serde(default)]
+    pub error: Option<f64>,
+    /// Per-pass mean times, ms (frame 0 excluded; profiles before version 7).
     #[serde(default)]
     pub pass_ms: Vec<f64>,
     pub kept: bool,
+    /// Speedup over the original, timed interleaved (`reproj-bench`), with its 95 % interval
+    /// and the rounds it rests on (version 7 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rounds: Option<u32>,
     /// The probe replayed the session's first N frames only (`analyze --probe-frames`); `None`:
     /// the whole session (profiles before probes, or a session no longer than the probe).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -375,6 +398,9 @@ pub struct AnalysisTime {
     pub readback_and_error_s: f64,
     pub fitting_s: f64,
     pub instancing_s: f64,
+    /// The interleaved timing of the strategy races and set-aside decisions (version 7 on).
+    #[serde(default)]
+    pub timing_s: f64,
 }
 
 /// FNV-1a 64-bit hash of some bytes, as 16 hex digits: a stable fingerprint of the shader and

@@ -24,13 +24,14 @@ pub enum Subject {
     Candidate(usize),
 }
 
-/// The order of the subjects in round `round` with `candidates` candidates: even rounds run the
-/// baseline first and the candidates in order, odd rounds the reverse, so a load that drifts
-/// linearly over two rounds weighs on both sides of every pair alike.
+/// The order of the subjects in round `round` with `candidates` candidates: the baseline first
+/// and the candidates in order, or the reverse, alternating between the successive visits of each
+/// window ([`stratum`]), so that within every window each side runs first as often as the other
+/// and a load that drifts linearly weighs on both sides of every pair alike.
 pub fn round_order(round: u32, candidates: usize) -> Vec<Subject> {
     let mut order = vec![Subject::Baseline];
     order.extend((0..candidates).map(Subject::Candidate));
-    if round % 2 == 1 {
+    if (round / WINDOWS) % 2 == 1 {
         order.reverse();
     }
     order
@@ -472,8 +473,9 @@ mod tests {
                 Subject::Candidate(1)
             ]
         );
+        assert_eq!(round_order(1, 2), round_order(0, 2));
         assert_eq!(
-            round_order(1, 2),
+            round_order(WINDOWS, 2),
             [
                 Subject::Candidate(1),
                 Subject::Candidate(0),

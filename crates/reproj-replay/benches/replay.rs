@@ -43,6 +43,7 @@ fn main() {
         png_dir: None,
         max_frames: None,
         first_frame: 0,
+        timing_only: false,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

@@ -97,6 +97,7 @@ fn main() {
         png_dir: None,
         max_frames: Some(args.frames),
         first_frame: 0,
+        timing_only: false,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

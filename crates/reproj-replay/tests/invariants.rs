@@ -30,6 +30,7 @@ fn opts(frames: u32) -> RenderOptions {
         png_dir: None,
         max_frames: Some(frames),
         first_frame: 0,
+        timing_only: false,
         classify: false,
         raw_frames: false,
         perceptual_stride: None,

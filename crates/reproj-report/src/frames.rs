@@ -52,6 +52,7 @@ pub fn reference(
             png_dir: None,
             max_frames: Some(profile.frames),
             first_frame: 0,
+            timing_only: false,
             classify: false,
             raw_frames: false,
             perceptual_stride: None,
@@ -122,6 +123,7 @@ pub fn render_choice(
             png_dir: Some(dir.path().to_owned()),
             max_frames: Some(profile.frames),
             first_frame: 0,
+            timing_only: false,
             classify: true,
             raw_frames: false,
             // The perceptual metrics on the profile's frames (or analyze's default stride).

@@ -116,6 +116,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         block: args.cache.block,
         max_frames: args.max_frames,
         probe_frames: (args.probe_frames > 0).then_some(args.probe_frames),
+        race: reproj_analyze::DEFAULT_RACE,
         perceptual_stride: args.metric_stride,
         // Beside the profile: NAME.profile.journal. Removed once the profile is written.
         journal: Some(reproj_analyze::JournalOptions {

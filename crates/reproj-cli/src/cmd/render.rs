@@ -34,6 +34,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         png_dir: frames.as_ref().map(|f| f.path().to_owned()),
         max_frames: args.max_frames,
         first_frame: 0,
+        timing_only: false,
         classify: true,
         raw_frames: args.raw_frames,
         perceptual_stride: Some(args.metric_stride),

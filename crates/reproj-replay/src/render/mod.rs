@@ -81,6 +81,10 @@ pub struct RenderOptions {
     /// (that frame runs with Δn = 1) and its refresh clock is the session's frame index. Report
     /// records keep the session's frame numbers. A variant's reference must cover the window.
     pub first_frame: u32,
+    /// Time only (the bench's blocks, `reproj-bench`): no frame, depth or error comes back — the
+    /// original's [`Reference`] holds no frames and a variant's records no error — so a short
+    /// block costs little besides its own frames. Timestamps and occlusion counts are unchanged.
+    pub timing_only: bool,
     /// Variants: render the `reproj_classify` entry point each frame (hit map and exact
     /// hit / miss / refresh pixel counts). Ignored when the pass-1 module has no such entry point.
     pub classify: bool,
@@ -99,6 +103,7 @@ impl Default for RenderOptions {
             png_dir: None,
             max_frames: None,
             first_frame: 0,
+            timing_only: false,
             classify: true,
             raw_frames: false,
             perceptual_stride: None,

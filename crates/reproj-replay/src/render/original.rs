@@ -129,17 +129,30 @@ impl Renderer {
             }
             q.resolve(&mut enc, slot);
             let mut rb = self.device.create_command_encoder(&Default::default());
-            frame_rb.copy(&mut rb, &color, slot);
-            let at = slot as u64 * depth_rb.slot_bytes;
-            keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
+            if !opts.timing_only {
+                frame_rb.copy(&mut rb, &color, slot);
+                let at = slot as u64 * depth_rb.slot_bytes;
+                keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
+            }
             if !batch.submit(self, enc, rb, f)? {
                 continue;
             }
 
             // Read the batch back with one wait.
-            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                let pixels: Vec<f32> = bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?);
-                let depth: Vec<f32> = bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?);
+            let bufs: &[&wgpu::Buffer] = if opts.timing_only {
+                &rb_bufs[..rb_bufs.len() - 2]
+            } else {
+                &rb_bufs
+            };
+            batch.read_back(self, bufs, |slot, f, cpu_ms| {
+                let (pixels, depth): (Vec<f32>, Vec<f32>) = if opts.timing_only {
+                    (Vec::new(), Vec::new())
+                } else {
+                    (
+                        bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?),
+                        bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?),
+                    )
+                };
                 let covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
                 let (occ, pass_ms, span) = q.read(slot)?;
                 let frame_ms = span.unwrap_or(cpu_ms);
@@ -169,8 +182,10 @@ impl Renderer {
                     flip: None,
                     ssim: None,
                 });
-                out_frames.push(pixels);
-                out_depth.push(depth);
+                if !opts.timing_only {
+                    out_frames.push(pixels);
+                    out_depth.push(depth);
+                }
                 Ok(())
             })?;
         }

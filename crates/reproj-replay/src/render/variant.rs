@@ -339,12 +339,24 @@ impl Renderer {
             opts.perceptual_stride
                 .is_some_and(|k| f.is_multiple_of(k.max(1)))
         };
-        let errors = FrameErrors::new(self, reference, first + frames, slots, back)?;
+        let errors = if opts.timing_only {
+            None
+        } else {
+            Some(FrameErrors::new(
+                self,
+                reference,
+                first + frames,
+                slots,
+                back,
+            )?)
+        };
         let cls_rb = pc
             .as_ref()
             .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
         let mut rb_bufs = q.read_buffers();
-        rb_bufs.extend(errors.read_buffers());
+        if let Some(errors) = &errors {
+            rb_bufs.extend(errors.read_buffers());
+        }
         if let Some(c) = &cls_rb {
             rb_bufs.push(&c.buf);
         }
@@ -501,7 +513,9 @@ impl Renderer {
             // Readback (and the untimed classification pass).
             let render = enc;
             let mut enc = self.device.create_command_encoder(&Default::default());
-            errors.encode(self, &mut enc, &color, &color_view, f, slot)?;
+            if let Some(errors) = &errors {
+                errors.encode(self, &mut enc, &color, &color_view, f, slot)?;
+            }
             if let (Some(pc), Some(cls_rb)) = (&pc, &cls_rb) {
                 {
                     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -535,7 +549,10 @@ impl Renderer {
 
             // Read the batch back with one wait.
             batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                let (errs, pixels) = errors.read(slot, reference, f)?;
+                let (errs, pixels) = match &errors {
+                    Some(errors) => errors.read(slot, reference, f)?,
+                    None => (Default::default(), None),
+                };
                 let cls_px = match &cls_rb {
                     Some(c) => Some(c.image(slot)?),
                     None => None,
