@@ -93,6 +93,10 @@ pub struct EmitReport {
     pub predicted_ms: Option<f64>,
     pub original_ms: f64,
     pub predicted_speedup: Option<f64>,
+    /// Its 95 % interval, where `analyze` timed the node interleaved with the original (profile
+    /// version 7 on): the timing model's shape over Δn scaled to that measurement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted_speedup_ci95: Option<[f64; 2]>,
     /// Why the original shader was kept.
     pub reason: Option<String>,
     pub files: Vec<String>,
@@ -225,6 +229,7 @@ pub fn emit(
                 error: n.fit(opts.metric)?.clone(),
                 timing: n.timing_fit.clone(),
                 mean_pixels: profile.original.mean_pixels,
+                measured: reproj_select::calibration(profile, n),
             })
         })
         .collect();
@@ -277,6 +282,7 @@ pub fn emit(
         predicted_ms: None,
         original_ms: profile.original.frame_ms,
         predicted_speedup: None,
+        predicted_speedup_ci95: None,
         reason: None,
         files: Vec::new(),
         measured_error: None,
@@ -336,6 +342,7 @@ pub fn emit(
             report.predicted_psnr = set.mse_at(choice.delta_n).map(psnr);
             report.predicted_ms = Some(choice.predicted_ms);
             report.predicted_speedup = Some(choice.predicted_speedup);
+            report.predicted_speedup_ci95 = choice.predicted_speedup_ci95;
             Some(variant)
         }
         Selection::Node(choice) => {
@@ -387,6 +394,7 @@ pub fn emit(
             report.predicted_psnr = node.mse_at(choice.delta_n).map(psnr);
             report.predicted_ms = Some(choice.predicted_ms);
             report.predicted_speedup = Some(choice.predicted_speedup);
+            report.predicted_speedup_ci95 = choice.predicted_speedup_ci95;
             Some(variant)
         }
         Selection::Original { reason } => {

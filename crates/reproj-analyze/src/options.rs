@@ -23,15 +23,15 @@ pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
 /// 256×256 frame on one core, as much as rendering the frame several times on lavapipe).
 pub const DEFAULT_PERCEPTUAL_FRAMES: u32 = 15;
 /// How `analyze` times its races by default ([`AnalyzeOptions::race`]): blocks of 8 timed frames,
-/// 8 to 16 rounds (two to four per window of the session), stopping once every interval is within
-/// ±5 % or after 8 s. A race decides only where intervals separate, so a short one is enough.
+/// 8 to 12 rounds (two or three per window of the session), stopping once every interval is within
+/// ±5 % or after 5 s. A race decides only where intervals separate, so a short one is enough.
 pub const DEFAULT_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
     block_frames: 8,
     stop: reproj_models::speedup::StopRule {
         min_rounds: 8,
-        max_rounds: 16,
+        max_rounds: 12,
         target_half_width: 0.05,
-        max_seconds: 8.0,
+        max_seconds: 5.0,
     },
     max_frames: None,
 };

@@ -264,6 +264,7 @@ fn set_record(set: &SetProfile, members: &[&SetCandidate]) -> NodeRecord {
         error: set.error_fit.clone(),
         timing: set.timing_fit.clone(),
         mean_pixels: members.first().map_or(0.0, |c| c.record.mean_pixels),
+        measured: None,
     }
 }
 
@@ -297,6 +298,7 @@ pub(crate) fn analyze_sets(
                     error: n.error_fit.clone(),
                     timing: n.timing_fit.clone(),
                     mean_pixels,
+                    measured: None,
                 },
                 components: t.components,
                 block: n.block.unwrap_or(rp.opts.block.unwrap_or(8)),
@@ -442,6 +444,7 @@ mod tests {
                 error: error_fit(0.001),
                 timing: TimingFit::from_costs(hit_ms, 2.0e-5, 0.5, M),
                 mean_pixels: M,
+                measured: None,
             },
             components,
             block: 8,

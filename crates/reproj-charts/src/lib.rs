@@ -345,6 +345,7 @@ fn records(profile: &Profile) -> Vec<NodeRecord> {
             error: n.error_fit.clone(),
             timing: n.timing_fit.clone(),
             mean_pixels: profile.original.mean_pixels,
+            measured: None,
         })
         .collect()
 }

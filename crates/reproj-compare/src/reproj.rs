@@ -120,6 +120,7 @@ pub(crate) fn plan<'p>(
                 error: n.fit(Metric::L2)?.clone(),
                 timing: n.timing_fit.clone(),
                 mean_pixels: profile.original.mean_pixels,
+                measured: reproj_select::calibration(profile, n),
             })
         })
         .collect();

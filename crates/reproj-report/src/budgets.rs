@@ -50,6 +50,7 @@ pub fn records(profile: &Profile) -> Vec<NodeRecord> {
             error: n.error_fit.clone(),
             timing: n.timing_fit.clone(),
             mean_pixels: profile.original.mean_pixels,
+            measured: reproj_select::calibration(profile, n),
         })
         .collect()
 }

@@ -36,6 +36,71 @@ pub struct NodeRecord {
     pub timing: TimingFit,
     /// M: mean shaded pixels per frame at which to predict the frame time.
     pub mean_pixels: f64,
+    /// The node's speedup measured interleaved with the original (`analyze`'s race), which sets
+    /// the level of its predicted frame times; `None`: the timing model alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<Calibration>,
+}
+
+/// How an interleaved measurement calibrates a node's timing model: the model gives the shape of
+/// the frame time over Δn (its ratio between two periods), the measurement its level, so the
+/// predicted speedup at Δn is the measured one × t̂(Δn_measured) / t̂(Δn), with the measured
+/// interval carried along.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// The period the speedup was measured at.
+    pub delta_n: u32,
+    /// Factor on t̂: `original_ms / (measured speedup × t̂(delta_n))`.
+    pub ms_scale: f64,
+    /// The measured 95 % interval over the measured speedup (`[lo / s, hi / s]`).
+    pub rel_ci95: [f64; 2],
+}
+
+impl Calibration {
+    /// From a speedup `speedup` [`ci95`] measured at `delta_n`, the original's time and the
+    /// model's `t̂(delta_n)`; `None` unless every number is finite and positive.
+    pub fn new(
+        delta_n: u32,
+        speedup: f64,
+        ci95: [f64; 2],
+        original_ms: f64,
+        model_ms: f64,
+    ) -> Option<Calibration> {
+        let scale = original_ms / (speedup * model_ms);
+        let rel = [ci95[0] / speedup, ci95[1] / speedup];
+        (scale.is_finite() && scale > 0.0 && rel.iter().all(|r| r.is_finite() && *r > 0.0))
+            .then_some(Calibration {
+                delta_n,
+                ms_scale: scale,
+                rel_ci95: rel,
+            })
+    }
+}
+
+/// The calibration of `node`'s timing model in `profile` by its strategy's interleaved race
+/// against the original (`analyze`, profile version 7 on); `None` for older profiles or a node
+/// whose race gave no estimate.
+pub fn calibration(
+    profile: &reproj_models::Profile,
+    node: &reproj_models::profile::NodeProfile,
+) -> Option<Calibration> {
+    let probe = profile
+        .strategy_probes
+        .iter()
+        .find(|p| p.node == node.id && p.kept && p.strategy == node.strategy)?;
+    let model_ms = predicted_frame_ms(
+        &node.timing_fit,
+        &profile.hit_rate,
+        f64::from(probe.delta_n),
+        profile.original.mean_pixels,
+    )?;
+    Calibration::new(
+        probe.delta_n,
+        probe.speedup?,
+        probe.speedup_ci95?,
+        profile.original.frame_ms,
+        model_ms,
+    )
 }
 
 fn three_pass() -> String {
@@ -123,8 +188,11 @@ pub struct Prediction {
     pub hit_rate: f64,
     /// ε̂(Δn).
     pub predicted_error: f64,
-    /// t̂(Δn), ms per frame.
+    /// t̂(Δn), ms per frame (calibrated by the node's measured speedup where it has one).
     pub predicted_ms: f64,
+    /// With a calibration: the predicted speedup's 95 % interval relative to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rel_ci95: Option<[f64; 2]>,
 }
 
 /// A point of the error-vs-time frontier.
@@ -138,6 +206,7 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
     let gamma = hit_rate.gamma(dn)?;
     let error = node.error.predict(dn)?;
     let ms = predicted_frame_ms(&node.timing, hit_rate, dn, node.mean_pixels)?;
+    let ms = ms * node.measured.map_or(1.0, |c| c.ms_scale);
     (error.is_finite() && ms.is_finite() && ms > 0.0).then(|| Prediction {
         node_id: node.id,
         strategy: node.strategy.clone(),
@@ -145,6 +214,7 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
         hit_rate: gamma,
         predicted_error: error,
         predicted_ms: ms,
+        rel_ci95: node.measured.map(|c| c.rel_ci95),
     })
 }
 
@@ -225,6 +295,9 @@ pub struct Choice {
     pub original_ms: f64,
     /// `original_ms / predicted_ms` (> 1).
     pub predicted_speedup: f64,
+    /// Its 95 % interval, where the node's speedup was measured interleaved ([`Calibration`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted_speedup_ci95: Option<[f64; 2]>,
     /// For a set of nodes cached together ([`select_with_sets`]): every member id in payload
     /// order (`node_id` is the first, `node_text` the texts joined by ` + `). Empty for a single
     /// node.
@@ -369,6 +442,12 @@ pub fn select(
         predicted_ms: best.predicted_ms,
         original_ms,
         predicted_speedup: original_ms / best.predicted_ms,
+        predicted_speedup_ci95: best.rel_ci95.map(|[lo, hi]| {
+            [
+                lo * original_ms / best.predicted_ms,
+                hi * original_ms / best.predicted_ms,
+            ]
+        }),
         members: Vec::new(),
     })
 }
@@ -400,6 +479,7 @@ impl SetRecord {
             error: self.error.clone(),
             timing: self.timing.clone(),
             mean_pixels: self.mean_pixels,
+            measured: None,
         }
     }
 }
@@ -458,6 +538,12 @@ pub fn select_with_sets(
         predicted_ms: p.predicted_ms,
         original_ms,
         predicted_speedup: original_ms / p.predicted_ms,
+        predicted_speedup_ci95: p.rel_ci95.map(|[lo, hi]| {
+            [
+                lo * original_ms / p.predicted_ms,
+                hi * original_ms / p.predicted_ms,
+            ]
+        }),
         members: set.members.clone(),
     })
 }

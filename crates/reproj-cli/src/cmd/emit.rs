@@ -122,7 +122,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             )?;
             writeln!(
                 stdout,
-                "predicted {} {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                "predicted {} {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x{}",
                 metric_label(report.metric),
                 report.predicted_error.unwrap_or(0.0),
                 report
@@ -130,7 +130,10 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                     .map_or_else(String::new, |p| format!(" (PSNR {p:.2} dB)")),
                 report.predicted_ms.unwrap_or(0.0),
                 report.original_ms,
-                report.predicted_speedup.unwrap_or(0.0)
+                report.predicted_speedup.unwrap_or(0.0),
+                report
+                    .predicted_speedup_ci95
+                    .map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]")),
             )?;
         }
         _ => {
