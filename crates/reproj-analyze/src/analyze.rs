@@ -345,10 +345,8 @@ pub fn analyze(
             variant,
             ..
         } = built.swap_remove(w);
-        let mut failure = too_slow(&estimate, node.root, longest, strategy);
-        if let Some(why) = &failure {
-            progress.note(&format!("node {id} `{}`: set aside: {why}", node.text));
-        }
+        let verdict = too_slow(&estimate, node.root, longest, strategy);
+        let mut failure = None;
         let mut measurements = Vec::new();
         let node_plan: Vec<(u32, bool)> = std::iter::once((longest, false))
             .chain(plan.iter().copied())
@@ -362,6 +360,7 @@ pub fn analyze(
             strategy,
             block,
             raced: true,
+            verdict,
         };
         rp.replay_plan(
             &subject,

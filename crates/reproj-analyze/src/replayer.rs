@@ -77,8 +77,11 @@ pub(crate) struct Subject {
     pub(crate) strategy: Strategy,
     pub(crate) block: u32,
     /// Its variant already raced the original ([`Replayer::race`]); otherwise
-    /// [`Replayer::replay_plan`] races it at the longest period before replaying on.
+    /// [`Replayer::replay_plan`] races it at the longest period.
     pub(crate) raced: bool,
+    /// Why the race sets it aside (slower than the original beyond doubt), applied once the
+    /// longest period is replayed: the profile keeps that one measurement.
+    pub(crate) verdict: Option<String>,
 }
 
 impl Replayer<'_, '_> {
@@ -193,6 +196,7 @@ impl Replayer<'_, '_> {
             ..
         } = subject;
         let mut confirmed = None;
+        let mut verdict = subject.verdict.clone();
         for &(dn, skippable) in plan {
             if failure.is_some() {
                 self.progress.step(&format!("{who} Δn={dn}"));
@@ -225,17 +229,20 @@ impl Replayer<'_, '_> {
                     }],
                 )?;
                 if let Some(e) = race.candidates[0].estimate() {
-                    *failure = too_slow(&e, subject.root, self.longest, *strategy);
-                    if let Some(why) = &failure {
-                        self.progress
-                            .note(&format!("{who} `{text}`: set aside: {why}"));
-                        self.progress.step(&format!("{who} {strategy} Δn={dn}"));
-                        continue;
-                    }
+                    verdict = too_slow(&e, subject.root, self.longest, *strategy);
                 }
             }
             match self.replay(key, sources, variant, dn, None)? {
-                Ok((m, _)) => measurements.push(m),
+                Ok((m, _)) => {
+                    measurements.push(m);
+                    if dn == self.longest
+                        && let Some(why) = verdict.take()
+                    {
+                        self.progress
+                            .note(&format!("{who} `{text}`: set aside: {why}"));
+                        *failure = Some(why);
+                    }
+                }
                 Err(e) => {
                     self.progress
                         .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));

@@ -363,6 +363,7 @@ pub(crate) fn analyze_sets(
                     strategy,
                     block,
                     raced: false,
+                    verdict: None,
                 };
                 rp.replay_plan(
                     &subject,

@@ -35,9 +35,14 @@ pub const DEFAULT_BLOCK_FRAMES: u32 = 12;
 pub enum Subject {
     /// A cached variant of the baseline shader.
     Variant(VariantInput),
-    /// Another shader over the same session (a hand-optimized version, or the original itself
-    /// for the A/A check): its fragment entry point `entry`.
-    Shader { shader: Shader, entry: usize },
+    /// Another shader (a hand-optimized version, the original itself for the A/A check, or a
+    /// simplified one): its fragment entry point `entry`, over the same session or over
+    /// `session` (the same frames at another resolution: `compare`'s resize).
+    Shader {
+        shader: Shader,
+        entry: usize,
+        session: Option<Session>,
+    },
 }
 
 /// One candidate, named as the report will name it.
@@ -236,9 +241,13 @@ pub fn bench(
                         .render_variant(baseline.shader, session, v, baseline.reference, &o)?
                         .frames
                 }
-                Subject::Shader { shader, entry } => {
+                Subject::Shader {
+                    shader,
+                    entry,
+                    session: own,
+                } => {
                     renderer
-                        .render_original(shader, *entry, session, &o)?
+                        .render_original(shader, *entry, own.as_ref().unwrap_or(session), &o)?
                         .report
                         .frames
                 }

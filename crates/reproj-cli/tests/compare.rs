@@ -98,7 +98,7 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("cmp/compare.json")).unwrap())
             .unwrap();
     assert_eq!(json["schema"], "reproj.compare");
-    assert_eq!(json["version"], 1);
+    assert_eq!(json["version"], 2);
     assert_eq!(json["frames"], 4, "--max-frames 6 of a 4-frame session");
     let methods: Vec<&str> = json["methods"]
         .as_array()
@@ -112,11 +112,19 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         for key in ["speedup", "frame_ms", "error", "psnr", "flip"] {
             assert!(m[key].is_number(), "{key} of {m}");
         }
+        // The speeds come from one interleaved run, each with its interval.
+        let s = m["speedup"].as_f64().unwrap();
+        let [lo, hi] = [
+            m["speedup_ci95"][0].as_f64().unwrap(),
+            m["speedup_ci95"][1].as_f64().unwrap(),
+        ];
+        assert!(lo <= s && s <= hi, "{m}");
     }
     let mut all = Vec::new();
     numbers(&json, "", &mut all);
     assert!(all.iter().all(|(_, v)| v.is_finite()), "{all:?}");
     assert!(json["reproj"]["delta_n"].as_u64().unwrap() >= 2);
+    assert!(json["measured_on"].as_str().is_some(), "{json}");
     // The simplified shader is valid WGSL.
     let wgsl = std::fs::read_to_string(dir.join("cmp/simplified.wgsl")).unwrap();
     reproj_front::parse_shader(Path::new("simplified.wgsl"), wgsl).unwrap();

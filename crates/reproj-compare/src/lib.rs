@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 /// Schema name of a [`CompareReport`] (`compare.json`).
 pub const COMPARE_SCHEMA: &str = "reproj.compare";
 /// Version of the [`CompareReport`] schema. Bump on any incompatible change.
-pub const COMPARE_VERSION: u32 = 1;
+pub const COMPARE_VERSION: u32 = 2;
 
 /// What can go wrong in `compare`.
 #[derive(Debug, thiserror::Error)]
@@ -132,6 +132,9 @@ pub struct CompareOptions {
     pub max_delta_n: u32,
     /// ꟻLIP is computed on frames `f` with `f % stride == 0`.
     pub perceptual_stride: u32,
+    /// How the methods' final speeds are timed against the original (interleaved,
+    /// `reproj-bench`).
+    pub timing: reproj_bench::BenchOptions,
 }
 
 impl Default for CompareOptions {
@@ -143,6 +146,7 @@ impl Default for CompareOptions {
             simplify: Default::default(),
             max_delta_n: 50,
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
+            timing: reproj_bench::BenchOptions::default(),
         }
     }
 }
@@ -165,8 +169,13 @@ pub struct MethodResult {
     pub method: String,
     /// Mean measured frame time over frames 1.., ms.
     pub frame_ms: f64,
-    /// Original frame time / `frame_ms`, both measured in this run.
+    /// Original frame time / `frame_ms`. The searches decide on single replays; the reported
+    /// figure is the timing engine's (`reproj-bench`: every method's final candidate and the
+    /// original interleaved in one run), and `frame_ms` its median then.
     pub speedup: f64,
+    /// Its 95 % interval (version 2 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
     /// Whether `speedup` is at least the target.
     pub reached_target: bool,
     #[serde(flatten)]
@@ -197,8 +206,16 @@ pub struct CompareReport {
     /// it), when the target was given as a budget.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_error: Option<f64>,
-    /// The original's mean measured frame time over frames 1.., ms.
+    /// The original's frame time, ms: the median of its interleaved blocks (version 2 on; before,
+    /// the mean over frames 1.. of one replay).
     pub original_ms: f64,
+    /// The machine the speeds come from (adapter, `LP_NUM_THREADS`, cores; a CPU rasterizer says
+    /// so), version 2 on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_on: Option<String>,
+    /// What the interleaved timing saw of the machine; empty when clean.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub timing_warnings: Vec<String>,
     /// One entry per method that ran: resize, simplify, then reproj.
     pub methods: Vec<MethodResult>,
     pub resize: resize::ResizeDetail,
@@ -280,10 +297,9 @@ pub fn compare(
     let progress = &counted;
     let per_step = (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)) as u64;
     let reproj_steps = u64::from(input.profile.is_some());
-    progress.remaining(1 + opts.resize.tries as u64 + 2 * per_step + reproj_steps);
+    progress.remaining(2 + opts.resize.tries as u64 + 2 * per_step + reproj_steps);
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
     progress.step("original");
-    let original_ms = reference.report.frame_ms;
     let frames = reference.frames.len() as u32;
     let mid = (frames / 2) as usize;
     let ctx = Ctx {
@@ -303,22 +319,79 @@ pub fn compare(
     methods.push(resize_result);
     crop_frames.push(("resize".into(), resize_frames[mid].clone()));
     drop(resize_frames);
-    progress.remaining(2 * per_step + reproj_steps);
+    progress.remaining(1 + 2 * per_step + reproj_steps);
 
     let simplified = simplify::simplify(&ctx, input.loaded, &opts.simplify)?;
-    progress.remaining(reproj_steps);
+    progress.remaining(1 + reproj_steps);
     methods.push(simplified.result);
     crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
 
+    let mut reproj_input = None;
     let reproj_detail = match (input.profile, &planned) {
         (Some((profile, path)), Some(planned)) => {
             let r = reproj::reproj(&ctx, input.loaded, profile, path, planned, mid as u32)?;
             methods.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
+            reproj_input = Some(r.input);
             Some(r.detail)
         }
         _ => None,
     };
+
+    // Every method's final candidate against the original, interleaved in one run: the speeds
+    // the table reports (the searches above decided on single replays).
+    let chosen = &resize_detail.tries[resize_detail.chosen];
+    let mut small = input.session.clone();
+    small.resolution = chosen.resolution;
+    let mut candidates = vec![
+        reproj_bench::Candidate {
+            name: "resize".into(),
+            subject: reproj_bench::Subject::Shader {
+                shader: shader.clone(),
+                entry,
+                session: Some(small),
+            },
+        },
+        reproj_bench::Candidate {
+            name: "simplify".into(),
+            subject: reproj_bench::Subject::Shader {
+                shader: reproj_front::parse_shader(
+                    Path::new("simplified.wgsl"),
+                    simplified.wgsl.clone(),
+                )?,
+                entry: 0,
+                session: None,
+            },
+        },
+    ];
+    if let Some(v) = reproj_input {
+        candidates.push(reproj_bench::Candidate {
+            name: "reproj".into(),
+            subject: reproj_bench::Subject::Variant(v),
+        });
+    }
+    let timed = reproj_bench::bench(
+        renderer,
+        reproj_bench::Baseline {
+            shader,
+            entry,
+            reference: &reference,
+        },
+        input.session,
+        &candidates,
+        &opts.timing,
+        &mut |_| {},
+    )?;
+    progress.step("timing, interleaved");
+    for (m, c) in methods.iter_mut().zip(&timed.candidates) {
+        if let (Some(e), Some(ms)) = (c.estimate(), c.median_ms) {
+            m.speedup = e.speedup;
+            m.speedup_ci95 = Some(e.ci95);
+            m.frame_ms = ms;
+            m.reached_target = e.speedup >= target;
+        }
+    }
+    let original_ms = timed.baseline.median_ms;
     progress.finish();
     let [w, h] = input.session.resolution;
     let crop_depth = reference.depth[mid].clone();
@@ -336,6 +409,8 @@ pub fn compare(
         target_speedup: target,
         max_error,
         original_ms,
+        measured_on: Some(reproj_bench::Machine::of(renderer).describe()),
+        timing_warnings: timed.warnings,
         methods,
         resize: resize_detail,
         simplify: simplified.detail,

@@ -40,6 +40,8 @@ pub struct ReprojDetail {
 
 pub(crate) struct ReprojRun {
     pub(crate) detail: ReprojDetail,
+    /// The variant rendered, for the final interleaved timing.
+    pub(crate) input: VariantInput,
     pub(crate) result: MethodResult,
     pub(crate) crop_frame: Vec<f32>,
 }
@@ -309,6 +311,7 @@ pub(crate) fn reproj(
         .collect();
     let measured = ctx.speedup(r.frame_ms);
     Ok(ReprojRun {
+        input,
         detail: ReprojDetail {
             profile: profile_path.display().to_string(),
             node: node_name.clone(),
@@ -319,6 +322,7 @@ pub(crate) fn reproj(
             predicted_speedup: planned.predicted_speedup,
         },
         result: MethodResult {
+            speedup_ci95: None,
             method: "reproj".into(),
             frame_ms: r.frame_ms,
             speedup: measured,

@@ -112,6 +112,7 @@ pub(crate) fn resize(
     let t = &tries[chosen];
     let scores = ctx.score(&frames, true);
     let result = MethodResult {
+        speedup_ci95: None,
         method: "resize".into(),
         frame_ms: t.frame_ms,
         speedup: t.speedup,

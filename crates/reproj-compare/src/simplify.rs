@@ -183,6 +183,7 @@ pub(crate) fn simplify(
     let speedup = ctx.speedup(frame_ms);
     let scores = ctx.score(&frames, true);
     let result = MethodResult {
+        speedup_ci95: None,
         method: "simplify".into(),
         frame_ms,
         speedup,

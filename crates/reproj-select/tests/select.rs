@@ -33,8 +33,8 @@ fn node(id: u32, alpha: f64, lambda: f64, hit_ms: f64, miss_ms: f64) -> NodeReco
         error: error_fit(alpha, lambda),
         timing: TimingFit::from_costs(hit_ms, miss_ms, 0.5, M),
         mean_pixels: M,
+        measured: None,
     }
-    measured: None,
 }
 
 /// A: cheap hits, high error (caches most of the shader); B: moderate; C: low error, small gain.

@@ -122,7 +122,11 @@ fn candidate(path: &Path, args: &BenchArgs) -> anyhow::Result<Candidate> {
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     Ok(Candidate {
         name,
-        subject: Subject::Shader { shader, entry },
+        subject: Subject::Shader {
+            shader,
+            entry,
+            session: None,
+        },
     })
 }
 

@@ -96,6 +96,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     for w in write_outputs(&mut result, &out)? {
         eprintln!("warning: {w}");
     }
+    for w in &result.report.timing_warnings {
+        eprintln!("warning: {w}");
+    }
     let r = &result.report;
     let mut stdout = std::io::stdout().lock();
     if args.json {
@@ -116,18 +119,23 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             " (reproj's predicted speedup under error {e})"
         ))
     )?;
+    if let Some(on) = &r.measured_on {
+        writeln!(stdout, "speeds timed interleaved on {on}")?;
+    }
     writeln!(
         stdout,
-        "{:<9} {:>8} {:>10} {:>9} {:>7}  setting",
-        "method", "speedup", "L2", "PSNR dB", "ꟻLIP"
+        "{:<9} {:>8} {:<14} {:>10} {:>9} {:>7}  setting",
+        "method", "speedup", "[95 % CI]", "L2", "PSNR dB", "ꟻLIP"
     )?;
     for m in &r.methods {
         writeln!(
             stdout,
-            "{:<9} {:>7.2}{} {:>10.5} {:>9.2} {:>7}  {}",
+            "{:<9} {:>7.2}{} {:<14} {:>10.5} {:>9.2} {:>7}  {}",
             m.method,
             m.speedup,
             if m.reached_target { "×" } else { "!" },
+            m.speedup_ci95
+                .map_or_else(String::new, |[lo, hi]| format!("[{lo:.2}, {hi:.2}]")),
             m.scores.error,
             m.scores.psnr,
             m.scores.flip.map_or("-".into(), |f| format!("{f:.4}")),

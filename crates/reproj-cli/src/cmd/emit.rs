@@ -135,6 +135,13 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                     .predicted_speedup_ci95
                     .map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]")),
             )?;
+            if profile.machine.cpu_rasterizer {
+                writeln!(
+                    stdout,
+                    "          (profiled on {}, a CPU rasterizer: GPU figures differ)",
+                    profile.machine.adapter
+                )?;
+            }
         }
         _ => {
             writeln!(
