@@ -34,6 +34,12 @@ pub struct Rendered {
     pub report: RenderReport,
     pub original_ms: f64,
     pub frames: Vec<FrameImages>,
+    /// The variant, for the interleaved timing of every rendered selection together.
+    pub input: VariantInput,
+    /// Its speedup over the original from that timing (`reproj-bench`), with its 95 % interval;
+    /// `None` until timed (or when no frame time was usable).
+    pub speedup: Option<f64>,
+    pub speedup_ci95: Option<[f64; 2]>,
 }
 
 /// The original's replay over the profile's frames.
@@ -179,6 +185,9 @@ pub fn render_choice(
         report,
         original_ms: reference.report.frame_ms,
         frames,
+        input,
+        speedup: None,
+        speedup_ci95: None,
     })
 }
 

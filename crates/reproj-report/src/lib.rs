@@ -82,6 +82,8 @@ pub struct ReportOptions {
     /// Most selections to render frames of; with more, these many spread over the budget range
     /// (the lowest and highest budget's always among them). The others show their numbers only.
     pub max_rendered: usize,
+    /// How the rendered selections are timed against the original (one interleaved run).
+    pub timing: reproj_bench::BenchOptions,
 }
 
 impl Default for ReportOptions {
@@ -90,6 +92,7 @@ impl Default for ReportOptions {
             session: None,
             shader: None,
             max_rendered: 8,
+            timing: reproj_bench::BenchOptions::default(),
         }
     }
 }
@@ -160,6 +163,53 @@ pub fn report(
         rendered[i] = Some(frames::render_choice(
             renderer, &shader, profile, &session, &reference, c,
         )?);
+    }
+    // Every rendered selection against the original in one interleaved run: the speeds the
+    // page shows as measured.
+    let timed_at: Vec<usize> = chosen
+        .iter()
+        .copied()
+        .filter(|&i| rendered[i].is_some())
+        .collect();
+    if !timed_at.is_empty() {
+        progress("timing the selections against the original, interleaved");
+        let candidates: Vec<reproj_bench::Candidate> = timed_at
+            .iter()
+            .map(|&i| {
+                let r = rendered[i].as_ref().expect("filtered");
+                let c = &budgets.choices[i];
+                reproj_bench::Candidate {
+                    name: format!("node {} Δn {}", c.node_id, c.delta_n),
+                    subject: reproj_bench::Subject::Variant(r.input.clone()),
+                }
+            })
+            .collect();
+        let entry = shader.fragment_entry(Some(&profile.entry))?;
+        let timed = reproj_bench::bench(
+            renderer,
+            reproj_bench::Baseline {
+                shader: &shader,
+                entry,
+                reference: &reference,
+            },
+            &session,
+            &candidates,
+            &opts.timing,
+            &mut |_| {},
+        )?;
+        for (&i, c) in timed_at.iter().zip(&timed.candidates) {
+            if let Some(r) = rendered[i].as_mut() {
+                r.speedup = c.speedup;
+                r.speedup_ci95 = c.speedup_ci95;
+                if let Some(ms) = c.median_ms {
+                    r.report.frame_ms = ms;
+                    r.original_ms = timed.baseline.median_ms;
+                }
+            }
+        }
+        for w in &timed.warnings {
+            progress(&format!("warning: {w}"));
+        }
     }
     progress("drawing the charts");
     let charts = page::Charts::draw(profile, &budgets, &chosen)?;

@@ -119,10 +119,11 @@
       var caret = c.col > 0 ? "\n" + " ".repeat(String(c.line).length + 2 + c.col - 1) + "^" : "";
       $("sel-source").textContent = c.line > 0 ? c.line + ": " + c.source + caret : "";
       $("sel-reason").textContent = "";
-      rows.push(["predicted", "error " + fmt(c.predicted_error, 5) + " · " + fmt(c.predicted_ms, 3) + " ms · " + fmt(c.predicted_speedup, 2) + "×"]);
+      var ci = function (v) { return v ? " [" + fmt(v[0], 2) + ", " + fmt(v[1], 2) + "]" : ""; };
+      rows.push(["predicted", "error " + fmt(c.predicted_error, 5) + " · " + fmt(c.predicted_ms, 3) + " ms · " + fmt(c.predicted_speedup, 2) + "×" + ci(c.predicted_speedup_ci95)]);
       var r = c.measured;
       if (r) rows.push(["measured now", r.metrics.map(function (m) { return m.name + " " + metricText(m); }).join(" · ") +
-        " · " + fmt(r.frame_ms, 3) + " ms vs " + fmt(r.original_ms, 3) + " ms · " + fmt(r.speedup, 2) + "×"]);
+        " · " + fmt(r.frame_ms, 3) + " ms vs " + fmt(r.original_ms, 3) + " ms · " + fmt(r.speedup, 2) + "×" + ci(r.speedup_ci95) + " (interleaved)"]);
       if (c.profiled) rows.push(["profiled", c.profiled.map(function (m) { return m.name + " " + metricText(m); }).join(" · ")]);
       ring.setAttribute("visibility", "visible");
       ring.setAttribute("cx", X(c.predicted_error)); ring.setAttribute("cy", Y(c.predicted_speedup));

@@ -86,6 +86,8 @@ struct ChoiceView {
     predicted_error: f64,
     predicted_ms: f64,
     predicted_speedup: f64,
+    /// Its 95 % interval, where the profile timed the node interleaved (version 7 on).
+    predicted_speedup_ci95: Option<[f64; 2]>,
     /// Rendered by the report (`None`: not rendered).
     measured: Option<Measured>,
     /// Measured by `analyze` at this Δn, when it was one of the profiled periods.
@@ -97,7 +99,9 @@ struct Measured {
     metrics: Vec<Metric>,
     frame_ms: f64,
     original_ms: f64,
+    /// Timed interleaved with the original (`reproj-bench`), with its 95 % interval.
     speedup: Option<f64>,
+    speedup_ci95: Option<[f64; 2]>,
 }
 
 #[derive(Serialize)]
@@ -110,6 +114,9 @@ struct Point {
     /// Measured by `analyze` (else predicted by the models).
     measured: bool,
 }
+
+/// Below this R² a node's timing fit is labelled weak in the table of fits.
+const WEAK_TIME_R2: f64 = 0.5;
 
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -162,11 +169,13 @@ fn data<'a>(p: &'a Page<'_>) -> Data<'a> {
                 predicted_error: c.predicted_error,
                 predicted_ms: c.predicted_ms,
                 predicted_speedup: c.predicted_speedup,
+                predicted_speedup_ci95: c.predicted_speedup_ci95,
                 measured: r.as_ref().map(|r| Measured {
                     metrics: metrics::of_render(&r.report),
                     frame_ms: r.report.frame_ms,
                     original_ms: r.original_ms,
-                    speedup: (r.report.frame_ms > 0.0).then(|| r.original_ms / r.report.frame_ms),
+                    speedup: r.speedup,
+                    speedup_ci95: r.speedup_ci95,
                 }),
                 profiled: node.and_then(|n| {
                     n.measurements
@@ -375,7 +384,13 @@ fn fits(h: &mut String, profile: &Profile) {
     );
     for n in &profile.nodes {
         let status = match &n.status {
-            NodeStatus::Ok => "ok".to_string(),
+            // A timing fit that explains little of the frame times is no "ok" for the speed.
+            NodeStatus::Ok => match n.timing_fit.r2.filter(|r2| *r2 < WEAK_TIME_R2) {
+                Some(r2) => format!(
+                    "ok for the error; timing fit weak (R² {r2:.3}): the speed leans on the interleaved race"
+                ),
+                None => "ok".to_string(),
+            },
             NodeStatus::SetAside { reason } => format!("set aside: {reason}"),
         };
         let e = &n.error_fit;

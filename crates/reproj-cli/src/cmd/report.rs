@@ -42,6 +42,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         session: args.session.clone(),
         shader: args.shader.clone(),
         max_rendered: args.max_rendered,
+        timing: Default::default(),
     };
     let start = std::time::Instant::now();
     let mut progress = |line: &str| {
