@@ -230,6 +230,7 @@ pub fn emit(
                 timing: n.timing_fit.clone(),
                 mean_pixels: profile.original.mean_pixels,
                 measured: reproj_select::calibration(profile, n),
+                measured_errors: reproj_select::measured_errors(&n.measurements, opts.metric),
             })
         })
         .collect();
@@ -249,6 +250,7 @@ pub fn emit(
                 error: s.fit(opts.metric)?.clone(),
                 timing: s.timing_fit.clone(),
                 mean_pixels: profile.original.mean_pixels,
+                measured_errors: reproj_select::measured_errors(&s.measurements, opts.metric),
             })
         })
         .collect();

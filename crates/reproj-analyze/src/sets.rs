@@ -265,6 +265,7 @@ fn set_record(set: &SetProfile, members: &[&SetCandidate]) -> NodeRecord {
         timing: set.timing_fit.clone(),
         mean_pixels: members.first().map_or(0.0, |c| c.record.mean_pixels),
         measured: None,
+        measured_errors: Vec::new(),
     }
 }
 
@@ -299,6 +300,7 @@ pub(crate) fn analyze_sets(
                     timing: n.timing_fit.clone(),
                     mean_pixels,
                     measured: None,
+                    measured_errors: Vec::new(),
                 },
                 components: t.components,
                 block: n.block.unwrap_or(rp.opts.block.unwrap_or(8)),
@@ -446,6 +448,7 @@ mod tests {
                 timing: TimingFit::from_costs(hit_ms, 2.0e-5, 0.5, M),
                 mean_pixels: M,
                 measured: None,
+                measured_errors: Vec::new(),
             },
             components,
             block: 8,

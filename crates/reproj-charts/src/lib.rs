@@ -346,6 +346,10 @@ fn records(profile: &Profile) -> Vec<NodeRecord> {
             timing: n.timing_fit.clone(),
             mean_pixels: profile.original.mean_pixels,
             measured: None,
+            measured_errors: reproj_select::measured_errors(
+                &n.measurements,
+                reproj_models::Metric::L2,
+            ),
         })
         .collect()
 }

@@ -61,10 +61,11 @@ pub struct BenchArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub delta_n: Option<u32>,
     /// Stop after this many rounds at most (each round renders one block per subject).
-    #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    #[arg(long, default_value_t = 48, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub rounds: u32,
-    /// Run at least this many rounds.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    /// Run at least this many rounds (the rounds cycle through 4 windows of the session: 8 gives
+    /// each window two).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub min_rounds: u32,
     /// Stop measuring after this many seconds (checked between rounds).
     #[arg(long, default_value_t = 30.0, value_parser = positive_seconds)]

@@ -82,6 +82,7 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
         .collect();
     let expected = BTreeSet::from([
         "reproj-analyze",
+        "reproj-bench",
         "reproj-cli",
         "reproj-compare",
         "reproj-host",

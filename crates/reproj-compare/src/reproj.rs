@@ -123,6 +123,7 @@ pub(crate) fn plan<'p>(
                 timing: n.timing_fit.clone(),
                 mean_pixels: profile.original.mean_pixels,
                 measured: reproj_select::calibration(profile, n),
+                measured_errors: reproj_select::measured_errors(&n.measurements, Metric::L2),
             })
         })
         .collect();
@@ -140,6 +141,7 @@ pub(crate) fn plan<'p>(
             error: s.error_fit.clone(),
             timing: s.timing_fit.clone(),
             mean_pixels: profile.original.mean_pixels,
+            measured_errors: reproj_select::measured_errors(&s.measurements, Metric::L2),
         })
         .collect();
     let original_ms = profile.original.frame_ms;

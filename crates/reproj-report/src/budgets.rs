@@ -51,6 +51,10 @@ pub fn records(profile: &Profile) -> Vec<NodeRecord> {
             timing: n.timing_fit.clone(),
             mean_pixels: profile.original.mean_pixels,
             measured: reproj_select::calibration(profile, n),
+            measured_errors: reproj_select::measured_errors(
+                &n.measurements,
+                reproj_models::Metric::L2,
+            ),
         })
         .collect()
 }

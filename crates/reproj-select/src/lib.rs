@@ -40,6 +40,76 @@ pub struct NodeRecord {
     /// the level of its predicted frame times; `None`: the timing model alone.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measured: Option<Calibration>,
+    /// The errors the profile measured, `(Δn, error)` in the budget's metric: the prediction never
+    /// goes below them, nor below the line between two neighbouring ones, and no Δn past the
+    /// longest measured one is predicted ([`respect_measurements`]). Empty: the model alone.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub measured_errors: Vec<(u32, f64)>,
+}
+
+/// What the measured errors say of the error at one Δn ([`respect_measurements`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MeasuredBound {
+    /// No measurement to go by.
+    Unmeasured,
+    /// The error is at least this: the measurement at Δn, or the line between the measured
+    /// periods around it (Δn = 1 counts as measured at 0: it reproduces the original). An error
+    /// curve that saturates lies above that line, so the bound is safe.
+    AtLeast(f64),
+    /// Past the longest measured period: not predicted (the model would extrapolate).
+    Beyond { longest: u32 },
+}
+
+/// The bound the measured errors put on the error at `delta_n`.
+pub fn respect_measurements(measured: &[(u32, f64)], delta_n: u32) -> MeasuredBound {
+    let finite: Vec<(u32, f64)> = measured
+        .iter()
+        .copied()
+        .filter(|(_, e)| e.is_finite())
+        .collect();
+    let Some(longest) = finite.iter().map(|m| m.0).max() else {
+        return MeasuredBound::Unmeasured;
+    };
+    if delta_n > longest {
+        return MeasuredBound::Beyond { longest };
+    }
+    // The worst measurement at a period (a period measured twice keeps the larger error).
+    let at = |dn: u32| {
+        finite
+            .iter()
+            .filter(|m| m.0 == dn)
+            .map(|m| m.1)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    if finite.iter().any(|m| m.0 == delta_n) {
+        return MeasuredBound::AtLeast(at(delta_n));
+    }
+    let below = finite
+        .iter()
+        .map(|m| m.0)
+        .filter(|&d| d < delta_n)
+        .max()
+        .map_or((1, 0.0), |d| (d, at(d)));
+    let above = finite
+        .iter()
+        .map(|m| m.0)
+        .filter(|&d| d > delta_n)
+        .min()
+        .expect("delta_n is below the longest");
+    let above = (above, at(above));
+    let t = f64::from(delta_n - below.0) / f64::from(above.0 - below.0);
+    MeasuredBound::AtLeast(below.1 + t * (above.1 - below.1))
+}
+
+/// The `(Δn, value)` pairs a node (or set) measured for `metric`.
+pub fn measured_errors(
+    measurements: &[reproj_models::profile::Measurement],
+    metric: reproj_models::Metric,
+) -> Vec<(u32, f64)> {
+    measurements
+        .iter()
+        .filter_map(|m| Some((m.delta_n, m.value(metric)?)))
+        .collect()
 }
 
 /// How an interleaved measurement calibrates a node's timing model: the model gives the shape of
@@ -204,7 +274,11 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
     check_node(node).ok()?;
     let dn = f64::from(delta_n);
     let gamma = hit_rate.gamma(dn)?;
-    let error = node.error.predict(dn)?;
+    let error = match respect_measurements(&node.measured_errors, delta_n) {
+        MeasuredBound::Unmeasured => node.error.predict(dn)?,
+        MeasuredBound::AtLeast(floor) => node.error.predict(dn)?.max(floor),
+        MeasuredBound::Beyond { .. } => return None,
+    };
     let ms = predicted_frame_ms(&node.timing, hit_rate, dn, node.mean_pixels)?;
     let ms = ms * node.measured.map_or(1.0, |c| c.ms_scale);
     (error.is_finite() && ms.is_finite() && ms > 0.0).then(|| Prediction {
@@ -467,6 +541,9 @@ pub struct SetRecord {
     pub timing: TimingFit,
     /// M: mean shaded pixels per frame.
     pub mean_pixels: f64,
+    /// Its measured errors in the budget's metric (see [`NodeRecord::measured_errors`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub measured_errors: Vec<(u32, f64)>,
 }
 
 impl SetRecord {
@@ -480,6 +557,7 @@ impl SetRecord {
             timing: self.timing.clone(),
             mean_pixels: self.mean_pixels,
             measured: None,
+            measured_errors: self.measured_errors.clone(),
         }
     }
 }

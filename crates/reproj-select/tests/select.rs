@@ -34,6 +34,7 @@ fn node(id: u32, alpha: f64, lambda: f64, hit_ms: f64, miss_ms: f64) -> NodeReco
         timing: TimingFit::from_costs(hit_ms, miss_ms, 0.5, M),
         mean_pixels: M,
         measured: None,
+        measured_errors: Vec::new(),
     }
 }
 
@@ -300,6 +301,7 @@ fn set(members: &[u32], alpha: f64, hit_ms: f64) -> reproj_select::SetRecord {
         error: error_fit(alpha, 0.1),
         timing: TimingFit::from_costs(hit_ms, 2.0e-5, 0.5, M),
         mean_pixels: M,
+        measured_errors: Vec::new(),
     }
 }
 
@@ -359,5 +361,50 @@ fn a_set_wins_only_when_predicted_faster_under_the_budget() {
         Selection::Original {
             reason: OriginalReason::InvalidBudget { .. }
         }
+    ));
+}
+
+/// emit respects the profile's measurements: never below a measured error (the model anchored at
+/// 0 at Δn = 1 underestimates a single resampling at Δn = 2), never below the line between two
+/// measured periods, and never past the longest measured period.
+#[test]
+fn measured_errors_bound_the_prediction_and_the_range() {
+    use reproj_select::{MeasuredBound, predict, respect_measurements};
+    let hr = HitRateFit::from_mu(0.9);
+    // α 0.02, λ 0.1: the model predicts ≈ 0.0019 at Δn = 2.
+    let mut n = node(1, 0.02, 0.1, 1.0e-6, 2.0e-5);
+    let model_at_2 = predict(&n, &hr, 2).unwrap().predicted_error;
+    assert!(model_at_2 < 0.002, "{model_at_2}");
+    n.measured_errors = vec![(2, 0.00356), (10, 0.009), (14, 0.011)];
+    assert_eq!(
+        respect_measurements(&n.measured_errors, 2),
+        MeasuredBound::AtLeast(0.00356)
+    );
+    assert!(predict(&n, &hr, 2).unwrap().predicted_error >= 0.00356);
+    // Between 2 and 10: at least the line through them.
+    let MeasuredBound::AtLeast(line) = respect_measurements(&n.measured_errors, 6) else {
+        panic!()
+    };
+    assert!((line - (0.00356 + 0.5 * (0.009 - 0.00356))).abs() < 1e-12);
+    // Past Δn = 14: refused, not extrapolated.
+    assert_eq!(
+        respect_measurements(&n.measured_errors, 50),
+        MeasuredBound::Beyond { longest: 14 }
+    );
+    assert!(predict(&n, &hr, 50).is_none());
+    // Under budget 0.002 the node is not chosen at Δn = 2 (the model alone would choose it).
+    let opts = SelectOptions {
+        max_error: 0.002,
+        min_delta_n: 2,
+        max_delta_n: 50,
+    };
+    assert!(matches!(
+        select(std::slice::from_ref(&n), &hr, ORIGINAL_MS, &opts),
+        Selection::Original { .. }
+    ));
+    n.measured_errors.clear();
+    assert!(matches!(
+        select(&[n], &hr, ORIGINAL_MS, &opts),
+        Selection::Node(c) if c.delta_n == 2
     ));
 }

@@ -95,9 +95,35 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     for w in &report.timing_warnings {
         eprintln!("warning: {w}");
     }
+    // The budget is a promise: a verified error over it is never silent (exit 4, before the
+    // speed bar), and the message names a budget whose choice is predicted to hold.
+    let measured = match report.metric {
+        reproj_models::Metric::L2 => report.measured_error,
+        reproj_models::Metric::Flip => report.measured_flip.map(|f| f.mean),
+    };
+    let over = measured
+        .filter(|e| !e.is_finite() || *e > report.max_error)
+        .map(|e| {
+            let safer = report.max_error * (report.max_error / e).min(1.0) * 0.95;
+            super::OverBudget(format!(
+                "verified {} {e:.5} is over the budget {} on {}: the choice does not hold there; the next safe choice: `reproj emit --max-error {safer:.3e}` (or profile this session too)",
+                metric_label(report.metric),
+                report.max_error,
+                args.session
+                    .as_ref()
+                    .map_or_else(|| "the session".into(), |p| p.display().to_string()),
+            ))
+        });
+    if let Some(o) = &over {
+        eprintln!("warning: {o}");
+    }
+    let unmet: Option<anyhow::Error> = match over {
+        Some(o) => Some(o.into()),
+        None => unmet.map(Into::into),
+    };
     if args.json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
-        return unmet.map_or(Ok(()), |u| Err(u.into()));
+        return unmet.map_or(Ok(()), Err);
     }
     writeln!(
         stdout,
@@ -182,7 +208,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         )?;
     }
     writeln!(stdout, "wrote    {}", report.files.join(", "))?;
-    unmet.map_or(Ok(()), |u| Err(u.into()))
+    unmet.map_or(Ok(()), Err)
 }
 
 /// How reports name the error a budget bounds.

@@ -37,6 +37,19 @@ impl std::fmt::Display for Unmet {
 
 impl std::error::Error for Unmet {}
 
+/// `emit --verify` measured an error over the budget: the promise does not hold on the session
+/// verified. Exit 4.
+#[derive(Debug)]
+pub struct OverBudget(pub String);
+
+impl std::fmt::Display for OverBudget {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for OverBudget {}
+
 /// The front end's language for `--lang-in` (`None`: by extension).
 pub fn lang_in(l: Option<crate::LangInArg>) -> Option<reproj_front::Lang> {
     l.map(|l| match l {
@@ -101,13 +114,17 @@ pub fn no_cacheable_lines(table: &reproj_front::NodeTable) -> Option<Vec<String>
 }
 
 /// How an error ends the process: its exit code (2: the user's input or files, 1: a bug or the
-/// machine, 3: a bar the user set was not met) and, for an error about a place in a shader, the
+/// machine, 3: a bar the user set was not met, 4: `emit --verify` measured an error over the
+/// budget) and, for an error about a place in a shader, the
 /// source diagnostic to show. The one place that decides, for every error type reproj has.
 fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) {
     let user = |yes: bool| if yes { 2 } else { 1 };
     for c in e.chain() {
         if c.downcast_ref::<Unmet>().is_some() {
             return (3, None);
+        }
+        if c.downcast_ref::<OverBudget>().is_some() {
+            return (4, None);
         }
         if c.downcast_ref::<UserError>().is_some()
             || c.downcast_ref::<reproj_io::ReadError>().is_some()
