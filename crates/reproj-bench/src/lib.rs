@@ -31,6 +31,8 @@ pub const BENCH_VERSION: u32 = 1;
 pub const DEFAULT_BLOCK_FRAMES: u32 = 12;
 
 /// What a candidate renders.
+// A run holds a handful of candidates: their size does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub enum Subject {
     /// A cached variant of the baseline shader.
@@ -39,9 +41,9 @@ pub enum Subject {
     /// simplified one): its fragment entry point `entry`, over the same session or over
     /// `session` (the same frames at another resolution: `compare`'s resize).
     Shader {
-        shader: Shader,
+        shader: Box<Shader>,
         entry: usize,
-        session: Option<Session>,
+        session: Option<Box<Session>>,
     },
 }
 
@@ -247,7 +249,7 @@ pub fn bench(
                     session: own,
                 } => {
                     renderer
-                        .render_original(shader, *entry, own.as_ref().unwrap_or(session), &o)?
+                        .render_original(shader, *entry, own.as_deref().unwrap_or(session), &o)?
                         .report
                         .frames
                 }

@@ -347,18 +347,18 @@ pub fn compare(
         reproj_bench::Candidate {
             name: "resize".into(),
             subject: reproj_bench::Subject::Shader {
-                shader: shader.clone(),
+                shader: Box::new(shader.clone()),
                 entry,
-                session: Some(small),
+                session: Some(Box::new(small)),
             },
         },
         reproj_bench::Candidate {
             name: "simplify".into(),
             subject: reproj_bench::Subject::Shader {
-                shader: reproj_front::parse_shader(
+                shader: Box::new(reproj_front::parse_shader(
                     Path::new("simplified.wgsl"),
                     simplified.wgsl.clone(),
-                )?,
+                )?),
                 entry: 0,
                 session: None,
             },

@@ -545,7 +545,7 @@ mod tests {
         assert!((e.speedup.ln() - geo).abs() < 0.02, "{}", e.display());
         assert!(e.half_width() < 0.03, "{}", e.display());
         // Without the windows the same data would spread over ±25 %.
-        let pooled = estimate(&vec![0; 16], &b, &c).unwrap();
+        let pooled = estimate(&[0; 16], &b, &c).unwrap();
         assert!(pooled.half_width() > e.half_width(), "{}", pooled.display());
         let w = condition_warnings(&st, &b, &[], &Conditions::default());
         assert!(w.is_empty(), "{w:?}");

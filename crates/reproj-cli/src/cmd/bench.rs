@@ -123,7 +123,7 @@ fn candidate(path: &Path, args: &BenchArgs) -> anyhow::Result<Candidate> {
     Ok(Candidate {
         name,
         subject: Subject::Shader {
-            shader,
+            shader: Box::new(shader),
             entry,
             session: None,
         },
