@@ -52,15 +52,20 @@ pub struct NodeRecord {
 pub enum MeasuredBound {
     /// No measurement to go by.
     Unmeasured,
-    /// The error is at least this: the measurement at Δn, or the line between the measured
-    /// periods around it (Δn = 1 counts as measured at 0: it reproduces the original). An error
-    /// curve that saturates lies above that line, so the bound is safe.
-    AtLeast(f64),
+    /// Measured at this Δn (the larger, if measured twice).
+    Exact(f64),
+    /// Between two measured periods (Δn = 1 counts as measured at 0: it reproduces the
+    /// original): `(Δn, error)` below and above, and the line between them at this Δn.
+    Between {
+        below: (u32, f64),
+        above: (u32, f64),
+        chord: f64,
+    },
     /// Past the longest measured period: not predicted (the model would extrapolate).
     Beyond { longest: u32 },
 }
 
-/// The bound the measured errors put on the error at `delta_n`.
+/// Where `delta_n` lies among the measured errors.
 pub fn respect_measurements(measured: &[(u32, f64)], delta_n: u32) -> MeasuredBound {
     let finite: Vec<(u32, f64)> = measured
         .iter()
@@ -82,7 +87,7 @@ pub fn respect_measurements(measured: &[(u32, f64)], delta_n: u32) -> MeasuredBo
             .fold(f64::NEG_INFINITY, f64::max)
     };
     if finite.iter().any(|m| m.0 == delta_n) {
-        return MeasuredBound::AtLeast(at(delta_n));
+        return MeasuredBound::Exact(at(delta_n));
     }
     let below = finite
         .iter()
@@ -98,7 +103,37 @@ pub fn respect_measurements(measured: &[(u32, f64)], delta_n: u32) -> MeasuredBo
         .expect("delta_n is below the longest");
     let above = (above, at(above));
     let t = f64::from(delta_n - below.0) / f64::from(above.0 - below.0);
-    MeasuredBound::AtLeast(below.1 + t * (above.1 - below.1))
+    MeasuredBound::Between {
+        below,
+        above,
+        chord: below.1 + t * (above.1 - below.1),
+    }
+}
+
+/// The error predicted for `node` at `delta_n`, held to what the profile measured: at a measured
+/// period never below the measurement; between two, never below the line between them nor below
+/// the model scaled by how much it under-predicted those two neighbours; past the longest
+/// measured period, none.
+pub fn predicted_error(node: &NodeRecord, delta_n: u32) -> Option<f64> {
+    let model = |dn: u32| node.error.predict(f64::from(dn));
+    let m = model(delta_n)?;
+    Some(match respect_measurements(&node.measured_errors, delta_n) {
+        MeasuredBound::Unmeasured => m,
+        MeasuredBound::Exact(e) => m.max(e),
+        MeasuredBound::Between {
+            below,
+            above,
+            chord,
+        } => {
+            // How far the model falls short of each measured neighbour (Δn = 1 is no check).
+            let short = |(dn, e): (u32, f64)| match model(dn) {
+                Some(p) if dn > 1 && p > 0.0 && e.is_finite() => e / p,
+                _ => 1.0,
+            };
+            (m * short(below).max(short(above)).max(1.0)).max(chord)
+        }
+        MeasuredBound::Beyond { .. } => return None,
+    })
 }
 
 /// The `(Δn, value)` pairs a node (or set) measured for `metric`.
@@ -274,11 +309,7 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
     check_node(node).ok()?;
     let dn = f64::from(delta_n);
     let gamma = hit_rate.gamma(dn)?;
-    let error = match respect_measurements(&node.measured_errors, delta_n) {
-        MeasuredBound::Unmeasured => node.error.predict(dn)?,
-        MeasuredBound::AtLeast(floor) => node.error.predict(dn)?.max(floor),
-        MeasuredBound::Beyond { .. } => return None,
-    };
+    let error = predicted_error(node, delta_n)?;
     let ms = predicted_frame_ms(&node.timing, hit_rate, dn, node.mean_pixels)?;
     let ms = ms * node.measured.map_or(1.0, |c| c.ms_scale);
     (error.is_finite() && ms.is_finite() && ms > 0.0).then(|| Prediction {

@@ -369,7 +369,7 @@ fn a_set_wins_only_when_predicted_faster_under_the_budget() {
 /// measured periods, and never past the longest measured period.
 #[test]
 fn measured_errors_bound_the_prediction_and_the_range() {
-    use reproj_select::{MeasuredBound, predict, respect_measurements};
+    use reproj_select::{MeasuredBound, predict, predicted_error, respect_measurements};
     let hr = HitRateFit::from_mu(0.9);
     // α 0.02, λ 0.1: the model predicts ≈ 0.0019 at Δn = 2.
     let mut n = node(1, 0.02, 0.1, 1.0e-6, 2.0e-5);
@@ -378,14 +378,21 @@ fn measured_errors_bound_the_prediction_and_the_range() {
     n.measured_errors = vec![(2, 0.00356), (10, 0.009), (14, 0.011)];
     assert_eq!(
         respect_measurements(&n.measured_errors, 2),
-        MeasuredBound::AtLeast(0.00356)
+        MeasuredBound::Exact(0.00356)
     );
     assert!(predict(&n, &hr, 2).unwrap().predicted_error >= 0.00356);
-    // Between 2 and 10: at least the line through them.
-    let MeasuredBound::AtLeast(line) = respect_measurements(&n.measured_errors, 6) else {
+    // Between 2 and 10: at least the line through them, and at least the model scaled by how
+    // much it fell short of its neighbours (here ×1.87 at Δn = 2).
+    let MeasuredBound::Between { chord, .. } = respect_measurements(&n.measured_errors, 6) else {
         panic!()
     };
-    assert!((line - (0.00356 + 0.5 * (0.009 - 0.00356))).abs() < 1e-12);
+    assert!((chord - (0.00356 + 0.5 * (0.009 - 0.00356))).abs() < 1e-12);
+    let at_6 = predicted_error(&n, 6).unwrap();
+    let model_6 = n.error.predict(6.0).unwrap();
+    assert!(
+        at_6 >= chord && at_6 >= model_6 * 0.00356 / model_at_2 - 1e-12,
+        "{at_6}"
+    );
     // Past Δn = 14: refused, not extrapolated.
     assert_eq!(
         respect_measurements(&n.measured_errors, 50),
