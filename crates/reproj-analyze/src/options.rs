@@ -23,15 +23,17 @@ pub const DEFAULT_PERCEPTUAL_STRIDE: u32 = 5;
 /// 256×256 frame on one core, as much as rendering the frame several times on lavapipe).
 pub const DEFAULT_PERCEPTUAL_FRAMES: u32 = 15;
 /// How `analyze` times its races by default ([`AnalyzeOptions::race`]): blocks of 8 timed frames,
-/// 8 to 12 rounds (two or three per window of the session), stopping once every interval is within
-/// ±5 % or after 5 s. A race decides only where intervals separate, so a short one is enough.
+/// 8 rounds (each window of the session twice, once in each order), at most 4 s. A race decides
+/// only where intervals separate, and a wide interval decides for the simpler strategy and against
+/// setting a node aside, so a short race is enough; it costs about what the probe replays it
+/// replaced did.
 pub const DEFAULT_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
     block_frames: 8,
     stop: reproj_models::speedup::StopRule {
         min_rounds: 8,
-        max_rounds: 12,
+        max_rounds: 8,
         target_half_width: 0.05,
-        max_seconds: 5.0,
+        max_seconds: 4.0,
     },
     max_frames: None,
 };
