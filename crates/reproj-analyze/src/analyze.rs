@@ -287,7 +287,7 @@ pub fn analyze(
         progress.step(&format!("node {id} race at Δn={longest}"));
         let estimates: Vec<Option<SpeedupEstimate>> = race
             .as_ref()
-            .map(|r| r.candidates.iter().map(|c| c.estimate()).collect())
+            .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
             .unwrap_or_default();
         let winner = race_winner(&built, &estimates);
         if let Some(w) = winner

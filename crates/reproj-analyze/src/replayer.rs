@@ -228,7 +228,7 @@ impl Replayer<'_, '_> {
                         variant,
                     }],
                 )?;
-                if let Some(e) = race.candidates[0].estimate() {
+                if let Some(e) = race.estimate(0) {
                     verdict = too_slow(&e, subject.root, self.longest, *strategy);
                 }
             }

@@ -165,20 +165,6 @@ pub struct CandidateFigure {
     pub blocks_ms: Vec<f64>,
 }
 
-impl CandidateFigure {
-    /// The estimate, when there is one.
-    pub fn estimate(&self) -> Option<SpeedupEstimate> {
-        Some(SpeedupEstimate {
-            speedup: self.speedup?,
-            ci95: self.speedup_ci95?,
-            rounds: self.rounds,
-            outliers: self.outliers,
-            baseline_ms: 0.0,
-            candidate_ms: self.median_ms?,
-        })
-    }
-}
-
 /// What a run measured (`reproj.bench` v1, `docs/SCHEMAS.md`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BenchReport {
@@ -196,6 +182,21 @@ pub struct BenchReport {
     pub candidates: Vec<CandidateFigure>,
     /// Empty when the run was clean.
     pub warnings: Vec<String>,
+}
+
+impl BenchReport {
+    /// Candidate `i`'s estimate, when it has one.
+    pub fn estimate(&self, i: usize) -> Option<SpeedupEstimate> {
+        let c = self.candidates.get(i)?;
+        Some(SpeedupEstimate {
+            speedup: c.speedup?,
+            ci95: c.speedup_ci95?,
+            rounds: c.rounds,
+            outliers: c.outliers,
+            baseline_ms: self.baseline.median_ms,
+            candidate_ms: c.median_ms?,
+        })
+    }
 }
 
 /// Measure every candidate against the baseline, interleaved (see the crate docs). `progress` is
@@ -220,7 +221,71 @@ pub fn bench(
         .min(frames.saturating_sub(1).max(1));
     let warm = u32::from(frames > timed);
     let block_len = timed + warm;
-    let render = |who: Slot, first: u32, len: u32| -> Result<Vec<f64>, ReplayError> {
+    let scene = Scene {
+        renderer,
+        baseline,
+        session,
+        candidates,
+    };
+
+    // Warm-up, not recorded: every subject builds its pipelines once.
+    for who in round_order(0, candidates.len()) {
+        scene.block(who, 0, block_len.min(2))?;
+    }
+    let t0 = Instant::now();
+    let cpu0 = cpu_ticks();
+    let mut runs = Runs {
+        strata: Vec::new(),
+        baseline: Vec::new(),
+        candidates: vec![Vec::new(); candidates.len()],
+        estimates: vec![None; candidates.len()],
+    };
+    loop {
+        let round = runs.strata.len() as u32;
+        let start = window_start(round, frames, block_len);
+        let mut got: Vec<(Slot, f64)> = Vec::new();
+        for who in round_order(round, candidates.len()) {
+            let ms = scene.block(who, start, block_len)?;
+            let figure = block_ms(&ms[(warm as usize).min(ms.len())..]).unwrap_or(f64::NAN);
+            got.push((who, figure));
+        }
+        runs.record(stratum(round), got);
+        let seconds = t0.elapsed().as_secs_f64();
+        let rounds = runs.strata.len() as u32;
+        progress(&Progress {
+            rounds,
+            seconds,
+            estimates: &runs.estimates,
+        });
+        if opts.stop.done(rounds, seconds, &runs.estimates) {
+            break;
+        }
+    }
+    let others_cpu = match (cpu0, cpu_ticks()) {
+        (Some(a), Some(b)) => others_share(a, b),
+        _ => None,
+    };
+    Ok(runs.report(
+        renderer,
+        candidates,
+        opts,
+        [timed, frames],
+        t0.elapsed().as_secs_f64(),
+        others_cpu,
+    ))
+}
+
+/// What renders a block: the renderer, the baseline and the candidates over the session.
+struct Scene<'a> {
+    renderer: &'a Renderer,
+    baseline: Baseline<'a>,
+    session: &'a Session,
+    candidates: &'a [Candidate],
+}
+
+impl Scene<'_> {
+    /// Render `who` over frames `first..first + len`, timing only: each frame's time, ms.
+    fn block(&self, who: Slot, first: u32, len: u32) -> Result<Vec<f64>, ReplayError> {
         let o = RenderOptions {
             png_dir: None,
             max_frames: Some(len),
@@ -230,17 +295,16 @@ pub fn bench(
             raw_frames: false,
             perceptual_stride: None,
         };
+        let (r, b, session) = (self.renderer, self.baseline, self.session);
         let recs = match who {
             Slot::Baseline => {
-                renderer
-                    .render_original(baseline.shader, baseline.entry, session, &o)?
+                r.render_original(b.shader, b.entry, session, &o)?
                     .report
                     .frames
             }
-            Slot::Candidate(i) => match &candidates[i].subject {
+            Slot::Candidate(i) => match &self.candidates[i].subject {
                 Subject::Variant(v) => {
-                    renderer
-                        .render_variant(baseline.shader, session, v, baseline.reference, &o)?
+                    r.render_variant(b.shader, session, v, b.reference, &o)?
                         .frames
                 }
                 Subject::Shader {
@@ -248,117 +312,111 @@ pub fn bench(
                     entry,
                     session: own,
                 } => {
-                    renderer
-                        .render_original(shader, *entry, own.as_deref().unwrap_or(session), &o)?
+                    r.render_original(shader, *entry, own.as_deref().unwrap_or(session), &o)?
                         .report
                         .frames
                 }
             },
         };
         Ok(recs.iter().map(|r| r.frame_ms).collect())
-    };
-
-    // Warm-up, not recorded: every subject builds its pipelines once.
-    for who in round_order(0, candidates.len()) {
-        render(who, 0, block_len.min(2))?;
     }
-    let t0 = Instant::now();
-    let cpu0 = cpu_ticks();
-    let mut base_blocks: Vec<f64> = Vec::new();
-    let mut cand_blocks: Vec<Vec<f64>> = vec![Vec::new(); candidates.len()];
-    let mut strata: Vec<u32> = Vec::new();
-    let mut estimates: Vec<Option<SpeedupEstimate>> = vec![None; candidates.len()];
-    let mut rounds = 0u32;
-    loop {
-        let start = window_start(rounds, frames, block_len);
-        let mut got: Vec<(Slot, f64)> = Vec::new();
-        for who in round_order(rounds, candidates.len()) {
-            let ms = render(who, start, block_len)?;
-            let figure = block_ms(&ms[(warm as usize).min(ms.len())..]).unwrap_or(f64::NAN);
-            got.push((who, figure));
-        }
+}
+
+/// The block figures of a run so far, and the candidates' estimates from them.
+struct Runs {
+    strata: Vec<u32>,
+    baseline: Vec<f64>,
+    candidates: Vec<Vec<f64>>,
+    estimates: Vec<Option<SpeedupEstimate>>,
+}
+
+impl Runs {
+    /// Add one round, measured on window `stratum`, and estimate again.
+    fn record(&mut self, stratum: u32, got: Vec<(Slot, f64)>) {
         for (who, figure) in got {
             match who {
-                Slot::Baseline => base_blocks.push(figure),
-                Slot::Candidate(i) => cand_blocks[i].push(figure),
+                Slot::Baseline => self.baseline.push(figure),
+                Slot::Candidate(i) => self.candidates[i].push(figure),
             }
         }
-        strata.push(stratum(rounds));
-        rounds += 1;
-        for (e, c) in estimates.iter_mut().zip(&cand_blocks) {
-            *e = speedup::estimate(&strata, &base_blocks, c);
+        self.strata.push(stratum);
+        for (e, c) in self.estimates.iter_mut().zip(&self.candidates) {
+            *e = speedup::estimate(&self.strata, &self.baseline, c);
         }
-        let seconds = t0.elapsed().as_secs_f64();
-        progress(&Progress {
+    }
+
+    /// The report of the finished run, with its warnings.
+    fn report(
+        self,
+        renderer: &Renderer,
+        candidates: &[Candidate],
+        opts: &BenchOptions,
+        [timed, frames]: [u32; 2],
+        seconds: f64,
+        others_cpu: Option<f64>,
+    ) -> BenchReport {
+        let rounds = self.strata.len() as u32;
+        let named: Vec<(String, Option<SpeedupEstimate>)> = candidates
+            .iter()
+            .zip(&self.estimates)
+            .map(|(c, e)| (c.name.clone(), *e))
+            .collect();
+        let mut warnings = speedup::condition_warnings(
+            &self.strata,
+            &self.baseline,
+            &named,
+            &Conditions { others_cpu },
+        );
+        let wide = self
+            .estimates
+            .iter()
+            .flatten()
+            .any(|e| e.half_width() > opts.stop.target_half_width);
+        let target = opts.stop.target_half_width * 100.0;
+        if wide && rounds >= opts.stop.max_rounds.max(1) {
+            warnings.push(format!(
+                "the interval is wider than ±{target:.0} % after the last of {rounds} rounds (--rounds)"
+            ));
+        } else if wide {
+            warnings.push(format!(
+                "the interval is wider than ±{target:.0} % after {seconds:.0} s (--max-time)"
+            ));
+        }
+        let finite_median = |v: &[f64]| {
+            let f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+            (!f.is_empty()).then(|| speedup::median(&f))
+        };
+        BenchReport {
+            schema: BENCH_SCHEMA.into(),
+            version: BENCH_VERSION,
+            machine: Machine::of(renderer),
+            block_frames: timed,
+            session_frames: frames,
             rounds,
             seconds,
-            estimates: &estimates,
-        });
-        if opts.stop.done(rounds, seconds, &estimates) {
-            break;
+            others_cpu,
+            baseline: BaselineFigure {
+                median_ms: finite_median(&self.baseline).unwrap_or(0.0),
+                blocks_ms: self.baseline,
+                windows: self.strata,
+            },
+            candidates: candidates
+                .iter()
+                .zip(&self.estimates)
+                .zip(self.candidates)
+                .map(|((c, e), blocks)| CandidateFigure {
+                    name: c.name.clone(),
+                    median_ms: finite_median(&blocks),
+                    speedup: e.map(|e| e.speedup),
+                    speedup_ci95: e.map(|e| e.ci95),
+                    rounds: e.map_or(0, |e| e.rounds),
+                    outliers: e.map_or(0, |e| e.outliers),
+                    blocks_ms: blocks,
+                })
+                .collect(),
+            warnings,
         }
     }
-    let seconds = t0.elapsed().as_secs_f64();
-    let others_cpu = match (cpu0, cpu_ticks()) {
-        (Some(a), Some(b)) => others_share(a, b),
-        _ => None,
-    };
-    let named: Vec<(String, Option<SpeedupEstimate>)> = candidates
-        .iter()
-        .zip(&estimates)
-        .map(|(c, e)| (c.name.clone(), *e))
-        .collect();
-    let mut warnings =
-        speedup::condition_warnings(&strata, &base_blocks, &named, &Conditions { others_cpu });
-    let wide = estimates
-        .iter()
-        .flatten()
-        .any(|e| e.half_width() > opts.stop.target_half_width);
-    if wide && rounds >= opts.stop.max_rounds.max(1) {
-        warnings.push(format!(
-            "the interval is wider than ±{:.0} % after the last of {rounds} rounds (--rounds)",
-            opts.stop.target_half_width * 100.0
-        ));
-    } else if wide {
-        warnings.push(format!(
-            "the interval is wider than ±{:.0} % after {seconds:.0} s (--max-time)",
-            opts.stop.target_half_width * 100.0
-        ));
-    }
-    let finite_median = |v: &[f64]| {
-        let f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-        (!f.is_empty()).then(|| speedup::median(&f))
-    };
-    Ok(BenchReport {
-        schema: BENCH_SCHEMA.into(),
-        version: BENCH_VERSION,
-        machine: Machine::of(renderer),
-        block_frames: timed,
-        session_frames: frames,
-        rounds,
-        seconds,
-        others_cpu,
-        baseline: BaselineFigure {
-            median_ms: finite_median(&base_blocks).unwrap_or(0.0),
-            blocks_ms: base_blocks,
-            windows: strata,
-        },
-        candidates: candidates
-            .iter()
-            .zip(&estimates)
-            .zip(cand_blocks)
-            .map(|((c, e), blocks)| CandidateFigure {
-                name: c.name.clone(),
-                median_ms: finite_median(&blocks),
-                speedup: e.map(|e| e.speedup),
-                speedup_ci95: e.map(|e| e.ci95),
-                rounds: e.map_or(0, |e| e.rounds),
-                outliers: e.map_or(0, |e| e.outliers),
-                blocks_ms: blocks,
-            })
-            .collect(),
-        warnings,
-    })
 }
 
 /// CPU time counters: (all CPUs busy, all CPUs total, this process), in clock ticks.

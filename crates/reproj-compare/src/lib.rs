@@ -340,37 +340,12 @@ pub fn compare(
 
     // Every method's final candidate against the original, interleaved in one run: the speeds
     // the table reports (the searches above decided on single replays).
-    let chosen = &resize_detail.tries[resize_detail.chosen];
-    let mut small = input.session.clone();
-    small.resolution = chosen.resolution;
-    let mut candidates = vec![
-        reproj_bench::Candidate {
-            name: "resize".into(),
-            subject: reproj_bench::Subject::Shader {
-                shader: Box::new(shader.clone()),
-                entry,
-                session: Some(Box::new(small)),
-            },
-        },
-        reproj_bench::Candidate {
-            name: "simplify".into(),
-            subject: reproj_bench::Subject::Shader {
-                shader: Box::new(reproj_front::parse_shader(
-                    Path::new("simplified.wgsl"),
-                    simplified.wgsl.clone(),
-                )?),
-                entry: 0,
-                session: None,
-            },
-        },
-    ];
-    if let Some(v) = reproj_input {
-        candidates.push(reproj_bench::Candidate {
-            name: "reproj".into(),
-            subject: reproj_bench::Subject::Variant(v),
-        });
-    }
-    let timed = reproj_bench::bench(
+    let small = {
+        let mut small = input.session.clone();
+        small.resolution = resize_detail.tries[resize_detail.chosen].resolution;
+        small
+    };
+    let timed = time_methods(
         renderer,
         reproj_bench::Baseline {
             shader,
@@ -378,16 +353,17 @@ pub fn compare(
             reference: &reference,
         },
         input.session,
-        &candidates,
+        small,
+        &simplified.wgsl,
+        reproj_input,
         &opts.timing,
-        &mut |_| {},
     )?;
     progress.step("timing, interleaved");
-    for (m, c) in methods.iter_mut().zip(&timed.candidates) {
-        if let (Some(e), Some(ms)) = (c.estimate(), c.median_ms) {
+    for (i, m) in methods.iter_mut().enumerate() {
+        if let Some(e) = timed.estimate(i) {
             m.speedup = e.speedup;
             m.speedup_ci95 = Some(e.ci95);
-            m.frame_ms = ms;
+            m.frame_ms = e.candidate_ms;
             m.reached_target = e.speedup >= target;
         }
     }
@@ -529,6 +505,55 @@ impl Ctx<'_> {
             .render_original(shader, entry, session, self.render_opts)?;
         Ok((r.frames, r.report.frame_ms))
     }
+}
+
+/// Time the methods' final candidates — the original at the resized resolution (`small`), the
+/// simplified shader, reproj's variant — against the original in one interleaved run.
+fn time_methods(
+    renderer: &Renderer,
+    baseline: reproj_bench::Baseline<'_>,
+    session: &Session,
+    small: Session,
+    simplified_wgsl: &str,
+    reproj: Option<reproj_replay::VariantInput>,
+    timing: &reproj_bench::BenchOptions,
+) -> Result<reproj_bench::BenchReport, CompareError> {
+    use reproj_bench::{Candidate, Subject};
+    let mut candidates = vec![
+        Candidate {
+            name: "resize".into(),
+            subject: Subject::Shader {
+                shader: Box::new(baseline.shader.clone()),
+                entry: baseline.entry,
+                session: Some(Box::new(small)),
+            },
+        },
+        Candidate {
+            name: "simplify".into(),
+            subject: Subject::Shader {
+                shader: Box::new(reproj_front::parse_shader(
+                    Path::new("simplified.wgsl"),
+                    simplified_wgsl.to_string(),
+                )?),
+                entry: 0,
+                session: None,
+            },
+        },
+    ];
+    if let Some(v) = reproj {
+        candidates.push(Candidate {
+            name: "reproj".into(),
+            subject: Subject::Variant(v),
+        });
+    }
+    Ok(reproj_bench::bench(
+        renderer,
+        baseline,
+        session,
+        &candidates,
+        timing,
+        &mut |_| {},
+    )?)
 }
 
 /// Write `compare.json`, the chart (`compare.svg`, `compare.png`), the crops (`crops.png`) and

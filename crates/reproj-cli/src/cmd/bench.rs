@@ -165,12 +165,12 @@ fn write_table(out: &mut impl Write, r: &BenchReport, args: &BenchArgs) -> anyho
         "  {:<width$}  {:>10.3}",
         "original (baseline)", r.baseline.median_ms
     )?;
-    for c in &r.candidates {
+    for (i, c) in r.candidates.iter().enumerate() {
         let ms = c
             .median_ms
             .map_or_else(|| "–".into(), |m| format!("{m:.3}"));
-        let s = c
-            .estimate()
+        let s = r
+            .estimate(i)
             .map_or_else(|| "no usable timing".into(), |e| e.display());
         writeln!(
             out,

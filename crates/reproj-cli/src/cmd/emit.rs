@@ -70,57 +70,10 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             &reproj_bench::BenchOptions::default(),
         )?;
     }
-    // A measured speedup gates on the lower end of its 95 % interval: noise never passes a bar.
-    let unmet = args.min_speedup.and_then(|min| {
-        let (speedup, how) = match (
-            report.measured_speedup,
-            report.measured_speedup_ci95,
-            report.predicted_speedup,
-        ) {
-            (Some(s), Some([lo, hi]), _) => (
-                lo,
-                format!("measured speedup {s:.2}x [{lo:.2}, {hi:.2}]: its lower bound"),
-            ),
-            (Some(s), None, _) => (s, format!("measured speedup {s:.2}x")),
-            (None, _, Some(s)) => (s, format!("predicted speedup {s:.2}x")),
-            (None, _, None) => (1.0, "kept the original: speedup 1.00x".to_string()),
-        };
-        (speedup < min).then(|| {
-            super::Unmet(format!(
-                "{how} is below --min-speedup {min} at error ≤ {}",
-                report.max_error
-            ))
-        })
-    });
     for w in &report.timing_warnings {
         eprintln!("warning: {w}");
     }
-    // The budget is a promise: a verified error over it is never silent (exit 4, before the
-    // speed bar), and the message names a budget whose choice is predicted to hold.
-    let measured = match report.metric {
-        reproj_models::Metric::L2 => report.measured_error,
-        reproj_models::Metric::Flip => report.measured_flip.map(|f| f.mean),
-    };
-    let over = measured
-        .filter(|e| !e.is_finite() || *e > report.max_error)
-        .map(|e| {
-            let safer = report.max_error * (report.max_error / e).min(1.0) * 0.95;
-            super::OverBudget(format!(
-                "verified {} {e:.5} is over the budget {} on {}: the choice does not hold there; the next safe choice: `reproj emit --max-error {safer:.3e}` (or profile this session too)",
-                metric_label(report.metric),
-                report.max_error,
-                args.session
-                    .as_ref()
-                    .map_or_else(|| "the session".into(), |p| p.display().to_string()),
-            ))
-        });
-    if let Some(o) = &over {
-        eprintln!("warning: {o}");
-    }
-    let unmet: Option<anyhow::Error> = match over {
-        Some(o) => Some(o.into()),
-        None => unmet.map(Into::into),
-    };
+    let unmet = gate(&report, args);
     if args.json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
         return unmet.map_or(Ok(()), Err);
@@ -212,6 +165,58 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
 }
 
 /// How reports name the error a budget bounds.
+/// The bars a run must pass, in order: a verified error within the budget (exit 4 otherwise, with
+/// a warning naming a tighter budget: the budget is a promise), then `--min-speedup` — on the
+/// lower end of the measured speedup's 95 % interval with `--verify` (noise never passes a bar),
+/// on the prediction without (exit 3).
+fn gate(report: &reproj_analyze::EmitReport, args: &EmitArgs) -> Option<anyhow::Error> {
+    let measured = match report.metric {
+        reproj_models::Metric::L2 => report.measured_error,
+        reproj_models::Metric::Flip => report.measured_flip.map(|f| f.mean),
+    };
+    if let Some(e) = measured.filter(|e| !e.is_finite() || *e > report.max_error) {
+        let session = args
+            .session
+            .as_ref()
+            .map_or_else(|| "the session".into(), |p| p.display().to_string());
+        let what = metric_label(report.metric);
+        let o = if e.is_finite() {
+            let safer = report.max_error * (report.max_error / e) * 0.95;
+            super::OverBudget(format!(
+                "verified {what} {e:.5} is over the budget {} on {session}: the choice does not hold there; the next safe choice: `reproj emit --max-error {safer:.3e}` (or profile this session too)",
+                report.max_error
+            ))
+        } else {
+            super::OverBudget(format!(
+                "verified {what} is not a number on {session}: the variant produces non-finite pixels there; no budget holds"
+            ))
+        };
+        eprintln!("warning: {o}");
+        return Some(o.into());
+    }
+    let min = args.min_speedup?;
+    let (speedup, how) = match (
+        report.measured_speedup,
+        report.measured_speedup_ci95,
+        report.predicted_speedup,
+    ) {
+        (Some(s), Some([lo, hi]), _) => (
+            lo,
+            format!("measured speedup {s:.2}x [{lo:.2}, {hi:.2}]: its lower bound"),
+        ),
+        (Some(s), None, _) => (s, format!("measured speedup {s:.2}x")),
+        (None, _, Some(s)) => (s, format!("predicted speedup {s:.2}x")),
+        (None, _, None) => (1.0, "kept the original: speedup 1.00x".to_string()),
+    };
+    (speedup < min).then(|| {
+        super::Unmet(format!(
+            "{how} is below --min-speedup {min} at error ≤ {}",
+            report.max_error
+        ))
+        .into()
+    })
+}
+
 fn metric_label(metric: reproj_models::Metric) -> &'static str {
     match metric {
         reproj_models::Metric::L2 => "error",
