@@ -202,7 +202,6 @@ pub fn analyze(
         time,
         original_ms: original.frame_ms,
         longest,
-        warned: false,
         timing_warnings: Vec::new(),
     };
 

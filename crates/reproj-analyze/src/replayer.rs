@@ -58,8 +58,6 @@ pub(crate) struct Replayer<'a, 'b> {
     pub(crate) original_ms: f64,
     /// The longest training period (replayed first).
     pub(crate) longest: u32,
-    /// Whether a timing warning was shown already (one per analysis is enough).
-    pub(crate) warned: bool,
     /// Every timing warning of the analysis, once each (into the profile).
     pub(crate) timing_warnings: Vec<String>,
 }
@@ -133,11 +131,11 @@ impl Replayer<'_, '_> {
             if self.timing_warnings.iter().any(|o| o.starts_with(&kind)) {
                 continue;
             }
-            self.timing_warnings.push(w.clone());
-            if !self.warned {
+            if self.timing_warnings.is_empty() {
+                // The first one shows; all are in the profile.
                 self.progress.note(&format!("{who}: timing: {w}"));
-                self.warned = true;
             }
+            self.timing_warnings.push(w.clone());
         }
         Ok(report)
     }
