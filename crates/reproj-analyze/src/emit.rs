@@ -221,18 +221,7 @@ pub fn emit(
     }
     let records: Vec<NodeRecord> = usable
         .iter()
-        .filter_map(|n| {
-            Some(NodeRecord {
-                id: n.id,
-                text: n.text.clone(),
-                strategy: n.strategy.clone(),
-                error: n.fit(opts.metric)?.clone(),
-                timing: n.timing_fit.clone(),
-                mean_pixels: profile.original.mean_pixels,
-                measured: reproj_select::calibration(profile, n),
-                measured_errors: reproj_select::measured_errors(&n.measurements, opts.metric),
-            })
-        })
+        .filter_map(|n| NodeRecord::from_profile(profile, n, opts.metric))
         .collect();
     let usable_sets: Vec<_> = profile
         .sets

@@ -114,18 +114,7 @@ pub(crate) fn plan<'p>(
         .collect();
     let records: Vec<NodeRecord> = usable
         .iter()
-        .filter_map(|n| {
-            Some(NodeRecord {
-                id: n.id,
-                text: n.text.clone(),
-                strategy: n.strategy.clone(),
-                error: n.fit(Metric::L2)?.clone(),
-                timing: n.timing_fit.clone(),
-                mean_pixels: profile.original.mean_pixels,
-                measured: reproj_select::calibration(profile, n),
-                measured_errors: reproj_select::measured_errors(&n.measurements, Metric::L2),
-            })
-        })
+        .filter_map(|n| NodeRecord::from_profile(profile, n, Metric::L2))
         .collect();
     let sets: Vec<&SetProfile> = profile
         .sets

@@ -43,19 +43,7 @@ pub fn records(profile: &Profile) -> Vec<NodeRecord> {
         .nodes
         .iter()
         .filter(|n| n.status == NodeStatus::Ok)
-        .map(|n| NodeRecord {
-            id: n.id,
-            text: n.text.clone(),
-            strategy: n.strategy.clone(),
-            error: n.error_fit.clone(),
-            timing: n.timing_fit.clone(),
-            mean_pixels: profile.original.mean_pixels,
-            measured: reproj_select::calibration(profile, n),
-            measured_errors: reproj_select::measured_errors(
-                &n.measurements,
-                reproj_models::Metric::L2,
-            ),
-        })
+        .filter_map(|n| NodeRecord::from_profile(profile, n, reproj_models::Metric::L2))
         .collect()
 }
 

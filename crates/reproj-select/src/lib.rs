@@ -182,6 +182,29 @@ impl Calibration {
     }
 }
 
+impl NodeRecord {
+    /// The selector's view of `node` in `profile` with its error model for `metric`: its fits,
+    /// its interleaved race ([`calibration`]) and its measured errors ([`measured_errors`]) — the
+    /// one way `emit`, `report`, `compare` and the charts build it, so they choose alike. `None`
+    /// when the profile has no model for `metric`.
+    pub fn from_profile(
+        profile: &reproj_models::Profile,
+        node: &reproj_models::profile::NodeProfile,
+        metric: reproj_models::Metric,
+    ) -> Option<NodeRecord> {
+        Some(NodeRecord {
+            id: node.id,
+            text: node.text.clone(),
+            strategy: node.strategy.clone(),
+            error: node.fit(metric)?.clone(),
+            timing: node.timing_fit.clone(),
+            mean_pixels: profile.original.mean_pixels,
+            measured: calibration(profile, node),
+            measured_errors: measured_errors(&node.measurements, metric),
+        })
+    }
+}
+
 /// The calibration of `node`'s timing model in `profile` by its strategy's interleaved race
 /// against the original (`analyze`, profile version 7 on); `None` for older profiles or a node
 /// whose race gave no estimate.
