@@ -73,7 +73,14 @@ pub fn analyze(
     progress: &dyn Progress,
 ) -> Result<Profile, AnalyzeError> {
     let started = Instant::now();
-    check_periods(opts)?;
+    let period_warnings = check_periods(
+        opts,
+        opts.max_frames
+            .map_or(input.session.frames, |m| m.min(input.session.frames)),
+    )?;
+    for w in &period_warnings {
+        progress.note(&format!("warning: {w}"));
+    }
     let ids = match &opts.nodes {
         Some(ids) => {
             let mut ids = ids.clone();

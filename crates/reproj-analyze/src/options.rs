@@ -192,7 +192,10 @@ impl Default for AnalyzeOptions {
     }
 }
 
-pub(crate) fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
+/// The periods must be measurable: at least 2, each named once (training and held out apart),
+/// and at most ten times the replayed frames (`frames`); a period longer than the session is
+/// measured only in part, which the returned warning says.
+pub(crate) fn check_periods(opts: &AnalyzeOptions, frames: u32) -> Result<Vec<String>, AnalyzeError> {
     if opts.perceptual_stride == Some(0) {
         return Err(AnalyzeError::Options(
             "the perceptual metrics' frame stride must be at least 1".into(),
@@ -213,8 +216,33 @@ pub(crate) fn check_periods(opts: &AnalyzeOptions) -> Result<(), AnalyzeError> {
             "refresh periods must be at least 2 (Δn = 1 is the original shader), got {bad}"
         )));
     }
-    Ok(())
+    let mut seen = std::collections::BTreeSet::new();
+    for d in opts.delta_n_train.iter().chain(&opts.delta_n_holdout) {
+        if !seen.insert(*d) {
+            return Err(AnalyzeError::Options(format!(
+                "refresh period {d} is named twice in --delta-n/--holdout (each period once)"
+            )));
+        }
+    }
+    let limit = frames.saturating_mul(MAX_PERIODS_PER_SESSION);
+    if let Some(bad) = seen.iter().find(|&&d| d > limit) {
+        return Err(AnalyzeError::Options(format!(
+            "refresh period {bad} (--delta-n/--holdout) is more than {MAX_PERIODS_PER_SESSION} times the {frames} frames replayed: nothing would be measured of it; use periods up to {limit} or a longer session"
+        )));
+    }
+    Ok(seen
+        .iter()
+        .filter(|&&d| d > frames)
+        .map(|d| {
+            format!(
+                "refresh period {d} is longer than the {frames} frames replayed: most pixels are never refreshed in the session, so its error is measured only in part"
+            )
+        })
+        .collect())
 }
+
+/// How many times longer than the replayed frames a refresh period may be.
+const MAX_PERIODS_PER_SESSION: u32 = 10;
 
 #[cfg(test)]
 mod tests {

@@ -97,6 +97,75 @@ fn positive_seconds(s: &str) -> Result<f64, String> {
     }
 }
 
+/// The longest refresh period any flag accepts: far past any session worth profiling (a
+/// period longer than the session is refused where the session is known).
+const MAX_DELTA_N: u32 = 10_000;
+
+/// A refresh period a profile can measure or a selection can choose: 2..=[`MAX_DELTA_N`] (Δn 1
+/// is the original shader).
+fn delta_n_limit(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(v) if (2..=MAX_DELTA_N).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a refresh period in 2..={MAX_DELTA_N} (Δn 1 is the original shader)"
+        )),
+    }
+}
+
+/// A refresh period a variant runs at: 1..=[`MAX_DELTA_N`] (1 renders the original shader).
+fn refresh_period(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(v) if (1..=MAX_DELTA_N).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a refresh period in 1..={MAX_DELTA_N} (1: the original shader)"
+        )),
+    }
+}
+
+/// A refresh block size: 1, or even (blocks align with 2×2 quads) up to 256.
+fn block_size(s: &str) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(v) if v == 1 || (v.is_multiple_of(2) && (2..=256).contains(&v)) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a block size: 1, or an even number in 2..=256 (blocks align with 2×2 quads)"
+        )),
+    }
+}
+
+/// The relative depth tolerance of the hit test: a number in (0, 1].
+fn depth_epsilon(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v > 0.0 && v <= 1.0 => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a relative depth tolerance in (0, 1] (default 0.01)"
+        )),
+    }
+}
+
+/// A finite number ≥ 0 (an error budget).
+fn non_negative(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number ≥ 0")),
+    }
+}
+
+/// A finite number > 0.
+fn positive(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a finite number > 0")),
+    }
+}
+
+/// A fraction in [0, 1].
+fn unit_fraction(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}` is not a fraction in [0, 1]")),
+    }
+}
+
 /// A fraction in (0, 1].
 fn positive_fraction(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
@@ -139,7 +208,7 @@ pub struct CompareArgs {
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Replay only the first N frames of the session.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_frames: Option<u32>,
     /// Simplification: nodes with the largest static saving tried per step (and half as many
     /// more nearest the saving still needed for the target).
@@ -152,7 +221,7 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 4)]
     pub resize_tries: usize,
     /// Longest refresh period reproj may choose.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Print compare.json instead of the table.
     #[arg(long)]
@@ -201,7 +270,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub variant: Option<PathBuf>,
     /// Refresh period of the variant (default: 8 with --node, the manifest's with --variant).
-    #[arg(long)]
+    #[arg(long, value_parser = refresh_period)]
     pub delta_n: Option<u32>,
     #[command(flatten)]
     pub cache: CacheArgs,
@@ -213,7 +282,7 @@ pub struct RenderArgs {
     #[arg(long, requires = "frames")]
     pub raw_frames: bool,
     /// Render only the first N frames.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_frames: Option<u32>,
     /// Variants: compute ꟻLIP and SSIM (and with --frames write the ꟻLIP maps) on every Nth
     /// frame (0, N, 2N, ...).
@@ -246,10 +315,10 @@ pub struct AnalyzeArgs {
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Refresh periods the error model is fitted to.
-    #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50")]
+    #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50", value_parser = delta_n_limit)]
     pub delta_n: Vec<u32>,
     /// Refresh periods used only to check the models.
-    #[arg(long, value_delimiter = ',', default_value = "6,30")]
+    #[arg(long, value_delimiter = ',', default_value = "6,30", value_parser = delta_n_limit)]
     pub holdout: Vec<u32>,
     /// Profile these node ids only (the root is always added). Default: pruned by saving.
     #[arg(long, value_delimiter = ',')]
@@ -258,10 +327,10 @@ pub struct AnalyzeArgs {
     #[arg(long, conflicts_with_all = ["nodes", "max_nodes", "min_saving"])]
     pub all_nodes: bool,
     /// Most nodes to profile when pruning (the root included).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u32).range(1..), |n| n as usize))]
     pub max_nodes: usize,
     /// Smallest static saving worth profiling, as a fraction of the shader's cost.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, value_parser = unit_fraction)]
     pub min_saving: f64,
     /// `adaptive`: replay a node at the longest, shortest and middle training Δn and the
     /// held-out ones, and at the other training Δn only when the error model fitted to the three
@@ -269,7 +338,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, default_value = "adaptive")]
     pub sampling: SamplingArg,
     /// Replay only the first N frames of the session.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_frames: Option<u32>,
     /// Race a node's strategies (timed interleaved against the original) on windows of the
     /// session's first N frames only (0: windows over the whole session).
@@ -330,7 +399,7 @@ pub struct EmitArgs {
     /// Error budget, in the unit of --metric: with `l2` the mean per-pixel L2 distance in linear
     /// RGB over all pixels (in [0, √3]), with `flip` the mean ꟻLIP error over the covered pixels
     /// (in [0, 1]).
-    #[arg(long)]
+    #[arg(long, value_parser = non_negative)]
     pub max_error: f64,
     /// Which measured error the budget bounds: `l2` (the paper's) or `flip` (perceptual).
     #[arg(long, default_value = "l2")]
@@ -342,7 +411,7 @@ pub struct EmitArgs {
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Largest refresh period to consider.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Cache texel format of the written passes (default: the profile's).
     #[arg(long, value_enum)]
@@ -372,7 +441,7 @@ pub struct EmitArgs {
     pub lang: Vec<LangArg>,
     /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
     /// below this: for CI, "nothing under the budget is worth it".
-    #[arg(long)]
+    #[arg(long, value_parser = positive)]
     pub min_speedup: Option<f64>,
 }
 
@@ -502,10 +571,10 @@ pub struct CacheArgs {
     pub strategy: Option<StrategyArg>,
     /// Refresh block size k (1 or even, so blocks align with 2×2 quads; default 8 for fused, 4
     /// otherwise).
-    #[arg(long)]
+    #[arg(long, value_parser = block_size)]
     pub block: Option<u32>,
     /// Relative depth tolerance of the cache hit test.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = 0.01, value_parser = depth_epsilon)]
     pub depth_epsilon: f32,
     /// Cache texel format.
     #[arg(long, value_enum, default_value = "f32")]
@@ -581,7 +650,7 @@ pub struct InstanceArgs {
     #[arg(long)]
     pub entry: Option<String>,
     /// Default refresh period Δn written to the manifest (the passes take it at run time).
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = refresh_period)]
     pub delta_n: u32,
     #[command(flatten)]
     pub cache: CacheArgs,

@@ -513,7 +513,7 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
                 "--delta-n",
                 "1,4",
             ],
-            "at least 2",
+            "refresh period",
         ),
         case(
             "analyze period not a number",
@@ -538,6 +538,10 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
                 "good.json",
                 "--nodes",
                 "99999",
+                "--delta-n",
+                "2,4",
+                "--holdout",
+                "3",
             ],
             "no node 99999",
         ),
@@ -721,6 +725,209 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "nope.json",
         ),
     ];
+    // Numbers checked at the door (exit 2 naming the flag and the range), before any rendering.
+    let analyze = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut a = vec!["analyze", "good.wgsl", "--session", "good.json"];
+        a.extend_from_slice(extra);
+        a
+    };
+    for (name, extra, expect) in [
+        ("analyze odd block", &["--block", "3"][..], "--block"),
+        ("analyze zero block", &["--block", "0"][..], "--block"),
+        ("analyze huge block", &["--block", "4096"][..], "--block"),
+        (
+            "analyze zero frames",
+            &["--max-frames", "0"][..],
+            "--max-frames",
+        ),
+        (
+            "analyze negative epsilon",
+            &["--depth-epsilon=-1"][..],
+            "--depth-epsilon",
+        ),
+        (
+            "analyze NaN epsilon",
+            &["--depth-epsilon", "NaN"][..],
+            "--depth-epsilon",
+        ),
+        (
+            "analyze repeated period",
+            &["--delta-n", "2,2,2"][..],
+            "named twice",
+        ),
+        (
+            "analyze period also held out",
+            &["--delta-n", "2,4", "--holdout", "4"][..],
+            "named twice",
+        ),
+        (
+            "analyze period far too long",
+            &["--delta-n", "1000000"][..],
+            "--delta-n",
+        ),
+        (
+            "analyze period past ten sessions",
+            &["--delta-n", "2,4", "--holdout", "3,100"][..],
+            "more than 10 times",
+        ),
+        ("analyze no nodes", &["--max-nodes", "0"][..], "--max-nodes"),
+        (
+            "analyze saving above 1",
+            &["--min-saving", "2"][..],
+            "--min-saving",
+        ),
+    ] {
+        v.push(case(name, &[], &analyze(extra), expect));
+    }
+    v.extend([
+        case(
+            "emit zero longest period",
+            &[],
+            &[
+                "emit",
+                "--max-error",
+                "0.01",
+                "--profile",
+                "good.profile.json",
+                "--max-delta-n",
+                "0",
+                "--out",
+                "out",
+            ],
+            "--max-delta-n",
+        ),
+        case(
+            "emit NaN budget",
+            &[],
+            &[
+                "emit",
+                "--max-error",
+                "NaN",
+                "--profile",
+                "good.profile.json",
+                "--out",
+                "out",
+            ],
+            "--max-error",
+        ),
+        case(
+            "emit NaN min speedup",
+            &[],
+            &[
+                "emit",
+                "--max-error",
+                "0.01",
+                "--profile",
+                "good.profile.json",
+                "--min-speedup",
+                "NaN",
+                "--out",
+                "out",
+            ],
+            "--min-speedup",
+        ),
+        case(
+            "instance NaN epsilon",
+            &[],
+            &[
+                "instance",
+                "good.wgsl",
+                "--node",
+                "root",
+                "--out",
+                "v2",
+                "--depth-epsilon",
+                "NaN",
+            ],
+            "--depth-epsilon",
+        ),
+        case(
+            "instance period 0",
+            &[],
+            &[
+                "instance",
+                "good.wgsl",
+                "--node",
+                "root",
+                "--out",
+                "v2",
+                "--delta-n",
+                "0",
+            ],
+            "--delta-n",
+        ),
+        case(
+            "render zero frames",
+            &[],
+            &[
+                "render",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--max-frames",
+                "0",
+            ],
+            "--max-frames",
+        ),
+        case(
+            "compare zero longest period",
+            &[],
+            &[
+                "compare",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--speedup",
+                "2",
+                "--max-delta-n",
+                "1",
+            ],
+            "--max-delta-n",
+        ),
+        // Other people's files: refused before any work, left as they were.
+        case(
+            "analyze over a user's file",
+            &[("u.txt", "my notes\n")],
+            &analyze(&["--out", "u.txt"]),
+            "not a reproj.profile",
+        ),
+        case(
+            "analyze over a user's chart name",
+            &[("p2.tradeoff.svg", "my notes\n")],
+            &analyze(&["--out", "p2.json"]),
+            "p2.tradeoff.svg",
+        ),
+        case(
+            "analyze into a directory",
+            &[("d/keep.txt", "mine\n")],
+            &analyze(&["--out", "d"]),
+            "is a directory",
+        ),
+        case(
+            "analyze under a file",
+            &[("f", "mine\n")],
+            &analyze(&["--out", "f/p.json"]),
+            "f/p.json",
+        ),
+        case(
+            "merge over a user's file",
+            &[("u.txt", "my notes\n")],
+            &["merge", "good.profile.json", "--out", "u.txt"],
+            "not a reproj.profile",
+        ),
+        case(
+            "merge over a session",
+            &[],
+            &["merge", "good.profile.json", "--out", "good.json"],
+            "not a reproj.profile",
+        ),
+        case(
+            "report over a user's page",
+            &[("u.html", "<html><title>mine</title></html>\n")],
+            &["report", "good.profile.json", "--out", "u.html"],
+            "u.html",
+        ),
+    ]);
     // Unreadable bytes where text belongs.
     v.push(Case {
         name: "shader not UTF-8",
@@ -808,6 +1015,11 @@ fn every_bad_input_exits_2_with_one_clear_message_and_writes_nothing() {
         let errors = err.lines().filter(|l| l.starts_with("error")).count();
         if errors != 1 {
             wrong.push(format!("{errors} `error` lines"));
+        }
+        for (name, bytes) in &c.files {
+            if std::fs::read(dir.join(name)).ok().as_deref() != Some(bytes.as_slice()) {
+                wrong.push(format!("changed {name}"));
+            }
         }
         let new: Vec<_> = after.difference(&before).collect();
         if !new.is_empty() {

@@ -2,6 +2,9 @@
 //!
 //! - [`write_file`] writes one file atomically: a temporary file in the same directory, flushed to
 //!   disk, then renamed over the target. A reader sees the old file or the new one, never a torn one.
+//! - [`check_target`] checks, before any work, that an output file can be written and that only
+//!   reproj's own output of that kind would be replaced ([`Owner`]); [`write_owned_file`] checks
+//!   again and writes.
 //! - [`write_files`] writes a set of files that belong together: all or none are replaced.
 //! - [`StagedDir`] writes a whole output directory (a variant, an `emit` result, rendered frames)
 //!   into a temporary sibling and swaps it in on [`StagedDir::commit`]; dropped without a commit it
@@ -14,7 +17,9 @@
 //! real binary.
 
 mod json;
+mod owner;
 mod write;
 
 pub use json::{Kind, ReadError, parse_json, read_json};
+pub use owner::{Owner, check_target, write_owned_file};
 pub use write::{FAIL_ENV, Replace, StagedDir, WriteError, write_file, write_files};

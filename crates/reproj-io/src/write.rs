@@ -23,6 +23,9 @@ pub enum WriteError {
         "refusing to replace {path}: {why}; reproj replaces its output directory whole, so choose a new directory or one reproj wrote"
     )]
     Refused { path: PathBuf, why: String },
+    /// The output file exists and is not reproj's, or its place cannot take a file.
+    #[error("refusing to write {path}: {why}")]
+    NotOurs { path: PathBuf, why: String },
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> WriteError + '_ {

@@ -73,6 +73,20 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
+    let stem = args.shader.file_stem().map_or_else(
+        || "shader".to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}.profile.json")));
+    // Before minutes of rendering: the profile (and its charts) can be written, replacing only
+    // reproj's own files.
+    reproj_io::check_target(&out, super::PROFILE_FILE)?;
+    if !args.no_charts {
+        super::charts::check_targets(&out)?;
+    }
     let (norm, table) = (&loaded.norm, &loaded.table);
     // The replay renders WGSL: a GLSL shader is analyzed as naga's WGSL of it.
     let shader = loaded.shader.to_wgsl()?;
@@ -83,14 +97,6 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         backend: args.backend.clone(),
         cpu_timing: false,
     })?;
-    let stem = args.shader.file_stem().map_or_else(
-        || "shader".to_string(),
-        |s| s.to_string_lossy().into_owned(),
-    );
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}.profile.json")));
     let opts = AnalyzeOptions {
         delta_n_train: args.delta_n.clone(),
         delta_n_holdout: args.holdout.clone(),
@@ -159,7 +165,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     profile.session.path = super::relative_to(dir, &args.session);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
-    reproj_io::write_file(&out, &json)?;
+    reproj_io::write_owned_file(&out, &json, super::PROFILE_FILE)?;
     if let Some(j) = &opts.journal {
         let _ = std::fs::remove_file(&j.path);
     }

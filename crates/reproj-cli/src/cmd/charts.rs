@@ -9,9 +9,8 @@ use reproj_models::Profile;
 /// `docs/results.md` reports.
 pub const MARKED_BUDGETS: [f64; 4] = [0.002, 0.01, 0.03, 0.1];
 
-/// Write the trade-off, hit-rate and model charts beside `profile_path` and say where they are.
-pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+/// The directory and the file-name stem of the charts beside `profile_path`.
+fn dir_and_stem(profile_path: &Path) -> (&Path, String) {
     let dir = profile_path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
@@ -22,11 +21,32 @@ pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
     let stem = name
         .strip_suffix(".profile.json")
         .or_else(|| name.strip_suffix(".json"))
-        .unwrap_or(&name);
+        .unwrap_or(&name)
+        .to_string();
+    (dir, stem)
+}
+
+/// Check, before the analysis, that the charts beside `profile_path` would replace only charts.
+pub fn check_targets(profile_path: &Path) -> Result<(), reproj_io::WriteError> {
+    let (dir, stem) = dir_and_stem(profile_path);
+    for figure in reproj_charts::Figure::ALL {
+        for ext in ["svg", "png"] {
+            let path = dir.join(format!("{stem}.{}.{ext}", figure.name()));
+            reproj_io::check_target(&path, reproj_io::Owner::Image)?;
+        }
+    }
+    Ok(())
+}
+
+/// Write the trade-off, hit-rate and model charts beside `profile_path` and say where they are.
+pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
+    check_targets(profile_path)?;
+    let (dir, stem) = dir_and_stem(profile_path);
     let opts = reproj_charts::ChartOptions {
         budgets: MARKED_BUDGETS.to_vec(),
     };
-    let paths = reproj_charts::write_charts(profile, dir, stem, &opts)?;
+    let paths = reproj_charts::write_charts(profile, dir, &stem, &opts)?;
     for w in &paths.warnings {
         eprintln!("warning: {w}");
     }

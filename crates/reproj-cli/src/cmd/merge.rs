@@ -8,6 +8,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     if args.out.as_os_str() == "-" {
         return Err(super::UserError("--out needs a file path".into()).into());
     }
+    reproj_io::check_target(&args.out, super::PROFILE_FILE)?;
     let mut shards = Vec::new();
     for path in &args.shards {
         shards.push((path.clone(), load_profile(path)?));
@@ -20,7 +21,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     merged.session.path = super::relative_to(dir, &resolve(&first.session.path, first_path));
     let mut json = serde_json::to_vec_pretty(&merged)?;
     json.push(b'\n');
-    reproj_io::write_file(&args.out, &json)?;
+    reproj_io::write_owned_file(&args.out, &json, super::PROFILE_FILE)?;
     let usable = merged
         .nodes
         .iter()

@@ -50,6 +50,9 @@ impl std::fmt::Display for OverBudget {
 
 impl std::error::Error for OverBudget {}
 
+/// What an existing profile path must hold for analyze or merge to replace it.
+pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.profile"]);
+
 /// The front end's language for `--lang-in` (`None`: by extension).
 pub fn lang_in(l: Option<crate::LangInArg>) -> Option<reproj_front::Lang> {
     l.map(|l| match l {

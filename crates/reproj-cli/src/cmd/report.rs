@@ -1,38 +1,20 @@
 //! `reproj report`: one self-contained HTML page of a profile (`reproj-report`).
 
 use std::io::Write;
-use std::path::Path;
 
 use reproj_analyze::load_profile;
 use reproj_replay::{Renderer, RendererOptions};
 use reproj_report::{ReportOptions, report};
 
-use super::UserError;
 use crate::ReportArgs;
+
+/// An existing page at `--out` must be one reproj wrote (its title says so).
+const REPORT_PAGE: reproj_io::Owner = reproj_io::Owner::Marker("<title>reproj report");
 
 pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    // Check where the page goes before rendering anything.
-    let dir = args
-        .out
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !dir.is_dir() {
-        return Err(UserError(format!(
-            "cannot write {}: {} is not a directory",
-            args.out.display(),
-            dir.display()
-        ))
-        .into());
-    }
-    if args.out.is_dir() {
-        return Err(UserError(format!(
-            "cannot write {}: it is a directory",
-            args.out.display()
-        ))
-        .into());
-    }
+    // Check where the page goes before rendering anything: only a page reproj wrote is replaced.
+    reproj_io::check_target(&args.out, REPORT_PAGE)?;
     let profile = load_profile(&args.profile)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
@@ -49,7 +31,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         eprintln!("[{:6.1}s] {line}", start.elapsed().as_secs_f64());
     };
     let html = report(&profile, &args.profile, &opts, &renderer, &mut progress)?;
-    reproj_io::write_file(&args.out, html.as_bytes())?;
+    reproj_io::write_owned_file(&args.out, html.as_bytes(), REPORT_PAGE)?;
     writeln!(
         stdout,
         "wrote {} ({} KiB)",
