@@ -193,7 +193,14 @@ pub fn analyze(
         frame_ms: finite(reference.report.frame_ms),
         mean_pixels,
         frame_times_ms: original_frames.iter().map(|f| finite(f.frame_ms)).collect(),
+        nonfinite_pixels: reference.report.nonfinite_pixels,
     };
+    if let Some(first) = reference.report.frames.iter().find(|f| f.nonfinite > 0) {
+        progress.note(&format!(
+            "warning: the original shader renders {} pixels that are NaN or infinite over the session (first in frame {}); they are left out of every error measured, and the profile records them",
+            reference.report.nonfinite_pixels, first.frame
+        ));
+    }
     if let Some(j) = &mut journal {
         // A resumed run keeps the first run's original times: they decide what is set aside.
         original = j.original(original)?;

@@ -101,6 +101,13 @@ pub struct EmitReport {
     pub reason: Option<String>,
     pub files: Vec<String>,
     pub measured_error: Option<f64>,
+    /// Pixels, over the verified session, where the variant renders a NaN or an infinity and the
+    /// original does not (any fails the verification), and where the original itself does (left
+    /// out of the error). Absent when 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_nonfinite_pixels: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_nonfinite_reference_pixels: Option<u64>,
     /// The re-rendered session's PSNR, as `reproj render` reports it.
     pub measured_psnr: Option<f64>,
     /// The re-rendered session's ꟻLIP and SSIM (mean and worst frame), on the profile's
@@ -277,6 +284,8 @@ pub fn emit(
         reason: None,
         files: Vec::new(),
         measured_error: None,
+        measured_nonfinite_pixels: None,
+        measured_nonfinite_reference_pixels: None,
         measured_psnr: None,
         measured_flip: None,
         measured_ssim: None,
@@ -495,6 +504,9 @@ pub fn verify(
             );
             let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
             report.measured_error = Some(r.error);
+            report.measured_nonfinite_pixels = Some(r.nonfinite_pixels).filter(|&n| n > 0);
+            report.measured_nonfinite_reference_pixels =
+                Some(r.nonfinite_reference_pixels).filter(|&n| n > 0);
             report.measured_psnr = Some(r.psnr).filter(|p| p.is_finite());
             report.measured_flip = r.flip;
             report.measured_ssim = r.ssim;

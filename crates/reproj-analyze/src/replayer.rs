@@ -342,6 +342,16 @@ fn replay(
         )
         .map_err(|e| e.to_string())?;
     let wall = t.elapsed().as_secs_f64();
+    if let Some(first) = report.frames.iter().find(|f| f.nonfinite > 0) {
+        // A NaN must never be scored as no error: such a variant cannot be chosen.
+        return Err(format!(
+            "its variant renders {} pixels that are NaN or infinite where the original is finite (Δn {delta_n}, first in frame {})",
+            report.nonfinite_pixels, first.frame
+        ));
+    }
+    if !report.error.is_finite() {
+        return Err(format!("its measured error is {} (Δn {delta_n})", report.error));
+    }
     let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
     time.rendering_s += gpu.min(wall);
     time.readback_and_error_s += (wall - gpu).max(0.0);

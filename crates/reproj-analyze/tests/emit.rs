@@ -108,6 +108,7 @@ fn profile(shader: &Path) -> Profile {
             frame_ms: 1.0 + 25_000.0 * 0.001,
             mean_pixels: 25_000.0,
             frame_times_ms: vec![],
+            nonfinite_pixels: 0,
         },
         hit_rate: fit_hit_rate(&hit_samples),
         nodes: vec![

@@ -197,6 +197,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
             frame_ms: original_ms,
             mean_pixels: PIXELS,
             frame_times_ms: vec![original_ms; 10],
+            nonfinite_pixels: 0,
         },
         hit_rate,
         nodes,

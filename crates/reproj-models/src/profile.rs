@@ -148,6 +148,15 @@ pub struct OriginalRecord {
     /// Mean shaded pixels per frame (M).
     pub mean_pixels: f64,
     pub frame_times_ms: Vec<f64>,
+    /// Pixels, over the session's frames, where the original itself renders a NaN or an
+    /// infinity: no error can be measured there, so every measurement leaves them out. 0 (and
+    /// absent) for a shader that behaves.
+    #[serde(default, skip_serializing_if = "is_zero_u64")]
+    pub nonfinite_pixels: u64,
+}
+
+fn is_zero_u64(n: &u64) -> bool {
+    *n == 0
 }
 
 /// One replay of one variant at one Δn.

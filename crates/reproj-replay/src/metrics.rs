@@ -64,6 +64,14 @@ pub struct FrameRecord {
     pub psnr: f64,
     /// Largest per-channel absolute difference to the reference.
     pub max_abs_diff: f64,
+    /// Pixels whose RGB holds a NaN or an infinity where the reference's does not: the frame's
+    /// error is NaN when any is (the original: all its non-finite pixels).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub nonfinite: u64,
+    /// Pixels whose reference RGB holds a NaN or an infinity: left out of every sum (no error
+    /// can be measured against them).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub nonfinite_reference: u64,
     /// Mean ꟻLIP error over the covered pixels ([`crate::perceptual`]); only on the frames the
     /// perceptual metrics were computed for (`RenderOptions::perceptual_stride`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -71,6 +79,10 @@ pub struct FrameRecord {
     /// Mean SSIM over the covered pixels, on the same frames as `flip`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ssim: Option<f64>,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 /// One frame's value of a metric.
@@ -184,6 +196,14 @@ pub struct RenderReport {
     pub frame_ms: f64,
     /// Mean CPU submit+wait time over frames 1.., ms.
     pub cpu_ms: f64,
+    /// Pixels, over all frames, whose color is not finite (NaN or ±∞) where the reference's
+    /// is; any makes a variant's `error` NaN. For the original: all its non-finite pixels.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub nonfinite_pixels: u64,
+    /// Pixels, over all frames, whose reference color is not finite: the original shader's own
+    /// NaN or ∞, left out of the error (variants only).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub nonfinite_reference_pixels: u64,
     pub frames: Vec<FrameRecord>,
 }
 
@@ -218,12 +238,18 @@ pub struct FrameError {
     pub sum_sq: f64,
     /// Largest absolute difference of any channel, RGBA, unclamped (∞ when a difference is NaN).
     pub max_abs_diff: f64,
+    /// Pixels whose RGB is not finite (NaN or ±∞) where the reference's is: each makes the sums
+    /// NaN, so a frame with one has a NaN error.
+    pub nonfinite: u64,
+    /// Pixels whose reference RGB is not finite: left out of the sums, `covered` and the mean's
+    /// pixel count.
+    pub nonfinite_reference: u64,
 }
 
 impl FrameError {
     /// Mean per-pixel L2 distance over all pixels: the error the budgets bound.
     pub fn error(&self) -> f64 {
-        self.sum_l2 / self.pixels.max(1) as f64
+        self.sum_l2 / self.pixels.saturating_sub(self.nonfinite_reference).max(1) as f64
     }
 
     /// Mean squared error per channel over the covered pixels; 0 when nothing is covered.
@@ -249,9 +275,21 @@ pub fn compare(frame: &[f32], reference: &[f32], reference_depth: &[f32]) -> Fra
         .zip(reference.chunks_exact(4))
         .zip(reference_depth)
     {
+        if !finite3(q) {
+            e.nonfinite_reference += 1;
+            continue;
+        }
+        if !finite3(p) {
+            e.nonfinite += 1;
+        }
         let mut s = 0.0f64;
         for c in 0..3 {
-            let d = (p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0)) as f64;
+            // A non-finite channel makes the pixel's distance NaN, as on the GPU.
+            let d = if p[c].is_finite() {
+                (p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0)) as f64
+            } else {
+                f64::NAN
+            };
             s += d * d;
         }
         for c in 0..4 {
@@ -269,6 +307,11 @@ pub fn compare(frame: &[f32], reference: &[f32], reference_depth: &[f32]) -> Fra
         }
     }
     e
+}
+
+/// Whether a pixel's RGB is finite (its alpha is not checked: it is not part of the error).
+pub(crate) fn finite3(p: &[f32]) -> bool {
+    p[..3].iter().all(|c| c.is_finite())
 }
 
 /// Mean squared error per channel of `sum_sq` over `covered` pixels and three channels; 0 when
@@ -320,6 +363,8 @@ impl RenderReport {
         self.hit_rate = mean(after0.iter().map(|f| f.hit_rate));
         self.frame_ms = mean(after0.iter().map(|f| f.frame_ms));
         self.cpu_ms = mean(after0.iter().map(|f| f.cpu_ms));
+        self.nonfinite_pixels = all.iter().map(|f| f.nonfinite).sum();
+        self.nonfinite_reference_pixels = all.iter().map(|f| f.nonfinite_reference).sum();
     }
 }
 
@@ -345,6 +390,8 @@ mod tests {
             covered,
             psnr: psnr(mse),
             max_abs_diff: 0.0,
+            nonfinite: 0,
+            nonfinite_reference: 0,
             flip: None,
             ssim: None,
         }
@@ -411,6 +458,8 @@ mod tests {
             psnr: 0.0,
             hit_rate: 0.0,
             frame_ms: 0.0,
+            nonfinite_pixels: 0,
+            nonfinite_reference_pixels: 0,
             cpu_ms: 0.0,
             frames: vec![record(0.0, 100, 0.0), record(0.01, 300, 0.2)],
         };

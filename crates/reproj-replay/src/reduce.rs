@@ -35,6 +35,8 @@ struct Partial {
     covered: u32,
     max_bits: u32,
     flags: u32,
+    bad: u32,
+    bad_ref: u32,
 }
 
 const NAN_ANY: u32 = 1;
@@ -576,9 +578,11 @@ fn sum(partials: &[Partial], pixels: u64) -> FrameError {
         e.covered += u64::from(p.covered);
         max_bits = max_bits.max(p.max_bits);
         flags |= p.flags;
+        e.nonfinite += u64::from(p.bad);
+        e.nonfinite_reference += u64::from(p.bad_ref);
     }
     e.max_abs_diff = f64::from(f32::from_bits(max_bits));
-    // As on the CPU, a NaN color makes the sums it enters NaN.
+    // As on the CPU, a non-finite color makes the sums it enters NaN.
     if flags & NAN_ANY != 0 {
         e.sum_l2 = f64::NAN;
     }
@@ -674,5 +678,35 @@ mod tests {
         frame[1] = f32::NAN;
         let g = gpu(&r, 2, 2, &frame, &reference, &depth);
         assert!(g.sum_sq.is_nan() && metrics::compare(&frame, &reference, &depth).sum_sq.is_nan());
+        assert_eq!((g.nonfinite, g.nonfinite_reference), (2, 0));
+    }
+
+    #[test]
+    fn gpu_counts_nonfinite_pixels_as_the_cpu_and_leaves_the_reference_s_out() {
+        let r = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe)");
+        let mut reference = vec![0.5f32; 4 * 4];
+        let depth = [0.5, 0.5, 0.5, 1.0];
+        let mut frame = reference.clone();
+        frame[0] = 0.25;
+        // The reference's own NaN (pixel 1) and +inf (pixel 2): left out, whatever the frame has.
+        reference[4] = f32::NAN;
+        reference[8 + 2] = f32::INFINITY;
+        frame[4] = f32::NAN;
+        for (w, h, f, rf, d) in [(2, 2, &frame, &reference, &depth[..])] {
+            let cpu = metrics::compare(f, rf, d);
+            let g = gpu(&r, w, h, f, rf, d);
+            assert_eq!((g.nonfinite, g.nonfinite_reference), (0, 2));
+            assert_eq!((cpu.nonfinite, cpu.nonfinite_reference), (0, 2));
+            assert_eq!((g.covered, cpu.covered), (1, 1));
+            assert!(close(g.sum_l2, cpu.sum_l2) && close(g.sum_l2, 0.25), "{g:?}");
+            // The mean is over the two pixels that could be measured.
+            assert!(close(g.error(), 0.125) && close(cpu.error(), 0.125));
+        }
+        // An infinity in the frame where the reference is finite: counted, and the error is NaN.
+        frame[12 + 1] = f32::NEG_INFINITY;
+        let cpu = metrics::compare(&frame, &reference, &depth);
+        let g = gpu(&r, 2, 2, &frame, &reference, &depth);
+        assert_eq!((g.nonfinite, cpu.nonfinite), (1, 1));
+        assert!(g.error().is_nan() && cpu.error().is_nan());
     }
 }

@@ -5,7 +5,9 @@ struct Partial {
     sq: f32,        // sum over covered pixels of the squared (clamped) RGB differences
     covered: u32,   // pixels where the reference depth < 1
     max_bits: u32,  // bits of the largest |difference| over RGBA (a non-negative f32: ordered as u32)
-    flags: u32,     // 1: NaN in some pixel's RGB; 2: NaN in a covered pixel's RGB
+    flags: u32,     // 1: a non-finite RGB in the frame where the reference is finite; 2: the same in a covered pixel
+    bad: u32,       // pixels whose frame RGB is not finite where the reference's is
+    bad_ref: u32,   // pixels whose reference RGB is not finite: left out of every sum
 }
 
 @group(0) @binding(0) var frame_color: texture_2d<f32>;
@@ -22,10 +24,13 @@ var<workgroup> w_sq: array<f32, 256>;
 var<workgroup> w_cov: array<u32, 256>;
 var<workgroup> w_max: array<u32, 256>;
 var<workgroup> w_flags: array<u32, 256>;
+var<workgroup> w_bad: array<u32, 256>;
+var<workgroup> w_bad_ref: array<u32, 256>;
 
-fn nan3(v: vec3<f32>) -> bool {
+// NaN or ±inf in any of the three channels (by bits: a compiler may fold `x != x` away).
+fn nonfinite3(v: vec3<f32>) -> bool {
     let b = bitcast<vec3<u32>>(v) & vec3<u32>(0x7fffffffu);
-    return any(b > vec3<u32>(INF_BITS));
+    return any(b >= vec3<u32>(INF_BITS));
 }
 
 // |d| as bits, NaN as +inf.
@@ -48,6 +53,8 @@ fn reduce(
     var cov = 0u;
     var mx = 0u;
     var flags = 0u;
+    var bad = 0u;
+    var bad_ref = 0u;
     for (var j = 0u; j < BLOCK; j++) {
         for (var i = 0u; i < BLOCK; i++) {
             let p = origin + vec2<u32>(i, j);
@@ -55,9 +62,14 @@ fn reduce(
                 let a = textureLoad(frame_color, p, 0);
                 let b = textureLoad(ref_color, p, 0);
                 let covered = textureLoad(ref_depth, p, 0).r < 1.0;
+                if nonfinite3(b.rgb) {
+                    bad_ref += 1u;
+                    continue;
+                }
                 mx = max(mx, max(max(abs_bits(a.r - b.r), abs_bits(a.g - b.g)),
                                  max(abs_bits(a.b - b.b), abs_bits(a.a - b.a))));
-                if nan3(a.rgb) || nan3(b.rgb) {
+                if nonfinite3(a.rgb) {
+                    bad += 1u;
                     flags |= select(1u, 3u, covered);
                 } else {
                     let d = clamp(a.rgb, vec3<f32>(0.0), vec3<f32>(1.0))
@@ -79,6 +91,8 @@ fn reduce(
     w_cov[li] = cov;
     w_max[li] = mx;
     w_flags[li] = flags;
+    w_bad[li] = bad;
+    w_bad_ref[li] = bad_ref;
     workgroupBarrier();
     for (var s = 128u; s > 0u; s >>= 1u) {
         if li < s {
@@ -87,10 +101,13 @@ fn reduce(
             w_cov[li] += w_cov[li + s];
             w_max[li] = max(w_max[li], w_max[li + s]);
             w_flags[li] |= w_flags[li + s];
+            w_bad[li] += w_bad[li + s];
+            w_bad_ref[li] += w_bad_ref[li + s];
         }
         workgroupBarrier();
     }
     if li == 0u {
-        partials[wg.y * groups.x + wg.x] = Partial(w_l2[0], w_sq[0], w_cov[0], w_max[0], w_flags[0]);
+        partials[wg.y * groups.x + wg.x] = Partial(w_l2[0], w_sq[0], w_cov[0], w_max[0], w_flags[0],
+                                                   w_bad[0], w_bad_ref[0]);
     }
 }

@@ -152,6 +152,11 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         if let Some(on) = &report.measured_on {
             writeln!(stdout, "measured on {on}")?;
         }
+        if let Some(n) = report.measured_nonfinite_reference_pixels {
+            eprintln!(
+                "warning: the original shader renders {n} pixels that are NaN or infinite on this session; they are left out of the measured error"
+            );
+        }
     }
     if let (Some(f), Some(s)) = (report.measured_flip, report.measured_ssim) {
         writeln!(
@@ -174,6 +179,13 @@ fn gate(report: &reproj_analyze::EmitReport, args: &EmitArgs) -> Option<anyhow::
         reproj_models::Metric::L2 => report.measured_error,
         reproj_models::Metric::Flip => report.measured_flip.map(|f| f.mean),
     };
+    if let Some(n) = report.measured_nonfinite_pixels {
+        let o = super::OverBudget(format!(
+            "the variant renders {n} pixels that are NaN or infinite where the original is finite: no budget holds; emit a tighter budget or fix the node's math"
+        ));
+        eprintln!("warning: {o}");
+        return Some(o.into());
+    }
     if let Some(e) = measured.filter(|e| !e.is_finite() || *e > report.max_error) {
         let session = args
             .session
@@ -221,5 +233,82 @@ fn metric_label(metric: reproj_models::Metric) -> &'static str {
     match metric {
         reproj_models::Metric::L2 => "error",
         reproj_models::Metric::Flip => "ꟻLIP",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    fn args(extra: &[&str]) -> EmitArgs {
+        let mut a = vec!["reproj", "emit", "--max-error", "0.01"];
+        a.extend_from_slice(extra);
+        match crate::Cli::parse_from(a).command {
+            crate::Command::Emit(args) => args,
+            _ => unreachable!(),
+        }
+    }
+
+    fn report(measured: serde_json::Value) -> reproj_analyze::EmitReport {
+        let mut v = serde_json::json!({
+            "profile": "p.json", "shader": "s.wgsl", "max_error": 0.01, "original_ms": 2.0,
+            "files": [], "adapter": "test",
+            "measured_speedup": 2.0, "measured_speedup_ci95": [1.9, 2.1],
+        });
+        for (k, x) in measured.as_object().unwrap() {
+            v[k] = x.clone();
+        }
+        serde_json::from_value(v).unwrap()
+    }
+
+    fn code(e: Option<anyhow::Error>) -> Option<u8> {
+        e.map(|e| classify(&e).0)
+    }
+
+    use super::super::classify;
+
+    #[test]
+    fn a_verified_nan_or_infinity_never_passes() {
+        let a = args(&["--min-speedup", "1.5"]);
+        // Within budget, fast enough: passes.
+        assert_eq!(
+            code(gate(
+                &report(serde_json::json!({"measured_error": 0.005})),
+                &a
+            )),
+            None
+        );
+        // Non-finite pixels where the original is finite: exit 4, whatever the error reads.
+        let r =
+            report(serde_json::json!({"measured_error": 0.001, "measured_nonfinite_pixels": 12}));
+        assert_eq!(code(gate(&r, &a)), Some(4));
+        // A NaN error: exit 4.
+        let r = report(serde_json::json!({"measured_error": null}));
+        assert_eq!(
+            code(gate(&r, &a)),
+            None,
+            "no measurement: nothing to gate on the error"
+        );
+        let mut r = report(serde_json::json!({}));
+        r.measured_error = Some(f64::NAN);
+        assert_eq!(code(gate(&r, &a)), Some(4));
+        // The original's own NaN (left out of the error) does not fail a variant.
+        let r = report(
+            serde_json::json!({"measured_error": 0.005, "measured_nonfinite_reference_pixels": 40}),
+        );
+        assert_eq!(code(gate(&r, &a)), None);
+        // Over budget: 4; slow: 3.
+        assert_eq!(
+            code(gate(
+                &report(serde_json::json!({"measured_error": 0.02})),
+                &a
+            )),
+            Some(4)
+        );
+        let r = report(
+            serde_json::json!({"measured_error": 0.005, "measured_speedup_ci95": [1.2, 2.1]}),
+        );
+        assert_eq!(code(gate(&r, &a)), Some(3));
     }
 }

@@ -109,6 +109,30 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if let Some(frames) = frames {
         frames.commit()?;
     }
+    // Never a silent NaN: said on stderr whatever the output format.
+    let is_variant = report.node.is_some();
+    if report.nonfinite_pixels > 0 {
+        eprintln!(
+            "warning: {} renders {} pixels that are NaN or infinite over the session{}",
+            if is_variant {
+                "the variant"
+            } else {
+                "the shader"
+            },
+            report.nonfinite_pixels,
+            if is_variant {
+                " where the original is finite: its error is not a number"
+            } else {
+                ""
+            }
+        );
+    }
+    if report.nonfinite_reference_pixels > 0 {
+        eprintln!(
+            "warning: the original renders {} pixels that are NaN or infinite over the session; they are left out of the error",
+            report.nonfinite_reference_pixels
+        );
+    }
     if args.json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
     } else {

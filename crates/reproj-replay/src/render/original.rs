@@ -154,6 +154,10 @@ impl Renderer {
                     )
                 };
                 let covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
+                let nonfinite = pixels
+                    .chunks_exact(4)
+                    .filter(|p| !metrics::finite3(p))
+                    .count() as u64;
                 let (occ, pass_ms, span) = q.read(slot)?;
                 let frame_ms = span.unwrap_or(cpu_ms);
                 if let Some(dir) = &opts.png_dir {
@@ -179,6 +183,8 @@ impl Renderer {
                     covered,
                     psnr: metrics::PSNR_CAP,
                     max_abs_diff: 0.0,
+                    nonfinite,
+                    nonfinite_reference: 0,
                     flip: None,
                     ssim: None,
                 });
@@ -230,6 +236,8 @@ impl Renderer {
             hit_rate: 0.0,
             frame_ms: 0.0,
             cpu_ms: 0.0,
+            nonfinite_pixels: 0,
+            nonfinite_reference_pixels: 0,
             frames: Vec::new(),
         }
     }

@@ -615,6 +615,8 @@ impl Renderer {
                     covered: errs.covered,
                     psnr: errs.psnr(),
                     max_abs_diff: errs.max_abs_diff,
+                    nonfinite: errs.nonfinite,
+                    nonfinite_reference: errs.nonfinite_reference,
                     flip: None,
                     ssim: None,
                 });
