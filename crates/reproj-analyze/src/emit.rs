@@ -140,7 +140,13 @@ pub struct EmitReport {
 
 /// Read a profile, naming the field when it is malformed.
 pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
-    Ok(reproj_io::read_json(path, &reproj_models::PROFILE_KIND)?)
+    let profile: Profile = reproj_io::read_json(path, &reproj_models::PROFILE_KIND)?;
+    profile.check().map_err(|(field, message)| reproj_io::ReadError::Field {
+        path: path.to_owned(),
+        field,
+        message,
+    })?;
+    Ok(profile)
 }
 
 /// The most recently modified `*.profile.json` in `dir`.
@@ -445,16 +451,7 @@ fn write_variant(
     Ok(())
 }
 
-/// FNV-1a 64 of the shader's IR written back as WGSL by naga: the same for two sources that differ
-/// only in comments and formatting.
-pub fn ir_hash(shader: &reproj_front::Shader) -> String {
-    let text = reproj_front::validator()
-        .validate(&shader.module)
-        .ok()
-        .and_then(|info| reproj_instance::write_wgsl(&shader.module, &info).ok())
-        .unwrap_or_else(|| shader.source.clone());
-    content_hash(text.as_bytes())
-}
+pub use reproj_instance::ir_hash;
 
 /// Re-render the selection over `session`, record measured error and speedup in `report`, and
 /// rewrite `out/report.json` (`out`: the directory [`emit`] wrote into; the shader is the one the

@@ -68,6 +68,15 @@ struct Record {
     original: Option<OriginalRecord>,
 }
 
+impl Record {
+    /// Whether the record's numbers are measurements (see `Profile::check`).
+    fn is_valid(&self) -> bool {
+        self.original.as_ref().is_none_or(|o| o.check("").is_ok())
+            && self.measurement.as_ref().is_none_or(|m| m.check("").is_ok())
+            && self.pass_ms.iter().all(|t| t.is_finite() && *t >= 0.0)
+    }
+}
+
 /// The key of the original shader's record: its frame times decide which nodes are set aside,
 /// so a resumed run must use the same ones.
 fn original_key() -> ReplayKey {
@@ -113,27 +122,44 @@ impl Journal {
         let mut original = None;
         let mut note = None;
         if !opts.fresh && path.exists() {
-            let text = std::fs::read_to_string(path).map_err(io(path))?;
+            // Bytes, not text: a journal damaged by a crash or a disk error (invalid UTF-8) is
+            // read as far as its lines parse; the damaged ones are dropped, never a hard error.
+            let bytes = std::fs::read(path).map_err(io(path))?;
+            let text = String::from_utf8_lossy(&bytes);
             let mut lines = text.lines();
+            let mut dropped = 0usize;
             let header = lines
                 .next()
                 .and_then(|l| serde_json::from_str::<Header>(l).ok());
             match header {
                 Some(h) if h.schema == SCHEMA && h.version == VERSION && h.key == key => {
                     for line in lines {
-                        // A torn last line (killed mid-write) does not parse: skip it.
-                        if let Ok(r) = serde_json::from_str::<Record>(line) {
-                            if r.original.is_some() {
-                                original = r.original;
-                                continue;
-                            }
-                            let result = match (r.measurement, r.failure) {
-                                (Some(m), _) => Ok((m, r.pass_ms)),
-                                (None, Some(f)) => Err(f),
-                                (None, None) => continue,
-                            };
-                            done.insert(r.key, result);
+                        // A torn last line (killed mid-write) does not parse: skip it. A record
+                        // whose numbers are not measurements (a negative time, NaN) is dropped
+                        // and replayed again.
+                        let Some(r) = serde_json::from_str::<Record>(line)
+                            .ok()
+                            .filter(Record::is_valid)
+                        else {
+                            dropped += usize::from(!line.trim().is_empty());
+                            continue;
+                        };
+                        if r.original.is_some() {
+                            original = r.original;
+                            continue;
                         }
+                        let result = match (r.measurement, r.failure) {
+                            (Some(m), _) => Ok((m, r.pass_ms)),
+                            (None, Some(f)) => Err(f),
+                            (None, None) => continue,
+                        };
+                        done.insert(r.key, result);
+                    }
+                    if dropped > 0 {
+                        note = Some(format!(
+                            "{}: {dropped} damaged or invalid line(s) dropped (their replays run again)",
+                            path.display()
+                        ));
                     }
                 }
                 _ => {
@@ -252,4 +278,60 @@ fn record_line(key: &ReplayKey, result: &ReplayResult) -> String {
     .expect("a record serializes");
     line.push('\n');
     line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn measurement(frame_ms: f64) -> Measurement {
+        Measurement {
+            delta_n: 4,
+            error: 0.01,
+            error_worst: None,
+            flip: None,
+            ssim: None,
+            mse: None,
+            psnr: None,
+            hit_rate: 0.9,
+            frame_ms,
+            frames: Vec::new(),
+        }
+    }
+
+    fn key(delta_n: u32) -> ReplayKey {
+        ReplayKey {
+            node: 3,
+            strategy: "3pass".into(),
+            block: 4,
+            delta_n,
+            frames: None,
+            set: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn damaged_and_invalid_lines_are_dropped_and_the_rest_resumes() {
+        let dir = tempfile::tempdir().unwrap();
+        let opts = JournalOptions {
+            path: dir.path().join("p.journal"),
+            fresh: false,
+        };
+        let (mut j, note) = Journal::open(&opts, "k").unwrap();
+        assert!(note.is_none());
+        j.record(key(2), &Ok((measurement(3.0), vec![1.0]))).unwrap();
+        drop(j);
+        // A record with a negative frame time, then bytes that are not UTF-8 (a damaged tail).
+        let mut bytes = std::fs::read(&opts.path).unwrap();
+        bytes.extend(record_line(&key(4), &Ok((measurement(-5.0), vec![]))).as_bytes());
+        bytes.extend([0xff, 0xfe, b'{', b'\n']);
+        std::fs::write(&opts.path, &bytes).unwrap();
+        let (j, note) = Journal::open(&opts, "k").unwrap();
+        assert_eq!(j.len(), 1);
+        let note = note.unwrap();
+        assert!(note.contains("2 damaged or invalid"), "{note}");
+        // The rewritten journal holds only what is valid.
+        let text = std::fs::read_to_string(&opts.path).unwrap();
+        assert_eq!(text.lines().count(), 2, "{text}");
+    }
 }

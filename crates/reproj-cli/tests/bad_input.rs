@@ -928,6 +928,112 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "u.html",
         ),
     ]);
+    // A profile's numbers are data: checked on read, naming the field.
+    v.extend([
+        case(
+            "profile negative original time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = (-1.0).into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile zero original time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = 0.0.into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile absurd original time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = 1e308.into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile negative error",
+            &[(
+                "p.json",
+                &profile(&|v| v["nodes"][0]["measurements"][0]["error"] = (-0.5).into()),
+            )],
+            &emit_with("p.json"),
+            "nodes[0].measurements[0].error",
+        ),
+        case(
+            "profile hit rate above 1",
+            &[(
+                "p.json",
+                &profile(&|v| v["nodes"][0]["measurements"][0]["hit_rate"] = 2.0.into()),
+            )],
+            &emit_with("p.json"),
+            "hit_rate",
+        ),
+    ]);
+    // Silent wrong answers: nothing on screen is an error, not PSNR 100; a variant runs only with
+    // its own shader.
+    v.extend([
+        case(
+            "camera up along its view",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["camera"] = serde_json::json!({"keys": [
+                        {"eye": [0, 3, 0], "target": [0, 0, 0], "up": [0, 1, 0]}
+                    ]})
+                }),
+            )],
+            &render_with("s.json"),
+            "covers no pixel",
+        ),
+        case(
+            "object scaled to nothing",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["geometry"]["objects"][0]["transform"] =
+                        serde_json::json!({"keys": [{"scale": 0.0}]})
+                }),
+            )],
+            &render_with("s.json"),
+            "covers no pixel",
+        ),
+        case(
+            "variant of another shader",
+            &[("other.wgsl", &shader("    return vec4<f32>(p, 1.0);"))],
+            &[
+                "render",
+                "other.wgsl",
+                "--session",
+                "good.json",
+                "--variant",
+                "variant",
+                "--max-frames",
+                "2",
+            ],
+            "is a variant of good.wgsl",
+        ),
+        case(
+            "bench a variant of another shader",
+            &[("other.wgsl", &shader("    return vec4<f32>(p, 1.0);"))],
+            &[
+                "bench",
+                "other.wgsl",
+                "--session",
+                "good.json",
+                "variant",
+                "--max-frames",
+                "2",
+            ],
+            "is a variant of good.wgsl",
+        ),
+    ]);
     // Unreadable bytes where text belongs.
     v.push(Case {
         name: "shader not UTF-8",

@@ -402,6 +402,7 @@ pub(crate) fn build_manifest(
             |f| f.to_string_lossy().into_owned(),
         ),
         entry: norm.entry.clone(),
+        shader_ir_hash: Some(crate::manifest::ir_hash(shader)),
         node: infos[0].clone(),
         also: infos[1..].to_vec(),
         strategy: opts.strategy,

@@ -188,6 +188,10 @@ pub struct Manifest {
     /// Original shader file name and fragment entry point.
     pub shader: String,
     pub entry: String,
+    /// [`ir_hash`] of the original shader: a variant is only rendered, or run, with the shader it
+    /// was made from (up to comments and formatting). Absent in manifests written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shader_ir_hash: Option<String>,
     /// The cached node (the first, at payload offset 0, when several are cached together).
     pub node: NodeInfo,
     /// Further nodes cached in the same payload, each at its `offset` (version 4; empty: one node).
@@ -526,4 +530,15 @@ pub struct DepthState {
 /// The manifest's JSON Schema (draft 2020-12), as published in `docs/manifest.schema.json`.
 pub fn manifest_schema() -> serde_json::Value {
     serde_json::to_value(schemars::schema_for!(Manifest)).expect("a schema serializes")
+}
+
+/// FNV-1a 64 of the shader's IR written back as WGSL by naga: the same for two sources that differ
+/// only in comments and formatting.
+pub fn ir_hash(shader: &reproj_front::Shader) -> String {
+    let text = reproj_front::validator()
+        .validate(&shader.module)
+        .ok()
+        .and_then(|info| crate::write_wgsl(&shader.module, &info).ok())
+        .unwrap_or_else(|| shader.source.clone());
+    reproj_io::content_hash(text.as_bytes())
 }

@@ -23,3 +23,15 @@ mod write;
 pub use json::{Kind, ReadError, parse_json, read_json};
 pub use owner::{Owner, check_target, write_owned_file};
 pub use write::{FAIL_ENV, Replace, StagedDir, WriteError, write_file, write_files};
+
+/// FNV-1a 64-bit hash of some bytes, as 16 hex digits: a stable fingerprint of the shader and
+/// session a profile was measured on, and of the shader a variant was made from (not a
+/// cryptographic hash).
+pub fn content_hash(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}

@@ -122,6 +122,12 @@ pub enum ReplayError {
     Read(#[from] reproj_io::ReadError),
     #[error("cannot encode {path}: {message}")]
     Image { path: PathBuf, message: String },
+    /// The object covers no pixel in any frame: every error would read 0 (PSNR 100) and mean
+    /// nothing.
+    #[error(
+        "{session}: the object covers no pixel in any of its {frames} frames (a camera looking away or whose `up` is parallel to its view, a zero scale, or the object behind the far plane); there is nothing to measure"
+    )]
+    NothingCovered { session: String, frames: u32 },
 }
 
 impl ReplayError {

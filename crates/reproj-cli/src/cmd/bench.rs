@@ -22,12 +22,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let shader = load_file_as(&args.shader, super::lang_in(args.lang_in))?.to_wgsl()?;
+    let input = load_file_as(&args.shader, super::lang_in(args.lang_in))?;
+    let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     let session = Session::load(&args.session)?;
     let mut candidates = Vec::new();
     for path in &args.candidates {
-        candidates.push(candidate(path, args)?);
+        candidates.push(candidate(path, &input, args)?);
     }
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
@@ -96,7 +97,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 }
 
 /// A candidate from the command line: a variant directory or a shader file.
-fn candidate(path: &Path, args: &BenchArgs) -> anyhow::Result<Candidate> {
+fn candidate(
+    path: &Path,
+    original: &reproj_front::Shader,
+    args: &BenchArgs,
+) -> anyhow::Result<Candidate> {
     let name = path.display().to_string();
     if path.is_dir() {
         if !path.join("manifest.json").is_file() {
@@ -106,6 +111,7 @@ fn candidate(path: &Path, args: &BenchArgs) -> anyhow::Result<Candidate> {
             .into());
         }
         let mut v = VariantInput::from_dir(path, 1)?;
+        super::check_variant_shader(original, &args.shader, &v.manifest, path)?;
         v.delta_n = args
             .delta_n
             .or_else(|| emitted_delta_n(path))

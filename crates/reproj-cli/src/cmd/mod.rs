@@ -53,6 +53,30 @@ impl std::error::Error for OverBudget {}
 /// What an existing profile path must hold for analyze or merge to replace it.
 pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.profile"]);
 
+/// A variant directory is only rendered or timed with the shader it was made from: its manifest's
+/// IR hash must be `shader`'s (comments and formatting aside). Manifests written before the hash
+/// was recorded are taken as they are.
+pub fn check_variant_shader(
+    shader: &reproj_front::Shader,
+    shader_path: &std::path::Path,
+    manifest: &reproj_instance::Manifest,
+    dir: &std::path::Path,
+) -> Result<(), UserError> {
+    let Some(want) = &manifest.shader_ir_hash else {
+        return Ok(());
+    };
+    let have = reproj_instance::ir_hash(shader);
+    if &have == want {
+        return Ok(());
+    }
+    Err(UserError(format!(
+        "{} is a variant of {} (IR hash {want}), not of {} (IR hash {have}): give the shader it was made from, or instance this one",
+        dir.display(),
+        manifest.shader,
+        shader_path.display()
+    )))
+}
+
 /// The front end's language for `--lang-in` (`None`: by extension).
 pub fn lang_in(l: Option<crate::LangInArg>) -> Option<reproj_front::Lang> {
     l.map(|l| match l {

@@ -82,7 +82,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             ))
         }
         (None, Some(dir)) => {
-            let mut input = VariantInput::from_dir(dir, 1)?;
+            let variant = VariantInput::from_dir(dir, 1)?;
+            super::check_variant_shader(&input, &args.shader, &variant.manifest, dir)?;
+            let mut input = variant;
             input.delta_n = args.delta_n.unwrap_or(input.manifest.params.delta_n);
             Some(input)
         }

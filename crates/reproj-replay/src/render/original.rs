@@ -196,6 +196,12 @@ impl Renderer {
             })?;
         }
         report.summarize();
+        if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
+            return Err(ReplayError::NothingCovered {
+                session: session.display_name(),
+                frames: report.frames.len() as u32,
+            });
+        }
         Ok(Reference {
             width: w,
             height: h,
