@@ -928,6 +928,21 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "u.html",
         ),
     ]);
+    // A panic inside a third-party writer is caught: exit 2, one line, nothing written.
+    const EXTERNAL: &str = "@group(0) @binding(0) var ext: texture_external;\n@group(0) @binding(1) var smp: sampler;\n@fragment\nfn fs_main(@location(0) p: vec3<f32>, @location(2) uv: vec2<f32>) -> @location(0) vec4<f32> {\n    let c = textureSampleBaseClampToEdge(ext, smp, uv).rgb;\n    return vec4<f32>(c * (sin(p * 7.0) * 0.5 + 0.5), 1.0);\n}\n";
+    for (name, lang, expect) in [
+        ("texture_external to GLSL", "glsl", "GLSL writer failed"),
+        ("texture_external to SPIR-V", "spv", "SPIR-V writer failed"),
+    ] {
+        v.push(case(
+            name,
+            &[("ext.wgsl", EXTERNAL)],
+            &[
+                "instance", "ext.wgsl", "--node", "root", "--out", "v3", "--lang", lang,
+            ],
+            expect,
+        ));
+    }
     // A profile's numbers are data: checked on read, naming the field.
     v.extend([
         case(

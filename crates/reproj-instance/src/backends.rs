@@ -28,6 +28,16 @@ impl OutputLang {
             OutputLang::SpirV => "spv",
         }
     }
+
+    /// The language's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            OutputLang::Glsl => "GLSL",
+            OutputLang::Hlsl => "HLSL",
+            OutputLang::Msl => "MSL",
+            OutputLang::SpirV => "SPIR-V",
+        }
+    }
 }
 
 /// File name of `pass` in `lang`: the WGSL file's name with the language's extension.
@@ -38,8 +48,40 @@ pub fn pass_file_in(pass: &PassModule, lang: OutputLang) -> String {
         .to_string()
 }
 
-/// `pass` written in `lang`, after validating its module again.
+/// `pass` written in `lang`, after validating its module again. naga's writers can panic on
+/// input they do not support (`texture_external` in GLSL or SPIR-V, in naga 30): a panic there is
+/// caught and becomes [`InstanceError::Backend`] (a user error, exit 2) instead of ending the
+/// process — a last line of defence; refusing known-unsupported input first is better.
 pub fn write_pass(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, InstanceError> {
+    guarded(|| write_pass_unguarded(pass, lang)).unwrap_or_else(|message| {
+        Err(InstanceError::Backend {
+            file: pass_file_in(pass, lang),
+            what: format!(
+                "naga's {} writer failed on this pass ({message}); the {} output of this shader is not supported",
+                lang.name(),
+                lang.name()
+            ),
+        })
+    })
+}
+
+/// Run `f`, turning a panic into its message. The panic hook is silenced meanwhile, so nothing
+/// is printed for a caught panic.
+fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    std::panic::set_hook(hook);
+    result.map_err(|payload| {
+        payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic".into())
+    })
+}
+
+fn write_pass_unguarded(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, InstanceError> {
     let fail = |what: String| InstanceError::Backend {
         file: pass_file_in(pass, lang),
         what,
