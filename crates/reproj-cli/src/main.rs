@@ -676,6 +676,7 @@ fn quiet_headless_vulkan() {
 fn main() -> ExitCode {
     quiet_headless_vulkan();
     let cli = Cli::parse();
+    cmd::clean_up_on_signals();
     let result = match cli.command {
         Command::Nodes(args) => cmd::nodes::run(&args),
         Command::Instance(args) => cmd::instance::run(&args),

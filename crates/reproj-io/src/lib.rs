@@ -12,15 +12,21 @@
 //! - [`read_json`] / [`parse_json`] read a versioned JSON document (`"schema"` + `"version"`) into
 //!   a typed value with one error format ([`ReadError`]): the file, and the field or line and column.
 //!
+//! - [`remove_registered`] removes every temporary file, staged directory and lock of the process
+//!   (for a signal handler); [`sweep_stale`] removes those of processes that are gone;
+//!   [`OutputLock`] lets one process at a time write an output.
+//!
 //! Tests make a write fail mid-way through the `REPROJ_IO_FAIL` environment variable (see
 //! [`FAIL_ENV`]), so each writer's "a failure keeps the previous output" is checked through the
 //! real binary.
 
+mod cleanup;
 mod json;
 mod owner;
 mod write;
 
 pub use json::{Kind, ReadError, parse_json, read_json};
+pub use cleanup::{OutputLock, remove_registered, sweep_stale};
 pub use owner::{Owner, check_target, write_owned_file};
 pub use write::{FAIL_ENV, Replace, StagedDir, WriteError, write_file, write_files};
 

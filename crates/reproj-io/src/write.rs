@@ -23,6 +23,15 @@ pub enum WriteError {
         "refusing to replace {path}: {why}; reproj replaces its output directory whole, so choose a new directory or one reproj wrote"
     )]
     Refused { path: PathBuf, why: String },
+    /// Another reproj process is writing this output.
+    #[error(
+        "another reproj (pid {pid}) is writing {path} (lock {lock}); wait for it to finish or stop it (a lock whose process is gone is taken over)"
+    )]
+    Locked {
+        path: PathBuf,
+        lock: PathBuf,
+        pid: u32,
+    },
     /// The output file exists and is not reproj's, or its place cannot take a file.
     #[error("refusing to write {path}: {why}")]
     NotOurs { path: PathBuf, why: String },
@@ -71,7 +80,9 @@ fn parent_of(path: &Path) -> &Path {
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     let dir = parent_of(path);
     std::fs::create_dir_all(dir).map_err(io(dir))?;
+    crate::cleanup::sweep_stale(path);
     let tmp = temp_sibling(path, "tmp");
+    crate::cleanup::register(&tmp);
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
@@ -79,6 +90,7 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
         injected(path)?;
         std::fs::rename(&tmp, path)
     })();
+    crate::cleanup::unregister(&tmp);
     result.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         io(path)(e)
@@ -177,8 +189,10 @@ impl StagedDir {
         replace.check(out)?;
         let parent = parent_of(out);
         std::fs::create_dir_all(parent).map_err(io(parent))?;
+        crate::cleanup::sweep_stale(out);
         let path = temp_sibling(out, "staged");
         std::fs::create_dir(&path).map_err(io(&path))?;
+        crate::cleanup::register(&path);
         Ok(StagedDir {
             out: out.to_owned(),
             path,
@@ -236,6 +250,7 @@ impl StagedDir {
 
 impl Drop for StagedDir {
     fn drop(&mut self) {
+        crate::cleanup::unregister(&self.path);
         if !self.done {
             let _ = std::fs::remove_dir_all(&self.path);
         }

@@ -84,6 +84,9 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     // Before minutes of rendering: the profile (and its charts) can be written, replacing only
     // reproj's own files.
     reproj_io::check_target(&out, super::PROFILE_FILE)?;
+    // One analysis per profile at a time: a second one would skew this one's timings and race
+    // for the journal and the file. Held until the profile is written.
+    let _lock = reproj_io::OutputLock::acquire(&out)?;
     if !args.no_charts {
         super::charts::check_targets(&out)?;
     }

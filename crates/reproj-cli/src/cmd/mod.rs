@@ -50,6 +50,17 @@ impl std::fmt::Display for OverBudget {
 
 impl std::error::Error for OverBudget {}
 
+/// On SIGINT or SIGTERM: remove the temporary files, staged directories and locks being
+/// written (the previous outputs are untouched: nothing was renamed over them yet), say so, and
+/// exit 130. A journal (`analyze`) stays: the next run resumes from it.
+pub fn clean_up_on_signals() {
+    let _ = ctrlc::set_handler(|| {
+        reproj_io::remove_registered();
+        eprintln!("reproj: interrupted; partial output removed, previous outputs kept");
+        std::process::exit(130);
+    });
+}
+
 /// What an existing profile path must hold for analyze or merge to replace it.
 pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.profile"]);
 

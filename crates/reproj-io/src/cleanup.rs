@@ -1,0 +1,213 @@
+//! What an interrupted command leaves behind, and who may write an output.
+//!
+//! - Every temporary file and staged directory reproj is writing is registered while it exists;
+//!   [`remove_registered`] removes them all (the CLI calls it on SIGINT/SIGTERM before exiting), so
+//!   a Ctrl-C during `render --frames` leaves no hidden 19 MB directory.
+//! - A process killed outright (SIGKILL, a power cut) cannot clean up: the next writer of the same
+//!   output sweeps the hidden siblings whose process is gone ([`sweep_stale`]).
+//! - [`OutputLock`]: one writer per output. A second `analyze` to the same `--out` would skew the
+//!   first one's timings and race for the file; it is refused, naming the process that holds it.
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use crate::write::WriteError;
+
+static REGISTERED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+pub(crate) fn register(path: &Path) {
+    if let Ok(mut r) = REGISTERED.lock() {
+        r.push(path.to_owned());
+    }
+}
+
+pub(crate) fn unregister(path: &Path) {
+    if let Ok(mut r) = REGISTERED.lock()
+        && let Some(i) = r.iter().rposition(|p| p == path)
+    {
+        r.swap_remove(i);
+    }
+}
+
+/// Remove every registered temporary file, staged directory and lock: what a signal handler
+/// calls before the process exits.
+pub fn remove_registered() {
+    let paths = match REGISTERED.lock() {
+        Ok(mut r) => std::mem::take(&mut *r),
+        Err(_) => return,
+    };
+    for p in paths {
+        if p.is_dir() {
+            let _ = std::fs::remove_dir_all(&p);
+        } else {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
+
+/// Whether process `pid` still runs. Without `/proc` (not Linux), every process is taken as
+/// running: nothing is swept or taken over by mistake.
+fn alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// The pid in a temporary sibling's name `.{name}.{what}{pid}-{n}` (see `temp_sibling`).
+fn sibling_pid(file: &str, name: &str) -> Option<u32> {
+    let rest = file.strip_prefix('.')?.strip_prefix(name)?.strip_prefix('.')?;
+    let rest = ["staged", "old", "tmp"]
+        .iter()
+        .find_map(|w| rest.strip_prefix(w))?;
+    let (pid, n) = rest.split_once('-')?;
+    n.bytes().all(|b| b.is_ascii_digit()).then_some(())?;
+    pid.parse().ok()
+}
+
+/// Remove the hidden temporary siblings of `path` (staged directories, temporary files, old
+/// directories being replaced) left by processes that no longer run.
+pub fn sweep_stale(path: &Path) {
+    let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+        return;
+    };
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let file = e.file_name();
+        let Some(pid) = file.to_str().and_then(|f| sibling_pid(f, name)) else {
+            continue;
+        };
+        if pid == std::process::id() || alive(pid) {
+            continue;
+        }
+        let p = e.path();
+        if e.file_type().is_ok_and(|t| t.is_dir()) {
+            let _ = std::fs::remove_dir_all(&p);
+        } else {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
+
+/// The lock file of an output: `{out}.lock`, holding the writer's pid. Removed on drop (and by
+/// [`remove_registered`] on a signal); a lock whose process is gone is taken over.
+#[derive(Debug)]
+pub struct OutputLock {
+    path: PathBuf,
+}
+
+impl OutputLock {
+    /// Take the lock of `out`, or say who holds it.
+    pub fn acquire(out: &Path) -> Result<OutputLock, WriteError> {
+        let mut name = out.file_name().unwrap_or_default().to_owned();
+        name.push(".lock");
+        let path = out.with_file_name(name);
+        if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|source| WriteError::Io {
+                path: dir.to_owned(),
+                source,
+            })?;
+        }
+        for _ in 0..2 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    use std::io::Write;
+                    let _ = writeln!(f, "{}", std::process::id());
+                    register(&path);
+                    return Ok(OutputLock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let holder = std::fs::read_to_string(&path)
+                        .ok()
+                        .and_then(|t| t.trim().parse::<u32>().ok());
+                    match holder {
+                        Some(pid) if alive(pid) && pid != std::process::id() => {
+                            return Err(WriteError::Locked {
+                                path: out.to_owned(),
+                                lock: path,
+                                pid,
+                            });
+                        }
+                        // Stale (its process is gone) or unreadable: take it over.
+                        _ => {
+                            let _ = std::fs::remove_file(&path);
+                        }
+                    }
+                }
+                Err(source) => return Err(WriteError::Io { path, source }),
+            }
+        }
+        Err(WriteError::Io {
+            path,
+            source: std::io::Error::other("the lock file keeps coming back"),
+        })
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        unregister(&self.path);
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sibling_names_parse() {
+        assert_eq!(sibling_pid(".out.staged123-0", "out"), Some(123));
+        assert_eq!(sibling_pid(".p.json.tmp77-12", "p.json"), Some(77));
+        assert_eq!(sibling_pid(".out.old9-1", "out"), Some(9));
+        assert_eq!(sibling_pid(".out.staged123", "out"), None);
+        assert_eq!(sibling_pid(".other.staged1-0", "out"), None);
+        assert_eq!(sibling_pid("out.staged1-0", "out"), None);
+    }
+
+    #[test]
+    fn stale_siblings_are_swept_live_ones_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("frames");
+        // A pid far above any Linux pid_max: no such process.
+        let dead = dir.path().join(".frames.staged4999999-0");
+        std::fs::create_dir_all(dead.join("x")).unwrap();
+        let live = dir.path().join(format!(".frames.staged{}-0", std::process::id()));
+        std::fs::create_dir(&live).unwrap();
+        let other = dir.path().join(".notes.tmp4999999-0");
+        std::fs::write(&other, "x").unwrap();
+        sweep_stale(&out);
+        assert!(!dead.exists());
+        assert!(live.exists() && other.exists());
+    }
+
+    #[test]
+    fn one_writer_per_output_and_stale_locks_are_taken_over() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("p.json");
+        let lock = OutputLock::acquire(&out).unwrap();
+        let lock_path = dir.path().join("p.json.lock");
+        assert!(lock_path.exists());
+        drop(lock);
+        assert!(!lock_path.exists());
+        // Held by a running process (pid 1, init): refused, naming it.
+        std::fs::write(&lock_path, "1\n").unwrap();
+        let e = OutputLock::acquire(&out).unwrap_err().to_string();
+        assert!(e.contains("pid 1") && e.contains("p.json"), "{e}");
+        // Held by a process that is gone: taken over.
+        std::fs::write(&lock_path, "4999999\n").unwrap();
+        let _lock = OutputLock::acquire(&out).unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&lock_path).unwrap().trim(),
+            std::process::id().to_string()
+        );
+    }
+}
