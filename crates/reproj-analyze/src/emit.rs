@@ -187,6 +187,25 @@ pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
     }
 }
 
+/// The shader file a profile names, resolved against the profile's directory. It must be a
+/// shader file by its extension: a profile is data from anywhere, and loading what it names
+/// shows that file's first lines in a diagnostic (a profile naming `/etc/passwd` must not print
+/// it).
+pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf, AnalyzeError> {
+    let path = resolve(&profile.shader.path, profile_path);
+    if reproj_front::Lang::from_path(&path).is_some() {
+        Ok(path)
+    } else {
+        Err(AnalyzeError::BadProfile {
+            path: profile_path.to_owned(),
+            message: format!(
+                "field `shader.path`: `{}` is not a shader file (.wgsl, .glsl, .frag or .spv)",
+                profile.shader.path
+            ),
+        })
+    }
+}
+
 /// Select under the budget and write the result into `opts.out`: the three passes and the
 /// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
 pub fn emit(
@@ -194,10 +213,10 @@ pub fn emit(
     profile_path: &Path,
     opts: &EmitOptions,
 ) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
-    let shader_path = opts
-        .shader
-        .clone()
-        .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
+    let shader_path = match &opts.shader {
+        Some(s) => s.clone(),
+        None => profile_shader(profile, profile_path)?,
+    };
     let load_options = LoadOptions {
         unroll: UnrollOptions {
             max_trip: profile.unroll,

@@ -14,6 +14,11 @@ mod cmd;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Let sessions (and their glTF files) name files outside their own folder: absolute paths,
+    /// `..` above it, links out of it. Off by default, so a session from elsewhere cannot read
+    /// other files of this machine.
+    #[arg(long, global = true)]
+    allow_outside_paths: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -677,6 +682,9 @@ fn main() -> ExitCode {
     quiet_headless_vulkan();
     let cli = Cli::parse();
     cmd::clean_up_on_signals();
+    if cli.allow_outside_paths {
+        reproj_replay::session::allow_outside_paths();
+    }
     let result = match cli.command {
         Command::Nodes(args) => cmd::nodes::run(&args),
         Command::Instance(args) => cmd::instance::run(&args),

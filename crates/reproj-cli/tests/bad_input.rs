@@ -943,6 +943,43 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             expect,
         ));
     }
+    // What a session or a profile may name: files beside it, never other files of the machine
+    // (and their contents never shown).
+    v.extend([
+        case(
+            "session mesh outside its folder",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["geometry"]["objects"][0]["mesh"] =
+                        serde_json::json!({"obj": {"path": "/etc/passwd"}})
+                }),
+            )],
+            &render_with("s.json"),
+            "outside the session's folder",
+        ),
+        case(
+            "session texture above its folder",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["textures"]["albedo_map"] =
+                        serde_json::json!({"file": "../../../../../../etc/passwd"})
+                }),
+            )],
+            &render_with("s.json"),
+            "outside the session's folder",
+        ),
+        case(
+            "profile names a file that is no shader",
+            &[(
+                "p.json",
+                &profile(&|v| v["shader"]["path"] = "/etc/passwd".into()),
+            )],
+            &emit_with("p.json"),
+            "not a shader file",
+        ),
+    ]);
     // A profile's numbers are data: checked on read, naming the field.
     v.extend([
         case(
@@ -1129,6 +1166,9 @@ fn every_bad_input_exits_2_with_one_clear_message_and_writes_nothing() {
         }
         if err.contains("panicked") || err.contains("RUST_BACKTRACE") {
             wrong.push("panic".into());
+        }
+        if err.contains("root:x:0:0") {
+            wrong.push("echoed /etc/passwd".into());
         }
         if !err.contains(c.expect) {
             wrong.push(format!("no `{}` in the message", c.expect));

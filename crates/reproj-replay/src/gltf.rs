@@ -32,10 +32,28 @@ type Cache = Mutex<HashMap<PathBuf, Arc<Imported>>>;
 /// Import `path` (resolved against the session), once per process.
 pub(crate) fn import(session: &Session, path: &Path) -> Result<Arc<Imported>, String> {
     static CACHE: OnceLock<Cache> = OnceLock::new();
-    let full = session.resolve(path);
+    let full = session.resolve(path)?;
     let cache = CACHE.get_or_init(Default::default);
     if let Some(i) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&full) {
         return Ok(i.clone());
+    }
+    // The glTF's own files (buffers, images) obey the session's folder rule too.
+    let gltf = gltf::Gltf::open(&full).map_err(|e| format!("cannot import {}: {e}", full.display()))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let uris = gltf
+        .buffers()
+        .filter_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(u) => Some(u.to_string()),
+            gltf::buffer::Source::Bin => None,
+        })
+        .chain(gltf.images().filter_map(|i| match i.source() {
+            gltf::image::Source::Uri { uri, .. } => Some(uri.to_string()),
+            gltf::image::Source::View { .. } => None,
+        }));
+    for uri in uris.filter(|u| !u.starts_with("data:")) {
+        session
+            .resolve(&dir.join(&uri))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     let (doc, buffers, images) =
         gltf::import(&full).map_err(|e| format!("cannot import {}: {e}", full.display()))?;

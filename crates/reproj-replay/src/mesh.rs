@@ -249,7 +249,7 @@ pub(crate) fn smooth_normals(m: &mut MeshData) {
 }
 
 fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData, String> {
-    let full = session.resolve(path);
+    let full = session.resolve(path)?;
     let (models, _) = tobj::load_obj(
         &full,
         &tobj::LoadOptions {

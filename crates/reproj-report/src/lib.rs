@@ -119,10 +119,10 @@ pub fn report(
     renderer: &Renderer,
     progress: &mut dyn FnMut(&str),
 ) -> Result<String, ReportError> {
-    let shader_path = opts
-        .shader
-        .clone()
-        .unwrap_or_else(|| resolve(&profile.shader.path, profile_path));
+    let shader_path = match &opts.shader {
+        Some(s) => s.clone(),
+        None => reproj_analyze::emit::profile_shader(profile, profile_path)?,
+    };
     let session_path = opts
         .session
         .clone()

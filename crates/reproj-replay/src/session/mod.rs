@@ -34,6 +34,14 @@ mod validate;
 pub use animate::{CameraState, FrameState};
 pub use schema::*;
 
+static OUTSIDE_PATHS_ALLOWED: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
+/// Let sessions name files outside their folder, for this process (`--allow-outside-paths`).
+pub fn allow_outside_paths() {
+    OUTSIDE_PATHS_ALLOWED.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
 impl Session {
     /// Read, parse and validate a session file. Relative paths inside it resolve against its
     /// directory.
@@ -59,12 +67,49 @@ impl Session {
         Ok(s)
     }
 
-    /// Resolve a path from the session file against its directory.
-    pub fn resolve(&self, p: &Path) -> PathBuf {
-        if p.is_absolute() {
+    /// Resolve a path from the session file against its directory. A path that leaves that
+    /// directory (absolute, `..` above it, or a link out of it) is refused unless
+    /// [`allow_outside_paths`] was called: a session, like a document, names files beside it, and
+    /// a session from elsewhere must not read `/etc/passwd` or a user's keys.
+    pub fn resolve(&self, p: &Path) -> Result<PathBuf, String> {
+        let full = if p.is_absolute() {
             p.to_owned()
         } else {
             self.base_dir.join(p)
+        };
+        if OUTSIDE_PATHS_ALLOWED.load(std::sync::atomic::Ordering::Relaxed) {
+            return Ok(full);
+        }
+        let lexically_inside = !p.is_absolute() && {
+            let mut depth = 0i32;
+            p.components().all(|c| {
+                match c {
+                    std::path::Component::ParentDir => depth -= 1,
+                    std::path::Component::Normal(_) => depth += 1,
+                    _ => {}
+                }
+                depth >= 0
+            })
+        };
+        let base = if self.base_dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            &self.base_dir
+        };
+        // Through links: both canonical, when the file exists (a missing file fails later, with
+        // its own message).
+        let linked_inside = match (std::fs::canonicalize(&full), std::fs::canonicalize(base)) {
+            (Ok(f), Ok(b)) => f.starts_with(b),
+            _ => true,
+        };
+        if lexically_inside && linked_inside {
+            Ok(full)
+        } else {
+            Err(format!(
+                "`{}` is outside the session's folder {}: a session names files beside it (copy the file there, or pass --allow-outside-paths)",
+                p.display(),
+                base.display()
+            ))
         }
     }
 
