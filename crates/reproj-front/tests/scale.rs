@@ -37,6 +37,30 @@ fn straight_line(lines: usize) -> String {
     src
 }
 
+/// A long chain loads whole (in seconds in a debug build; it took minutes when every node searched
+/// the whole function): two nodes a line, the output's cost is the whole shader's, and a link of
+/// the chain whose operand is read again shares all but its own multiply with the rest.
+#[test]
+fn load_long_chain() {
+    let lines = 20_000;
+    let shader = parse_shader(Path::new("scale.wgsl"), straight_line(lines)).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    assert_eq!(table.nodes.len(), 2 * lines + 9);
+    assert_eq!(table.root().cost, table.total_cost);
+    assert_eq!(table.cacheable().count(), 2 * lines + 1);
+    // `a{j} * a{j}`, with `a{j}` read again at line `2 j`.
+    let j = 4 * (lines / 16) + 3;
+    let link = table
+        .nodes
+        .iter()
+        .find(|n| n.text == format!("a{j} * a{j}"))
+        .expect("a link of the chain");
+    assert!(link.cacheable);
+    // Its own multiply is the only part nothing else needs.
+    assert_eq!(link.overlap, link.cost - 1.0);
+}
+
 #[test]
 #[ignore = "benchmark: run in release with --ignored --nocapture"]
 fn bench_straight_line() {
