@@ -135,8 +135,16 @@ fn printable(source: &str) -> String {
         .collect()
 }
 
-/// A WGSL parse error as data.
-pub(crate) fn from_wgsl(e: &naga::front::wgsl::ParseError) -> Vec<Message> {
+/// How deep naga's WGSL parser lets expressions and statements nest (its `track_recursion`);
+/// deeper, it fails with an "internal" error that has no position.
+pub const WGSL_NESTING_LIMIT: usize = 200;
+
+/// A WGSL parse error as data. naga's recursion-limit error has no span: it is given the place
+/// in `source` where the nesting goes past the limit (see [`too_deep`]).
+pub(crate) fn from_wgsl(e: &naga::front::wgsl::ParseError, source: &str) -> Vec<Message> {
+    if e.labels().next().is_none() && e.notes().any(|n| n.contains("recursion limit")) {
+        return vec![too_deep(source)];
+    }
     vec![Message {
         text: e.message().to_owned(),
         labels: e
@@ -146,6 +154,69 @@ pub(crate) fn from_wgsl(e: &naga::front::wgsl::ParseError) -> Vec<Message> {
         notes: e.notes().map(str::to_owned).collect(),
         at: None,
     }]
+}
+
+/// The message for WGSL nested past [`WGSL_NESTING_LIMIT`]: labelled at the first `(`, `[` or `{`
+/// (outside comments) whose depth reaches the limit, less the statement and expression levels
+/// around the outermost one (or at the deepest one, for nesting naga counts another way).
+fn too_deep(source: &str) -> Message {
+    let opening = nesting(source);
+    let at = opening
+        .iter()
+        .find(|&&(_, depth)| depth >= WGSL_NESTING_LIMIT - 1)
+        .or_else(|| opening.iter().max_by_key(|&&(_, depth)| depth));
+    Message {
+        text: format!(
+            "expressions and blocks nest too deeply (the WGSL parser allows {WGSL_NESTING_LIMIT} levels)"
+        ),
+        labels: at
+            .map(|&(offset, depth)| (offset..offset + 1, format!("nesting depth {depth} here")))
+            .into_iter()
+            .collect(),
+        notes: vec![format!(
+            "naga's WGSL parser stops at {WGSL_NESTING_LIMIT} nested expressions, calls and blocks: \
+             split the expression with `let`s"
+        )],
+        at: None,
+    }
+}
+
+/// Each opening bracket of WGSL text outside comments (`(`, `[`, `{`) with the depth it opens.
+fn nesting(source: &str) -> Vec<(usize, usize)> {
+    let bytes = source.as_bytes();
+    let mut out = Vec::new();
+    let (mut depth, mut block_comments, mut i) = (0usize, 0usize, 0usize);
+    while i < bytes.len() {
+        let pair = (bytes[i], bytes.get(i + 1).copied());
+        match pair {
+            (b'/', Some(b'*')) => {
+                block_comments += 1;
+                i += 2;
+                continue;
+            }
+            (b'*', Some(b'/')) if block_comments > 0 => {
+                block_comments -= 1;
+                i += 2;
+                continue;
+            }
+            _ if block_comments > 0 => {}
+            (b'/', Some(b'/')) => {
+                i += bytes[i..]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .unwrap_or(bytes.len() - i);
+                continue;
+            }
+            (b'(' | b'[' | b'{', _) => {
+                depth += 1;
+                out.push((i, depth));
+            }
+            (b')' | b']' | b'}', _) => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        i += 1;
+    }
+    out
 }
 
 /// GLSL parse errors as data (naga reports every error it found).

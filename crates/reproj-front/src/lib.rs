@@ -8,6 +8,7 @@
 
 pub mod cost;
 pub mod diagnostic;
+mod graph;
 pub mod ir;
 pub mod liveness;
 pub mod load;

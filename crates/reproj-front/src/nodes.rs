@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::cost::DEFAULT_TRIP_COUNT;
 use crate::cost::{op_cost, trip_count};
+use crate::graph::{Reach, dominators};
 use crate::ir;
 use crate::normalize::Normalized;
 use crate::parse::Shader;
@@ -218,7 +219,9 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         }
     }
 
-    // 3. Costs.
+    // 3. Costs. What each expression reaches, and what only it leads to from the output and
+    // the kill conditions (a virtual vertex `n` stands for them): see `crate::graph`. The weights
+    // are whole numbers, so sums in any order are exact and equal the old per-node ones.
     let weight: Vec<f64> = fun
         .expressions
         .iter()
@@ -227,38 +230,51 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             op_cost(e, info[h].ty.inner_with(types)) * mult
         })
         .collect();
-    let closure = |start: Handle<Expression>, avoid: Option<Handle<Expression>>| -> Vec<bool> {
-        let mut seen = vec![false; n];
-        let mut stack = vec![start];
-        while let Some(h) = stack.pop() {
-            if seen[h.index()] {
-                continue;
-            }
-            seen[h.index()] = true;
-            if Some(h) == avoid {
-                continue;
-            }
-            for &(d, _) in &deps[h.index()] {
-                if !seen[d.index()] {
-                    stack.push(d);
-                }
-            }
+    let outputs = n as u32;
+    let mut succ: Vec<Vec<u32>> = deps
+        .iter()
+        .map(|d| d.iter().map(|&(h, _)| h.index() as u32).collect())
+        .collect();
+    succ.push(
+        std::iter::once(norm.root)
+            .chain(kill_conditions.iter().copied())
+            .map(|h| h.index() as u32)
+            .collect(),
+    );
+    let reach = Reach::new(&succ, &[outputs]);
+    let mut total_closure = vec![false; n + 1];
+    for &(s, e) in reach.runs(outputs) {
+        for &v in &reach.by_position()[s as usize..e as usize] {
+            total_closure[v as usize] = true;
         }
-        seen
-    };
-    let total_closure = {
-        let mut seen = closure(norm.root, None);
-        for &k in &kill_conditions {
-            for (i, s) in closure(k, None).into_iter().enumerate() {
-                seen[i] |= s;
-            }
-        }
-        seen
-    };
+    }
+    total_closure.truncate(n);
     let total_cost: f64 = (0..n)
         .filter(|&i| total_closure[i])
         .map(|i| weight[i])
         .sum();
+    // Prefix sums over positions: of the weight, and of the weight of what the output needs.
+    let prefix = |keep: &dyn Fn(usize) -> bool| -> Vec<f64> {
+        let mut sums = Vec::with_capacity(n + 2);
+        sums.push(0.0);
+        let mut acc = 0.0;
+        for &v in reach.by_position() {
+            let v = v as usize;
+            if v < n && keep(v) {
+                acc += weight[v];
+            }
+            sums.push(acc);
+        }
+        sums
+    };
+    let all_weight = prefix(&|_| true);
+    let needed_weight = prefix(&|v| total_closure[v]);
+    let mut dominated = dominators(&succ, outputs).subtree_sums(&{
+        let mut w = weight.clone();
+        w.push(0.0);
+        w
+    });
+    dominated.truncate(n);
 
     // 4. Continuity from the root, and what feeds derivatives.
     let mut continuous = vec![false; n];
@@ -274,12 +290,14 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             }
         }
     }
+    // Explicit derivatives, and the coordinates of samples whose level of detail the hardware
+    // derives from them (`textureSample`, `textureSampleBias`): in the shade pass a cached value
+    // comes from a texel per pixel, and helper lanes at silhouettes read the background.
     let mut feeds_derivative = vec![false; n];
-    for (_, e) in fun.expressions.iter() {
-        // Explicit derivatives, and the coordinates of samples whose level of detail the hardware
-        // derives from them (`textureSample`, `textureSampleBias`): in the shade pass a cached value
-        // comes from a texel per pixel, and helper lanes at silhouettes read the background.
-        let target = match *e {
+    let mut stack: Vec<Handle<Expression>> = fun
+        .expressions
+        .iter()
+        .filter_map(|(_, e)| match *e {
             Expression::Derivative { expr, .. } => Some(expr),
             Expression::ImageSample {
                 coordinate,
@@ -287,15 +305,16 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
                 ..
             } => Some(coordinate),
             _ => None,
-        };
-        if let Some(expr) = target {
-            for (i, s) in closure(expr, None).into_iter().enumerate() {
-                feeds_derivative[i] |= s;
-            }
+        })
+        .collect();
+    while let Some(h) = stack.pop() {
+        if !std::mem::replace(&mut feeds_derivative[h.index()], true) {
+            stack.extend(deps[h.index()].iter().map(|&(d, _)| d));
         }
     }
 
     // 5. The nodes.
+    let lines = LineIndex::new(&shader.source);
     let mut nodes = Vec::new();
     for (h, e) in fun.expressions.iter() {
         let inner = info[h].ty.inner_with(types);
@@ -303,21 +322,16 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             continue;
         };
         let is_root = h == norm.root;
-        let sub = closure(h, None);
-        let cost: f64 = (0..n).filter(|&i| sub[i]).map(|i| weight[i]).sum();
+        let v = h.index() as u32;
+        let cost = reach.sum(v, &all_weight);
+        // The part of the subtree the rest still needs: all of it but what only `h` leads to
+        // (when the output needs `h`), or what the output needs (when it does not).
         let overlap = if is_root {
             0.0
+        } else if total_closure[h.index()] {
+            cost - dominated[h.index()]
         } else {
-            let mut rest = closure(norm.root, Some(h));
-            for &k in &kill_conditions {
-                for (i, s) in closure(k, Some(h)).into_iter().enumerate() {
-                    rest[i] |= s;
-                }
-            }
-            (0..n)
-                .filter(|&i| sub[i] && rest[i] && i != h.index())
-                .map(|i| weight[i])
-                .sum()
+            reach.sum(v, &needed_weight)
         };
         let place = places.get(&h).copied().unwrap_or_default();
         let components = match inner {
@@ -329,7 +343,8 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             }
             _ => 0,
         };
-        let trivial = (0..n).filter(|&i| sub[i]).all(|i| weight[i] == 0.0);
+        // Weights are never negative.
+        let trivial = cost == 0.0;
         let reason = if components == 0 {
             Some(CullReason::PayloadType)
         } else if trivial {
@@ -352,7 +367,7 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             (false, Expression::Load { pointer }) => {
                 match ir::root_local(&fun.expressions, *pointer) {
                     Some(v) => {
-                        let (l, c, _) = span_text(shader, fun.local_variables.get_span(v));
+                        let (l, c, _) = span_text(shader, &lines, fun.local_variables.get_span(v));
                         (
                             l,
                             c,
@@ -363,11 +378,11 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
                 }
             }
             (false, _) => operand_span(shader, &fun.expressions, e)
-                .map_or((0, 0, String::new()), |s| span_text(shader, s)),
-            _ => span_text(shader, span),
+                .map_or((0, 0, String::new()), |s| span_text(shader, &lines, s)),
+            _ => span_text(shader, &lines, span),
         };
         let call = norm.call_site.get(&h).map(|s| {
-            let (l, c, _) = span_text(shader, *s);
+            let (l, c, _) = span_text(shader, &lines, *s);
             (l, c)
         });
         nodes.push(Node {
@@ -445,11 +460,33 @@ fn operand_span(
     Some(naga::Span::new(start as u32, open.len() as u32))
 }
 
-fn span_text(shader: &Shader, span: naga::Span) -> (u32, u32, String) {
+/// The start of every line of a text, to turn byte offsets into lines without rescanning the
+/// text (naga's `Span::location` counts the lines before the span every time).
+struct LineIndex {
+    starts: Vec<usize>,
+}
+
+impl LineIndex {
+    fn new(text: &str) -> LineIndex {
+        let starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        LineIndex { starts }
+    }
+
+    /// 1-based line and byte column of `offset`, as `naga::Span::location` gives them.
+    fn location(&self, offset: usize) -> (u32, u32) {
+        let line = self.starts.partition_point(|&s| s <= offset);
+        let start = self.starts[line - 1];
+        (line as u32, (offset - start) as u32 + 1)
+    }
+}
+
+fn span_text(shader: &Shader, lines: &LineIndex, span: naga::Span) -> (u32, u32, String) {
     if !span.is_defined() || span.to_range().is_none_or(|r| r.end > shader.source.len()) {
         return (0, 0, String::new());
     }
-    let loc = span.location(&shader.source);
+    let (line_number, line_position) = lines.location(span.to_range().unwrap().start);
     let mut range = span.to_range().unwrap();
     // Calls are spanned by their name only: extend to the closing parenthesis.
     let src = shader.source.as_bytes();
@@ -483,7 +520,7 @@ fn span_text(shader: &Shader, span: naga::Span) -> (u32, u32, String) {
         .split_whitespace()
         .collect::<Vec<_>>()
         .join(" ");
-    (loc.line_number, loc.line_position, text)
+    (line_number, line_position, text)
 }
 
 /// WGSL name of a node's type (naga's own printer), or `None` if expressions of this type are not

@@ -225,7 +225,7 @@ fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontEr
             FrontError::Parse(SourceDiagnostic::new(
                 path.to_owned(),
                 &source,
-                diagnostic::from_wgsl(&e),
+                diagnostic::from_wgsl(&e, &source),
             ))
         })?,
     };

@@ -7,7 +7,8 @@ use super::*;
 /// Write WGSL. Names naga's writer invented on an earlier trip (`_e12`, `_e12_1`, ...) are dropped
 /// first, so that the writer invents them again the same way and the text reaches a fixed point.
 /// The module's global `diagnostic(...)` directives, which naga's writer leaves out, are written
-/// first.
+/// first. `enable f16;` is written whenever an expression is f16 data (naga's writer looks only at
+/// the type arena, which need not hold f16 when literals and conversions make the values).
 pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
     fn generated(name: &str) -> bool {
         name.strip_prefix("_e").is_some_and(|rest| {
@@ -25,7 +26,32 @@ pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<Str
     let text =
         naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
             .map_err(|e| e.to_string())?;
-    Ok(diagnostic_directives(&module) + &text)
+    let enable = if uses_f16(&module, info) && !text.starts_with("enable f16;") {
+        "enable f16;\n\n"
+    } else {
+        ""
+    };
+    Ok(diagnostic_directives(&module) + enable + &text)
+}
+
+/// True when a type or an expression of `module` is f16 data.
+fn uses_f16(module: &Module, info: &naga::valid::ModuleInfo) -> bool {
+    let f16 = |inner: &naga::TypeInner| inner.scalar() == Some(naga::Scalar::F16);
+    let in_function = |f: &naga::Function, fi: &naga::valid::FunctionInfo| {
+        f.expressions
+            .iter()
+            .any(|(h, _)| f16(fi[h].ty.inner_with(&module.types)))
+    };
+    module.types.iter().any(|(_, t)| f16(&t.inner))
+        || module
+            .functions
+            .iter()
+            .any(|(h, f)| in_function(f, &info[h]))
+        || module
+            .entry_points
+            .iter()
+            .enumerate()
+            .any(|(i, ep)| in_function(&ep.function, info.get_entry_point(i)))
 }
 
 /// The module's global diagnostic filters as WGSL directives, outermost first.

@@ -599,3 +599,36 @@ fn two_nodes_share_one_payload() {
         instance_nodes(&shader, &norm, &table, &twice, &InstanceOptions::default()).unwrap_err();
     assert!(matches!(e, InstanceError::RepeatedNode { .. }), "{e}");
 }
+
+/// `enable f16;` survives the passes of every strategy: each pass of each cacheable node of a
+/// shader computing in f16 parses and validates again (it failed to parse without the directive).
+#[test]
+fn f16_shaders_keep_their_enable_directive() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/f16.wgsl");
+    let shader = load_file(&path).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
+    assert!(
+        table.cacheable().any(|n| n.text == "f32(h.x * h.y + h.z)"),
+        "{:#?}",
+        table.nodes
+    );
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        for &id in &ids {
+            let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
+                .unwrap_or_else(|e| panic!("node {id} ({strategy}): {e}"));
+            // The passes that compute in f16 say so (the others need not ask for the feature).
+            assert!(
+                v.passes.iter().any(|p| p.wgsl.contains("enable f16;\n")),
+                "node {id} ({strategy}): no pass enables f16"
+            );
+            check_round_trip(&v);
+        }
+    }
+}
