@@ -54,6 +54,9 @@ impl Renderer {
         };
         // Pass 1 reconstructs an rgba32float cache with one filtered fetch when it can.
         features |= adapter.features() & wgpu::Features::FLOAT32_FILTERABLE;
+        // Half-float shaders (`enable f16;`) where the adapter has them; `shader_module` says
+        // clearly when it does not.
+        features |= adapter.features() & wgpu::Features::SHADER_F16;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("reproj-replay"),
             required_features: features,
@@ -205,6 +208,18 @@ impl Renderer {
         label: &str,
         source: &str,
     ) -> Result<wgpu::ShaderModule, ReplayError> {
+        let enables_f16 = source.lines().any(|l| {
+            let l = l.trim_start();
+            l.starts_with("enable") && l.contains("f16")
+        });
+        if enables_f16 && !self.device.features().contains(wgpu::Features::SHADER_F16) {
+            return Err(ReplayError::Unsupported {
+                what: format!(
+                    "{label} computes in half floats (`enable f16;`), which {} does not support (wgpu feature SHADER_F16); rewrite it in f32 or run on an adapter that has it",
+                    self.adapter_info.name
+                ),
+            });
+        }
         self.scoped(&format!("shader module {label}"), || {
             self.device
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
