@@ -980,6 +980,30 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "not a shader file",
         ),
     ]);
+    // Work too large for the adapter or the machine: refused before allocating.
+    v.extend([
+        case(
+            "resolution past the largest texture",
+            &[(
+                "s.json",
+                &session(&|v| v["resolution"] = serde_json::json!([40000, 64])),
+            )],
+            &render_with("s.json"),
+            "1..=8192",
+        ),
+        case(
+            "frames past the machine's memory",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["resolution"] = serde_json::json!([8192, 8192]);
+                    v["frames"] = serde_json::json!(400);
+                }),
+            )],
+            &["render", "good.wgsl", "--session", "s.json"],
+            "GiB are available",
+        ),
+    ]);
     // A profile's numbers are data: checked on read, naming the field.
     v.extend([
         case(

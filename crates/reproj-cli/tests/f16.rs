@@ -25,7 +25,15 @@ fn an_f16_shader_and_its_variant_render() {
     assert_eq!(code, 0, "{err}");
     let (code, out, err) = run(
         dir,
-        &["render", "h.wgsl", "--session", "s.json", "--variant", "v", "--json"],
+        &[
+            "render",
+            "h.wgsl",
+            "--session",
+            "s.json",
+            "--variant",
+            "v",
+            "--json",
+        ],
     );
     assert_eq!(code, 0, "{err}");
     let r: serde_json::Value = serde_json::from_str(out.lines().collect::<String>().as_str())

@@ -128,6 +128,9 @@ pub enum ReplayError {
         "{session}: the object covers no pixel in any of its {frames} frames (a camera looking away or whose `up` is parallel to its view, a zero scale, or the object behind the far plane); there is nothing to measure"
     )]
     NothingCovered { session: String, frames: u32 },
+    /// The render would not fit the adapter or the machine's memory: refused before allocating.
+    #[error("{session}: too large to render: {what}")]
+    TooLarge { session: String, what: String },
 }
 
 impl ReplayError {

@@ -22,6 +22,47 @@ impl Renderer {
         opts.max_frames.map_or(left, |m| m.min(left)).max(1)
     }
 
+    /// Refuse, before allocating anything, a render the adapter or the machine cannot hold: a
+    /// side past the adapter's largest texture, or reference frames (kept on the GPU and, read
+    /// back, on the CPU: about 40 bytes per pixel per frame, plus the targets) past the memory
+    /// the machine has available.
+    pub(super) fn check_size(
+        &self,
+        session: &Session,
+        frames: u32,
+        keeps_frames: bool,
+    ) -> Result<(), ReplayError> {
+        let [w, h] = session.resolution;
+        let max_side = self.device.limits().max_texture_dimension_2d;
+        if w > max_side || h > max_side {
+            return Err(ReplayError::TooLarge {
+                session: session.display_name(),
+                what: format!(
+                    "its resolution {w}×{h} is past {}'s largest texture side, {max_side}",
+                    self.adapter_info.name
+                ),
+            });
+        }
+        let pixels = u64::from(w) * u64::from(h);
+        let per_frame = if keeps_frames { 40 } else { 0 };
+        let need = pixels * (per_frame * u64::from(frames) + 160);
+        if let Some(available) = available_memory()
+            && need > available
+        {
+            let fits = (available / pixels.max(1)).saturating_sub(160) / per_frame.max(1);
+            return Err(ReplayError::TooLarge {
+                session: session.display_name(),
+                what: format!(
+                    "{frames} frames at {w}×{h} need about {:.1} GiB for the reference frames and targets, and {:.1} GiB are available; replay fewer frames (--max-frames {}) or a lower resolution",
+                    need as f64 / (1u64 << 30) as f64,
+                    available as f64 / (1u64 << 30) as f64,
+                    fits.max(1)
+                ),
+            });
+        }
+        Ok(())
+    }
+
     /// The first frame a render draws (`first_frame`, checked against the session).
     pub(super) fn first_frame(session: &Session, opts: &RenderOptions) -> Result<u32, ReplayError> {
         if opts.first_frame >= session.frames {
@@ -48,6 +89,7 @@ impl Renderer {
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
         let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
+        self.check_size(session, frames, !opts.timing_only)?;
         let first = Self::first_frame(session, opts)?;
         let used: BTreeSet<u32> = iface.groups().into_iter().collect();
         let vgroup = free_group(&used)?;
@@ -247,4 +289,13 @@ impl Renderer {
             frames: Vec::new(),
         }
     }
+}
+
+/// The memory the machine has available (`MemAvailable` in `/proc/meminfo`), in bytes; `None`
+/// where that cannot be read (not Linux).
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
