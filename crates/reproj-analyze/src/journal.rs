@@ -12,14 +12,11 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use reproj_models::profile::{Measurement, OriginalRecord};
-use serde::{Deserialize, Serialize};
+pub(crate) use reproj_models::journal::{ReplayKey, ReplayResult};
+use reproj_models::journal::{header_line, original_line, record_line};
+use reproj_models::profile::OriginalRecord;
 
 use crate::AnalyzeError;
-
-const SCHEMA: &str = "reproj.journal";
-/// Version 2: measurements carry the perceptual metrics (a version 1 journal is started over).
-const VERSION: u32 = 2;
 
 /// Where the journal lives and whether to use what it holds.
 #[derive(Debug, Clone)]
@@ -27,67 +24,6 @@ pub struct JournalOptions {
     pub path: PathBuf,
     /// Start over, ignoring (and truncating) an existing journal.
     pub fresh: bool,
-}
-
-#[derive(Debug, Serialize, Deserialize)]
-struct Header {
-    schema: String,
-    version: u32,
-    key: String,
-}
-
-/// One replay's identity.
-#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub(crate) struct ReplayKey {
-    pub node: u32,
-    pub strategy: String,
-    pub block: u32,
-    pub delta_n: u32,
-    /// A strategy probe over the session's first N frames; `None`: the whole session.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub frames: Option<u32>,
-    /// A set of nodes cached together: its members in payload order (`node` is the first);
-    /// empty for a single node.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub set: Vec<u32>,
-}
-
-/// One replay's result: the measurement and mean per-pass times, or why it failed.
-pub(crate) type ReplayResult = Result<(Measurement, Vec<f64>), String>;
-
-#[derive(Debug, Serialize, Deserialize)]
-struct Record {
-    #[serde(flatten)]
-    key: ReplayKey,
-    measurement: Option<Measurement>,
-    #[serde(default)]
-    pass_ms: Vec<f64>,
-    failure: Option<String>,
-    /// Set on the record of the original shader's replay (key: node `u32::MAX`, `original`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    original: Option<OriginalRecord>,
-}
-
-impl Record {
-    /// Whether the record's numbers are measurements (see `Profile::check`).
-    fn is_valid(&self) -> bool {
-        self.original.as_ref().is_none_or(|o| o.check("").is_ok())
-            && self.measurement.as_ref().is_none_or(|m| m.check("").is_ok())
-            && self.pass_ms.iter().all(|t| t.is_finite() && *t >= 0.0)
-    }
-}
-
-/// The key of the original shader's record: its frame times decide which nodes are set aside,
-/// so a resumed run must use the same ones.
-fn original_key() -> ReplayKey {
-    ReplayKey {
-        node: u32::MAX,
-        strategy: "original".into(),
-        block: 0,
-        delta_n: 1,
-        frames: None,
-        set: Vec::new(),
-    }
 }
 
 /// An open journal.
@@ -125,60 +61,27 @@ impl Journal {
             // Bytes, not text: a journal damaged by a crash or a disk error (invalid UTF-8) is
             // read as far as its lines parse; the damaged ones are dropped, never a hard error.
             let bytes = std::fs::read(path).map_err(io(path))?;
-            let text = String::from_utf8_lossy(&bytes);
-            let mut lines = text.lines();
-            let mut dropped = 0usize;
-            let header = lines
-                .next()
-                .and_then(|l| serde_json::from_str::<Header>(l).ok());
-            match header {
-                Some(h) if h.schema == SCHEMA && h.version == VERSION && h.key == key => {
-                    for line in lines {
-                        // A torn last line (killed mid-write) does not parse: skip it. A record
-                        // whose numbers are not measurements (a negative time, NaN) is dropped
-                        // and replayed again.
-                        let Some(r) = serde_json::from_str::<Record>(line)
-                            .ok()
-                            .filter(Record::is_valid)
-                        else {
-                            dropped += usize::from(!line.trim().is_empty());
-                            continue;
-                        };
-                        if r.original.is_some() {
-                            original = r.original;
-                            continue;
-                        }
-                        let result = match (r.measurement, r.failure) {
-                            (Some(m), _) => Ok((m, r.pass_ms)),
-                            (None, Some(f)) => Err(f),
-                            (None, None) => continue,
-                        };
-                        done.insert(r.key, result);
-                    }
-                    if dropped > 0 {
-                        note = Some(format!(
-                            "{}: {dropped} damaged or invalid line(s) dropped (their replays run again)",
-                            path.display()
-                        ));
-                    }
-                }
-                _ => {
+            let parsed = reproj_models::journal::parse(&String::from_utf8_lossy(&bytes), key);
+            if parsed.header_matches {
+                done = parsed.done;
+                original = parsed.original;
+                if parsed.dropped > 0 {
                     note = Some(format!(
-                        "{}: from another analysis (shader, session or settings differ); starting over",
-                        path.display()
+                        "{}: {} damaged or invalid line(s) dropped (their replays run again)",
+                        path.display(),
+                        parsed.dropped
                     ));
                 }
+            } else {
+                note = Some(format!(
+                    "{}: from another analysis (shader, session or settings differ); starting over",
+                    path.display()
+                ));
             }
         }
         // Start the file afresh: the header, then what is kept (a torn tail dropped). Written
         // atomically, then appended to.
-        let mut text = serde_json::to_string(&Header {
-            schema: SCHEMA.into(),
-            version: VERSION,
-            key: key.into(),
-        })
-        .expect("header serializes");
-        text.push('\n');
+        let mut text = header_line(key);
         if let Some(o) = &original {
             text.push_str(&original_line(o));
         }
@@ -250,39 +153,10 @@ impl Journal {
     }
 }
 
-fn original_line(o: &OriginalRecord) -> String {
-    let mut line = serde_json::to_string(&Record {
-        key: original_key(),
-        measurement: None,
-        pass_ms: Vec::new(),
-        failure: None,
-        original: Some(o.clone()),
-    })
-    .expect("a record serializes");
-    line.push('\n');
-    line
-}
-
-fn record_line(key: &ReplayKey, result: &ReplayResult) -> String {
-    let (measurement, pass_ms, failure) = match result {
-        Ok((m, p)) => (Some(m.clone()), p.clone(), None),
-        Err(e) => (None, Vec::new(), Some(e.clone())),
-    };
-    let mut line = serde_json::to_string(&Record {
-        key: key.clone(),
-        measurement,
-        pass_ms,
-        failure,
-        original: None,
-    })
-    .expect("a record serializes");
-    line.push('\n');
-    line
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use reproj_models::profile::Measurement;
 
     fn measurement(frame_ms: f64) -> Measurement {
         Measurement {
@@ -319,7 +193,8 @@ mod tests {
         };
         let (mut j, note) = Journal::open(&opts, "k").unwrap();
         assert!(note.is_none());
-        j.record(key(2), &Ok((measurement(3.0), vec![1.0]))).unwrap();
+        j.record(key(2), &Ok((measurement(3.0), vec![1.0])))
+            .unwrap();
         drop(j);
         // A record with a negative frame time, then bytes that are not UTF-8 (a damaged tail).
         let mut bytes = std::fs::read(&opts.path).unwrap();

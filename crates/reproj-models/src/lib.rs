@@ -14,6 +14,7 @@
 
 mod error_model;
 mod hit_rate;
+pub mod journal;
 pub mod metric;
 pub mod profile;
 pub mod speedup;
