@@ -3,7 +3,7 @@
 #
 # For every sample shader in shaders/ (or the ones given), writes variants with `reproj instance`
 # (the root and a few cacheable nodes spread over the cost range, in every strategy, plus the root
-# with nearest reconstruction and a 16-bit cache) into a temporary directory, then runs on every
+# with nearest reconstruction and a 16-bit cache, and with Catmull-Rom reconstruction) into a temporary directory, then runs on every
 # emitted .wgsl file:
 #
 #   naga          validation (`naga FILE`)
@@ -148,6 +148,7 @@ for shader in "${shaders[@]}"; do
         done
     done
     specs+=("root ${strategy_list[0]} --reconstruct nearest --cache-format f16")
+    specs+=("root ${strategy_list[0]} --reconstruct catmull-rom")
     for spec in "${specs[@]}"; do
         read -r node strategy extra <<<"$spec"
         dir="$work/$stem/${node}_${strategy}${extra:+_nearest_f16}"
@@ -203,7 +204,7 @@ for shader in "${shaders[@]}"; do
     done
 done
 
-echo "check-portability: $variants variants of ${#shaders[@]} shaders ($strategies, root + up to $nodes nodes each, and the root with nearest reconstruction and a 16-bit cache)"
+echo "check-portability: $variants variants of ${#shaders[@]} shaders ($strategies, root + up to $nodes nodes each, the root with nearest reconstruction and a 16-bit cache, and with Catmull-Rom)"
 for t in "${tools[@]}"; do
     printf '  %-14s %s/%s\n' "$t:" "${ok[$t]}" "${total[$t]}"
 done

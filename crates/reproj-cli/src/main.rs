@@ -565,6 +565,10 @@ pub enum ReconstructArg {
     Bilinear,
     /// The nearest texel (cheaper, blockier; needs no filtering).
     Nearest,
+    /// Catmull-Rom in five filtered fetches, clamped to the 2×2 nearest texels (nine fetches:
+    /// dearer, sharper; a value carried over many frames blurs less).
+    #[value(name = "catmull-rom")]
+    CatmullRom,
 }
 
 /// How a variant caches: shared by `instance`, `render` and `analyze`.

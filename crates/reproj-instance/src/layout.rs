@@ -127,7 +127,7 @@ pub(crate) fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) ->
                         BindingResource::Texture {
                             role: ROLE_PREV_PAYLOAD.into(),
                         },
-                        reconstruct == Reconstruct::Bilinear,
+                        reconstruct.filters(),
                     ),
                     contract::CUR_PAYLOAD => (
                         BindingResource::Texture {
@@ -408,7 +408,7 @@ pub(crate) fn build_manifest(
         strategy: opts.strategy,
         reconstruct: opts.reconstruct,
         cache_format,
-        required_features: if !cache_format.is_half() && opts.reconstruct == Reconstruct::Bilinear {
+        required_features: if !cache_format.is_half() && opts.reconstruct.filters() {
             vec!["float32-filterable".into()]
         } else {
             Vec::new()

@@ -324,6 +324,39 @@ fn prev_clip_location(module: &Module) -> u32 {
     max.map_or(0, |m| m + 1)
 }
 
+/// Catmull-Rom reconstruction for [`Reconstruct::CatmullRom`], inserted into the lookup library.
+const CATMULL_ROM: &str = r#"// Catmull-Rom at `uv` in five filtered fetches: the 4×4 kernel's inner 2×2 as one bilinear fetch
+// at the weighted offset, its four edge pairs as one fetch each, the corners (weights ≈ 0.01)
+// dropped and the rest renormalized. Then clamped to the range of the 2×2 texels around `uv`
+// (`p0`, `p1`, clamped to the edge, as the depth test reads them): a cubic overshoots at edges,
+// and a value carried over many frames would ring further each time.
+fn reproj_catmull_rom(uv: vec2<f32>, size: vec2<f32>, p0: vec2<i32>, p1: vec2<i32>) -> vec4<f32> {
+    let pos = uv * size;
+    let c1 = floor(pos - vec2<f32>(0.5)) + vec2<f32>(0.5);
+    let f = pos - c1;
+    let w0 = f * (vec2<f32>(-0.5) + f * (vec2<f32>(1.0) - 0.5 * f));
+    let w1 = vec2<f32>(1.0) + f * f * (vec2<f32>(-2.5) + 1.5 * f);
+    let w2 = f * (vec2<f32>(0.5) + f * (vec2<f32>(2.0) - 1.5 * f));
+    let w3 = f * f * (vec2<f32>(-0.5) + 0.5 * f);
+    let w12 = w1 + w2;
+    let t0 = (c1 - vec2<f32>(1.0)) / size;
+    let t3 = (c1 + vec2<f32>(2.0)) / size;
+    let t12 = (c1 + w2 / w12) / size;
+    let a = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t12.x, t0.y), 0.0) * (w12.x * w0.y);
+    let b = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t0.x, t12.y), 0.0) * (w0.x * w12.y);
+    let c = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, t12, 0.0) * (w12.x * w12.y);
+    let d = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t3.x, t12.y), 0.0) * (w3.x * w12.y);
+    let e = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t12.x, t3.y), 0.0) * (w12.x * w3.y);
+    let total = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
+    let v = (a + b + c + d + e) / total;
+    let q00 = textureLoad(reproj_prev_payload, p0, 0);
+    let q10 = textureLoad(reproj_prev_payload, vec2<i32>(p1.x, p0.y), 0);
+    let q01 = textureLoad(reproj_prev_payload, vec2<i32>(p0.x, p1.y), 0);
+    let q11 = textureLoad(reproj_prev_payload, p1, 0);
+    return clamp(v, min(min(q00, q10), min(q01, q11)), max(max(q00, q10), max(q01, q11)));
+}
+"#;
+
 /// The lookup library's WGSL for this group, input location and reconstruction.
 fn library_text(group: u32, location: u32, reconstruct: Reconstruct) -> String {
     let fetch = match reconstruct {
@@ -333,11 +366,17 @@ fn library_text(group: u32, location: u32, reconstruct: Reconstruct) -> String {
         Reconstruct::Nearest => {
             "textureLoad(reproj_prev_payload, vec2<i32>(min(uv * size, size - vec2<f32>(1.0))), 0)"
         }
+        Reconstruct::CatmullRom => "reproj_catmull_rom(uv, size, p0, p1)",
+    };
+    let filters = match reconstruct {
+        Reconstruct::CatmullRom => CATMULL_ROM,
+        Reconstruct::Bilinear | Reconstruct::Nearest => "",
     };
     LOOKUP_LIBRARY
         .replace("REPROJ_GROUP", &group.to_string())
         .replace("REPROJ_PREV_CLIP", &location.to_string())
         .replace("REPROJ_RECONSTRUCT", fetch)
+        .replace("// REPROJ_FILTERS\n", filters)
 }
 
 fn parse_library(text: &str, pass: PassKind) -> Result<Module, InstanceError> {

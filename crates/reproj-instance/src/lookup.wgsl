@@ -30,6 +30,7 @@ struct ReprojInput {
     @location(REPROJ_PREV_CLIP) prev_clip: vec4<f32>,
 };
 
+// REPROJ_FILTERS
 // 0: hit, 1: miss (off screen or disoccluded), 2: refresh.
 struct ReprojLookup {
     payload: vec4<f32>,

@@ -158,6 +158,28 @@ pub enum Reconstruct {
     Bilinear,
     /// One `textureLoad` of the nearest texel: cheaper, needs no filtering, blockier.
     Nearest,
+    /// Catmull-Rom (bicubic) in five filtered fetches (the 4×4 kernel's corners dropped), clamped
+    /// to the range of the 2×2 nearest texels (four loads) so it cannot ring: sharper than
+    /// bilinear, so a value carried over many frames blurs less (docs/PASSES.md).
+    #[serde(rename = "catmull-rom")]
+    CatmullRom,
+}
+
+impl Reconstruct {
+    /// Whether the payload is read through the linear sampler (a 32-bit float cache then needs
+    /// the `float32-filterable` feature).
+    pub fn filters(self) -> bool {
+        matches!(self, Reconstruct::Bilinear | Reconstruct::CatmullRom)
+    }
+
+    /// The name on the command line and in the manifest.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reconstruct::Bilinear => "bilinear",
+            Reconstruct::Nearest => "nearest",
+            Reconstruct::CatmullRom => "catmull-rom",
+        }
+    }
 }
 
 /// Which pass of a variant.

@@ -38,6 +38,7 @@ fn manifests() -> Vec<Manifest> {
             for (reconstruct, frame_load) in [
                 (Reconstruct::Bilinear, FrameLoad::Clear),
                 (Reconstruct::Nearest, FrameLoad::Load),
+                (Reconstruct::CatmullRom, FrameLoad::Clear),
             ] {
                 for sel in [NodeSelector::Root, NodeSelector::Id(node)] {
                     let opts = InstanceOptions {
@@ -139,7 +140,7 @@ fn every_manifest_is_self_consistent() {
                             let LayoutEntry::Texture { sample_type, .. } = &b.layout else {
                                 panic!("{what}: payload layout {:?}", b.layout);
                             };
-                            let filterable = m.reconstruct == Reconstruct::Bilinear;
+                            let filterable = m.reconstruct.filters();
                             assert_eq!(sample_type == "float", filterable, "{what}");
                         }
                     }

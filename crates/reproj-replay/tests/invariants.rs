@@ -306,6 +306,11 @@ fn every_strategy_reproduces_the_original_and_reuses_its_cache() {
             CacheFormatChoice::Narrowest16,
             Reconstruct::Nearest,
         ),
+        (
+            Strategy::ThreePass,
+            CacheFormatChoice::Narrowest32,
+            Reconstruct::CatmullRom,
+        ),
     ];
     let shaders = samples();
     // Two threads, each with its own device: most of the time goes to compiling pipelines.

@@ -241,6 +241,7 @@ pub fn reconstruct(r: crate::ReconstructArg) -> reproj_instance::Reconstruct {
     match r {
         crate::ReconstructArg::Bilinear => reproj_instance::Reconstruct::Bilinear,
         crate::ReconstructArg::Nearest => reproj_instance::Reconstruct::Nearest,
+        crate::ReconstructArg::CatmullRom => reproj_instance::Reconstruct::CatmullRom,
     }
 }
 

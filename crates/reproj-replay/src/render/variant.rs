@@ -236,7 +236,7 @@ impl Renderer {
         let point_sampler = clamp(wgpu::FilterMode::Nearest, contract::POINT_SAMPLER);
         let linear_sampler = clamp(wgpu::FilterMode::Linear, contract::LINEAR_SAMPLER);
         if !m.cache_format.is_half()
-            && m.reconstruct == reproj_instance::Reconstruct::Bilinear
+            && m.reconstruct.filters()
             && !self
                 .device
                 .features()
