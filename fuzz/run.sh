@@ -1,25 +1,70 @@
 #!/usr/bin/env bash
-# Seed the corpus with the repository's shaders and fuzz the front end.
+# Seed a target's corpus from the repository and fuzz it.
 #
-#   fuzz/run.sh [SECONDS] [extra libFuzzer args...]     (default 600 seconds)
+#   fuzz/run.sh [TARGET] [SECONDS] [extra libFuzzer args...]
+#
+# TARGET: front_end (the default), profile, journal or session; SECONDS: 600 by default. For
+# compatibility, a first argument that is a number is SECONDS for front_end (`fuzz/run.sh 1200`).
 #
 # Needs cargo-fuzz (`cargo install cargo-fuzz`). Works on a stable toolchain: RUSTC_BOOTSTRAP=1
 # unlocks the nightly-only flags cargo-fuzz passes, and `--sanitizer none` avoids needing a
 # sanitizer runtime (the fuzzer still finds panics; they abort the run and write the input to
-# fuzz/artifacts/front_end/).
+# fuzz/artifacts/TARGET/).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$here")"
+
+target=front_end
+case "${1:-}" in
+    front_end|profile|journal|session) target="$1"; shift ;;
+    ''|[0-9]*) ;;
+    *) echo "fuzz/run.sh: unknown target '$1' (front_end, profile, journal, session)" >&2; exit 2 ;;
+esac
 secs="${1:-600}"
 shift || true
 
-corpus="$here/corpus/front_end"
+corpus="$here/corpus/$target"
 mkdir -p "$corpus"
-for f in "$root"/shaders/*.wgsl "$root"/crates/reproj-front/tests/fixtures/*.wgsl \
-         "$root"/crates/reproj-front/tests/fuzz_regressions/*.wgsl; do
-    [ -e "$f" ] && cp -n "$f" "$corpus/"
-done
+seed() { for f in "$@"; do [ -f "$f" ] && cp -n "$f" "$corpus/"; done; return 0; }
+# Files under $1 (recursively) whose text names schema $2.
+seed_schema() {
+    [ -d "$1" ] || return 0
+    grep -rlF --include='*.json' "\"$2\"" "$1" | grep -v '/target/' | while read -r f; do
+        cp -n "$f" "$corpus/$(echo "${f#"$root"/}" | tr / _)"
+    done
+}
+
+features=()
+dict="$here/json.dict"
+case "$target" in
+    front_end)
+        seed "$root"/shaders/*.wgsl "$root"/crates/reproj-front/tests/fixtures/*.wgsl \
+             "$root"/crates/reproj-front/tests/fuzz_regressions/*.wgsl
+        dict="$here/wgsl.dict"; max_len=16384 ;;
+    profile)
+        # The committed profiles, and any in out/ (a local `reproj analyze` run's).
+        seed_schema "$root/crates" reproj.profile
+        seed_schema "$root/out" reproj.profile
+        seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.profile.json
+        max_len=65536 ;;
+    journal)
+        # Journals are deleted once their profile is written: seeds are made from the profiles'
+        # measurements (the same JSON), under the header the target expects (key "fuzz").
+        for p in $( (grep -rlF --include='*.json' '"reproj.profile"' "$root/crates" "$root/out" 2>/dev/null || true) | grep -v '/target/'); do
+            out="$corpus/$(echo "${p#"$root"/}" | tr / _ | sed 's/\.profile\.json$//').journal"
+            [ -e "$out" ] || python3 "$here/journal_seed.py" "$p" > "$out" || rm -f "$out"
+        done
+        seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.journal
+        max_len=8192 ;;
+    session)
+        seed_schema "$root/sessions" reproj.session
+        seed_schema "$root/crates" reproj.session
+        seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.session.json
+        features=(--features session)
+        max_len=65536 ;;
+esac
 
 cd "$root"
-RUSTC_BOOTSTRAP=1 exec cargo fuzz run --fuzz-dir fuzz --sanitizer none --debug-assertions front_end "$corpus" -- \
-    -max_total_time="$secs" -dict="$here/wgsl.dict" -max_len=16384 -timeout=10 -rss_limit_mb=4096 "$@"
+RUSTC_BOOTSTRAP=1 exec cargo fuzz run --fuzz-dir fuzz --sanitizer none --debug-assertions \
+    "${features[@]}" "$target" "$corpus" -- \
+    -max_total_time="$secs" -dict="$dict" -max_len="$max_len" -timeout=10 -rss_limit_mb=4096 "$@"
