@@ -141,11 +141,13 @@ pub struct EmitReport {
 /// Read a profile, naming the field when it is malformed.
 pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
     let profile: Profile = reproj_io::read_json(path, &reproj_models::PROFILE_KIND)?;
-    profile.check().map_err(|(field, message)| reproj_io::ReadError::Field {
-        path: path.to_owned(),
-        field,
-        message,
-    })?;
+    profile
+        .check()
+        .map_err(|(field, message)| reproj_io::ReadError::Field {
+            path: path.to_owned(),
+            field,
+            message,
+        })?;
     Ok(profile)
 }
 

@@ -195,7 +195,10 @@ impl Default for AnalyzeOptions {
 /// The periods must be measurable: at least 2, each named once (training and held out apart),
 /// and at most ten times the replayed frames (`frames`); a period longer than the session is
 /// measured only in part, which the returned warning says.
-pub(crate) fn check_periods(opts: &AnalyzeOptions, frames: u32) -> Result<Vec<String>, AnalyzeError> {
+pub(crate) fn check_periods(
+    opts: &AnalyzeOptions,
+    frames: u32,
+) -> Result<Vec<String>, AnalyzeError> {
     if opts.perceptual_stride == Some(0) {
         return Err(AnalyzeError::Options(
             "the perceptual metrics' frame stride must be at least 1".into(),

@@ -350,7 +350,10 @@ fn replay(
         ));
     }
     if !report.error.is_finite() {
-        return Err(format!("its measured error is {} (Δn {delta_n})", report.error));
+        return Err(format!(
+            "its measured error is {} (Δn {delta_n})",
+            report.error
+        ));
     }
     let gpu: f64 = report.frames.iter().map(|f| f.frame_ms).sum::<f64>() / 1000.0;
     time.rendering_s += gpu.min(wall);

@@ -86,13 +86,14 @@ fn a_variant_that_renders_nan_where_the_original_is_finite_is_set_aside() {
     let (code, out, err) = run(dir, &["nodes", "cliff.wgsl", "--json"]);
     assert_eq!(code, 0, "{err}");
     let nodes: serde_json::Value = serde_json::from_str(&out).unwrap();
-    let a = nodes["nodes"]
+    let a_id = nodes["nodes"]
         .as_array()
         .unwrap()
         .iter()
         .find(|n| n["text"] == "a")
         .expect("node `a`")["id"]
-        .to_string();
+        .clone();
+    let a = a_id.to_string();
     let (code, _, err) = run(
         dir,
         &[
@@ -121,7 +122,7 @@ fn a_variant_that_renders_nan_where_the_original_is_finite_is_set_aside() {
         .as_array()
         .unwrap()
         .iter()
-        .find(|n| n["id"].to_string() == a)
+        .find(|n| n["id"] == a_id)
         .unwrap();
     assert_eq!(node["status"], "set-aside", "{node}");
     let reason = node["reason"].as_str().unwrap();

@@ -54,7 +54,10 @@ fn alive(pid: u32) -> bool {
 
 /// The pid in a temporary sibling's name `.{name}.{what}{pid}-{n}` (see `temp_sibling`).
 fn sibling_pid(file: &str, name: &str) -> Option<u32> {
-    let rest = file.strip_prefix('.')?.strip_prefix(name)?.strip_prefix('.')?;
+    let rest = file
+        .strip_prefix('.')?
+        .strip_prefix(name)?
+        .strip_prefix('.')?;
     let rest = ["staged", "old", "tmp"]
         .iter()
         .find_map(|w| rest.strip_prefix(w))?;
@@ -180,7 +183,9 @@ mod tests {
         // A pid far above any Linux pid_max: no such process.
         let dead = dir.path().join(".frames.staged4999999-0");
         std::fs::create_dir_all(dead.join("x")).unwrap();
-        let live = dir.path().join(format!(".frames.staged{}-0", std::process::id()));
+        let live = dir
+            .path()
+            .join(format!(".frames.staged{}-0", std::process::id()));
         std::fs::create_dir(&live).unwrap();
         let other = dir.path().join(".notes.tmp4999999-0");
         std::fs::write(&other, "x").unwrap();

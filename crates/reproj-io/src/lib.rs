@@ -25,8 +25,8 @@ mod json;
 mod owner;
 mod write;
 
-pub use json::{Kind, ReadError, parse_json, read_json};
 pub use cleanup::{OutputLock, remove_registered, sweep_stale};
+pub use json::{Kind, ReadError, parse_json, read_json};
 pub use owner::{Owner, check_target, write_owned_file};
 pub use write::{FAIL_ENV, Replace, StagedDir, WriteError, write_file, write_files};
 

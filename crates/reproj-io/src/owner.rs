@@ -158,7 +158,10 @@ mod tests {
         let notes = dir.path().join("u.txt");
         std::fs::write(&notes, "notes").unwrap();
         let e = check_target(&notes, PROFILE).unwrap_err().to_string();
-        assert!(e.contains("u.txt") && e.contains("not a reproj.profile"), "{e}");
+        assert!(
+            e.contains("u.txt") && e.contains("not a reproj.profile"),
+            "{e}"
+        );
         let other = dir.path().join("s.json");
         std::fs::write(&other, r#"{"schema": "reproj.session"}"#).unwrap();
         assert!(check_target(&other, PROFILE).is_err());

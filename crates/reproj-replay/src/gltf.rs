@@ -38,7 +38,8 @@ pub(crate) fn import(session: &Session, path: &Path) -> Result<Arc<Imported>, St
         return Ok(i.clone());
     }
     // The glTF's own files (buffers, images) obey the session's folder rule too.
-    let gltf = gltf::Gltf::open(&full).map_err(|e| format!("cannot import {}: {e}", full.display()))?;
+    let gltf =
+        gltf::Gltf::open(&full).map_err(|e| format!("cannot import {}: {e}", full.display()))?;
     let dir = path.parent().unwrap_or(Path::new(""));
     let uris = gltf
         .buffers()

@@ -692,16 +692,17 @@ mod tests {
         reference[4] = f32::NAN;
         reference[8 + 2] = f32::INFINITY;
         frame[4] = f32::NAN;
-        for (w, h, f, rf, d) in [(2, 2, &frame, &reference, &depth[..])] {
-            let cpu = metrics::compare(f, rf, d);
-            let g = gpu(&r, w, h, f, rf, d);
-            assert_eq!((g.nonfinite, g.nonfinite_reference), (0, 2));
-            assert_eq!((cpu.nonfinite, cpu.nonfinite_reference), (0, 2));
-            assert_eq!((g.covered, cpu.covered), (1, 1));
-            assert!(close(g.sum_l2, cpu.sum_l2) && close(g.sum_l2, 0.25), "{g:?}");
-            // The mean is over the two pixels that could be measured.
-            assert!(close(g.error(), 0.125) && close(cpu.error(), 0.125));
-        }
+        let cpu = metrics::compare(&frame, &reference, &depth);
+        let g = gpu(&r, 2, 2, &frame, &reference, &depth);
+        assert_eq!((g.nonfinite, g.nonfinite_reference), (0, 2));
+        assert_eq!((cpu.nonfinite, cpu.nonfinite_reference), (0, 2));
+        assert_eq!((g.covered, cpu.covered), (1, 1));
+        assert!(
+            close(g.sum_l2, cpu.sum_l2) && close(g.sum_l2, 0.25),
+            "{g:?}"
+        );
+        // The mean is over the two pixels that could be measured.
+        assert!(close(g.error(), 0.125) && close(cpu.error(), 0.125));
         // An infinity in the frame where the reference is finite: counted, and the error is NaN.
         frame[12 + 1] = f32::NEG_INFINITY;
         let cpu = metrics::compare(&frame, &reference, &depth);

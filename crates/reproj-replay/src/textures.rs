@@ -488,7 +488,9 @@ fn build_single(
         let mut texels = Vec::new();
         let mut dims = None;
         for f in &files {
-            let full = session.resolve(f).map_err(|e| format!("texture `{name}`: {e}"))?;
+            let full = session
+                .resolve(f)
+                .map_err(|e| format!("texture `{name}`: {e}"))?;
             let img = image::open(&full)
                 .map_err(|e| format!("texture `{name}`: cannot read {}: {e}", full.display()))?;
             let img = img.to_rgba32f();
