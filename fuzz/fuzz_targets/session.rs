@@ -46,8 +46,9 @@ fuzz_target!(|data: &[u8]| {
             let _ = value.at(frame as f32);
         }
     }
-    for value in session.uniforms.values().chain(session.buffers.values()) {
-        let _ = value.flatten();
-        let _ = value.is_leaf();
+    // Uniform paths as the replay looks them up (`light.color`, `lights[1].position`).
+    for name in session.uniforms.keys() {
+        let _ = session.uniform(name);
+        let _ = session.uniform(&format!("{name}.x[1]"));
     }
 });
