@@ -28,8 +28,14 @@ fuzz_target!(|data: &[u8]| {
     }
     let reread = parse(&again, KEY);
     assert!(reread.header_matches, "{again}");
-    assert_eq!(reread.dropped, 0, "a rewritten journal drops lines:\n{again}");
+    assert_eq!(
+        reread.dropped, 0,
+        "a rewritten journal drops lines:\n{again}"
+    );
     assert_eq!(reread.done.len(), parsed.done.len(), "{again}");
-    assert!(reread.done == parsed.done, "records change through a rewrite:\n{again}");
+    assert!(
+        reread.done == parsed.done,
+        "records change through a rewrite:\n{again}"
+    );
     assert!(reread.original == parsed.original, "{again}");
 });

@@ -21,8 +21,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let profile = match reproj_io::parse_json::<Profile>(text, Path::new("p.json"), &PROFILE_KIND)
-    {
+    let profile = match reproj_io::parse_json::<Profile>(text, Path::new("p.json"), &PROFILE_KIND) {
         Ok(p) => p,
         Err(e) => {
             let _ = e.to_string();
@@ -38,10 +37,17 @@ fuzz_target!(|data: &[u8]| {
     let written = serde_json::to_string_pretty(&profile).expect("a profile serializes");
     let again: Profile = reproj_io::parse_json(&written, Path::new("p.json"), &PROFILE_KIND)
         .unwrap_or_else(|e| panic!("a written profile does not read back: {e}\n{written}"));
-    assert!(again == profile, "a profile changes through a write and a read\n{written}");
+    assert!(
+        again == profile,
+        "a profile changes through a write and a read\n{written}"
+    );
 
     for metric in Metric::ALL {
-        let usable: Vec<_> = profile.nodes.iter().filter(|n| n.status == NodeStatus::Ok).collect();
+        let usable: Vec<_> = profile
+            .nodes
+            .iter()
+            .filter(|n| n.status == NodeStatus::Ok)
+            .collect();
         let records: Vec<NodeRecord> = profile
             .nodes
             .iter()
@@ -74,8 +80,17 @@ fuzz_target!(|data: &[u8]| {
         }
         for &(min, max) in &RANGES {
             for max_error in [0.0, 0.01, 1.0, f64::MAX] {
-                let opts = SelectOptions { max_error, min_delta_n: min, max_delta_n: max };
-                let _ = select(&records, &profile.hit_rate, profile.original.frame_ms, &opts);
+                let opts = SelectOptions {
+                    max_error,
+                    min_delta_n: min,
+                    max_delta_n: max,
+                };
+                let _ = select(
+                    &records,
+                    &profile.hit_rate,
+                    profile.original.frame_ms,
+                    &opts,
+                );
                 let _ = select_with_sets(
                     &records,
                     &sets,
