@@ -15,7 +15,9 @@ use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
 use reproj_replay::metrics::{MetricSummary, PSNR_CAP, psnr};
 use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
-use reproj_select::{NodeRecord, SelectOptions, Selection, SetRecord, select_with_sets};
+use reproj_select::{
+    NodeRecord, Scene, ScenePrediction, SelectOptions, Selection, SetRecord, select_with_sets, select_worst_case,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::AnalyzeError;
@@ -42,6 +44,9 @@ pub struct EmitOptions {
     pub shader: Option<PathBuf>,
     /// Languages to write the passes in besides WGSL.
     pub langs: Vec<OutputLang>,
+    /// Profiles of the same shader over other sessions (path, profile): the selection holds the
+    /// budget on every session, the first profile's included ([`select_worst_case`]).
+    pub also: Vec<(PathBuf, Profile)>,
 }
 
 /// Schema name of an [`EmitReport`] (`report.json`).
@@ -136,6 +141,10 @@ pub struct EmitReport {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub timing_warnings: Vec<String>,
     pub adapter: String,
+    /// With several profiles (`--profile A --profile B`, one per session): each session's
+    /// prediction for the choice, which holds the budget on every one. Absent with one profile.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sessions: Vec<ScenePrediction>,
 }
 
 /// Read a profile, naming the field when it is malformed.
@@ -208,36 +217,21 @@ pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf,
     }
 }
 
-/// Select under the budget and write the result into `opts.out`: the three passes and the
-/// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
-pub fn emit(
-    profile: &Profile,
+/// A profile's usable sets (in `opts.strategy`, when one is named) and the selector records of its
+/// usable nodes and sets in `opts.metric`.
+#[allow(clippy::type_complexity)]
+fn records_of<'p>(
+    profile: &'p Profile,
     profile_path: &Path,
     opts: &EmitOptions,
-) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
-    let shader_path = match &opts.shader {
-        Some(s) => s.clone(),
-        None => profile_shader(profile, profile_path)?,
-    };
-    let load_options = LoadOptions {
-        unroll: UnrollOptions {
-            max_trip: profile.unroll,
-        },
-        ..Default::default()
-    };
-    let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;
-    // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
-    let shader = loaded.shader.to_wgsl()?;
-    let fresh = match &profile.shader.ir_hash {
-        Some(h) => ir_hash(&shader) == *h,
-        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
-    };
-    if !fresh {
-        return Err(AnalyzeError::Stale {
-            path: shader_path,
-            what: "shader".into(),
-        });
-    }
+) -> Result<
+    (
+        Vec<&'p reproj_models::profile::SetProfile>,
+        Vec<NodeRecord>,
+        Vec<SetRecord>,
+    ),
+    AnalyzeError,
+> {
     let usable: Vec<_> = profile
         .nodes
         .iter()
@@ -277,18 +271,116 @@ pub fn emit(
             })
         })
         .collect();
+    Ok((usable_sets, records, set_records))
+}
+
+/// Another session's profile must be of the same shader (IR), entry, unrolling and cache
+/// settings as the first: its node ids and variants are then the same ones.
+fn same_shader(
+    first: &Profile,
+    first_path: &Path,
+    other: &Profile,
+    other_path: &Path,
+) -> Result<(), AnalyzeError> {
+    let shader = |p: &Profile| p.shader.ir_hash.clone().unwrap_or_else(|| p.shader.hash.clone());
+    let differs = if shader(first) != shader(other) {
+        Some("shader")
+    } else if first.entry != other.entry {
+        Some("entry point")
+    } else if first.unroll != other.unroll {
+        Some("--unroll")
+    } else if first.block != other.block || first.depth_epsilon != other.depth_epsilon {
+        Some("block size or depth tolerance")
+    } else {
+        None
+    };
+    match differs {
+        None => Ok(()),
+        Some(what) => Err(AnalyzeError::BadProfile {
+            path: other_path.to_owned(),
+            message: format!(
+                "its {what} differs from {}'s: profiles selected together must be of one shader with one setting, over different sessions",
+                first_path.display()
+            ),
+        }),
+    }
+}
+
+/// Select under the budget and write the result into `opts.out`: the three passes and the
+/// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
+pub fn emit(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
+    let shader_path = match &opts.shader {
+        Some(s) => s.clone(),
+        None => profile_shader(profile, profile_path)?,
+    };
+    let load_options = LoadOptions {
+        unroll: UnrollOptions {
+            max_trip: profile.unroll,
+        },
+        ..Default::default()
+    };
+    let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;
+    // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
+    let shader = loaded.shader.to_wgsl()?;
+    let fresh = match &profile.shader.ir_hash {
+        Some(h) => ir_hash(&shader) == *h,
+        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
+    };
+    if !fresh {
+        return Err(AnalyzeError::Stale {
+            path: shader_path,
+            what: "shader".into(),
+        });
+    }
+    let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
     let select_opts = SelectOptions {
         max_error: opts.max_error,
         min_delta_n: opts.min_delta_n,
         max_delta_n: opts.max_delta_n,
     };
-    let selection = select_with_sets(
-        &records,
-        &set_records,
-        &profile.hit_rate,
-        profile.original.frame_ms,
-        &select_opts,
-    );
+    // Other sessions' profiles of the same shader: the budget must hold on each (worst case).
+    let mut others = Vec::new();
+    for (path, other) in &opts.also {
+        same_shader(profile, profile_path, other, path)?;
+        let (_, nodes, sets) = records_of(other, path, opts)?;
+        others.push((other, nodes, sets));
+    }
+    let (selection, sessions) = if others.is_empty() {
+        let selection = select_with_sets(
+            &records,
+            &set_records,
+            &profile.hit_rate,
+            profile.original.frame_ms,
+            &select_opts,
+        );
+        (selection, Vec::new())
+    } else {
+        let scene = |p: &'_ Profile| p.session.path.clone();
+        let names: Vec<String> = std::iter::once(scene(profile))
+            .chain(others.iter().map(|(p, _, _)| scene(p)))
+            .collect();
+        let mut scenes = vec![Scene {
+            name: &names[0],
+            nodes: &records,
+            sets: &set_records,
+            hit_rate: &profile.hit_rate,
+            original_ms: profile.original.frame_ms,
+        }];
+        for ((p, nodes, sets), name) in others.iter().zip(&names[1..]) {
+            scenes.push(Scene {
+                name,
+                nodes,
+                sets,
+                hit_rate: &p.hit_rate,
+                original_ms: p.original.frame_ms,
+            });
+        }
+        select_worst_case(&scenes, &select_opts)
+    };
     let mut report = EmitReport {
         schema: EMIT_REPORT_SCHEMA.into(),
         version: EMIT_REPORT_VERSION,
@@ -324,6 +416,7 @@ pub fn emit(
         measured_on: None,
         timing_warnings: Vec::new(),
         adapter: profile.machine.adapter.clone(),
+        sessions,
     };
     let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
     let variant = match selection {
@@ -368,6 +461,8 @@ pub fn emit(
             report.predicted_error = Some(choice.predicted_error);
             report.predicted_psnr = set.mse_at(choice.delta_n).map(psnr);
             report.predicted_ms = Some(choice.predicted_ms);
+            // The session whose speedup is the lowest (the profile's own with one session).
+            report.original_ms = choice.original_ms;
             report.predicted_speedup = Some(choice.predicted_speedup);
             report.predicted_speedup_ci95 = choice.predicted_speedup_ci95;
             Some(variant)
@@ -420,6 +515,8 @@ pub fn emit(
             report.predicted_error = Some(choice.predicted_error);
             report.predicted_psnr = node.mse_at(choice.delta_n).map(psnr);
             report.predicted_ms = Some(choice.predicted_ms);
+            // The session whose speedup is the lowest (the profile's own with one session).
+            report.original_ms = choice.original_ms;
             report.predicted_speedup = Some(choice.predicted_speedup);
             report.predicted_speedup_ci95 = choice.predicted_speedup_ci95;
             Some(variant)

@@ -154,6 +154,7 @@ fn static_session_profiles_without_nan_and_emits() {
             integration: Default::default(),
             shader: None,
             langs: Vec::new(),
+            also: Vec::new(),
         },
     )
     .unwrap();
@@ -382,6 +383,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
             integration: Default::default(),
             shader: Some(shader_path.clone()),
             langs: Vec::new(),
+            also: Vec::new(),
         },
     )
     .unwrap();

@@ -137,6 +137,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         integration: Default::default(),
         shader: None,
         langs: Vec::new(),
+        also: Vec::new(),
     }
 }
 

@@ -409,9 +409,12 @@ pub struct EmitArgs {
     /// Which measured error the budget bounds: `l2` (the paper's) or `flip` (perceptual).
     #[arg(long, default_value = "l2")]
     pub metric: reproj_models::Metric,
-    /// Profile from `reproj analyze` (default: the newest *.profile.json here).
+    /// Profile from `reproj analyze` (default: the newest *.profile.json here). Give one per
+    /// session (`--profile slow.profile.json --profile fast.profile.json`, the same shader
+    /// analyzed over each): the selection then holds the budget on every session, the worst case,
+    /// and the report gives each session's prediction.
     #[arg(long)]
-    pub profile: Option<PathBuf>,
+    pub profile: Vec<PathBuf>,
     /// Output directory (default: out/SHADER_STEM).
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,

@@ -9,8 +9,10 @@
 //! [`pareto`] gives the error-vs-time frontier of the same predictions, for charts.
 
 pub mod combine;
+mod worst;
 
 pub use combine::{SetPrediction, best_set, combined_timing, predict_set};
+pub use worst::{Scene, ScenePrediction, select_worst_case};
 
 use reproj_models::{ErrorFitFailure, ErrorFitStatus, HitRateFit, TimingFit, predicted_frame_ms};
 use serde::{Deserialize, Serialize};

@@ -415,3 +415,61 @@ fn measured_errors_bound_the_prediction_and_the_range() {
         Selection::Node(c) if c.delta_n == 2
     ));
 }
+
+#[test]
+fn several_sessions_hold_the_budget_on_every_one() {
+    use reproj_select::{Scene, select_worst_case};
+    let mu = HitRateFit::from_mu(0.9);
+    // The same nodes under faster motion: every error three times as large, the hits a little
+    // rarer.
+    let fast: Vec<NodeRecord> = nodes()
+        .into_iter()
+        .map(|mut n| {
+            n.error = error_fit(n.error.alpha.unwrap() * 3.0, n.error.lambda.unwrap());
+            n
+        })
+        .collect();
+    let mu_fast = HitRateFit::from_mu(0.85);
+    let slow_nodes = nodes();
+    let scenes = [
+        Scene {
+            name: "slow.json",
+            nodes: &slow_nodes,
+            sets: &[],
+            hit_rate: &mu,
+            original_ms: ORIGINAL_MS,
+        },
+        Scene {
+            name: "fast.json",
+            nodes: &fast,
+            sets: &[],
+            hit_rate: &mu_fast,
+            original_ms: ORIGINAL_MS,
+        },
+    ];
+    let opts = SelectOptions::new(0.01);
+    let (sel, per) = select_worst_case(&scenes, &opts);
+    let c = choice(&sel);
+    assert_eq!(per.len(), 2);
+    // The budget holds on both; the choice's error is the worst of the two.
+    assert!(per.iter().all(|p| p.predicted_error <= 0.01), "{per:?}");
+    let worst = per.iter().map(|p| p.predicted_error).fold(0.0, f64::max);
+    assert_eq!(c.predicted_error, worst);
+    let slowest = per.iter().map(|p| p.predicted_speedup).fold(f64::INFINITY, f64::min);
+    assert_eq!(c.predicted_speedup, slowest);
+    // The slow session alone would choose something that breaks the budget on the fast one.
+    let alone = select(&slow_nodes, &mu, ORIGINAL_MS, &opts);
+    let a = choice(&alone);
+    let fast_node = fast.iter().find(|n| n.id == a.node_id).unwrap();
+    let on_fast = reproj_select::predict(fast_node, &mu_fast, a.delta_n).unwrap();
+    assert!(on_fast.predicted_error > 0.01, "{on_fast:?}");
+    assert!(c.predicted_speedup <= a.predicted_speedup);
+    // One session: the single-session selection.
+    let (one, per) = select_worst_case(&scenes[..1], &opts);
+    assert_eq!(one, alone);
+    assert_eq!(per.len(), 1);
+    // A budget no session meets: the original, with the lowest worst-case error.
+    let (tight, per) = select_worst_case(&scenes, &SelectOptions::new(1e-6));
+    assert!(matches!(tight, Selection::Original { reason: OriginalReason::OverBudget { .. } }));
+    assert!(per.is_empty());
+}

@@ -18,7 +18,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let profile_path = match &args.profile {
+    let profile_path = match args.profile.first() {
         Some(p) => p.clone(),
         None => {
             let p = latest_profile(&PathBuf::from("."))?;
@@ -27,6 +27,10 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         }
     };
     let profile = load_profile(&profile_path)?;
+    let mut also = Vec::new();
+    for p in args.profile.iter().skip(1) {
+        also.push((p.clone(), load_profile(p)?));
+    }
     let stem = std::path::Path::new(&profile.shader.path)
         .file_stem()
         .map_or_else(
@@ -48,6 +52,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         integration: super::integrate(Default::default(), args.integration),
         shader: args.shader.clone(),
         langs: super::output_langs(&args.lang),
+        also,
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
     if args.verify {
@@ -114,6 +119,18 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                     .predicted_speedup_ci95
                     .map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]")),
             )?;
+            for sp in &report.sessions {
+                writeln!(
+                    stdout,
+                    "  on {}: {} {:.5}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                    sp.session,
+                    metric_label(report.metric),
+                    sp.predicted_error,
+                    sp.predicted_ms,
+                    sp.original_ms,
+                    sp.predicted_speedup
+                )?;
+            }
             if profile.machine.cpu_rasterizer {
                 writeln!(
                     stdout,

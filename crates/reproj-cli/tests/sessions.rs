@@ -1,0 +1,131 @@
+//! Several sessions (issue 26): `emit --profile A --profile B`, one profile per session of the
+//! same shader, selects so that the budget holds on every session — the worst case — and reports
+//! each session's prediction; verified on the faster session, it holds where the single-session
+//! choice (`verify.rs`) broke it. Profiles of another shader are refused.
+
+mod common;
+use common::{root, run};
+
+#[test]
+fn the_budget_holds_on_every_profiled_session() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let data = root().join("crates/reproj-cli/tests/data");
+    std::fs::copy(data.join("two_terms.wgsl"), dir.join("two_terms.wgsl")).unwrap();
+    std::fs::copy(data.join("two_terms.json"), dir.join("slow.json")).unwrap();
+    // The same scene, the camera orbiting 300° instead of 40° and the light swinging through.
+    let text = std::fs::read_to_string(data.join("two_terms.json")).unwrap();
+    let mut fast: serde_json::Value = serde_json::from_str(&text).unwrap();
+    fast["camera"]["orbit"]["start_deg"] = serde_json::json!(0);
+    fast["camera"]["orbit"]["end_deg"] = serde_json::json!(300);
+    fast["light"]["keys"][1]["position"] = serde_json::json!([-3, -3, -3]);
+    std::fs::write(dir.join("fast.json"), fast.to_string()).unwrap();
+    for session in ["slow", "fast"] {
+        let (code, _, err) = run(
+            dir,
+            &[
+                "analyze",
+                "two_terms.wgsl",
+                "--session",
+                &format!("{session}.json"),
+                "--out",
+                &format!("{session}.profile.json"),
+                "--delta-n",
+                "2,8,16,24",
+                "--holdout",
+                "4",
+                "--max-nodes",
+                "3",
+                "--strategy",
+                "3pass",
+                "--no-sets",
+                "--no-charts",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+    }
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "slow.profile.json",
+            "--profile",
+            "fast.profile.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "both",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let sessions = report["sessions"]
+        .as_array()
+        .expect("per-session predictions");
+    assert_eq!(sessions.len(), 2, "{report}");
+    let errors: Vec<f64> = sessions
+        .iter()
+        .map(|s| s["predicted_error"].as_f64().unwrap())
+        .collect();
+    assert!(errors.iter().all(|&e| e <= 0.01), "{report}");
+    if report["node"].is_string() {
+        let worst = errors.iter().copied().fold(0.0, f64::max);
+        assert_eq!(
+            report["predicted_error"].as_f64().unwrap(),
+            worst,
+            "{report}"
+        );
+        let slowest = sessions
+            .iter()
+            .map(|s| s["predicted_speedup"].as_f64().unwrap())
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(report["predicted_speedup"].as_f64().unwrap(), slowest);
+    }
+    // The text names each session.
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "slow.profile.json",
+            "--profile",
+            "fast.profile.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "both",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    if report["node"].is_string() {
+        assert!(
+            out.contains("on slow.json") && out.contains("on fast.json"),
+            "{out}"
+        );
+    }
+    // Another shader's profile is refused, naming what differs.
+    let mut other: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("fast.profile.json")).unwrap())
+            .unwrap();
+    other["shader"]["ir_hash"] = serde_json::json!("0000000000000000");
+    std::fs::write(dir.join("other.profile.json"), other.to_string()).unwrap();
+    let (code, _, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "slow.profile.json",
+            "--profile",
+            "other.profile.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "x",
+        ],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("its shader differs"), "{err}");
+    assert!(!dir.join("x").exists());
+}
