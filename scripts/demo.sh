@@ -18,11 +18,10 @@ mkdir -p out
 echo "== reproj nodes shaders/marble.wgsl (first lines)"
 $REPROJ nodes shaders/marble.wgsl | head -12
 echo
-echo "== reproj analyze shaders/marble.wgsl --session sessions/marble.json"
-$REPROJ analyze shaders/marble.wgsl --session sessions/marble.json --out out/marble.profile.json
-echo
-echo "== reproj analyze shaders/marble.wgsl --session sessions/marble_fast.json (the same scene, faster motion)"
-$REPROJ analyze shaders/marble.wgsl --session sessions/marble_fast.json --out out/marble_fast.profile.json
+echo "== reproj analyze shaders/marble.wgsl --session sessions/marble.json --session sessions/marble_fast.json"
+# Two motions of one scene: a profile each (out/marble.profile.json, out/marble.marble_fast.profile.json).
+$REPROJ analyze shaders/marble.wgsl --session sessions/marble.json \
+    --session sessions/marble_fast.json --out out/marble.profile.json
 for budget in 0.002 0.01 0.03 0.1; do
     echo
     echo "== reproj emit --max-error $budget --verify"
@@ -32,7 +31,7 @@ for budget in 0.002 0.01 0.03 0.1; do
     # Both profiles: the choice holds the budget on both motions (the worst case); verified on
     # the faster one.
     $REPROJ emit --max-error "$budget" --profile out/marble.profile.json \
-        --profile out/marble_fast.profile.json --out "out/marble_$budget" \
+        --profile out/marble.marble_fast.profile.json --out "out/marble_$budget" \
         --verify --session sessions/marble_fast.json || rc=$?
     if [ "$rc" -ne 0 ] && [ "$rc" -ne 4 ]; then exit "$rc"; fi
 done

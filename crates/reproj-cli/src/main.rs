@@ -313,9 +313,11 @@ pub struct AnalyzeArgs {
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub unroll: UnrollArg,
-    /// The session file.
-    #[arg(long)]
-    pub session: PathBuf,
+    /// The session file. Repeat it to profile several sessions (other motion) one after the
+    /// other: one profile each, the first at --out, the others beside it named after their
+    /// session; `emit --profile A --profile B` then holds the budget on every one.
+    #[arg(long, required = true)]
+    pub session: Vec<PathBuf>,
     /// Profile file to write (default: SHADER_STEM.profile.json in the current directory).
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,

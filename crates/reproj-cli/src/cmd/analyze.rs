@@ -81,21 +81,78 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.profile.json")));
-    // Before minutes of rendering: the profile (and its charts) can be written, replacing only
-    // reproj's own files.
-    reproj_io::check_target(&out, super::PROFILE_FILE)?;
-    // One analysis per profile at a time: a second one would skew this one's timings and race
-    // for the journal and the file. Held until the profile is written.
-    let _lock = reproj_io::OutputLock::acquire(&out)?;
-    if !args.no_charts {
-        super::charts::check_targets(&out)?;
+    // One profile per session: the first at `out`, each further one beside it, named after its
+    // session (`marble.profile.json`, `marble.marble_fast.profile.json`).
+    let outs: Vec<PathBuf> = args
+        .session
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            if i == 0 {
+                out.clone()
+            } else {
+                session_profile(&out, s)
+            }
+        })
+        .collect();
+    let mut locks = Vec::new();
+    for out in &outs {
+        // Before minutes of rendering: the profile (and its charts) can be written, replacing
+        // only reproj's own files.
+        reproj_io::check_target(out, super::PROFILE_FILE)?;
+        // One analysis per profile at a time: a second one would skew this one's timings and
+        // race for the journal and the file. Held until the profile is written.
+        locks.push(reproj_io::OutputLock::acquire(out)?);
+        if !args.no_charts {
+            super::charts::check_targets(out)?;
+        }
     }
-    let (norm, table) = (&loaded.norm, &loaded.table);
     // The replay renders WGSL: a GLSL shader is analyzed as naga's WGSL of it.
     let shader = loaded.shader.to_wgsl()?;
-    let session_bytes = std::fs::read(&args.session)
-        .map_err(|e| super::UserError(format!("cannot read {}: {e}", args.session.display())))?;
-    let session = Session::load(&args.session)?;
+    for (session_path, out) in args.session.iter().zip(&outs) {
+        analyze_session(args, &loaded, &shader, session_path, out)?;
+    }
+    drop(locks);
+    let profiles: Vec<String> = outs
+        .iter()
+        .map(|o| format!("--profile {}", o.display()))
+        .collect();
+    writeln!(
+        stdout,
+        "next: reproj emit --max-error 0.01 {}",
+        profiles.join(" ")
+    )?;
+    Ok(())
+}
+
+/// Where the profile of a further session goes: beside `out`, named after the session.
+fn session_profile(out: &std::path::Path, session: &std::path::Path) -> PathBuf {
+    let name = out
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let stem = name
+        .strip_suffix(".profile.json")
+        .or_else(|| name.strip_suffix(".json"))
+        .unwrap_or(&name);
+    let session = session
+        .file_stem()
+        .map_or_else(|| "session".into(), |s| s.to_string_lossy().into_owned());
+    out.with_file_name(format!("{stem}.{session}.profile.json"))
+}
+
+/// Profile the shader over one session and write its profile (and charts) at `out`.
+fn analyze_session(
+    args: &AnalyzeArgs,
+    loaded: &reproj_front::Loaded,
+    shader: &reproj_front::Shader,
+    session_path: &std::path::Path,
+    out: &std::path::Path,
+) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
+    let (norm, table) = (&loaded.norm, &loaded.table);
+    let session_bytes = std::fs::read(&session_path)
+        .map_err(|e| super::UserError(format!("cannot read {}: {e}", session_path.display())))?;
+    let session = Session::load(&session_path)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
@@ -146,7 +203,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     eprintln!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
         args.shader.display(),
-        args.session.display(),
+        session_path.display(),
         renderer.adapter().name,
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
@@ -156,7 +213,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         shader: &shader,
         norm,
         table,
-        session_path: &args.session,
+        session_path: &session_path,
         session_bytes: &session_bytes,
         session: &session,
     };
@@ -165,7 +222,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     // committed together and used from any working directory.
     let dir = out.parent().unwrap_or(std::path::Path::new(""));
     profile.shader.path = super::relative_to(dir, &args.shader);
-    profile.session.path = super::relative_to(dir, &args.session);
+    profile.session.path = super::relative_to(dir, &session_path);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
     reproj_io::write_owned_file(&out, &json, super::PROFILE_FILE)?;
@@ -212,10 +269,5 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     if !args.no_charts {
         super::charts::write(&profile, &out)?;
     }
-    writeln!(
-        stdout,
-        "next: reproj emit --max-error 0.01 --profile {}",
-        out.display()
-    )?;
     Ok(())
 }
