@@ -16,7 +16,8 @@ use reproj_models::{Profile, content_hash};
 use reproj_replay::metrics::{MetricSummary, PSNR_CAP, psnr};
 use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
 use reproj_select::{
-    NodeRecord, Scene, ScenePrediction, SelectOptions, Selection, SetRecord, select_with_sets, select_worst_case,
+    NodeRecord, Scene, ScenePrediction, SelectOptions, Selection, SetRecord, select_with_sets,
+    select_worst_case,
 };
 use serde::{Deserialize, Serialize};
 
@@ -282,7 +283,12 @@ fn same_shader(
     other: &Profile,
     other_path: &Path,
 ) -> Result<(), AnalyzeError> {
-    let shader = |p: &Profile| p.shader.ir_hash.clone().unwrap_or_else(|| p.shader.hash.clone());
+    let shader = |p: &Profile| {
+        p.shader
+            .ir_hash
+            .clone()
+            .unwrap_or_else(|| p.shader.hash.clone())
+    };
     let differs = if shader(first) != shader(other) {
         Some("shader")
     } else if first.entry != other.entry {

@@ -116,7 +116,7 @@ pub fn select_worst_case(
     }
     if scenes
         .iter()
-        .any(|s| !(s.original_ms.is_finite() && s.original_ms > 0.0) || !s.hit_rate.is_usable())
+        .any(|s| !(s.original_ms.is_finite() && s.original_ms > 0.0 && s.hit_rate.is_usable()))
     {
         return (
             Selection::Original {
@@ -140,7 +140,10 @@ pub fn select_worst_case(
             .zip(scenes)
             .map(|((p, _), s)| s.original_ms / p.predicted_ms)
             .enumerate()
-            .fold((0, f64::INFINITY), |(bi, b), (i, x)| if x < b { (i, x) } else { (bi, b) });
+            .fold(
+                (0, f64::INFINITY),
+                |(bi, b), (i, x)| if x < b { (i, x) } else { (bi, b) },
+            );
         common.push((key, error, speedup, slowest));
     }
     if common.is_empty() {
@@ -162,10 +165,7 @@ pub fn select_worst_case(
                 .then(b.0.0.cmp(&a.0.0))
         });
     let Some((key, error, speedup, slowest)) = best else {
-        let lowest_error = common
-            .iter()
-            .map(|c| c.1)
-            .fold(f64::INFINITY, f64::min);
+        let lowest_error = common.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
         return (
             Selection::Original {
                 reason: OriginalReason::OverBudget {
@@ -214,9 +214,7 @@ pub fn select_worst_case(
         predicted_ms: worst.predicted_ms,
         original_ms,
         predicted_speedup: *speedup,
-        predicted_speedup_ci95: worst
-            .rel_ci95
-            .map(|[lo, hi]| [lo * speedup, hi * speedup]),
+        predicted_speedup_ci95: worst.rel_ci95.map(|[lo, hi]| [lo * speedup, hi * speedup]),
         members: if key.0.len() > 1 {
             key.0.clone()
         } else {

@@ -455,7 +455,10 @@ fn several_sessions_hold_the_budget_on_every_one() {
     assert!(per.iter().all(|p| p.predicted_error <= 0.01), "{per:?}");
     let worst = per.iter().map(|p| p.predicted_error).fold(0.0, f64::max);
     assert_eq!(c.predicted_error, worst);
-    let slowest = per.iter().map(|p| p.predicted_speedup).fold(f64::INFINITY, f64::min);
+    let slowest = per
+        .iter()
+        .map(|p| p.predicted_speedup)
+        .fold(f64::INFINITY, f64::min);
     assert_eq!(c.predicted_speedup, slowest);
     // The slow session alone would choose something that breaks the budget on the fast one.
     let alone = select(&slow_nodes, &mu, ORIGINAL_MS, &opts);
@@ -470,6 +473,11 @@ fn several_sessions_hold_the_budget_on_every_one() {
     assert_eq!(per.len(), 1);
     // A budget no session meets: the original, with the lowest worst-case error.
     let (tight, per) = select_worst_case(&scenes, &SelectOptions::new(1e-6));
-    assert!(matches!(tight, Selection::Original { reason: OriginalReason::OverBudget { .. } }));
+    assert!(matches!(
+        tight,
+        Selection::Original {
+            reason: OriginalReason::OverBudget { .. }
+        }
+    ));
     assert!(per.is_empty());
 }

@@ -150,9 +150,9 @@ fn analyze_session(
 ) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
     let (norm, table) = (&loaded.norm, &loaded.table);
-    let session_bytes = std::fs::read(&session_path)
+    let session_bytes = std::fs::read(session_path)
         .map_err(|e| super::UserError(format!("cannot read {}: {e}", session_path.display())))?;
-    let session = Session::load(&session_path)?;
+    let session = Session::load(session_path)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
@@ -210,10 +210,10 @@ fn analyze_session(
     );
     let bar = bar();
     let input = AnalyzeInput {
-        shader: &shader,
+        shader,
         norm,
         table,
-        session_path: &session_path,
+        session_path,
         session_bytes: &session_bytes,
         session: &session,
     };
@@ -222,10 +222,10 @@ fn analyze_session(
     // committed together and used from any working directory.
     let dir = out.parent().unwrap_or(std::path::Path::new(""));
     profile.shader.path = super::relative_to(dir, &args.shader);
-    profile.session.path = super::relative_to(dir, &session_path);
+    profile.session.path = super::relative_to(dir, session_path);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
-    reproj_io::write_owned_file(&out, &json, super::PROFILE_FILE)?;
+    reproj_io::write_owned_file(out, &json, super::PROFILE_FILE)?;
     if let Some(j) = &opts.journal {
         let _ = std::fs::remove_file(&j.path);
     }
@@ -267,7 +267,7 @@ fn analyze_session(
     )?;
     writeln!(stdout, "wrote {}", out.display())?;
     if !args.no_charts {
-        super::charts::write(&profile, &out)?;
+        super::charts::write(&profile, out)?;
     }
     Ok(())
 }
