@@ -498,6 +498,8 @@ pub fn analyze(
         perceptual_stride: Some(stride),
         block: opts.block.unwrap_or(Strategy::ThreePass.default_block()),
         depth_epsilon: opts.instance.depth_epsilon,
+        reconstruct: opts.instance.reconstruct.name().into(),
+        cache_format: opts.instance.cache_format.name(),
         original,
         hit_rate,
         nodes,

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use reproj_front::{LoadOptions, UnrollOptions, load};
 use reproj_instance::{
-    CacheFormatChoice, InstanceOptions, NodeSelector, Strategy, VARIANT_FILES, Variant,
-    backends::OutputLang, instance, instance_nodes, variant_files,
+    CacheFormatChoice, InstanceOptions, NodeSelector, Reconstruct, Strategy, VARIANT_FILES,
+    Variant, backends::OutputLang, instance, instance_nodes, variant_files,
 };
 use reproj_io::Replace;
 use reproj_models::Metric;
@@ -34,7 +34,8 @@ pub struct EmitOptions {
     pub max_delta_n: u32,
     /// Directory for the passes and the report.
     pub out: PathBuf,
-    pub cache_format: CacheFormatChoice,
+    /// The cache format of the written passes (`None`: the profile's).
+    pub cache_format: Option<CacheFormatChoice>,
     /// Only consider nodes profiled in this strategy (`None`: any).
     pub strategy: Option<Strategy>,
     /// Where the written passes fit in a host: its `group` and `frame_load` are used (the rest
@@ -218,6 +219,23 @@ pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf,
     }
 }
 
+/// How the profile's variants were made: their reconstruction and cache format, which the
+/// written and rendered variants must share to run what was measured.
+pub fn profile_variant_settings(
+    profile: &Profile,
+    profile_path: &Path,
+) -> Result<(Reconstruct, CacheFormatChoice), AnalyzeError> {
+    let bad = |field: &str, value: &str| AnalyzeError::BadProfile {
+        path: profile_path.to_owned(),
+        message: format!("field `{field}`: `{value}` is not one reproj writes"),
+    };
+    let reconstruct = Reconstruct::from_name(&profile.reconstruct)
+        .ok_or_else(|| bad("reconstruct", &profile.reconstruct))?;
+    let cache_format = CacheFormatChoice::from_name(&profile.cache_format)
+        .ok_or_else(|| bad("cache_format", &profile.cache_format))?;
+    Ok((reconstruct, cache_format))
+}
+
 /// A profile's usable sets (in `opts.strategy`, when one is named) and the selector records of its
 /// usable nodes and sets in `opts.metric`.
 #[allow(clippy::type_complexity)]
@@ -343,6 +361,8 @@ pub fn emit(
         });
     }
     let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
+    let (reconstruct, profiled_format) = profile_variant_settings(profile, profile_path)?;
+    let cache_format = opts.cache_format.unwrap_or(profiled_format);
     let select_opts = SelectOptions {
         max_error: opts.max_error,
         min_delta_n: opts.min_delta_n,
@@ -447,8 +467,8 @@ pub fn emit(
                 &sels,
                 &InstanceOptions {
                     strategy,
-                    reconstruct: Default::default(),
-                    cache_format: opts.cache_format,
+                    reconstruct,
+                    cache_format,
                     delta_n: choice.delta_n,
                     block: set.block,
                     depth_epsilon: profile.depth_epsilon,
@@ -498,8 +518,8 @@ pub fn emit(
                 sel,
                 &InstanceOptions {
                     strategy,
-                    reconstruct: Default::default(),
-                    cache_format: opts.cache_format,
+                    reconstruct,
+                    cache_format,
                     delta_n: choice.delta_n,
                     block: node.block.unwrap_or(profile.block),
                     depth_epsilon: profile.depth_epsilon,

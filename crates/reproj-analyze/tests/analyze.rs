@@ -147,9 +147,9 @@ fn static_session_profiles_without_nan_and_emits() {
             min_delta_n: 2,
             max_delta_n: 50,
             out: dir.path().join("out"),
-            cache_format: reproj_instance::CacheFormatChoice::Exact(
+            cache_format: Some(reproj_instance::CacheFormatChoice::Exact(
                 reproj_instance::CacheFormat::Rgba32float,
-            ),
+            )),
             strategy: None,
             integration: Default::default(),
             shader: None,

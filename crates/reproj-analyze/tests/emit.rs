@@ -104,6 +104,8 @@ fn profile(shader: &Path) -> Profile {
         unroll: 0,
         block: 4,
         depth_epsilon: 0.01,
+        reconstruct: "bilinear".into(),
+        cache_format: "f32".into(),
         original: OriginalRecord {
             frame_ms: 1.0 + 25_000.0 * 0.001,
             mean_pixels: 25_000.0,
@@ -132,7 +134,9 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         min_delta_n: 2,
         max_delta_n: 50,
         out: out.to_owned(),
-        cache_format: reproj_instance::CacheFormatChoice::Exact(CacheFormat::Rgba32float),
+        cache_format: Some(reproj_instance::CacheFormatChoice::Exact(
+            CacheFormat::Rgba32float,
+        )),
         strategy: None,
         integration: Default::default(),
         shader: None,

@@ -193,6 +193,8 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         delta_n_holdout: HOLDOUT.to_vec(),
         block: 2,
         depth_epsilon: 1e-3,
+        reconstruct: "bilinear".into(),
+        cache_format: "f32".into(),
         original: OriginalRecord {
             frame_ms: original_ms,
             mean_pixels: PIXELS,

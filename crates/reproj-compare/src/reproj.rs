@@ -259,6 +259,8 @@ pub(crate) fn reproj(
             s.block,
         ),
     };
+    let (reconstruct, cache_format) =
+        reproj_analyze::emit::profile_variant_settings(profile, profile_path)?;
     let variant = instance_nodes(
         shader,
         &loaded.norm,
@@ -269,6 +271,8 @@ pub(crate) fn reproj(
             delta_n: planned.delta_n,
             block,
             depth_epsilon: profile.depth_epsilon,
+            reconstruct,
+            cache_format,
             ..Default::default()
         },
     )?;

@@ -80,6 +80,30 @@ pub enum CacheFormatChoice {
 }
 
 impl CacheFormatChoice {
+    /// The name on the command line and in a profile: `f32`, `f16`, or the format's own name
+    /// (`rgba16float`).
+    pub fn name(self) -> String {
+        match self {
+            CacheFormatChoice::Narrowest32 => "f32".into(),
+            CacheFormatChoice::Narrowest16 => "f16".into(),
+            CacheFormatChoice::Exact(f) => serde_json::to_value(f)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_owned))
+                .unwrap_or_default(),
+        }
+    }
+
+    /// The choice [`name`](Self::name) writes, or `None`.
+    pub fn from_name(name: &str) -> Option<CacheFormatChoice> {
+        match name {
+            "f32" => Some(CacheFormatChoice::Narrowest32),
+            "f16" => Some(CacheFormatChoice::Narrowest16),
+            _ => serde_json::from_value(serde_json::Value::String(name.into()))
+                .ok()
+                .map(CacheFormatChoice::Exact),
+        }
+    }
+
     /// The format for a node of `components` floats.
     pub fn resolve(self, components: u32) -> CacheFormat {
         match self {

@@ -172,6 +172,17 @@ impl Reconstruct {
         matches!(self, Reconstruct::Bilinear | Reconstruct::CatmullRom)
     }
 
+    /// The reconstruction [`name`](Self::name) writes, or `None`.
+    pub fn from_name(name: &str) -> Option<Reconstruct> {
+        [
+            Reconstruct::Bilinear,
+            Reconstruct::Nearest,
+            Reconstruct::CatmullRom,
+        ]
+        .into_iter()
+        .find(|r| r.name() == name)
+    }
+
     /// The name on the command line and in the manifest.
     pub fn name(self) -> &'static str {
         match self {

@@ -63,6 +63,14 @@ pub struct Profile {
     /// Refresh block size k and depth tolerance used for every variant.
     pub block: u32,
     pub depth_epsilon: f32,
+    /// How every variant reconstructed the payload (`bilinear`, `nearest`, `catmull-rom`) and its
+    /// cache format (`f32`, `f16` or a format's name): what `emit`, `report` and `compare` write
+    /// and render, so that they run what was measured. Absent in older profiles: `bilinear`,
+    /// `f32`.
+    #[serde(default = "default_reconstruct")]
+    pub reconstruct: String,
+    #[serde(default = "default_cache_format")]
+    pub cache_format: String,
     pub original: OriginalRecord,
     /// Hit-rate model, one per shader and session.
     pub hit_rate: HitRateFit,
@@ -153,6 +161,14 @@ pub struct OriginalRecord {
     /// absent) for a shader that behaves.
     #[serde(default, skip_serializing_if = "is_zero_u64")]
     pub nonfinite_pixels: u64,
+}
+
+fn default_reconstruct() -> String {
+    "bilinear".into()
+}
+
+fn default_cache_format() -> String {
+    "f32".into()
 }
 
 fn is_zero_u64(n: &u64) -> bool {

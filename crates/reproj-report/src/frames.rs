@@ -98,6 +98,8 @@ pub fn render_choice(
     } else {
         NodeSelector::Id(node.id)
     };
+    let (reconstruct, cache_format) =
+        reproj_analyze::emit::profile_variant_settings(profile, Path::new(&profile.shader.path))?;
     let variant = instance(
         shader,
         &norm,
@@ -108,6 +110,8 @@ pub fn render_choice(
             delta_n: choice.delta_n,
             block: node.block.unwrap_or(profile.block),
             depth_epsilon: profile.depth_epsilon,
+            reconstruct,
+            cache_format,
             ..InstanceOptions::default()
         },
     )?;

@@ -47,7 +47,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         min_delta_n: 2,
         max_delta_n: args.max_delta_n,
         out,
-        cache_format: args.cache_format.map_or(Default::default(), cache_format),
+        cache_format: args.cache_format.map(cache_format),
         strategy: args.strategy.map(super::strategy),
         integration: super::integrate(Default::default(), args.integration),
         shader: args.shader.clone(),
