@@ -7,6 +7,11 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 mod cmd;
+mod values;
+use values::{
+    backend_help, block_size, delta_n_limit, depth_epsilon, non_negative, output_path,
+    parse_backend, positive, positive_fraction, positive_seconds, refresh_period, unit_fraction,
+};
 
 /// Automatic reprojection-cache optimizer for WGSL, GLSL and SPIR-V fragment shaders.
 #[derive(Debug, Parser)]
@@ -92,91 +97,6 @@ pub struct BenchArgs {
     /// Print the result as JSON (`reproj.bench` v1, docs/SCHEMAS.md).
     #[arg(long)]
     pub json: bool,
-}
-
-/// A time limit in seconds: finite and positive.
-fn positive_seconds(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("`{s}` is not a positive number of seconds")),
-    }
-}
-
-/// The longest refresh period any flag accepts: far past any session worth profiling (a
-/// period longer than the session is refused where the session is known).
-const MAX_DELTA_N: u32 = 10_000;
-
-/// A refresh period a profile can measure or a selection can choose: 2..=[`MAX_DELTA_N`] (Δn 1
-/// is the original shader).
-fn delta_n_limit(s: &str) -> Result<u32, String> {
-    match s.trim().parse::<u32>() {
-        Ok(v) if (2..=MAX_DELTA_N).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{s}` is not a refresh period in 2..={MAX_DELTA_N} (Δn 1 is the original shader)"
-        )),
-    }
-}
-
-/// A refresh period a variant runs at: 1..=[`MAX_DELTA_N`] (1 renders the original shader).
-fn refresh_period(s: &str) -> Result<u32, String> {
-    match s.trim().parse::<u32>() {
-        Ok(v) if (1..=MAX_DELTA_N).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{s}` is not a refresh period in 1..={MAX_DELTA_N} (1: the original shader)"
-        )),
-    }
-}
-
-/// A refresh block size: 1, or even (blocks align with 2×2 quads) up to 256.
-fn block_size(s: &str) -> Result<u32, String> {
-    match s.parse::<u32>() {
-        Ok(v) if v == 1 || (v.is_multiple_of(2) && (2..=256).contains(&v)) => Ok(v),
-        _ => Err(format!(
-            "`{s}` is not a block size: 1, or an even number in 2..=256 (blocks align with 2×2 quads)"
-        )),
-    }
-}
-
-/// The relative depth tolerance of the hit test: a number in (0, 1].
-fn depth_epsilon(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v > 0.0 && v <= 1.0 => Ok(v),
-        _ => Err(format!(
-            "`{s}` is not a relative depth tolerance in (0, 1] (default 0.01)"
-        )),
-    }
-}
-
-/// A finite number ≥ 0 (an error budget).
-fn non_negative(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("`{s}` is not a finite number ≥ 0")),
-    }
-}
-
-/// A finite number > 0.
-fn positive(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("`{s}` is not a finite number > 0")),
-    }
-}
-
-/// A fraction in [0, 1].
-fn unit_fraction(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
-        _ => Err(format!("`{s}` is not a fraction in [0, 1]")),
-    }
-}
-
-/// A fraction in (0, 1].
-fn positive_fraction(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 && v <= 1.0 => Ok(v),
-        _ => Err(format!("`{s}` is not a fraction in (0, 1]")),
-    }
 }
 
 /// Arguments of `reproj compare`.
@@ -488,44 +408,6 @@ pub struct NodesArgs {
     /// Include culled nodes, with their reasons.
     #[arg(long)]
     pub all: bool,
-}
-
-/// A path reproj writes to. `-` is refused rather than taken as a file or directory named `-`:
-/// these commands write files (several, or a profile), never to stdout (clap reports it, exit 2).
-fn output_path(s: &str) -> Result<PathBuf, String> {
-    match s {
-        "-" => Err(
-            "`-` (stdout) is not supported: this writes files, give a path (`./-` for one named `-`)"
-                .into(),
-        ),
-        "" => Err("the path is empty".into()),
-        _ => Ok(PathBuf::from(s)),
-    }
-}
-
-/// `--backend`'s help: the backends this build has (wgpu's answer, not a fixed list).
-fn backend_help() -> String {
-    format!(
-        "wgpu backend, as WGPU_BACKEND (default: WGPU_BACKEND, else vulkan); this build has: {}",
-        reproj_replay::compiled_backends().join(", ")
-    )
-}
-
-/// A `--backend` list must name backends this build has (clap reports the error, exit code 2).
-fn parse_backend(s: &str) -> Result<String, String> {
-    match reproj_replay::parse_backends(s, "--backend") {
-        Ok(_) => Ok(s.to_string()),
-        Err(reproj_replay::ReplayError::Backend {
-            name,
-            reason,
-            compiled,
-            accepted,
-            ..
-        }) => Err(format!(
-            "`{name}` {reason} (this build has: {compiled}; accepted names: {accepted})"
-        )),
-        Err(e) => Err(e.to_string()),
-    }
 }
 
 /// Cache texel format.

@@ -68,6 +68,36 @@ fn predictions(scene: &Scene, opts: &SelectOptions) -> BTreeMap<Key, (Prediction
     out
 }
 
+/// The candidates every scene predicts, each with its worst error, its worst speedup and the
+/// index of the scene where it is slowest.
+fn worst_cases<'k>(
+    all: &'k [BTreeMap<Key, (Prediction, String)>],
+    scenes: &[Scene],
+) -> Vec<(&'k Key, f64, f64, usize)> {
+    let mut common = Vec::new();
+    for key in all[0].keys() {
+        let per: Option<Vec<&(Prediction, String)>> = all.iter().map(|m| m.get(key)).collect();
+        let Some(per) = per else { continue };
+        let error = per
+            .iter()
+            .map(|(p, _)| p.predicted_error)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let (slowest, speedup) = per
+            .iter()
+            .zip(scenes)
+            .map(|((p, _), s)| s.original_ms / p.predicted_ms)
+            .enumerate()
+            .fold(
+                (0, f64::INFINITY),
+                |(bi, b), (i, x)| {
+                    if x < b { (i, x) } else { (bi, b) }
+                },
+            );
+        common.push((key, error, speedup, slowest));
+    }
+    common
+}
+
 /// The fastest candidate in the worst case whose error holds the budget on every scene, and every
 /// scene's prediction for it (empty when the original is kept). With one scene this is
 /// [`select_with_sets`].
@@ -126,26 +156,7 @@ pub fn select_worst_case(
         );
     }
     let all: Vec<_> = scenes.iter().map(|s| predictions(s, opts)).collect();
-    // Candidates every scene predicts: (key, worst error, worst speedup, index of the slowest).
-    let mut common = Vec::new();
-    for key in all[0].keys() {
-        let per: Option<Vec<&(Prediction, String)>> = all.iter().map(|m| m.get(key)).collect();
-        let Some(per) = per else { continue };
-        let error = per
-            .iter()
-            .map(|(p, _)| p.predicted_error)
-            .fold(f64::NEG_INFINITY, f64::max);
-        let (slowest, speedup) = per
-            .iter()
-            .zip(scenes)
-            .map(|((p, _), s)| s.original_ms / p.predicted_ms)
-            .enumerate()
-            .fold(
-                (0, f64::INFINITY),
-                |(bi, b), (i, x)| if x < b { (i, x) } else { (bi, b) },
-            );
-        common.push((key, error, speedup, slowest));
-    }
+    let common = worst_cases(&all, scenes);
     if common.is_empty() {
         return (
             Selection::Original {
