@@ -2,15 +2,13 @@
 //! and cache format, and the emitted manifest uses them (`--cache-format` overrides the format).
 
 mod common;
-use common::{root, run};
+use common::run;
 
 #[test]
 fn emit_writes_the_reconstruction_and_format_the_profile_measured() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let data = root().join("crates/reproj-cli/tests/data");
-    std::fs::copy(data.join("two_terms.wgsl"), dir.join("t.wgsl")).unwrap();
-    std::fs::copy(data.join("two_terms.json"), dir.join("t.json")).unwrap();
+    common::two_terms(dir, "t.wgsl", "t.json");
     let (code, _, err) = run(
         dir,
         &[

@@ -3,22 +3,14 @@
 //! exit 0.
 
 mod common;
-use common::{root, run};
+use common::run;
 
 #[test]
 fn a_verified_error_over_the_budget_warns_and_exits_4() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let data = root().join("crates/reproj-cli/tests/data");
-    std::fs::copy(data.join("two_terms.wgsl"), dir.join("two_terms.wgsl")).unwrap();
-    std::fs::copy(data.join("two_terms.json"), dir.join("two_terms.json")).unwrap();
-    // The same scene, the camera orbiting 300° instead of 40° and the light swinging through.
-    let text = std::fs::read_to_string(data.join("two_terms.json")).unwrap();
-    let mut fast: serde_json::Value = serde_json::from_str(&text).unwrap();
-    fast["camera"]["orbit"]["start_deg"] = serde_json::json!(0);
-    fast["camera"]["orbit"]["end_deg"] = serde_json::json!(300);
-    fast["light"]["keys"][1]["position"] = serde_json::json!([-3, -3, -3]);
-    std::fs::write(dir.join("fast.json"), fast.to_string()).unwrap();
+    common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
+    common::two_terms_fast(dir, "fast.json");
     let (code, _, err) = run(
         dir,
         &[

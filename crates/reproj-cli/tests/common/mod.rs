@@ -39,3 +39,22 @@ pub fn run_env(cwd: &Path, args: &[&str], env: &[(&str, &str)]) -> (i32, String,
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// Copy the two-term fixture into `dir`: its shader as `shader`, its session as `session`.
+pub fn two_terms(dir: &Path, shader: &str, session: &str) {
+    let data = root().join("crates/reproj-cli/tests/data");
+    std::fs::copy(data.join("two_terms.wgsl"), dir.join(shader)).unwrap();
+    std::fs::copy(data.join("two_terms.json"), dir.join(session)).unwrap();
+}
+
+/// Write the two-term session under faster motion into `dir/name`: the same scene, the camera
+/// orbiting 300° instead of 40° and the light swinging through.
+pub fn two_terms_fast(dir: &Path, name: &str) {
+    let text = std::fs::read_to_string(root().join("crates/reproj-cli/tests/data/two_terms.json"))
+        .unwrap();
+    let mut fast: serde_json::Value = serde_json::from_str(&text).unwrap();
+    fast["camera"]["orbit"]["start_deg"] = serde_json::json!(0);
+    fast["camera"]["orbit"]["end_deg"] = serde_json::json!(300);
+    fast["light"]["keys"][1]["position"] = serde_json::json!([-3, -3, -3]);
+    std::fs::write(dir.join(name), fast.to_string()).unwrap();
+}
