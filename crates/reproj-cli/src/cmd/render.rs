@@ -19,6 +19,33 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     let session = Session::load(&args.session)?;
+    // The variant first: a wrong node or a variant of another shader is refused before the
+    // reference frames are rendered.
+    let variant_input = match (&args.node, &args.variant) {
+        (None, None) => None,
+        (Some(node), _) => {
+            let sel: NodeSelector = node.parse().map_err(UserError)?;
+            let loaded = Loaded::new(input, args.entry.as_deref())?;
+            let variant = instance(
+                &loaded.shader,
+                &loaded.norm,
+                &loaded.table,
+                sel,
+                &super::instance_options(args.cache, args.delta_n.unwrap_or(8)),
+            )?;
+            Some(VariantInput::new(
+                variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                variant.manifest.clone(),
+                args.delta_n.unwrap_or(8),
+            ))
+        }
+        (None, Some(dir)) => {
+            let mut variant = VariantInput::from_dir(dir, 1)?;
+            super::check_variant_shader(&input, &args.shader, &variant.manifest, dir)?;
+            variant.delta_n = args.delta_n.unwrap_or(variant.manifest.params.delta_n);
+            Some(variant)
+        }
+    };
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
@@ -63,32 +90,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             )?;
         }
     }
-    let variant_input = match (&args.node, &args.variant) {
-        (None, None) => None,
-        (Some(node), _) => {
-            let sel: NodeSelector = node.parse().map_err(UserError)?;
-            let loaded = Loaded::new(input, args.entry.as_deref())?;
-            let variant = instance(
-                &loaded.shader,
-                &loaded.norm,
-                &loaded.table,
-                sel,
-                &super::instance_options(args.cache, args.delta_n.unwrap_or(8)),
-            )?;
-            Some(VariantInput::new(
-                variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
-                variant.manifest.clone(),
-                args.delta_n.unwrap_or(8),
-            ))
-        }
-        (None, Some(dir)) => {
-            let variant = VariantInput::from_dir(dir, 1)?;
-            super::check_variant_shader(&input, &args.shader, &variant.manifest, dir)?;
-            let mut input = variant;
-            input.delta_n = args.delta_n.unwrap_or(input.manifest.params.delta_n);
-            Some(input)
-        }
-    };
     let report = match &variant_input {
         None => reference.report,
         Some(input) => {
