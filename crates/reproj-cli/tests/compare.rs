@@ -98,7 +98,7 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("cmp/compare.json")).unwrap())
             .unwrap();
     assert_eq!(json["schema"], "reproj.compare");
-    assert_eq!(json["version"], 2);
+    assert_eq!(json["version"], 3);
     assert_eq!(json["frames"], 4, "--max-frames 6 of a 4-frame session");
     let methods: Vec<&str> = json["methods"]
         .as_array()

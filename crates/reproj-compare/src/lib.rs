@@ -8,7 +8,9 @@
 //! - **reproj** ([`reproj`]): reproj's own choice from a profile at the target speedup, rendered.
 //!
 //! Each is rendered with the replay (one renderer, no second one) and scored against the
-//! full-resolution original with the replay's metrics (L2, PSNR, ꟻLIP). [`write_outputs`] writes
+//! full-resolution original with the replay's metrics (L2, PSNR, ꟻLIP). Every speed — the
+//! searches' tries as well as the table's — is timed against the original interleaved
+//! ([`Ctx::race`], `reproj-bench`), never read off a replay's own mean. [`write_outputs`] writes
 //! the JSON report (schema `reproj.compare`, `docs/SCHEMAS.md`), the chart and side-by-side crops.
 
 pub mod crops;
@@ -16,12 +18,13 @@ pub mod reproj;
 pub mod resize;
 pub mod simplify;
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::path::{Path, PathBuf};
 
 use reproj_analyze::Progress;
 use reproj_front::{Loaded, Shader};
 use reproj_models::Profile;
+use reproj_models::speedup::SpeedupEstimate;
 use reproj_replay::metrics::{self, PSNR_CAP};
 use reproj_replay::{Reference, RenderOptions, Renderer, Session};
 use serde::{Deserialize, Serialize};
@@ -29,7 +32,7 @@ use serde::{Deserialize, Serialize};
 /// Schema name of a [`CompareReport`] (`compare.json`).
 pub const COMPARE_SCHEMA: &str = "reproj.compare";
 /// Version of the [`CompareReport`] schema. Bump on any incompatible change.
-pub const COMPARE_VERSION: u32 = 2;
+pub const COMPARE_VERSION: u32 = 3;
 
 /// What can go wrong in `compare`.
 #[derive(Debug, thiserror::Error)]
@@ -135,6 +138,10 @@ pub struct CompareOptions {
     /// How the methods' final speeds are timed against the original (interleaved,
     /// `reproj-bench`).
     pub timing: reproj_bench::BenchOptions,
+    /// How the searches time their tries against the original (each resize scale, each
+    /// simplification step's candidates together): interleaved too, shorter
+    /// ([`reproj_analyze::DEFAULT_RACE`] by default).
+    pub search_timing: reproj_bench::BenchOptions,
 }
 
 impl Default for CompareOptions {
@@ -147,6 +154,7 @@ impl Default for CompareOptions {
             max_delta_n: 50,
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
             timing: reproj_bench::BenchOptions::default(),
+            search_timing: reproj_analyze::DEFAULT_RACE,
         }
     }
 }
@@ -169,9 +177,10 @@ pub struct MethodResult {
     pub method: String,
     /// Mean measured frame time over frames 1.., ms.
     pub frame_ms: f64,
-    /// Original frame time / `frame_ms`. The searches decide on single replays; the reported
-    /// figure is the timing engine's (`reproj-bench`: every method's final candidate and the
-    /// original interleaved in one run), and `frame_ms` its median then.
+    /// Original frame time / `frame_ms`, from the timing engine (`reproj-bench`): the reported
+    /// figure comes from one run with every method's final candidate and the original
+    /// interleaved (the searches' own tries are timed interleaved too, in shorter runs), and
+    /// `frame_ms` is its median block time.
     pub speedup: f64,
     /// Its 95 % interval (version 2 on).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -304,6 +313,13 @@ pub fn compare(
     let mid = (frames / 2) as usize;
     let ctx = Ctx {
         renderer,
+        baseline: reproj_bench::Baseline {
+            shader,
+            entry,
+            reference: &reference,
+        },
+        search_timing: &opts.search_timing,
+        timing_warnings: RefCell::new(Vec::new()),
         session: input.session,
         reference: &reference,
         render_opts: &render_opts,
@@ -338,8 +354,8 @@ pub fn compare(
         _ => None,
     };
 
-    // Every method's final candidate against the original, interleaved in one run: the speeds
-    // the table reports (the searches above decided on single replays).
+    // Every method's final candidate against the original, interleaved in one longer run: the
+    // speeds the table reports (the searches above decided on short interleaved runs).
     let small = {
         let mut small = input.session.clone();
         small.resolution = resize_detail.tries[resize_detail.chosen].resolution;
@@ -386,7 +402,16 @@ pub fn compare(
         max_error,
         original_ms,
         measured_on: Some(reproj_bench::Machine::of(renderer).describe()),
-        timing_warnings: timed.warnings,
+        timing_warnings: {
+            let mut w = timed.warnings;
+            for s in ctx.timing_warnings.take() {
+                let s = format!("search: {s}");
+                if !w.contains(&s) {
+                    w.push(s);
+                }
+            }
+            w
+        },
         methods,
         resize: resize_detail,
         simplify: simplified.detail,
@@ -434,6 +459,11 @@ impl Progress for Counted<'_> {
 /// What every method's renders share.
 pub(crate) struct Ctx<'a> {
     pub(crate) renderer: &'a Renderer,
+    /// The original, which every try is timed against.
+    pub(crate) baseline: reproj_bench::Baseline<'a>,
+    pub(crate) search_timing: &'a reproj_bench::BenchOptions,
+    /// The searches' timing warnings, once each.
+    pub(crate) timing_warnings: RefCell<Vec<String>>,
     pub(crate) session: &'a Session,
     pub(crate) reference: &'a Reference,
     pub(crate) render_opts: &'a RenderOptions,
@@ -443,12 +473,45 @@ pub(crate) struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    /// Original frame time / `frame_ms` (0 when `frame_ms` is not positive).
-    pub(crate) fn speedup(&self, frame_ms: f64) -> f64 {
-        if frame_ms > 0.0 {
-            self.reference.report.frame_ms / frame_ms
-        } else {
-            0.0
+    /// Time `candidates` against the original, interleaved in one short run
+    /// ([`CompareOptions::search_timing`]): each one's estimate, `None` where a candidate gave no
+    /// finite figure. The searches steer on these, never on a replay's own mean.
+    pub(crate) fn race(
+        &self,
+        candidates: &[reproj_bench::Candidate],
+    ) -> Result<Vec<Option<SpeedupEstimate>>, CompareError> {
+        let report = reproj_bench::bench(
+            self.renderer,
+            self.baseline,
+            self.session,
+            candidates,
+            self.search_timing,
+            &mut |_| {},
+        )?;
+        let mut seen = self.timing_warnings.borrow_mut();
+        for w in &report.warnings {
+            let kind: String = w.chars().take_while(|c| *c != ':').collect();
+            if !seen.iter().any(|o| o.starts_with(&kind)) {
+                seen.push(w.clone());
+            }
+        }
+        Ok((0..candidates.len()).map(|i| report.estimate(i)).collect())
+    }
+
+    /// A candidate that renders `shader` (entry 0) like the original, over `session` when given.
+    pub(crate) fn shader_candidate(
+        name: &str,
+        shader: Shader,
+        entry: usize,
+        session: Option<Session>,
+    ) -> reproj_bench::Candidate {
+        reproj_bench::Candidate {
+            name: name.into(),
+            subject: reproj_bench::Subject::Shader {
+                shader: Box::new(shader),
+                entry,
+                session: session.map(Box::new),
+            },
         }
     }
 
@@ -489,21 +552,23 @@ impl Ctx<'_> {
         &self,
         name: &str,
         wgsl: &str,
-    ) -> Result<(Vec<Vec<f32>>, f64), CompareError> {
+    ) -> Result<(Vec<Vec<f32>>, Shader), CompareError> {
         let shader = reproj_front::parse_shader(Path::new(name), wgsl.to_string())?;
-        self.render_shader(&shader, 0, self.session)
+        let frames = self.render_shader(&shader, 0, self.session)?;
+        Ok((frames, shader))
     }
 
+    /// Render `shader` over `session`: its frames (their times are not used: see [`Ctx::race`]).
     pub(crate) fn render_shader(
         &self,
         shader: &Shader,
         entry: usize,
         session: &Session,
-    ) -> Result<(Vec<Vec<f32>>, f64), CompareError> {
+    ) -> Result<Vec<Vec<f32>>, CompareError> {
         let r = self
             .renderer
             .render_original(shader, entry, session, self.render_opts)?;
-        Ok((r.frames, r.report.frame_ms))
+        Ok(r.frames)
     }
 }
 

@@ -1,8 +1,8 @@
 //! Reduced-resolution rendering (dynamic resizing, Montrym et al. 1997): the original rendered at
 //! `scale` × the session's resolution and upsampled bilinearly to full size. The scale is searched
-//! by measurement: frame time is taken to follow the pixel count, so each try moves the scale by
-//! the square root of the missed speedup ratio; the try closest to the target (in log ratio) is
-//! kept. The upsampling runs on the CPU and is not in the measured time (on a GPU it is one
+//! by measurement: each try is timed against the original, interleaved (`reproj-bench`); frame
+//! time is taken to follow the pixel count, so each try moves the scale by the square root of the
+//! missed speedup ratio; the try closest to the target (in log ratio) is kept. The upsampling runs on the CPU and is not in the measured time (on a GPU it is one
 //! full-screen bilinear pass).
 
 use reproj_front::Shader;
@@ -37,8 +37,12 @@ pub struct ResizeTry {
     /// Linear scale of the resolution.
     pub scale: f64,
     pub resolution: [u32; 2],
+    /// Median block time of the try in its interleaved run, ms per frame.
     pub frame_ms: f64,
+    /// Its speedup over the original in that run, and the 95 % interval.
     pub speedup: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
     /// Mean per-pixel L2 error of the upsampled frames.
     pub error: f64,
 }
@@ -75,20 +79,27 @@ pub(crate) fn resize(
         }
         let mut session = ctx.session.clone();
         session.resolution = size;
-        let (frames, frame_ms) = ctx.render_shader(shader, entry, &session)?;
+        let frames = ctx.render_shader(shader, entry, &session)?;
         let up: Vec<Vec<f32>> = frames
             .iter()
             .map(|f| upsample_bilinear(f, size, [w, h]))
             .collect();
-        let speedup = ctx.speedup(frame_ms);
+        let timed = ctx.race(&[Ctx::shader_candidate(
+            "resize",
+            shader.clone(),
+            entry,
+            Some(session),
+        )])?[0];
+        let speedup = timed.map_or(0.0, |e| e.speedup);
         let error = ctx.score(&up, false).error;
         ctx.progress
             .step(&format!("resize {}×{}: {speedup:.2}×", size[0], size[1]));
         tries.push(ResizeTry {
             scale,
             resolution: size,
-            frame_ms,
+            frame_ms: timed.map_or(0.0, |e| e.candidate_ms),
             speedup,
+            speedup_ci95: timed.map(|e| e.ci95),
             error,
         });
         let i = tries.len() - 1;
@@ -112,7 +123,7 @@ pub(crate) fn resize(
     let t = &tries[chosen];
     let scores = ctx.score(&frames, true);
     let result = MethodResult {
-        speedup_ci95: None,
+        speedup_ci95: t.speedup_ci95,
         method: "resize".into(),
         frame_ms: t.frame_ms,
         speedup: t.speedup,

@@ -3,7 +3,8 @@
 //! pixels of the session — and repeat on the simplified shader until it is fast enough.
 //!
 //! Each step renders, for each of `candidates` live nodes, the shader with that node also
-//! replaced, and measures its error and frame time. The candidates are those with the largest
+//! replaced, and measures its error; then times them all against the original in one interleaved
+//! run (`reproj-bench`). The candidates are those with the largest
 //! static saving (cost not shared with the rest of the shader, `docs/COST.md`) and half as many
 //! more whose saving is nearest the saving still needed for the target (`cost × (1 − 1/target)`
 //! less what the steps so far saved), so the search can take a small step when a small one is
@@ -53,9 +54,12 @@ pub struct SimplifyStep {
     pub saving: f64,
     /// Mean per-pixel L2 error of the shader after this step.
     pub error: f64,
-    /// Measured frame time and speedup of the shader after this step.
+    /// Frame time (median block, ms) and speedup of the shader after this step, timed against
+    /// the original interleaved with the step's other candidates.
     pub frame_ms: f64,
     pub speedup: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
     /// The other candidates of this step: node id and error.
     pub rejected: Vec<(u32, f64)>,
 }
@@ -99,7 +103,9 @@ pub(crate) fn simplify(
     let mut removed: Vec<Replacement> = Vec::new();
     let mut dead: HashSet<naga::Handle<naga::Expression>> = HashSet::new();
     let mut steps: Vec<SimplifyStep> = Vec::new();
-    let mut last: Option<(Vec<Vec<f32>>, String, f64)> = None;
+    // The last step's frames, WGSL, frame time, speedup and interval.
+    #[allow(clippy::type_complexity)]
+    let mut last: Option<(Vec<Vec<f32>>, String, f64, f64, Option<[f64; 2]>)> = None;
     for _ in 0..opts.max_steps.max(1) {
         let mut pool: Vec<&Node> = replaceable
             .iter()
@@ -136,7 +142,7 @@ pub(crate) fn simplify(
                     replace: replace.clone(),
                 },
             )?;
-            let (frames, frame_ms) = ctx.render_wgsl("simplified.wgsl", &s.wgsl)?;
+            let (frames, shader) = ctx.render_wgsl("simplified.wgsl", &s.wgsl)?;
             let error = ctx.score(&frames, false).error;
             ctx.progress
                 .step(&format!("simplify: node {} error {error:.5}", node.id));
@@ -144,15 +150,33 @@ pub(crate) fn simplify(
                 node,
                 value,
                 error,
-                frame_ms,
+                frame_ms: 0.0,
+                speedup: 0.0,
+                ci95: None,
                 frames,
                 wgsl: s.wgsl,
+                shader: Some(shader),
             });
         }
-        let best = pick(&tried, |t| ctx.speedup(t.frame_ms) >= ctx.target);
+        // The step's candidates against the original, interleaved in one run.
+        let candidates: Vec<reproj_bench::Candidate> = tried
+            .iter_mut()
+            .map(|t| {
+                let shader = t.shader.take().expect("rendered above");
+                Ctx::shader_candidate(&format!("node {}", t.node.id), shader, 0, None)
+            })
+            .collect();
+        for (t, e) in tried.iter_mut().zip(ctx.race(&candidates)?) {
+            if let Some(e) = e {
+                t.frame_ms = e.candidate_ms;
+                t.speedup = e.speedup;
+                t.ci95 = Some(e.ci95);
+            }
+        }
+        let best = pick(&tried, |t| t.speedup >= ctx.target);
         let chosen = tried.swap_remove(best);
         let rejected = tried.iter().map(|t| (t.node.id, t.error)).collect();
-        let speedup = ctx.speedup(chosen.frame_ms);
+        let speedup = chosen.speedup;
         let node = chosen.node;
         if let Some(h) = node.handle {
             dead.extend(reproj_front::nodes::subtree(fun, h));
@@ -170,20 +194,27 @@ pub(crate) fn simplify(
             error: chosen.error,
             frame_ms: chosen.frame_ms,
             speedup,
+            speedup_ci95: chosen.ci95,
             rejected,
         });
-        last = Some((chosen.frames, chosen.wgsl, chosen.frame_ms));
+        last = Some((
+            chosen.frames,
+            chosen.wgsl,
+            chosen.frame_ms,
+            speedup,
+            chosen.ci95,
+        ));
         if speedup >= ctx.target {
             break;
         }
     }
-    let (frames, wgsl, frame_ms) = last.ok_or_else(|| CompareError::NothingToSimplify {
-        shader: table.shader.clone(),
-    })?;
-    let speedup = ctx.speedup(frame_ms);
+    let (frames, wgsl, frame_ms, speedup, ci95) =
+        last.ok_or_else(|| CompareError::NothingToSimplify {
+            shader: table.shader.clone(),
+        })?;
     let scores = ctx.score(&frames, true);
     let result = MethodResult {
-        speedup_ci95: None,
+        speedup_ci95: ci95,
         method: "simplify".into(),
         frame_ms,
         speedup,
@@ -210,14 +241,19 @@ pub(crate) fn simplify(
     })
 }
 
-/// One candidate of a step, rendered.
+/// One candidate of a step, rendered, then timed with the step's other candidates.
 struct Tried<'a> {
     node: &'a Node,
     value: [f32; 4],
     error: f64,
+    /// Median block time and speedup in the step's interleaved run (0 without a figure).
     frame_ms: f64,
+    speedup: f64,
+    ci95: Option<[f64; 2]>,
     frames: Vec<Vec<f32>>,
     wgsl: String,
+    /// The parsed shader, until it is handed to the race.
+    shader: Option<reproj_front::Shader>,
 }
 
 /// The candidate to remove: the least error among those that `reach` the target, else the least
@@ -309,8 +345,11 @@ mod tests {
             value: [0.0; 4],
             error,
             frame_ms,
+            speedup: 0.0,
+            ci95: None,
             frames: Vec::new(),
             wgsl: String::new(),
+            shader: None,
         }
     }
 

@@ -69,6 +69,17 @@ fn simplification_removes_the_least_error_node_first() {
     }
     let resize = &c.report.resize;
     assert!(!resize.tries.is_empty() && resize.chosen < resize.tries.len());
+    // The searches steer on interleaved timings: every try and step has its interval, and the
+    // speedup lies in it.
+    for (s, ci) in resize
+        .tries
+        .iter()
+        .map(|t| (t.speedup, t.speedup_ci95))
+        .chain(steps.iter().map(|t| (t.speedup, t.speedup_ci95)))
+    {
+        let [lo, hi] = ci.unwrap_or_else(|| panic!("no interval: {resize:?} {steps:?}"));
+        assert!(lo <= s && s <= hi && s > 0.0, "{s} [{lo}, {hi}]");
+    }
     // Resized frames lose detail: some error.
     assert!(c.report.methods[0].scores.error > 0.0);
     assert_eq!(c.crop_frames.len(), 3);
