@@ -295,7 +295,7 @@ pub fn analyze(
                     variant: &b.variant,
                 })
                 .collect();
-            Some(rp.race(&format!("node {id}"), &entries)?)
+            Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
         };
         progress.step(&format!("node {id} race at Δn={longest}"));
         let estimates: Vec<Option<SpeedupEstimate>> = race
@@ -456,8 +456,8 @@ pub fn analyze(
     progress.finish();
     if let Some(j) = &rp.journal {
         progress.note(&format!(
-            "replayed {}, reused {} recorded by an earlier run",
-            j.recorded, j.reused
+            "replayed {}, reused {} recorded by an earlier run; raced {}, reused {}",
+            j.recorded, j.reused, j.races_recorded, j.races_reused
         ));
     }
     let mut time = rp.time;

@@ -5,7 +5,8 @@
 //! everything that decides a replay's result (shader, session, periods, nodes, strategies, options,
 //! adapter); a journal with another key is from another analysis and is started over. Each further
 //! line is one replay: node (or set of nodes, `set`), strategy, block, Δn and its measurement or
-//! failure. A line is written with one `write` of the whole line and synced, so a kill leaves at
+//! failure — or one race (the strategies' interleaved timing against the original, whose
+//! report decides the winner and the set-aside rule, so a resumed run must not time it again). A line is written with one `write` of the whole line and synced, so a kill leaves at
 //! most one torn last line, which reading ignores.
 
 use std::collections::HashMap;
@@ -13,7 +14,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub(crate) use reproj_models::journal::{ReplayKey, ReplayResult};
-use reproj_models::journal::{header_line, original_line, record_line};
+use reproj_models::journal::{header_line, original_line, race_line, record_line};
 use reproj_models::profile::OriginalRecord;
 
 use crate::AnalyzeError;
@@ -33,10 +34,15 @@ pub(crate) struct Journal {
     file: std::fs::File,
     done: HashMap<ReplayKey, ReplayResult>,
     original: Option<OriginalRecord>,
+    /// Races' reports (`reproj.bench` as JSON), by key.
+    races: HashMap<ReplayKey, serde_json::Value>,
     /// Replays answered from the journal in this run.
     pub reused: usize,
     /// Replays recorded in this run.
     pub recorded: usize,
+    /// Races answered from the journal, and raced and recorded, in this run.
+    pub races_reused: usize,
+    pub races_recorded: usize,
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> AnalyzeError + '_ {
@@ -56,6 +62,7 @@ impl Journal {
         let path = &opts.path;
         let mut done = HashMap::new();
         let mut original = None;
+        let mut races = HashMap::new();
         let mut note = None;
         if !opts.fresh && path.exists() {
             // Bytes, not text: a journal damaged by a crash or a disk error (invalid UTF-8) is
@@ -65,6 +72,7 @@ impl Journal {
             if parsed.header_matches {
                 done = parsed.done;
                 original = parsed.original;
+                races = parsed.races;
                 if parsed.dropped > 0 {
                     note = Some(format!(
                         "{}: {} damaged or invalid line(s) dropped (their replays run again)",
@@ -88,6 +96,9 @@ impl Journal {
         for (k, r) in &done {
             text.push_str(&record_line(k, r));
         }
+        for (k, r) in &races {
+            text.push_str(&race_line(k, r.clone()));
+        }
         reproj_io::write_file(path, text.as_bytes())?;
         let file = std::fs::OpenOptions::new()
             .append(true)
@@ -99,8 +110,11 @@ impl Journal {
                 file,
                 done,
                 original,
+                races,
                 reused: 0,
                 recorded: 0,
+                races_reused: 0,
+                races_recorded: 0,
             },
             note,
         ))
@@ -129,6 +143,28 @@ impl Journal {
         self.append(&record_line(&key, result))?;
         self.done.insert(key, result.clone());
         self.recorded += 1;
+        Ok(())
+    }
+
+    /// A race's recorded report (unchecked JSON), if this journal has it.
+    pub(crate) fn race(&self, key: &ReplayKey) -> Option<&serde_json::Value> {
+        self.races.get(key)
+    }
+
+    /// Count a race answered from the journal.
+    pub(crate) fn reuse_race(&mut self) {
+        self.races_reused += 1;
+    }
+
+    /// Append a finished race's report (one write, synced).
+    pub(crate) fn record_race(
+        &mut self,
+        key: ReplayKey,
+        report: serde_json::Value,
+    ) -> Result<(), AnalyzeError> {
+        self.append(&race_line(&key, report.clone()))?;
+        self.races.insert(key, report);
+        self.races_recorded += 1;
         Ok(())
     }
 

@@ -35,6 +35,24 @@ pub(crate) fn too_slow(
     ))
 }
 
+/// A race's report as a journal recorded it, when it is one for `names` (in order) and its
+/// figures are timings: every speedup and interval bound finite and positive, the interval around
+/// the estimate. Anything else is timed again.
+fn journaled_race(v: &serde_json::Value, names: &[&str]) -> Option<reproj_bench::BenchReport> {
+    let r: reproj_bench::BenchReport = serde_json::from_value(v.clone()).ok()?;
+    let pos = |x: f64| x.is_finite() && x > 0.0;
+    let ok = r.candidates.len() == names.len()
+        && r.candidates.iter().zip(names).all(|(c, n)| {
+            c.name == *n
+                && match (c.speedup, c.speedup_ci95) {
+                    (Some(s), Some([lo, hi])) => pos(s) && pos(lo) && lo <= s && s <= hi,
+                    (None, None) => true,
+                    _ => false,
+                }
+        });
+    ok.then_some(r)
+}
+
 /// One variant in a race ([`Replayer::race`]).
 pub(crate) struct RaceEntry<'a> {
     pub(crate) name: String,
@@ -83,12 +101,15 @@ pub(crate) struct Subject {
 }
 
 impl Replayer<'_, '_> {
-    /// Time `entries` (variants of one subject at the longest period) against the original,
-    /// interleaved (`reproj-bench`, under [`AnalyzeOptions::race`]): each one's speedup with its
-    /// 95 % interval. Races are not journaled: a resumed analysis times again.
+    /// Time `entries` (variants of `node`, or of the set `set`, at the longest period) against
+    /// the original, interleaved (`reproj-bench`, under [`AnalyzeOptions::race`]): each one's
+    /// speedup with its 95 % interval. Journaled: a resumed analysis reuses the report (its
+    /// decisions stand) rather than timing again.
     pub(crate) fn race(
         &mut self,
         who: &str,
+        node: u32,
+        set: &[u32],
         entries: &[RaceEntry<'_>],
     ) -> Result<reproj_bench::BenchReport, AnalyzeError> {
         let t = Instant::now();
@@ -112,6 +133,19 @@ impl Replayer<'_, '_> {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
+        let names: Vec<&str> = entries.iter().map(|e| e.name.as_str()).collect();
+        let key = ReplayKey::race(node, set, &names, self.longest, race.max_frames);
+        if let Some(report) = self
+            .journal
+            .as_ref()
+            .and_then(|j| j.race(&key))
+            .and_then(|v| journaled_race(v, &names))
+        {
+            if let Some(j) = &mut self.journal {
+                j.reuse_race();
+            }
+            return Ok(report);
+        }
         let report = reproj_bench::bench(
             self.renderer,
             reproj_bench::Baseline {
@@ -125,6 +159,13 @@ impl Replayer<'_, '_> {
             &mut |_| {},
         )?;
         self.time.timing_s += t.elapsed().as_secs_f64();
+        // A report always serializes (a non-finite figure becomes null and is timed again on
+        // resuming: see `journaled_race`).
+        if let Some(j) = &mut self.journal
+            && let Ok(json) = serde_json::to_value(&report)
+        {
+            j.record_race(key, json)?;
+        }
         for w in &report.warnings {
             // The same warning for every node says nothing more: once each.
             let kind: String = w.chars().take_while(|c| *c != ':').collect();
@@ -220,6 +261,8 @@ impl Replayer<'_, '_> {
             if dn == self.longest && !subject.raced && !subject.root {
                 let race = self.race(
                     who,
+                    subject.node,
+                    &subject.set,
                     &[RaceEntry {
                         name: who.clone(),
                         sources,
@@ -460,4 +503,40 @@ pub(crate) fn mean(it: impl Iterator<Item = f64>) -> f64 {
 /// NaN and infinities never reach the profile.
 pub(crate) fn finite(x: f64) -> f64 {
     if x.is_finite() { x } else { 0.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(speedup: serde_json::Value, ci: serde_json::Value) -> serde_json::Value {
+        serde_json::json!({
+            "schema": "reproj.bench", "version": 1,
+            "machine": {"adapter": "a", "device_type": "Cpu", "cpu_rasterizer": true,
+                        "lp_num_threads": null, "cpus": 2},
+            "block_frames": 8, "session_frames": 40, "rounds": 8, "seconds": 1.0,
+            "others_cpu": null,
+            "baseline": {"median_ms": 5.0, "blocks_ms": [5.0], "windows": [0]},
+            "candidates": [{"name": "2pass", "median_ms": 2.5, "speedup": speedup,
+                            "speedup_ci95": ci, "rounds": 8, "outliers": 0, "blocks_ms": [2.5]}],
+            "warnings": []
+        })
+    }
+
+    #[test]
+    fn a_journaled_race_is_reused_only_when_it_is_this_race_and_its_figures_are_timings() {
+        let good = report(serde_json::json!(2.0), serde_json::json!([1.9, 2.1]));
+        assert!(journaled_race(&good, &["2pass"]).is_some());
+        // Another race (other strategies), or figures that are not timings: timed again.
+        assert!(journaled_race(&good, &["3pass"]).is_none());
+        assert!(journaled_race(&good, &["2pass", "3pass"]).is_none());
+        for (s, ci) in [
+            (serde_json::json!(-2.0), serde_json::json!([-2.1, -1.9])),
+            (serde_json::json!(2.0), serde_json::json!([2.1, 2.2])),
+            (serde_json::json!(null), serde_json::json!([1.9, 2.1])),
+        ] {
+            assert!(journaled_race(&report(s, ci), &["2pass"]).is_none());
+        }
+        assert!(journaled_race(&serde_json::json!({"rounds": 8}), &["2pass"]).is_none());
+    }
 }

@@ -164,7 +164,8 @@ fn a_killed_analyze_resumes_from_its_journal() {
             "--no-charts".into(),
         ]
     };
-    let counts = |err: &str| -> (usize, usize) {
+    // Replays done and reused, races done and reused.
+    let counts = |err: &str| -> [usize; 4] {
         let line = err
             .lines()
             .find(|l| l.starts_with("replayed "))
@@ -173,7 +174,7 @@ fn a_killed_analyze_resumes_from_its_journal() {
             .split(|c: char| !c.is_ascii_digit())
             .filter_map(|w| w.parse().ok())
             .collect();
-        (n[0], n[1])
+        [n[0], n[1], n[2], n[3]]
     };
 
     // Uninterrupted.
@@ -181,9 +182,10 @@ fn a_killed_analyze_resumes_from_its_journal() {
     let whole: Vec<&str> = whole.iter().map(String::as_str).collect();
     let (code, _, err) = reproj(tmp.path(), &whole);
     assert_eq!(code, 0, "{err}");
-    let (all, reused) = counts(&err);
-    assert_eq!(reused, 0);
+    let [all, reused, raced, races_reused] = counts(&err);
+    assert_eq!(reused + races_reused, 0);
     assert!(all >= 6, "{err}");
+    assert!(raced >= 1, "every node races the original: {err}");
     assert!(!tmp.path().join("whole.profile.journal").exists());
 
     // Killed once its journal holds three replays.
@@ -216,13 +218,16 @@ fn a_killed_analyze_resumes_from_its_journal() {
     );
     let journal = std::fs::read_to_string(tmp.path().join("cut.profile.journal")).unwrap();
     // Header, then whole records (a torn last line does not count).
-    let recorded = journal
+    let records: Vec<serde_json::Value> = journal
         .lines()
         .skip(1)
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
         .filter(|r| r["strategy"] != "original")
-        .count();
-    assert!(recorded >= 3, "{journal}");
+        .collect();
+    let races = records.iter().filter(|r| r.get("race").is_some()).count();
+    let recorded = records.len() - races;
+    assert!(records.len() >= 3, "{journal}");
+    assert!(races >= 1, "the first node's race is journaled: {journal}");
 
     // Again: resumes.
     let cut = args("cut.profile.json");
@@ -230,8 +235,9 @@ fn a_killed_analyze_resumes_from_its_journal() {
     let (code, _, err) = reproj(tmp.path(), &cut);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("resuming:"), "{err}");
-    let (replayed, reused) = counts(&err);
+    let [replayed, reused, _, races_reused] = counts(&err);
     assert_eq!(reused, recorded, "every recorded replay reused: {err}");
+    assert_eq!(races_reused, races, "every recorded race reused: {err}");
     assert!(replayed >= 1, "{err}");
     assert!(!tmp.path().join("cut.profile.journal").exists());
 
@@ -290,7 +296,7 @@ fn a_killed_analyze_resumes_from_its_journal() {
     let (code, _, err) = reproj(tmp.path(), &fresh);
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("resuming"), "{err}");
-    assert_eq!(counts(&err).1, 0, "{err}");
+    assert_eq!(counts(&err)[1], 0, "{err}");
 }
 
 /// Three shards merged give the unsharded profile: the same nodes, strategies, periods and errors,

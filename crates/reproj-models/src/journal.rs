@@ -58,6 +58,27 @@ impl ReplayKey {
     }
 }
 
+impl ReplayKey {
+    /// The key of a race: the strategies `names` of `node` (or the set `set`) timed against the
+    /// original at period `delta_n` over the session's first `frames` frames (all: `None`).
+    pub fn race(
+        node: u32,
+        set: &[u32],
+        names: &[&str],
+        delta_n: u32,
+        frames: Option<u32>,
+    ) -> ReplayKey {
+        ReplayKey {
+            node,
+            strategy: format!("race:{}", names.join("+")),
+            block: 0,
+            delta_n,
+            frames,
+            set: set.to_vec(),
+        }
+    }
+}
+
 /// One replay's result: the measurement and mean per-pass times, or why it failed.
 pub type ReplayResult = Result<(Measurement, Vec<f64>), String>;
 
@@ -73,6 +94,11 @@ pub struct Record {
     /// Set on the record of the original shader's replay (key: [`ReplayKey::original`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub original: Option<OriginalRecord>,
+    /// Set on the record of a race (key: [`ReplayKey::race`]): the timing engine's report
+    /// (`reproj.bench`), kept as JSON here (this crate does not know its type; the reader checks
+    /// it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub race: Option<serde_json::Value>,
 }
 
 impl Record {
@@ -97,6 +123,8 @@ pub struct Parsed {
     pub done: HashMap<ReplayKey, ReplayResult>,
     /// The original shader's record, if the journal has one (the last one wins).
     pub original: Option<OriginalRecord>,
+    /// The races' reports, by key (unchecked JSON: see [`Record::race`]).
+    pub races: HashMap<ReplayKey, serde_json::Value>,
     /// Lines that are not empty and did not parse or whose numbers are not measurements.
     pub dropped: usize,
 }
@@ -126,6 +154,10 @@ pub fn parse(text: &str, key: &str) -> Parsed {
         };
         if r.original.is_some() {
             parsed.original = r.original;
+            continue;
+        }
+        if let Some(race) = r.race {
+            parsed.races.insert(r.key, race);
             continue;
         }
         let result = match (r.measurement, r.failure) {
@@ -158,6 +190,7 @@ pub fn original_line(o: &OriginalRecord) -> String {
         pass_ms: Vec::new(),
         failure: None,
         original: Some(o.clone()),
+        race: None,
     })
     .expect("a record serializes");
     line.push('\n');
@@ -176,6 +209,22 @@ pub fn record_line(key: &ReplayKey, result: &ReplayResult) -> String {
         pass_ms,
         failure,
         original: None,
+        race: None,
+    })
+    .expect("a record serializes");
+    line.push('\n');
+    line
+}
+
+/// The line (with its newline) of a race's report.
+pub fn race_line(key: &ReplayKey, report: serde_json::Value) -> String {
+    let mut line = serde_json::to_string(&Record {
+        key: key.clone(),
+        measurement: None,
+        pass_ms: Vec::new(),
+        failure: None,
+        original: None,
+        race: Some(report),
     })
     .expect("a record serializes");
     line.push('\n');
@@ -222,6 +271,12 @@ mod tests {
         assert_eq!(p.dropped, 0);
         assert_eq!(p.done.len(), 2);
         assert_eq!(p.done[&key(4)], Err("lost".into()));
+        // A race's report reads back by its key.
+        let rk = ReplayKey::race(3, &[], &["2pass", "3pass"], 50, Some(40));
+        text.push_str(&race_line(&rk, serde_json::json!({"rounds": 8})));
+        let p = parse(&text, "k");
+        assert_eq!(p.done.len(), 2);
+        assert_eq!(p.races[&rk]["rounds"], 8);
         // Another analysis: nothing kept.
         assert_eq!(parse(&text, "other"), Parsed::default());
     }
