@@ -508,6 +508,7 @@ pub fn analyze(
         sets,
         time,
         shard: opts.shard,
+        motion: crate::motion::measure(input.session, Some(reference.frames.len() as u32)),
     })
 }
 

@@ -6,6 +6,7 @@ pub mod analyze;
 pub mod emit;
 pub mod journal;
 pub mod merge;
+pub mod motion;
 mod options;
 pub mod prune;
 mod replayer;

@@ -124,6 +124,7 @@ fn profile(shader: &Path) -> Profile {
         sets: Vec::new(),
         time: AnalysisTime::default(),
         shard: None,
+        motion: None,
     }
 }
 

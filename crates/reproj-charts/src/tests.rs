@@ -208,6 +208,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         sets: Vec::new(),
         time: AnalysisTime::default(),
         shard: None,
+        motion: None,
     }
 }
 

@@ -16,6 +16,7 @@ mod error_model;
 mod hit_rate;
 pub mod journal;
 pub mod metric;
+pub mod motion;
 pub mod profile;
 pub mod speedup;
 mod stats;

@@ -23,7 +23,9 @@ use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary
 /// Version 7: the strategy race and the set-aside rule timed interleaved (`reproj-bench`):
 /// `strategy_probes` carry `speedup`, `speedup_ci95` and `rounds` (no `error`), `machine` says
 /// whether the adapter is a CPU rasterizer, `timing_warnings`, `time.timing_s`.
-pub const PROFILE_VERSION: u32 = 7;
+/// Version 8: `motion`, how fast the session moves on screen (`reproj_models::motion`), so that
+/// `emit` can carry the error models to a session of other motion.
+pub const PROFILE_VERSION: u32 = 8;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -93,6 +95,10 @@ pub struct Profile {
     /// one profile without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,
+    /// How fast the profiled session moves (version 8; `None` before, or when it could not be
+    /// measured).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<crate::motion::Motion>,
 }
 
 /// Which part of the work a shard did: the candidate nodes at positions `p` with
@@ -505,6 +511,9 @@ impl Profile {
             ));
         }
         self.original.check("original")?;
+        if let Some(m) = &self.motion {
+            m.check().map_err(|e| ("motion".to_string(), e))?;
+        }
         for (i, n) in self.nodes.iter().enumerate() {
             for (j, m) in n.measurements.iter().enumerate() {
                 m.check(&format!("nodes[{i}].measurements[{j}]"))?;
