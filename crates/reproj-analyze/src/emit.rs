@@ -49,6 +49,10 @@ pub struct EmitOptions {
     /// Profiles of the same shader over other sessions (path, profile): the selection holds the
     /// budget on every session, the first profile's included ([`select_worst_case`]).
     pub also: Vec<(PathBuf, Profile)>,
+    /// The session the variant is for, when it may be none of the profiled ones (`--verify
+    /// --session NEW`): the profile nearest in motion is carried to its motion
+    /// ([`crate::motion::carry`]) and the budget must hold there too.
+    pub target: Option<crate::motion::TargetSession>,
 }
 
 /// Schema name of an [`EmitReport`] (`report.json`).
@@ -59,7 +63,9 @@ pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
 /// Version 3: the choice may be a set of nodes cached together: `node` is then the member ids
 /// joined by `+` (`"22+39"`), `node_text` their texts joined by ` + `, `line`/`col` the first
 /// member's.
-pub const EMIT_REPORT_VERSION: u32 = 3;
+/// Version 4: `motion`, the sessions' motions, the motion exponent, and the prediction carried to
+/// a session of other motion.
+pub const EMIT_REPORT_VERSION: u32 = 4;
 
 fn emit_report_schema() -> String {
     EMIT_REPORT_SCHEMA.into()
@@ -147,6 +153,9 @@ pub struct EmitReport {
     /// prediction for the choice, which holds the budget on every one. Absent with one profile.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sessions: Vec<ScenePrediction>,
+    /// The sessions' motions and what emit did with them (version 4; absent before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<crate::motion::MotionReport>,
 }
 
 /// Read a profile, naming the field when it is malformed.
@@ -375,7 +384,49 @@ pub fn emit(
         let (_, nodes, sets) = records_of(other, path, opts)?;
         others.push((other, nodes, sets));
     }
-    let (selection, sessions) = if others.is_empty() {
+    let name = |p: &'_ Profile| p.session.path.clone();
+    let names: Vec<String> = std::iter::once(name(profile))
+        .chain(others.iter().map(|(p, _, _)| name(p)))
+        .collect();
+    let profiled: Vec<crate::motion::ProfiledSession> = std::iter::once((profile, &records, &set_records))
+        .chain(others.iter().map(|(p, n, s)| (*p, n, s)))
+        .zip(&names)
+        .map(|((p, nodes, sets), name)| crate::motion::ProfiledSession {
+            name,
+            hash: &p.session.hash,
+            motion: p.motion.as_ref(),
+            nodes,
+            sets,
+        })
+        .collect();
+    let (mut motion, carried) = crate::motion::carry(&profiled, opts.target.as_ref());
+    let target_name = opts.target.as_ref().map(|t| format!("{} (carried)", t.name));
+    let mut scenes = vec![Scene {
+        name: &names[0],
+        nodes: &records,
+        sets: &set_records,
+        hit_rate: &profile.hit_rate,
+        original_ms: profile.original.frame_ms,
+    }];
+    for ((p, nodes, sets), name) in others.iter().zip(&names[1..]) {
+        scenes.push(Scene {
+            name,
+            nodes,
+            sets,
+            hit_rate: &p.hit_rate,
+            original_ms: p.original.frame_ms,
+        });
+    }
+    if let (Some(c), Some(name)) = (&carried, &target_name) {
+        let from = scenes[c.from];
+        scenes.push(Scene {
+            name,
+            nodes: &c.nodes,
+            sets: &c.sets,
+            ..from
+        });
+    }
+    let (selection, sessions) = if scenes.len() == 1 {
         let selection = select_with_sets(
             &records,
             &set_records,
@@ -385,28 +436,15 @@ pub fn emit(
         );
         (selection, Vec::new())
     } else {
-        let scene = |p: &'_ Profile| p.session.path.clone();
-        let names: Vec<String> = std::iter::once(scene(profile))
-            .chain(others.iter().map(|(p, _, _)| scene(p)))
-            .collect();
-        let mut scenes = vec![Scene {
-            name: &names[0],
-            nodes: &records,
-            sets: &set_records,
-            hit_rate: &profile.hit_rate,
-            original_ms: profile.original.frame_ms,
-        }];
-        for ((p, nodes, sets), name) in others.iter().zip(&names[1..]) {
-            scenes.push(Scene {
-                name,
-                nodes,
-                sets,
-                hit_rate: &p.hit_rate,
-                original_ms: p.original.frame_ms,
-            });
-        }
         select_worst_case(&scenes, &select_opts)
     };
+    if let Some(name) = &target_name {
+        motion.target_predicted_error = sessions
+            .iter()
+            .find(|s| s.session == *name)
+            .map(|s| s.predicted_error);
+    }
+    let motion = (!motion.profiled.is_empty() || motion.target.is_some()).then_some(motion);
     let mut report = EmitReport {
         schema: EMIT_REPORT_SCHEMA.into(),
         version: EMIT_REPORT_VERSION,
@@ -443,6 +481,7 @@ pub fn emit(
         timing_warnings: Vec::new(),
         adapter: profile.machine.adapter.clone(),
         sessions,
+        motion,
     };
     let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
     let variant = match selection {

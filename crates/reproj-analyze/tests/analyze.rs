@@ -155,6 +155,7 @@ fn static_session_profiles_without_nan_and_emits() {
             shader: None,
             langs: Vec::new(),
             also: Vec::new(),
+            target: None,
         },
     )
     .unwrap();
@@ -384,6 +385,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
             shader: Some(shader_path.clone()),
             langs: Vec::new(),
             also: Vec::new(),
+            target: None,
         },
     )
     .unwrap();

@@ -143,6 +143,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         shader: None,
         langs: Vec::new(),
         also: Vec::new(),
+        target: None,
     }
 }
 

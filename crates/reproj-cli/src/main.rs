@@ -355,7 +355,10 @@ pub struct EmitArgs {
     /// Re-render the selection (needs --session) and report measured error and speedup.
     #[arg(long, requires = "session")]
     pub verify: bool,
-    /// Session to verify on.
+    /// Session to verify on (or, without --verify, the session the variant is for). When it is
+    /// none of the profiled sessions, its motion is measured and the nearest profile is carried
+    /// to it: the budget must hold there too, and a motion outside the profiled ones is a
+    /// warning.
     #[arg(long)]
     pub session: Option<PathBuf>,
     #[arg(long, help = backend_help(), value_parser = parse_backend)]

@@ -9,6 +9,7 @@
 //! [`pareto`] gives the error-vs-time frontier of the same predictions, for charts.
 
 pub mod combine;
+pub mod motion;
 mod worst;
 
 pub use combine::{SetPrediction, best_set, combined_timing, predict_set};

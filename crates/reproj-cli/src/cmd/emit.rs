@@ -41,6 +41,25 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&stem));
+    // The session the variant is for: loaded before anything is written, its motion measured.
+    let session = match &args.session {
+        Some(path) => {
+            let session = Session::load(path)?;
+            let bytes = std::fs::read(path)
+                .map_err(|e| UserError(format!("cannot read {}: {e}", path.display())))?;
+            let motion = reproj_analyze::motion::measure(&session, None);
+            Some((session, motion, reproj_models::content_hash(&bytes)))
+        }
+        None => None,
+    };
+    let target = match (&session, &args.session) {
+        (Some((_, Some(motion), hash)), Some(path)) => Some(reproj_analyze::motion::TargetSession {
+            name: path.display().to_string(),
+            hash: hash.clone(),
+            motion: motion.clone(),
+        }),
+        _ => None,
+    };
     let opts = EmitOptions {
         max_error: args.max_error,
         metric: args.metric,
@@ -53,14 +72,14 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         shader: args.shader.clone(),
         langs: super::output_langs(&args.lang),
         also,
+        target,
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
+    for w in report.motion.iter().flat_map(|m| &m.warnings) {
+        eprintln!("warning: {w}");
+    }
     if args.verify {
-        let session_path = args
-            .session
-            .as_ref()
-            .expect("clap requires --session with --verify");
-        let session = Session::load(session_path)?;
+        let (session, _, _) = session.as_ref().expect("clap requires --session with --verify");
         let renderer = Renderer::new(&RendererOptions {
             backend: args.backend.clone(),
             cpu_timing: false,
@@ -70,7 +89,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             &opts.out,
             variant.as_ref(),
             &profile,
-            &session,
+            session,
             &renderer,
             &reproj_bench::BenchOptions::default(),
         )?;
@@ -168,6 +187,26 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         )?;
         if let Some(on) = &report.measured_on {
             writeln!(stdout, "measured on {on}")?;
+        }
+        if let (Some(m), Some(p), Some(t)) = (
+            &report.motion,
+            report.motion.as_ref().and_then(|m| m.target_predicted_error),
+            report.motion.as_ref().and_then(|m| m.target.as_ref()),
+        ) && report.metric == reproj_models::Metric::L2
+        {
+            writeln!(
+                stdout,
+                "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {:+.0} %",
+                format_args!("{:.2}", t.pixels_per_frame),
+                m.carried_from.as_deref().unwrap_or("?"),
+                m.period_scale.unwrap_or(1.0),
+                m.exponent.beta,
+                match m.exponent.source {
+                    reproj_models::motion::ExponentSource::Fitted => "fitted",
+                    reproj_models::motion::ExponentSource::Assumed => "assumed",
+                },
+                (e / p - 1.0) * 100.0
+            )?;
         }
         if let Some(n) = report.measured_nonfinite_reference_pixels {
             eprintln!(
