@@ -388,19 +388,23 @@ pub fn emit(
     let names: Vec<String> = std::iter::once(name(profile))
         .chain(others.iter().map(|(p, _, _)| name(p)))
         .collect();
-    let profiled: Vec<crate::motion::ProfiledSession> = std::iter::once((profile, &records, &set_records))
-        .chain(others.iter().map(|(p, n, s)| (*p, n, s)))
-        .zip(&names)
-        .map(|((p, nodes, sets), name)| crate::motion::ProfiledSession {
-            name,
-            hash: &p.session.hash,
-            motion: p.motion.as_ref(),
-            nodes,
-            sets,
-        })
-        .collect();
+    let profiled: Vec<crate::motion::ProfiledSession> =
+        std::iter::once((profile, &records, &set_records))
+            .chain(others.iter().map(|(p, n, s)| (*p, n, s)))
+            .zip(&names)
+            .map(|((p, nodes, sets), name)| crate::motion::ProfiledSession {
+                name,
+                hash: &p.session.hash,
+                motion: p.motion.as_ref(),
+                nodes,
+                sets,
+            })
+            .collect();
     let (mut motion, carried) = crate::motion::carry(&profiled, opts.target.as_ref());
-    let target_name = opts.target.as_ref().map(|t| format!("{} (carried)", t.name));
+    let target_name = opts
+        .target
+        .as_ref()
+        .map(|t| format!("{} (carried)", t.name));
     let mut scenes = vec![Scene {
         name: &names[0],
         nodes: &records,

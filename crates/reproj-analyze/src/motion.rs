@@ -261,7 +261,9 @@ pub fn carry(
             range.max
         ));
     }
-    if report.exponent.source == ExponentSource::Assumed && log_distance(from_motion) > 0.1f64.ln_1p() {
+    if report.exponent.source == ExponentSource::Assumed
+        && log_distance(from_motion) > 0.1f64.ln_1p()
+    {
         report.warnings.push(
             "how the error follows motion is assumed (β = 1: proportional), not fitted: profile two sessions of different motion to fit it"
                 .into(),

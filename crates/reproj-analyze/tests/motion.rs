@@ -17,7 +17,11 @@ fn a_static_session_does_not_move_and_a_faster_orbit_moves_faster() {
     assert!(m.pixels_per_frame < 1e-3, "{m:?}");
     assert!(m.view_deg_per_frame < 1e-3, "{m:?}");
 
-    let slow = measure(&Session::load(root().join("sessions/marble.json")).unwrap(), None).unwrap();
+    let slow = measure(
+        &Session::load(root().join("sessions/marble.json")).unwrap(),
+        None,
+    )
+    .unwrap();
     let fast = measure(
         &Session::load(root().join("sessions/marble_fast.json")).unwrap(),
         None,
@@ -32,6 +36,10 @@ fn a_static_session_does_not_move_and_a_faster_orbit_moves_faster() {
     assert!((1.5..=4.0).contains(&ratio), "{ratio}: {slow:?} {fast:?}");
     assert!(fast.view_deg_per_frame > slow.view_deg_per_frame);
     // Fewer frames: the motion over those.
-    let first = measure(&Session::load(root().join("sessions/marble.json")).unwrap(), Some(10)).unwrap();
+    let first = measure(
+        &Session::load(root().join("sessions/marble.json")).unwrap(),
+        Some(10),
+    )
+    .unwrap();
     assert_eq!(first.per_frame.len(), 10);
 }

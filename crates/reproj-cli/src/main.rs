@@ -361,6 +361,11 @@ pub struct EmitArgs {
     /// warning.
     #[arg(long)]
     pub session: Option<PathBuf>,
+    /// What --session's motion does to the selection: `carry` (the profiles carried to it, the
+    /// budget held there too) or `ignore` (select on the profiled sessions alone; --verify then
+    /// only checks).
+    #[arg(long, value_enum, default_value_t = MotionUse::Carry, requires = "session")]
+    pub motion: MotionUse,
     #[arg(long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     #[command(flatten)]
@@ -414,6 +419,13 @@ pub struct NodesArgs {
 }
 
 /// Cache texel format.
+/// `emit --motion`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MotionUse {
+    Carry,
+    Ignore,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum CacheFormatArg {
     /// The narrowest 32-bit float format that holds the node (r32float, rg32float, rgba32float).

@@ -1,12 +1,17 @@
 //! `emit --verify` keeps the budget's promise: on a session with faster motion than the profile
 //! saw, an error over the budget is a warning naming a tighter budget and exit 4 — never a silent
-//! exit 0.
+//! exit 0; and by default emit carries the profile to that session's motion first, so that the
+//! choice holds there.
 
 mod common;
 use common::run;
 
+/// Given the session it is for, emit measures that session's motion and carries the profile to it
+/// before selecting: the fast session (outside the one profiled motion) gets a warning saying so,
+/// its own predicted error within the budget, a shorter period than the profiled motion alone
+/// would allow, and a measured error that the carried prediction foresaw.
 #[test]
-fn a_verified_error_over_the_budget_warns_and_exits_4() {
+fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
@@ -33,8 +38,13 @@ fn a_verified_error_over_the_budget_warns_and_exits_4() {
         ],
     );
     assert_eq!(code, 0, "{err}");
-    let emit = |session: &str, out: &str| {
-        run(
+    let profile: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap())
+            .unwrap();
+    let profiled_motion = profile["motion"]["pixels_per_frame"].as_f64().unwrap();
+    assert!(profiled_motion > 0.0, "{}", profile["motion"]);
+    let emit = |motion: &str, out: &str| {
+        let (code, out, err) = run(
             dir,
             &[
                 "emit",
@@ -46,23 +56,48 @@ fn a_verified_error_over_the_budget_warns_and_exits_4() {
                 out,
                 "--verify",
                 "--session",
-                session,
+                "fast.json",
+                "--motion",
+                motion,
                 "--json",
             ],
-        )
+        );
+        let report: serde_json::Value =
+            serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+        (code, report, err)
     };
-    let (code, out, err) = emit("fast.json", "fast");
-    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
-    let measured = report["measured_error"].as_f64().unwrap();
-    assert!(report["node"].is_string(), "{report}");
+    // Selected for the profiled motion alone, the fast session breaks the budget: exit 4.
+    let (code, ignored, err) = emit("ignore", "ignored");
+    assert!(ignored["node"].is_string(), "{ignored}");
     assert!(
-        measured > 0.01,
-        "the fast session breaks the budget: {report}"
+        ignored["measured_error"].as_f64().unwrap() > 0.01,
+        "the fast session breaks the budget: {ignored}"
     );
     assert_eq!(code, 4, "{err}");
     assert!(err.contains("is over the budget 0.01"), "{err}");
     assert!(err.contains("--max-error"), "the next safe choice: {err}");
     // The output is still written, with the measured speed's interval.
-    assert!(dir.join("fast/report.json").exists());
-    assert!(report["measured_speedup_ci95"].is_array(), "{report}");
+    assert!(dir.join("ignored/report.json").exists());
+    assert!(ignored["measured_speedup_ci95"].is_array(), "{ignored}");
+
+    // Carried to the fast session's motion (the default), the choice holds there.
+    let (code, carried, err) = emit("carry", "carried");
+    let m = &carried["motion"];
+    assert_eq!(carried["version"], 4);
+    let target = m["target"]["pixels_per_frame"].as_f64().unwrap();
+    assert!(target > 1.5 * profiled_motion, "{m}");
+    assert_eq!(m["exponent"]["source"], "assumed", "{m}");
+    assert!(err.contains("outside the profiled"), "{err}");
+    assert!(err.contains("assumed"), "{err}");
+    let predicted = m["target_predicted_error"].as_f64().unwrap();
+    assert!(predicted <= 0.01, "{m}");
+    // The faster session allows less: a shorter period (or another node).
+    assert!(
+        carried["node"] != ignored["node"]
+            || carried["delta_n"].as_u64() < ignored["delta_n"].as_u64(),
+        "{carried} {ignored}"
+    );
+    let measured = carried["measured_error"].as_f64().unwrap();
+    assert!(measured <= 0.01, "{carried}");
+    assert_eq!(code, 0, "{err}");
 }

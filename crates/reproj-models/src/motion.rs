@@ -141,7 +141,10 @@ pub fn fit_exponent(predict: impl Fn(f64) -> Vec<(f64, f64)>) -> MotionExponent 
         if logs.is_empty() {
             return (f64::INFINITY, 0);
         }
-        ((logs.iter().sum::<f64>() / logs.len() as f64).sqrt(), logs.len())
+        (
+            (logs.iter().sum::<f64>() / logs.len() as f64).sqrt(),
+            logs.len(),
+        )
     };
     let (static_rms, n0) = rms(0.0);
     if n0 == 0 {

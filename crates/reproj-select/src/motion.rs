@@ -119,7 +119,10 @@ mod tests {
         assert_eq!(warp_measured(&m, 0.5)[0], (3, 0.01));
         // Collapsing onto one period keeps the larger error.
         assert_eq!(warp_measured(&[(3, 0.01), (4, 0.02)], 4.0), Vec::new());
-        assert_eq!(warp_measured(&[(9, 0.01), (10, 0.02)], 4.0), vec![(3, 0.02)]);
+        assert_eq!(
+            warp_measured(&[(9, 0.01), (10, 0.02)], 4.0),
+            vec![(3, 0.02)]
+        );
     }
 
     #[test]

@@ -53,11 +53,13 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         None => None,
     };
     let target = match (&session, &args.session) {
-        (Some((_, Some(motion), hash)), Some(path)) => Some(reproj_analyze::motion::TargetSession {
-            name: path.display().to_string(),
-            hash: hash.clone(),
-            motion: motion.clone(),
-        }),
+        (Some((_, Some(motion), hash)), Some(path)) if args.motion == crate::MotionUse::Carry => {
+            Some(reproj_analyze::motion::TargetSession {
+                name: path.display().to_string(),
+                hash: hash.clone(),
+                motion: motion.clone(),
+            })
+        }
         _ => None,
     };
     let opts = EmitOptions {
@@ -79,7 +81,9 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         eprintln!("warning: {w}");
     }
     if args.verify {
-        let (session, _, _) = session.as_ref().expect("clap requires --session with --verify");
+        let (session, _, _) = session
+            .as_ref()
+            .expect("clap requires --session with --verify");
         let renderer = Renderer::new(&RendererOptions {
             backend: args.backend.clone(),
             cpu_timing: false,
@@ -190,7 +194,10 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         }
         if let (Some(m), Some(p), Some(t)) = (
             &report.motion,
-            report.motion.as_ref().and_then(|m| m.target_predicted_error),
+            report
+                .motion
+                .as_ref()
+                .and_then(|m| m.target_predicted_error),
             report.motion.as_ref().and_then(|m| m.target.as_ref()),
         ) && report.metric == reproj_models::Metric::L2
         {
