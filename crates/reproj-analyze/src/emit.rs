@@ -449,6 +449,21 @@ pub fn emit(
             .map(|s| s.predicted_error);
     }
     let motion = (!motion.profiled.is_empty() || motion.target.is_some()).then_some(motion);
+    // The run-time Δn schedule of the choice (manifest `params.schedule`): from the first
+    // profile's record, at bands of motion around its own.
+    let beta = motion.as_ref().map_or(1.0, |m| m.exponent.beta);
+    let schedule_of = |record: &NodeRecord| -> Vec<reproj_instance::DeltaNBand> {
+        let Some(m) = &profile.motion else {
+            return Vec::new();
+        };
+        reproj_select::motion::schedule(record, m.pixels_per_frame, beta, &select_opts)
+            .into_iter()
+            .map(|(up_to, delta_n)| reproj_instance::DeltaNBand {
+                up_to_pixels_per_frame: up_to,
+                delta_n,
+            })
+            .collect()
+    };
     let mut report = EmitReport {
         schema: EMIT_REPORT_SCHEMA.into(),
         version: EMIT_REPORT_VERSION,
@@ -503,7 +518,7 @@ pub fn emit(
                     })?;
             let sels: Vec<NodeSelector> =
                 set.members.iter().map(|&id| NodeSelector::Id(id)).collect();
-            let variant = instance_nodes(
+            let mut variant = instance_nodes(
                 &shader,
                 &loaded.norm,
                 &loaded.table,
@@ -519,6 +534,12 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
+            if let Some(r) = set_records
+                .iter()
+                .find(|r| r.members == set.members && r.strategy == set.strategy)
+            {
+                variant.manifest.params.schedule = schedule_of(&r.as_node());
+            }
             write_variant(&variant, &staging, opts, &mut report)?;
             let first = profile.nodes.iter().find(|n| n.id == set.members[0]);
             report.node = Some(set.name());
@@ -554,7 +575,7 @@ pub fn emit(
             } else {
                 NodeSelector::Id(node.id)
             };
-            let variant = instance(
+            let mut variant = instance(
                 &shader,
                 &loaded.norm,
                 &loaded.table,
@@ -570,6 +591,12 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
+            if let Some(r) = records
+                .iter()
+                .find(|r| r.id == node.id && r.strategy == node.strategy)
+            {
+                variant.manifest.params.schedule = schedule_of(r);
+            }
             write_variant(&variant, &staging, opts, &mut report)?;
             report.node = Some(if node.root {
                 "root".into()

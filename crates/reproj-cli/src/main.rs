@@ -70,6 +70,10 @@ pub struct BenchArgs {
     /// directory's report.json, else the manifest's).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub delta_n: Option<u32>,
+    /// Variant directories: each frame's Δn from the manifest's run-time schedule at that frame's
+    /// on-screen motion (see `render --adaptive`).
+    #[arg(long, conflicts_with = "delta_n")]
+    pub adaptive: bool,
     /// Stop after this many rounds at most (each round renders one block per subject).
     #[arg(long, default_value_t = 48, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub rounds: u32,
@@ -197,6 +201,11 @@ pub struct RenderArgs {
     /// Refresh period of the variant (default: 8 with --node, the manifest's with --variant).
     #[arg(long, value_parser = refresh_period)]
     pub delta_n: Option<u32>,
+    /// With --variant: run-time adaptation, as a host would do it: each frame's Δn from the
+    /// manifest's schedule (`params.schedule`, written by `emit`) at that frame's on-screen
+    /// motion (measured from the session's camera and objects).
+    #[arg(long, requires = "variant", conflicts_with = "delta_n")]
+    pub adaptive: bool,
     #[command(flatten)]
     pub cache: CacheArgs,
     /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.

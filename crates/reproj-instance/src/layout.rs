@@ -476,6 +476,8 @@ pub(crate) fn build_manifest(
                     },
                 ),
             ],
+            // `emit` sets it from the error model at each motion band.
+            schedule: Vec::new(),
         },
         textures: vec![
             texture("payload_0", cache_format.name()),

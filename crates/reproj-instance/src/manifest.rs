@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 /// Version 3: fully machine-readable: structured layout entries and resources per binding, the
 /// textures and samplers to create, the ping-pong plan, load/clear values as numbers, conventions,
 /// the vertex-stage contract, the params layout field by field.
-pub const MANIFEST_VERSION: u32 = 4;
+/// Version 4: `also` (several nodes in one payload).
+/// Version 5: `params.schedule`, the run-time Δn schedule by motion band.
+pub const MANIFEST_VERSION: u32 = 5;
 
 /// What [`reproj_io::read_json`] expects of a `manifest.json`.
 pub const MANIFEST_KIND: reproj_io::Kind = reproj_io::Kind {
@@ -343,6 +345,44 @@ pub struct Params {
     pub size: u32,
     /// The buffer's fields, each with its value per frame.
     pub fields: Vec<ParamField>,
+    /// Run-time adaptation (version 5; empty: keep `delta_n`): the longest Δn predicted within
+    /// the budget for each band of motion, slowest band first. A host measures its frame's
+    /// on-screen motion (pixels a visible surface point moved since the previous frame) and
+    /// writes the Δn of the first band whose `up_to_pixels_per_frame` is at least that
+    /// ([`Params::delta_n_for`]); Δn is a uniform, so it may change every frame.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub schedule: Vec<DeltaNBand>,
+}
+
+/// One band of [`Params::schedule`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct DeltaNBand {
+    /// The fastest motion of the band, pixels per frame (`null`: any faster: the last band).
+    pub up_to_pixels_per_frame: Option<f64>,
+    /// Δn to use in the band (1: recompute every pixel, the original shader's result).
+    pub delta_n: u32,
+}
+
+impl Params {
+    /// The Δn for a frame whose on-screen motion is `pixels_per_frame`: the first band of the
+    /// schedule that reaches it (the last band beyond), or `delta_n` without a schedule. A motion
+    /// that is not a number takes the last band (the fastest: the cautious side).
+    pub fn delta_n_for(&self, pixels_per_frame: f64) -> u32 {
+        let Some(last) = self.schedule.last() else {
+            return self.delta_n;
+        };
+        if !pixels_per_frame.is_finite() {
+            return last.delta_n;
+        }
+        self.schedule
+            .iter()
+            .find(|b| {
+                b.up_to_pixels_per_frame
+                    .is_none_or(|m| pixels_per_frame <= m)
+            })
+            .unwrap_or(last)
+            .delta_n
+    }
 }
 
 /// A field of `reproj_params`.

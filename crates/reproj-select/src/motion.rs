@@ -5,7 +5,7 @@
 use reproj_models::ErrorFit;
 use reproj_models::motion::{MIN_MOTION_RATIO, period_scale, warped_period};
 
-use crate::{NodeRecord, SetRecord, respect_measurements};
+use crate::{NodeRecord, SelectOptions, SetRecord, predicted_error, respect_measurements};
 
 /// `fit` on a session whose motion ages the cache `r` times as fast: ε̂'(Δn) = ε̂(1 + (Δn − 1)·r),
 /// that is λ·r for the exponential model.
@@ -102,6 +102,53 @@ pub fn cross_predictions(profiles: &[Profiled<'_>], beta: f64) -> Vec<(f64, f64)
     out
 }
 
+/// The fastest motion of each band of a run-time schedule, as factors of the profiled motion;
+/// the last band (any faster) is predicted at [`SCHEDULE_BEYOND`] times it.
+pub const SCHEDULE_FACTORS: [f64; 9] = [0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0];
+pub const SCHEDULE_BEYOND: f64 = 8.0;
+
+/// The run-time Δn schedule of a chosen node (or set, [`SetRecord::as_node`]) profiled at motion
+/// `profiled` (pixels per frame) with motion exponent `beta`: per band, its fastest motion
+/// (`None`: any faster) and the longest Δn in `opts`' range whose error predicted at that motion
+/// holds `opts.max_error` (1 where none does: the original's result). Neighbouring bands with the
+/// same Δn are merged. Empty when the profiled motion is static or not a number (nothing to
+/// scale by).
+pub fn schedule(
+    record: &NodeRecord,
+    profiled: f64,
+    beta: f64,
+    opts: &SelectOptions,
+) -> Vec<(Option<f64>, u32)> {
+    if !(profiled.is_finite() && profiled >= reproj_models::motion::STATIC_PIXELS) {
+        return Vec::new();
+    }
+    let longest_at = |factor: f64| -> u32 {
+        let carried = record.at_motion(period_scale(profiled, profiled * factor, beta));
+        (opts.min_delta_n.max(2)..=opts.max_delta_n)
+            .rev()
+            .find(|&dn| predicted_error(&carried, dn).is_some_and(|e| e <= opts.max_error))
+            .unwrap_or(1)
+    };
+    let mut bands: Vec<(Option<f64>, u32)> = SCHEDULE_FACTORS
+        .iter()
+        .map(|&f| (Some(profiled * f), longest_at(f)))
+        .collect();
+    bands.push((None, longest_at(SCHEDULE_BEYOND)));
+    // Faster motion never earns a longer period than a slower band's (the model is monotone in
+    // motion; this keeps a rounding at a band edge from saying otherwise).
+    for i in 1..bands.len() {
+        bands[i].1 = bands[i].1.min(bands[i - 1].1);
+    }
+    let mut merged: Vec<(Option<f64>, u32)> = Vec::new();
+    for b in bands {
+        match merged.last_mut() {
+            Some(last) if last.1 == b.1 => last.0 = b.0,
+            _ => merged.push(b),
+        }
+    }
+    merged
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,6 +170,46 @@ mod tests {
             warp_measured(&[(9, 0.01), (10, 0.02)], 4.0),
             vec![(3, 0.02)]
         );
+    }
+
+    #[test]
+    fn the_schedule_shortens_the_period_as_motion_grows() {
+        let samples: Vec<(f64, f64)> = [2.0, 8.0, 16.0, 24.0, 32.0]
+            .iter()
+            .map(|&d| (d, 0.02 * (1.0 - (-0.05f64 * (d - 1.0)).exp())))
+            .collect();
+        let error = fit_error(&samples, &ErrorFitOptions::default());
+        let record = NodeRecord {
+            id: 3,
+            text: "n".into(),
+            strategy: "3pass".into(),
+            error,
+            timing: reproj_models::TimingFit::from_costs(1e-5, 2e-5, 0.5, 1000.0),
+            mean_pixels: 1000.0,
+            measured: None,
+            measured_errors: samples.iter().map(|&(d, e)| (d as u32, e)).collect(),
+        };
+        let opts = SelectOptions::new(0.008);
+        let s = schedule(&record, 2.0, 1.0, &opts);
+        assert!(s.len() >= 3, "{s:?}");
+        assert_eq!(s.last().unwrap().0, None);
+        for w in s.windows(2) {
+            assert!(w[0].1 > w[1].1, "periods shrink as motion grows: {s:?}");
+            assert!(w[0].0.unwrap() < w[1].0.unwrap_or(f64::INFINITY));
+        }
+        // At the profiled motion the band's Δn is the longest the profile itself allows.
+        let at_profiled = s
+            .iter()
+            .find(|b| b.0.is_none_or(|m| m >= 2.0 - 1e-9))
+            .unwrap()
+            .1;
+        let direct = (2..=50)
+            .rev()
+            .find(|&dn| predicted_error(&record, dn).is_some_and(|e| e <= 0.008))
+            .unwrap();
+        assert_eq!(at_profiled, direct, "{s:?}");
+        // Static: no schedule.
+        assert!(schedule(&record, 0.0, 1.0, &opts).is_empty());
     }
 
     #[test]

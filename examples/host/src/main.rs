@@ -21,6 +21,7 @@
 mod engine;
 mod gpu;
 mod manifest;
+mod motion;
 mod variant;
 mod webgpu;
 
@@ -66,8 +67,13 @@ struct Args {
     out: PathBuf,
     /// Refresh period Δn: the `steady` value of the manifest's `delta_n` parameter (default: the
     /// manifest's).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "adaptive")]
     delta_n: Option<u32>,
+    /// Run-time adaptation: each frame, measure the frame's on-screen motion from the camera and
+    /// the objects' transforms (`motion.rs`) and set Δn from the manifest's schedule
+    /// (`params.schedule`, written by `reproj emit`).
+    #[arg(long)]
+    adaptive: bool,
     /// Fragment entry point of the original shader (default: the manifest's, else the only one).
     #[arg(long)]
     entry: Option<String>,
@@ -108,6 +114,11 @@ struct FrameRecord {
     cpu_ms: f64,
     /// GPU time per pass (empty without timestamps).
     pass_ms: Vec<f64>,
+    /// With `--adaptive`: the frame's measured motion (pixels per frame) and the Δn it set.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    motion_px: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    delta_n: Option<u32>,
 }
 
 /// What the frame loop draws.
@@ -180,11 +191,37 @@ fn run(args: &Args) -> anyhow::Result<()> {
         .unwrap_or(engine.session.frames)
         .clamp(1, engine.session.frames);
     let mut records = Vec::new();
+    let probe = args
+        .adaptive
+        .then(|| motion::MotionProbe::new(&engine.session));
+    let mut mode = mode;
+    if let (true, Mode::Variant(v)) = (args.adaptive, &mode)
+        && v.manifest.params.schedule.is_empty()
+    {
+        anyhow::bail!(
+            "--adaptive: the manifest has no run-time schedule (params.schedule; `reproj emit` writes one from a profile that records motion)"
+        );
+    }
     for f in 0..frames {
         // The engine's per-frame updates, then the variant's.
         engine.write_frame(&gpu, f);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         engine.encode_depth_passes(&mut enc);
+        let mut adapted = (None, None);
+        if let (Some(probe), Mode::Variant(v)) = (&probe, &mut mode) {
+            // This frame's motion from the previous frame's transforms to this one's.
+            let now = engine.session.frame_state(f);
+            let prev = engine.session.frame_state(f.saturating_sub(1));
+            let px = if f == 0 {
+                0.0
+            } else {
+                probe.pixels(&prev, &now)
+            };
+            if let Some(dn) = v.manifest.params.scheduled_delta_n(px) {
+                v.set_param("delta_n", f64::from(dn.max(1)))?;
+                adapted = (Some(px), Some(dn));
+            }
+        }
         match &mode {
             Mode::Variant(v) => {
                 v.write_params(&gpu, f);
@@ -223,6 +260,8 @@ fn run(args: &Args) -> anyhow::Result<()> {
             ms: times.span_ms.unwrap_or(cpu_ms),
             cpu_ms,
             pass_ms: times.pass_ms,
+            motion_px: adapted.0,
+            delta_n: adapted.1,
         });
     }
 

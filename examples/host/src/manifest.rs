@@ -14,9 +14,10 @@ use anyhow::{Context, bail};
 use serde::Deserialize;
 
 /// The schema name and the versions this host reads (version 4 only added which nodes the payload
-/// holds, which a host need not know).
+/// holds, which a host need not know; version 5 the run-time Δn schedule, `params.schedule`,
+/// which `--adaptive` follows).
 pub const SCHEMA: &str = "reproj.manifest";
-pub const VERSION: u64 = 4;
+pub const VERSION: u64 = 5;
 pub const OLDEST_VERSION: u64 = 3;
 
 #[derive(Debug, Deserialize)]
@@ -80,6 +81,37 @@ pub struct Params {
     /// Bytes of the `reproj_params` uniform buffer.
     pub size: u32,
     pub fields: Vec<ParamField>,
+    /// Run-time Δn by motion band, slowest first (manifest version 5; empty: a fixed Δn).
+    #[serde(default)]
+    pub schedule: Vec<DeltaNBand>,
+}
+
+/// One band of [`Params::schedule`]: up to this motion (pixels per frame; `None`: any), this Δn.
+#[derive(Debug, Clone, Copy, Deserialize)]
+pub struct DeltaNBand {
+    pub up_to_pixels_per_frame: Option<f64>,
+    pub delta_n: u32,
+}
+
+impl Params {
+    /// The scheduled Δn at a frame's motion: the first band that reaches it, the last beyond
+    /// (and for a motion that is not a number).
+    pub fn scheduled_delta_n(&self, pixels_per_frame: f64) -> Option<u32> {
+        let last = self.schedule.last()?;
+        if !pixels_per_frame.is_finite() {
+            return Some(last.delta_n);
+        }
+        Some(
+            self.schedule
+                .iter()
+                .find(|b| {
+                    b.up_to_pixels_per_frame
+                        .is_none_or(|m| pixels_per_frame <= m)
+                })
+                .unwrap_or(last)
+                .delta_n,
+        )
+    }
 }
 
 #[derive(Debug, Deserialize)]

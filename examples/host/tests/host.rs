@@ -463,3 +463,67 @@ fn host_runs_depth_passes_storage_buffers_and_gltf_scenes() {
         );
     }
 }
+
+/// Run-time adaptation: with a Δn schedule in the manifest, the host measures each frame's motion
+/// from its own camera and transforms and sets Δn from the schedule; `reproj render --adaptive`
+/// does the same from the session, and the frames agree. The schedule here splits the marble
+/// session's frames at their median motion, so both periods are used.
+#[test]
+fn host_adapts_delta_n_by_motion_as_reproj_render_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("adaptive");
+    instance(&dir, &["--strategy", "3pass"]);
+    let manifest_path = dir.join("manifest.json");
+    let set_schedule = |bands: serde_json::Value| {
+        let mut m: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&manifest_path).unwrap()).unwrap();
+        m["params"]["schedule"] = bands;
+        std::fs::write(&manifest_path, serde_json::to_vec_pretty(&m).unwrap()).unwrap();
+    };
+    // One band first, to read each frame's motion from the host's summary.
+    set_schedule(serde_json::json!([{"up_to_pixels_per_frame": null, "delta_n": 8}]));
+    let probe = tmp.path().join("probe");
+    host(Some(&dir), &probe, &["--adaptive"]);
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(probe.join("summary.json")).unwrap()).unwrap();
+    let mut motions: Vec<f64> = summary["frames"].as_array().unwrap()[1..]
+        .iter()
+        .map(|f| f["motion_px"].as_f64().unwrap())
+        .collect();
+    assert!(motions.iter().all(|m| *m > 0.0), "{motions:?}");
+    motions.sort_by(f64::total_cmp);
+    let median = motions[motions.len() / 2];
+    set_schedule(serde_json::json!([
+        {"up_to_pixels_per_frame": median, "delta_n": 8},
+        {"up_to_pixels_per_frame": null, "delta_n": 3}
+    ]));
+    let hosted = tmp.path().join("host");
+    host(Some(&dir), &hosted, &["--adaptive"]);
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(hosted.join("summary.json")).unwrap()).unwrap();
+    let used: std::collections::BTreeSet<u64> = summary["frames"].as_array().unwrap()[1..]
+        .iter()
+        .map(|f| f["delta_n"].as_u64().unwrap())
+        .collect();
+    assert_eq!(used, [3, 8].into(), "{summary}");
+    let reference = tmp.path().join("render");
+    let max = FRAMES.to_string();
+    run(
+        &reproj_bin(),
+        &[
+            "render",
+            "shaders/marble.wgsl",
+            "--session",
+            "sessions/marble.json",
+            "--frames",
+            s(&reference),
+            "--raw-frames",
+            "--max-frames",
+            &max,
+            "--variant",
+            s(&dir),
+            "--adaptive",
+        ],
+    );
+    assert_close("adaptive Δn: host vs reproj render", &hosted, &reference);
+}

@@ -28,7 +28,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let session = Session::load(&args.session)?;
     let mut candidates = Vec::new();
     for path in &args.candidates {
-        candidates.push(candidate(path, &input, args)?);
+        candidates.push(candidate(path, &input, &session, args)?);
     }
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
@@ -100,6 +100,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 fn candidate(
     path: &Path,
     original: &reproj_front::Shader,
+    session: &reproj_replay::Session,
     args: &BenchArgs,
 ) -> anyhow::Result<Candidate> {
     let name = path.display().to_string();
@@ -116,6 +117,13 @@ fn candidate(
             .delta_n
             .or_else(|| emitted_delta_n(path))
             .unwrap_or(v.manifest.params.delta_n);
+        if args.adaptive {
+            let (lo, hi) = super::adapt(&mut v, session)?;
+            return Ok(Candidate {
+                name: format!("{name} (adaptive Δn {lo}..={hi})"),
+                subject: Subject::Variant(v),
+            });
+        }
         return Ok(Candidate {
             name: format!("{name} (Δn {})", v.delta_n),
             subject: Subject::Variant(v),

@@ -67,6 +67,39 @@ pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.prof
 /// A variant directory is only rendered or timed with the shader it was made from: its manifest's
 /// IR hash must be `shader`'s (comments and formatting aside). Manifests written before the hash
 /// was recorded are taken as they are.
+/// Run-time adaptation for a replay (`render --adaptive`, `bench --adaptive`): each frame's Δn
+/// from `variant`'s manifest schedule at that frame's on-screen motion in `session`, as a host
+/// applies it. Returns the per-frame periods' range, for messages.
+pub fn adapt(
+    variant: &mut reproj_replay::VariantInput,
+    session: &reproj_replay::Session,
+) -> anyhow::Result<(u32, u32)> {
+    let params = &variant.manifest.params;
+    if params.schedule.is_empty() {
+        return Err(UserError(format!(
+            "{}: the manifest has no run-time schedule (`params.schedule`): `reproj emit` writes one from a profile that records motion (profile version 8)",
+            variant.label
+        ))
+        .into());
+    }
+    let motion = reproj_analyze::motion::measure(session, None).ok_or_else(|| {
+        UserError(
+            "the session's motion cannot be measured (no object's mesh could be built)".into(),
+        )
+    })?;
+    let per_frame: Vec<u32> = motion
+        .per_frame
+        .iter()
+        .map(|&m| params.delta_n_for(m))
+        .collect();
+    let range = (
+        per_frame.iter().copied().min().unwrap_or(1),
+        per_frame.iter().copied().max().unwrap_or(1),
+    );
+    variant.delta_n_per_frame = Some(per_frame);
+    Ok(range)
+}
+
 pub fn check_variant_shader(
     shader: &reproj_front::Shader,
     shader_path: &std::path::Path,

@@ -43,6 +43,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             let mut variant = VariantInput::from_dir(dir, 1)?;
             super::check_variant_shader(&input, &args.shader, &variant.manifest, dir)?;
             variant.delta_n = args.delta_n.unwrap_or(variant.manifest.params.delta_n);
+            if args.adaptive {
+                let (lo, hi) = super::adapt(&mut variant, &session)?;
+                eprintln!("adaptive: Δn {lo}..={hi} by each frame's motion");
+            }
             Some(variant)
         }
     };

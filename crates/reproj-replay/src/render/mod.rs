@@ -135,6 +135,10 @@ pub struct VariantInput {
     pub manifest: Manifest,
     /// Refresh period Δn (≥ 1).
     pub delta_n: u32,
+    /// Run-time adaptation: Δn per frame of the session (index = frame), overriding `delta_n`
+    /// where given (a frame past its end keeps `delta_n`). Built from the manifest's
+    /// `params.schedule` and each frame's motion (`reproj render --adaptive`).
+    pub delta_n_per_frame: Option<Vec<u32>>,
     /// Refresh block size k (≥ 1).
     pub block: u32,
     /// Depth tolerance ε.
@@ -153,8 +157,17 @@ impl VariantInput {
             depth_epsilon: manifest.params.depth_epsilon,
             manifest,
             delta_n,
+            delta_n_per_frame: None,
             label,
         }
+    }
+
+    /// Δn at frame `frame` ([`VariantInput::delta_n_per_frame`], else `delta_n`).
+    pub fn delta_n_at(&self, frame: u32) -> u32 {
+        self.delta_n_per_frame
+            .as_ref()
+            .and_then(|v| v.get(frame as usize).copied())
+            .unwrap_or(self.delta_n)
     }
 
     /// From naga modules (written back to WGSL with naga's writer).

@@ -94,7 +94,10 @@ impl Renderer {
                 session: format!("{} frames, {w}×{h}", first + frames),
             });
         }
-        if variant.delta_n == 0 || variant.block == 0 {
+        if variant.delta_n == 0
+            || variant.block == 0
+            || variant.delta_n_per_frame.iter().flatten().any(|&d| d == 0)
+        {
             return Err(ReplayError::Variant {
                 message: "Δn and k must be at least 1".into(),
             });
@@ -430,7 +433,7 @@ impl Renderer {
             self.write_frame_uniforms(session, &scene, f);
             let mut p = contract::ReprojParams::for_frame(
                 f,
-                variant.delta_n,
+                variant.delta_n_at(f),
                 variant.block,
                 variant.depth_epsilon,
             );
