@@ -70,8 +70,9 @@ pub struct BenchArgs {
     /// directory's report.json, else the manifest's).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub delta_n: Option<u32>,
-    /// Variant directories: each frame's Δn from the manifest's run-time schedule at that frame's
-    /// on-screen motion (see `render --adaptive`).
+    /// Variant directories whose manifest has a run-time schedule: each frame's Δn from it at
+    /// that frame's on-screen motion (see `render --adaptive`); the others keep a fixed Δn, so an
+    /// adaptive variant can be timed against fixed periods in one interleaved run.
     #[arg(long, conflicts_with = "delta_n")]
     pub adaptive: bool,
     /// Stop after this many rounds at most (each round renders one block per subject).

@@ -117,7 +117,9 @@ fn candidate(
             .delta_n
             .or_else(|| emitted_delta_n(path))
             .unwrap_or(v.manifest.params.delta_n);
-        if args.adaptive {
+        // Only variants with a schedule adapt: others in the same run keep their fixed Δn (to
+        // time an adaptive variant against fixed periods interleaved).
+        if args.adaptive && !v.manifest.params.schedule.is_empty() {
             let (lo, hi) = super::adapt(&mut v, session)?;
             return Ok(Candidate {
                 name: format!("{name} (adaptive Δn {lo}..={hi})"),
