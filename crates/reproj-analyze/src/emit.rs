@@ -38,6 +38,8 @@ pub struct EmitOptions {
     pub cache_format: Option<CacheFormatChoice>,
     /// Only consider nodes profiled in this strategy (`None`: any).
     pub strategy: Option<Strategy>,
+    /// Only consider this node (`None`: any; sets are then left out).
+    pub node: Option<NodeChoice>,
     /// Where the written passes fit in a host: its `group` and `frame_load` are used (the rest
     /// comes from the selection and the profile).
     pub integration: InstanceOptions,
@@ -53,6 +55,22 @@ pub struct EmitOptions {
     /// --session NEW`): the profile nearest in motion is carried to its motion
     /// ([`crate::motion::carry`]) and the budget must hold there too.
     pub target: Option<crate::motion::TargetSession>,
+}
+
+/// A node `emit` is restricted to (`--node`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeChoice {
+    Root,
+    Id(u32),
+}
+
+impl NodeChoice {
+    fn admits(self, n: &reproj_models::profile::NodeProfile) -> bool {
+        match self {
+            NodeChoice::Root => n.root,
+            NodeChoice::Id(id) => n.id == id,
+        }
+    }
 }
 
 /// Schema name of an [`EmitReport`] (`report.json`).
@@ -265,6 +283,7 @@ fn records_of<'p>(
         .iter()
         .filter(|n| n.status == NodeStatus::Ok)
         .filter(|n| opts.strategy.is_none_or(|s| s.name() == n.strategy))
+        .filter(|n| opts.node.is_none_or(|c| c.admits(n)))
         .collect();
     if usable.iter().any(|n| n.fit(opts.metric).is_none()) {
         return Err(AnalyzeError::BadProfile {
@@ -284,6 +303,7 @@ fn records_of<'p>(
         .iter()
         .filter(|s| s.status == NodeStatus::Ok)
         .filter(|s| opts.strategy.is_none_or(|st| st.name() == s.strategy))
+        .filter(|_| opts.node.is_none())
         .collect();
     let set_records: Vec<SetRecord> = usable_sets
         .iter()
@@ -449,20 +469,33 @@ pub fn emit(
             .map(|s| s.predicted_error);
     }
     let motion = (!motion.profiled.is_empty() || motion.target.is_some()).then_some(motion);
-    // The run-time Δn schedule of the choice (manifest `params.schedule`): from the first
-    // profile's record, at bands of motion around its own.
+    // The run-time Δn schedule of the choice (manifest `params.schedule`): at bands of motion
+    // around the profiled ones, each from the profile nearest in motion.
     let beta = motion.as_ref().map_or(1.0, |m| m.exponent.beta);
-    let schedule_of = |record: &NodeRecord| -> Vec<reproj_instance::DeltaNBand> {
-        let Some(m) = &profile.motion else {
-            return Vec::new();
-        };
-        reproj_select::motion::schedule(record, m.pixels_per_frame, beta, &select_opts)
+    let motions: Vec<Option<f64>> = std::iter::once(profile)
+        .chain(others.iter().map(|(p, _, _)| *p))
+        .map(|p| p.motion.as_ref().map(|m| m.pixels_per_frame))
+        .collect();
+    let schedule_of = |find: &dyn Fn(usize) -> Option<NodeRecord>| -> Vec<reproj_instance::DeltaNBand> {
+        let found: Vec<(f64, NodeRecord)> = motions
+            .iter()
+            .enumerate()
+            .filter_map(|(i, m)| Some(((*m)?, find(i)?)))
+            .collect();
+        let refs: Vec<(f64, &NodeRecord)> = found.iter().map(|(m, r)| (*m, r)).collect();
+        reproj_select::motion::schedule(&refs, beta, &select_opts)
             .into_iter()
             .map(|(up_to, delta_n)| reproj_instance::DeltaNBand {
                 up_to_pixels_per_frame: up_to,
                 delta_n,
             })
             .collect()
+    };
+    let nodes_of = |i: usize| -> &[NodeRecord] {
+        if i == 0 { &records } else { &others[i - 1].1 }
+    };
+    let sets_of = |i: usize| -> &[SetRecord] {
+        if i == 0 { &set_records } else { &others[i - 1].2 }
     };
     let mut report = EmitReport {
         schema: EMIT_REPORT_SCHEMA.into(),
@@ -534,12 +567,12 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            if let Some(r) = set_records
-                .iter()
-                .find(|r| r.members == set.members && r.strategy == set.strategy)
-            {
-                variant.manifest.params.schedule = schedule_of(&r.as_node());
-            }
+            variant.manifest.params.schedule = schedule_of(&|i| {
+                sets_of(i)
+                    .iter()
+                    .find(|r| r.members == set.members && r.strategy == set.strategy)
+                    .map(SetRecord::as_node)
+            });
             write_variant(&variant, &staging, opts, &mut report)?;
             let first = profile.nodes.iter().find(|n| n.id == set.members[0]);
             report.node = Some(set.name());
@@ -591,12 +624,12 @@ pub fn emit(
                     frame_load: opts.integration.frame_load,
                 },
             )?;
-            if let Some(r) = records
-                .iter()
-                .find(|r| r.id == node.id && r.strategy == node.strategy)
-            {
-                variant.manifest.params.schedule = schedule_of(r);
-            }
+            variant.manifest.params.schedule = schedule_of(&|i| {
+                nodes_of(i)
+                    .iter()
+                    .find(|r| r.id == node.id && r.strategy == node.strategy)
+                    .cloned()
+            });
             write_variant(&variant, &staging, opts, &mut report)?;
             report.node = Some(if node.root {
                 "root".into()

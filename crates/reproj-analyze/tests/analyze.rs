@@ -156,6 +156,7 @@ fn static_session_profiles_without_nan_and_emits() {
             langs: Vec::new(),
             also: Vec::new(),
             target: None,
+            node: None,
         },
     )
     .unwrap();
@@ -386,6 +387,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
             langs: Vec::new(),
             also: Vec::new(),
             target: None,
+            node: None,
         },
     )
     .unwrap();

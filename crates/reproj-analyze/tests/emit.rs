@@ -144,6 +144,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         langs: Vec::new(),
         also: Vec::new(),
         target: None,
+        node: None,
     }
 }
 

@@ -359,6 +359,10 @@ pub struct EmitArgs {
     /// Only consider this strategy (default: every strategy the profile measured).
     #[arg(long, value_enum)]
     pub strategy: Option<StrategyArg>,
+    /// Only consider this profiled node (its id, or `root`): Δn is still chosen under the budget,
+    /// and the schedule written for it.
+    #[arg(long)]
+    pub node: Option<String>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,

@@ -24,7 +24,8 @@ pub fn warp_fit(fit: &ErrorFit, r: f64) -> ErrorFit {
 pub fn warp_measured(measured: &[(u32, f64)], r: f64) -> Vec<(u32, f64)> {
     let mut out: Vec<(u32, f64)> = Vec::new();
     for &(dn, e) in measured {
-        let p = warped_period(f64::from(dn), 1.0 / r).floor();
+        // (An epsilon: r a rounding away from 1 must not move a period down by one.)
+        let p = (warped_period(f64::from(dn), 1.0 / r) + 1e-9).floor();
         if !(p.is_finite() && p >= 2.0) {
             continue;
         }
@@ -102,40 +103,53 @@ pub fn cross_predictions(profiles: &[Profiled<'_>], beta: f64) -> Vec<(f64, f64)
     out
 }
 
-/// The fastest motion of each band of a run-time schedule, as factors of the profiled motion;
-/// the last band (any faster) is predicted at [`SCHEDULE_BEYOND`] times it.
-pub const SCHEDULE_FACTORS: [f64; 9] = [0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0];
-pub const SCHEDULE_BEYOND: f64 = 8.0;
+/// Bands of a run-time schedule start at a quarter of the slowest profiled motion and grow by √2
+/// until they pass twice the fastest; the last band (any faster: motion no profile saw) is
+/// predicted at [`SCHEDULE_BEYOND`] times the fastest, the cautious side.
+pub const SCHEDULE_BEYOND: f64 = 16.0;
 
-/// The run-time Δn schedule of a chosen node (or set, [`SetRecord::as_node`]) profiled at motion
-/// `profiled` (pixels per frame) with motion exponent `beta`: per band, its fastest motion
-/// (`None`: any faster) and the longest Δn in `opts`' range whose error predicted at that motion
-/// holds `opts.max_error` (1 where none does: the original's result). Neighbouring bands with the
-/// same Δn are merged. Empty when the profiled motion is static or not a number (nothing to
-/// scale by).
+/// The run-time Δn schedule of a chosen node (or set, [`SetRecord::as_node`]) from its records in
+/// the profiled sessions, each with that session's motion (pixels per frame), and the motion
+/// exponent `beta`: per band, its fastest motion (`None`: any faster) and the longest Δn in
+/// `opts`' range whose error predicted at that motion — from the profile nearest in motion,
+/// carried there — holds `opts.max_error` (1 where none does: the original's result).
+/// Neighbouring bands with the same Δn are merged, and a faster band never gets a longer period
+/// than a slower one. Empty when no profiled motion is a number above static.
 pub fn schedule(
-    record: &NodeRecord,
-    profiled: f64,
+    records: &[(f64, &NodeRecord)],
     beta: f64,
     opts: &SelectOptions,
 ) -> Vec<(Option<f64>, u32)> {
-    if !(profiled.is_finite() && profiled >= reproj_models::motion::STATIC_PIXELS) {
+    let records: Vec<(f64, &NodeRecord)> = records
+        .iter()
+        .copied()
+        .filter(|(m, _)| m.is_finite() && *m >= reproj_models::motion::STATIC_PIXELS)
+        .collect();
+    let (Some(slowest), Some(fastest)) = (
+        records.iter().map(|r| r.0).reduce(f64::min),
+        records.iter().map(|r| r.0).reduce(f64::max),
+    ) else {
         return Vec::new();
-    }
-    let longest_at = |factor: f64| -> u32 {
-        let carried = record.at_motion(period_scale(profiled, profiled * factor, beta));
+    };
+    let longest_at = |m: f64| -> u32 {
+        let (profiled, record) = records
+            .iter()
+            .min_by(|a, b| (a.0 / m).ln().abs().total_cmp(&(b.0 / m).ln().abs()))
+            .copied()
+            .expect("one record at least");
+        let carried = record.at_motion(period_scale(profiled, m, beta));
         (opts.min_delta_n.max(2)..=opts.max_delta_n)
             .rev()
             .find(|&dn| predicted_error(&carried, dn).is_some_and(|e| e <= opts.max_error))
             .unwrap_or(1)
     };
-    let mut bands: Vec<(Option<f64>, u32)> = SCHEDULE_FACTORS
-        .iter()
-        .map(|&f| (Some(profiled * f), longest_at(f)))
-        .collect();
-    bands.push((None, longest_at(SCHEDULE_BEYOND)));
-    // Faster motion never earns a longer period than a slower band's (the model is monotone in
-    // motion; this keeps a rounding at a band edge from saying otherwise).
+    let mut bands: Vec<(Option<f64>, u32)> = Vec::new();
+    let mut m = slowest / 4.0;
+    while m <= fastest * 2.0 {
+        bands.push((Some(m), longest_at(m)));
+        m *= std::f64::consts::SQRT_2;
+    }
+    bands.push((None, longest_at(fastest * SCHEDULE_BEYOND)));
     for i in 1..bands.len() {
         bands[i].1 = bands[i].1.min(bands[i - 1].1);
     }
@@ -190,7 +204,7 @@ mod tests {
             measured_errors: samples.iter().map(|&(d, e)| (d as u32, e)).collect(),
         };
         let opts = SelectOptions::new(0.008);
-        let s = schedule(&record, 2.0, 1.0, &opts);
+        let s = schedule(&[(2.0, &record)], 1.0, &opts);
         assert!(s.len() >= 3, "{s:?}");
         assert_eq!(s.last().unwrap().0, None);
         for w in s.windows(2) {
@@ -209,7 +223,20 @@ mod tests {
             .unwrap();
         assert_eq!(at_profiled, direct, "{s:?}");
         // Static: no schedule.
-        assert!(schedule(&record, 0.0, 1.0, &opts).is_empty());
+        assert!(schedule(&[(0.0, &record)], 1.0, &opts).is_empty());
+        // A second profile at 8 px/frame, measured as if nothing changed with motion: the bands
+        // near it follow that profile, no longer the first carried 4× or more.
+        let two = schedule(&[(2.0, &record), (8.0, &record)], 1.0, &opts);
+        let at = |s: &[(Option<f64>, u32)], m: f64| {
+            s.iter()
+                .find(|b| b.0.is_none_or(|up| m <= up))
+                .unwrap()
+                .1
+        };
+        for m in [4.0, 8.0, 11.0] {
+            assert!(at(&two, m) >= at(&s, m), "{m}: {two:?} {s:?}");
+        }
+        assert!(at(&two, 8.0) > at(&s, 8.0), "{two:?} {s:?}");
     }
 
     #[test]

@@ -70,6 +70,13 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         out,
         cache_format: args.cache_format.map(cache_format),
         strategy: args.strategy.map(super::strategy),
+        node: match args.node.as_deref() {
+            None => None,
+            Some("root") => Some(reproj_analyze::emit::NodeChoice::Root),
+            Some(id) => Some(reproj_analyze::emit::NodeChoice::Id(id.parse().map_err(|_| {
+                UserError(format!("--node {id}: a node id (a number) or `root`"))
+            })?)),
+        },
         integration: super::integrate(Default::default(), args.integration),
         shader: args.shader.clone(),
         langs: super::output_langs(&args.lang),
