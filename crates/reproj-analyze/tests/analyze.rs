@@ -396,7 +396,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
         Some(set.name().as_str()),
         "{report:?}"
     );
-    assert_eq!(report.version, 3);
+    assert_eq!(report.version, reproj_analyze::EMIT_REPORT_VERSION);
     let variant = variant.unwrap();
     assert_eq!(variant.manifest.also.len(), 1);
 }
