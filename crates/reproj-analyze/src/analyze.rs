@@ -302,7 +302,8 @@ pub fn analyze(
             .as_ref()
             .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
             .unwrap_or_default();
-        let winner = race_winner(&built, &estimates);
+        let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
+        let winner = race_winner(&strategies, &estimates);
         if let Some(w) = winner
             && let Some(best) = estimates[w]
         {
@@ -535,26 +536,26 @@ struct Built {
     variant: reproj_instance::Variant,
 }
 
-/// The strategy that wins a node's race: the fastest by its estimate, where its interval
-/// separates from the simplest strategy's (the fewest passes); otherwise the simplest — timing
-/// noise never decides. `None` when no strategy has an estimate.
-fn race_winner(built: &[Built], estimates: &[Option<SpeedupEstimate>]) -> Option<usize> {
+/// The strategy that wins a node's race: among those faster than the simplest strategy (the
+/// fewest passes) beyond doubt — their intervals separate above its — the fastest by its
+/// estimate; otherwise the simplest: timing noise never decides. (The fastest estimate alone
+/// would let a strategy that does not separate hide one that does.) `None` when no strategy has
+/// an estimate.
+fn race_winner(strategies: &[Strategy], estimates: &[Option<SpeedupEstimate>]) -> Option<usize> {
     let timed: Vec<(usize, SpeedupEstimate)> = estimates
         .iter()
         .enumerate()
         .filter_map(|(i, e)| Some((i, (*e)?)))
         .collect();
-    let fastest = timed
+    let simplest = *timed
         .iter()
-        .max_by(|a, b| a.1.speedup.total_cmp(&b.1.speedup))?;
-    let simplest = timed
+        .min_by_key(|(i, _)| (passes(strategies[*i]), *i))?;
+    let winner = timed
         .iter()
-        .min_by_key(|(i, _)| (passes(built[*i].strategy), *i))?;
-    Some(if separates(&fastest.1, &simplest.1) {
-        fastest.0
-    } else {
-        simplest.0
-    })
+        .filter(|(_, e)| e.speedup > simplest.1.speedup && separates(e, &simplest.1))
+        .max_by(|a, b| a.1.speedup.total_cmp(&b.1.speedup))
+        .map_or(simplest.0, |w| w.0);
+    Some(winner)
 }
 
 /// How many passes a strategy draws per frame: the measure of simplicity a tie falls back on.
@@ -563,5 +564,47 @@ fn passes(s: Strategy) -> u32 {
         Strategy::Fused => 1,
         Strategy::TwoPass => 2,
         Strategy::ThreePass => 3,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn e(speedup: f64, lo: f64, hi: f64) -> Option<SpeedupEstimate> {
+        Some(SpeedupEstimate {
+            speedup,
+            ci95: [lo, hi],
+            rounds: 8,
+            outliers: 0,
+            baseline_ms: 10.0,
+            candidate_ms: 10.0 / speedup,
+        })
+    }
+
+    #[test]
+    fn a_race_is_won_only_beyond_doubt_and_a_wide_fastest_does_not_hide_a_sure_one() {
+        let s = [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused];
+        // Nothing separates from fused (the simplest): fused wins.
+        assert_eq!(
+            race_winner(&s, &[e(2.0, 1.0, 3.0), e(1.9, 1.2, 2.6), e(1.5, 1.3, 1.7)]),
+            Some(2)
+        );
+        // 3pass has the best estimate but a wide interval; 2pass is surely faster than fused.
+        assert_eq!(
+            race_winner(&s, &[e(2.0, 1.5, 2.5), e(1.9, 1.8, 2.0), e(1.4, 1.2, 1.6)]),
+            Some(1)
+        );
+        // Both separate: the faster estimate.
+        assert_eq!(
+            race_winner(&s, &[e(2.2, 2.1, 2.3), e(1.9, 1.8, 2.0), e(1.4, 1.2, 1.6)]),
+            Some(0)
+        );
+        // Separated below the simplest: no win.
+        assert_eq!(
+            race_winner(&s[1..], &[e(1.0, 0.9, 1.1), e(1.5, 1.4, 1.6)]),
+            Some(1)
+        );
+        assert_eq!(race_winner(&s, &[None, None, None]), None);
     }
 }

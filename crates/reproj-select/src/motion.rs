@@ -228,10 +228,7 @@ mod tests {
         // near it follow that profile, no longer the first carried 4× or more.
         let two = schedule(&[(2.0, &record), (8.0, &record)], 1.0, &opts);
         let at = |s: &[(Option<f64>, u32)], m: f64| {
-            s.iter()
-                .find(|b| b.0.is_none_or(|up| m <= up))
-                .unwrap()
-                .1
+            s.iter().find(|b| b.0.is_none_or(|up| m <= up)).unwrap().1
         };
         for m in [4.0, 8.0, 11.0] {
             assert!(at(&two, m) >= at(&s, m), "{m}: {two:?} {s:?}");

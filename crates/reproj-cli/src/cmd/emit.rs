@@ -73,9 +73,9 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         node: match args.node.as_deref() {
             None => None,
             Some("root") => Some(reproj_analyze::emit::NodeChoice::Root),
-            Some(id) => Some(reproj_analyze::emit::NodeChoice::Id(id.parse().map_err(|_| {
-                UserError(format!("--node {id}: a node id (a number) or `root`"))
-            })?)),
+            Some(id) => Some(reproj_analyze::emit::NodeChoice::Id(id.parse().map_err(
+                |_| UserError(format!("--node {id}: a node id (a number) or `root`")),
+            )?)),
         },
         integration: super::integrate(Default::default(), args.integration),
         shader: args.shader.clone(),
