@@ -153,7 +153,7 @@ fn static_session_profiles_without_nan_and_emits() {
             strategy: None,
             integration: Default::default(),
             shader: None,
-            langs: Vec::new(),
+            outputs: Default::default(),
             also: Vec::new(),
         },
     )
@@ -382,7 +382,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
             strategy: None,
             integration: Default::default(),
             shader: Some(shader_path.clone()),
-            langs: Vec::new(),
+            outputs: Default::default(),
             also: Vec::new(),
         },
     )

@@ -9,6 +9,7 @@
 pub mod cost;
 pub mod diagnostic;
 mod graph;
+pub mod glslang;
 pub mod ir;
 pub mod liveness;
 pub mod load;

@@ -51,7 +51,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         strategy: args.strategy.map(super::strategy),
         integration: super::integrate(Default::default(), args.integration),
         shader: args.shader.clone(),
-        langs: super::output_langs(&args.lang),
+        outputs: super::outputs(&args.lang, &args.overrides),
         also,
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
