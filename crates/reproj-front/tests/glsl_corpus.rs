@@ -54,7 +54,11 @@ fn measure(path: &Path) -> Value {
                 "split_samplers": l.shader.split_samplers.len(),
             })
         }
-        Err(e) => json!({"parses": false, "error": e.to_string()}),
+        Err(e) => {
+            // The message without the file's (absolute) path.
+            let text = e.to_string().replace(&format!("{}", path.display()), &stem(path));
+            json!({"parses": false, "error": text})
+        }
     }
 }
 

@@ -9,7 +9,9 @@
 //! already one of the project's tools. Its combined image samplers are split ([`split`]), naga's
 //! SPIR-V front end reads the result, and each span (a byte range of the SPIR-V binary) becomes
 //! the GLSL line its `OpLine` names, so diagnostics and node positions point into the GLSL file.
-//! Without the binary, naga's GLSL front end reads what it can ([`crate::parse`]).
+//! Without the binary, naga's GLSL front end reads what it can ([`crate::parse`]). A shader that
+//! uses a specialization constant inside a constant expression (`OpSpecConstantOp`, which naga
+//! does not read) has its specialization constants frozen at their defaults by `spirv-opt`.
 
 pub mod split;
 
@@ -49,7 +51,10 @@ pub(crate) enum GlslangError {
 /// Compile fragment-shader GLSL with glslang and read it as a [`Shader`] whose spans point into
 /// `source`.
 pub(crate) fn parse(path: &Path, source: String) -> Result<Shader, GlslangError> {
-    let words = compile(path, &source)?;
+    let mut words = compile(path, &source)?;
+    if split::has_spec_constant_op(&words) {
+        words = freeze_spec_constants(path, &source, &words)?;
+    }
     let parse_error = |text: String| {
         GlslangError::Front(FrontError::Parse(SourceDiagnostic::new(
             path.to_owned(),
@@ -130,6 +135,60 @@ fn compile(path: &Path, source: &str) -> Result<Vec<u32>, GlslangError> {
         }));
     }
     Ok(bytes
+        .chunks(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect())
+}
+
+/// The module with every specialization constant at its default value, and the constant
+/// expressions on them folded (`spirv-opt --freeze-spec-const --fold-spec-const-op-composite`):
+/// naga's reader takes specialization constants (as overrides) but not `OpSpecConstantOp`.
+fn freeze_spec_constants(
+    path: &Path,
+    source: &str,
+    words: &[u32],
+) -> Result<Vec<u32>, GlslangError> {
+    let unsupported = |what: String| {
+        GlslangError::Front(FrontError::Unsupported(SourceDiagnostic::new(
+            path.to_owned(),
+            source,
+            vec![Message::new(format!(
+                "unsupported: a specialization constant inside a constant expression ({what})"
+            ))],
+        )))
+    };
+    let mut child = Command::new("spirv-opt")
+        .args([
+            "--freeze-spec-const",
+            "--fold-spec-const-op-composite",
+            "-",
+            "-o",
+            "-",
+        ])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|_| {
+            unsupported("freezing it at its default needs spirv-opt: install spirv-tools (scripts/ensure-tools.sh)".into())
+        })?;
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    let written = {
+        use std::io::Write;
+        let mut stdin = child.stdin.take().expect("stdin is piped");
+        stdin.write_all(&bytes)
+    };
+    let output = child
+        .wait_with_output()
+        .map_err(|e| unsupported(format!("spirv-opt failed: {e}")))?;
+    if !output.status.success() || written.is_err() || output.stdout.len() % 4 != 0 {
+        return Err(unsupported(format!(
+            "spirv-opt failed: {}",
+            String::from_utf8_lossy(&output.stderr).trim()
+        )));
+    }
+    Ok(output
+        .stdout
         .chunks(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect())

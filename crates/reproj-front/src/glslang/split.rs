@@ -323,6 +323,12 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
     Ok((encode(&header, &out), split))
 }
 
+/// Whether the module holds an `OpSpecConstantOp` (a specialization constant in a constant
+/// expression, which naga's reader does not take).
+pub(super) fn has_spec_constant_op(words: &[u32]) -> bool {
+    decode(words).is_ok_and(|(_, insts)| insts.iter().any(|i| i.is(Op::SpecConstantOp)))
+}
+
 /// Drops the `OpLine`s outside functions (glslang's, before global variables), which naga's
 /// reader refuses there; the lines inside functions are the ones nodes are placed by.
 fn strip_global_lines(insts: &mut Vec<Inst>) {
