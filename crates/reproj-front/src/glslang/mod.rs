@@ -223,21 +223,23 @@ fn messages(text: &str, source: &str) -> Vec<Message> {
         })
         .collect();
     if out.is_empty() {
+        // Not a located error (a usage message, a crash): its first line.
         out.push(Message::new(format!(
             "glslang cannot compile this shader: {}",
-            text.trim()
+            text.trim().lines().next().unwrap_or("no message")
         )));
     }
     out
 }
 
-/// Each line's text, trimmed of indentation and line end, as byte ranges.
+/// Each line's text, trimmed of indentation, line end and a final `;`, as byte ranges.
 fn line_ranges(source: &str) -> Vec<Range<usize>> {
     let mut ranges = Vec::new();
     let mut start = 0;
     for line in source.split_inclusive('\n') {
         let trimmed_start = line.len() - line.trim_start().len();
         let text = line.trim();
+        let text = text.strip_suffix(';').unwrap_or(text).trim_end();
         let from = start + trimmed_start;
         ranges.push(from..from + text.len());
         start += line.len();
@@ -247,32 +249,35 @@ fn line_ranges(source: &str) -> Vec<Range<usize>> {
 
 /// SPIR-V byte offsets → GLSL line ranges.
 struct LineSpans {
-    /// (instruction start, its line's range in the GLSL), sorted by start.
-    starts: Vec<(usize, Range<usize>)>,
+    /// (instruction's bytes, its line's range in the GLSL), sorted.
+    instructions: Vec<(Range<usize>, Range<usize>)>,
 }
 
-fn line_spans(source: &str, table: &[(usize, u32)]) -> LineSpans {
+fn line_spans(source: &str, table: &[(Range<usize>, u32)]) -> LineSpans {
     let ranges = line_ranges(source);
     LineSpans {
-        starts: table
+        instructions: table
             .iter()
-            .filter_map(|&(offset, line)| {
-                let range = ranges.get((line as usize).checked_sub(1)?)?;
-                Some((offset, range.clone()))
+            .filter_map(|(bytes, line)| {
+                let range = ranges.get((*line as usize).checked_sub(1)?)?;
+                Some((bytes.clone(), range.clone()))
             })
             .collect(),
     }
 }
 
 impl LineSpans {
-    /// The GLSL line of the instruction a span starts at, or no span.
+    /// The GLSL line of the instruction a span starts in, or no span.
     fn map(&self, span: naga::Span) -> naga::Span {
         let Some(range) = span.to_range() else {
             return naga::Span::default();
         };
-        match self.starts.binary_search_by_key(&range.start, |(s, _)| *s) {
-            Ok(i) => naga::Span::from(self.starts[i].1.clone()),
-            Err(_) => naga::Span::default(),
+        let i = self
+            .instructions
+            .partition_point(|(bytes, _)| bytes.start <= range.start);
+        match i.checked_sub(1).map(|i| &self.instructions[i]) {
+            Some((bytes, line)) if bytes.contains(&range.start) => naga::Span::from(line.clone()),
+            _ => naga::Span::default(),
         }
     }
 }

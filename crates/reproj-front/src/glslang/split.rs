@@ -343,10 +343,10 @@ fn strip_global_lines(insts: &mut Vec<Inst>) {
     });
 }
 
-/// Where each instruction of `words` starts (in bytes, as naga's spans count) and the source line
-/// its `OpLine` gives it in the main file (the one the first `OpSource` names), in order.
+/// The bytes of each instruction of `words` (as naga's spans count them) and the source line its
+/// `OpLine` gives it in the main file (the one the first `OpSource` names), in order.
 /// Instructions without a line are left out.
-pub(super) fn line_table(words: &[u32]) -> Vec<(usize, u32)> {
+pub(super) fn line_table(words: &[u32]) -> Vec<(std::ops::Range<usize>, u32)> {
     let Ok((_, insts)) = decode(words) else {
         return Vec::new();
     };
@@ -363,8 +363,9 @@ pub(super) fn line_table(words: &[u32]) -> Vec<(usize, u32)> {
         } else if inst.is(Op::NoLine) || inst.is(Op::FunctionEnd) {
             current = None;
         }
+        let end = offset + 4 * (o.len() + 1);
         if let Some(line) = current {
-            table.push((offset, line));
+            table.push((offset..end, line));
         }
         if matches!(
             Op::from_u32(inst.op as u32),
@@ -381,7 +382,7 @@ pub(super) fn line_table(words: &[u32]) -> Vec<(usize, u32)> {
         ) {
             current = None;
         }
-        offset += 4 * (o.len() + 1);
+        offset = end;
     }
     table
 }
