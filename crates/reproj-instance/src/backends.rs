@@ -7,8 +7,9 @@
 //!
 //! naga's writers take no `override` constants: each module's overrides are first replaced by
 //! their values ([`Outputs::overrides`], else their defaults) with naga's `process_overrides`.
-//! What a writer cannot write (`texture_external` in GLSL and SPIR-V) is refused before it is
-//! called, with the variable's name.
+//! What a writer cannot write (`texture_external` in GLSL and SPIR-V, binding arrays in GLSL) is
+//! refused before it is called, with the variable's name. In HLSL, push constants (a GLSL input's
+//! `layout(push_constant)` block) are the constant buffer `b0` of space [`IMMEDIATES_SPACE`].
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -45,6 +46,9 @@ impl OutputLang {
         }
     }
 }
+
+/// The HLSL register space of the push constants (naga's immediates) of a GLSL input: `b0` there.
+pub const IMMEDIATES_SPACE: u8 = 254;
 
 /// Values of a shader's `override` constants, by name (or by `@id` number), for the passes written
 /// in other languages; an override not named keeps its default.
@@ -100,26 +104,24 @@ pub fn check_overrides<'a>(
 }
 
 /// Why `lang`'s writer cannot write `module`, before it is called: naga 30's GLSL and SPIR-V
-/// writers panic on `texture_external`.
-fn unsupported_in(module: &naga::Module, lang: OutputLang) -> Option<String> {
-    if !matches!(lang, OutputLang::Glsl | OutputLang::SpirV) {
-        return None;
-    }
+/// writers panic on `texture_external`, and its GLSL writer on binding arrays (GLSL's
+/// `sampler2D textures[4]`, split into arrays of textures and samplers).
+pub fn unsupported_in(module: &naga::Module, lang: OutputLang) -> Option<String> {
     module.global_variables.iter().find_map(|(_, var)| {
-        matches!(
-            module.types[var.ty].inner,
+        let name = var.name.as_deref().unwrap_or("a global");
+        match module.types[var.ty].inner {
             naga::TypeInner::Image {
                 class: naga::ImageClass::External,
                 ..
-            }
-        )
-        .then(|| {
-            format!(
-                "`{}` is a texture_external, which the {} output cannot hold (naga's writer has no external textures); write this shader in HLSL or MSL, or bind a texture_2d<f32>",
-                var.name.as_deref().unwrap_or("a global"),
+            } if matches!(lang, OutputLang::Glsl | OutputLang::SpirV) => Some(format!(
+                "`{name}` is a texture_external, which the {} output cannot hold (naga's writer has no external textures); write this shader in HLSL or MSL, or bind a texture_2d<f32>",
                 lang.name()
-            )
-        })
+            )),
+            naga::TypeInner::BindingArray { .. } if lang == OutputLang::Glsl => Some(format!(
+                "`{name}` is a binding array, which naga's GLSL writer cannot write; write this shader in HLSL, MSL or SPIR-V"
+            )),
+            _ => None,
+        }
     })
 }
 
@@ -230,7 +232,15 @@ fn write_pass_unguarded(
         OutputLang::Hlsl => {
             use naga::back::hlsl;
             let mut text = String::new();
-            let options = hlsl::Options::default();
+            // A GLSL input's push constants (naga's immediates) need a register: `b0` of
+            // space 254, out of the way of the bind groups' spaces and naga's sampler heap (255).
+            let options = hlsl::Options {
+                immediates_target: Some(hlsl::BindTarget {
+                    space: IMMEDIATES_SPACE,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            };
             let pipeline = hlsl::PipelineOptions::default();
             hlsl::Writer::new(&mut text, &options, &pipeline)
                 .write(module, info, None)

@@ -78,6 +78,25 @@ fn glsl_corpus_variants_validate_in_every_language() {
                 &opts,
             )
             .unwrap_or_else(|e| panic!("{name} {strategy}: {e}"));
+            // naga's GLSL writer has no binding arrays (`sampler2D textures[4]`): refused by name.
+            let arrays = name == "material_array.frag";
+            let langs: Vec<OutputLang> = langs
+                .into_iter()
+                .filter(|&l| !(arrays && l == OutputLang::Glsl))
+                .collect();
+            if arrays {
+                let e = write_variant_in(
+                    &v,
+                    &std::env::temp_dir().join("never-written"),
+                    &Outputs::langs(&[OutputLang::Glsl]),
+                )
+                .unwrap_err();
+                assert!(
+                    e.to_string()
+                        .contains("`textures` is a binding array, which naga's GLSL writer"),
+                    "{e}"
+                );
+            }
             let dir = tempfile::tempdir().unwrap();
             write_variant_in(&v, dir.path(), &Outputs::langs(&langs))
                 .unwrap_or_else(|e| panic!("{name} {strategy}: {e}"));
@@ -89,8 +108,10 @@ fn glsl_corpus_variants_validate_in_every_language() {
                 if spirv_val {
                     check("spirv-val", &[], &spv);
                 }
-                let frag = dir.path().join(pass_file_in(p, OutputLang::Glsl));
-                check("glslangValidator", &["-S", "frag"], &frag);
+                if !arrays {
+                    let frag = dir.path().join(pass_file_in(p, OutputLang::Glsl));
+                    check("glslangValidator", &["-S", "frag"], &frag);
+                }
             }
         }
     }
