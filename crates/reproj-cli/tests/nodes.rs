@@ -312,7 +312,8 @@ fn glsl_marble_nodes() {
         count("shaders/marble.wgsl"),
         count("shaders/glsl/marble.frag"),
     );
-    assert!((g - w).abs() <= 0.05 * w, "GLSL {g}, WGSL {w}");
+    // glslang's SPIR-V spells a few values in more steps than naga's WGSL.
+    assert!(g >= w && g <= 1.1 * w, "GLSL {g}, WGSL {w}");
     // `--lang-in` reads a file whatever its extension.
     let dir = tempfile::tempdir().unwrap();
     let renamed = dir.path().join("marble.txt");
@@ -438,9 +439,13 @@ fn instance_resolves_override_constants_for_other_languages() {
     // `bias` has no default: without a value the backends cannot write it.
     let (code, _, err) = run(&[]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("`bias` has no default"), "{err}");
+    assert!(err.contains("`bias` (@id(7)) has no default"), "{err}");
     let (code, _, err) = run(&["--override", "7=0.25", "--override", "gain=2"]);
     assert_eq!(code, 0, "{err}");
-    let glsl = std::fs::read_to_string(out.join("pass3_shade.frag")).unwrap();
-    assert!(glsl.contains("2.0") && glsl.contains("0.25"), "{glsl}");
+    // The pass that computes the root holds the values as constants.
+    let glsl = std::fs::read_to_string(out.join("pass2_recompute.frag")).unwrap();
+    assert!(
+        glsl.contains("const float gain = 2.0;") && glsl.contains("const float bias = 0.25;"),
+        "{glsl}"
+    );
 }

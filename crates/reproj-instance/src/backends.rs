@@ -197,7 +197,7 @@ fn write_pass_unguarded(
         None,
         &constants,
     )
-    .map_err(|e| fail(override_message(&e)))?;
+    .map_err(|e| fail(override_message(&pass.module, &e)))?;
     let (module, info) = (module.as_ref(), info.as_ref());
     let entry = module
         .entry_points
@@ -267,12 +267,23 @@ fn write_pass_unguarded(
     }
 }
 
-/// naga's override error, in words a shader author acts on.
-fn override_message(e: &naga::back::pipeline_constants::PipelineConstantError) -> String {
+/// naga's override error, in words a shader author acts on (an override naga names by its id is
+/// named by its name too).
+fn override_message(
+    module: &naga::Module,
+    e: &naga::back::pipeline_constants::PipelineConstantError,
+) -> String {
     use naga::back::pipeline_constants::PipelineConstantError as E;
     match e {
-        E::MissingValue(name) => {
-            format!("the override `{name}` has no default and no value was given for it")
+        E::MissingValue(key) => {
+            let id = key.parse::<u16>().ok();
+            let named = module
+                .overrides
+                .iter()
+                .find(|(_, o)| id.is_some() && o.id == id)
+                .and_then(|(_, o)| o.name.clone())
+                .map_or_else(|| format!("`{key}`"), |name| format!("`{name}` (@id({key}))"));
+            format!("the override {named} has no default and no value was given for it")
         }
         E::SrcNeedsToBeFinite | E::DstRangeTooSmall => {
             format!("an override value does not fit its type ({e})")
