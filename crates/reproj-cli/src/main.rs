@@ -10,7 +10,8 @@ mod cmd;
 mod values;
 use values::{
     backend_help, block_size, delta_n_limit, depth_epsilon, non_negative, output_path,
-    override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period, unit_fraction,
+    override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period,
+    unit_fraction,
 };
 
 /// Automatic reprojection-cache optimizer for WGSL, GLSL and SPIR-V fragment shaders.

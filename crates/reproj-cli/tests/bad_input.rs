@@ -960,8 +960,16 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "bias=2",
             "the shader has no override constant `bias` (its overrides: gain)",
         ),
-        ("override without a value", "gain", "`gain` is not NAME=VALUE"),
-        ("override not a number", "gain=fast", "`fast` is not a finite number"),
+        (
+            "override without a value",
+            "gain",
+            "`gain` is not NAME=VALUE",
+        ),
+        (
+            "override not a number",
+            "gain=fast",
+            "`fast` is not a finite number",
+        ),
     ] {
         v.push(case(
             name,

@@ -8,8 +8,8 @@
 
 pub mod cost;
 pub mod diagnostic;
-mod graph;
 pub mod glslang;
+mod graph;
 pub mod ir;
 pub mod liveness;
 pub mod load;

@@ -56,7 +56,9 @@ fn measure(path: &Path) -> Value {
         }
         Err(e) => {
             // The message without the file's (absolute) path.
-            let text = e.to_string().replace(&format!("{}", path.display()), &stem(path));
+            let text = e
+                .to_string()
+                .replace(&format!("{}", path.display()), &stem(path));
             json!({"parses": false, "error": text})
         }
     }

@@ -191,13 +191,9 @@ fn write_pass_unguarded(
         .filter(|(key, _)| declares(&pass.module, key))
         .map(|(key, &value)| (key.clone(), value))
         .collect();
-    let (module, info) = naga::back::pipeline_constants::process_overrides(
-        &pass.module,
-        &info,
-        None,
-        &constants,
-    )
-    .map_err(|e| fail(override_message(&pass.module, &e)))?;
+    let (module, info) =
+        naga::back::pipeline_constants::process_overrides(&pass.module, &info, None, &constants)
+            .map_err(|e| fail(override_message(&pass.module, &e)))?;
     let (module, info) = (module.as_ref(), info.as_ref());
     let entry = module
         .entry_points
@@ -282,7 +278,10 @@ fn override_message(
                 .iter()
                 .find(|(_, o)| id.is_some() && o.id == id)
                 .and_then(|(_, o)| o.name.clone())
-                .map_or_else(|| format!("`{key}`"), |name| format!("`{name}` (@id({key}))"));
+                .map_or_else(
+                    || format!("`{key}`"),
+                    |name| format!("`{name}` (@id({key}))"),
+                );
             format!("the override {named} has no default and no value was given for it")
         }
         E::SrcNeedsToBeFinite | E::DstRangeTooSmall => {

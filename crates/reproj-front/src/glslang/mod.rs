@@ -122,16 +122,17 @@ fn compile(path: &Path, source: &str) -> Result<Vec<u32>, GlslangError> {
         _ => {
             let text = String::from_utf8_lossy(&output.stdout).into_owned()
                 + &String::from_utf8_lossy(&output.stderr);
-            return Err(GlslangError::Front(FrontError::Parse(SourceDiagnostic::new(
-                path.to_owned(),
-                source,
-                messages(&text, source),
-            ))));
+            return Err(GlslangError::Front(FrontError::Parse(
+                SourceDiagnostic::new(path.to_owned(), source, messages(&text, source)),
+            )));
         }
     };
-    if bytes.len() % 4 != 0 {
+    if !bytes.len().is_multiple_of(4) {
         return Err(GlslangError::Front(FrontError::Internal {
-            what: format!("glslang wrote {} bytes of SPIR-V, not whole words", bytes.len()),
+            what: format!(
+                "glslang wrote {} bytes of SPIR-V, not whole words",
+                bytes.len()
+            ),
         }));
     }
     Ok(bytes
@@ -181,7 +182,7 @@ fn freeze_spec_constants(
     let output = child
         .wait_with_output()
         .map_err(|e| unsupported(format!("spirv-opt failed: {e}")))?;
-    if !output.status.success() || written.is_err() || output.stdout.len() % 4 != 0 {
+    if !output.status.success() || written.is_err() || !output.stdout.len().is_multiple_of(4) {
         return Err(unsupported(format!(
             "spirv-opt failed: {}",
             String::from_utf8_lossy(&output.stderr).trim()

@@ -93,7 +93,7 @@ pub(super) fn string_of(words: &[u32]) -> String {
 fn string_words(s: &str) -> Vec<u32> {
     let mut bytes = s.as_bytes().to_vec();
     bytes.push(0);
-    while bytes.len() % 4 != 0 {
+    while !bytes.len().is_multiple_of(4) {
         bytes.push(0);
     }
     bytes
@@ -135,9 +135,7 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
             {
                 arrays.insert(o[0], fresh());
             }
-            Some(Op::TypePointer)
-                if sampled.contains_key(&o[2]) || arrays.contains_key(&o[2]) =>
-            {
+            Some(Op::TypePointer) if sampled.contains_key(&o[2]) || arrays.contains_key(&o[2]) => {
                 pointers.insert(o[0], fresh());
             }
             Some(Op::Variable) if pointers.contains_key(&o[0]) => {
@@ -165,7 +163,10 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
     let mut free: BTreeMap<u32, u32> = BTreeMap::new();
     for (&(target, kind), &value) in &decorations {
         if kind == BINDING {
-            let group = decorations.get(&(target, DESCRIPTOR_SET)).copied().unwrap_or(0);
+            let group = decorations
+                .get(&(target, DESCRIPTOR_SET))
+                .copied()
+                .unwrap_or(0);
             let slot = free.entry(group).or_default();
             *slot = (*slot).max(value + 1);
         }
@@ -176,13 +177,19 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
         let Some(&image_binding) = decorations.get(&(var, BINDING)) else {
             continue;
         };
-        let group = decorations.get(&(var, DESCRIPTOR_SET)).copied().unwrap_or(0);
+        let group = decorations
+            .get(&(var, DESCRIPTOR_SET))
+            .copied()
+            .unwrap_or(0);
         let slot = free.entry(group).or_default();
         let binding = *slot;
         *slot += 1;
         sampler_binding.insert(var, (group, binding));
         split.push(SplitSampler {
-            name: names.get(&var).cloned().unwrap_or_else(|| format!("id{var}")),
+            name: names
+                .get(&var)
+                .cloned()
+                .unwrap_or_else(|| format!("id{var}")),
             group,
             image_binding,
             sampler_binding: binding,
@@ -273,7 +280,10 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
                 let twin = fresh();
                 twins.insert(o[1], twin);
                 out.push(inst);
-                out.push(Inst::new(Op::FunctionParameter, vec![pointers[&o[0]], twin]));
+                out.push(Inst::new(
+                    Op::FunctionParameter,
+                    vec![pointers[&o[0]], twin],
+                ));
             }
             Some(Op::AccessChain | Op::InBoundsAccessChain) if twins.contains_key(&o[2]) => {
                 let twin_type = *pointers
@@ -304,7 +314,10 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
                     Op::Load,
                     vec![sampler_type, sampler, twins[&o[2]]],
                 ));
-                out.push(Inst::new(Op::SampledImage, vec![o[0], o[1], image, sampler]));
+                out.push(Inst::new(
+                    Op::SampledImage,
+                    vec![o[0], o[1], image, sampler],
+                ));
             }
             Some(Op::FunctionCall) => {
                 let mut operands = o[..3].to_vec();
