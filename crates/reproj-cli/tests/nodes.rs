@@ -449,3 +449,21 @@ fn instance_resolves_override_constants_for_other_languages() {
         "{glsl}"
     );
 }
+
+/// Without glslang, naga's GLSL front end reads the file and its error says what needs glslang.
+#[test]
+fn glsl_without_glslang_names_what_needs_it() {
+    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(["nodes", "shaders/corpus/glsl/normal_map.frag"])
+        .env("REPROJ_GLSLANG", "/nonexistent/glslangValidator")
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("combined image samplers (sampler2D, samplerCube, ...)")
+            && err.contains("need glslang"),
+        "{err}"
+    );
+}
