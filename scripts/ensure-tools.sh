@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Install the shader compilers that scripts/check-portability.sh (and the test that runs it) use to
-# compile reproj's output independently: glslangValidator (Debian package glslang-tools) and
-# spirv-val (spirv-tools), and the headless browser the `reproj report` test loads the page in
+# Install the shader compilers that reproj runs to read GLSL (glslangValidator, Debian package
+# glslang-tools; spirv-opt from spirv-tools freezes specialization constants used in constant
+# expressions) and that scripts/check-portability.sh (and the tests that run it) use to compile
+# reproj's output independently: glslangValidator and spirv-val (spirv-tools), and the headless browser the `reproj report` test loads the page in
 # (chromium), when they are missing and apt-get can install them. Never fails: without them the
 # portability test and the report test print that they skipped those tools. naga
 # (`cargo install naga-cli`) and tint (built from Dawn) are not installed here.
@@ -11,7 +12,7 @@ missing=()
 # C++ compiler.
 command -v c++ >/dev/null 2>&1 || missing+=(g++)
 command -v glslangValidator >/dev/null 2>&1 || missing+=(glslang-tools)
-command -v spirv-val >/dev/null 2>&1 || missing+=(spirv-tools)
+{ command -v spirv-val >/dev/null 2>&1 && command -v spirv-opt >/dev/null 2>&1; } || missing+=(spirv-tools)
 command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || missing+=(chromium)
 if [ ${#missing[@]} -eq 0 ]; then
     exit 0

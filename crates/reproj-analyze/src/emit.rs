@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use reproj_front::{LoadOptions, UnrollOptions, load};
 use reproj_instance::{
     CacheFormatChoice, InstanceOptions, NodeSelector, Reconstruct, Strategy, VARIANT_FILES,
-    Variant, backends::OutputLang, instance, instance_nodes, variant_files,
+    Variant, backends::Outputs, instance, instance_nodes, variant_files,
 };
 use reproj_io::Replace;
 use reproj_models::Metric;
@@ -46,8 +46,8 @@ pub struct EmitOptions {
     /// The shader to instance (`None`: the profile's, relative to the profile file). Either way
     /// it must be the shader that was profiled, up to comments and formatting.
     pub shader: Option<PathBuf>,
-    /// Languages to write the passes in besides WGSL.
-    pub langs: Vec<OutputLang>,
+    /// Languages to write the passes in besides WGSL, and the values of the override constants.
+    pub outputs: Outputs,
     /// Profiles of the same shader over other sessions (path, profile): the selection holds the
     /// budget on every session, the first profile's included ([`select_worst_case`]).
     pub also: Vec<(PathBuf, Profile)>,
@@ -687,7 +687,7 @@ fn write_variant(
     opts: &EmitOptions,
     report: &mut EmitReport,
 ) -> Result<(), AnalyzeError> {
-    for (name, bytes) in variant_files(variant, &opts.langs)? {
+    for (name, bytes) in variant_files(variant, &opts.outputs)? {
         staging.write(name, &bytes)?;
     }
     for p in &variant.manifest.passes {

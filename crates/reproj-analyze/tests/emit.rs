@@ -141,7 +141,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         strategy: None,
         integration: Default::default(),
         shader: None,
-        langs: Vec::new(),
+        outputs: Default::default(),
         also: Vec::new(),
         target: None,
         node: None,

@@ -10,7 +10,8 @@ mod cmd;
 mod values;
 use values::{
     backend_help, block_size, delta_n_limit, depth_epsilon, non_negative, output_path,
-    parse_backend, positive, positive_fraction, positive_seconds, refresh_period, unit_fraction,
+    override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period,
+    unit_fraction,
 };
 
 /// Automatic reprojection-cache optimizer for WGSL, GLSL and SPIR-V fragment shaders.
@@ -391,6 +392,10 @@ pub struct EmitArgs {
     /// Also write every pass in these languages, beside its WGSL (comma-separated).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub lang: Vec<LangArg>,
+    /// The value of an `override` constant in the --lang passes, NAME=VALUE (repeatable; the
+    /// others keep their defaults).
+    #[arg(long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
+    pub overrides: Vec<(String, f64)>,
     /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
     /// below this: for CI, "nothing under the budget is worth it".
     #[arg(long, value_parser = positive)]
@@ -584,6 +589,10 @@ pub struct InstanceArgs {
     /// Also write every pass in these languages, beside its WGSL (comma-separated).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub lang: Vec<LangArg>,
+    /// The value of an `override` constant in the --lang passes, NAME=VALUE (repeatable; the
+    /// others keep their defaults).
+    #[arg(long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
+    pub overrides: Vec<(String, f64)>,
 }
 
 /// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and

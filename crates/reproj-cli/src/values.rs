@@ -72,6 +72,27 @@ pub(crate) fn positive(s: &str) -> Result<f64, String> {
     }
 }
 
+/// `NAME=VALUE` of `--override`: an `override` constant's name (or `@id` number) and a finite
+/// number (`true`/`false` for a bool).
+pub(crate) fn override_value(s: &str) -> Result<(String, f64), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}` is not NAME=VALUE"))?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err(format!("`{s}` names no override"));
+    }
+    let value = match value.trim() {
+        "true" => 1.0,
+        "false" => 0.0,
+        v => match v.parse::<f64>() {
+            Ok(v) if v.is_finite() => v,
+            _ => return Err(format!("`{v}` is not a finite number (nor true/false)")),
+        },
+    };
+    Ok((name.to_owned(), value))
+}
+
 /// A fraction in [0, 1].
 pub(crate) fn unit_fraction(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {

@@ -972,17 +972,63 @@ fn cases(good_session: &serde_json::Value, good_profile: &serde_json::Value) -> 
             "u.html",
         ),
     ]);
-    // A panic inside a third-party writer is caught: exit 2, one line, nothing written.
+    // What a writer cannot write is refused before it is called: exit 2, one line naming the
+    // variable, nothing written.
     const EXTERNAL: &str = "@group(0) @binding(0) var ext: texture_external;\n@group(0) @binding(1) var smp: sampler;\n@fragment\nfn fs_main(@location(0) p: vec3<f32>, @location(2) uv: vec2<f32>) -> @location(0) vec4<f32> {\n    let c = textureSampleBaseClampToEdge(ext, smp, uv).rgb;\n    return vec4<f32>(c * (sin(p * 7.0) * 0.5 + 0.5), 1.0);\n}\n";
     for (name, lang, expect) in [
-        ("texture_external to GLSL", "glsl", "GLSL writer failed"),
-        ("texture_external to SPIR-V", "spv", "SPIR-V writer failed"),
+        (
+            "texture_external to GLSL",
+            "glsl",
+            "`ext` is a texture_external, which the GLSL output cannot hold",
+        ),
+        (
+            "texture_external to SPIR-V",
+            "spv",
+            "`ext` is a texture_external, which the SPIR-V output cannot hold",
+        ),
     ] {
         v.push(case(
             name,
             &[("ext.wgsl", EXTERNAL)],
             &[
                 "instance", "ext.wgsl", "--node", "root", "--out", "v3", "--lang", lang,
+            ],
+            expect,
+        ));
+    }
+    // `--override` names an override constant the shader declares, with a number.
+    const OVERRIDE: &str = "override gain: f32 = 1.0;\n@fragment\nfn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {\n    return vec4<f32>(sin(p * 7.0) * gain, 1.0);\n}\n";
+    for (name, value, expect) in [
+        (
+            "override the shader does not declare",
+            "bias=2",
+            "the shader has no override constant `bias` (its overrides: gain)",
+        ),
+        (
+            "override without a value",
+            "gain",
+            "`gain` is not NAME=VALUE",
+        ),
+        (
+            "override not a number",
+            "gain=fast",
+            "`fast` is not a finite number",
+        ),
+    ] {
+        v.push(case(
+            name,
+            &[("o.wgsl", OVERRIDE)],
+            &[
+                "instance",
+                "o.wgsl",
+                "--node",
+                "root",
+                "--out",
+                "v4",
+                "--lang",
+                "glsl",
+                "--override",
+                value,
             ],
             expect,
         ));

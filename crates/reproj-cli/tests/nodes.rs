@@ -298,7 +298,8 @@ fn bad_session_names_the_field() {
     assert!(err.contains("resolution"), "{err}");
 }
 
-/// GLSL input by extension: marble's GLSL twin has about as many cacheable nodes as the WGSL one.
+/// GLSL input by extension: marble's GLSL twin (through glslang) has about as many nodes as the
+/// WGSL one.
 #[test]
 fn glsl_marble_nodes() {
     let count = |shader: &str| {
@@ -311,7 +312,8 @@ fn glsl_marble_nodes() {
         count("shaders/marble.wgsl"),
         count("shaders/glsl/marble.frag"),
     );
-    assert!((g - w).abs() <= 0.05 * w, "GLSL {g}, WGSL {w}");
+    // glslang's SPIR-V spells a few values in more steps than naga's WGSL.
+    assert!(g >= w && g <= 1.1 * w, "GLSL {g}, WGSL {w}");
     // `--lang-in` reads a file whatever its extension.
     let dir = tempfile::tempdir().unwrap();
     let renamed = dir.path().join("marble.txt");
@@ -319,7 +321,7 @@ fn glsl_marble_nodes() {
     let renamed = renamed.to_str().unwrap();
     let (code, out, err) = reproj(&["nodes", renamed, "--lang-in", "glsl"]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("391 cacheable"), "{out}");
+    assert!(out.contains("411 cacheable"), "{out}");
 }
 
 /// A shader with no cacheable node says why, one line per reason, and exits 0.
@@ -387,4 +389,81 @@ fn instance_writes_other_languages() {
             assert!(f.is_file(), "{} missing; {stdout}", f.display());
         }
     }
+}
+
+/// Vulkan GLSL with combined image samplers (`sampler2D`, read through glslang): `nodes` lists
+/// nodes at their GLSL lines, and `nodes --json` names the image and sampler bindings it split.
+#[test]
+fn glsl_with_combined_samplers_nodes() {
+    let shader = "shaders/corpus/glsl/normal_map.frag";
+    let (code, out, err) = reproj(&["nodes", shader]);
+    assert_eq!(code, 0, "{err}");
+    // `vec3 color = texture(samplerColor, inUV).rgb` is line 31 of the file.
+    assert!(
+        out.lines()
+            .any(|l| l.contains(" 31:5 ") && l.contains("texture(samplerColor, inUV)")),
+        "{out}"
+    );
+    let (code, out, err) = reproj(&["nodes", shader, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(!v["nodes"].as_array().unwrap().is_empty(), "{out}");
+}
+
+/// `override` constants: every `--lang` output is written with the defaults, or with the values
+/// `--override` gives.
+#[test]
+fn instance_resolves_override_constants_for_other_languages() {
+    let dir = tempfile::tempdir().unwrap();
+    let shader = dir.path().join("o.wgsl");
+    std::fs::write(
+        &shader,
+        "override gain: f32 = 1.0;\n@id(7) override bias: f32;\n@fragment\nfn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {\n    return vec4<f32>(sin(p * 7.0) * gain + bias, 1.0);\n}\n",
+    )
+    .unwrap();
+    let out = dir.path().join("v");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "instance",
+            shader.to_str().unwrap(),
+            "--node",
+            "root",
+            "--lang",
+            "glsl,hlsl,msl,spv",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        reproj(&args)
+    };
+    // `bias` has no default: without a value the backends cannot write it.
+    let (code, _, err) = run(&[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("`bias` (@id(7)) has no default"), "{err}");
+    let (code, _, err) = run(&["--override", "7=0.25", "--override", "gain=2"]);
+    assert_eq!(code, 0, "{err}");
+    // The pass that computes the root holds the values as constants.
+    let glsl = std::fs::read_to_string(out.join("pass2_recompute.frag")).unwrap();
+    assert!(
+        glsl.contains("const float gain = 2.0;") && glsl.contains("const float bias = 0.25;"),
+        "{glsl}"
+    );
+}
+
+/// Without glslang, naga's GLSL front end reads the file and its error says what needs glslang.
+#[test]
+fn glsl_without_glslang_names_what_needs_it() {
+    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(["nodes", "shaders/corpus/glsl/normal_map.frag"])
+        .env("REPROJ_GLSLANG", "/nonexistent/glslangValidator")
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("combined image samplers (sampler2D, samplerCube, ...)")
+            && err.contains("need glslang"),
+        "{err}"
+    );
 }

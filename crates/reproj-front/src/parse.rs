@@ -1,8 +1,9 @@
 //! Parsing, validation and entry-point choice, for the three input languages.
 //!
 //! WGSL and GLSL (fragment stage) keep their own text as the source that diagnostics and node
-//! positions point into. SPIR-V has no text: its module is written out as WGSL by naga and parsed
-//! again, so that every span points into that WGSL.
+//! positions point into. GLSL is compiled by glslang ([`crate::glslang`]); naga's GLSL front end
+//! reads it only where glslang is not installed. SPIR-V has no text: its module is written out as
+//! WGSL by naga and parsed again, so that every span points into that WGSL.
 
 use std::path::{Path, PathBuf};
 
@@ -14,7 +15,7 @@ use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Lang {
     Wgsl,
-    /// GLSL 4.50 (or what naga's GLSL front end reads), fragment stage.
+    /// GLSL 4.50 for Vulkan, fragment stage (compiled by glslang).
     Glsl,
     /// A SPIR-V binary.
     SpirV,
@@ -54,6 +55,9 @@ pub struct Shader {
     pub source: String,
     pub module: naga::Module,
     pub info: ModuleInfo,
+    /// The GLSL combined image samplers split into an image and a sampler, with the binding each
+    /// half has in `module` (empty for other languages).
+    pub split_samplers: Vec<crate::glslang::SplitSampler>,
 }
 
 /// Everything that can go wrong in the front end. Each variant renders as one clear message; the
@@ -131,6 +135,7 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
     let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
     match lang {
         Lang::SpirV => parse_spirv(path, &std::fs::read(path).map_err(io)?),
+        Lang::Glsl => parse_glsl(path, std::fs::read_to_string(path).map_err(io)?),
         text => parse_text(path, text, std::fs::read_to_string(path).map_err(io)?),
     }
 }
@@ -140,9 +145,37 @@ pub fn parse_shader(path: &Path, source: String) -> Result<Shader, FrontError> {
     parse_text(path, Lang::Wgsl, source)
 }
 
-/// Parse GLSL fragment-shader text (naga's GLSL front end) and validate the module.
+/// Compile GLSL fragment-shader text with glslang ([`crate::glslang`]) and validate the module;
+/// where glslang is not installed, naga's GLSL front end reads it.
 pub fn parse_glsl(path: &Path, source: String) -> Result<Shader, FrontError> {
-    parse_text(path, Lang::Glsl, source)
+    match crate::glslang::parse(path, source.clone()) {
+        Ok(shader) => Ok(shader),
+        Err(crate::glslang::GlslangError::Front(e)) => Err(e),
+        Err(crate::glslang::GlslangError::Missing) => {
+            parse_text(path, Lang::Glsl, source).map_err(|e| match e {
+                FrontError::Parse(mut d) => {
+                    for m in &mut d.messages {
+                        m.notes.push(missing_glslang_note(&m.text));
+                    }
+                    FrontError::Parse(d)
+                }
+                e => e,
+            })
+        }
+    }
+}
+
+/// What a naga GLSL parse error needs, said when glslang is missing.
+fn missing_glslang_note(text: &str) -> String {
+    let feature = if text.contains("variable qualifier") {
+        "combined image samplers (sampler2D, samplerCube, ...) and layout(offset = N) need glslang"
+    } else {
+        "naga's GLSL front end reads less GLSL than glslang"
+    };
+    format!(
+        "{feature}: `{}` was not found (install glslang-tools: scripts/ensure-tools.sh), so naga's GLSL front end read this file",
+        crate::glslang::glslang_program()
+    )
 }
 
 /// Parse a SPIR-V binary (naga's SPIR-V front end), validate it, and make its WGSL the source
@@ -245,6 +278,7 @@ fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontEr
         source,
         module,
         info,
+        split_samplers: Vec::new(),
     })
 }
 
@@ -299,6 +333,7 @@ impl Shader {
             })?;
         Ok(Shader {
             lang: self.lang,
+            split_samplers: self.split_samplers.clone(),
             ..shader
         })
     }

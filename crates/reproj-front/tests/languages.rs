@@ -37,14 +37,19 @@ fn glsl_marble_has_the_nodes_of_its_wgsl_twin() {
     assert_eq!(glsl.shader.lang, Lang::Glsl);
     let (w, g) = (cacheable(&wgsl), cacheable(&glsl));
     assert!(w > 300, "{w}");
-    assert!(close(g, w), "GLSL marble: {g} cacheable nodes, WGSL: {w}");
-    // The root is the color written to the `out` variable, at its line in the GLSL file.
+    // glslang's SPIR-V spells a few values in more steps than naga's WGSL (vector splats).
+    assert!(
+        g >= w && g * 10 <= w * 11,
+        "GLSL marble: {g} cacheable nodes, WGSL: {w}"
+    );
+    // The root is the color written to the `out` variable, at its line in the GLSL file
+    // (glslang's OpLine: a node is placed at its line, whose text it shows).
     let root = glsl.table.root();
     assert!(root.cacheable);
-    assert_eq!(root.text, "vec4(color, 1.0)");
+    assert_eq!(root.text, "frag_color = vec4(color, 1.0)");
     assert_eq!(root.line, 104);
-    // The octave sums are nodes, with their GLSL text.
-    for text in ["n0 + n1", "s3 + n4"] {
+    // The octave sums are nodes, at their lines.
+    for text in ["float s1 = n0 + n1", "float s4 = s3 + n4"] {
         assert!(
             glsl.table.cacheable().any(|n| n.text == text),
             "no cacheable `{text}`"
@@ -52,10 +57,10 @@ fn glsl_marble_has_the_nodes_of_its_wgsl_twin() {
     }
 }
 
-/// naga's GLSL reader gives built-in calls no span: their nodes take their operands' place,
-/// widened to the call (`normalize(l + v)`), so nearly every node has a file position.
+/// glslang writes an OpLine before each statement: nearly every node has its GLSL line, and no
+/// text runs past its line.
 #[test]
-fn glsl_built_in_calls_get_a_position_from_their_operands() {
+fn glsl_nodes_are_placed_at_their_glsl_lines() {
     let glsl = load(
         &root().join("shaders/glsl/marble.frag"),
         None,
@@ -65,19 +70,23 @@ fn glsl_built_in_calls_get_a_position_from_their_operands() {
     let nodes = &glsl.table.nodes;
     let unplaced = nodes.iter().filter(|n| n.line == 0).count();
     assert!(
-        unplaced * 20 < nodes.len(),
+        unplaced * 10 < nodes.len(),
         "{unplaced} of {} nodes without a position",
         nodes.len()
     );
     assert!(
         nodes
             .iter()
-            .any(|n| n.text == "normalize(l + v)" && n.line > 0),
-        "the half vector's `normalize` call is not named as written"
+            .any(|n| n.text == "vec3 h = normalize(l + v)" && n.line == 95),
+        "the half vector's line is not a node"
     );
-    // No text runs across a declaration (a constant's span is where it is declared).
     for n in nodes {
-        assert!(!n.text.contains(';'), "node {}: {:?}", n.id, n.text);
+        assert!(
+            !n.text.contains(';') && !n.text.contains('\n'),
+            "node {}: {:?}",
+            n.id,
+            n.text
+        );
     }
 }
 

@@ -4,7 +4,14 @@
 //! `--lang` adds each pass in GLSL 4.50, HLSL (shader model 5.1), MSL 2.1 or SPIR-V beside it,
 //! written from the same validated module. GLSL holds one entry point per file: the pass's
 //! (entry point 0, the one the manifest names); the others hold every entry point.
+//!
+//! naga's writers take no `override` constants: each module's overrides are first replaced by
+//! their values ([`Outputs::overrides`], else their defaults) with naga's `process_overrides`.
+//! What a writer cannot write (`texture_external` in GLSL and SPIR-V, binding arrays in GLSL) is
+//! refused before it is called, with the variable's name. In HLSL, push constants (a GLSL input's
+//! `layout(push_constant)` block) are the constant buffer `b0` of space [`IMMEDIATES_SPACE`].
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use crate::{InstanceError, PassModule, pass_file};
@@ -40,6 +47,84 @@ impl OutputLang {
     }
 }
 
+/// The HLSL register space of the push constants (naga's immediates) of a GLSL input: `b0` there.
+pub const IMMEDIATES_SPACE: u8 = 254;
+
+/// Values of a shader's `override` constants, by name (or by `@id` number), for the passes written
+/// in other languages; an override not named keeps its default.
+pub type Overrides = BTreeMap<String, f64>;
+
+/// What is written besides the WGSL: the languages, and the values of the `override` constants.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Outputs {
+    pub langs: Vec<OutputLang>,
+    pub overrides: Overrides,
+}
+
+impl Outputs {
+    /// `langs`, every override at its default.
+    pub fn langs(langs: &[OutputLang]) -> Outputs {
+        Outputs {
+            langs: langs.to_vec(),
+            overrides: Overrides::new(),
+        }
+    }
+}
+
+/// Whether `module` declares the override `key` (its name, or its `@id` number).
+fn declares(module: &naga::Module, key: &str) -> bool {
+    let id = key.parse::<u16>().ok();
+    module.overrides.iter().any(|(_, o)| match o.id {
+        Some(n) if id == Some(n) => true,
+        _ => o.name.as_deref() == Some(key),
+    })
+}
+
+/// Refuses `overrides` naming a constant none of `modules` declares.
+pub fn check_overrides<'a>(
+    modules: impl IntoIterator<Item = &'a naga::Module> + Clone,
+    overrides: &Overrides,
+) -> Result<(), InstanceError> {
+    for key in overrides.keys() {
+        if !modules.clone().into_iter().any(|m| declares(m, key)) {
+            let mut known: Vec<String> = modules
+                .clone()
+                .into_iter()
+                .flat_map(|m| m.overrides.iter().filter_map(|(_, o)| o.name.clone()))
+                .collect();
+            known.sort();
+            known.dedup();
+            return Err(InstanceError::UnknownOverride {
+                name: key.clone(),
+                known,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Why `lang`'s writer cannot write `module`, before it is called: naga 30's GLSL and SPIR-V
+/// writers panic on `texture_external`, and its GLSL writer on binding arrays (GLSL's
+/// `sampler2D textures[4]`, split into arrays of textures and samplers).
+pub fn unsupported_in(module: &naga::Module, lang: OutputLang) -> Option<String> {
+    module.global_variables.iter().find_map(|(_, var)| {
+        let name = var.name.as_deref().unwrap_or("a global");
+        match module.types[var.ty].inner {
+            naga::TypeInner::Image {
+                class: naga::ImageClass::External,
+                ..
+            } if matches!(lang, OutputLang::Glsl | OutputLang::SpirV) => Some(format!(
+                "`{name}` is a texture_external, which the {} output cannot hold (naga's writer has no external textures); write this shader in HLSL or MSL, or bind a texture_2d<f32>",
+                lang.name()
+            )),
+            naga::TypeInner::BindingArray { .. } if lang == OutputLang::Glsl => Some(format!(
+                "`{name}` is a binding array, which naga's GLSL writer cannot write; write this shader in HLSL, MSL or SPIR-V"
+            )),
+            _ => None,
+        }
+    })
+}
+
 /// File name of `pass` in `lang`: the WGSL file's name with the language's extension.
 pub fn pass_file_in(pass: &PassModule, lang: OutputLang) -> String {
     PathBuf::from(pass_file(pass.kind))
@@ -52,8 +137,12 @@ pub fn pass_file_in(pass: &PassModule, lang: OutputLang) -> String {
 /// input they do not support (`texture_external` in GLSL or SPIR-V, in naga 30): a panic there is
 /// caught and becomes [`InstanceError::Backend`] (a user error, exit 2) instead of ending the
 /// process — a last line of defence; refusing known-unsupported input first is better.
-pub fn write_pass(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, InstanceError> {
-    guarded(|| write_pass_unguarded(pass, lang)).unwrap_or_else(|message| {
+pub fn write_pass(
+    pass: &PassModule,
+    lang: OutputLang,
+    overrides: &Overrides,
+) -> Result<Vec<u8>, InstanceError> {
+    guarded(|| write_pass_unguarded(pass, lang, overrides)).unwrap_or_else(|message| {
         Err(InstanceError::Backend {
             file: pass_file_in(pass, lang),
             what: format!(
@@ -81,15 +170,31 @@ fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     })
 }
 
-fn write_pass_unguarded(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, InstanceError> {
+fn write_pass_unguarded(
+    pass: &PassModule,
+    lang: OutputLang,
+    overrides: &Overrides,
+) -> Result<Vec<u8>, InstanceError> {
     let fail = |what: String| InstanceError::Backend {
         file: pass_file_in(pass, lang),
         what,
     };
-    let module = &pass.module;
+    if let Some(what) = unsupported_in(&pass.module, lang) {
+        return Err(fail(what));
+    }
     let info = reproj_front::validator()
-        .validate(module)
+        .validate(&pass.module)
         .map_err(|e| fail(format!("the module does not validate: {e}")))?;
+    // The overrides this pass declares, by name or id, with their values.
+    let constants: naga::back::PipelineConstants = overrides
+        .iter()
+        .filter(|(key, _)| declares(&pass.module, key))
+        .map(|(key, &value)| (key.clone(), value))
+        .collect();
+    let (module, info) =
+        naga::back::pipeline_constants::process_overrides(&pass.module, &info, None, &constants)
+            .map_err(|e| fail(override_message(&pass.module, &e)))?;
+    let (module, info) = (module.as_ref(), info.as_ref());
     let entry = module
         .entry_points
         .first()
@@ -111,7 +216,7 @@ fn write_pass_unguarded(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, 
             glsl::Writer::new(
                 &mut text,
                 module,
-                &info,
+                info,
                 &options,
                 &pipeline,
                 naga::proc::BoundsCheckPolicies::default(),
@@ -123,10 +228,18 @@ fn write_pass_unguarded(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, 
         OutputLang::Hlsl => {
             use naga::back::hlsl;
             let mut text = String::new();
-            let options = hlsl::Options::default();
+            // A GLSL input's push constants (naga's immediates) need a register: `b0` of
+            // space 254, out of the way of the bind groups' spaces and naga's sampler heap (255).
+            let options = hlsl::Options {
+                immediates_target: Some(hlsl::BindTarget {
+                    space: IMMEDIATES_SPACE,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            };
             let pipeline = hlsl::PipelineOptions::default();
             hlsl::Writer::new(&mut text, &options, &pipeline)
-                .write(module, &info, None)
+                .write(module, info, None)
                 .map_err(|e| fail(e.to_string()))?;
             Ok(text.into_bytes())
         }
@@ -137,15 +250,43 @@ fn write_pass_unguarded(pass: &PassModule, lang: OutputLang) -> Result<Vec<u8>, 
                 ..Default::default()
             };
             let (text, _) =
-                msl::write_string(module, &info, &options, &msl::PipelineOptions::default())
+                msl::write_string(module, info, &options, &msl::PipelineOptions::default())
                     .map_err(|e| fail(e.to_string()))?;
             Ok(text.into_bytes())
         }
         OutputLang::SpirV => {
             use naga::back::spv;
-            let words = spv::write_vec(module, &info, &spv::Options::default(), None)
+            let words = spv::write_vec(module, info, &spv::Options::default(), None)
                 .map_err(|e| fail(e.to_string()))?;
             Ok(words.iter().flat_map(|w| w.to_le_bytes()).collect())
         }
+    }
+}
+
+/// naga's override error, in words a shader author acts on (an override naga names by its id is
+/// named by its name too).
+fn override_message(
+    module: &naga::Module,
+    e: &naga::back::pipeline_constants::PipelineConstantError,
+) -> String {
+    use naga::back::pipeline_constants::PipelineConstantError as E;
+    match e {
+        E::MissingValue(key) => {
+            let id = key.parse::<u16>().ok();
+            let named = module
+                .overrides
+                .iter()
+                .find(|(_, o)| id.is_some() && o.id == id)
+                .and_then(|(_, o)| o.name.clone())
+                .map_or_else(
+                    || format!("`{key}`"),
+                    |name| format!("`{name}` (@id({key}))"),
+                );
+            format!("the override {named} has no default and no value was given for it")
+        }
+        E::SrcNeedsToBeFinite | E::DstRangeTooSmall => {
+            format!("an override value does not fit its type ({e})")
+        }
+        _ => format!("cannot resolve the override constants: {e}"),
     }
 }

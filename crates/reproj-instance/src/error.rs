@@ -51,6 +51,9 @@ pub enum InstanceError {
     /// A naga backend could not write a pass in another language.
     #[error("cannot write {file}: {what}")]
     Backend { file: String, what: String },
+    /// A value was given for an `override` constant the shader does not declare.
+    #[error("the shader has no override constant `{name}` (its overrides: {})", if known.is_empty() { "none".to_owned() } else { known.join(", ") })]
+    UnknownOverride { name: String, known: Vec<String> },
     #[error(transparent)]
     Front(#[from] reproj_front::FrontError),
     /// A node cannot be replaced by a constant (code simplification).

@@ -12,17 +12,17 @@ pub const VARIANT_FILES: &[&str] = &["wgsl", "json", "frag", "hlsl", "metal", "s
 /// ([`reproj_io::StagedDir`]), so a failure leaves `dir` as it was and a success leaves no file
 /// of an earlier variant.
 pub fn write_variant(variant: &Variant, dir: &Path) -> Result<(), InstanceError> {
-    write_variant_in(variant, dir, &[])
+    write_variant_in(variant, dir, &backends::Outputs::default())
 }
 
-/// [`write_variant`], and every pass also in each of `langs` ([`backends`]) beside its WGSL.
-/// Every file is generated before any is written: a backend error writes nothing.
+/// [`write_variant`], and every pass also in each of `outputs`' languages ([`backends`]) beside its
+/// WGSL. Every file is generated before any is written: a backend error writes nothing.
 pub fn write_variant_in(
     variant: &Variant,
     dir: &Path,
-    langs: &[backends::OutputLang],
+    outputs: &backends::Outputs,
 ) -> Result<(), InstanceError> {
-    let files = variant_files(variant, langs)?;
+    let files = variant_files(variant, outputs)?;
     let staged = reproj_io::StagedDir::new(dir, reproj_io::Replace::OwnFiles(VARIANT_FILES))?;
     for (name, bytes) in files {
         staged.write(name, &bytes)?;
@@ -31,22 +31,25 @@ pub fn write_variant_in(
     Ok(())
 }
 
-/// The files of a variant directory, by name: each pass's WGSL, each pass in each of `langs`,
-/// and `manifest.json`.
+/// The files of a variant directory, by name: each pass's WGSL, each pass in each of `outputs`'
+/// languages (override constants resolved), and `manifest.json`.
 pub fn variant_files(
     variant: &Variant,
-    langs: &[backends::OutputLang],
+    outputs: &backends::Outputs,
 ) -> Result<Vec<(String, Vec<u8>)>, InstanceError> {
+    if !outputs.langs.is_empty() {
+        backends::check_overrides(variant.passes.iter().map(|p| &p.module), &outputs.overrides)?;
+    }
     let mut files: Vec<(String, Vec<u8>)> = variant
         .passes
         .iter()
         .map(|p| (pass_file(p.kind).to_owned(), p.wgsl.clone().into_bytes()))
         .collect();
-    for &lang in langs {
+    for &lang in &outputs.langs {
         for p in &variant.passes {
             files.push((
                 backends::pass_file_in(p, lang),
-                backends::write_pass(p, lang)?,
+                backends::write_pass(p, lang, &outputs.overrides)?,
             ));
         }
     }

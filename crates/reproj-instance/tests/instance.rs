@@ -460,7 +460,7 @@ fn glsl_marble_instances_in_every_strategy() {
 /// `--lang`: every pass of marble's variants in GLSL, HLSL, MSL and SPIR-V, beside the WGSL.
 #[test]
 fn passes_are_written_in_every_output_language() {
-    use reproj_instance::backends::{OutputLang, pass_file_in};
+    use reproj_instance::backends::{OutputLang, Outputs, pass_file_in};
     let (shader, norm, table) = load("marble.wgsl");
     let langs = [
         OutputLang::Glsl,
@@ -476,7 +476,7 @@ fn passes_are_written_in_every_output_language() {
         };
         let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
         let dir = tempfile::tempdir().unwrap();
-        reproj_instance::write_variant_in(&v, dir.path(), &langs).unwrap();
+        reproj_instance::write_variant_in(&v, dir.path(), &Outputs::langs(&langs)).unwrap();
         for p in &v.passes {
             for lang in langs {
                 let bytes = std::fs::read(dir.path().join(pass_file_in(p, lang))).unwrap();

@@ -79,7 +79,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         },
         integration: super::integrate(Default::default(), args.integration),
         shader: args.shader.clone(),
-        langs: super::output_langs(&args.lang),
+        outputs: super::outputs(&args.lang, &args.overrides),
         also,
         target,
     };

@@ -27,8 +27,9 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         args.integration,
     );
     let variant = instance_nodes(shader, norm, table, &selectors, &opts)?;
-    let langs = super::output_langs(&args.lang);
-    write_variant_in(&variant, &args.out, &langs)?;
+    let outputs = super::outputs(&args.lang, &args.overrides);
+    write_variant_in(&variant, &args.out, &outputs)?;
+    let langs = outputs.langs;
     let m = &variant.manifest;
     writeln!(
         stdout,

@@ -146,8 +146,19 @@ pub fn load_shader(
     Ok(reproj_front::load(path, entry, &options)?)
 }
 
+/// What `--lang` and `--override` ask for (WGSL is always written).
+pub fn outputs(
+    langs: &[crate::LangArg],
+    overrides: &[(String, f64)],
+) -> reproj_instance::backends::Outputs {
+    reproj_instance::backends::Outputs {
+        langs: output_langs(langs),
+        overrides: overrides.iter().cloned().collect(),
+    }
+}
+
 /// The backends `--lang` asks for (WGSL is always written).
-pub fn output_langs(langs: &[crate::LangArg]) -> Vec<reproj_instance::backends::OutputLang> {
+fn output_langs(langs: &[crate::LangArg]) -> Vec<reproj_instance::backends::OutputLang> {
     use reproj_instance::backends::OutputLang as O;
     let mut out = Vec::new();
     for l in langs {
