@@ -261,5 +261,8 @@ fn render_reports_progress_per_frame_on_stderr() {
 
     let (code, _, err) = reproj(&args);
     assert_eq!(code, 0, "{err}");
-    assert!(!err.contains("frames:"), "a short render prints no line: {err}");
+    assert!(
+        !err.contains("frames:"),
+        "a short render prints no line: {err}"
+    );
 }

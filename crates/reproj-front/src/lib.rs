@@ -8,6 +8,7 @@
 
 pub mod cost;
 pub mod diagnostic;
+mod exits;
 mod graph;
 pub mod ir;
 pub mod liveness;
