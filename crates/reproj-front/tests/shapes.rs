@@ -263,3 +263,36 @@ void main() {
     let table = enumerate(&shader, &norm);
     assert!(table.nodes.len() > 3, "{:#?}", table.nodes);
 }
+
+/// The real-style shaders of each shape load, with cacheable nodes inside what was refused: the
+/// `switch` cases of the corpus's `debug_views`, the helpers of its `early_returns`, the G-buffer
+/// fields of `tests/fixtures/gbuffer.wgsl` (not in the corpus: the replay draws one target).
+#[test]
+fn real_style_shaders_of_each_shape_load() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (path, inside) in [
+        ("../../shaders/corpus/debug_views.wgsl", "n * 0.5 + 0.5"),
+        ("tests/fixtures/gbuffer.wgsl", "base * (0.6 + 0.4 * grime)"),
+        (
+            "../../shaders/corpus/early_returns.wgsl",
+            "smoothstep(scene.spot_cos_outer, scene.spot_cos_inner, cos_angle)",
+        ),
+    ] {
+        let name = path.rsplit('/').next().unwrap();
+        let shader = reproj_front::load_file(&root.join(path)).unwrap_or_else(|e| panic!("{e}"));
+        let norm = normalize(&shader, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        let t = enumerate(&shader, &norm);
+        assert_eq!(returns(&norm.function().body), 1, "{name}");
+        let n = node(&t, inside);
+        assert!(
+            n.cacheable || n.reason == Some(CullReason::NonUniformBranch),
+            "{name}: `{inside}`: {:?}",
+            n.reason
+        );
+        assert!(
+            t.cacheable().count() >= 10,
+            "{name}: {}",
+            t.cacheable().count()
+        );
+    }
+}

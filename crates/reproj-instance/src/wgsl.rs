@@ -243,6 +243,18 @@ pub(crate) fn same_up_to_names(a: &str, b: &str) -> bool {
     true
 }
 
+/// File name of a pass's WGSL beside the manifest.
+pub fn pass_file(kind: PassKind) -> &'static str {
+    match kind {
+        PassKind::Reproject => "pass1_reproject.wgsl",
+        PassKind::Recompute => "pass2_recompute.wgsl",
+        PassKind::Shade => "pass3_shade.wgsl",
+        PassKind::Fused => "pass1_fused.wgsl",
+        PassKind::ShadeHits => "pass1_shade_hits.wgsl",
+        PassKind::ShadeMisses => "pass2_shade_misses.wgsl",
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::same_up_to_names;
@@ -267,17 +279,5 @@ mod tests {
         ] {
             assert!(!same_up_to_names(a, b), "{b}");
         }
-    }
-}
-
-/// File name of a pass's WGSL beside the manifest.
-pub fn pass_file(kind: PassKind) -> &'static str {
-    match kind {
-        PassKind::Reproject => "pass1_reproject.wgsl",
-        PassKind::Recompute => "pass2_recompute.wgsl",
-        PassKind::Shade => "pass3_shade.wgsl",
-        PassKind::Fused => "pass1_fused.wgsl",
-        PassKind::ShadeHits => "pass1_shade_hits.wgsl",
-        PassKind::ShadeMisses => "pass2_shade_misses.wgsl",
     }
 }
