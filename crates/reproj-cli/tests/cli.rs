@@ -220,3 +220,49 @@ fn json_reports_carry_schema_and_version() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(again.join("report.json").exists());
 }
+
+/// `render` says how far it is per frame on stderr: without a terminal, lines like `analyze`'s
+/// (one every 2 s once a replay runs that long; `REPROJ_PROGRESS_EVERY_MS=0` gives one per frame
+/// here), for the original and then the variant; none with `--json`, and none for a short render
+/// at the default period.
+#[test]
+fn render_reports_progress_per_frame_on_stderr() {
+    let args = [
+        "render",
+        TINY,
+        "--session",
+        TINY_SESSION,
+        "--node",
+        "root",
+        "--max-frames",
+        "3",
+    ];
+    let every = [("REPROJ_PROGRESS_EVERY_MS", "0")];
+    let (code, out, err) = reproj_env(&args, &every);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with('[')).collect();
+    for phase in ["original", "variant"] {
+        let of_phase: Vec<&&str> = lines
+            .iter()
+            .filter(|l| l.contains(&format!("] {phase} frames:")))
+            .collect();
+        assert_eq!(of_phase.len(), 3, "{phase}: {err}");
+        assert!(of_phase[2].starts_with("[3/3]"), "{err}");
+        assert!(of_phase.iter().all(|l| l.contains("ETA")), "{err}");
+    }
+    assert!(!out.contains("ETA"), "progress stays off stdout: {out}");
+
+    let mut json = args.to_vec();
+    json.push("--json");
+    let (code, out, err) = reproj_env(&json, &every);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("frames:"), "--json: no progress: {err}");
+    serde_json::from_str::<serde_json::Value>(&out).expect("stdout is the JSON report");
+
+    let (code, _, err) = reproj(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        !err.contains("frames:"),
+        "a short render prints no line: {err}"
+    );
+}

@@ -8,6 +8,7 @@
 
 pub mod cost;
 pub mod diagnostic;
+mod exits;
 pub mod glslang;
 mod graph;
 pub mod ir;

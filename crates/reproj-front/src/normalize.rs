@@ -55,27 +55,40 @@ pub struct NormalizeOptions {
 /// Normalize the chosen fragment entry point of `shader`.
 pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized, FrontError> {
     let index = shader.fragment_entry(opts.entry.as_deref())?;
-    let ep = &shader.module.entry_points[index];
+    // Early returns (in the entry point or a helper) rewritten to one exit per function. Should
+    // the rewrite not validate (a bug), the shader is read as written, and an early return in a
+    // helper is refused with its place as before.
+    let single =
+        crate::exits::single_exit(&shader.module).filter(|m| validator().validate(m).is_ok());
+    let source = single.as_ref().unwrap_or(&shader.module);
+    let ep = &source.entry_points[index];
+    if ep.function.result.is_none() {
+        return Err(shader.unsupported(
+            shader.entry_span(&ep.name),
+            format!(
+                "the fragment entry point `{}` has no output: reproj caches part of the color \
+                 it returns at @location(0)",
+                ep.name
+            ),
+        ));
+    }
     let located = |e: FrontError| match e {
         FrontError::UnsupportedAt { span, what } => shader.unsupported(span, what),
         e => e,
     };
-    let rebuilt =
-        rebuild_live(&shader.module, &ep.function, &Rewrite::Normalize).map_err(located)?;
-    let rebuilt = unroll_and_forward(&shader.module, rebuilt, &opts.unroll).map_err(located)?;
+    let rebuilt = rebuild_live(source, &ep.function, &Rewrite::Normalize).map_err(located)?;
+    let rebuilt = unroll_and_forward(source, rebuilt, &opts.unroll).map_err(located)?;
     let root_value = rebuilt.root.ok_or_else(|| {
         shader.unsupported(
-            ep.function
-                .body
-                .span_iter()
-                .last()
-                .map(|(_, s)| *s)
-                .unwrap_or_default(),
-            "the entry point must end with a `return` of its output",
+            shader.entry_span(&ep.name),
+            format!(
+                "the fragment entry point `{}` never returns its output",
+                ep.name
+            ),
         )
     })?;
     let call_site = rebuilt.call_site;
-    let mut module = shader.module.clone();
+    let mut module = source.clone();
     module.entry_points = vec![naga::EntryPoint {
         function: rebuilt.function,
         ..ep.clone()
@@ -106,21 +119,21 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
                 })
                 .ok_or_else(|| {
                     shader.unsupported(
-                        ep.function
-                            .body
-                            .span_iter()
-                            .last()
-                            .map(|(_, s)| *s)
-                            .unwrap_or_default(),
+                        shader.entry_span(&ep.name),
                         "the output struct has no @location(0) member",
                     )
                 })?;
             match &fun.expressions[root_value] {
                 Expression::Compose { components, .. } => components[loc0],
                 _ => {
+                    let at = Some(fun.expressions.get_span(root_value))
+                        .filter(|s| s.is_defined())
+                        .or_else(|| last_return(&ep.function.body))
+                        .unwrap_or_else(|| shader.entry_span(&ep.name));
                     return Err(shader.unsupported(
-                        fun.expressions.get_span(root_value),
-                        "the returned output struct must be constructed in the return",
+                        at,
+                        "the returned output struct must be built in straight-line code (a \
+                         constructor, or its fields stored one by one outside branches)",
                     ));
                 }
             }
@@ -152,6 +165,14 @@ pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized,
         call_site,
         unroll: opts.unroll,
     })
+}
+
+/// The span of the last top-level `return` of a function body.
+fn last_return(body: &naga::Block) -> Option<Span> {
+    body.span_iter()
+        .filter(|(s, span)| matches!(s, naga::Statement::Return { .. }) && span.is_defined())
+        .map(|(_, span)| *span)
+        .last()
 }
 
 /// Unroll the loops of a normalized function and normalize it again, so that the unrolled

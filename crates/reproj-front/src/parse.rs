@@ -376,7 +376,34 @@ impl Shader {
         }
     }
 
-    /// `file:line:col` of a span, for one-line messages.
+    /// The span of the name of the function `name` in the source (`fn name` in WGSL, `void name`
+    /// in GLSL), for errors about a whole entry point, whose IR has no span; undefined when not
+    /// found (a SPIR-V module's names, say).
+    pub fn entry_span(&self, name: &str) -> naga::Span {
+        let src = &self.source;
+        ["fn ", "void "]
+            .iter()
+            .find_map(|kw| {
+                let needle = format!("{kw}{name}");
+                src.match_indices(&needle)
+                    .find(|(i, _)| {
+                        let end = i + needle.len();
+                        let before_ok = src[..*i]
+                            .chars()
+                            .next_back()
+                            .is_none_or(|c| !c.is_alphanumeric() && c != '_');
+                        let after_ok =
+                            !src[end..].starts_with(|c: char| c.is_alphanumeric() || c == '_');
+                        before_ok && after_ok
+                    })
+                    .map(|(i, _)| {
+                        let start = (i + kw.len()) as u32;
+                        naga::Span::new(start, start + name.len() as u32)
+                    })
+            })
+            .unwrap_or_default()
+    }
+
     /// An unsupported-construct error at `span`: `file:line:col`, and the source line with a caret
     /// under the construct (codespan, as naga renders parse errors).
     pub fn unsupported(&self, span: naga::Span, what: impl Into<String>) -> FrontError {
@@ -392,6 +419,7 @@ impl Shader {
         ))
     }
 
+    /// `file:line:col` of a span, for one-line messages.
     pub fn location(&self, span: naga::Span) -> String {
         if span.is_defined() {
             let loc = span.location(&self.source);

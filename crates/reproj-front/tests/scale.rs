@@ -1,6 +1,9 @@
-//! Node analysis scales linearly with the length of straight-line code.
+//! Loading (parse, normalization, node analysis) scales linearly with the length of straight-line
+//! code.
 //!
-//! `load_20k_lines` runs in CI; the benchmark is ignored and prints the time of each phase:
+//! `load_long_chain` and `parsing_is_linear` run in CI (the second fails if naga's typifier is
+//! quadratic again: `vendor/naga/REPROJ-PATCH.md`); the benchmark is ignored and prints the time of
+//! each phase, and in release holds 56k lines to 5 s (issue 22):
 //!
 //! ```text
 //! cargo test --release -p reproj-front --test scale -- --ignored --nocapture
@@ -61,6 +64,31 @@ fn load_long_chain() {
     assert_eq!(link.overlap, link.cost - 1.0);
 }
 
+/// The least of three parse times of `src`, in seconds.
+fn parse_seconds(src: &str) -> f64 {
+    (0..3)
+        .map(|_| {
+            let t = Instant::now();
+            parse_shader(Path::new("scale.wgsl"), src.to_owned()).unwrap();
+            t.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Eight times the lines parse in about eight times the time. naga 30's typifier, growing one
+/// expression at a time from the start of the arena, made it about 64 times (0.23 s for 8k lines,
+/// 16 s for 56k, in release); the bound leaves room for a loaded machine.
+#[test]
+fn parsing_is_linear() {
+    let small = parse_seconds(&straight_line(4_000));
+    let large = parse_seconds(&straight_line(32_000));
+    let ratio = large / small.max(1e-4);
+    assert!(
+        ratio < 24.0,
+        "parsing 8x the lines took {ratio:.1}x the time ({small:.3} s, {large:.3} s): quadratic?"
+    );
+}
+
 #[test]
 #[ignore = "benchmark: run in release with --ignored --nocapture"]
 fn bench_straight_line() {
@@ -81,5 +109,9 @@ fn bench_straight_line() {
             (t3 - t2).as_secs_f64(),
             (t3 - t0).as_secs_f64(),
         );
+        if lines == 56_000 && !cfg!(debug_assertions) {
+            let total = (t3 - t0).as_secs_f64();
+            assert!(total < 5.0, "56k lines load in {total:.1} s (target: 5 s)");
+        }
     }
 }

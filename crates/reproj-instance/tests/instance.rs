@@ -632,3 +632,38 @@ fn f16_shaders_keep_their_enable_directive() {
         }
     }
 }
+
+/// Names naga's namer changes on every trip (`a`, `a` and `a_1` in one function after inlining:
+/// `a_1` becomes `a_1_`, then the second `a` takes `a_1`, …) once made "the WGSL round trip does
+/// not reach a fixed point": the passes are now a fixed point up to those renamings, and still
+/// parse and validate.
+#[test]
+fn names_naga_renames_on_every_trip_still_instance() {
+    let src = "
+fn h(x: f32) -> f32 {
+    let a = x * 3.0 + 0.25;
+    return a;
+}
+@fragment fn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {
+    let a = sin(p.x * 5.0);
+    let b = h(a);
+    let a_1 = cos(b * 2.0) + a;
+    return vec4<f32>(a_1, b, a, 1.0);
+}
+";
+    let shader = reproj_front::parse_shader(Path::new("names.wgsl"), src.to_owned()).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    for strategy in [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused] {
+        let opts = InstanceOptions {
+            strategy,
+            ..Default::default()
+        };
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts)
+            .unwrap_or_else(|e| panic!("{strategy:?}: {e}"));
+        for p in &v.passes {
+            let m = naga::front::wgsl::parse_str(&p.wgsl).unwrap();
+            reproj_front::validator().validate(&m).unwrap();
+        }
+    }
+}

@@ -71,7 +71,9 @@ pub use metrics::{
     AdapterReport, FrameError, FrameRecord, RENDER_REPORT_SCHEMA, RENDER_REPORT_VERSION,
     RenderReport, TimingMethod,
 };
-pub use render::{Reference, RenderOptions, Renderer, RendererOptions, VariantInput};
+pub use render::{
+    FrameProgress, Reference, RenderOptions, Renderer, RendererOptions, VariantInput,
+};
 pub use session::{Session, SessionError};
 
 use std::path::PathBuf;

@@ -1,10 +1,18 @@
 //! `reproj render`: replay a session for the original shader or one variant.
+//!
+//! A long session renders for minutes: progress goes to stderr per frame, as `analyze`'s does
+//! per replay ([`FrameBar`]), and never with `--json`, whose stdout a program reads.
 
+use std::cell::Cell;
 use std::io::Write;
+use std::time::{Duration, Instant};
 
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use reproj_front::{Loaded, load_file_as};
 use reproj_instance::{NodeSelector, instance};
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{
+    FrameProgress, RenderOptions, Renderer, RendererOptions, Session, VariantInput,
+};
 
 use super::UserError;
 use crate::RenderArgs;
@@ -72,7 +80,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let has_variant = args.node.is_some() || args.variant.is_some();
     // With a variant, the original's frames go beside the variant's as `ref_NNN.png`.
-    let reference = renderer.render_original(
+    let progress = |phase| -> Box<dyn FrameProgress> {
+        if args.json {
+            Box::new(())
+        } else {
+            Box::new(FrameBar::new(phase))
+        }
+    };
+    let reference = renderer.render_original_with(
         &shader,
         entry,
         &session,
@@ -82,6 +97,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             raw_frames: opts.raw_frames && !has_variant,
             ..opts.clone()
         },
+        progress("original").as_ref(),
     )?;
     if let Some(dir) = opts.png_dir.as_ref().filter(|_| has_variant) {
         for (i, frame) in reference.frames.iter().enumerate() {
@@ -97,7 +113,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let report = match &variant_input {
         None => reference.report,
         Some(input) => {
-            let r = renderer.render_variant(&shader, &session, input, &reference, &opts)?;
+            let r = renderer.render_variant_with(
+                &shader,
+                &session,
+                input,
+                &reference,
+                &opts,
+                progress("variant").as_ref(),
+            )?;
             // Two single replays taken one after the other are no speed measurement: the
             // timing engine (`reproj bench`) measures the speedup, interleaved, with its interval.
             eprintln!(
@@ -195,4 +218,73 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// How often a progress line is printed when stderr is no terminal; the first comes only once a
+/// replay has run this long, so short renders print none.
+const LINE_EVERY: Duration = Duration::from_secs(2);
+
+/// The per-frame progress of one replay (`original` or `variant`) on stderr: on a terminal a bar
+/// with an ETA, redrawn at most 4 times a second; otherwise (CI, a log file) a line like
+/// `analyze`'s, `[done/total] phase frames: … s elapsed, ETA … s`, at most every [`LINE_EVERY`]
+/// (`REPROJ_PROGRESS_EVERY_MS` overrides it; the tests set 0 for a line per frame). Cleared when
+/// dropped.
+struct FrameBar {
+    bar: ProgressBar,
+    phase: &'static str,
+    start: Instant,
+    every: Duration,
+    last_line: Cell<Instant>,
+}
+
+impl FrameBar {
+    fn new(phase: &'static str) -> FrameBar {
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr_with_hz(4))
+            .with_style(
+                ProgressStyle::with_template(
+                    "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} frames, ETA {eta} {msg}",
+                )
+                .expect("valid template"),
+            )
+            .with_message(phase);
+        let every = std::env::var("REPROJ_PROGRESS_EVERY_MS")
+            .ok()
+            .and_then(|ms| ms.parse().ok())
+            .map_or(LINE_EVERY, Duration::from_millis);
+        let start = Instant::now();
+        FrameBar {
+            bar,
+            phase,
+            start,
+            every,
+            last_line: Cell::new(start),
+        }
+    }
+}
+
+impl FrameProgress for FrameBar {
+    fn frame(&self, done: u32, total: u32) {
+        if !self.bar.is_hidden() {
+            self.bar.set_length(total.into());
+            self.bar.set_position(done.into());
+            return;
+        }
+        let now = Instant::now();
+        if now - self.last_line.get() < self.every {
+            return;
+        }
+        self.last_line.set(now);
+        let elapsed = (now - self.start).as_secs_f64();
+        let eta = elapsed / f64::from(done.max(1)) * f64::from(total.saturating_sub(done));
+        eprintln!(
+            "[{done}/{total}] {} frames: {elapsed:.1} s elapsed, ETA {eta:.0} s",
+            self.phase
+        );
+    }
+}
+
+impl Drop for FrameBar {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
 }

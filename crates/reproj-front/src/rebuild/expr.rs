@@ -187,11 +187,125 @@ impl Out<'_, '_> {
             self.stored_log.push(v);
             if matches!(self.fun.expressions[pointer], Expression::LocalVariable(_)) {
                 self.env.insert(v, value);
+            } else if let Some(whole) = self.member_store(pointer, value, span) {
+                self.env.insert(v, whole);
             } else {
                 self.env.remove(&v);
             }
         }
         self.push_stmt(Statement::Store { pointer, value }, span);
+    }
+
+    /// Normalizing, a store to a member of a struct local whose value is known (`out.albedo = a;`,
+    /// the G-buffer pattern, at any depth of struct members): the struct's new value, composed
+    /// of the stored member and the known others, so the loads after it forward like those of a
+    /// whole store. `None` (forget the variable) for any other partial store.
+    fn member_store(
+        &mut self,
+        pointer: Handle<Expression>,
+        value: Handle<Expression>,
+        span: Span,
+    ) -> Option<Handle<Expression>> {
+        if !self.normalize() {
+            return None;
+        }
+        let mut path = Vec::new();
+        let mut p = pointer;
+        let var = loop {
+            match self.fun.expressions[p] {
+                Expression::AccessIndex { base, index } => {
+                    path.push(index);
+                    p = base;
+                }
+                Expression::LocalVariable(v) => break v,
+                _ => return None,
+            }
+        };
+        path.reverse();
+        let old = *self.env.get(&var)?;
+        let ty = self.fun.local_variables[var].ty;
+        self.with_member(old, ty, &path, value, span)
+    }
+
+    /// `whole` (of type `ty`: a struct, or a vector for the last step) with the member or
+    /// component at `path` replaced by `value`.
+    fn with_member(
+        &mut self,
+        whole: Handle<Expression>,
+        ty: Handle<naga::Type>,
+        path: &[u32],
+        value: Handle<Expression>,
+        span: Span,
+    ) -> Option<Handle<Expression>> {
+        let Some((&at, rest)) = path.split_first() else {
+            return Some(value);
+        };
+        // Each part's type: a member's type, or none for a vector's scalar component.
+        let (parts, scalar): (Vec<Option<Handle<naga::Type>>>, _) =
+            match &self.module.types[ty].inner {
+                naga::TypeInner::Struct { members, .. } => {
+                    (members.iter().map(|m| Some(m.ty)).collect(), None)
+                }
+                naga::TypeInner::Vector { size, scalar } if rest.is_empty() => {
+                    (vec![None; *size as usize], Some(*scalar))
+                }
+                _ => return None,
+            };
+        let mut components = Vec::with_capacity(parts.len());
+        for (k, part_ty) in parts.into_iter().enumerate() {
+            let k = k as u32;
+            let part = if k == at && rest.is_empty() {
+                value
+            } else {
+                let part = self.member_of(whole, k, part_ty, scalar, span)?;
+                if k == at {
+                    self.with_member(part, part_ty?, rest, value, span)?
+                } else {
+                    part
+                }
+            };
+            components.push(part);
+        }
+        Some(self.append(Expression::Compose { ty, components }, span))
+    }
+
+    /// Part `k` of the struct or vector value `whole` (a member of type `ty`, or a component of
+    /// type `scalar`): the part itself when `whole` was composed of its parts or is zero.
+    fn member_of(
+        &mut self,
+        whole: Handle<Expression>,
+        k: u32,
+        ty: Option<Handle<naga::Type>>,
+        scalar: Option<naga::Scalar>,
+        span: Span,
+    ) -> Option<Handle<Expression>> {
+        let whole_ty_parts = |this: &Self, t: Handle<naga::Type>| match &this.module.types[t].inner
+        {
+            naga::TypeInner::Struct { members, .. } => members.len(),
+            naga::TypeInner::Vector { size, .. } => *size as usize,
+            _ => 0,
+        };
+        Some(match &self.fun.expressions[whole] {
+            Expression::Compose { ty: t, components }
+                if components.len() == whole_ty_parts(self, *t) =>
+            {
+                components[k as usize]
+            }
+            Expression::ZeroValue(_) => match (ty, scalar) {
+                (Some(ty), _) => self.append(Expression::ZeroValue(ty), span),
+                (None, Some(scalar)) => {
+                    self.append(Expression::Literal(naga::Literal::zero(scalar)?), span)
+                }
+                (None, None) => return None,
+            },
+            _ => self.append(
+                Expression::AccessIndex {
+                    base: whole,
+                    index: k,
+                },
+                span,
+            ),
+        })
     }
 
     /// The value a load through `ptr` reads, when it is known in straight-line code.
@@ -204,6 +318,12 @@ impl Out<'_, '_> {
             Expression::LocalVariable(v) => self.env.get(&v).copied(),
             Expression::AccessIndex { base, index } => {
                 let value = self.forward(base, span)?;
+                // A member of a struct composed member by member is that member's value.
+                if let Expression::Compose { ty, components } = &self.fun.expressions[value]
+                    && matches!(self.module.types[*ty].inner, naga::TypeInner::Struct { .. })
+                {
+                    return Some(components[index as usize]);
+                }
                 Some(self.append(Expression::AccessIndex { base: value, index }, span))
             }
             _ => None,

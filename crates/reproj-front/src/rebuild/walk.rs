@@ -184,12 +184,17 @@ impl Out<'_, '_> {
                 let mark = self.stored_log.len();
                 let before = self.env.clone();
                 let mut new_cases = Vec::with_capacity(cases.len());
-                for case in cases {
+                for (i, case) in cases.iter().enumerate() {
                     self.env = before.clone();
+                    let (body, fall_through) = if case.fall_through && !case.body.is_empty() {
+                        (self.fall_through_case(ctx, &cases[i..])?, false)
+                    } else {
+                        (self.nested(ctx, &case.body)?, case.fall_through)
+                    };
                     new_cases.push(naga::SwitchCase {
                         value: case.value,
-                        body: self.nested(ctx, &case.body)?,
-                        fall_through: case.fall_through,
+                        body,
+                        fall_through,
                     });
                 }
                 self.env = before;
@@ -318,6 +323,29 @@ impl Out<'_, '_> {
             }
         }
         Ok(())
+    }
+
+    /// A case whose body falls through into the next (C-style `switch` from GLSL or SPIR-V; WGSL
+    /// has none, and naga's WGSL writer cannot write one): its body followed by the bodies it falls
+    /// into, up to the first case that does not fall through, as one block. The bodies after the
+    /// first are walked again for their own cases, so their translations made here (scoped to
+    /// this case) are forgotten afterwards, and their statements are not counted twice.
+    fn fall_through_case(
+        &mut self,
+        ctx: &mut Ctx,
+        cases: &[naga::SwitchCase],
+    ) -> Result<Block, FrontError> {
+        self.enter();
+        self.walk_block(ctx, &cases[0].body)?;
+        let (map, stmt_index) = (ctx.map.clone(), self.stmt_index);
+        for case in &cases[1..] {
+            self.walk_block(ctx, &case.body)?;
+            if !case.fall_through {
+                break;
+            }
+        }
+        (ctx.map, self.stmt_index) = (map, stmt_index);
+        Ok(self.exit())
     }
 
     pub(super) fn kill_since(&mut self, mark: usize) {

@@ -69,6 +69,17 @@ pub struct RendererOptions {
     pub cpu_timing: bool,
 }
 
+/// Told after each frame of a replay comes back (frames come back in batches, so the calls
+/// arrive a batch at a time): `done` frames of `total`. `reproj render` draws its progress from
+/// it; the other callers pass `&()`, which ignores it.
+pub trait FrameProgress {
+    fn frame(&self, done: u32, total: u32);
+}
+
+impl FrameProgress for () {
+    fn frame(&self, _done: u32, _total: u32) {}
+}
+
 /// Per-render options.
 #[derive(Debug, Clone)]
 pub struct RenderOptions {

@@ -85,6 +85,18 @@ impl Renderer {
         session: &Session,
         opts: &RenderOptions,
     ) -> Result<Reference, ReplayError> {
+        self.render_original_with(shader, entry_index, session, opts, &())
+    }
+
+    /// [`Renderer::render_original`], telling `progress` as frames come back.
+    pub fn render_original_with(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        opts: &RenderOptions,
+        progress: &dyn FrameProgress,
+    ) -> Result<Reference, ReplayError> {
         session.validate()?;
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
         let [w, h] = session.resolution;
@@ -234,6 +246,7 @@ impl Renderer {
                     out_frames.push(pixels);
                     out_depth.push(depth);
                 }
+                progress.frame(f - first + 1, frames);
                 Ok(())
             })?;
         }

@@ -75,6 +75,19 @@ impl Renderer {
         reference: &Reference,
         opts: &RenderOptions,
     ) -> Result<RenderReport, ReplayError> {
+        self.render_variant_with(shader, session, variant, reference, opts, &())
+    }
+
+    /// [`Renderer::render_variant`], telling `progress` as frames come back.
+    pub fn render_variant_with(
+        &self,
+        shader: &Shader,
+        session: &Session,
+        variant: &VariantInput,
+        reference: &Reference,
+        opts: &RenderOptions,
+        progress: &dyn FrameProgress,
+    ) -> Result<RenderReport, ReplayError> {
         session.validate()?;
         let m = &variant.manifest;
         let [w, h] = session.resolution;
@@ -623,6 +636,7 @@ impl Renderer {
                     flip: None,
                     ssim: None,
                 });
+                progress.frame(f - first + 1, frames);
                 Ok(())
             })?;
             let scored: Vec<_> = to_score
