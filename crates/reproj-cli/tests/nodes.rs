@@ -137,6 +137,7 @@ fn entry_point_errors_exit_2() {
 #[test]
 fn unsupported_construct_exits_2_with_location_line_and_caret() {
     let dir = tempfile::tempdir().unwrap();
+    // An early return in a helper is normalized away (one exit per function) and accepted.
     let f = dir.path().join("early.wgsl");
     std::fs::write(
         &f,
@@ -145,11 +146,23 @@ fn unsupported_construct_exits_2_with_location_line_and_caret() {
     )
     .unwrap();
     let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
-    assert_eq!(code, 2);
-    assert!(err.contains("early.wgsl:2:18"), "{err}");
+    assert_eq!(code, 0, "{err}");
+    // An output struct filled inside a branch is still refused, at the return.
+    let f = dir.path().join("branchy.wgsl");
+    std::fs::write(
+        &f,
+        "struct O {\n    @location(0) c: vec4<f32>,\n};\n\
+         @fragment fn fs(@location(0) p: vec3<f32>) -> O {\n    var o: O;\n\
+         \x20   if p.x > 0.0 { o.c = vec4<f32>(1.0); return o; }\n\
+         \x20   o.c = vec4<f32>(p, 1.0);\n    return o;\n}\n",
+    )
+    .unwrap();
+    let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("branchy.wgsl:8:5"), "{err}");
     // The source line and a caret under the construct, as for parse errors.
-    assert!(err.contains("2 │     if x > 0.0 { return 1.0; }"), "{err}");
-    assert!(err.contains("^^^^^^^^^^^"), "{err}");
+    assert!(err.contains("8 │     return o;"), "{err}");
+    assert!(err.contains("^^^^^^^^^"), "{err}");
 }
 
 fn json_nodes(shader: &str, all: bool) -> Vec<serde_json::Value> {

@@ -364,10 +364,10 @@ fn host_refuses_what_it_cannot_run() {
         assert!(!out.status.success());
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let err = attempt(&good.replace("\"version\": 4", "\"version\": 2"));
+    let err = attempt(&good.replace("\"version\": 5", "\"version\": 2"));
     assert!(
         err.contains("manifest version 2 is not supported")
-            && err.contains("reads versions 3 to 4"),
+            && err.contains("reads versions 3 to 5"),
         "{err}"
     );
     let err = attempt(&good.replace("\"reproj.manifest\"", "\"something.else\""));
