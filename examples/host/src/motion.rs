@@ -12,10 +12,12 @@ use reproj_replay::session::{Cull, FrameState, Session};
 /// Vertices sampled per object (evenly through its vertex list), as reproj measures sessions.
 const SAMPLES_PER_OBJECT: usize = 2000;
 
+/// One object's sample: its index in the session, sampled (position, normal), two-sided.
+type Sampled = (usize, Vec<(Vec3, Vec3)>, bool);
+
 /// Sampled vertices of each drawn object.
 pub struct MotionProbe {
-    /// Per object: its index, sampled (position, normal), two-sided.
-    objects: Vec<(usize, Vec<(Vec3, Vec3)>, bool)>,
+    objects: Vec<Sampled>,
     size: Vec2,
 }
 
