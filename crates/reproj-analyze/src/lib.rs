@@ -12,6 +12,7 @@ pub mod prune;
 mod replayer;
 pub mod sets;
 mod strategies;
+pub mod verify;
 
 use std::path::PathBuf;
 
@@ -21,12 +22,13 @@ pub use analyze::{
 };
 pub use emit::{
     EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,
-    load_profile, verify,
+    load_profile,
 };
 pub use journal::JournalOptions;
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
 pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
+pub use verify::verify;
 
 /// What can go wrong in `analyze` or `emit`.
 #[derive(Debug, thiserror::Error)]

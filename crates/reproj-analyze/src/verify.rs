@@ -1,0 +1,93 @@
+//! `emit --verify`: re-render what `emit` chose over a session and record the measured error,
+//! perceptual metrics and speed (the timing engine's interleaved estimate) beside the prediction.
+
+use std::path::Path;
+
+use reproj_instance::Variant;
+use reproj_models::Profile;
+use reproj_replay::metrics::PSNR_CAP;
+use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
+
+use crate::AnalyzeError;
+use crate::emit::{EmitReport, write_report};
+
+/// Re-render the selection over `session`, record measured error and speedup in `report`, and
+/// rewrite `out/report.json` (`out`: the directory [`crate::emit()`] wrote into; the shader is the one the
+/// report names). The error comes from one replay of the whole session; the speed from the
+/// timing engine (`reproj-bench`: original and variant interleaved, with an interval), under
+/// `timing`.
+pub fn verify(
+    report: &mut EmitReport,
+    out: &Path,
+    variant: Option<&Variant>,
+    profile: &Profile,
+    session: &Session,
+    renderer: &Renderer,
+    timing: &reproj_bench::BenchOptions,
+) -> Result<(), AnalyzeError> {
+    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
+    let entry = shader.fragment_entry(Some(&profile.entry))?;
+    let opts = RenderOptions {
+        png_dir: None,
+        max_frames: None,
+        first_frame: 0,
+        timing_only: false,
+        classify: false,
+        raw_frames: false,
+        perceptual_stride: Some(
+            profile
+                .perceptual_stride
+                .unwrap_or(crate::analyze::DEFAULT_PERCEPTUAL_STRIDE),
+        ),
+    };
+    let reference = renderer.render_original(&shader, entry, session, &opts)?;
+    report.measured_original_ms = Some(reference.report.frame_ms);
+    report.measured_on = Some(reproj_bench::Machine::of(renderer).describe());
+    match variant {
+        None => {
+            report.measured_error = Some(0.0);
+            report.measured_psnr = Some(PSNR_CAP);
+            report.measured_ms = Some(reference.report.frame_ms);
+            report.measured_speedup = Some(1.0);
+            report.measured_speedup_ci95 = Some([1.0, 1.0]);
+        }
+        Some(v) => {
+            let input = VariantInput::new(
+                v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                v.manifest.clone(),
+                report.delta_n.unwrap_or(1),
+            );
+            let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
+            report.measured_error = Some(r.error);
+            report.measured_nonfinite_pixels = Some(r.nonfinite_pixels).filter(|&n| n > 0);
+            report.measured_nonfinite_reference_pixels =
+                Some(r.nonfinite_reference_pixels).filter(|&n| n > 0);
+            report.measured_psnr = Some(r.psnr).filter(|p| p.is_finite());
+            report.measured_flip = r.flip;
+            report.measured_ssim = r.ssim;
+            let timed = reproj_bench::bench(
+                renderer,
+                reproj_bench::Baseline {
+                    shader: &shader,
+                    entry,
+                    reference: &reference,
+                },
+                session,
+                &[reproj_bench::Candidate {
+                    name: "the variant".into(),
+                    subject: reproj_bench::Subject::Variant(input),
+                }],
+                timing,
+                &mut |_| {},
+            )?;
+            let c = &timed.candidates[0];
+            report.measured_original_ms = Some(timed.baseline.median_ms);
+            report.measured_ms = c.median_ms;
+            report.measured_speedup = c.speedup;
+            report.measured_speedup_ci95 = c.speedup_ci95;
+            report.measured_rounds = Some(timed.rounds);
+            report.timing_warnings = timed.warnings;
+        }
+    }
+    write_report(report, out)
+}
