@@ -475,22 +475,13 @@ pub fn emit(
         .chain(others.iter().map(|(p, _, _)| *p))
         .map(|p| p.motion.as_ref().map(|m| m.pixels_per_frame))
         .collect();
-    let schedule_of =
-        |find: &dyn Fn(usize) -> Option<NodeRecord>| -> Vec<reproj_instance::DeltaNBand> {
-            let found: Vec<(f64, NodeRecord)> = motions
-                .iter()
-                .enumerate()
-                .filter_map(|(i, m)| Some(((*m)?, find(i)?)))
-                .collect();
-            let refs: Vec<(f64, &NodeRecord)> = found.iter().map(|(m, r)| (*m, r)).collect();
-            reproj_select::motion::schedule(&refs, beta, &select_opts)
-                .into_iter()
-                .map(|(up_to, delta_n)| reproj_instance::DeltaNBand {
-                    up_to_pixels_per_frame: up_to,
-                    delta_n,
-                })
-                .collect()
-        };
+    let schedule_of = |find: &dyn Fn(usize) -> Option<NodeRecord>| {
+        crate::motion::manifest_schedule(
+            motions.iter().enumerate().map(|(i, m)| (*m, find(i))),
+            beta,
+            &select_opts,
+        )
+    };
     let nodes_of = |i: usize| -> &[NodeRecord] { if i == 0 { &records } else { &others[i - 1].1 } };
     let sets_of = |i: usize| -> &[SetRecord] {
         if i == 0 {

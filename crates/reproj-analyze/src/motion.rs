@@ -254,9 +254,8 @@ pub fn carry(
     let range = MotionRange::of(with_motion.iter().map(|p| p.1)).expect("one motion at least");
     if !range.covers(m) {
         report.warnings.push(format!(
-            "{} moves {} px/frame, outside the profiled {:.2}–{:.2} px/frame: its prediction is carried beyond what was measured; profile a session like it (`analyze --session`) to be sure",
+            "{} moves {m:.2} px/frame, outside the profiled {:.2}–{:.2} px/frame: its prediction is carried beyond what was measured; profile a session like it (`analyze --session`) to be sure",
             target.name,
-            fmt_px(m),
             range.min,
             range.max
         ));
@@ -281,6 +280,25 @@ pub fn carry(
     (report, Some(carried))
 }
 
-fn fmt_px(m: f64) -> String {
-    format!("{m:.2}")
+/// The manifest's run-time Δn schedule (`params.schedule`) for a chosen node or set, from its
+/// record in each profiled session (`per_profile`: that profile's motion and record, either
+/// missing where the profile lacks it) and the motion exponent `beta`
+/// ([`reproj_select::motion::schedule`]).
+pub fn manifest_schedule(
+    per_profile: impl IntoIterator<Item = (Option<f64>, Option<NodeRecord>)>,
+    beta: f64,
+    opts: &reproj_select::SelectOptions,
+) -> Vec<reproj_instance::DeltaNBand> {
+    let found: Vec<(f64, NodeRecord)> = per_profile
+        .into_iter()
+        .filter_map(|(m, r)| Some((m?, r?)))
+        .collect();
+    let refs: Vec<(f64, &NodeRecord)> = found.iter().map(|(m, r)| (*m, r)).collect();
+    reproj_select::motion::schedule(&refs, beta, opts)
+        .into_iter()
+        .map(|(up_to, delta_n)| reproj_instance::DeltaNBand {
+            up_to_pixels_per_frame: up_to,
+            delta_n,
+        })
+        .collect()
 }

@@ -167,16 +167,12 @@ impl Replayer<'_, '_> {
             j.record_race(key, json)?;
         }
         for w in &report.warnings {
-            // The same warning for every node says nothing more: once each.
-            let kind: String = w.chars().take_while(|c| *c != ':').collect();
-            if self.timing_warnings.iter().any(|o| o.starts_with(&kind)) {
-                continue;
-            }
-            if self.timing_warnings.is_empty() {
-                // The first one shows; all are in the profile.
+            // The same warning for every node says nothing more: once each. The first one
+            // shows; all are in the profile.
+            let first = self.timing_warnings.is_empty();
+            if reproj_bench::add_warning_once(&mut self.timing_warnings, w) && first {
                 self.progress.note(&format!("{who}: timing: {w}"));
             }
-            self.timing_warnings.push(w.clone());
         }
         Ok(report)
     }

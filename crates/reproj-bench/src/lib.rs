@@ -184,6 +184,18 @@ pub struct BenchReport {
     pub warnings: Vec<String>,
 }
 
+/// Add `warning` to `seen` unless one of its kind (the text before its first `:`) is there
+/// already: runs that time many candidates one after another (analyze's races, compare's
+/// searches) say each kind of condition once. Whether it was added.
+pub fn add_warning_once(seen: &mut Vec<String>, warning: &str) -> bool {
+    let kind = warning.split(':').next().unwrap_or(warning);
+    if seen.iter().any(|o| o.starts_with(kind)) {
+        return false;
+    }
+    seen.push(warning.to_owned());
+    true
+}
+
 impl BenchReport {
     /// Candidate `i`'s estimate, when it has one.
     pub fn estimate(&self, i: usize) -> Option<SpeedupEstimate> {

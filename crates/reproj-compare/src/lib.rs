@@ -490,10 +490,7 @@ impl Ctx<'_> {
         )?;
         let mut seen = self.timing_warnings.borrow_mut();
         for w in &report.warnings {
-            let kind: String = w.chars().take_while(|c| *c != ':').collect();
-            if !seen.iter().any(|o| o.starts_with(&kind)) {
-                seen.push(w.clone());
-            }
+            reproj_bench::add_warning_once(&mut seen, w);
         }
         Ok((0..candidates.len()).map(|i| report.estimate(i)).collect())
     }
