@@ -2,20 +2,31 @@
 //! (select under an error budget, write the passes). The CLI's `analyze` and `emit` commands are
 //! thin wrappers over [`analyze()`] and [`emit()`].
 
+// Feature `gpu` (on by default): what replays and times (analyze, its journal and set search,
+// merge's refit, verify). Without it the crate is `emit`, `motion` and `prune`: GPU-free.
+#[cfg(feature = "gpu")]
 pub mod analyze;
 pub mod emit;
+#[cfg(feature = "gpu")]
 pub mod journal;
+#[cfg(feature = "gpu")]
 pub mod merge;
 pub mod motion;
+#[cfg(feature = "gpu")]
 mod options;
 pub mod prune;
+#[cfg(feature = "gpu")]
 mod replayer;
+#[cfg(feature = "gpu")]
 pub mod sets;
+#[cfg(feature = "gpu")]
 mod strategies;
+#[cfg(feature = "gpu")]
 pub mod verify;
 
 use std::path::PathBuf;
 
+#[cfg(feature = "gpu")]
 pub use analyze::{
     AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, DEFAULT_RACE, Progress, Sampling,
     Silent, analyze,
@@ -24,10 +35,14 @@ pub use emit::{
     EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,
     load_profile,
 };
+#[cfg(feature = "gpu")]
 pub use journal::JournalOptions;
+#[cfg(feature = "gpu")]
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
+#[cfg(feature = "gpu")]
 pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
+#[cfg(feature = "gpu")]
 pub use verify::verify;
 
 /// What can go wrong in `analyze` or `emit`.

@@ -112,7 +112,8 @@ mod tests {
 
     fn table(nodes: Vec<Node>) -> NodeTable {
         NodeTable {
-            version: 1,
+            schema: "reproj.nodes".into(),
+            version: 2,
             shader: "t.wgsl".into(),
             entry: "fs".into(),
             total_cost: 1000.0,

@@ -1,18 +1,16 @@
 //! `reproj`: the command-line front of the reproj shader optimizer. This file only parses
 //! arguments and dispatches; each command lives in `cmd/`.
 
-use std::path::PathBuf;
+use std::ffi::OsString;
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
+mod args;
 mod cmd;
+mod ui;
 mod values;
-use values::{
-    backend_help, block_size, delta_n_limit, depth_epsilon, non_negative, output_path,
-    override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period,
-    unit_fraction,
-};
+pub use args::*;
 
 /// Automatic reprojection-cache optimizer for WGSL, GLSL and SPIR-V fragment shaders.
 #[derive(Debug, Parser)]
@@ -25,6 +23,16 @@ struct Cli {
     /// other files of this machine.
     #[arg(long, global = true)]
     allow_outside_paths: bool,
+    /// Say less on stderr: errors and warnings only (no progress, no notes).
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Say more on stderr: what each step did.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    verbose: u8,
+    /// Colour the labels of messages on stderr: `auto` (on a terminal, unless NO_COLOR is set),
+    /// `always` or `never`. Stdout (tables, --json) is never coloured.
+    #[arg(long, global = true, value_enum, default_value = "auto", value_name = "WHEN")]
+    color: ui::ColorChoice,
 }
 
 #[derive(Debug, Subcommand)]
@@ -50,549 +58,25 @@ enum Command {
     /// Time variants or other shaders against the original, interleaved in one run: median
     /// ms/frame and the speedup with its 95 % interval ("hyperfine for shaders").
     Bench(BenchArgs),
+    /// Print a shell completion script (`reproj completions bash > /etc/bash_completion.d/reproj`).
+    Completions(CompletionsArgs),
 }
 
-/// Arguments of `reproj bench`.
+/// Arguments of `reproj completions`.
 #[derive(Debug, Args)]
-pub struct BenchArgs {
-    /// The original shader (the baseline): WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`).
-    pub shader: PathBuf,
-    /// The candidates: variant directories (written by `instance` or `emit`) or other shader
-    /// files over the same session (the shader itself: the A/A check).
-    pub candidates: Vec<PathBuf>,
-    /// The shader's language, when its extension does not say (the baseline and shader
-    /// candidates).
-    #[arg(long, value_enum)]
-    pub lang_in: Option<LangInArg>,
-    /// The session file.
-    #[arg(long)]
-    pub session: PathBuf,
-    /// Refresh period of every variant candidate (default: the Δn `emit` chose, from the
-    /// directory's report.json, else the manifest's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
-    pub delta_n: Option<u32>,
-    /// Variant directories whose manifest has a run-time schedule: each frame's Δn from it at
-    /// that frame's on-screen motion (see `render --adaptive`); the others keep a fixed Δn, so an
-    /// adaptive variant can be timed against fixed periods in one interleaved run.
-    #[arg(long, conflicts_with = "delta_n")]
-    pub adaptive: bool,
-    /// Stop after this many rounds at most (each round renders one block per subject).
-    #[arg(long, default_value_t = 48, value_parser = clap::value_parser!(u32).range(1..=10_000))]
-    pub rounds: u32,
-    /// Run at least this many rounds (the rounds cycle through 4 windows of the session: 8 gives
-    /// each window two).
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=10_000))]
-    pub min_rounds: u32,
-    /// Stop measuring after this many seconds (checked between rounds).
-    #[arg(long, default_value_t = 30.0, value_parser = positive_seconds)]
-    pub max_time: f64,
-    /// Stop once every interval is within ± this fraction of its estimate.
-    #[arg(long, default_value_t = 0.03, value_parser = positive_fraction)]
-    pub target: f64,
-    /// Timed frames per block (each block renders one more, discarded).
-    #[arg(long, default_value_t = reproj_bench::DEFAULT_BLOCK_FRAMES, value_parser = clap::value_parser!(u32).range(1..=10_000))]
-    pub block: u32,
-    /// Draw the windows from the session's first N frames only.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub max_frames: Option<u32>,
-    /// Fragment entry point.
-    #[arg(long)]
-    pub entry: Option<String>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
-    pub backend: Option<String>,
-    /// Print the result as JSON (`reproj.bench` v1, docs/SCHEMAS.md).
-    #[arg(long)]
-    pub json: bool,
+pub struct CompletionsArgs {
+    /// The shell to complete for.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
 }
 
-/// Arguments of `reproj compare`.
-#[derive(Debug, Args)]
-pub struct CompareArgs {
-    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
-    pub shader: PathBuf,
-    /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
-    pub lang_in: Option<LangInArg>,
-    /// Fragment entry point (default: the only one).
-    #[arg(long)]
-    pub entry: Option<String>,
-    /// The session file.
-    #[arg(long)]
-    pub session: PathBuf,
-    /// The speedup over the original every method aims at (> 1).
-    #[arg(
-        long,
-        required_unless_present = "max_error",
-        conflicts_with = "max_error"
-    )]
-    pub speedup: Option<f64>,
-    /// Aim instead at the speedup reproj's own selection is predicted to reach under this error
-    /// budget (as `emit --max-error`; needs --profile).
-    #[arg(long, requires = "profile")]
-    pub max_error: Option<f64>,
-    /// Profile from `reproj analyze` of this shader, for reproj's own choice (without one, only
-    /// resizing and simplification are compared).
-    #[arg(long)]
-    pub profile: Option<PathBuf>,
-    /// Output directory (default `out/compare-SHADER`): compare.json, compare.svg/png, crops.png,
-    /// simplified.wgsl.
-    #[arg(long, value_parser = output_path)]
-    pub out: Option<PathBuf>,
-    /// Replay only the first N frames of the session.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub max_frames: Option<u32>,
-    /// Simplification: nodes with the largest static saving tried per step (and half as many
-    /// more nearest the saving still needed for the target).
-    #[arg(long, default_value_t = 6)]
-    pub candidates: usize,
-    /// Simplification: most nodes replaced.
-    #[arg(long, default_value_t = 8)]
-    pub max_steps: usize,
-    /// Resizing: most scales rendered in the search.
-    #[arg(long, default_value_t = 4)]
-    pub resize_tries: usize,
-    /// Longest refresh period reproj may choose.
-    #[arg(long, default_value_t = 50, value_parser = delta_n_limit)]
-    pub max_delta_n: u32,
-    /// Print compare.json instead of the table.
-    #[arg(long)]
-    pub json: bool,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
-    pub backend: Option<String>,
-}
-
-/// Arguments of `reproj report`.
-#[derive(Debug, Args)]
-pub struct ReportArgs {
-    /// Profile from `reproj analyze`.
-    pub profile: PathBuf,
-    /// The HTML file to write.
-    #[arg(long, value_parser = output_path, default_value = "report.html")]
-    pub out: PathBuf,
-    /// Session to render the selections with (default: the profile's).
-    #[arg(long)]
-    pub session: Option<PathBuf>,
-    /// The shader (default: the profile's; it must be the profiled shader up to comments).
-    #[arg(long)]
-    pub shader: Option<PathBuf>,
-    /// Most selections to render frames of (spread over the budget range).
-    #[arg(long, default_value_t = 8)]
-    pub max_rendered: usize,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
-    pub backend: Option<String>,
-}
-
-/// Arguments of `reproj render`.
-#[derive(Debug, Args)]
-pub struct RenderArgs {
-    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
-    pub shader: PathBuf,
-    /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
-    pub lang_in: Option<LangInArg>,
-    /// The session file.
-    #[arg(long)]
-    pub session: PathBuf,
-    /// Render the variant caching this node (id or `root`) instead of the original.
-    #[arg(long, conflicts_with = "variant")]
-    pub node: Option<String>,
-    /// Render the variant written in this directory (by `instance` or `emit`: its manifest.json
-    /// and passes) instead of the original.
-    #[arg(long)]
-    pub variant: Option<PathBuf>,
-    /// Refresh period of the variant (default: 8 with --node, the manifest's with --variant).
-    #[arg(long, value_parser = refresh_period)]
-    pub delta_n: Option<u32>,
-    /// With --variant: run-time adaptation, as a host would do it: each frame's Δn from the
-    /// manifest's schedule (`params.schedule`, written by `emit`) at that frame's on-screen
-    /// motion (measured from the session's camera and objects).
-    #[arg(long, requires = "variant", conflicts_with = "delta_n")]
-    pub adaptive: bool,
-    #[command(flatten)]
-    pub cache: CacheArgs,
-    /// Write PNGs of the frames (and for a variant the hit maps and error maps) here.
-    #[arg(long, value_parser = output_path)]
-    pub frames: Option<PathBuf>,
-    /// With --frames: also write each frame's exact linear RGBA as `frame_NNN.f32` (width × height
-    /// × 4 little-endian f32, top row first, no header), to compare renderers beyond 8 bits.
-    #[arg(long, requires = "frames")]
-    pub raw_frames: bool,
-    /// Render only the first N frames.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub max_frames: Option<u32>,
-    /// Variants: compute ꟻLIP and SSIM (and with --frames write the ꟻLIP maps) on every Nth
-    /// frame (0, N, 2N, ...).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
-    pub metric_stride: u32,
-    /// Fragment entry point.
-    #[arg(long)]
-    pub entry: Option<String>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
-    pub backend: Option<String>,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
-}
-
-/// Arguments of `reproj analyze`.
-#[derive(Debug, Args)]
-pub struct AnalyzeArgs {
-    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
-    pub shader: PathBuf,
-    /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
-    pub lang_in: Option<LangInArg>,
-    #[command(flatten)]
-    pub unroll: UnrollArg,
-    /// The session file. Repeat it to profile several sessions (other motion) one after the
-    /// other: one profile each, the first at --out, the others beside it named after their
-    /// session; `emit --profile A --profile B` then holds the budget on every one.
-    #[arg(long, required = true)]
-    pub session: Vec<PathBuf>,
-    /// Profile file to write (default: SHADER_STEM.profile.json in the current directory).
-    #[arg(long, value_parser = output_path)]
-    pub out: Option<PathBuf>,
-    /// Refresh periods the error model is fitted to.
-    #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50", value_parser = delta_n_limit)]
-    pub delta_n: Vec<u32>,
-    /// Refresh periods used only to check the models.
-    #[arg(long, value_delimiter = ',', default_value = "6,30", value_parser = delta_n_limit)]
-    pub holdout: Vec<u32>,
-    /// Profile these node ids only (the root is always added). Default: pruned by saving.
-    #[arg(long, value_delimiter = ',')]
-    pub nodes: Option<Vec<u32>>,
-    /// Profile every cacheable node, as the paper did (hours on a CPU rasterizer for big shaders).
-    #[arg(long, conflicts_with_all = ["nodes", "max_nodes", "min_saving"])]
-    pub all_nodes: bool,
-    /// Most nodes to profile when pruning (the root included).
-    #[arg(long, default_value_t = 16, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u32).range(1..), |n| n as usize))]
-    pub max_nodes: usize,
-    /// Smallest static saving worth profiling, as a fraction of the shader's cost.
-    #[arg(long, default_value_t = 0.05, value_parser = unit_fraction)]
-    pub min_saving: f64,
-    /// `adaptive`: replay a node at the longest, shortest and middle training Δn and the
-    /// held-out ones, and at the other training Δn only when the error model fitted to the three
-    /// misses a held-out measurement; `every`: at every training Δn (the paper's way).
-    #[arg(long, value_enum, default_value = "adaptive")]
-    pub sampling: SamplingArg,
-    /// Replay only the first N frames of the session.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub max_frames: Option<u32>,
-    /// Race a node's strategies (timed interleaved against the original) on windows of the
-    /// session's first N frames only (0: windows over the whole session).
-    #[arg(long, default_value_t = 0)]
-    pub probe_frames: u32,
-    /// Compute ꟻLIP and SSIM on every Nth frame of each replay (0, N, 2N, ...): each such frame
-    /// is read back and compared on the CPU. Default: about 15 frames per replay (every 10th of
-    /// a 150-frame session). Recorded in the profile.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub metric_stride: Option<u32>,
-    /// Do not search sets of nodes cached together (by default, after the single nodes, pairs
-    /// among the best of them are ranked by their combined prediction, the best replayed, and the
-    /// best measured grown by one node at a time).
-    #[arg(long, conflicts_with_all = ["set_top", "set_replays", "set_max_nodes"])]
-    pub no_sets: bool,
-    /// Form pairs among the K single nodes with the largest predicted saving.
-    #[arg(long, value_name = "K", default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..))]
-    pub set_top: u32,
-    /// Replay the R pairs predicted fastest.
-    #[arg(long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
-    pub set_replays: u32,
-    /// Grow the best measured set up to N nodes (2: pairs only; a payload holds 4 floats).
-    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(2..=4))]
-    pub set_max_nodes: u32,
-    #[command(flatten)]
-    pub cache: CacheArgs,
-    /// Fragment entry point.
-    #[arg(long)]
-    pub entry: Option<String>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
-    pub backend: Option<String>,
-    /// Profile only shard i of N (0-based) of the nodes, e.g. `--shard 0/3`; join the shards'
-    /// profiles with `reproj merge`.
-    #[arg(long)]
-    pub shard: Option<reproj_models::profile::Shard>,
-    /// Start over: ignore the journal an interrupted run left beside the profile.
-    #[arg(long)]
-    pub fresh: bool,
-    /// Do not write the charts.
-    #[arg(long)]
-    pub no_charts: bool,
-}
-
-/// Arguments of `reproj merge`.
-#[derive(Debug, Args)]
-pub struct MergeArgs {
-    /// The shard profiles (every index 0..N of one `--shard i/N` set, in any order).
-    #[arg(required = true)]
-    pub shards: Vec<PathBuf>,
-    /// The merged profile.
-    #[arg(long)]
-    pub out: PathBuf,
-}
-
-/// Arguments of `reproj emit`.
-#[derive(Debug, Args)]
-pub struct EmitArgs {
-    /// Error budget, in the unit of --metric: with `l2` the mean per-pixel L2 distance in linear
-    /// RGB over all pixels (in [0, √3]), with `flip` the mean ꟻLIP error over the covered pixels
-    /// (in [0, 1]).
-    #[arg(long, value_parser = non_negative)]
-    pub max_error: f64,
-    /// Which measured error the budget bounds: `l2` (the paper's) or `flip` (perceptual).
-    #[arg(long, default_value = "l2")]
-    pub metric: reproj_models::Metric,
-    /// Profile from `reproj analyze` (default: the newest *.profile.json here). Give one per
-    /// session (`--profile slow.profile.json --profile fast.profile.json`, the same shader
-    /// analyzed over each): the selection then holds the budget on every session, the worst case,
-    /// and the report gives each session's prediction.
-    #[arg(long)]
-    pub profile: Vec<PathBuf>,
-    /// Output directory (default: out/SHADER_STEM).
-    #[arg(long, value_parser = output_path)]
-    pub out: Option<PathBuf>,
-    /// Largest refresh period to consider.
-    #[arg(long, default_value_t = 50, value_parser = delta_n_limit)]
-    pub max_delta_n: u32,
-    /// Cache texel format of the written passes (default: the profile's).
-    #[arg(long, value_enum)]
-    pub cache_format: Option<CacheFormatArg>,
-    /// Only consider this strategy (default: every strategy the profile measured).
-    #[arg(long, value_enum)]
-    pub strategy: Option<StrategyArg>,
-    /// Only consider this profiled node (its id, or `root`): Δn is still chosen under the budget,
-    /// and the schedule written for it.
-    #[arg(long)]
-    pub node: Option<String>,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
-    /// Re-render the selection (needs --session) and report measured error and speedup.
-    #[arg(long, requires = "session")]
-    pub verify: bool,
-    /// Session to verify on (or, without --verify, the session the variant is for). When it is
-    /// none of the profiled sessions, its motion is measured and the nearest profile is carried
-    /// to it: the budget must hold there too, and a motion outside the profiled ones is a
-    /// warning.
-    #[arg(long)]
-    pub session: Option<PathBuf>,
-    /// What --session's motion does to the selection: `carry` (the profiles carried to it, the
-    /// budget held there too) or `ignore` (select on the profiled sessions alone; --verify then
-    /// only checks).
-    #[arg(long, value_enum, default_value_t = MotionUse::Carry, requires = "session")]
-    pub motion: MotionUse,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
-    pub backend: Option<String>,
-    #[command(flatten)]
-    pub integration: IntegrationArgs,
-    /// The shader to instance instead of the profile's (it must be the profiled shader up to
-    /// comments and formatting).
-    #[arg(long)]
-    pub shader: Option<PathBuf>,
-    /// Also write every pass in these languages, beside its WGSL (comma-separated).
-    #[arg(long, value_enum, value_delimiter = ',')]
-    pub lang: Vec<LangArg>,
-    /// The value of an `override` constant in the --lang passes, NAME=VALUE (repeatable; the
-    /// others keep their defaults).
-    #[arg(long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
-    pub overrides: Vec<(String, f64)>,
-    /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
-    /// below this: for CI, "nothing under the budget is worth it".
-    #[arg(long, value_parser = positive)]
-    pub min_speedup: Option<f64>,
-}
-
-/// Loop unrolling before the nodes are listed (`nodes`, `instance`, `analyze`; `emit` takes it
-/// from the profile).
-#[derive(Debug, Args)]
-pub struct UnrollArg {
-    /// Unroll loops with a constant trip count of at most N iterations (nested loops multiply)
-    /// before listing nodes, so each iteration's values become nodes; 0: off. Off by default:
-    /// node ids, node tables and the profiles recorded so far stay as they were, and unrolling
-    /// multiplies a loop shader's nodes (ambient_occlusion: 35 cacheable → 843 at 32), which
-    /// only pays when a per-iteration value is worth caching. Ids differ between values: pass
-    /// the same N to `nodes`, `instance` and `analyze`.
-    #[arg(long, default_value_t = 0, value_name = "N")]
-    pub unroll: u32,
-}
-
-/// Arguments of `reproj nodes`.
-#[derive(Debug, Args)]
-pub struct NodesArgs {
-    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
-    pub shader: PathBuf,
-    /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
-    pub lang_in: Option<LangInArg>,
-    /// Fragment entry point (needed when the module has several).
-    #[arg(long)]
-    pub entry: Option<String>,
-    #[command(flatten)]
-    pub unroll: UnrollArg,
-    /// Print JSON (schema: docs/SCHEMAS.md#nodes) instead of a table.
-    #[arg(long)]
-    pub json: bool,
-    /// Include culled nodes, with their reasons.
-    #[arg(long)]
-    pub all: bool,
-}
-
-/// Cache texel format.
-/// `emit --motion`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum MotionUse {
-    Carry,
-    Ignore,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum CacheFormatArg {
-    /// The narrowest 32-bit float format that holds the node (r32float, rg32float, rgba32float).
-    F32,
-    /// The narrowest 16-bit float format that holds the node (the paper's precision).
-    F16,
-    Rgba32float,
-    Rg32float,
-    R32float,
-    Rgba16float,
-    Rg16float,
-    R16float,
-}
-
-/// At how many training periods `analyze` replays each node.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum SamplingArg {
-    Adaptive,
-    Every,
-}
-
-/// How a variant's passes are laid out (docs/PASSES.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum StrategyArg {
-    /// The paper's three passes: reproject, recompute, shade.
-    #[value(name = "3pass")]
-    ThreePass,
-    /// Reproject and shade the hits, then the whole shader at the misses.
-    #[value(name = "2pass")]
-    TwoPass,
-    /// One pass: reproject, compute the node inline on a miss, shade; two color targets.
-    Fused,
-}
-
-/// How pass 1 reconstructs the previous payload.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ReconstructArg {
-    /// One filtered fetch (the paper's bilinear reconstruction).
-    Bilinear,
-    /// The nearest texel (cheaper, blockier; needs no filtering).
-    Nearest,
-    /// Catmull-Rom in five filtered fetches, clamped to the 2×2 nearest texels (nine fetches:
-    /// dearer, sharper; a value carried over many frames blurs less).
-    #[value(name = "catmull-rom")]
-    CatmullRom,
-}
-
-/// How a variant caches: shared by `instance`, `render` and `analyze`.
-#[derive(Debug, Clone, Copy, Args)]
-pub struct CacheArgs {
-    /// Variant strategy (instance and render: default 3pass; analyze: default every strategy
-    /// that can win).
-    #[arg(long, value_enum)]
-    pub strategy: Option<StrategyArg>,
-    /// Refresh block size k (1 or even, so blocks align with 2×2 quads; default 8 for fused, 4
-    /// otherwise).
-    #[arg(long, value_parser = block_size)]
-    pub block: Option<u32>,
-    /// Relative depth tolerance of the cache hit test.
-    #[arg(long, default_value_t = 0.01, value_parser = depth_epsilon)]
-    pub depth_epsilon: f32,
-    /// Cache texel format.
-    #[arg(long, value_enum, default_value = "f32")]
-    pub cache_format: CacheFormatArg,
-    /// Payload reconstruction in pass 1.
-    #[arg(long, value_enum, default_value = "bilinear")]
-    pub reconstruct: ReconstructArg,
-}
-
-/// How the written passes fit into a host engine: shared by `instance` and `emit`.
-#[derive(Debug, Clone, Copy, Args)]
-pub struct IntegrationArgs {
-    /// Bind group of the variant's added bindings (default: the lowest one the shader does not
-    /// use; at most 3).
-    #[arg(long)]
-    pub group: Option<u32>,
-    /// How the first pass that writes the frame color starts it: `clear` it (as a standalone pass
-    /// would) or `load` what the engine drew before.
-    #[arg(long, value_enum, default_value = "clear")]
-    pub frame_load: FrameLoadArg,
-}
-
-/// How the frame target starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum FrameLoadArg {
-    Clear,
-    Load,
-}
-
-/// Input language of the shader.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum LangInArg {
-    Wgsl,
-    /// GLSL fragment shader (naga's GLSL front end: 4.50).
-    Glsl,
-    /// SPIR-V binary.
-    Spv,
-}
-
-/// Language the passes are written in besides WGSL.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum LangArg {
-    /// WGSL only (always written: the manifest and the replay use it).
-    Wgsl,
-    /// GLSL 4.50 (`.frag`, the pass's entry point).
-    Glsl,
-    /// HLSL, shader model 5.1 (`.hlsl`).
-    Hlsl,
-    /// Metal Shading Language 2.1 (`.metal`).
-    Msl,
-    /// SPIR-V binary (`.spv`).
-    Spv,
-}
-
-/// Arguments of `reproj instance`.
-#[derive(Debug, Args)]
-pub struct InstanceArgs {
-    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
-    pub shader: PathBuf,
-    /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
-    pub lang_in: Option<LangInArg>,
-    /// Node id from `reproj nodes`, or `root` for the final color; several ids separated by
-    /// commas (`3,7`) cache those nodes together, packed in one payload of at most 4 floats.
-    #[arg(long)]
-    pub node: String,
-    #[command(flatten)]
-    pub unroll: UnrollArg,
-    /// Output directory (created if needed).
-    #[arg(long, value_parser = output_path)]
-    pub out: PathBuf,
-    /// Fragment entry point (needed when the module has several).
-    #[arg(long)]
-    pub entry: Option<String>,
-    /// Default refresh period Δn written to the manifest (the passes take it at run time).
-    #[arg(long, default_value_t = 8, value_parser = refresh_period)]
-    pub delta_n: u32,
-    #[command(flatten)]
-    pub cache: CacheArgs,
-    #[command(flatten)]
-    pub integration: IntegrationArgs,
-    /// Also write every pass in these languages, beside its WGSL (comma-separated).
-    #[arg(long, value_enum, value_delimiter = ',')]
-    pub lang: Vec<LangArg>,
-    /// The value of an `override` constant in the --lang passes, NAME=VALUE (repeatable; the
-    /// others keep their defaults).
-    #[arg(long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
-    pub overrides: Vec<(String, f64)>,
+/// The whole command line, as clap builds it: every subcommand's help ends with the exit codes,
+/// and clap's own help and errors are coloured as `--color` says.
+pub(crate) fn command(color: ui::ColorChoice) -> clap::Command {
+    Cli::command()
+        .color(color.clap())
+        .after_help(ui::EXIT_CODES)
+        .mut_subcommands(|s| s.after_help(ui::EXIT_CODES))
 }
 
 /// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and
@@ -609,7 +93,15 @@ fn quiet_headless_vulkan() {
 
 fn main() -> ExitCode {
     quiet_headless_vulkan();
-    let cli = Cli::parse();
+    let raw: Vec<OsString> = std::env::args_os().collect();
+    let color = ui::ColorChoice::from_args(&raw);
+    let matches = command(color).get_matches_from(raw);
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    ui::init(ui::Ui {
+        color: cli.color.enabled(),
+        quiet: cli.quiet,
+        verbose: cli.verbose,
+    });
     cmd::clean_up_on_signals();
     if cli.allow_outside_paths {
         reproj_replay::session::allow_outside_paths();
@@ -617,13 +109,22 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Nodes(args) => cmd::nodes::run(&args),
         Command::Instance(args) => cmd::instance::run(&args),
-        Command::Render(args) => cmd::render::run(&args),
-        Command::Analyze(args) => cmd::analyze::run(&args),
-        Command::Merge(args) => cmd::merge::run(&args),
         Command::Emit(args) => cmd::emit::run(&args),
+        Command::Completions(args) => cmd::completions::run(&args),
+        #[cfg(feature = "gpu")]
+        Command::Render(args) => cmd::render::run(&args),
+        #[cfg(feature = "gpu")]
+        Command::Analyze(args) => cmd::analyze::run(&args),
+        #[cfg(feature = "gpu")]
+        Command::Merge(args) => cmd::merge::run(&args),
+        #[cfg(feature = "gpu")]
         Command::Report(args) => cmd::report::run(&args),
+        #[cfg(feature = "gpu")]
         Command::Compare(args) => cmd::compare::run(&args),
+        #[cfg(feature = "gpu")]
         Command::Bench(args) => cmd::bench::run(&args),
+        #[cfg(not(feature = "gpu"))]
+        _ => Err(cmd::needs_gpu(matches.subcommand_name().unwrap_or("this command"))),
     };
     cmd::finish(result)
 }

@@ -123,6 +123,7 @@ pub(crate) fn output_path(s: &str) -> Result<PathBuf, String> {
 }
 
 /// `--backend`'s help: the backends this build has (wgpu's answer, not a fixed list).
+#[cfg(feature = "gpu")]
 pub(crate) fn backend_help() -> String {
     format!(
         "wgpu backend, as WGPU_BACKEND (default: WGPU_BACKEND, else vulkan); this build has: {}",
@@ -130,7 +131,15 @@ pub(crate) fn backend_help() -> String {
     )
 }
 
+/// `--backend`'s help in a build without the `gpu` feature.
+#[cfg(not(feature = "gpu"))]
+pub(crate) fn backend_help() -> String {
+    "wgpu backend, as WGPU_BACKEND (this build has none: it was built without the `gpu` feature)"
+        .into()
+}
+
 /// A `--backend` list must name backends this build has (clap reports the error, exit code 2).
+#[cfg(feature = "gpu")]
 pub(crate) fn parse_backend(s: &str) -> Result<String, String> {
     match reproj_replay::parse_backends(s, "--backend") {
         Ok(_) => Ok(s.to_string()),
@@ -145,4 +154,10 @@ pub(crate) fn parse_backend(s: &str) -> Result<String, String> {
         )),
         Err(e) => Err(e.to_string()),
     }
+}
+
+/// A build without the `gpu` feature has no backend: the commands that would use one say so.
+#[cfg(not(feature = "gpu"))]
+pub(crate) fn parse_backend(s: &str) -> Result<String, String> {
+    Ok(s.to_string())
 }

@@ -126,6 +126,9 @@ pub struct Node {
 /// All candidate nodes of one entry point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NodeTable {
+    /// Always [`NODES_SCHEMA`] (absent before version 2: read as `reproj.nodes`).
+    #[serde(default = "nodes_schema")]
+    pub schema: String,
     /// Schema version of this JSON object.
     pub version: u32,
     pub shader: String,
@@ -135,8 +138,15 @@ pub struct NodeTable {
     pub nodes: Vec<Node>,
 }
 
-/// Version of the [`NodeTable`] JSON schema.
-pub const NODES_VERSION: u32 = 1;
+/// Name of the [`NodeTable`] JSON schema (`reproj nodes --json`).
+pub const NODES_SCHEMA: &str = "reproj.nodes";
+
+/// Version of the [`NodeTable`] JSON schema (2: `schema` added).
+pub const NODES_VERSION: u32 = 2;
+
+fn nodes_schema() -> String {
+    NODES_SCHEMA.into()
+}
 
 impl NodeTable {
     pub fn root(&self) -> &Node {
@@ -403,6 +413,7 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
         });
     }
     NodeTable {
+        schema: NODES_SCHEMA.into(),
         version: NODES_VERSION,
         shader: shader.path.file_name().map_or_else(
             || shader.path.display().to_string(),

@@ -51,26 +51,36 @@
 //! pixels, on the frames [`RenderOptions::perceptual_stride`] picks; a summary keeps the mean and
 //! the worst frame.
 
+// The GPU half (feature `gpu`, on by default): the renderer, the GPU error reduction, the
+// perceptual metrics (nv-flip) and image output. The rest is GPU-free.
+#[cfg(feature = "gpu")]
 mod assets;
+#[cfg(feature = "gpu")]
 pub mod backend;
 mod gltf;
 pub mod mesh;
 pub mod metrics;
+#[cfg(feature = "gpu")]
 pub mod output;
+#[cfg(feature = "gpu")]
 pub mod perceptual;
+#[cfg(feature = "gpu")]
 mod reduce;
 pub mod reflect;
+#[cfg(feature = "gpu")]
 mod render;
 pub mod scene;
 pub mod session;
 pub mod textures;
 pub mod vertex;
 
+#[cfg(feature = "gpu")]
 pub use backend::{compiled_backends, parse_backends};
 pub use metrics::{
     AdapterReport, FrameError, FrameRecord, RENDER_REPORT_SCHEMA, RENDER_REPORT_VERSION,
     RenderReport, TimingMethod,
 };
+#[cfg(feature = "gpu")]
 pub use render::{
     FrameProgress, Reference, RenderOptions, Renderer, RendererOptions, VariantInput,
 };

@@ -30,12 +30,14 @@ impl Progress for Bar {
             } else {
                 0.0
             };
-            eprintln!("[{pos}/{len}] {what}: {elapsed:.1} s elapsed, ETA {eta:.0} s");
+            crate::ui::note(format_args!(
+                "[{pos}/{len}] {what}: {elapsed:.1} s elapsed, ETA {eta:.0} s"
+            ));
         }
     }
     fn note(&self, line: &str) {
         if self.0.is_hidden() {
-            eprintln!("{line}");
+            crate::ui::note(line);
         } else {
             self.0.println(line);
         }
@@ -50,6 +52,9 @@ impl Progress for Bar {
 
 /// The progress bar of a command that replays (analyze, compare).
 pub(crate) fn bar() -> ProgressBar {
+    if crate::ui::quiet() {
+        return ProgressBar::hidden();
+    }
     ProgressBar::new(0).with_style(
         ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} replays, ETA {eta} {msg}",
@@ -68,6 +73,16 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     )?;
     if let Some(lines) = super::no_cacheable_lines(&loaded.table) {
         // Nothing to profile: an honest answer, exit 0 without a profile.
+        if args.json {
+            let out = AnalyzeOutput {
+                schema: ANALYZE_SCHEMA,
+                version: ANALYZE_VERSION,
+                profiles: Vec::new(),
+                no_cacheable: lines,
+            };
+            writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
+            return Ok(());
+        }
         for line in lines {
             writeln!(stdout, "{line}")?;
         }
@@ -109,10 +124,25 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
     }
     // The replay renders WGSL: a GLSL shader is analyzed as naga's WGSL of it.
     let shader = loaded.shader.to_wgsl()?;
+    let mut profiles = Vec::new();
     for (session_path, out) in args.session.iter().zip(&outs) {
-        analyze_session(args, &loaded, &shader, session_path, out)?;
+        let written = analyze_session(args, &loaded, &shader, session_path, out)?;
+        if !args.json {
+            print_summary(&mut stdout, &written)?;
+        }
+        profiles.push(written);
     }
     drop(locks);
+    if args.json {
+        let out = AnalyzeOutput {
+            schema: ANALYZE_SCHEMA,
+            version: ANALYZE_VERSION,
+            profiles,
+            no_cacheable: Vec::new(),
+        };
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
+        return Ok(());
+    }
     let profiles: Vec<String> = outs
         .iter()
         .map(|o| format!("--profile {}", o.display()))
@@ -122,6 +152,79 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         "next: reproj emit --max-error 0.01 {}",
         profiles.join(" ")
     )?;
+    Ok(())
+}
+
+/// `analyze --json`'s schema name and version (docs/SCHEMAS.md).
+const ANALYZE_SCHEMA: &str = "reproj.analyze";
+const ANALYZE_VERSION: u32 = 1;
+
+/// `analyze --json`: what was written, one entry per session (the profiles hold the rest).
+#[derive(serde::Serialize)]
+struct AnalyzeOutput {
+    schema: &'static str,
+    version: u32,
+    profiles: Vec<Written>,
+    /// Why nothing was profiled, when the shader has no cacheable node (then `profiles` is empty).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    no_cacheable: Vec<String>,
+}
+
+/// One profile written.
+#[derive(serde::Serialize)]
+struct Written {
+    profile: String,
+    session: String,
+    nodes: usize,
+    usable: usize,
+    sets: usize,
+    delta_n_train: Vec<u32>,
+    delta_n_holdout: Vec<u32>,
+    frames: u32,
+    resolution: [u32; 2],
+    original_frame_ms: f64,
+    hit_rate_mu: Option<f64>,
+    seconds: f64,
+    charts: Vec<String>,
+    #[serde(skip)]
+    time: reproj_models::profile::AnalysisTime,
+}
+
+/// The text summary of one profile written.
+fn print_summary(stdout: &mut impl Write, w: &Written) -> anyhow::Result<()> {
+    writeln!(
+        stdout,
+        "profiled {} nodes ({} usable) at Δn {:?} (+ held out {:?}) over {} frames at {}x{}",
+        w.nodes,
+        w.usable,
+        w.delta_n_train,
+        w.delta_n_holdout,
+        w.frames,
+        w.resolution[0],
+        w.resolution[1]
+    )?;
+    writeln!(
+        stdout,
+        "original {:.3} ms/frame; hit-rate model µ = {}",
+        w.original_frame_ms,
+        w.hit_rate_mu
+            .map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
+    )?;
+    let t = &w.time;
+    writeln!(
+        stdout,
+        "time {:.1} s: reference {:.1} s, rendering {:.1} s, readback+error+compile {:.1} s, fitting {:.2} s, instancing {:.2} s",
+        t.total_s,
+        t.reference_s,
+        t.rendering_s,
+        t.readback_and_error_s,
+        t.fitting_s,
+        t.instancing_s
+    )?;
+    writeln!(stdout, "wrote {}", w.profile)?;
+    if !w.charts.is_empty() {
+        writeln!(stdout, "charts {}", w.charts.join(", "))?;
+    }
     Ok(())
 }
 
@@ -147,8 +250,7 @@ fn analyze_session(
     shader: &reproj_front::Shader,
     session_path: &std::path::Path,
     out: &std::path::Path,
-) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+) -> anyhow::Result<Written> {
     let (norm, table) = (&loaded.norm, &loaded.table);
     let session_bytes = std::fs::read(session_path)
         .map_err(|e| super::UserError(format!("cannot read {}: {e}", session_path.display())))?;
@@ -200,14 +302,14 @@ fn analyze_session(
             crate::SamplingArg::Every => reproj_analyze::Sampling::Every,
         },
     };
-    eprintln!(
+    crate::ui::note(format_args!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
         args.shader.display(),
         session_path.display(),
         renderer.adapter().name,
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
-    );
+    ));
     let bar = bar();
     let input = AnalyzeInput {
         shader,
@@ -229,45 +331,30 @@ fn analyze_session(
     if let Some(j) = &opts.journal {
         let _ = std::fs::remove_file(&j.path);
     }
-    let ok = profile
+    let usable = profile
         .nodes
         .iter()
         .filter(|n| n.status == reproj_models::profile::NodeStatus::Ok)
         .count();
-    writeln!(
-        stdout,
-        "profiled {} nodes ({} usable) at Δn {:?} (+ held out {:?}) over {} frames at {}x{}",
-        profile.nodes.len(),
-        ok,
-        profile.delta_n_train,
-        profile.delta_n_holdout,
-        profile.frames,
-        profile.resolution[0],
-        profile.resolution[1]
-    )?;
-    writeln!(
-        stdout,
-        "original {:.3} ms/frame; hit-rate model µ = {}",
-        profile.original.frame_ms,
-        profile
-            .hit_rate
-            .mu
-            .map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
-    )?;
-    let t = &profile.time;
-    writeln!(
-        stdout,
-        "time {:.1} s: reference {:.1} s, rendering {:.1} s, readback+error+compile {:.1} s, fitting {:.2} s, instancing {:.2} s",
-        t.total_s,
-        t.reference_s,
-        t.rendering_s,
-        t.readback_and_error_s,
-        t.fitting_s,
-        t.instancing_s
-    )?;
-    writeln!(stdout, "wrote {}", out.display())?;
-    if !args.no_charts {
-        super::charts::write(&profile, out)?;
-    }
-    Ok(())
+    let charts = if args.no_charts {
+        Vec::new()
+    } else {
+        super::charts::write(&profile, out)?
+    };
+    Ok(Written {
+        profile: out.display().to_string(),
+        session: session_path.display().to_string(),
+        nodes: profile.nodes.len(),
+        usable,
+        sets: profile.sets.len(),
+        delta_n_train: profile.delta_n_train.clone(),
+        delta_n_holdout: profile.delta_n_holdout.clone(),
+        frames: profile.frames,
+        resolution: profile.resolution,
+        original_frame_ms: profile.original.frame_ms,
+        hit_rate_mu: profile.hit_rate.mu,
+        seconds: profile.time.total_s,
+        charts,
+        time: profile.time.clone(),
+    })
 }

@@ -91,7 +91,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         write_table(&mut out, &report, args)?;
     }
     for w in &report.warnings {
-        eprintln!("warning: {w}");
+        crate::ui::warn(w);
     }
     Ok(())
 }

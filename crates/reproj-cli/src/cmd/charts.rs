@@ -1,6 +1,5 @@
 //! Charts written next to a profile.
 
-use std::io::Write;
 use std::path::Path;
 
 use reproj_models::Profile;
@@ -38,9 +37,8 @@ pub fn check_targets(profile_path: &Path) -> Result<(), reproj_io::WriteError> {
     Ok(())
 }
 
-/// Write the trade-off, hit-rate and model charts beside `profile_path` and say where they are.
-pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+/// Write the trade-off, hit-rate and model charts beside `profile_path`; the files written.
+pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<Vec<String>> {
     check_targets(profile_path)?;
     let (dir, stem) = dir_and_stem(profile_path);
     let opts = reproj_charts::ChartOptions {
@@ -48,7 +46,7 @@ pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
     };
     let paths = reproj_charts::write_charts(profile, dir, &stem, &opts)?;
     for w in &paths.warnings {
-        eprintln!("warning: {w}");
+        crate::ui::warn(w);
     }
     let all: Vec<String> = paths
         .svg
@@ -56,6 +54,5 @@ pub fn write(profile: &Profile, profile_path: &Path) -> anyhow::Result<()> {
         .chain(&paths.png)
         .map(|p| p.display().to_string())
         .collect();
-    writeln!(stdout, "charts {}", all.join(", "))?;
-    Ok(())
+    Ok(all)
 }

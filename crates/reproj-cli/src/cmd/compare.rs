@@ -60,7 +60,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         backend: args.backend.clone(),
         cpu_timing: false,
     })?;
-    eprintln!(
+    crate::ui::note(format_args!(
         "comparing {} over {} on {} ({} cores, LP_NUM_THREADS={}) at {}",
         args.shader.display(),
         args.session.display(),
@@ -71,7 +71,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             Target::Speedup(x) => format!("{x}×"),
             Target::Budget(e) => format!("reproj's predicted speedup under error {e}"),
         }
-    );
+    ));
     let input = CompareInput {
         loaded: &loaded,
         entry: args.entry.as_deref(),
@@ -94,10 +94,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     };
     let mut result = compare(&renderer, &input, &opts, &Bar(bar()))?;
     for w in write_outputs(&mut result, &out)? {
-        eprintln!("warning: {w}");
+        crate::ui::warn(w);
     }
     for w in &result.report.timing_warnings {
-        eprintln!("warning: {w}");
+        crate::ui::warn(w);
     }
     let r = &result.report;
     let mut stdout = std::io::stdout().lock();

@@ -3,8 +3,8 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile, verify};
-use reproj_replay::{Renderer, RendererOptions, Session};
+use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile};
+use reproj_replay::Session;
 
 use super::{UserError, cache_format};
 use crate::EmitArgs;
@@ -22,7 +22,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         Some(p) => p.clone(),
         None => {
             let p = latest_profile(&PathBuf::from("."))?;
-            eprintln!("using the newest profile here: {}", p.display());
+            crate::ui::note(format!("using the newest profile here: {}", p.display()));
             p
         }
     };
@@ -85,28 +85,16 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
     for w in report.motion.iter().flat_map(|m| &m.warnings) {
-        eprintln!("warning: {w}");
+        crate::ui::warn(w);
     }
     if args.verify {
         let (session, _, _) = session
             .as_ref()
             .expect("clap requires --session with --verify");
-        let renderer = Renderer::new(&RendererOptions {
-            backend: args.backend.clone(),
-            cpu_timing: false,
-        })?;
-        verify(
-            &mut report,
-            &opts.out,
-            variant.as_ref(),
-            &profile,
-            session,
-            &renderer,
-            &reproj_bench::BenchOptions::default(),
-        )?;
+        verify_selection(&mut report, &opts.out, variant.as_ref(), &profile, session, args)?;
     }
     for w in &report.timing_warnings {
-        eprintln!("warning: {w}");
+        crate::ui::warn(w);
     }
     let unmet = gate(&report, args);
     if args.json {
@@ -223,9 +211,9 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             )?;
         }
         if let Some(n) = report.measured_nonfinite_reference_pixels {
-            eprintln!(
-                "warning: the original shader renders {n} pixels that are NaN or infinite on this session; they are left out of the measured error"
-            );
+            crate::ui::warn(format_args!(
+                "the original shader renders {n} pixels that are NaN or infinite on this session; they are left out of the measured error"
+            ));
         }
     }
     if let (Some(f), Some(s)) = (report.measured_flip, report.measured_ssim) {
@@ -239,7 +227,46 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     unmet.map_or(Ok(()), Err)
 }
 
-/// How reports name the error a budget bounds.
+/// `--verify`: re-render the selection and time it against the original (the timing engine).
+#[cfg(feature = "gpu")]
+fn verify_selection(
+    report: &mut reproj_analyze::EmitReport,
+    out: &std::path::Path,
+    variant: Option<&reproj_instance::Variant>,
+    profile: &reproj_models::Profile,
+    session: &Session,
+    args: &EmitArgs,
+) -> anyhow::Result<()> {
+    use reproj_replay::{Renderer, RendererOptions};
+    let renderer = Renderer::new(&RendererOptions {
+        backend: args.backend.clone(),
+        cpu_timing: false,
+    })?;
+    reproj_analyze::verify(
+        report,
+        out,
+        variant,
+        profile,
+        session,
+        &renderer,
+        &reproj_bench::BenchOptions::default(),
+    )?;
+    Ok(())
+}
+
+/// `--verify` renders: a build without the `gpu` feature says so (exit 2).
+#[cfg(not(feature = "gpu"))]
+fn verify_selection(
+    _: &mut reproj_analyze::EmitReport,
+    _: &std::path::Path,
+    _: Option<&reproj_instance::Variant>,
+    _: &reproj_models::Profile,
+    _: &Session,
+    _: &EmitArgs,
+) -> anyhow::Result<()> {
+    Err(super::needs_gpu("emit --verify"))
+}
+
 /// The bars a run must pass, in order: a verified error within the budget (exit 4 otherwise, with
 /// a warning naming a tighter budget: the budget is a promise), then `--min-speedup` — on the
 /// lower end of the measured speedup's 95 % interval with `--verify` (noise never passes a bar),
@@ -253,7 +280,7 @@ fn gate(report: &reproj_analyze::EmitReport, args: &EmitArgs) -> Option<anyhow::
         let o = super::OverBudget(format!(
             "the variant renders {n} pixels that are NaN or infinite where the original is finite: no budget holds; emit a tighter budget or fix the node's math"
         ));
-        eprintln!("warning: {o}");
+        crate::ui::warn(&o);
         return Some(o.into());
     }
     if let Some(e) = measured.filter(|e| !e.is_finite() || *e > report.max_error) {
@@ -273,7 +300,7 @@ fn gate(report: &reproj_analyze::EmitReport, args: &EmitArgs) -> Option<anyhow::
                 "verified {what} is not a number on {session}: the variant produces non-finite pixels there; no budget holds"
             ))
         };
-        eprintln!("warning: {o}");
+        crate::ui::warn(&o);
         return Some(o.into());
     }
     let min = args.min_speedup?;

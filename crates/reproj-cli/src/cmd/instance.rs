@@ -31,6 +31,30 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     write_variant_in(&variant, &args.out, &outputs)?;
     let langs = outputs.langs;
     let m = &variant.manifest;
+    if args.json {
+        let files: Vec<String> = m
+            .passes
+            .iter()
+            .zip(&variant.passes)
+            .flat_map(|(p, pass)| {
+                std::iter::once(p.file.clone()).chain(
+                    langs
+                        .iter()
+                        .map(|&l| reproj_instance::backends::pass_file_in(pass, l)),
+                )
+            })
+            .chain(std::iter::once("manifest.json".to_owned()))
+            .collect();
+        let out = serde_json::json!({
+            "schema": "reproj.instance",
+            "version": 1,
+            "out": args.out.display().to_string(),
+            "files": files,
+            "manifest": m,
+        });
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
+        return Ok(());
+    }
     writeln!(
         stdout,
         "node {} `{}` ({}, line {}:{}) -> {}",

@@ -1,5 +1,7 @@
 //! `reproj merge`: join shard profiles into one.
 
+use std::io::Write;
+
 use reproj_analyze::emit::{load_profile, resolve};
 
 use crate::MergeArgs;
@@ -27,7 +29,22 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|n| n.status == reproj_models::profile::NodeStatus::Ok)
         .count();
-    println!(
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        let out = serde_json::json!({
+            "schema": "reproj.merge",
+            "version": 1,
+            "out": args.out.display().to_string(),
+            "shards": shards.len(),
+            "nodes": merged.nodes.len(),
+            "usable": usable,
+            "hit_rate_mu": merged.hit_rate.mu,
+        });
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
+        return Ok(());
+    }
+    writeln!(
+        stdout,
         "merged {} shards: {} nodes ({usable} usable); hit-rate model µ = {}",
         shards.len(),
         merged.nodes.len(),
@@ -35,7 +52,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
             .hit_rate
             .mu
             .map_or_else(|| "n/a".into(), |m| format!("{m:.3}"))
-    );
-    println!("wrote {}", args.out.display());
+    )?;
+    writeln!(stdout, "wrote {}", args.out.display())?;
     Ok(())
 }

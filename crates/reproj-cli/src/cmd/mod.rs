@@ -2,16 +2,35 @@
 
 use std::process::ExitCode;
 
+// The commands that render or time need the `gpu` feature (the default); without it the light
+// build has nodes, instance, emit and completions, and the others answer `needs_gpu`.
+#[cfg(feature = "gpu")]
 pub mod analyze;
+#[cfg(feature = "gpu")]
 pub mod bench;
+#[cfg(feature = "gpu")]
 pub mod charts;
+#[cfg(feature = "gpu")]
 pub mod compare;
+pub mod completions;
 pub mod emit;
 pub mod instance;
+#[cfg(feature = "gpu")]
 pub mod merge;
 pub mod nodes;
+#[cfg(feature = "gpu")]
 pub mod render;
+#[cfg(feature = "gpu")]
 pub mod report;
+
+/// The error of a command (or option) this build was made without: exit 2, saying how to get it.
+#[cfg(not(feature = "gpu"))]
+pub fn needs_gpu(what: &str) -> anyhow::Error {
+    UserError(format!(
+        "`reproj {what}` renders with the GPU, and this reproj was built without the `gpu` feature (the light build for CI: nodes, instance, emit); install the full one: cargo install --locked --path crates/reproj-cli"
+    ))
+    .into()
+}
 
 /// An error caused by the user's input (bad file, bad flag value, ...): exit code 2.
 #[derive(Debug)]
@@ -56,17 +75,19 @@ impl std::error::Error for OverBudget {}
 pub fn clean_up_on_signals() {
     let _ = ctrlc::set_handler(|| {
         reproj_io::remove_registered();
-        eprintln!("reproj: interrupted; partial output removed, previous outputs kept");
+        crate::ui::error("interrupted; partial output removed, previous outputs kept");
         std::process::exit(130);
     });
 }
 
 /// What an existing profile path must hold for analyze or merge to replace it.
+#[cfg(feature = "gpu")]
 pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.profile"]);
 
 /// A variant directory is only rendered or timed with the shader it was made from: its manifest's
 /// IR hash must be `shader`'s (comments and formatting aside). Manifests written before the hash
 /// was recorded are taken as they are.
+#[cfg(feature = "gpu")]
 /// Run-time adaptation for a replay (`render --adaptive`, `bench --adaptive`): each frame's Δn
 /// from `variant`'s manifest schedule at that frame's on-screen motion in `session`, as a host
 /// applies it. Returns the per-frame periods' range, for messages.
@@ -100,6 +121,7 @@ pub fn adapt(
     Ok(range)
 }
 
+#[cfg(feature = "gpu")]
 pub fn check_variant_shader(
     shader: &reproj_front::Shader,
     shader_path: &std::path::Path,
@@ -227,17 +249,30 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
         if let Some(a) = c.downcast_ref::<reproj_analyze::AnalyzeError>() {
             return (user(a.is_user_error()), a.diagnostic());
         }
-        if let Some(r) = c.downcast_ref::<reproj_compare::CompareError>() {
-            return (user(r.is_user_error()), r.diagnostic());
-        }
-        if let Some(r) = c.downcast_ref::<reproj_report::ReportError>() {
-            return (user(r.is_user_error()), r.diagnostic());
-        }
-        if let Some(r) = c.downcast_ref::<reproj_charts::ChartError>() {
-            return (user(matches!(r, reproj_charts::ChartError::Write(_))), None);
+        #[cfg(feature = "gpu")]
+        if let Some(found) = classify_gpu(c) {
+            return found;
         }
     }
     (1, None)
+}
+
+/// [`classify`] for the error types of the crates only the `gpu` feature builds.
+#[cfg(feature = "gpu")]
+fn classify_gpu<'e>(
+    c: &'e (dyn std::error::Error + 'static),
+) -> Option<(u8, Option<&'e reproj_front::SourceDiagnostic>)> {
+    let user = |yes: bool| if yes { 2 } else { 1 };
+    if let Some(r) = c.downcast_ref::<reproj_compare::CompareError>() {
+        return Some((user(r.is_user_error()), r.diagnostic()));
+    }
+    if let Some(r) = c.downcast_ref::<reproj_report::ReportError>() {
+        return Some((user(r.is_user_error()), r.diagnostic()));
+    }
+    if let Some(r) = c.downcast_ref::<reproj_charts::ChartError>() {
+        return Some((user(matches!(r, reproj_charts::ChartError::Write(_))), None));
+    }
+    None
 }
 
 /// Instancer options from the CLI's cache flags and a default Δn (3pass unless one is named).
@@ -306,6 +341,7 @@ pub fn cache_format(f: crate::CacheFormatArg) -> reproj_instance::CacheFormatCho
 
 /// `path` relative to `dir` (both taken from the working directory), with forward slashes;
 /// absolute when they share no root.
+#[cfg(feature = "gpu")]
 pub fn relative_to(dir: &std::path::Path, path: &std::path::Path) -> String {
     let abs = |p: &std::path::Path| {
         let p = if p.as_os_str().is_empty() {
@@ -342,19 +378,16 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
     }
     let (code, diagnostic) = classify(&e);
     match (code, diagnostic) {
-        (3, _) => eprintln!("reproj: {e}"),
-        (_, Some(d)) => eprint!("{}", d.render()),
-        (2, None) => {
+        (_, Some(d)) => crate::ui::diagnostic(&d.render()),
+        // A user error's own message says what to fix; `-v` adds the causes under it.
+        (2..=4, None) if !crate::ui::verbose(1) => {
             let msg = e.to_string();
             let msg = msg.trim_end();
-            if msg.starts_with("error") {
-                eprintln!("{msg}");
-            } else {
-                eprintln!("error: {msg}");
-            }
+            crate::ui::error(msg.strip_prefix("error: ").unwrap_or(msg));
         }
-        _ => eprintln!("error: {e:#}"),
+        _ => crate::ui::error(format!("{e:#}")),
     }
+    crate::ui::detail(format!("exit code {code}"));
     ExitCode::from(code)
 }
 

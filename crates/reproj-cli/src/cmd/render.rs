@@ -53,7 +53,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             variant.delta_n = args.delta_n.unwrap_or(variant.manifest.params.delta_n);
             if args.adaptive {
                 let (lo, hi) = super::adapt(&mut variant, &session)?;
-                eprintln!("adaptive: Δn {lo}..={hi} by each frame's motion");
+                crate::ui::note(format!("adaptive: Δn {lo}..={hi} by each frame's motion"));
             }
             Some(variant)
         }
@@ -81,7 +81,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let has_variant = args.node.is_some() || args.variant.is_some();
     // With a variant, the original's frames go beside the variant's as `ref_NNN.png`.
     let progress = |phase| -> Box<dyn FrameProgress> {
-        if args.json {
+        if args.json || crate::ui::quiet() {
             Box::new(())
         } else {
             Box::new(FrameBar::new(phase))
@@ -111,39 +111,44 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     }
     let report = match &variant_input {
-        None => reference.report,
-        Some(input) => {
-            let r = renderer.render_variant_with(
-                &shader,
-                &session,
-                input,
-                &reference,
-                &opts,
-                progress("variant").as_ref(),
-            )?;
-            // Two single replays taken one after the other are no speed measurement: the
-            // timing engine (`reproj bench`) measures the speedup, interleaved, with its interval.
-            eprintln!(
-                "original: {:.3} ms/frame; variant: {:.3} ms/frame (one replay each; for the speedup with its 95 % interval: reproj bench {} --session {} {})",
-                reference.report.frame_ms,
-                r.frame_ms,
-                args.shader.display(),
-                args.session.display(),
-                args.variant
-                    .as_ref()
-                    .map_or_else(|| "VARIANT_DIR".into(), |v| v.display().to_string()),
-            );
-            r
-        }
+        None => reference.report.clone(),
+        Some(input) => renderer.render_variant_with(
+            &shader,
+            &session,
+            input,
+            &reference,
+            &opts,
+            progress("variant").as_ref(),
+        )?,
     };
+    // Two single replays taken one after the other are no speed measurement: the speedup comes
+    // from the timing engine (`reproj bench`: interleaved, with its 95 % interval), on request.
+    let speedup = match (&variant_input, args.speedup) {
+        (Some(input), true) => Some(time_against_original(
+            &renderer, &shader, entry, &session, &reference, input, args,
+        )?),
+        _ => None,
+    };
+    if variant_input.is_some() && speedup.is_none() && !args.json {
+        crate::ui::note(format!(
+            "original: {:.3} ms/frame; variant: {:.3} ms/frame (one replay each; for the speedup with its 95 % interval: --speedup, or reproj bench {} --session {} {})",
+            reference.report.frame_ms,
+            report.frame_ms,
+            args.shader.display(),
+            args.session.display(),
+            args.variant
+                .as_ref()
+                .map_or_else(|| "VARIANT_DIR".into(), |v| v.display().to_string()),
+        ));
+    }
     if let Some(frames) = frames {
         frames.commit()?;
     }
     // Never a silent NaN: said on stderr whatever the output format.
     let is_variant = report.node.is_some();
     if report.nonfinite_pixels > 0 {
-        eprintln!(
-            "warning: {} renders {} pixels that are NaN or infinite over the session{}",
+        crate::ui::warn(format_args!(
+            "{} renders {} pixels that are NaN or infinite over the session{}",
             if is_variant {
                 "the variant"
             } else {
@@ -155,16 +160,28 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             } else {
                 ""
             }
-        );
+        ));
     }
     if report.nonfinite_reference_pixels > 0 {
-        eprintln!(
-            "warning: the original renders {} pixels that are NaN or infinite over the session; they are left out of the error",
+        crate::ui::warn(format_args!(
+            "the original renders {} pixels that are NaN or infinite over the session; they are left out of the error",
             report.nonfinite_reference_pixels
-        );
+        ));
+    }
+    if let Some(s) = &speedup {
+        for w in &s.warnings {
+            crate::ui::warn(w);
+        }
     }
     if args.json {
-        writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
+        let out = RenderOutput {
+            report: &report,
+            original_frame_ms: variant_input
+                .as_ref()
+                .map(|_| reference.report.frame_ms),
+            speedup: speedup.as_ref(),
+        };
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
     } else {
         writeln!(
             stdout,
@@ -213,11 +230,105 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             "  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)",
             report.frame_ms
         )?;
+        if variant_input.is_some() {
+            writeln!(
+                stdout,
+                "  original  {:.3} ms (its own replay)",
+                reference.report.frame_ms
+            )?;
+        }
+        if let Some(s) = &speedup {
+            writeln!(
+                stdout,
+                "  speedup   {} (timing engine: {} rounds interleaved with the original, {:.1} s; original {:.3} ms/frame)",
+                match (s.speedup, s.speedup_ci95) {
+                    (Some(x), Some([lo, hi])) => format!("{x:.2}x [{lo:.2}, {hi:.2}]"),
+                    (Some(x), None) => format!("{x:.2}x"),
+                    _ => "no usable timing".into(),
+                },
+                s.rounds,
+                s.seconds,
+                s.original_median_ms,
+            )?;
+        }
         if let Some(dir) = &args.frames {
             writeln!(stdout, "  PNGs in   {}", dir.display())?;
         }
     }
     Ok(())
+}
+
+/// `render --json`: the replay's report (`reproj.render`, its `schema` and `version` first), then
+/// the original's own replay time beside a variant's and, with `--speedup`, the timing engine's
+/// figure (docs/SCHEMAS.md).
+#[derive(serde::Serialize)]
+struct RenderOutput<'a> {
+    #[serde(flatten)]
+    report: &'a reproj_replay::RenderReport,
+    /// The original's mean ms/frame in its own replay (a variant's render only): one replay, not
+    /// a speed comparison.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    original_frame_ms: Option<f64>,
+    /// `--speedup`: the variant timed against the original by the timing engine.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    speedup: Option<&'a Speedup>,
+}
+
+/// The timing engine's answer for one variant against the original (`reproj bench`'s figure).
+#[derive(Debug, serde::Serialize)]
+struct Speedup {
+    /// Original time over variant time (above 1: faster), Hodges–Lehmann over the rounds.
+    speedup: Option<f64>,
+    speedup_ci95: Option<[f64; 2]>,
+    /// Median ms/frame of the interleaved blocks.
+    original_median_ms: f64,
+    variant_median_ms: Option<f64>,
+    rounds: u32,
+    seconds: f64,
+    warnings: Vec<String>,
+}
+
+/// `--speedup`: time the variant against the original through the timing engine, interleaved,
+/// as `reproj bench` does with its defaults.
+fn time_against_original(
+    renderer: &Renderer,
+    shader: &reproj_front::Shader,
+    entry: usize,
+    session: &Session,
+    reference: &reproj_replay::Reference,
+    variant: &VariantInput,
+    args: &RenderArgs,
+) -> anyhow::Result<Speedup> {
+    use reproj_bench::{Baseline, BenchOptions, Candidate, Subject, bench};
+    crate::ui::note("timing the variant against the original (interleaved)");
+    let report = bench(
+        renderer,
+        Baseline {
+            shader,
+            entry,
+            reference,
+        },
+        session,
+        &[Candidate {
+            name: "variant".into(),
+            subject: Subject::Variant(variant.clone()),
+        }],
+        &BenchOptions {
+            max_frames: args.max_frames,
+            ..BenchOptions::default()
+        },
+        &mut |_| {},
+    )?;
+    let c = &report.candidates[0];
+    Ok(Speedup {
+        speedup: c.speedup,
+        speedup_ci95: c.speedup_ci95,
+        original_median_ms: report.baseline.median_ms,
+        variant_median_ms: c.median_ms,
+        rounds: report.rounds,
+        seconds: report.seconds,
+        warnings: report.warnings.clone(),
+    })
 }
 
 /// How often a progress line is printed when stderr is no terminal; the first comes only once a
@@ -276,10 +387,10 @@ impl FrameProgress for FrameBar {
         self.last_line.set(now);
         let elapsed = (now - self.start).as_secs_f64();
         let eta = elapsed / f64::from(done.max(1)) * f64::from(total.saturating_sub(done));
-        eprintln!(
+        crate::ui::note(format_args!(
             "[{done}/{total}] {} frames: {elapsed:.1} s elapsed, ETA {eta:.0} s",
             self.phase
-        );
+        ));
     }
 }
 

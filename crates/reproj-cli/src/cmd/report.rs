@@ -28,10 +28,21 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     };
     let start = std::time::Instant::now();
     let mut progress = |line: &str| {
-        eprintln!("[{:6.1}s] {line}", start.elapsed().as_secs_f64());
+        crate::ui::note(format_args!("[{:6.1}s] {line}", start.elapsed().as_secs_f64()));
     };
     let html = report(&profile, &args.profile, &opts, &renderer, &mut progress)?;
     reproj_io::write_owned_file(&args.out, html.as_bytes(), REPORT_PAGE)?;
+    if args.json {
+        let out = serde_json::json!({
+            "schema": "reproj.report-run",
+            "version": 1,
+            "out": args.out.display().to_string(),
+            "bytes": html.len(),
+            "profile": args.profile.display().to_string(),
+        });
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
+        return Ok(());
+    }
     writeln!(
         stdout,
         "wrote {} ({} KiB)",

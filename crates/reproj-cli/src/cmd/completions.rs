@@ -1,0 +1,18 @@
+//! `reproj completions SHELL`: the shell completion script, from the same clap definition that
+//! parses the arguments (`clap_complete`).
+
+use std::io::Write;
+
+use crate::CompletionsArgs;
+
+pub fn run(args: &CompletionsArgs) -> anyhow::Result<()> {
+    let mut out = Vec::new();
+    clap_complete::generate(
+        args.shell,
+        &mut crate::command(crate::ui::ColorChoice::Never),
+        "reproj",
+        &mut out,
+    );
+    std::io::stdout().lock().write_all(&out)?;
+    Ok(())
+}
