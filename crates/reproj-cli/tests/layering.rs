@@ -102,3 +102,58 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
         }
     }
 }
+
+/// The light build CI uses to run `emit` (`reproj-cli` without its default `gpu` feature:
+/// nodes, instance, emit) compiles neither wgpu nor nv-flip's C++ nor the charts: checked on the
+/// resolved graph of that feature set (`cargo tree`, offline: no download, no build). That it
+/// builds is `scripts/check-light.sh` (`cargo check -p reproj-cli --no-default-features`, run by
+/// `scripts/test.sh`); docs/CI.md has the timings.
+#[test]
+fn the_light_build_has_no_gpu_crates() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let tree = |features: &[&str]| {
+        let out = std::process::Command::new(&cargo)
+            .current_dir(&root)
+            .args([
+                "tree",
+                "--offline",
+                "--locked",
+                "-p",
+                "reproj-cli",
+                "-e",
+                "normal,build",
+                "--prefix",
+                "none",
+                "--format",
+                "{p}",
+            ])
+            .args(features)
+            .output()
+            .expect("run cargo tree");
+        assert!(
+            out.status.success(),
+            "cargo tree: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let names: BTreeSet<String> = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .filter_map(|l| l.split_whitespace().next().map(str::to_owned))
+            .collect();
+        names
+    };
+    let light = tree(&["--no-default-features"]);
+    for heavy in ["wgpu", "nv-flip", "nv-flip-sys", "plotters", "reproj-bench", "cc"] {
+        assert!(
+            !light.contains(heavy),
+            "the light build depends on {heavy}: keep it behind reproj-cli's `gpu` feature"
+        );
+    }
+    for needed in ["reproj-analyze", "reproj-instance", "naga", "clap_complete"] {
+        assert!(light.contains(needed), "{needed} missing from the light build");
+    }
+    let full = tree(&[]);
+    for heavy in ["wgpu", "nv-flip", "reproj-bench"] {
+        assert!(full.contains(heavy), "the default build has {heavy}");
+    }
+}

@@ -410,12 +410,31 @@ pub enum ScalarType {
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum ParamValue {
     /// The same every frame.
-    Constant { value: f64 },
+    Constant {
+        #[serde(serialize_with = "number")]
+        value: f64,
+    },
     /// `value`, except `first` on the first frame and after a camera cut (the previous frame's
     /// textures hold nothing usable).
-    Steady { value: f64, first: f64 },
+    Steady {
+        #[serde(serialize_with = "number")]
+        value: f64,
+        #[serde(serialize_with = "number")]
+        first: f64,
+    },
     /// The frame index, counting from 0.
     FrameIndex,
+}
+
+/// A parameter's value as JSON: a whole number as an integer (a `u32` parameter reads `13`, not
+/// `13.0`), any other as a float. Read back as the same `f64` either way.
+fn number<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53: every integer below is an exact f64
+    if v.fract() == 0.0 && v.abs() < EXACT {
+        s.serialize_i64(*v as i64)
+    } else {
+        s.serialize_f64(*v)
+    }
 }
 
 /// How big a texture is.
@@ -600,9 +619,29 @@ pub struct DepthState {
     pub stencil: Option<String>,
 }
 
-/// The manifest's JSON Schema (draft 2020-12), as published in `docs/manifest.schema.json`.
+/// The `$id` of the manifest's JSON Schema (the repository's copy, `docs/manifest.schema.json`).
+pub const MANIFEST_SCHEMA_ID: &str = "https://example.invalid/reproj/docs/manifest.schema.json";
+
+/// The manifest's JSON Schema (draft 2020-12), as published in `docs/manifest.schema.json`: with
+/// its `$id`, and `schema` and `version` held to this writer's by `const`.
 pub fn manifest_schema() -> serde_json::Value {
-    serde_json::to_value(schemars::schema_for!(Manifest)).expect("a schema serializes")
+    let mut schema =
+        serde_json::to_value(schemars::schema_for!(Manifest)).expect("a schema serializes");
+    let root = schema.as_object_mut().expect("a schema is an object");
+    root.insert("$id".into(), MANIFEST_SCHEMA_ID.into());
+    let properties = root
+        .get_mut("properties")
+        .and_then(|p| p.as_object_mut())
+        .expect("the manifest has properties");
+    for (field, value) in [
+        ("schema", serde_json::Value::from(MANIFEST_KIND.schema)),
+        ("version", serde_json::Value::from(MANIFEST_VERSION)),
+    ] {
+        if let Some(p) = properties.get_mut(field).and_then(|p| p.as_object_mut()) {
+            p.insert("const".into(), value);
+        }
+    }
+    schema
 }
 
 /// FNV-1a 64 of the shader's IR written back as WGSL by naga: the same for two sources that differ

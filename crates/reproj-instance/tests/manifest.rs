@@ -206,3 +206,48 @@ fn the_added_group_can_be_chosen() {
         }
     }
 }
+
+/// The schema names itself (`$id`) and holds `schema` and `version` to this writer's (`const`), so
+/// a validator tells a manifest of another kind or version from a malformed one.
+#[test]
+fn the_schema_has_an_id_and_constant_schema_and_version() {
+    let schema = manifest_schema();
+    assert_eq!(schema["$id"], reproj_instance::MANIFEST_SCHEMA_ID);
+    assert_eq!(
+        schema["properties"]["schema"]["const"],
+        reproj_instance::MANIFEST_KIND.schema
+    );
+    assert_eq!(
+        schema["properties"]["version"]["const"],
+        reproj_instance::MANIFEST_VERSION
+    );
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    let mut manifest = serde_json::to_value(&manifests()[0]).unwrap();
+    assert!(validator.is_valid(&manifest));
+    manifest["version"] = 99.into();
+    assert!(!validator.is_valid(&manifest), "another version is refused");
+}
+
+/// Whole-number parameters (every `u32` one: Δn, the block size, the frame index's first value)
+/// are written as JSON integers (`13`, not `13.0`) and read back as the same numbers.
+#[test]
+fn whole_number_params_are_written_as_integers() {
+    let m = &manifests()[0];
+    let text = serde_json::to_string_pretty(m).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut u32_values = 0;
+    for field in json["params"]["fields"].as_array().unwrap() {
+        if field["type"] != "u32" {
+            continue;
+        }
+        for key in ["value", "first"] {
+            if let Some(v) = field["value"].get(key) {
+                assert!(v.is_u64(), "{}: {key} = {v} is not an integer", field["name"]);
+                u32_values += 1;
+            }
+        }
+    }
+    assert!(u32_values > 0, "the params have u32 values");
+    let back: Manifest = serde_json::from_str(&text).unwrap();
+    assert_eq!(&back, m);
+}

@@ -130,7 +130,13 @@ enum Mode {
 fn main() {
     let args = Args::parse();
     if let Err(e) = run(&args) {
-        eprintln!("reproj-host: error: {e:#}");
+        // One prefix, as `reproj` prints its errors (a cause that says `error:` itself keeps
+        // only the first).
+        let message = format!("{e:#}");
+        eprintln!(
+            "error: {}",
+            message.strip_prefix("error: ").unwrap_or(&message)
+        );
         std::process::exit(1);
     }
 }

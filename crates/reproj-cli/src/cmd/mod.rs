@@ -165,7 +165,17 @@ pub fn load_shader(
             max_trip: unroll.unroll,
         },
     };
-    Ok(reproj_front::load(path, entry, &options)?)
+    let start = std::time::Instant::now();
+    let loaded = reproj_front::load(path, entry, &options)?;
+    crate::ui::detail(format_args!(
+        "{}: entry `{}`, {} nodes ({} cacheable), read and normalized in {:.1} ms",
+        path.display(),
+        loaded.table.entry,
+        loaded.table.nodes.len(),
+        loaded.table.cacheable().count(),
+        start.elapsed().as_secs_f64() * 1e3
+    ));
+    Ok(loaded)
 }
 
 /// What `--lang` and `--override` ask for (WGSL is always written).
