@@ -31,7 +31,13 @@ struct Cli {
     verbose: u8,
     /// Colour the labels of messages on stderr: `auto` (on a terminal, unless NO_COLOR is set),
     /// `always` or `never`. Stdout (tables, --json) is never coloured.
-    #[arg(long, global = true, value_enum, default_value = "auto", value_name = "WHEN")]
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        default_value = "auto",
+        value_name = "WHEN"
+    )]
     color: ui::ColorChoice,
 }
 
@@ -124,7 +130,9 @@ fn main() -> ExitCode {
         #[cfg(feature = "gpu")]
         Command::Bench(args) => cmd::bench::run(&args),
         #[cfg(not(feature = "gpu"))]
-        _ => Err(cmd::needs_gpu(matches.subcommand_name().unwrap_or("this command"))),
+        _ => Err(cmd::needs_gpu(
+            matches.subcommand_name().unwrap_or("this command"),
+        )),
     };
     cmd::finish(result)
 }

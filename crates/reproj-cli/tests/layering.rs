@@ -143,14 +143,24 @@ fn the_light_build_has_no_gpu_crates() {
         names
     };
     let light = tree(&["--no-default-features"]);
-    for heavy in ["wgpu", "nv-flip", "nv-flip-sys", "plotters", "reproj-bench", "cc"] {
+    for heavy in [
+        "wgpu",
+        "nv-flip",
+        "nv-flip-sys",
+        "plotters",
+        "reproj-bench",
+        "cc",
+    ] {
         assert!(
             !light.contains(heavy),
             "the light build depends on {heavy}: keep it behind reproj-cli's `gpu` feature"
         );
     }
     for needed in ["reproj-analyze", "reproj-instance", "naga", "clap_complete"] {
-        assert!(light.contains(needed), "{needed} missing from the light build");
+        assert!(
+            light.contains(needed),
+            "{needed} missing from the light build"
+        );
     }
     let full = tree(&[]);
     for heavy in ["wgpu", "nv-flip", "reproj-bench"] {

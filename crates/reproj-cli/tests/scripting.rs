@@ -36,13 +36,29 @@ fn every_command_prints_json_with_schema_and_version() {
     json(&["nodes", TINY, "--json"], "reproj.nodes");
     let variant = t.join("variant");
     let v = json(
-        &["instance", TINY, "--node", "root", "--out", path(&variant), "--json"],
+        &[
+            "instance",
+            TINY,
+            "--node",
+            "root",
+            "--out",
+            path(&variant),
+            "--json",
+        ],
         "reproj.instance",
     );
     assert_eq!(v["manifest"]["schema"], "reproj.manifest");
     assert!(v["files"].as_array().unwrap().len() >= 2, "{v}");
     json(
-        &["render", TINY, "--session", TINY_SESSION, "--max-frames", "2", "--json"],
+        &[
+            "render",
+            TINY,
+            "--session",
+            TINY_SESSION,
+            "--max-frames",
+            "2",
+            "--json",
+        ],
         "reproj.render",
     );
     // A variant's render: the original's own time beside it and, asked, the timing engine's
@@ -64,7 +80,10 @@ fn every_command_prints_json_with_schema_and_version() {
     );
     assert!(v["original_frame_ms"].as_f64().unwrap() > 0.0, "{v}");
     assert!(v["speedup"]["rounds"].as_u64().unwrap() > 0, "{v}");
-    assert!(v["speedup"]["original_median_ms"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(
+        v["speedup"]["original_median_ms"].as_f64().unwrap() > 0.0,
+        "{v}"
+    );
     let profile = t.join("tiny.profile.json");
     let analyze = |out: &Path, shard: Option<&str>| {
         let mut args = vec![
@@ -98,7 +117,13 @@ fn every_command_prints_json_with_schema_and_version() {
     let shard = t.join("shard.profile.json");
     analyze(&shard, Some("0/1"));
     json(
-        &["merge", path(&shard), "--out", path(&t.join("merged.profile.json")), "--json"],
+        &[
+            "merge",
+            path(&shard),
+            "--out",
+            path(&t.join("merged.profile.json")),
+            "--json",
+        ],
         "reproj.merge",
     );
     json(
@@ -182,7 +207,10 @@ fn color_only_where_asked() {
         vec!["--color=never", "emit", "--help"],
     ] {
         let (_, out, err) = run(&root(), &args);
-        assert!(!out.contains(esc) && !err.contains(esc), "{args:?}: {out}{err}");
+        assert!(
+            !out.contains(esc) && !err.contains(esc),
+            "{args:?}: {out}{err}"
+        );
     }
     let (_, _, err) = run_env(
         &root(),
@@ -204,7 +232,13 @@ fn one_error_prefix() {
         vec!["nodes", "missing.wgsl"],
         vec!["nodes", "--bogus"],
         vec!["instance", TINY, "--node", "99999", "--out", "x"],
-        vec!["emit", "--max-error", "0.1", "--profile", "missing.profile.json"],
+        vec![
+            "emit",
+            "--max-error",
+            "0.1",
+            "--profile",
+            "missing.profile.json",
+        ],
     ] {
         let (code, _, err) = run(tmp.path(), &args);
         assert_eq!(code, 2, "{args:?}: {err}");

@@ -242,7 +242,11 @@ fn whole_number_params_are_written_as_integers() {
         }
         for key in ["value", "first"] {
             if let Some(v) = field["value"].get(key) {
-                assert!(v.is_u64(), "{}: {key} = {v} is not an integer", field["name"]);
+                assert!(
+                    v.is_u64(),
+                    "{}: {key} = {v} is not an integer",
+                    field["name"]
+                );
                 u32_values += 1;
             }
         }

@@ -91,7 +91,14 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         let (session, _, _) = session
             .as_ref()
             .expect("clap requires --session with --verify");
-        verify_selection(&mut report, &opts.out, variant.as_ref(), &profile, session, args)?;
+        verify_selection(
+            &mut report,
+            &opts.out,
+            variant.as_ref(),
+            &profile,
+            session,
+            args,
+        )?;
     }
     for w in &report.timing_warnings {
         crate::ui::warn(w);

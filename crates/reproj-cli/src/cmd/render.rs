@@ -176,9 +176,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.json {
         let out = RenderOutput {
             report: &report,
-            original_frame_ms: variant_input
-                .as_ref()
-                .map(|_| reference.report.frame_ms),
+            original_frame_ms: variant_input.as_ref().map(|_| reference.report.frame_ms),
             speedup: speedup.as_ref(),
         };
         writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;

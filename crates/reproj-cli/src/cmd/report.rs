@@ -28,7 +28,10 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     };
     let start = std::time::Instant::now();
     let mut progress = |line: &str| {
-        crate::ui::note(format_args!("[{:6.1}s] {line}", start.elapsed().as_secs_f64()));
+        crate::ui::note(format_args!(
+            "[{:6.1}s] {line}",
+            start.elapsed().as_secs_f64()
+        ));
     };
     let html = report(&profile, &args.profile, &opts, &renderer, &mut progress)?;
     reproj_io::write_owned_file(&args.out, html.as_bytes(), REPORT_PAGE)?;
