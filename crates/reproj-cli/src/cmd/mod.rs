@@ -84,9 +84,6 @@ pub fn clean_up_on_signals() {
 #[cfg(feature = "gpu")]
 pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.profile"]);
 
-/// A variant directory is only rendered or timed with the shader it was made from: its manifest's
-/// IR hash must be `shader`'s (comments and formatting aside). Manifests written before the hash
-/// was recorded are taken as they are.
 #[cfg(feature = "gpu")]
 /// Run-time adaptation for a replay (`render --adaptive`, `bench --adaptive`): each frame's Δn
 /// from `variant`'s manifest schedule at that frame's on-screen motion in `session`, as a host
@@ -121,6 +118,9 @@ pub fn adapt(
     Ok(range)
 }
 
+/// A variant directory is only rendered or timed with the shader it was made from: its manifest's
+/// IR hash must be `shader`'s (comments and formatting aside). Manifests written before the hash
+/// was recorded are taken as they are.
 #[cfg(feature = "gpu")]
 pub fn check_variant_shader(
     shader: &reproj_front::Shader,
