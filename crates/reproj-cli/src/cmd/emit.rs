@@ -243,7 +243,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         {
             writeln!(
                 stdout,
-                "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {:+.0} %",
+                "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {}",
                 format_args!("{:.2}", t.pixels_per_frame),
                 m.carried_from.as_deref().unwrap_or("?"),
                 m.period_scale.unwrap_or(1.0),
@@ -252,7 +252,12 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                     reproj_models::motion::ExponentSource::Fitted => "fitted",
                     reproj_models::motion::ExponentSource::Assumed => "assumed",
                 },
-                (e / p - 1.0) * 100.0
+                // A ratio of two errors far under the budget says nothing about the promise.
+                if p.max(e) < report.max_error * 0.1 {
+                    "both under a tenth of the budget".to_string()
+                } else {
+                    format!("{:+.0} %", (e / p - 1.0) * 100.0)
+                }
             )?;
         }
         if let Some(n) = report.measured_nonfinite_reference_pixels {
