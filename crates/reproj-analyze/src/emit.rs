@@ -54,6 +54,9 @@ pub struct EmitOptions {
     /// --session NEW`): the profile nearest in motion is carried to its motion
     /// ([`crate::motion::carry`]) and the budget must hold there too.
     pub target: Option<crate::motion::TargetSession>,
+    /// One Δn for every frame, or Δn per frame from the manifest's schedule chosen for the
+    /// target's (or the profiled sessions') motion frame by frame (`--adaptive`).
+    pub period: crate::motion::PeriodChoice,
 }
 
 /// A node `emit` is restricted to (`--node`).
@@ -82,7 +85,9 @@ pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
 /// member's.
 /// Version 4: `motion`, the sessions' motions, the motion exponent, and the prediction carried to
 /// a session of other motion.
-pub const EMIT_REPORT_VERSION: u32 = 4;
+/// Version 5: `adaptive`, what `emit --adaptive` predicted over the frames' motion (`delta_n` is
+/// then the schedule's Δn at the median motion, `predicted_error` the worst frame's).
+pub const EMIT_REPORT_VERSION: u32 = 5;
 
 fn emit_report_schema() -> String {
     EMIT_REPORT_SCHEMA.into()
@@ -173,6 +178,10 @@ pub struct EmitReport {
     /// The sessions' motions and what emit did with them (version 4; absent before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<crate::motion::MotionReport>,
+    /// With `--adaptive` (version 5): the per-frame prediction of the chosen schedule and the
+    /// fastest fixed choice beside it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<crate::motion::AdaptiveReport>,
 }
 
 /// Read a profile, naming the field when it is malformed.
@@ -407,17 +416,29 @@ pub fn emit(
     let names: Vec<String> = std::iter::once(name(profile))
         .chain(others.iter().map(|(p, _, _)| name(p)))
         .collect();
+    // Each session's slower and faster halves (per-frame L2 errors, profile version 9).
+    let segments: Vec<Vec<crate::motion::Segment>> = std::iter::once((profile, &records))
+        .chain(others.iter().map(|(p, n, _)| (*p, n)))
+        .map(|(p, nodes)| match opts.metric {
+            Metric::L2 => crate::motion::profile_segments(p, nodes),
+            Metric::Flip => Vec::new(),
+        })
+        .collect();
     let profiled: Vec<crate::motion::ProfiledSession> =
         std::iter::once((profile, &records, &set_records))
             .chain(others.iter().map(|(p, n, s)| (*p, n, s)))
             .zip(&names)
-            .map(|((p, nodes, sets), name)| crate::motion::ProfiledSession {
-                name,
-                hash: &p.session.hash,
-                motion: p.motion.as_ref(),
-                nodes,
-                sets,
-            })
+            .zip(&segments)
+            .map(
+                |(((p, nodes, sets), name), segments)| crate::motion::ProfiledSession {
+                    name,
+                    hash: &p.session.hash,
+                    motion: p.motion.as_ref(),
+                    nodes,
+                    sets,
+                    segments,
+                },
+            )
             .collect();
     let (mut motion, carried) = crate::motion::carry(&profiled, opts.target.as_ref());
     let target_name = opts
@@ -461,11 +482,74 @@ pub fn emit(
     } else {
         select_worst_case(&scenes, &select_opts)
     };
+    let (selection, adaptive) = match opts.period {
+        crate::motion::PeriodChoice::Fixed => (selection, None),
+        crate::motion::PeriodChoice::Adaptive => {
+            let adaptive_sessions: Vec<crate::motion::AdaptiveSession<'_>> =
+                std::iter::once((profile, &records[..], &set_records[..]))
+                    .chain(others.iter().map(|(p, n, s)| (*p, &n[..], &s[..])))
+                    .map(|(p, nodes, sets)| crate::motion::AdaptiveSession {
+                        motion: p.motion.as_ref().map(|m| m.pixels_per_frame),
+                        nodes,
+                        sets,
+                        hit_rate: &p.hit_rate,
+                        original_ms: p.original.frame_ms,
+                    })
+                    .collect();
+            let frames_of = |m: &reproj_models::motion::Motion| {
+                if m.per_frame.is_empty() {
+                    vec![m.pixels_per_frame]
+                } else {
+                    m.per_frame.clone()
+                }
+            };
+            let (trace, trace_name) = match &opts.target {
+                Some(t) => (frames_of(&t.motion), t.name.clone()),
+                None => (
+                    std::iter::once(profile)
+                        .chain(others.iter().map(|(p, _, _)| *p))
+                        .filter_map(|p| p.motion.as_ref())
+                        .flat_map(frames_of)
+                        .collect(),
+                    names.join(" + "),
+                ),
+            };
+            let beta = motion.exponent.beta;
+            let (chosen, mut report) =
+                crate::motion::select_adaptive(&adaptive_sessions, beta, &trace, &select_opts);
+            if let Some(r) = report.as_mut() {
+                r.trace = trace_name;
+                if let Selection::Node(fixed) = &selection {
+                    r.fixed_node = Some(if fixed.members.is_empty() {
+                        profile
+                            .nodes
+                            .iter()
+                            .find(|n| n.id == fixed.node_id && n.root)
+                            .map_or_else(|| fixed.node_id.to_string(), |_| "root".into())
+                    } else {
+                        fixed
+                            .members
+                            .iter()
+                            .map(u32::to_string)
+                            .collect::<Vec<_>>()
+                            .join("+")
+                    });
+                    r.fixed_delta_n = Some(fixed.delta_n);
+                    r.fixed_predicted_speedup = Some(fixed.predicted_speedup);
+                }
+            }
+            (chosen, report)
+        }
+    };
     if let Some(name) = &target_name {
         motion.target_predicted_error = sessions
             .iter()
             .find(|s| s.session == *name)
             .map(|s| s.predicted_error);
+        if let Some(a) = &adaptive {
+            // The target's whole-session error, as --verify measures it: the frames' mean.
+            motion.target_predicted_error = Some(a.predicted_mean_error);
+        }
     }
     let motion = (!motion.profiled.is_empty() || motion.target.is_some()).then_some(motion);
     // The run-time Δn schedule of the choice (manifest `params.schedule`): at bands of motion
@@ -527,6 +611,7 @@ pub fn emit(
         adapter: profile.machine.adapter.clone(),
         sessions,
         motion,
+        adaptive,
     };
     let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
     let variant = match selection {

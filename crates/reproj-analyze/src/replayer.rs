@@ -447,6 +447,7 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
         hit_rate: finite(report.hit_rate),
         frame_ms: finite(report.frame_ms),
         frames,
+        frame_errors: report.frames.iter().map(|f| finite(f.error)).collect(),
     }
 }
 

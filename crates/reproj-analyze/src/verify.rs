@@ -52,12 +52,37 @@ pub fn verify(
             report.measured_speedup_ci95 = Some([1.0, 1.0]);
         }
         Some(v) => {
-            let input = VariantInput::new(
+            let mut input = VariantInput::new(
                 v.passes.iter().map(|p| p.wgsl.clone()).collect(),
                 v.manifest.clone(),
                 report.delta_n.unwrap_or(1),
             );
+            if report.adaptive.is_some() {
+                // As a host applies the schedule: each frame's Δn from its measured motion.
+                input.delta_n_per_frame =
+                    crate::motion::adaptive_periods(&v.manifest.params, session);
+            }
             let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
+            if let (Some(a), Some(periods)) = (report.adaptive.as_mut(), &input.delta_n_per_frame) {
+                // Each band of the schedule promises the budget: the worst band's mean error.
+                let mut by_period: std::collections::BTreeMap<u32, (f64, u32)> = Default::default();
+                for fr in &r.frames {
+                    if let Some(&dn) = periods.get(fr.frame as usize) {
+                        let e = by_period.entry(dn).or_default();
+                        e.0 += fr.error;
+                        e.1 += 1;
+                    }
+                }
+                let worst = by_period
+                    .iter()
+                    .map(|(&dn, &(sum, n))| (dn, sum / f64::from(n.max(1))))
+                    .max_by(|a, b| a.1.total_cmp(&b.1));
+                a.measured_worst_band = worst.map(|(dn, e)| crate::motion::BandError {
+                    delta_n: dn,
+                    frames: by_period[&dn].1,
+                    error: e,
+                });
+            }
             report.measured_error = Some(r.error);
             report.measured_nonfinite_pixels = Some(r.nonfinite_pixels).filter(|&n| n > 0);
             report.measured_nonfinite_reference_pixels =

@@ -156,6 +156,7 @@ fn static_session_profiles_without_nan_and_emits() {
             outputs: Default::default(),
             also: Vec::new(),
             target: None,
+            period: Default::default(),
             node: None,
         },
     )
@@ -387,6 +388,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
             outputs: Default::default(),
             also: Vec::new(),
             target: None,
+            period: Default::default(),
             node: None,
         },
     )

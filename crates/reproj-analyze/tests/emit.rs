@@ -144,6 +144,7 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
         outputs: Default::default(),
         also: Vec::new(),
         target: None,
+        period: Default::default(),
         node: None,
     }
 }
@@ -219,6 +220,7 @@ fn predicted_psnr_comes_from_the_measured_mse() {
                 hit_rate: 0.0,
                 frame_ms: 1.0,
                 frames: Vec::new(),
+                frame_errors: Vec::new(),
             })
             .collect();
     }

@@ -76,6 +76,7 @@ fn measure(sim: &Sim, dn: u32) -> Measurement {
         hit_rate: gamma,
         frame_ms,
         frames,
+        frame_errors: Vec::new(),
         error_worst: None,
         flip: None,
         ssim: None,

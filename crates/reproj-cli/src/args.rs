@@ -359,6 +359,12 @@ pub struct EmitArgs {
     /// only checks).
     #[arg(long, value_enum, default_value_t = MotionUse::Carry, requires = "session")]
     pub motion: MotionUse,
+    /// Choose for a Δn that changes every frame with the camera's motion (the manifest's
+    /// `params.schedule`, which `render --adaptive` and `reproj-host --adaptive` apply): the node
+    /// whose schedule is predicted fastest over --session's frames (or the profiled sessions'),
+    /// every frame within the budget; --verify then renders and times it adaptively.
+    #[arg(long)]
+    pub adaptive: bool,
     #[arg(long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     #[command(flatten)]

@@ -83,7 +83,7 @@ fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
     // Carried to the fast session's motion (the default), the choice holds there.
     let (code, carried, err) = emit("carry", "carried");
     let m = &carried["motion"];
-    assert_eq!(carried["version"], 4);
+    assert_eq!(carried["version"], 5);
     let target = m["target"]["pixels_per_frame"].as_f64().unwrap();
     assert!(target > 1.5 * profiled_motion, "{m}");
     assert_eq!(m["exponent"]["source"], "assumed", "{m}");
@@ -100,4 +100,87 @@ fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
     let measured = carried["measured_error"].as_f64().unwrap();
     assert!(measured <= 0.01, "{carried}");
     assert_eq!(code, 0, "{err}");
+}
+
+/// `emit --adaptive` chooses for a Δn that follows the motion frame by frame: over a session with
+/// a burst of fast motion it writes a schedule whose periods differ across the frames, every frame
+/// predicted within the budget, and `--verify` renders it adapting and checks the worst band
+/// (the frames given one Δn) against the budget too.
+#[test]
+fn emit_adaptive_chooses_for_the_schedule_and_verifies_every_band() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "two_terms.wgsl", "unused.json");
+    let sessions = common::root().join("sessions/adaptive");
+    for s in [
+        "two_terms_slow.json",
+        "two_terms_fast.json",
+        "two_terms_burst.json",
+    ] {
+        std::fs::copy(sessions.join(s), dir.join(s)).unwrap();
+    }
+    let (code, _, err) = run(
+        dir,
+        &[
+            "analyze",
+            "two_terms.wgsl",
+            "--session",
+            "two_terms_slow.json",
+            "--session",
+            "two_terms_fast.json",
+            "--out",
+            "tt.profile.json",
+            "--delta-n",
+            "2,8,16,24",
+            "--holdout",
+            "4",
+            "--max-nodes",
+            "3",
+            "--strategy",
+            "3pass",
+            "--no-sets",
+            "--no-charts",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "tt.profile.json",
+            "--profile",
+            "tt.two_terms_fast.profile.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "adaptive",
+            "--session",
+            "two_terms_burst.json",
+            "--adaptive",
+            "--verify",
+            "--json",
+        ],
+    );
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+    assert_eq!(report["version"], 5);
+    let a = &report["adaptive"];
+    assert_eq!(a["frames"], 96, "{a}");
+    assert!(a["delta_n_min"].as_u64() < a["delta_n_max"].as_u64(), "{a}");
+    assert!(a["predicted_worst_error"].as_f64().unwrap() <= 0.01, "{a}");
+    assert!(a["fixed_node"].is_string(), "{a}");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("adaptive/manifest.json")).unwrap())
+            .unwrap();
+    assert!(
+        manifest["params"]["schedule"].as_array().unwrap().len() >= 2,
+        "{manifest}"
+    );
+    let band = &a["measured_worst_band"];
+    assert!(band["frames"].as_u64().unwrap() > 0, "{a}");
+    // The budget holds on the whole session and in the worst band, or the run says so (exit 4).
+    let holds = band["error"].as_f64().unwrap() <= 0.01
+        && report["measured_error"].as_f64().unwrap() <= 0.01;
+    assert_eq!(code, if holds { 0 } else { 4 }, "{err}");
+    assert!(holds, "{report}");
 }

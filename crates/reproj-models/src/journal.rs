@@ -247,6 +247,7 @@ mod tests {
             hit_rate: 0.9,
             frame_ms,
             frames: Vec::new(),
+            frame_errors: Vec::new(),
         }
     }
 

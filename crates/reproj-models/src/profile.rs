@@ -25,7 +25,9 @@ use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary
 /// whether the adapter is a CPU rasterizer, `timing_warnings`, `time.timing_s`.
 /// Version 8: `motion`, how fast the session moves on screen (`reproj_models::motion`), so that
 /// `emit` can carry the error models to a session of other motion.
-pub const PROFILE_VERSION: u32 = 8;
+/// Version 9: per measurement `frame_errors`, the L2 error of every replayed frame, so that the
+/// motion exponent can be fitted across segments of one session.
+pub const PROFILE_VERSION: u32 = 9;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -210,6 +212,10 @@ pub struct Measurement {
     pub frame_ms: f64,
     /// Per frame (frame 0 excluded): hits, misses (incl. refreshes), time.
     pub frames: Vec<FrameTiming>,
+    /// The L2 error of every replayed frame, frame 0 first (version 9; empty before): segments
+    /// of one session of varying motion tell how the error follows motion.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub frame_errors: Vec<f64>,
 }
 
 /// Whether a node can be selected.
@@ -558,6 +564,7 @@ mod tests {
                     hit_rate: 0.0,
                     frame_ms: 1.0,
                     frames: Vec::new(),
+                    frame_errors: Vec::new(),
                 })
                 .collect(),
             error_fit: fit_error(&[], &ErrorFitOptions::default()),

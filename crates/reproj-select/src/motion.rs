@@ -3,7 +3,8 @@
 //! held-out predictions that choose the motion exponent β across profiles.
 
 use reproj_models::ErrorFit;
-use reproj_models::motion::{MIN_MOTION_RATIO, period_scale, warped_period};
+use reproj_models::HitRateFit;
+use reproj_models::motion::{MIN_MOTION_RATIO, STATIC_PIXELS, period_scale, warped_period};
 
 use crate::{NodeRecord, SelectOptions, SetRecord, predicted_error, respect_measurements};
 
@@ -111,8 +112,9 @@ pub const SCHEDULE_BEYOND: f64 = 16.0;
 /// The run-time Δn schedule of a chosen node (or set, [`SetRecord::as_node`]) from its records in
 /// the profiled sessions, each with that session's motion (pixels per frame), and the motion
 /// exponent `beta`: per band, its fastest motion (`None`: any faster) and the longest Δn in
-/// `opts`' range whose error predicted at that motion — from the profile nearest in motion,
-/// carried there — holds `opts.max_error` (1 where none does: the original's result).
+/// `opts`' range whose error predicted at that motion — from each profile nearest in motion to
+/// some motion of the band, carried there — holds `opts.max_error` (1 where none does: the
+/// original's result).
 /// Neighbouring bands with the same Δn are merged, and a faster band never gets a longer period
 /// than a slower one. Empty when no profiled motion is a number above static.
 pub fn schedule(
@@ -131,25 +133,41 @@ pub fn schedule(
     ) else {
         return Vec::new();
     };
-    let longest_at = |m: f64| -> u32 {
-        let (profiled, record) = records
+    let nearest = |m: f64| -> (f64, &NodeRecord) {
+        records
             .iter()
             .min_by(|a, b| (a.0 / m).ln().abs().total_cmp(&(b.0 / m).ln().abs()))
             .copied()
-            .expect("one record at least");
-        let carried = record.at_motion(period_scale(profiled, m, beta));
+            .expect("one record at least")
+    };
+    // A band (lo, up] holds where every profile that is nearest to some motion in it — the ones
+    // nearest its two ends and any inside it — predicts the budget at `up`, carried there: the
+    // frames of the band are then within the budget whichever profile is nearest to them.
+    let longest_in = |lo: f64, up: f64| -> u32 {
+        let mut near: Vec<(f64, &NodeRecord)> = vec![nearest(lo), nearest(up)];
+        near.extend(records.iter().filter(|r| r.0 > lo && r.0 < up).copied());
+        let carried: Vec<NodeRecord> = near
+            .iter()
+            .map(|(profiled, record)| record.at_motion(period_scale(*profiled, up, beta)))
+            .collect();
         (opts.min_delta_n.max(2)..=opts.max_delta_n)
             .rev()
-            .find(|&dn| predicted_error(&carried, dn).is_some_and(|e| e <= opts.max_error))
+            .find(|&dn| {
+                carried
+                    .iter()
+                    .all(|c| predicted_error(c, dn).is_some_and(|e| e <= opts.max_error))
+            })
             .unwrap_or(1)
     };
     let mut bands: Vec<(Option<f64>, u32)> = Vec::new();
+    let mut lo = STATIC_PIXELS;
     let mut m = slowest / 4.0;
     while m <= fastest * 2.0 {
-        bands.push((Some(m), longest_at(m)));
+        bands.push((Some(m), longest_in(lo, m)));
+        lo = m;
         m *= std::f64::consts::SQRT_2;
     }
-    bands.push((None, longest_at(fastest * SCHEDULE_BEYOND)));
+    bands.push((None, longest_in(lo, fastest * SCHEDULE_BEYOND)));
     for i in 1..bands.len() {
         bands[i].1 = bands[i].1.min(bands[i - 1].1);
     }
@@ -161,6 +179,132 @@ pub fn schedule(
         }
     }
     merged
+}
+
+/// The Δn a schedule gives a frame of motion `pixels_per_frame`: the first band that reaches it,
+/// the last band beyond (and for a motion that is not a number); `None` for an empty schedule.
+/// The same rule as the manifest's `Params::delta_n_for`, which a host applies.
+pub fn delta_n_in(schedule: &[(Option<f64>, u32)], pixels_per_frame: f64) -> Option<u32> {
+    let last = schedule.last()?;
+    if !pixels_per_frame.is_finite() {
+        return Some(last.1);
+    }
+    Some(
+        schedule
+            .iter()
+            .find(|b| b.0.is_none_or(|up| pixels_per_frame <= up))
+            .unwrap_or(last)
+            .1,
+    )
+}
+
+/// One profiled session's view of a candidate of [`predict_adaptive`].
+#[derive(Debug, Clone, Copy)]
+pub struct ProfiledRecord<'a> {
+    /// The session's motion, pixels per frame.
+    pub motion: f64,
+    /// The candidate's record there.
+    pub record: &'a NodeRecord,
+    /// That session's hit-rate fit.
+    pub hit_rate: &'a HitRateFit,
+    /// The original shader's frame time there, ms.
+    pub original_ms: f64,
+}
+
+/// What a candidate's run-time schedule is predicted to do over a trace of per-frame motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AdaptivePrediction {
+    /// The schedule ([`schedule`]).
+    pub schedule: Vec<(Option<f64>, u32)>,
+    /// Δn of each frame of the trace.
+    pub delta_n_per_frame: Vec<u32>,
+    /// Mean predicted frame time over the trace, ms.
+    pub predicted_ms: f64,
+    /// Mean frame time of the original over the trace (each frame at the profile nearest in
+    /// motion), ms.
+    pub original_ms: f64,
+    /// `original_ms / predicted_ms`.
+    pub predicted_speedup: f64,
+    /// The largest predicted error of one frame (0 at Δn 1, where every pixel is recomputed).
+    pub worst_error: f64,
+    /// The mean predicted error over the frames.
+    pub mean_error: f64,
+}
+
+/// Predict a candidate under its run-time schedule over `trace` (each frame's on-screen motion,
+/// pixels per frame): per frame, the Δn the schedule gives it, and the error and time predicted
+/// from the profile nearest in motion (the error carried to the frame's motion with `beta`, the
+/// time as profiled: speed is not carried). `None` when no profiled motion is usable (no
+/// schedule), the trace is empty, or a prediction is not a number.
+pub fn predict_adaptive(
+    records: &[ProfiledRecord<'_>],
+    beta: f64,
+    trace: &[f64],
+    opts: &SelectOptions,
+) -> Option<AdaptivePrediction> {
+    let with_motion: Vec<(f64, &NodeRecord)> =
+        records.iter().map(|r| (r.motion, r.record)).collect();
+    let schedule = schedule(&with_motion, beta, opts);
+    if schedule.is_empty() || trace.is_empty() {
+        return None;
+    }
+    let floor = |m: f64| {
+        if m.is_finite() {
+            m.max(STATIC_PIXELS)
+        } else {
+            f64::INFINITY
+        }
+    };
+    let mut per_frame = Vec::with_capacity(trace.len());
+    let (mut ms, mut original, mut worst, mut sum_error) = (0.0, 0.0, 0.0f64, 0.0);
+    // A frame that does not move (the first frame has no previous one) is predicted as the
+    // slowest band's fastest motion: what the schedule promised there (an error model carried
+    // to no motion at all would not age, which says nothing).
+    let slowest_band = schedule[0].0.unwrap_or(STATIC_PIXELS);
+    for &m in trace {
+        let dn = delta_n_in(&schedule, m)?;
+        let m = if m.is_finite() && m < STATIC_PIXELS {
+            slowest_band
+        } else {
+            m
+        };
+        let nearest = records
+            .iter()
+            .filter(|r| r.motion.is_finite() && r.motion >= STATIC_PIXELS)
+            .min_by(|a, b| {
+                (a.motion / floor(m))
+                    .ln()
+                    .abs()
+                    .total_cmp(&(b.motion / floor(m)).ln().abs())
+            })?;
+        let error = if dn <= 1 {
+            0.0
+        } else {
+            let carried = nearest
+                .record
+                .at_motion(period_scale(nearest.motion, m, beta));
+            predicted_error(&carried, dn)?
+        };
+        let t = crate::predict(nearest.record, nearest.hit_rate, dn)?.predicted_ms;
+        per_frame.push(dn);
+        ms += t;
+        original += nearest.original_ms;
+        worst = worst.max(error);
+        sum_error += error;
+    }
+    let n = trace.len() as f64;
+    let (ms, original) = (ms / n, original / n);
+    (ms.is_finite() && ms > 0.0 && original.is_finite() && original > 0.0).then(|| {
+        AdaptivePrediction {
+            schedule,
+            delta_n_per_frame: per_frame,
+            predicted_ms: ms,
+            original_ms: original,
+            predicted_speedup: original / ms,
+            worst_error: worst,
+            mean_error: sum_error / n,
+        }
+    })
 }
 
 #[cfg(test)]
@@ -250,5 +394,52 @@ mod tests {
             let b = fit.predict(warped_period(dn, 3.0)).unwrap();
             assert!((a - b).abs() < 1e-12, "{dn}: {a} {b}");
         }
+    }
+
+    #[test]
+    fn an_adaptive_schedule_holds_every_frame_and_beats_the_fixed_period_that_holds_everywhere() {
+        let samples: Vec<(f64, f64)> = [2.0, 8.0, 16.0, 24.0, 32.0]
+            .iter()
+            .map(|&d| (d, 0.02 * (1.0 - (-0.05f64 * (d - 1.0)).exp())))
+            .collect();
+        let record = NodeRecord {
+            id: 3,
+            text: "n".into(),
+            strategy: "2pass".into(),
+            error: fit_error(&samples, &ErrorFitOptions::default()),
+            timing: reproj_models::TimingFit::from_costs(1e-5, 2e-5, 0.5, 1000.0),
+            mean_pixels: 1000.0,
+            measured: None,
+            measured_errors: samples.iter().map(|&(d, e)| (d as u32, e)).collect(),
+        };
+        let hit = HitRateFit::from_mu(0.95);
+        let original_ms = 0.05;
+        let at = |motion| ProfiledRecord {
+            motion,
+            record: &record,
+            hit_rate: &hit,
+            original_ms,
+        };
+        let opts = SelectOptions::new(0.008);
+        // Mostly slow (1 px/frame) with a burst of fast motion (8 px/frame).
+        let trace: Vec<f64> = (0..72)
+            .map(|f| if (30..42).contains(&f) { 8.0 } else { 1.0 })
+            .collect();
+        let p = predict_adaptive(&[at(1.0), at(8.0)], 1.0, &trace, &opts).unwrap();
+        assert!(p.worst_error <= 0.008, "{p:?}");
+        let slow = p.delta_n_per_frame[0];
+        let fast = p.delta_n_per_frame[35];
+        assert!(slow > fast, "{p:?}");
+        // The fixed period that holds on both is the fast one's: the schedule is faster.
+        let fixed = crate::predict(&record, &hit, fast).unwrap().predicted_ms;
+        assert!(p.predicted_ms < fixed, "{} vs {fixed}", p.predicted_ms);
+        assert!((p.predicted_speedup - original_ms / p.predicted_ms).abs() < 1e-12);
+        // No usable motion, or no frames: no prediction.
+        assert!(predict_adaptive(&[at(0.0)], 1.0, &trace, &opts).is_none());
+        assert!(predict_adaptive(&[at(1.0)], 1.0, &[], &opts).is_none());
+        assert_eq!(
+            delta_n_in(&p.schedule, f64::NAN),
+            p.schedule.last().map(|b| b.1)
+        );
     }
 }

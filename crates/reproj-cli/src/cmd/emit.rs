@@ -82,6 +82,11 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         outputs: super::outputs(&args.lang, &args.overrides),
         also,
         target,
+        period: if args.adaptive {
+            reproj_analyze::motion::PeriodChoice::Adaptive
+        } else {
+            reproj_analyze::motion::PeriodChoice::Fixed
+        },
     };
     let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
     for w in report.motion.iter().flat_map(|m| &m.warnings) {
@@ -144,17 +149,36 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                     .predicted_speedup_ci95
                     .map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]")),
             )?;
-            for sp in &report.sessions {
+            if let Some(a) = &report.adaptive {
                 writeln!(
                     stdout,
-                    "  on {}: {} {:.5}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
-                    sp.session,
-                    metric_label(report.metric),
-                    sp.predicted_error,
-                    sp.predicted_ms,
-                    sp.original_ms,
-                    sp.predicted_speedup
+                    "adaptive  Δn {}–{} by motion over the {} frames of {} (worst frame predicted {:.5}, mean {:.5}){}",
+                    a.delta_n_min,
+                    a.delta_n_max,
+                    a.frames,
+                    a.trace,
+                    a.predicted_worst_error,
+                    a.predicted_mean_error,
+                    match (&a.fixed_node, a.fixed_delta_n, a.fixed_predicted_speedup) {
+                        (Some(n), Some(dn), Some(s)) => {
+                            format!("; the fastest fixed choice: node {n} at Δn {dn}, {s:.2}x")
+                        }
+                        _ => String::new(),
+                    }
                 )?;
+            } else {
+                for sp in &report.sessions {
+                    writeln!(
+                        stdout,
+                        "  on {}: {} {:.5}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                        sp.session,
+                        metric_label(report.metric),
+                        sp.predicted_error,
+                        sp.predicted_ms,
+                        sp.original_ms,
+                        sp.predicted_speedup
+                    )?;
+                }
             }
             if profile.machine.cpu_rasterizer {
                 writeln!(
@@ -194,6 +218,15 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         if let Some(on) = &report.measured_on {
             writeln!(stdout, "measured on {on}")?;
         }
+        if let Some(b) = report.adaptive.as_ref().and_then(|a| a.measured_worst_band)
+            && report.metric == reproj_models::Metric::L2
+        {
+            writeln!(
+                stdout,
+                "measured  worst band: error {:.5} over the {} frames at Δn {}",
+                b.error, b.frames, b.delta_n
+            )?;
+        }
         if let (Some(m), Some(p), Some(t)) = (
             &report.motion,
             report
@@ -205,7 +238,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         {
             writeln!(
                 stdout,
-                "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {:+.0} %",
+                "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {}",
                 format_args!("{:.2}", t.pixels_per_frame),
                 m.carried_from.as_deref().unwrap_or("?"),
                 m.period_scale.unwrap_or(1.0),
@@ -214,7 +247,12 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                     reproj_models::motion::ExponentSource::Fitted => "fitted",
                     reproj_models::motion::ExponentSource::Assumed => "assumed",
                 },
-                (e / p - 1.0) * 100.0
+                // A ratio of two errors far under the budget says nothing about the promise.
+                if p.max(e) < report.max_error * 0.1 {
+                    "both under a tenth of the budget".to_string()
+                } else {
+                    format!("{:+.0} %", (e / p - 1.0) * 100.0)
+                }
             )?;
         }
         if let Some(n) = report.measured_nonfinite_reference_pixels {
@@ -280,7 +318,14 @@ fn verify_selection(
 /// on the prediction without (exit 3).
 fn gate(report: &reproj_analyze::EmitReport, args: &EmitArgs) -> Option<anyhow::Error> {
     let measured = match report.metric {
-        reproj_models::Metric::L2 => report.measured_error,
+        // Adaptive: every band of the schedule promises the budget, the worst one included.
+        reproj_models::Metric::L2 => report.measured_error.map(|e| {
+            report
+                .adaptive
+                .as_ref()
+                .and_then(|a| a.measured_worst_band)
+                .map_or(e, |b| e.max(b.error))
+        }),
         reproj_models::Metric::Flip => report.measured_flip.map(|f| f.mean),
     };
     if let Some(n) = report.measured_nonfinite_pixels {

@@ -100,16 +100,11 @@ pub fn adapt(
         ))
         .into());
     }
-    let motion = reproj_analyze::motion::measure(session, None).ok_or_else(|| {
+    let per_frame = reproj_analyze::motion::adaptive_periods(params, session).ok_or_else(|| {
         UserError(
             "the session's motion cannot be measured (no object's mesh could be built)".into(),
         )
     })?;
-    let per_frame: Vec<u32> = motion
-        .per_frame
-        .iter()
-        .map(|&m| params.delta_n_for(m))
-        .collect();
     let range = (
         per_frame.iter().copied().min().unwrap_or(1),
         per_frame.iter().copied().max().unwrap_or(1),
