@@ -217,6 +217,7 @@ mod tests {
             delta_n,
             frames: None,
             set: Vec::new(),
+            reconstruct: None,
         }
     }
 

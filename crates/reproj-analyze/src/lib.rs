@@ -4,6 +4,7 @@
 
 pub mod analyze;
 pub mod emit;
+mod filters;
 pub mod journal;
 pub mod merge;
 pub mod motion;
