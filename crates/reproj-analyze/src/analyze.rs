@@ -399,6 +399,7 @@ pub fn analyze(
                 base_sources: &sources,
                 base_variant: &variant,
                 base_measurements: &measurements,
+                base_speedup: Some(estimate.speedup),
             };
             if let Some(kept) = crate::filters::race_filter(&mut rp, &race, &mut filter_probes)? {
                 // The node is profiled with the kept filter alone: its measurement at the longest

@@ -6,6 +6,8 @@
 //! at a given error*, so that is what the race measures, per node, after the node's strategy was
 //! chosen and profiled with the base filter (bilinear):
 //!
+//! 0. a node whose base variant was no faster than the original at the longest training Δn in its
+//!    strategy race is not raced: a dearer filter at the same period cannot pay where it does not;
 //! 1. the challenger (Catmull-Rom) is replayed over the whole session at the longest training Δn
 //!    (its error there; the replay is kept as its first measurement if it wins);
 //! 2. where its error is no lower than the base's at that Δn, the base is kept at once (no race);
@@ -66,6 +68,14 @@ pub(crate) fn challenger_pays(
     }
 }
 
+/// Whether a node is worth a filter race: its base variant at the longest period (the fastest it
+/// gets) was timed faster than the original (`base_speedup`, the strategy race's estimate). A
+/// dearer filter at the same period is no faster, so where the base does not pay, nothing can;
+/// a node never timed is not raced either.
+pub(crate) fn worth_racing(base_speedup: Option<f64>) -> bool {
+    base_speedup.is_some_and(|s| s > 1.0)
+}
+
 /// A node's variant as its strategy race left it, with its base-filter measurements.
 pub(crate) struct FilterRace<'a> {
     pub(crate) id: u32,
@@ -75,6 +85,8 @@ pub(crate) struct FilterRace<'a> {
     pub(crate) base_sources: &'a [String],
     pub(crate) base_variant: &'a reproj_instance::Variant,
     pub(crate) base_measurements: &'a [Measurement],
+    /// The base variant's speedup at the longest period (its strategy race's estimate).
+    pub(crate) base_speedup: Option<f64>,
 }
 
 /// The challenger, kept: its variant and its measurement at the longest period.
@@ -95,6 +107,9 @@ pub(crate) fn race_filter(
     let (id, longest) = (race.id, rp.longest);
     let base = rp.opts.instance.reconstruct;
     let who = format!("node {id}");
+    if !worth_racing(race.base_speedup) {
+        return Ok(None);
+    }
     let probe = |reconstruct: Reconstruct, delta_n: u32, error: f64| FilterProbe {
         node: id,
         reconstruct: reconstruct.name().into(),
@@ -301,6 +316,14 @@ mod tests {
         // No prediction, or a non-finite one, is never within.
         assert_eq!(equal_error_period(|_| None, 1.0, 30), None);
         assert_eq!(equal_error_period(|_| Some(f64::NAN), 1.0, 30), None);
+    }
+
+    #[test]
+    fn a_node_whose_base_does_not_pay_at_its_longest_period_is_not_raced() {
+        assert!(worth_racing(Some(1.4)));
+        assert!(!worth_racing(Some(0.9)));
+        assert!(!worth_racing(Some(1.0)));
+        assert!(!worth_racing(None));
     }
 
     #[test]

@@ -136,6 +136,14 @@ fn analyze_auto_records_each_node_s_filter_and_emit_writes_it() {
             .find(|p| p["node"] == n["id"] && p["reconstruct"] == "catmull-rom");
         if let Some(p) = challenger {
             raced += 1;
+            // Only a node whose base pays at the longest period is raced.
+            let base = profile["strategy_probes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|s| s["node"] == n["id"] && s["kept"] == true)
+                .unwrap();
+            assert!(base["speedup"].as_f64().unwrap() > 1.0, "{base}");
             assert!(p["note"].is_string(), "{p}");
             assert_eq!(p["kept"] == true, filter == "catmull-rom", "{p} {n}");
             assert!(p["error"].as_f64().unwrap() >= 0.0);
@@ -177,7 +185,10 @@ fn analyze_auto_records_each_node_s_filter_and_emit_writes_it() {
     if let Some(chosen) = report["node"].as_str() {
         let node = nodes
             .iter()
-            .find(|n| (chosen == "root" && n["root"] == true) || n["id"].to_string() == chosen)
+            .find(|n| {
+                (chosen == "root" && n["root"] == true)
+                    || chosen.parse::<u64>().ok() == n["id"].as_u64()
+            })
             .unwrap();
         let manifest = read("v/manifest.json");
         assert_eq!(manifest["reconstruct"], node["reconstruct"], "{manifest}");
