@@ -83,7 +83,7 @@ fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
     // Carried to the fast session's motion (the default), the choice holds there.
     let (code, carried, err) = emit("carry", "carried");
     let m = &carried["motion"];
-    assert_eq!(carried["version"], 4);
+    assert_eq!(carried["version"], 5);
     let target = m["target"]["pixels_per_frame"].as_f64().unwrap();
     assert!(target > 1.5 * profiled_motion, "{m}");
     assert_eq!(m["exponent"]["source"], "assumed", "{m}");
