@@ -6,10 +6,10 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use reproj_front::{NodeTable, Normalized, Shader};
-use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
+use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, instance};
 use reproj_models::profile::{
-    AnalysisTime, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Shard, Source,
-    StrategyProbe,
+    AnalysisTime, FilterProbe, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
+    Shard, Source, StrategyProbe,
 };
 use reproj_models::{PROFILE_VERSION, Profile, content_hash, fit_hit_rate};
 use reproj_replay::{RenderOptions, Renderer, Session};
@@ -224,11 +224,13 @@ pub fn analyze(
         id: u32,
         strategy: Strategy,
         block: u32,
+        reconstruct: Reconstruct,
         measurements: Vec<Measurement>,
         failure: Option<String>,
     }
     let mut raws = Vec::new();
     let mut probes: Vec<StrategyProbe> = Vec::new();
+    let mut filter_probes: Vec<FilterProbe> = Vec::new();
     let mut pruner = StrategyPruner::new(opts.strategies.len());
     for &id in &ids {
         let node = input.table.get(id).expect("ids come from the table");
@@ -293,6 +295,7 @@ pub fn analyze(
                     name: b.strategy.name().to_string(),
                     sources: &b.sources,
                     variant: &b.variant,
+                    delta_n: longest,
                 })
                 .collect();
             Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
@@ -346,6 +349,7 @@ pub fn analyze(
                 id,
                 strategy: opts.strategies[0],
                 block: opts.block.unwrap_or(opts.strategies[0].default_block()),
+                reconstruct: opts.instance.reconstruct,
                 measurements: Vec::new(),
                 failure: Some(why),
             });
@@ -373,6 +377,7 @@ pub fn analyze(
             root: node.root,
             strategy,
             block,
+            reconstruct: None,
             raced: true,
             verdict,
         };
@@ -384,10 +389,44 @@ pub fn analyze(
             &mut measurements,
             &mut failure,
         )?;
+        let mut reconstruct = opts.instance.reconstruct;
+        if opts.race_filters && failure.is_none() {
+            let race = crate::filters::FilterRace {
+                id,
+                sel,
+                strategy,
+                block,
+                base_sources: &sources,
+                base_variant: &variant,
+                base_measurements: &measurements,
+                base_speedup: Some(estimate.speedup),
+            };
+            if let Some(kept) = crate::filters::race_filter(&mut rp, &race, &mut filter_probes)? {
+                // The node is profiled with the kept filter alone: its measurement at the longest
+                // period, then the rest of the plan.
+                reconstruct = crate::filters::CHALLENGER;
+                measurements = vec![kept.measurement];
+                progress.extend(plan.len() as u64);
+                let subject = Subject {
+                    reconstruct: Some(reconstruct),
+                    verdict: None,
+                    ..subject
+                };
+                rp.replay_plan(
+                    &subject,
+                    &kept.sources,
+                    &kept.variant,
+                    &plan,
+                    &mut measurements,
+                    &mut failure,
+                )?;
+            }
+        }
         raws.push(Raw {
             id,
             strategy,
             block,
+            reconstruct,
             measurements,
             failure,
         });
@@ -428,6 +467,7 @@ pub fn analyze(
                 overlap: node.overlap,
                 strategy: raw.strategy.name().into(),
                 block: Some(raw.block),
+                reconstruct: Some(raw.reconstruct.name().into()),
                 measurements: raw.measurements.clone(),
                 error_fit,
                 flip_fit,
@@ -505,6 +545,7 @@ pub fn analyze(
         hit_rate,
         nodes,
         strategy_probes: probes,
+        filter_probes,
         timing_warnings,
         sets,
         time,

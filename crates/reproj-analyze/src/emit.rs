@@ -86,7 +86,8 @@ pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
 /// Version 4: `motion`, the sessions' motions, the motion exponent, and the prediction carried to
 /// a session of other motion.
 /// Version 5: `adaptive`, what `emit --adaptive` predicted over the frames' motion (`delta_n` is
-/// then the schedule's Δn at the median motion, `predicted_error` the worst frame's).
+/// then the schedule's Δn at the median motion, `predicted_error` the worst frame's), and
+/// `reconstruct`, the written variant's reconstruction filter (the node's own, profile version 9).
 pub const EMIT_REPORT_VERSION: u32 = 5;
 
 fn emit_report_schema() -> String {
@@ -118,6 +119,10 @@ pub struct EmitReport {
     /// Variant strategy of the choice (`3pass`, `2pass`, `fused`).
     #[serde(default)]
     pub strategy: Option<String>,
+    /// The written variant's reconstruction filter (`bilinear`, `nearest`, `catmull-rom`; version
+    /// 5), as its manifest says.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reconstruct: Option<String>,
     pub line: Option<u32>,
     pub col: Option<u32>,
     pub delta_n: Option<u32>,
@@ -254,18 +259,26 @@ pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf,
     }
 }
 
-/// How the profile's variants were made: their reconstruction and cache format, which the
-/// written and rendered variants must share to run what was measured.
+/// How the profile's variant of `node` was made (`None`: of its sets): its reconstruction (the
+/// node's own, else the profile's) and the cache format, which the written and rendered variants
+/// must share to run what was measured.
 pub fn profile_variant_settings(
     profile: &Profile,
+    node: Option<&reproj_models::profile::NodeProfile>,
     profile_path: &Path,
 ) -> Result<(Reconstruct, CacheFormatChoice), AnalyzeError> {
     let bad = |field: &str, value: &str| AnalyzeError::BadProfile {
         path: profile_path.to_owned(),
         message: format!("field `{field}`: `{value}` is not one reproj writes"),
     };
-    let reconstruct = Reconstruct::from_name(&profile.reconstruct)
-        .ok_or_else(|| bad("reconstruct", &profile.reconstruct))?;
+    let (field, name) = match node {
+        Some(n) if n.reconstruct.is_some() => (
+            format!("reconstruct` of node `{}", n.id),
+            n.reconstruct_in(profile),
+        ),
+        _ => ("reconstruct".to_string(), profile.reconstruct.as_str()),
+    };
+    let reconstruct = Reconstruct::from_name(name).ok_or_else(|| bad(&field, name))?;
     let cache_format = CacheFormatChoice::from_name(&profile.cache_format)
         .ok_or_else(|| bad("cache_format", &profile.cache_format))?;
     Ok((reconstruct, cache_format))
@@ -398,7 +411,8 @@ pub fn emit(
         });
     }
     let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
-    let (reconstruct, profiled_format) = profile_variant_settings(profile, profile_path)?;
+    // The sets' reconstruction and the cache format (each node's own filter is read below).
+    let (set_reconstruct, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
     let cache_format = opts.cache_format.unwrap_or(profiled_format);
     let select_opts = SelectOptions {
         max_error: opts.max_error,
@@ -584,6 +598,7 @@ pub fn emit(
         node: None,
         node_text: None,
         strategy: None,
+        reconstruct: None,
         line: None,
         col: None,
         delta_n: None,
@@ -636,7 +651,7 @@ pub fn emit(
                 &sels,
                 &InstanceOptions {
                     strategy,
-                    reconstruct,
+                    reconstruct: set_reconstruct,
                     cache_format,
                     delta_n: choice.delta_n,
                     block: set.block,
@@ -656,6 +671,7 @@ pub fn emit(
             report.node = Some(set.name());
             report.node_text = Some(choice.node_text.clone());
             report.strategy = Some(set.strategy.clone());
+            report.reconstruct = Some(set_reconstruct.name().into());
             report.line = first.map(|n| n.line);
             report.col = first.map(|n| n.col);
             report.delta_n = Some(choice.delta_n);
@@ -686,6 +702,7 @@ pub fn emit(
             } else {
                 NodeSelector::Id(node.id)
             };
+            let (reconstruct, _) = profile_variant_settings(profile, Some(node), profile_path)?;
             let mut variant = instance(
                 &shader,
                 &loaded.norm,
@@ -716,6 +733,7 @@ pub fn emit(
             });
             report.node_text = Some(node.text.clone());
             report.strategy = Some(node.strategy.clone());
+            report.reconstruct = Some(reconstruct.name().into());
             report.line = Some(node.line);
             report.col = Some(node.col);
             report.delta_n = Some(choice.delta_n);

@@ -218,6 +218,7 @@ mod tests {
             delta_n,
             frames: None,
             set: Vec::new(),
+            reconstruct: None,
         }
     }
 

@@ -8,6 +8,8 @@
 pub mod analyze;
 pub mod emit;
 #[cfg(feature = "gpu")]
+mod filters;
+#[cfg(feature = "gpu")]
 pub mod journal;
 #[cfg(feature = "gpu")]
 pub mod merge;

@@ -98,6 +98,11 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
         .flat_map(|p| p.strategy_probes.iter().cloned())
         .collect();
     merged.strategy_probes.sort_by_key(|p| p.node);
+    merged.filter_probes = sorted
+        .iter()
+        .flat_map(|p| p.filter_probes.iter().cloned())
+        .collect();
+    merged.filter_probes.sort_by_key(|p| p.node);
     merged.time = sorted
         .iter()
         .fold(AnalysisTime::default(), |t, p| AnalysisTime {

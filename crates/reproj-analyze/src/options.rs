@@ -48,8 +48,13 @@ pub struct AnalyzeOptions {
     /// Profile exactly these node ids (the root is always added).
     pub nodes: Option<Vec<u32>>,
     /// Cache format, reconstruction and depth tolerance of every variant (its `strategy` and
-    /// `block` are set per strategy from `strategies` and `block`).
+    /// `block` are set per strategy from `strategies` and `block`). Its reconstruction is the
+    /// base filter, and the only one without `race_filters`.
     pub instance: InstanceOptions,
+    /// Per node, after its strategy is chosen, race Catmull-Rom against the base filter at equal
+    /// error and keep the faster beyond doubt ([`crate::filters`]; `--reconstruct auto`). Off by
+    /// default: on a CPU rasterizer it adds a replay and a race per node and rarely wins.
+    pub race_filters: bool,
     /// Strategies to try. With several, each node is replayed in each at the longest training Δn
     /// and only the fastest is profiled further.
     pub strategies: Vec<Strategy>,
@@ -178,6 +183,7 @@ impl Default for AnalyzeOptions {
             prune: PruneOptions::default(),
             nodes: None,
             instance: InstanceOptions::default(),
+            race_filters: false,
             strategies: Strategy::ALL.to_vec(),
             block: None,
             max_frames: None,

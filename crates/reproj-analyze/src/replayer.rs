@@ -53,11 +53,12 @@ fn journaled_race(v: &serde_json::Value, names: &[&str]) -> Option<reproj_bench:
     ok.then_some(r)
 }
 
-/// One variant in a race ([`Replayer::race`]).
+/// One variant in a race ([`Replayer::race`]), at its refresh period.
 pub(crate) struct RaceEntry<'a> {
     pub(crate) name: String,
     pub(crate) sources: &'a [String],
     pub(crate) variant: &'a reproj_instance::Variant,
+    pub(crate) delta_n: u32,
 }
 
 /// What every replay of one analysis shares: the renderer and the reference, the options, the
@@ -92,6 +93,9 @@ pub(crate) struct Subject {
     pub(crate) root: bool,
     pub(crate) strategy: Strategy,
     pub(crate) block: u32,
+    /// Its reconstruction filter when it is not the analysis's own (a filter race's kept
+    /// challenger): it keys the journal's records.
+    pub(crate) reconstruct: Option<reproj_instance::Reconstruct>,
     /// Its variant already raced the original ([`Replayer::race`]); otherwise
     /// [`Replayer::replay_plan`] races it at the longest period.
     pub(crate) raced: bool,
@@ -101,8 +105,8 @@ pub(crate) struct Subject {
 }
 
 impl Replayer<'_, '_> {
-    /// Time `entries` (variants of `node`, or of the set `set`, at the longest period) against
-    /// the original, interleaved (`reproj-bench`, under [`AnalyzeOptions::race`]): each one's
+    /// Time `entries` (variants of `node`, or of the set `set`, each at its period: the longest
+    /// one but in a filter race) against the original, interleaved (`reproj-bench`, under [`AnalyzeOptions::race`]): each one's
     /// speedup with its 95 % interval. Journaled: a resumed analysis reuses the report (its
     /// decisions stand) rather than timing again.
     pub(crate) fn race(
@@ -120,7 +124,7 @@ impl Replayer<'_, '_> {
                 subject: reproj_bench::Subject::Variant(VariantInput::new(
                     e.sources.to_vec(),
                     e.variant.manifest.clone(),
-                    self.longest,
+                    e.delta_n,
                 )),
             })
             .collect();
@@ -253,6 +257,7 @@ impl Replayer<'_, '_> {
                 delta_n: dn,
                 frames: None,
                 set: subject.set.clone(),
+                reconstruct: subject.reconstruct.map(|r| r.name().to_string()),
             };
             if dn == self.longest && !subject.raced && !subject.root {
                 let race = self.race(
@@ -263,6 +268,7 @@ impl Replayer<'_, '_> {
                         name: who.clone(),
                         sources,
                         variant,
+                        delta_n: self.longest,
                     }],
                 )?;
                 if let Some(e) = race.estimate(0) {

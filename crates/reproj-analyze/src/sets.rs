@@ -364,6 +364,7 @@ pub(crate) fn analyze_sets(
                     root: false,
                     strategy,
                     block,
+                    reconstruct: None,
                     raced: false,
                     verdict: None,
                 };

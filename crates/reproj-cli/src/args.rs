@@ -474,6 +474,9 @@ pub enum ReconstructArg {
     /// dearer, sharper; a value carried over many frames blurs less).
     #[value(name = "catmull-rom")]
     CatmullRom,
+    /// analyze only: per node, race catmull-rom against bilinear at equal error and keep the
+    /// faster beyond doubt (recorded per node in the profile).
+    Auto,
 }
 
 /// How a variant caches: shared by `instance`, `render` and `analyze`.
@@ -493,7 +496,7 @@ pub struct CacheArgs {
     /// Cache texel format.
     #[arg(long, value_enum, default_value = "f32")]
     pub cache_format: CacheFormatArg,
-    /// Payload reconstruction in pass 1.
+    /// Payload reconstruction in pass 1 (`auto`: analyze chooses per node by measurement).
     #[arg(long, value_enum, default_value = "bilinear")]
     pub reconstruct: ReconstructArg,
 }

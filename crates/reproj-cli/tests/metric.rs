@@ -95,7 +95,7 @@ fn emit_metric_flip_picks_a_variant_measured_under_the_budget() {
     let (code, stdout, err) = emit(&["--verify", "--session", session_arg, "--json"]);
     assert_eq!(code, 0, "{err}");
     let r: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert_eq!(r["version"], 4);
+    assert_eq!(r["version"], 5);
     assert_eq!(r["metric"], "flip");
     assert_eq!(r["node"], "root", "the cached root pays off at Δn ≤ 8: {r}");
     assert!(r["predicted_error"].as_f64().unwrap() <= budget, "{r}");

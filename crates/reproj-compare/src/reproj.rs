@@ -259,8 +259,13 @@ pub(crate) fn reproj(
             s.block,
         ),
     };
+    // A node's own reconstruction filter; a set's is the profile's.
+    let node = match pick {
+        Pick::Node(n) => Some(n),
+        Pick::Set(_) => None,
+    };
     let (reconstruct, cache_format) =
-        reproj_analyze::emit::profile_variant_settings(profile, profile_path)?;
+        reproj_analyze::emit::profile_variant_settings(profile, node, profile_path)?;
     let variant = instance_nodes(
         shader,
         &loaded.norm,

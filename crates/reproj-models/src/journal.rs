@@ -41,6 +41,10 @@ pub struct ReplayKey {
     /// empty for a single node.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub set: Vec<u32>,
+    /// The reconstruction filter, when it is not the analysis's own (a filter race's challenger,
+    /// `analyze --reconstruct auto`); `None`: the one the journal's header key names.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reconstruct: Option<String>,
 }
 
 impl ReplayKey {
@@ -54,6 +58,7 @@ impl ReplayKey {
             delta_n: 1,
             frames: None,
             set: Vec::new(),
+            reconstruct: None,
         }
     }
 }
@@ -75,6 +80,7 @@ impl ReplayKey {
             delta_n,
             frames,
             set: set.to_vec(),
+            reconstruct: None,
         }
     }
 }
@@ -259,6 +265,7 @@ mod tests {
             delta_n,
             frames: None,
             set: Vec::new(),
+            reconstruct: None,
         }
     }
 

@@ -25,8 +25,11 @@ use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary
 /// whether the adapter is a CPU rasterizer, `timing_warnings`, `time.timing_s`.
 /// Version 8: `motion`, how fast the session moves on screen (`reproj_models::motion`), so that
 /// `emit` can carry the error models to a session of other motion.
-/// Version 9: per measurement `frame_errors`, the L2 error of every replayed frame, so that the
-/// motion exponent can be fitted across segments of one session.
+/// Version 9: the reconstruction filter per node (`nodes[].reconstruct`, `analyze --reconstruct
+/// auto` races bilinear against Catmull-Rom per node) and the races behind it (`filter_probes`).
+/// The profile's `reconstruct` is the filter of its sets and of every node that names none (all
+/// nodes of older profiles). Per measurement `frame_errors`, the L2 error of every replayed
+/// frame, so that the motion exponent can be fitted across segments of one session.
 pub const PROFILE_VERSION: u32 = 9;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
@@ -67,10 +70,11 @@ pub struct Profile {
     /// Refresh block size k and depth tolerance used for every variant.
     pub block: u32,
     pub depth_epsilon: f32,
-    /// How every variant reconstructed the payload (`bilinear`, `nearest`, `catmull-rom`) and its
+    /// How the variants reconstructed the payload (`bilinear`, `nearest`, `catmull-rom`) and their
     /// cache format (`f32`, `f16` or a format's name): what `emit`, `report` and `compare` write
-    /// and render, so that they run what was measured. Absent in older profiles: `bilinear`,
-    /// `f32`.
+    /// and render, so that they run what was measured. The reconstruction is the sets' and that of
+    /// every node without its own [`NodeProfile::reconstruct`] (version 9; before, every node's).
+    /// Absent in older profiles: `bilinear`, `f32`.
     #[serde(default = "default_reconstruct")]
     pub reconstruct: String,
     #[serde(default = "default_cache_format")]
@@ -83,6 +87,10 @@ pub struct Profile {
     /// Every strategy tried per node at the longest training Δn, and which one was kept.
     #[serde(default)]
     pub strategy_probes: Vec<StrategyProbe>,
+    /// The reconstruction filters raced per node after its strategy was chosen (`analyze
+    /// --reconstruct auto`, version 9; empty without the race).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub filter_probes: Vec<FilterProbe>,
     /// What the interleaved timing saw of the machine during the analysis (load, drift, wide
     /// intervals), once each; empty when it was quiet (version 7 on).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -263,6 +271,11 @@ pub struct NodeProfile {
     /// Refresh block size k of the measurements (`None`: the profile's `block`).
     #[serde(default)]
     pub block: Option<u32>,
+    /// How its variant reconstructs the payload (`bilinear`, `nearest`, `catmull-rom`; version 9).
+    /// `None`: the profile's [`Profile::reconstruct`]. Read it with
+    /// [`NodeProfile::reconstruct_in`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reconstruct: Option<String>,
     pub measurements: Vec<Measurement>,
     /// The error model fitted to the L2 error (the paper's; decides whether the node is usable).
     pub error_fit: ErrorFit,
@@ -348,6 +361,12 @@ impl Measurement {
 }
 
 impl NodeProfile {
+    /// The reconstruction its measurements used: its own, else the profile's (`profile`'s
+    /// [`Profile::reconstruct`]).
+    pub fn reconstruct_in<'a>(&'a self, profile: &'a Profile) -> &'a str {
+        self.reconstruct.as_deref().unwrap_or(&profile.reconstruct)
+    }
+
     /// The error model fitted to `metric` (`None`: a profile without that metric).
     pub fn fit(&self, metric: Metric) -> Option<&ErrorFit> {
         match metric {
@@ -424,6 +443,42 @@ pub struct StrategyProbe {
     /// The original's mean frame time over the same frames, ms.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub original_ms: Option<f64>,
+}
+
+/// One reconstruction filter raced for one node (`analyze --reconstruct auto`, version 9).
+///
+/// Per node, after its strategy was chosen and profiled with the base filter (bilinear), the
+/// challenger (Catmull-Rom) is replayed at the longest training Δn; where its error there is
+/// lower, the base is taken at the longest Δn whose predicted error is no higher (its
+/// *equal-error period*: what the selector would pick for the base under that budget), and both
+/// are timed interleaved with the original in one race. The challenger is kept only when it is
+/// faster beyond doubt at equal error; otherwise the base is (ties and noise included).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FilterProbe {
+    pub node: u32,
+    /// `bilinear`, `catmull-rom`, ...
+    pub reconstruct: String,
+    /// The strategy and block of the node's variant (the race's winner).
+    pub strategy: String,
+    pub block: u32,
+    /// The period it was timed at: the longest training Δn for the challenger, the equal-error
+    /// period for the base (1: the base reaches that error at no period, the original stands in).
+    pub delta_n: u32,
+    /// Its error at `delta_n`: the challenger's measured over the whole session, the base's
+    /// predicted by its fitted error model.
+    pub error: f64,
+    /// Speedup over the original, timed interleaved (`reproj-bench`), with its 95 % interval and
+    /// rounds (`None`: not raced, see `note`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rounds: Option<u32>,
+    pub kept: bool,
+    /// Why the node kept the filter it kept, on the challenger's probe.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 /// Where the analysis time went, in seconds.
@@ -551,6 +606,7 @@ mod tests {
             overlap: 0.0,
             strategy: "3pass".into(),
             block: None,
+            reconstruct: None,
             measurements: mses
                 .iter()
                 .map(|&(delta_n, mse)| Measurement {

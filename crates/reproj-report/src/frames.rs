@@ -98,8 +98,11 @@ pub fn render_choice(
     } else {
         NodeSelector::Id(node.id)
     };
-    let (reconstruct, cache_format) =
-        reproj_analyze::emit::profile_variant_settings(profile, Path::new(&profile.shader.path))?;
+    let (reconstruct, cache_format) = reproj_analyze::emit::profile_variant_settings(
+        profile,
+        Some(node),
+        Path::new(&profile.shader.path),
+    )?;
     let variant = instance(
         shader,
         &norm,

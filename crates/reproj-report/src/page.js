@@ -113,7 +113,8 @@
     } else {
       var c = D.choices[e.choice];
       $("sel-node").textContent = "node " + c.node_id + (c.root ? " (root)" : "");
-      $("sel-strategy").textContent = c.strategy;
+      $("sel-strategy").textContent = c.reconstruct && c.reconstruct !== "bilinear"
+        ? c.strategy + " · " + c.reconstruct : c.strategy;
       $("sel-dn").textContent = "Δn = " + c.delta_n;
       $("sel-text").textContent = c.text;
       var caret = c.col > 0 ? "\n" + " ".repeat(String(c.line).length + 2 + c.col - 1) + "^" : "";

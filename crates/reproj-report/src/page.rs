@@ -18,7 +18,8 @@ use crate::metrics::{self, Metric};
 use crate::{ReportError, frames::FrameImages};
 
 /// Version of the page's embedded JSON (`<script id="data">`, schema `reproj.report-page`).
-pub const PAGE_SCHEMA_VERSION: u32 = 1;
+/// Version 2: each choice's `reconstruct` (its node's filter, profile version 9).
+pub const PAGE_SCHEMA_VERSION: u32 = 2;
 
 const SCRIPT: &str = include_str!("page.js");
 const STYLE: &str = include_str!("page.css");
@@ -82,6 +83,8 @@ struct ChoiceView {
     /// The node's source line.
     source: String,
     strategy: String,
+    /// Its reconstruction filter (the node's own, else the profile's).
+    reconstruct: String,
     delta_n: u32,
     predicted_error: f64,
     predicted_ms: f64,
@@ -165,6 +168,9 @@ fn data<'a>(p: &'a Page<'_>) -> Data<'a> {
                     .get((line as usize).saturating_sub(1))
                     .map_or_else(String::new, |l| l.trim_end().to_string()),
                 strategy: c.strategy.clone(),
+                reconstruct: node
+                    .map_or(profile.reconstruct.as_str(), |n| n.reconstruct_in(profile))
+                    .to_string(),
                 delta_n: c.delta_n,
                 predicted_error: c.predicted_error,
                 predicted_ms: c.predicted_ms,
@@ -368,7 +374,7 @@ fn fits(h: &mut String, profile: &Profile) {
         h,
         r#"<section id="fits"><h2>Fits</h2>
 <p>Hit rate γ(Δn) = µ(1 − 1/Δn): µ = {}, R² = {}, {} samples, {}.</p>
-<table class="fits"><thead><tr><th>node</th><th>expression</th><th>strategy</th><th>status</th>
+<table class="fits"><thead><tr><th>node</th><th>expression</th><th>strategy</th><th>filter</th><th>status</th>
 <th>α</th><th>λ</th><th>error R²</th><th>error RMS</th>
 <th>E[hit] ms/px</th><th>E[miss] ms/px</th><th>E[overhead] ms</th><th>time R²</th><th>held-out time error</th>
 <th>held-out checks (Δn: error measured / predicted; ms measured / predicted)</th></tr></thead><tbody>
@@ -393,6 +399,19 @@ fn fits(h: &mut String, profile: &Profile) {
             },
             NodeStatus::SetAside { reason } => format!("set aside: {reason}"),
         };
+        // The reconstruction filter, with what its race measured where one was run.
+        let filter = match profile
+            .filter_probes
+            .iter()
+            .find(|p| p.node == n.id && p.note.is_some())
+        {
+            Some(p) => format!(
+                "{} ({})",
+                n.reconstruct_in(profile),
+                p.note.as_deref().unwrap_or_default()
+            ),
+            None => n.reconstruct_in(profile).to_string(),
+        };
         let e = &n.error_fit;
         let t = &n.timing_fit;
         let holdout: Vec<String> = n
@@ -411,7 +430,7 @@ fn fits(h: &mut String, profile: &Profile) {
             .collect();
         let _ = writeln!(
             h,
-            r#"<tr class="{cls}"><td>{id}{root}</td><td class="code">{text}</td><td>{strategy}</td><td>{status}</td><td>{alpha}</td><td>{lambda}</td><td>{er2}</td><td>{erms}</td><td>{hit}</td><td>{miss}</td><td>{over}</td><td>{tr2}</td><td>{hold}</td><td>{checks}</td></tr>"#,
+            r#"<tr class="{cls}"><td>{id}{root}</td><td class="code">{text}</td><td>{strategy}</td><td>{filter}</td><td>{status}</td><td>{alpha}</td><td>{lambda}</td><td>{er2}</td><td>{erms}</td><td>{hit}</td><td>{miss}</td><td>{over}</td><td>{tr2}</td><td>{hold}</td><td>{checks}</td></tr>"#,
             cls = if n.status == NodeStatus::Ok {
                 "ok"
             } else {
@@ -421,6 +440,7 @@ fn fits(h: &mut String, profile: &Profile) {
             root = if n.root { " (root)" } else { "" },
             text = esc(&n.text),
             strategy = esc(&n.strategy),
+            filter = esc(&filter),
             status = esc(&status),
             alpha = num(e.alpha, 5),
             lambda = num(e.lambda, 4),

@@ -209,29 +209,33 @@ impl NodeRecord {
 }
 
 /// The calibration of `node`'s timing model in `profile` by its strategy's interleaved race
-/// against the original (`analyze`, profile version 7 on); `None` for older profiles or a node
-/// whose race gave no estimate.
+/// against the original (`analyze`, profile version 7 on) — or, where the node kept a filter other
+/// than the profile's, by that filter's race (`filter_probes`, version 9), since the strategy race
+/// timed the profile's filter; `None` for older profiles or a node whose race gave no estimate.
 pub fn calibration(
     profile: &reproj_models::Profile,
     node: &reproj_models::profile::NodeProfile,
 ) -> Option<Calibration> {
-    let probe = profile
-        .strategy_probes
-        .iter()
-        .find(|p| p.node == node.id && p.kept && p.strategy == node.strategy)?;
+    let filter = node.reconstruct_in(profile);
+    let (delta_n, speedup, ci95) = if filter != profile.reconstruct {
+        let probe = profile.filter_probes.iter().find(|p| {
+            p.node == node.id && p.kept && p.strategy == node.strategy && p.reconstruct == filter
+        })?;
+        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
+    } else {
+        let probe = profile
+            .strategy_probes
+            .iter()
+            .find(|p| p.node == node.id && p.kept && p.strategy == node.strategy)?;
+        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
+    };
     let model_ms = predicted_frame_ms(
         &node.timing_fit,
         &profile.hit_rate,
-        f64::from(probe.delta_n),
+        f64::from(delta_n),
         profile.original.mean_pixels,
     )?;
-    Calibration::new(
-        probe.delta_n,
-        probe.speedup?,
-        probe.speedup_ci95?,
-        profile.original.frame_ms,
-        model_ms,
-    )
+    Calibration::new(delta_n, speedup, ci95, profile.original.frame_ms, model_ms)
 }
 
 fn three_pass() -> String {

@@ -276,7 +276,18 @@ fn analyze_session(
             }
         },
         nodes: args.nodes.clone(),
-        instance: super::instance_options(args.cache, 8),
+        // `auto`: bilinear is the base filter, and Catmull-Rom races it per node.
+        instance: super::instance_options(
+            crate::CacheArgs {
+                reconstruct: match args.cache.reconstruct {
+                    crate::ReconstructArg::Auto => crate::ReconstructArg::Bilinear,
+                    r => r,
+                },
+                ..args.cache
+            },
+            8,
+        )?,
+        race_filters: args.cache.reconstruct == crate::ReconstructArg::Auto,
         strategies: match args.cache.strategy {
             Some(s) => vec![super::strategy(s)],
             None => reproj_instance::Strategy::ALL.to_vec(),

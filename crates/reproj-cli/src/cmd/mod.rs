@@ -281,19 +281,28 @@ fn classify_gpu<'e>(
 }
 
 /// Instancer options from the CLI's cache flags and a default Δn (3pass unless one is named).
-pub fn instance_options(c: crate::CacheArgs, delta_n: u32) -> reproj_instance::InstanceOptions {
+/// `--reconstruct auto` is refused: one variant has one filter (`analyze` handles `auto` itself).
+pub fn instance_options(
+    c: crate::CacheArgs,
+    delta_n: u32,
+) -> Result<reproj_instance::InstanceOptions, UserError> {
     let strategy = c
         .strategy
         .map_or(reproj_instance::Strategy::ThreePass, strategy);
-    reproj_instance::InstanceOptions {
+    let reconstruct = reconstruct(c.reconstruct).ok_or_else(|| {
+        UserError(
+            "--reconstruct auto is for `analyze`, which races the filters per node; name one filter (bilinear, nearest, catmull-rom)".into(),
+        )
+    })?;
+    Ok(reproj_instance::InstanceOptions {
         strategy,
-        reconstruct: reconstruct(c.reconstruct),
+        reconstruct,
         cache_format: cache_format(c.cache_format),
         delta_n,
         block: c.block.unwrap_or(strategy.default_block()),
         depth_epsilon: c.depth_epsilon,
         ..Default::default()
-    }
+    })
 }
 
 /// Apply the integration flags to instancing options.
@@ -320,12 +329,13 @@ pub fn strategy(s: crate::StrategyArg) -> reproj_instance::Strategy {
     }
 }
 
-/// The instancer's reconstruction for the CLI flag.
-pub fn reconstruct(r: crate::ReconstructArg) -> reproj_instance::Reconstruct {
+/// The instancer's reconstruction for the CLI flag (`None`: `auto`, chosen by `analyze`).
+pub fn reconstruct(r: crate::ReconstructArg) -> Option<reproj_instance::Reconstruct> {
     match r {
-        crate::ReconstructArg::Bilinear => reproj_instance::Reconstruct::Bilinear,
-        crate::ReconstructArg::Nearest => reproj_instance::Reconstruct::Nearest,
-        crate::ReconstructArg::CatmullRom => reproj_instance::Reconstruct::CatmullRom,
+        crate::ReconstructArg::Bilinear => Some(reproj_instance::Reconstruct::Bilinear),
+        crate::ReconstructArg::Nearest => Some(reproj_instance::Reconstruct::Nearest),
+        crate::ReconstructArg::CatmullRom => Some(reproj_instance::Reconstruct::CatmullRom),
+        crate::ReconstructArg::Auto => None,
     }
 }
 

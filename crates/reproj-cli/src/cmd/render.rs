@@ -39,7 +39,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 &loaded.norm,
                 &loaded.table,
                 sel,
-                &super::instance_options(args.cache, args.delta_n.unwrap_or(8)),
+                &super::instance_options(args.cache, args.delta_n.unwrap_or(8))?,
             )?;
             Some(VariantInput::new(
                 variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
