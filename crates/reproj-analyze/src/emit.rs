@@ -499,60 +499,18 @@ pub fn emit(
     let (selection, adaptive) = match opts.period {
         crate::motion::PeriodChoice::Fixed => (selection, None),
         crate::motion::PeriodChoice::Adaptive => {
-            let adaptive_sessions: Vec<crate::motion::AdaptiveSession<'_>> =
+            let profiles: Vec<(&Profile, &[NodeRecord], &[SetRecord])> =
                 std::iter::once((profile, &records[..], &set_records[..]))
                     .chain(others.iter().map(|(p, n, s)| (*p, &n[..], &s[..])))
-                    .map(|(p, nodes, sets)| crate::motion::AdaptiveSession {
-                        motion: p.motion.as_ref().map(|m| m.pixels_per_frame),
-                        nodes,
-                        sets,
-                        hit_rate: &p.hit_rate,
-                        original_ms: p.original.frame_ms,
-                    })
                     .collect();
-            let frames_of = |m: &reproj_models::motion::Motion| {
-                if m.per_frame.is_empty() {
-                    vec![m.pixels_per_frame]
-                } else {
-                    m.per_frame.clone()
-                }
-            };
-            let (trace, trace_name) = match &opts.target {
-                Some(t) => (frames_of(&t.motion), t.name.clone()),
-                None => (
-                    std::iter::once(profile)
-                        .chain(others.iter().map(|(p, _, _)| *p))
-                        .filter_map(|p| p.motion.as_ref())
-                        .flat_map(frames_of)
-                        .collect(),
-                    names.join(" + "),
-                ),
-            };
-            let beta = motion.exponent.beta;
-            let (chosen, mut report) =
-                crate::motion::select_adaptive(&adaptive_sessions, beta, &trace, &select_opts);
-            if let Some(r) = report.as_mut() {
-                r.trace = trace_name;
-                if let Selection::Node(fixed) = &selection {
-                    r.fixed_node = Some(if fixed.members.is_empty() {
-                        profile
-                            .nodes
-                            .iter()
-                            .find(|n| n.id == fixed.node_id && n.root)
-                            .map_or_else(|| fixed.node_id.to_string(), |_| "root".into())
-                    } else {
-                        fixed
-                            .members
-                            .iter()
-                            .map(u32::to_string)
-                            .collect::<Vec<_>>()
-                            .join("+")
-                    });
-                    r.fixed_delta_n = Some(fixed.delta_n);
-                    r.fixed_predicted_speedup = Some(fixed.predicted_speedup);
-                }
-            }
-            (chosen, report)
+            crate::motion::choose_adaptive(
+                &profiles,
+                &names,
+                opts.target.as_ref(),
+                motion.exponent.beta,
+                &select_opts,
+                &selection,
+            )
         }
     };
     if let Some(name) = &target_name {
