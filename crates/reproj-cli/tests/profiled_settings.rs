@@ -9,25 +9,14 @@ fn emit_writes_the_reconstruction_and_format_the_profile_measured() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     common::two_terms(dir, "t.wgsl", "t.json");
-    let (code, _, err) = run(
+    let (code, _, err) = common::analyze_short(
         dir,
+        "t.wgsl",
+        &["t.json"],
+        "t.profile.json",
         &[
-            "analyze",
-            "t.wgsl",
-            "--session",
-            "t.json",
-            "--out",
-            "t.profile.json",
-            "--delta-n",
-            "2,8,16,24",
-            "--holdout",
-            "4",
-            "--max-nodes",
-            "3",
             "--strategy",
             "3pass",
-            "--no-sets",
-            "--no-charts",
             "--reconstruct",
             "catmull-rom",
             "--cache-format",
@@ -89,28 +78,12 @@ fn analyze_auto_records_each_node_s_filter_and_emit_writes_it() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     common::two_terms(dir, "t.wgsl", "t.json");
-    let (code, _, err) = run(
+    let (code, _, err) = common::analyze_short(
         dir,
-        &[
-            "analyze",
-            "t.wgsl",
-            "--session",
-            "t.json",
-            "--out",
-            "t.profile.json",
-            "--delta-n",
-            "2,8,16,24",
-            "--holdout",
-            "4",
-            "--max-nodes",
-            "3",
-            "--strategy",
-            "2pass",
-            "--no-sets",
-            "--no-charts",
-            "--reconstruct",
-            "auto",
-        ],
+        "t.wgsl",
+        &["t.json"],
+        "t.profile.json",
+        &["--strategy", "2pass", "--reconstruct", "auto"],
     );
     assert_eq!(code, 0, "{err}");
     let read = |p: &str| -> serde_json::Value {

@@ -16,26 +16,12 @@ fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
     let dir = tmp.path();
     common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
     common::two_terms_fast(dir, "fast.json");
-    let (code, _, err) = run(
+    let (code, _, err) = common::analyze_short(
         dir,
-        &[
-            "analyze",
-            "two_terms.wgsl",
-            "--session",
-            "two_terms.json",
-            "--out",
-            "t.profile.json",
-            "--delta-n",
-            "2,8,16,24",
-            "--holdout",
-            "4",
-            "--max-nodes",
-            "3",
-            "--strategy",
-            "3pass",
-            "--no-sets",
-            "--no-charts",
-        ],
+        "two_terms.wgsl",
+        &["two_terms.json"],
+        "t.profile.json",
+        &["--strategy", "3pass"],
     );
     assert_eq!(code, 0, "{err}");
     let profile: serde_json::Value =
@@ -119,28 +105,12 @@ fn emit_adaptive_chooses_for_the_schedule_and_verifies_every_band() {
     ] {
         std::fs::copy(sessions.join(s), dir.join(s)).unwrap();
     }
-    let (code, _, err) = run(
+    let (code, _, err) = common::analyze_short(
         dir,
-        &[
-            "analyze",
-            "two_terms.wgsl",
-            "--session",
-            "two_terms_slow.json",
-            "--session",
-            "two_terms_fast.json",
-            "--out",
-            "tt.profile.json",
-            "--delta-n",
-            "2,8,16,24",
-            "--holdout",
-            "4",
-            "--max-nodes",
-            "3",
-            "--strategy",
-            "3pass",
-            "--no-sets",
-            "--no-charts",
-        ],
+        "two_terms.wgsl",
+        &["two_terms_slow.json", "two_terms_fast.json"],
+        "tt.profile.json",
+        &["--strategy", "3pass"],
     );
     assert_eq!(code, 0, "{err}");
     let (code, out, err) = run(

@@ -58,3 +58,32 @@ pub fn two_terms_fast(dir: &Path, name: &str) {
     fast["light"]["keys"][1]["position"] = serde_json::json!([-3, -3, -3]);
     std::fs::write(dir.join(name), fast.to_string()).unwrap();
 }
+
+/// `reproj analyze SHADER --session S... --out OUT` on the two-term fixture with the short plan
+/// the CLI tests share (Δn 2, 8, 16, 24 and 4 held out, at most 3 nodes, no sets, no charts),
+/// then `extra` (a strategy, a filter, …).
+pub fn analyze_short(
+    dir: &Path,
+    shader: &str,
+    sessions: &[&str],
+    out: &str,
+    extra: &[&str],
+) -> (i32, String, String) {
+    let mut args = vec!["analyze", shader];
+    for s in sessions {
+        args.extend(["--session", s]);
+    }
+    args.extend(["--out", out]);
+    args.extend([
+        "--delta-n",
+        "2,8,16,24",
+        "--holdout",
+        "4",
+        "--max-nodes",
+        "3",
+        "--no-sets",
+        "--no-charts",
+    ]);
+    args.extend(extra);
+    run(dir, &args)
+}
