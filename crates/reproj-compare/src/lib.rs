@@ -517,23 +517,33 @@ impl Ctx<'_> {
     pub(crate) fn score(&self, frames: &[Vec<f32>], perceptual: bool) -> Scores {
         let r = self.reference;
         let (mut sum_error, mut sum_sq, mut covered) = (0.0, 0.0, 0u64);
-        let mut flips = Vec::new();
         for (f, frame) in frames.iter().enumerate() {
             let e = metrics::compare(frame, &r.frames[f], &r.depth[f]);
             sum_error += e.error();
             sum_sq += e.sum_sq;
             covered += e.covered;
-            if perceptual && (f as u32).is_multiple_of(self.stride) {
-                let (p, _) = reproj_replay::perceptual::compare_perceptual(
-                    frame,
-                    &r.frames[f],
-                    &r.depth[f],
-                    r.width,
-                    r.height,
-                );
-                flips.push(p.flip);
-            }
         }
+        // ꟻLIP on every stride-th frame, the frames in parallel.
+        let flips: Vec<f64> = if perceptual {
+            use rayon::prelude::*;
+            let stride = self.stride;
+            (0..frames.len())
+                .into_par_iter()
+                .filter(|&f| (f as u32).is_multiple_of(stride))
+                .map(|f| {
+                    let (p, _) = reproj_replay::perceptual::compare_perceptual(
+                        &frames[f],
+                        &r.frames[f],
+                        &r.depth[f],
+                        r.width,
+                        r.height,
+                    );
+                    p.flip
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let n = frames.len().max(1) as f64;
         let psnr = metrics::psnr(metrics::mse(sum_sq, covered));
         Scores {

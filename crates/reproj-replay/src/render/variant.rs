@@ -639,31 +639,49 @@ impl Renderer {
                 progress.frame(f - first + 1, frames);
                 Ok(())
             })?;
-            let scored: Vec<_> = to_score
-                .par_drain(..)
-                .map(|(f, pixels)| {
-                    let fi = f as usize;
-                    let (e, map) = perceptual::compare_perceptual(
-                        &pixels,
-                        &reference.frames[fi],
-                        &reference.depth[fi],
-                        w,
-                        h,
-                    );
-                    (f, e, map)
-                })
-                .collect();
-            for (f, e, map) in scored {
-                if let Some(r) = report.frames.iter_mut().rev().find(|r| r.frame == f) {
-                    (r.flip, r.ssim) = (Some(e.flip), Some(e.ssim));
-                }
-                if let Some(dir) = &opts.png_dir {
-                    output::write_flipmap(dir, f, w, h, &map)?;
-                }
+            // Score once there is a frame for every core (at 1080p a batch holds one frame and
+            // one ꟻLIP takes most of a second), and whatever is left at the end.
+            if to_score.len() >= rayon::current_num_threads() {
+                score_perceptual(&mut to_score, &mut report, reference, opts, [w, h])?;
             }
             // Swap happens through the parity of the next frame.
         }
+        score_perceptual(&mut to_score, &mut report, reference, opts, [w, h])?;
         report.summarize();
         Ok(report)
     }
+}
+
+/// ꟻLIP and SSIM of the frames in `to_score` (drained), in parallel, into their records of
+/// `report`, and their ꟻLIP maps written where frames are.
+fn score_perceptual(
+    to_score: &mut Vec<(u32, Vec<f32>)>,
+    report: &mut RenderReport,
+    reference: &Reference,
+    opts: &RenderOptions,
+    [w, h]: [u32; 2],
+) -> Result<(), ReplayError> {
+    let scored: Vec<_> = to_score
+        .par_drain(..)
+        .map(|(f, pixels)| {
+            let fi = f as usize;
+            let (e, map) = perceptual::compare_perceptual(
+                &pixels,
+                &reference.frames[fi],
+                &reference.depth[fi],
+                w,
+                h,
+            );
+            (f, e, map)
+        })
+        .collect();
+    for (f, e, map) in scored {
+        if let Some(r) = report.frames.iter_mut().rev().find(|r| r.frame == f) {
+            (r.flip, r.ssim) = (Some(e.flip), Some(e.ssim));
+        }
+        if let Some(dir) = &opts.png_dir {
+            output::write_flipmap(dir, f, w, h, &map)?;
+        }
+    }
+    Ok(())
 }
