@@ -565,6 +565,25 @@ impl Ctx<'_> {
         Ok((frames, shader))
     }
 
+    /// The mean error of `wgsl` (a module reproj wrote) against the reference, scored on the GPU
+    /// frame by frame without reading its frames back (what a search step needs), and the parsed
+    /// shader.
+    pub(crate) fn error_of_wgsl(
+        &self,
+        name: &str,
+        wgsl: &str,
+    ) -> Result<(f64, Shader), CompareError> {
+        let shader = reproj_front::parse_shader(Path::new(name), wgsl.to_string())?;
+        let opts = RenderOptions {
+            perceptual_stride: None,
+            ..self.render_opts.clone()
+        };
+        let report =
+            self.renderer
+                .render_scored(&shader, 0, self.session, self.reference, &opts)?;
+        Ok((report.error, shader))
+    }
+
     /// Render `shader` over `session`: its frames (their times are not used: see [`Ctx::race`]).
     pub(crate) fn render_shader(
         &self,

@@ -103,9 +103,8 @@ pub(crate) fn simplify(
     let mut removed: Vec<Replacement> = Vec::new();
     let mut dead: HashSet<naga::Handle<naga::Expression>> = HashSet::new();
     let mut steps: Vec<SimplifyStep> = Vec::new();
-    // The last step's frames, WGSL, frame time, speedup and interval.
-    #[allow(clippy::type_complexity)]
-    let mut last: Option<(Vec<Vec<f32>>, String, f64, f64, Option<[f64; 2]>)> = None;
+    // The last step's WGSL, frame time, speedup and interval.
+    let mut last: Option<(String, f64, f64, Option<[f64; 2]>)> = None;
     for _ in 0..opts.max_steps.max(1) {
         let mut pool: Vec<&Node> = replaceable
             .iter()
@@ -142,8 +141,7 @@ pub(crate) fn simplify(
                     replace: replace.clone(),
                 },
             )?;
-            let (frames, shader) = ctx.render_wgsl("simplified.wgsl", &s.wgsl)?;
-            let error = ctx.score(&frames, false).error;
+            let (error, shader) = ctx.error_of_wgsl("simplified.wgsl", &s.wgsl)?;
             ctx.progress
                 .step(&format!("simplify: node {} error {error:.5}", node.id));
             tried.push(Tried {
@@ -153,7 +151,6 @@ pub(crate) fn simplify(
                 frame_ms: 0.0,
                 speedup: 0.0,
                 ci95: None,
-                frames,
                 wgsl: s.wgsl,
                 shader: Some(shader),
             });
@@ -197,21 +194,17 @@ pub(crate) fn simplify(
             speedup_ci95: chosen.ci95,
             rejected,
         });
-        last = Some((
-            chosen.frames,
-            chosen.wgsl,
-            chosen.frame_ms,
-            speedup,
-            chosen.ci95,
-        ));
+        last = Some((chosen.wgsl, chosen.frame_ms, speedup, chosen.ci95));
         if speedup >= ctx.target {
             break;
         }
     }
-    let (frames, wgsl, frame_ms, speedup, ci95) =
-        last.ok_or_else(|| CompareError::NothingToSimplify {
-            shader: table.shader.clone(),
-        })?;
+    let (wgsl, frame_ms, speedup, ci95) = last.ok_or_else(|| CompareError::NothingToSimplify {
+        shader: table.shader.clone(),
+    })?;
+    // The steps kept only their errors: the chosen one is rendered again for its frames (the
+    // crops, ꟻLIP).
+    let (frames, _) = ctx.render_wgsl("simplified.wgsl", &wgsl)?;
     let scores = ctx.score(&frames, true);
     let result = MethodResult {
         speedup_ci95: ci95,
@@ -250,7 +243,6 @@ struct Tried<'a> {
     frame_ms: f64,
     speedup: f64,
     ci95: Option<[f64; 2]>,
-    frames: Vec<Vec<f32>>,
     wgsl: String,
     /// The parsed shader, until it is handed to the race.
     shader: Option<reproj_front::Shader>,
@@ -347,7 +339,6 @@ mod tests {
             frame_ms,
             speedup: 0.0,
             ci95: None,
-            frames: Vec::new(),
             wgsl: String::new(),
             shader: None,
         }

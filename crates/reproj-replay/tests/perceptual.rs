@@ -79,3 +79,69 @@ fn flip_and_ssim_grow_with_the_refresh_period_on_marble() {
         "Δn = 20: SSIM {s20:?}"
     );
 }
+
+/// `render_scored` (the error reduced on the GPU, ꟻLIP and SSIM on the sampled frames, no frame
+/// kept) scores a shader as the CPU scores its kept frames: marble with its turbulence halved,
+/// against marble.
+#[test]
+fn a_scored_render_equals_scoring_the_kept_frames() {
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let path = root().join("shaders/marble.wgsl");
+    let shader = load_file(&path).unwrap();
+    let session = Session::load(root().join("sessions/marble.json")).unwrap();
+    let opts = RenderOptions {
+        max_frames: Some(8),
+        perceptual_stride: Some(3),
+        ..Default::default()
+    };
+    let entry = shader.fragment_entry(None).unwrap();
+    let reference = renderer
+        .render_original(&shader, entry, &session, &opts)
+        .unwrap();
+    // The same shader scores 0 everywhere.
+    let same = renderer
+        .render_scored(&shader, entry, &session, &reference, &opts)
+        .unwrap();
+    assert_eq!(same.frames.len(), 8);
+    assert!(same.frames.iter().all(|f| f.error == 0.0), "{same:?}");
+    assert_eq!(same.flip.unwrap().mean, 0.0);
+    // Another shader: the GPU's figures are the CPU's on the kept frames.
+    let source = std::fs::read_to_string(&path).unwrap();
+    let other_src = source.replace(
+        "return vec4<f32>(color, 1.0);",
+        "return vec4<f32>(0.5 * color, 1.0);",
+    );
+    assert_ne!(other_src, source, "the test must change the shader");
+    let other = reproj_front::parse_shader(&path, other_src).unwrap();
+    let other_entry = other.fragment_entry(None).unwrap();
+    let scored = renderer
+        .render_scored(&other, other_entry, &session, &reference, &opts)
+        .unwrap();
+    let kept = renderer
+        .render_original(&other, other_entry, &session, &opts)
+        .unwrap();
+    for (f, rec) in scored.frames.iter().enumerate() {
+        let cpu = reproj_replay::metrics::compare(
+            &kept.frames[f],
+            &reference.frames[f],
+            &reference.depth[f],
+        );
+        let (gpu, cpu) = (rec.error, cpu.error());
+        assert!(
+            gpu > 0.0 && (gpu - cpu).abs() <= 1e-5 * cpu,
+            "frame {f}: {gpu} vs {cpu}"
+        );
+        assert_eq!(rec.flip.is_some(), f % 3 == 0, "frame {f}");
+        if let Some(flip) = rec.flip {
+            let (p, _) = reproj_replay::perceptual::compare_perceptual(
+                &kept.frames[f],
+                &reference.frames[f],
+                &reference.depth[f],
+                session.resolution[0],
+                session.resolution[1],
+            );
+            assert_eq!(flip, p.flip, "frame {f}");
+        }
+    }
+}

@@ -7,7 +7,7 @@ use reproj_front::Shader;
 use crate::ReplayError;
 use crate::metrics::{self, FrameRecord, RenderReport};
 use crate::output;
-use crate::reduce::{GpuReference, Keeper};
+use crate::reduce::{FrameErrors, GpuReference, Keeper, PixelsBack};
 use crate::reflect::{self};
 use crate::session::Session;
 use crate::vertex;
@@ -97,11 +97,90 @@ impl Renderer {
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
     ) -> Result<Reference, ReplayError> {
+        let (report, kept) =
+            self.render_plain(shader, entry_index, session, opts, progress, Keep::Frames)?;
+        let kept = kept.expect("Keep::Frames keeps the frames");
+        if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
+            return Err(ReplayError::NothingCovered {
+                session: session.display_name(),
+                frames: report.frames.len() as u32,
+            });
+        }
+        let [w, h] = session.resolution;
+        Ok(Reference {
+            width: w,
+            height: h,
+            frames: kept.0,
+            depth: kept.1,
+            report,
+            gpu: kept.2,
+        })
+    }
+
+    /// Render another shader of the original's kind (no cache: a simplified or resized shader)
+    /// over the session and score each frame against `reference` as a variant's replay does: the
+    /// error reduced on the GPU, ꟻLIP and SSIM at `opts.perceptual_stride`. No frame is kept, so
+    /// at 1080p this costs the frames' rendering and the sampled frames' metrics, not 33 MB per
+    /// frame of readback and a CPU pass over each.
+    pub fn render_scored(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        reference: &Reference,
+        opts: &RenderOptions,
+    ) -> Result<RenderReport, ReplayError> {
+        let frames = Self::frame_count(session, opts);
+        let first = Self::first_frame(session, opts)?;
+        let [w, h] = session.resolution;
+        if reference.width != w
+            || reference.height != h
+            || (reference.frames.len() as u32) < first + frames
+        {
+            return Err(ReplayError::ReferenceMismatch {
+                reference: format!(
+                    "{} frames, {}×{}",
+                    reference.frames.len(),
+                    reference.width,
+                    reference.height
+                ),
+                session: format!("{} frames, {w}×{h}", first + frames),
+            });
+        }
+        let opts = RenderOptions {
+            png_dir: None,
+            timing_only: false,
+            ..opts.clone()
+        };
+        let (report, _) = self.render_plain(
+            shader,
+            entry_index,
+            session,
+            &opts,
+            &(),
+            Keep::ScoreAgainst(reference),
+        )?;
+        Ok(report)
+    }
+
+    /// The loop of [`Renderer::render_original_with`] and [`Renderer::render_scored`]: one pass
+    /// of `shader` per frame; what comes back is `keep`'s. With [`Keep::Frames`], the frames,
+    /// their depth and the GPU copy of both.
+    fn render_plain(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        opts: &RenderOptions,
+        progress: &dyn FrameProgress,
+        keep: Keep<'_>,
+    ) -> Result<(RenderReport, Option<KeptFrames>), ReplayError> {
         session.validate()?;
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
         let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
-        self.check_size(session, frames, !opts.timing_only)?;
+        let keeps = matches!(keep, Keep::Frames) && !opts.timing_only;
+        self.check_size(session, frames, keeps)?;
         let first = Self::first_frame(session, opts)?;
         let used: BTreeSet<u32> = iface.groups().into_iter().collect();
         let vgroup = free_group(&used)?;
@@ -124,19 +203,51 @@ impl Renderer {
             true,
         )?;
 
-        let color = self.target("frame color", w, h, FRAME_FORMAT, false);
+        let scoring = match keep {
+            Keep::ScoreAgainst(_) => true,
+            Keep::Frames => false,
+        };
+        // The GPU reduction samples the frame: a scored render's target must be bindable.
+        let color = self.target("frame color", w, h, FRAME_FORMAT, scoring);
         let color_view = color.create_view(&Default::default());
         let depth = self.target("depth", w, h, DEPTH_FORMAT, false);
         let depth_view = depth.create_view(&Default::default());
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
         let q = QueryKit::new(self, 1, slots);
-        let frame_rb = Staging::new(self, "frame readback", w, h, 16, slots);
-        let depth_rb = Staging::new(self, "depth readback", w, h, 4, slots);
-        let keeper = Keeper::new(self, w, h);
+        let (frame_rb, depth_rb, keeper) = if keeps {
+            (
+                Some(Staging::new(self, "frame readback", w, h, 16, slots)),
+                Some(Staging::new(self, "depth readback", w, h, 4, slots)),
+                Some(Keeper::new(self, w, h)),
+            )
+        } else {
+            (None, None, None)
+        };
+        let errors = match keep {
+            Keep::ScoreAgainst(reference) => {
+                let back = match opts.perceptual_stride {
+                    Some(k) => PixelsBack::Every(k.max(1)),
+                    None => PixelsBack::None,
+                };
+                Some((
+                    reference,
+                    FrameErrors::new(self, reference, first + frames, slots, back)?,
+                ))
+            }
+            Keep::Frames => None,
+        };
+        let perceptual = |f: u32| {
+            opts.perceptual_stride
+                .is_some_and(|k| f.is_multiple_of(k.max(1)))
+        };
+        let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
         let mut gpu = GpuReference::new(self);
         let mut rb_bufs = q.read_buffers();
-        rb_bufs.push(&frame_rb.buf);
-        rb_bufs.push(&depth_rb.buf);
+        rb_bufs.extend(frame_rb.iter().map(|s| &s.buf));
+        rb_bufs.extend(depth_rb.iter().map(|s| &s.buf));
+        if let Some((_, e)) = &errors {
+            rb_bufs.extend(e.read_buffers());
+        }
         let bg = session.background;
         let clear = wgpu::Color {
             r: bg[0] as f64,
@@ -183,35 +294,44 @@ impl Renderer {
             }
             q.resolve(&mut enc, slot);
             let mut rb = self.device.create_command_encoder(&Default::default());
-            if !opts.timing_only {
+            if let (Some(frame_rb), Some(depth_rb), Some(keeper)) = (&frame_rb, &depth_rb, &keeper)
+            {
                 frame_rb.copy(&mut rb, &color, slot);
                 let at = slot as u64 * depth_rb.slot_bytes;
                 keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
+            }
+            if let Some((_, e)) = &errors {
+                e.encode(self, &mut rb, &color, &color_view, f, slot)?;
             }
             if !batch.submit(self, enc, rb, f)? {
                 continue;
             }
 
             // Read the batch back with one wait.
-            let bufs: &[&wgpu::Buffer] = if opts.timing_only {
-                &rb_bufs[..rb_bufs.len() - 2]
-            } else {
-                &rb_bufs
-            };
-            batch.read_back(self, bufs, |slot, f, cpu_ms| {
-                let (pixels, depth): (Vec<f32>, Vec<f32>) = if opts.timing_only {
-                    (Vec::new(), Vec::new())
-                } else {
-                    (
+            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
+                let (pixels, depth): (Vec<f32>, Vec<f32>) = match (&frame_rb, &depth_rb) {
+                    (Some(frame_rb), Some(depth_rb)) => (
                         bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?),
                         bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?),
-                    )
+                    ),
+                    _ => (Vec::new(), Vec::new()),
                 };
-                let covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
-                let nonfinite = pixels
+                let mut covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
+                let mut nonfinite = pixels
                     .chunks_exact(4)
                     .filter(|p| !metrics::finite3(p))
                     .count() as u64;
+                // Scored: the error against the reference (its covered pixels) and the sampled
+                // frames' pixels for the perceptual metrics.
+                let mut errs = metrics::FrameError::default();
+                if let Some((reference, e)) = &errors {
+                    let (fe, px) = e.read(slot, reference, f)?;
+                    if let Some(px) = px.filter(|_| perceptual(f)) {
+                        to_score.push((f, px));
+                    }
+                    (covered, nonfinite) = (fe.covered, fe.nonfinite);
+                    errs = fe;
+                }
                 let (occ, pass_ms, span) = q.read(slot)?;
                 let frame_ms = span.unwrap_or(cpu_ms);
                 if let Some(dir) = &opts.png_dir {
@@ -232,17 +352,17 @@ impl Renderer {
                     miss_px: None,
                     refresh_px: None,
                     hit_rate: 0.0,
-                    error: 0.0,
-                    mse: 0.0,
+                    error: errs.error(),
+                    mse: errs.mse(),
                     covered,
-                    psnr: metrics::PSNR_CAP,
-                    max_abs_diff: 0.0,
+                    psnr: errs.psnr(),
+                    max_abs_diff: errs.max_abs_diff,
                     nonfinite,
-                    nonfinite_reference: 0,
+                    nonfinite_reference: errs.nonfinite_reference,
                     flip: None,
                     ssim: None,
                 });
-                if !opts.timing_only {
+                if keeps {
                     out_frames.push(pixels);
                     out_depth.push(depth);
                 }
@@ -250,21 +370,12 @@ impl Renderer {
                 Ok(())
             })?;
         }
-        report.summarize();
-        if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
-            return Err(ReplayError::NothingCovered {
-                session: session.display_name(),
-                frames: report.frames.len() as u32,
-            });
+        if let Some((reference, _)) = &errors {
+            super::variant::score_perceptual(&mut to_score, &mut report, reference, opts, [w, h])?;
         }
-        Ok(Reference {
-            width: w,
-            height: h,
-            frames: out_frames,
-            depth: out_depth,
-            report,
-            gpu,
-        })
+        report.summarize();
+        let kept = matches!(keep, Keep::Frames).then_some((out_frames, out_depth, gpu));
+        Ok((report, kept))
     }
 
     pub(super) fn new_report(
@@ -303,6 +414,18 @@ impl Renderer {
         }
     }
 }
+
+/// What [`Renderer::render_plain`] keeps of the frames.
+#[derive(Clone, Copy)]
+enum Keep<'r> {
+    /// The frames, their depth and their copy on the GPU: a [`Reference`].
+    Frames,
+    /// Nothing: each frame is scored against this reference instead.
+    ScoreAgainst(&'r Reference),
+}
+
+/// The frames, depths and GPU copy a [`Keep::Frames`] render keeps.
+type KeptFrames = (Vec<Vec<f32>>, Vec<Vec<f32>>, GpuReference);
 
 /// The memory the machine has available (`MemAvailable` in `/proc/meminfo`), in bytes; `None`
 /// where that cannot be read (not Linux).

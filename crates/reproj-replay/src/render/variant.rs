@@ -654,7 +654,7 @@ impl Renderer {
 
 /// ꟻLIP and SSIM of the frames in `to_score` (drained), in parallel, into their records of
 /// `report`, and their ꟻLIP maps written where frames are.
-fn score_perceptual(
+pub(super) fn score_perceptual(
     to_score: &mut Vec<(u32, Vec<f32>)>,
     report: &mut RenderReport,
     reference: &Reference,
