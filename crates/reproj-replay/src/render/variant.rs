@@ -78,7 +78,9 @@ impl Renderer {
         self.render_variant_with(shader, session, variant, reference, opts, &())
     }
 
-    /// [`Renderer::render_variant`], telling `progress` as frames come back.
+    /// [`Renderer::render_variant`], telling `progress` as frames come back. In phases: the plan
+    /// (checks, the passes' stages; nothing allocated), the GPU objects, the empty cache, the
+    /// frame loop, the sampled frames' perceptual metrics.
     pub fn render_variant_with(
         &self,
         shader: &Shader,
@@ -88,6 +90,39 @@ impl Renderer {
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
     ) -> Result<RenderReport, ReplayError> {
+        let plan = self.plan_variant(shader, session, variant, reference, opts)?;
+        let gpu = self.variant_gpu(session, variant, &plan)?;
+        self.clear_variant_cache(&gpu)?;
+        let m = &variant.manifest;
+        let mut report = self.new_report("variant", shader, &m.entry, session);
+        report.node = Some(m.node.id.clone());
+        report.delta_n = Some(variant.delta_n);
+        report.block = Some(variant.block);
+        report.depth_epsilon = Some(variant.depth_epsilon);
+        self.variant_frames(
+            session,
+            variant,
+            reference,
+            opts,
+            progress,
+            &plan,
+            &gpu,
+            &mut report,
+        )?;
+        report.summarize();
+        Ok(report)
+    }
+
+    /// Check a variant render against its reference and the adapter, and make its passes'
+    /// stages (their interfaces with the shader's own names): everything before a GPU object.
+    fn plan_variant(
+        &self,
+        shader: &Shader,
+        session: &Session,
+        variant: &VariantInput,
+        reference: &Reference,
+        opts: &RenderOptions,
+    ) -> Result<VariantPlan, ReplayError> {
         session.validate()?;
         let m = &variant.manifest;
         let [w, h] = session.resolution;
@@ -153,8 +188,44 @@ impl Renderer {
         } else {
             None
         };
+        if !m.cache_format.is_half()
+            && m.reconstruct.filters()
+            && !self
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_FILTERABLE)
+        {
+            return Err(ReplayError::Unsupported {
+                what: format!(
+                    "{} has no float32-filterable feature, needed to filter a {} cache; use a 16-bit cache format or nearest reconstruction",
+                    self.adapter_info.name,
+                    m.cache_format.name()
+                ),
+            });
+        }
+        Ok(VariantPlan {
+            frames,
+            first,
+            specs,
+            stages,
+            classify_stage,
+        })
+    }
+
+    /// The GPU objects of a variant render: the scene, the stages' modules, the payload and depth
+    /// copy ping-pong, the frame and classification targets, the samplers, each parity's bind
+    /// groups and the passes' pipelines.
+    fn variant_gpu(
+        &self,
+        session: &Session,
+        variant: &VariantInput,
+        plan: &VariantPlan,
+    ) -> Result<VariantGpu, ReplayError> {
+        let m = &variant.manifest;
+        let [w, h] = session.resolution;
+        let (specs, stages, classify_stage) = (&plan.specs, &plan.stages, &plan.classify_stage);
         let mut used: BTreeSet<u32> = [m.group].into_iter().collect();
-        for s in &stages {
+        for s in stages {
             used.extend(s.iface.groups());
         }
         if let Some(c) = &classify_stage {
@@ -251,21 +322,6 @@ impl Renderer {
         };
         let point_sampler = clamp(wgpu::FilterMode::Nearest, contract::POINT_SAMPLER);
         let linear_sampler = clamp(wgpu::FilterMode::Linear, contract::LINEAR_SAMPLER);
-        if !m.cache_format.is_half()
-            && m.reconstruct.filters()
-            && !self
-                .device
-                .features()
-                .contains(wgpu::Features::FLOAT32_FILTERABLE)
-        {
-            return Err(ReplayError::Unsupported {
-                what: format!(
-                    "{} has no float32-filterable feature, needed to filter a {} cache; use a 16-bit cache format or nearest reconstruction",
-                    self.adapter_info.name,
-                    m.cache_format.name()
-                ),
-            });
-        }
         // Bindings for each parity (cur = parity, prev = 1 − parity).
         let mut binds: Vec<(Vec<Bindings>, Bindings)> = Vec::new();
         for parity in 0..2usize {
@@ -280,7 +336,7 @@ impl Renderer {
                 cur_payload: &payload_v[parity],
             };
             let mut per_pass = Vec::new();
-            for (st, spec) in stages.iter().zip(&specs) {
+            for (st, spec) in stages.iter().zip(specs) {
                 per_pass.push(self.bindings(
                     &spec.label,
                     &st.iface,
@@ -344,38 +400,6 @@ impl Renderer {
             None => None,
         };
 
-        let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
-        let q = QueryKit::new(self, specs.len() as u32, slots);
-        let back = match (&opts.png_dir, opts.perceptual_stride) {
-            (Some(_), _) => PixelsBack::All,
-            (None, Some(k)) => PixelsBack::Every(k.max(1)),
-            (None, None) => PixelsBack::None,
-        };
-        let perceptual = |f: u32| {
-            opts.perceptual_stride
-                .is_some_and(|k| f.is_multiple_of(k.max(1)))
-        };
-        let errors = if opts.timing_only {
-            None
-        } else {
-            Some(FrameErrors::new(
-                self,
-                reference,
-                first + frames,
-                slots,
-                back,
-            )?)
-        };
-        let cls_rb = pc
-            .as_ref()
-            .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
-        let mut rb_bufs = q.read_buffers();
-        if let Some(errors) = &errors {
-            rb_bufs.extend(errors.read_buffers());
-        }
-        if let Some(c) = &cls_rb {
-            rb_bufs.push(&c.buf);
-        }
         let bg = session.background;
         let clear = wgpu::Color {
             r: bg[0] as f64,
@@ -384,7 +408,41 @@ impl Renderer {
             a: bg[3] as f64,
         };
 
-        // The "previous" cache before frame 0: payload 0, depth 1.
+        let host_clears_frame = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|(t, load)| *t == Attachment::Frame && !load)
+        });
+        Ok(VariantGpu {
+            scene,
+            vgroup,
+            payload_v,
+            depth_copy_v,
+            depth_v,
+            color,
+            color_view,
+            cls,
+            cls_view,
+            cls_depth_view,
+            params,
+            binds,
+            pipes,
+            pc,
+            clear,
+            host_clears_frame,
+        })
+    }
+
+    /// Clear both parities' payload, depth copy and depth: the "previous" cache before the first
+    /// frame (payload 0, depth 1).
+    fn clear_variant_cache(&self, gpu: &VariantGpu) -> Result<(), ReplayError> {
+        let VariantGpu {
+            payload_v,
+            depth_copy_v,
+            ..
+        } = gpu;
+        let depth_at = |p: usize| gpu.depth_at(p);
         {
             let mut enc = self.device.create_command_encoder(&Default::default());
             for i in 0..2 {
@@ -421,29 +479,83 @@ impl Renderer {
             self.check_errors("clearing the cache")?;
         }
 
-        let mut report = self.new_report("variant", shader, &m.entry, session);
-        report.node = Some(m.node.id.clone());
-        report.delta_n = Some(variant.delta_n);
-        report.block = Some(variant.block);
-        report.depth_epsilon = Some(variant.depth_epsilon);
-        let clear_payload = wgpu::Color::TRANSPARENT;
-        let host_clears_frame = !specs.iter().any(|s| {
-            s.colors
-                .iter()
-                .flatten()
-                .any(|(t, load)| *t == Attachment::Frame && !load)
-        });
+        Ok(())
+    }
+
+    /// The frame loop: per frame the passes (timed, counted), then the error reduction, the
+    /// sampled frames' pixels and the classification read back in batches into `report`.
+    #[allow(clippy::too_many_arguments)]
+    fn variant_frames(
+        &self,
+        session: &Session,
+        variant: &VariantInput,
+        reference: &Reference,
+        opts: &RenderOptions,
+        progress: &dyn FrameProgress,
+        plan: &VariantPlan,
+        gpu: &VariantGpu,
+        report: &mut RenderReport,
+    ) -> Result<(), ReplayError> {
+        let m = &variant.manifest;
+        let [w, h] = session.resolution;
+        let (frames, first, specs) = (plan.frames, plan.first, &plan.specs);
+        let VariantGpu {
+            scene,
+            vgroup,
+            color,
+            color_view,
+            cls,
+            cls_view,
+            cls_depth_view,
+            params,
+            binds,
+            pc,
+            ..
+        } = gpu;
+        let vgroup = *vgroup;
+        let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
+        let q = QueryKit::new(self, specs.len() as u32, slots);
+        let back = match (&opts.png_dir, opts.perceptual_stride) {
+            (Some(_), _) => PixelsBack::All,
+            (None, Some(k)) => PixelsBack::Every(k.max(1)),
+            (None, None) => PixelsBack::None,
+        };
+        let perceptual = |f: u32| {
+            opts.perceptual_stride
+                .is_some_and(|k| f.is_multiple_of(k.max(1)))
+        };
+        let errors = if opts.timing_only {
+            None
+        } else {
+            Some(FrameErrors::new(
+                self,
+                reference,
+                first + frames,
+                slots,
+                back,
+            )?)
+        };
+        let cls_rb = pc
+            .as_ref()
+            .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
+        let mut rb_bufs = q.read_buffers();
+        if let Some(errors) = &errors {
+            rb_bufs.extend(errors.read_buffers());
+        }
+        if let Some(c) = &cls_rb {
+            rb_bufs.push(&c.buf);
+        }
         let mut batch = FrameBatch::new("variant ", slots, first + frames);
-        // Frames read back for ꟻLIP and SSIM, scored after their batch is read back. The metrics
-        // are the costliest CPU work of a replay (about 60 ms per 256×256 frame): they run on
-        // every core, but only between batches, when no timed frame is in flight (on a CPU
-        // adapter they would otherwise slow the frames being measured).
+        // Frames read back for ꟻLIP and SSIM, scored between batches once there is one per core.
+        // The metrics are the costliest CPU work of a replay (ꟻLIP: about 26 ms per 256×256
+        // frame on one core): they run on every core, but never while a timed frame is in flight
+        // (on a CPU adapter they would otherwise slow the frames being measured).
         let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
         for f in first..first + frames {
             let slot = batch.slot();
             let cur = (f % 2) as usize;
             let b = &binds[cur];
-            self.write_frame_uniforms(session, &scene, f);
+            self.write_frame_uniforms(session, scene, f);
             let mut p = contract::ReprojParams::for_frame(
                 f,
                 variant.delta_n_at(f),
@@ -454,90 +566,22 @@ impl Renderer {
                 // The cache starts empty: the first frame refreshes everything.
                 p.delta_n = 1;
             }
-            self.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
+            self.queue.write_buffer(params, 0, bytemuck::bytes_of(&p));
 
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            if host_clears_frame {
-                // `--frame-load load`: the passes keep what the engine drew; here that is the
-                // background, as the original shader's frame starts.
-                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("host clears the frame"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &color_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(clear),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    ..Default::default()
-                });
-            }
-            for (i, spec) in specs.iter().enumerate() {
-                let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = spec
-                    .colors
-                    .iter()
-                    .map(|c| {
-                        c.map(|(t, load)| {
-                            let (view, clear_to) = match t {
-                                Attachment::Frame => (&color_view, clear),
-                                Attachment::Cache => (&payload_v[cur], clear_payload),
-                                Attachment::DepthCopy => (&depth_copy_v[cur], DEPTH_COPY_CLEAR),
-                            };
-                            wgpu::RenderPassColorAttachment {
-                                view,
-                                depth_slice: None,
-                                resolve_target: None,
-                                ops: wgpu::Operations {
-                                    load: if load {
-                                        wgpu::LoadOp::Load
-                                    } else {
-                                        wgpu::LoadOp::Clear(clear_to)
-                                    },
-                                    store: wgpu::StoreOp::Store,
-                                },
-                            }
-                        })
-                    })
-                    .collect();
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some(&spec.label),
-                    color_attachments: &colors,
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: depth_at(cur),
-                        depth_ops: Some(wgpu::Operations {
-                            load: if spec.depth_load {
-                                wgpu::LoadOp::Load
-                            } else {
-                                wgpu::LoadOp::Clear(1.0)
-                            },
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: q.writes(i as u32),
-                    occlusion_query_set: Some(&q.occlusion),
-                    multiview_mask: None,
-                });
-                pass.begin_occlusion_query(i as u32);
-                self.draw(&mut pass, &pipes[i], &b.0[i], &scene, vgroup);
-                pass.end_occlusion_query();
-            }
-            q.resolve(&mut enc, slot);
+            let enc = self.encode_variant_passes(gpu, specs, cur, &q, slot);
 
             // Readback (and the untimed classification pass).
             let render = enc;
             let mut enc = self.device.create_command_encoder(&Default::default());
             if let Some(errors) = &errors {
-                errors.encode(self, &mut enc, &color, &color_view, f, slot)?;
+                errors.encode(self, &mut enc, color, color_view, f, slot)?;
             }
             if let (Some(pc), Some(cls_rb)) = (&pc, &cls_rb) {
                 {
                     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                         label: Some(CLASSIFY_ENTRY),
                         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: &cls_view,
+                            view: cls_view,
                             depth_slice: None,
                             resolve_target: None,
                             ops: wgpu::Operations {
@@ -546,7 +590,7 @@ impl Renderer {
                             },
                         })],
                         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &cls_depth_view,
+                            view: cls_depth_view,
                             depth_ops: Some(wgpu::Operations {
                                 load: wgpu::LoadOp::Clear(1.0),
                                 store: wgpu::StoreOp::Store,
@@ -555,9 +599,9 @@ impl Renderer {
                         }),
                         ..Default::default()
                     });
-                    self.draw(&mut pass, pc, &b.1, &scene, vgroup);
+                    self.draw(&mut pass, pc, &b.1, scene, vgroup);
                 }
-                cls_rb.copy(&mut enc, &cls, slot);
+                cls_rb.copy(&mut enc, cls, slot);
             }
             if !batch.submit(self, render, enc, f)? {
                 continue;
@@ -642,13 +686,154 @@ impl Renderer {
             // Score once there is a frame for every core (at 1080p a batch holds one frame and
             // one ꟻLIP takes most of a second), and whatever is left at the end.
             if to_score.len() >= rayon::current_num_threads() {
-                score_perceptual(&mut to_score, &mut report, reference, opts, [w, h])?;
+                score_perceptual(&mut to_score, report, reference, opts, [w, h])?;
             }
             // Swap happens through the parity of the next frame.
         }
-        score_perceptual(&mut to_score, &mut report, reference, opts, [w, h])?;
-        report.summarize();
-        Ok(report)
+        score_perceptual(&mut to_score, report, reference, opts, [w, h])
+    }
+
+    /// Record frame parity `cur`'s passes (the host's clear of the frame first where no pass
+    /// clears it), each timed and counted by `q` into `slot`.
+    fn encode_variant_passes(
+        &self,
+        gpu: &VariantGpu,
+        specs: &[PassSpec],
+        cur: usize,
+        q: &QueryKit,
+        slot: u32,
+    ) -> wgpu::CommandEncoder {
+        let VariantGpu {
+            scene,
+            vgroup,
+            payload_v,
+            depth_copy_v,
+            color_view,
+            binds,
+            pipes,
+            clear,
+            host_clears_frame,
+            ..
+        } = gpu;
+        let (vgroup, clear) = (*vgroup, *clear);
+        let b = &binds[cur];
+        let clear_payload = wgpu::Color::TRANSPARENT;
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        if *host_clears_frame {
+            // `--frame-load load`: the passes keep what the engine drew; here that is the
+            // background, as the original shader's frame starts.
+            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("host clears the frame"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                ..Default::default()
+            });
+        }
+        for (i, spec) in specs.iter().enumerate() {
+            let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = spec
+                .colors
+                .iter()
+                .map(|c| {
+                    c.map(|(t, load)| {
+                        let (view, clear_to) = match t {
+                            Attachment::Frame => (color_view, clear),
+                            Attachment::Cache => (&payload_v[cur], clear_payload),
+                            Attachment::DepthCopy => (&depth_copy_v[cur], DEPTH_COPY_CLEAR),
+                        };
+                        wgpu::RenderPassColorAttachment {
+                            view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: if load {
+                                    wgpu::LoadOp::Load
+                                } else {
+                                    wgpu::LoadOp::Clear(clear_to)
+                                },
+                                store: wgpu::StoreOp::Store,
+                            },
+                        }
+                    })
+                })
+                .collect();
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(&spec.label),
+                color_attachments: &colors,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: gpu.depth_at(cur),
+                    depth_ops: Some(wgpu::Operations {
+                        load: if spec.depth_load {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(1.0)
+                        },
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: q.writes(i as u32),
+                occlusion_query_set: Some(&q.occlusion),
+                multiview_mask: None,
+            });
+            pass.begin_occlusion_query(i as u32);
+            self.draw(&mut pass, &pipes[i], &b.0[i], scene, vgroup);
+            pass.end_occlusion_query();
+        }
+        q.resolve(&mut enc, slot);
+        enc
+    }
+}
+
+/// What a variant render needs before any GPU object ([`Renderer::plan_variant`]).
+struct VariantPlan {
+    frames: u32,
+    first: u32,
+    /// Each pass's targets and depth state, in the manifest's order.
+    specs: Vec<PassSpec>,
+    /// Each pass's module and interface, in the same order.
+    stages: Vec<Stage>,
+    /// The first pass's classification entry point, when it is rendered each frame.
+    classify_stage: Option<Interface>,
+}
+
+/// The GPU objects of a variant render ([`Renderer::variant_gpu`]).
+struct VariantGpu {
+    scene: Scene,
+    /// The bind group the replay's vertex stage uses (free in every stage).
+    vgroup: u32,
+    /// The payload and the depth copy of each parity.
+    payload_v: Vec<wgpu::TextureView>,
+    depth_copy_v: Vec<wgpu::TextureView>,
+    /// One depth buffer, or two that alternate for a variant written before the depth copy.
+    depth_v: Vec<wgpu::TextureView>,
+    color: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    cls: wgpu::Texture,
+    cls_view: wgpu::TextureView,
+    cls_depth_view: wgpu::TextureView,
+    params: wgpu::Buffer,
+    /// Per parity: each pass's bindings and the classification entry's.
+    binds: Vec<(Vec<Bindings>, Bindings)>,
+    pipes: Vec<Pipe>,
+    /// The classification pipeline, when it is rendered.
+    pc: Option<Pipe>,
+    /// The session's background.
+    clear: wgpu::Color,
+    /// No pass clears the frame (`--frame-load load`): the host clears it to the background.
+    host_clears_frame: bool,
+}
+
+impl VariantGpu {
+    /// The depth buffer of the frame of parity `p`.
+    fn depth_at(&self, p: usize) -> &wgpu::TextureView {
+        &self.depth_v[p % self.depth_v.len()]
     }
 }
 
