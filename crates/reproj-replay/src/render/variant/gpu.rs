@@ -1,0 +1,307 @@
+//! Phase 2 of a variant render: its GPU objects, and the cache cleared before the first frame.
+
+use super::*;
+impl Renderer {
+    /// The GPU objects of a variant render: the scene, the stages' modules, the payload and depth
+    /// copy ping-pong, the frame and classification targets, the samplers, each parity's bind
+    /// groups and the passes' pipelines.
+    pub(super) fn variant_gpu(
+        &self,
+        session: &Session,
+        variant: &VariantInput,
+        plan: &VariantPlan,
+    ) -> Result<VariantGpu, ReplayError> {
+        let m = &variant.manifest;
+        let [w, h] = session.resolution;
+        let (specs, stages, classify_stage) = (&plan.specs, &plan.stages, &plan.classify_stage);
+        let mut used: BTreeSet<u32> = [m.group].into_iter().collect();
+        for s in stages {
+            used.extend(s.iface.groups());
+        }
+        if let Some(c) = &classify_stage {
+            used.extend(c.groups());
+        }
+        let vgroup = free_group(&used)?;
+        let mut input_sets: Vec<&[reflect::FragInput]> =
+            stages.iter().map(|s| s.iface.inputs.as_slice()).collect();
+        if let Some(c) = &classify_stage {
+            input_sets.push(&c.inputs);
+        }
+        let inputs = vertex::merge_inputs(&input_sets)?;
+        let mut ifaces: Vec<&Interface> = stages.iter().map(|s| &s.iface).collect();
+        if let Some(c) = &classify_stage {
+            ifaces.push(c);
+        }
+        let scene = self.build_scene(session, &ifaces, Some(m.group))?;
+        let vs_src = vertex::vertex_wgsl(
+            vgroup,
+            &inputs,
+            &session.inputs,
+            Some(m.vertex.prev_clip_location),
+        )?;
+        let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
+        let fsm: Vec<wgpu::ShaderModule> = stages
+            .iter()
+            .map(|s| self.shader_module(&s.shader.path.display().to_string(), &s.shader.source))
+            .collect::<Result<_, _>>()?;
+
+        let cache_format = match m.cache_format {
+            CacheFormat::Rgba32float => wgpu::TextureFormat::Rgba32Float,
+            CacheFormat::Rg32float => wgpu::TextureFormat::Rg32Float,
+            CacheFormat::R32float => wgpu::TextureFormat::R32Float,
+            CacheFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+            CacheFormat::Rg16float => wgpu::TextureFormat::Rg16Float,
+            CacheFormat::R16float => wgpu::TextureFormat::R16Float,
+        };
+        let payload = [
+            self.target("payload A", w, h, cache_format, true),
+            self.target("payload B", w, h, cache_format, true),
+        ];
+        let depth_copy = [
+            self.target("depth copy A", w, h, DEPTH_COPY_FORMAT, true),
+            self.target("depth copy B", w, h, DEPTH_COPY_FORMAT, true),
+        ];
+        // The lookup reads the depth copy; only a variant written before it (no depth copy target)
+        // reads the previous depth buffer, which must then alternate like the payload.
+        let legacy_depth = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|c| c.0 == Attachment::DepthCopy)
+        });
+        let depth: Vec<wgpu::Texture> = if legacy_depth {
+            vec![
+                self.target("depth A", w, h, DEPTH_FORMAT, true),
+                self.target("depth B", w, h, DEPTH_FORMAT, true),
+            ]
+        } else {
+            vec![self.target("depth", w, h, DEPTH_FORMAT, false)]
+        };
+        let views = |ts: &[wgpu::Texture]| -> Vec<wgpu::TextureView> {
+            ts.iter()
+                .map(|t| t.create_view(&Default::default()))
+                .collect()
+        };
+        let payload_v = views(&payload);
+        let depth_copy_v = views(&depth_copy);
+        let depth_v = views(&depth);
+        // The depth buffer of the frame of parity `p`.
+        let depth_at = |p: usize| &depth_v[p % depth_v.len()];
+        let color = self.target("frame color", w, h, FRAME_FORMAT, true);
+        let color_view = color.create_view(&Default::default());
+        let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
+        let cls_view = cls.create_view(&Default::default());
+        let cls_depth = self.target("classify depth", w, h, DEPTH_FORMAT, false);
+        let cls_depth_view = cls_depth.create_view(&Default::default());
+        let params = self.buffer(
+            contract::PARAMS,
+            u64::from(contract::PARAMS_SIZE),
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
+
+        let clamp = |filter: wgpu::FilterMode, label: &str| {
+            self.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: wgpu::AddressMode::ClampToEdge,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                address_mode_w: wgpu::AddressMode::ClampToEdge,
+                mag_filter: filter,
+                min_filter: filter,
+                ..Default::default()
+            })
+        };
+        let point_sampler = clamp(wgpu::FilterMode::Nearest, contract::POINT_SAMPLER);
+        let linear_sampler = clamp(wgpu::FilterMode::Linear, contract::LINEAR_SAMPLER);
+        // Bindings for each parity (cur = parity, prev = 1 − parity).
+        let mut binds: Vec<(Vec<Bindings>, Bindings)> = Vec::new();
+        for parity in 0..2usize {
+            let added = AddedResources {
+                params: &params,
+                point_sampler: &point_sampler,
+                linear_sampler: &linear_sampler,
+                payload_half: m.cache_format.is_half(),
+                prev_payload: &payload_v[1 - parity],
+                prev_depth_copy: &depth_copy_v[1 - parity],
+                prev_depth_buffer: legacy_depth.then(|| depth_at(1 - parity)),
+                cur_payload: &payload_v[parity],
+            };
+            let mut per_pass = Vec::new();
+            for (st, spec) in stages.iter().zip(specs) {
+                per_pass.push(self.bindings(
+                    &spec.label,
+                    &st.iface,
+                    &scene,
+                    Some(m.group),
+                    Some(&added),
+                )?);
+            }
+            let bc = match &classify_stage {
+                Some(c) => self.bindings(CLASSIFY_ENTRY, c, &scene, Some(m.group), Some(&added))?,
+                None => Bindings {
+                    layouts: BTreeMap::new(),
+                    groups: BTreeMap::new(),
+                    layout_keys: BTreeMap::new(),
+                },
+            };
+            binds.push((per_pass, bc));
+        }
+        use wgpu::CompareFunction as Cf;
+        let mut pipes = Vec::new();
+        for (i, spec) in specs.iter().enumerate() {
+            let formats: Vec<Option<wgpu::TextureFormat>> = spec
+                .colors
+                .iter()
+                .map(|c| {
+                    c.map(|(t, _)| match t {
+                        Attachment::Frame => FRAME_FORMAT,
+                        Attachment::Cache => cache_format,
+                        Attachment::DepthCopy => DEPTH_COPY_FORMAT,
+                    })
+                })
+                .collect();
+            pipes.push(self.pipeline(
+                &spec.label,
+                [&vs_src, &stages[i].shader.source],
+                &vs,
+                &fsm[i],
+                &stages[i].iface.entry,
+                &binds[0].0[i],
+                &scene,
+                vgroup,
+                &formats,
+                spec.compare,
+                spec.depth_write,
+            )?);
+        }
+        let pc = match &classify_stage {
+            Some(_) => Some(self.pipeline(
+                CLASSIFY_ENTRY,
+                [&vs_src, &stages[0].shader.source],
+                &vs,
+                &fsm[0],
+                CLASSIFY_ENTRY,
+                &binds[0].1,
+                &scene,
+                vgroup,
+                &[Some(CLASSIFY_FORMAT)],
+                Cf::Less,
+                true,
+            )?),
+            None => None,
+        };
+
+        let bg = session.background;
+        let clear = wgpu::Color {
+            r: bg[0] as f64,
+            g: bg[1] as f64,
+            b: bg[2] as f64,
+            a: bg[3] as f64,
+        };
+
+        let host_clears_frame = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|(t, load)| *t == Attachment::Frame && !load)
+        });
+        Ok(VariantGpu {
+            scene,
+            vgroup,
+            payload_v,
+            depth_copy_v,
+            depth_v,
+            color,
+            color_view,
+            cls,
+            cls_view,
+            cls_depth_view,
+            params,
+            binds,
+            pipes,
+            pc,
+            clear,
+            host_clears_frame,
+        })
+    }
+    /// Clear both parities' payload, depth copy and depth: the "previous" cache before the first
+    /// frame (payload 0, depth 1).
+    pub(super) fn clear_variant_cache(&self, gpu: &VariantGpu) -> Result<(), ReplayError> {
+        let VariantGpu {
+            payload_v,
+            depth_copy_v,
+            ..
+        } = gpu;
+        let depth_at = |p: usize| gpu.depth_at(p);
+        {
+            let mut enc = self.device.create_command_encoder(&Default::default());
+            for i in 0..2 {
+                let clear_to = |view, color| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(color),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })
+                };
+                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("clear cache"),
+                    color_attachments: &[
+                        clear_to(&payload_v[i], wgpu::Color::TRANSPARENT),
+                        clear_to(&depth_copy_v[i], DEPTH_COPY_CLEAR),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: depth_at(i),
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    ..Default::default()
+                });
+            }
+            self.queue.submit([enc.finish()]);
+            self.wait()?;
+            self.check_errors("clearing the cache")?;
+        }
+
+        Ok(())
+    }
+}
+
+/// The GPU objects of a variant render ([`Renderer::variant_gpu`]).
+pub(super) struct VariantGpu {
+    pub(super) scene: Scene,
+    /// The bind group the replay's vertex stage uses (free in every stage).
+    pub(super) vgroup: u32,
+    /// The payload and the depth copy of each parity.
+    pub(super) payload_v: Vec<wgpu::TextureView>,
+    pub(super) depth_copy_v: Vec<wgpu::TextureView>,
+    /// One depth buffer, or two that alternate for a variant written before the depth copy.
+    pub(super) depth_v: Vec<wgpu::TextureView>,
+    pub(super) color: wgpu::Texture,
+    pub(super) color_view: wgpu::TextureView,
+    pub(super) cls: wgpu::Texture,
+    pub(super) cls_view: wgpu::TextureView,
+    pub(super) cls_depth_view: wgpu::TextureView,
+    pub(super) params: wgpu::Buffer,
+    /// Per parity: each pass's bindings and the classification entry's.
+    pub(super) binds: Vec<(Vec<Bindings>, Bindings)>,
+    pub(super) pipes: Vec<Pipe>,
+    /// The classification pipeline, when it is rendered.
+    pub(super) pc: Option<Pipe>,
+    /// The session's background.
+    pub(super) clear: wgpu::Color,
+    /// No pass clears the frame (`--frame-load load`): the host clears it to the background.
+    pub(super) host_clears_frame: bool,
+}
+
+impl VariantGpu {
+    /// The depth buffer of the frame of parity `p`.
+    pub(super) fn depth_at(&self, p: usize) -> &wgpu::TextureView {
+        &self.depth_v[p % self.depth_v.len()]
+    }
+}

@@ -1,0 +1,116 @@
+//! Phase 1 of a variant render: check it against its reference and the adapter, and make its
+//! passes' stages. Nothing on the GPU yet.
+
+use super::*;
+impl Renderer {
+    /// Check a variant render against its reference and the adapter, and make its passes'
+    /// stages (their interfaces with the shader's own names): everything before a GPU object.
+    pub(super) fn plan_variant(
+        &self,
+        shader: &Shader,
+        session: &Session,
+        variant: &VariantInput,
+        reference: &Reference,
+        opts: &RenderOptions,
+    ) -> Result<VariantPlan, ReplayError> {
+        session.validate()?;
+        let m = &variant.manifest;
+        let [w, h] = session.resolution;
+        let frames = Self::frame_count(session, opts);
+        let first = Self::first_frame(session, opts)?;
+        if reference.width != w
+            || reference.height != h
+            || (reference.frames.len() as u32) < first + frames
+        {
+            return Err(ReplayError::ReferenceMismatch {
+                reference: format!(
+                    "{} frames, {}×{}",
+                    reference.frames.len(),
+                    reference.width,
+                    reference.height
+                ),
+                session: format!("{} frames, {w}×{h}", first + frames),
+            });
+        }
+        if variant.delta_n == 0
+            || variant.block == 0
+            || variant.delta_n_per_frame.iter().flatten().any(|&d| d == 0)
+        {
+            return Err(ReplayError::Variant {
+                message: "Δn and k must be at least 1".into(),
+            });
+        }
+        let specs = pass_specs(m)?;
+        if variant.sources.len() != m.passes.len() {
+            return Err(ReplayError::Variant {
+                message: format!(
+                    "the manifest lists {} passes and {} modules were given",
+                    m.passes.len(),
+                    variant.sources.len()
+                ),
+            });
+        }
+        let mut stages = Vec::new();
+        for (p, src) in m.passes.iter().zip(&variant.sources) {
+            stages.push(self.make_stage(Path::new(&p.file), src.clone(), &p.entry)?);
+        }
+        // naga's WGSL writer renames identifiers that end in a digit (`sh0` becomes `sh0_`): take
+        // the shader's own names back from the original module, by group/binding and field order.
+        let original = reflect::reflect(
+            &shader.module,
+            &shader.info,
+            shader
+                .fragment_entry(Some(&m.entry))
+                .map_err(|e| ReplayError::Variant {
+                    message: e.to_string(),
+                })?,
+        )?;
+        for st in &mut stages {
+            restore_names(&mut st.iface, &original);
+        }
+        // The fused pass cannot count its hits with an occlusion query: classify every frame.
+        let classify_stage = if opts.classify || m.strategy == reproj_instance::Strategy::Fused {
+            let s1 = &stages[0].shader;
+            match reflect::fragment_entry_index(&s1.module, CLASSIFY_ENTRY) {
+                Some(ci) => Some(reflect::reflect(&s1.module, &s1.info, ci)?),
+                None => None,
+            }
+        } else {
+            None
+        };
+        if !m.cache_format.is_half()
+            && m.reconstruct.filters()
+            && !self
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_FILTERABLE)
+        {
+            return Err(ReplayError::Unsupported {
+                what: format!(
+                    "{} has no float32-filterable feature, needed to filter a {} cache; use a 16-bit cache format or nearest reconstruction",
+                    self.adapter_info.name,
+                    m.cache_format.name()
+                ),
+            });
+        }
+        Ok(VariantPlan {
+            frames,
+            first,
+            specs,
+            stages,
+            classify_stage,
+        })
+    }
+}
+
+/// What a variant render needs before any GPU object ([`Renderer::plan_variant`]).
+pub(super) struct VariantPlan {
+    pub(super) frames: u32,
+    pub(super) first: u32,
+    /// Each pass's targets and depth state, in the manifest's order.
+    pub(super) specs: Vec<PassSpec>,
+    /// Each pass's module and interface, in the same order.
+    pub(super) stages: Vec<Stage>,
+    /// The first pass's classification entry point, when it is rendered each frame.
+    pub(super) classify_stage: Option<Interface>,
+}
