@@ -16,7 +16,9 @@
 //!    the base under that budget — and both are timed interleaved with the original in one race;
 //! 4. the challenger is kept only when its speedup beats the base's beyond doubt (their intervals
 //!    separate) and it is not slower than the original; ties and noise keep the base, the simpler
-//!    and cheaper filter. A kept challenger is then replayed at the node's other periods, and the
+//!    and cheaper filter. Where the short race leaves the challenger ahead by its estimate but
+//!    not beyond doubt, the two are raced again, longer ([`crate::replayer::LONG_RACE`]), and that
+//!    race decides. A kept challenger is then replayed at the node's other periods, and the
 //!    node's models are fitted to its measurements alone.
 //!
 //! A node that does not need the sharper filter pays one replay and one short race; one that keeps
@@ -32,7 +34,7 @@ use reproj_models::{ErrorFitOptions, fit_error};
 
 use crate::AnalyzeError;
 use crate::journal::ReplayKey;
-use crate::replayer::{RaceEntry, Replayer, finite};
+use crate::replayer::{RaceEntry, RaceLength, Replayer, finite};
 
 /// The filter raced against the analysis's own (bilinear).
 pub(crate) const CHALLENGER: Reconstruct = Reconstruct::CatmullRom;
@@ -65,6 +67,23 @@ pub(crate) fn challenger_pays(
     match base {
         Some(b) => challenger.speedup > b.speedup && separates(challenger, b),
         None => challenger.surely_faster(),
+    }
+}
+
+/// Whether a short race left the challenger ahead of the base by its estimate (by more than 3 %)
+/// without deciding: then a longer race is worth its time. Behind, or level, the base stays
+/// whatever more rounds would say; against the original (no base) the short race decides.
+pub(crate) fn worth_racing_longer(
+    base: Option<&SpeedupEstimate>,
+    challenger: &SpeedupEstimate,
+) -> bool {
+    match base {
+        Some(b) => {
+            challenger.speedup > 1.03 * b.speedup
+                && !challenger_pays(Some(b), challenger)
+                && !challenger.surely_slower()
+        }
+        None => false,
     }
 }
 
@@ -224,11 +243,29 @@ pub(crate) fn race_filter(
         variant: &variant,
         delta_n: longest,
     });
-    let report = rp.race(&format!("{who} filters"), id, &[], &entries)?;
-    rp.progress.step(&format!("{who} filters raced"));
+    let mut report = rp.race(&format!("{who} filters"), id, &[], &entries)?;
     let last = entries.len() - 1;
-    let base_estimate = base_period.and_then(|_| report.estimate(0));
-    let challenger_estimate = report.estimate(last);
+    let estimates =
+        |r: &reproj_bench::BenchReport| (base_period.and_then(|_| r.estimate(0)), r.estimate(last));
+    let (mut base_estimate, mut challenger_estimate) = estimates(&report);
+    if let (Some(b), Some(c)) = (&base_estimate, &challenger_estimate)
+        && worth_racing_longer(Some(b), c)
+    {
+        rp.progress.note(&format!(
+            "{who}: {CHALLENGER} {} against {base} {}: undecided, racing again, longer",
+            c.display(),
+            b.display()
+        ));
+        report = rp.race_as(
+            &format!("{who} filters"),
+            id,
+            &[],
+            &entries,
+            RaceLength::Long,
+        )?;
+        (base_estimate, challenger_estimate) = estimates(&report);
+    }
+    rp.progress.step(&format!("{who} filters raced"));
     let kept = match &challenger_estimate {
         Some(c) if base_period.is_none() || base_estimate.is_some() => {
             challenger_pays(base_estimate.as_ref(), c)
@@ -316,6 +353,29 @@ mod tests {
         // No prediction, or a non-finite one, is never within.
         assert_eq!(equal_error_period(|_| None, 1.0, 30), None);
         assert_eq!(equal_error_period(|_| Some(f64::NAN), 1.0, 30), None);
+    }
+
+    #[test]
+    fn only_a_challenger_ahead_but_undecided_is_raced_again() {
+        // The H200's node 680: Catmull-Rom 2.39× [1.89, 3.03] against bilinear 1.84× [1.78, 1.90].
+        assert!(worth_racing_longer(
+            Some(&e(1.84, 1.78, 1.90)),
+            &e(2.39, 1.89, 3.03)
+        ));
+        // Decided already (apart), behind, level within 3 %, or against the original: no.
+        assert!(!worth_racing_longer(
+            Some(&e(1.84, 1.78, 1.90)),
+            &e(2.39, 2.20, 2.60)
+        ));
+        assert!(!worth_racing_longer(
+            Some(&e(1.96, 1.88, 2.05)),
+            &e(1.66, 1.59, 1.75)
+        ));
+        assert!(!worth_racing_longer(
+            Some(&e(1.18, 1.10, 1.26)),
+            &e(1.20, 1.12, 1.28)
+        ));
+        assert!(!worth_racing_longer(None, &e(1.5, 0.9, 2.1)));
     }
 
     #[test]

@@ -18,6 +18,29 @@ use crate::analyze::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
 use crate::options::{AnalyzeOptions, model_holds};
 
+/// How long a race runs: [`AnalyzeOptions::race`] (short: it decides where intervals separate,
+/// and a wide interval decides for the simpler candidate), or [`LONG_RACE`] for a race the short
+/// one left undecided while the challenger led.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum RaceLength {
+    Short,
+    Long,
+}
+
+/// A longer race: 16 to 48 rounds of 8 frames, until ±2 % or 12 s. On the H200 at 1080p, marble's
+/// node 680 left Catmull-Rom at 2.39× [1.89, 3.03] against bilinear's 1.84× [1.78, 1.90] after the
+/// short race's 8 rounds (docs/results.md).
+pub(crate) const LONG_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
+    block_frames: 8,
+    stop: reproj_models::speedup::StopRule {
+        min_rounds: 16,
+        max_rounds: 48,
+        target_half_width: 0.02,
+        max_seconds: 12.0,
+    },
+    max_frames: None,
+};
+
 /// Why a non-root subject whose variant at the longest period is slower than the original beyond
 /// doubt (its whole interleaved-timing interval below 1×) cannot pay off; `None` when it may.
 pub(crate) fn too_slow(
@@ -116,6 +139,18 @@ impl Replayer<'_, '_> {
         set: &[u32],
         entries: &[RaceEntry<'_>],
     ) -> Result<reproj_bench::BenchReport, AnalyzeError> {
+        self.race_as(who, node, set, entries, RaceLength::Short)
+    }
+
+    /// [`Replayer::race`] of the given length (journaled apart from the short one).
+    pub(crate) fn race_as(
+        &mut self,
+        who: &str,
+        node: u32,
+        set: &[u32],
+        entries: &[RaceEntry<'_>],
+        length: RaceLength,
+    ) -> Result<reproj_bench::BenchReport, AnalyzeError> {
         let t = Instant::now();
         let candidates: Vec<reproj_bench::Candidate> = entries
             .iter()
@@ -132,18 +167,25 @@ impl Replayer<'_, '_> {
             .input
             .shader
             .fragment_entry(Some(&self.input.norm.entry))?;
-        let mut race = self.opts.race;
+        let mut race = match length {
+            RaceLength::Short => self.opts.race,
+            RaceLength::Long => LONG_RACE,
+        };
         race.max_frames = match (self.opts.probe_frames, self.opts.max_frames) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
-        let names: Vec<&str> = entries.iter().map(|e| e.name.as_str()).collect();
+        let mut names: Vec<&str> = entries.iter().map(|e| e.name.as_str()).collect();
+        if length == RaceLength::Long {
+            // Keyed apart from the short race of the same entries.
+            names.push("long");
+        }
         let key = ReplayKey::race(node, set, &names, self.longest, race.max_frames);
         if let Some(report) = self
             .journal
             .as_ref()
             .and_then(|j| j.race(&key))
-            .and_then(|v| journaled_race(v, &names))
+            .and_then(|v| journaled_race(v, &names[..entries.len()]))
         {
             if let Some(j) = &mut self.journal {
                 j.reuse_race();
