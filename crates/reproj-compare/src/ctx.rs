@@ -1,0 +1,155 @@
+//! What every method's renders share ([`Ctx`]): the renderer, the original's reference and its
+//! timing baseline, and the renders, races and scores each search step calls.
+
+use std::cell::RefCell;
+use std::path::Path;
+
+use reproj_analyze::Progress;
+use reproj_front::Shader;
+use reproj_models::speedup::SpeedupEstimate;
+use reproj_replay::metrics::{self, PSNR_CAP};
+use reproj_replay::{Reference, RenderOptions, Renderer, Session};
+
+use crate::{CompareError, Scores};
+
+/// What every method's renders share.
+pub(crate) struct Ctx<'a> {
+    pub(crate) renderer: &'a Renderer,
+    /// The original, which every try is timed against.
+    pub(crate) baseline: reproj_bench::Baseline<'a>,
+    pub(crate) search_timing: &'a reproj_bench::BenchOptions,
+    /// The searches' timing warnings, once each.
+    pub(crate) timing_warnings: RefCell<Vec<String>>,
+    pub(crate) session: &'a Session,
+    pub(crate) reference: &'a Reference,
+    pub(crate) render_opts: &'a RenderOptions,
+    pub(crate) stride: u32,
+    pub(crate) target: f64,
+    pub(crate) progress: &'a dyn Progress,
+}
+
+impl Ctx<'_> {
+    /// Time `candidates` against the original, interleaved in one short run
+    /// ([`CompareOptions::search_timing`]): each one's estimate, `None` where a candidate gave no
+    /// finite figure. The searches steer on these, never on a replay's own mean.
+    pub(crate) fn race(
+        &self,
+        candidates: &[reproj_bench::Candidate],
+    ) -> Result<Vec<Option<SpeedupEstimate>>, CompareError> {
+        let report = reproj_bench::bench(
+            self.renderer,
+            self.baseline,
+            self.session,
+            candidates,
+            self.search_timing,
+            &mut |_| {},
+        )?;
+        let mut seen = self.timing_warnings.borrow_mut();
+        for w in &report.warnings {
+            reproj_bench::add_warning_once(&mut seen, w);
+        }
+        Ok((0..candidates.len()).map(|i| report.estimate(i)).collect())
+    }
+
+    /// A candidate that renders `shader` (entry 0) like the original, over `session` when given.
+    pub(crate) fn shader_candidate(
+        name: &str,
+        shader: Shader,
+        entry: usize,
+        session: Option<Session>,
+    ) -> reproj_bench::Candidate {
+        reproj_bench::Candidate {
+            name: name.into(),
+            subject: reproj_bench::Subject::Shader {
+                shader: Box::new(shader),
+                entry,
+                session: session.map(Box::new),
+            },
+        }
+    }
+
+    /// L2 error and PSNR of `frames` (full resolution) against the reference; ꟻLIP too when
+    /// `perceptual`.
+    pub(crate) fn score(&self, frames: &[Vec<f32>], perceptual: bool) -> Scores {
+        let r = self.reference;
+        let (mut sum_error, mut sum_sq, mut covered) = (0.0, 0.0, 0u64);
+        for (f, frame) in frames.iter().enumerate() {
+            let e = metrics::compare(frame, &r.frames[f], &r.depth[f]);
+            sum_error += e.error();
+            sum_sq += e.sum_sq;
+            covered += e.covered;
+        }
+        // ꟻLIP on every stride-th frame, the frames in parallel.
+        let flips: Vec<f64> = if perceptual {
+            use rayon::prelude::*;
+            let stride = self.stride;
+            (0..frames.len())
+                .into_par_iter()
+                .filter(|&f| (f as u32).is_multiple_of(stride))
+                .map(|f| {
+                    let (p, _) = reproj_replay::perceptual::compare_perceptual(
+                        &frames[f],
+                        &r.frames[f],
+                        &r.depth[f],
+                        r.width,
+                        r.height,
+                    );
+                    p.flip
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let n = frames.len().max(1) as f64;
+        let psnr = metrics::psnr(metrics::mse(sum_sq, covered));
+        Scores {
+            error: sum_error / n,
+            psnr: if psnr.is_finite() { psnr } else { PSNR_CAP },
+            flip: (!flips.is_empty()).then(|| flips.iter().sum::<f64>() / flips.len() as f64),
+        }
+    }
+
+    /// Render `shader` (a module reproj wrote, as WGSL) like the original: its frames and mean
+    /// frame time.
+    pub(crate) fn render_wgsl(
+        &self,
+        name: &str,
+        wgsl: &str,
+    ) -> Result<(Vec<Vec<f32>>, Shader), CompareError> {
+        let shader = reproj_front::parse_shader(Path::new(name), wgsl.to_string())?;
+        let frames = self.render_shader(&shader, 0, self.session)?;
+        Ok((frames, shader))
+    }
+
+    /// The mean error of `wgsl` (a module reproj wrote) against the reference, scored on the GPU
+    /// frame by frame without reading its frames back (what a search step needs), and the parsed
+    /// shader.
+    pub(crate) fn error_of_wgsl(
+        &self,
+        name: &str,
+        wgsl: &str,
+    ) -> Result<(f64, Shader), CompareError> {
+        let shader = reproj_front::parse_shader(Path::new(name), wgsl.to_string())?;
+        let opts = RenderOptions {
+            perceptual_stride: None,
+            ..self.render_opts.clone()
+        };
+        let report =
+            self.renderer
+                .render_scored(&shader, 0, self.session, self.reference, &opts)?;
+        Ok((report.error, shader))
+    }
+
+    /// Render `shader` over `session`: its frames (their times are not used: see [`Ctx::race`]).
+    pub(crate) fn render_shader(
+        &self,
+        shader: &Shader,
+        entry: usize,
+        session: &Session,
+    ) -> Result<Vec<Vec<f32>>, CompareError> {
+        let r = self
+            .renderer
+            .render_original(shader, entry, session, self.render_opts)?;
+        Ok(r.frames)
+    }
+}
