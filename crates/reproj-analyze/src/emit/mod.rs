@@ -1,0 +1,353 @@
+//! `emit`: select the fastest (node or set of nodes, Δn) under an error budget from a profile and
+//! write its passes.
+//! Needs no GPU; [`crate::verify`] re-renders the selection to check the prediction.
+//!
+//! In phases: read the profile(s) and check the shader is the one profiled (`profile.rs`), select
+//! across the sessions and motion (here), write the choice (`write.rs`).
+
+use std::path::{Path, PathBuf};
+
+use reproj_front::{LoadOptions, UnrollOptions, load};
+use reproj_instance::{
+    CacheFormatChoice, InstanceOptions, Reconstruct, Strategy, VARIANT_FILES, Variant,
+    backends::Outputs,
+};
+use reproj_io::Replace;
+use reproj_models::Metric;
+use reproj_models::profile::NodeStatus;
+use reproj_models::{Profile, content_hash};
+use reproj_replay::metrics::MetricSummary;
+use reproj_select::{NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};
+use serde::{Deserialize, Serialize};
+
+use crate::AnalyzeError;
+
+mod choose;
+mod profile;
+mod write;
+
+use choose::{Records, choose};
+pub use profile::{
+    latest_profile, load_profile, profile_shader, profile_variant_settings, resolve,
+};
+use profile::{load_profiled, records_of, same_shader};
+use write::Writer;
+
+/// Options of [`emit`].
+#[derive(Debug, Clone)]
+pub struct EmitOptions {
+    /// Error budget, in the unit of `metric`.
+    pub max_error: f64,
+    /// Which measured error the budget bounds (the error model fitted to it predicts it).
+    pub metric: Metric,
+    pub min_delta_n: u32,
+    pub max_delta_n: u32,
+    /// Directory for the passes and the report.
+    pub out: PathBuf,
+    /// The cache format of the written passes (`None`: the profile's).
+    pub cache_format: Option<CacheFormatChoice>,
+    /// Only consider nodes profiled in this strategy (`None`: any).
+    pub strategy: Option<Strategy>,
+    /// Only consider this node (`None`: any; sets are then left out).
+    pub node: Option<NodeChoice>,
+    /// Where the written passes fit in a host: its `group` and `frame_load` are used (the rest
+    /// comes from the selection and the profile).
+    pub integration: InstanceOptions,
+    /// The shader to instance (`None`: the profile's, relative to the profile file). Either way
+    /// it must be the shader that was profiled, up to comments and formatting.
+    pub shader: Option<PathBuf>,
+    /// Languages to write the passes in besides WGSL, and the values of the override constants.
+    pub outputs: Outputs,
+    /// Profiles of the same shader over other sessions (path, profile): the selection holds the
+    /// budget on every session, the first profile's included ([`select_worst_case`]).
+    pub also: Vec<(PathBuf, Profile)>,
+    /// The session the variant is for, when it may be none of the profiled ones (`--verify
+    /// --session NEW`): the profile nearest in motion is carried to its motion
+    /// ([`crate::motion::carry`]) and the budget must hold there too.
+    pub target: Option<crate::motion::TargetSession>,
+    /// One Δn for every frame, or Δn per frame from the manifest's schedule chosen for the
+    /// target's (or the profiled sessions') motion frame by frame (`--adaptive`).
+    pub period: crate::motion::PeriodChoice,
+}
+
+/// A node `emit` is restricted to (`--node`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeChoice {
+    Root,
+    Id(u32),
+}
+
+impl NodeChoice {
+    fn admits(self, n: &reproj_models::profile::NodeProfile) -> bool {
+        match self {
+            NodeChoice::Root => n.root,
+            NodeChoice::Id(id) => n.id == id,
+        }
+    }
+}
+
+/// Schema name of an [`EmitReport`] (`report.json`).
+pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
+/// Version of the [`EmitReport`] schema. Bump on any incompatible change.
+/// Version 2: `metric` (what `max_error` and `predicted_error` are), `measured_flip`,
+/// `measured_ssim`.
+/// Version 3: the choice may be a set of nodes cached together: `node` is then the member ids
+/// joined by `+` (`"22+39"`), `node_text` their texts joined by ` + `, `line`/`col` the first
+/// member's.
+/// Version 4: `motion`, the sessions' motions, the motion exponent, and the prediction carried to
+/// a session of other motion.
+/// Version 5: `adaptive`, what `emit --adaptive` predicted over the frames' motion (`delta_n` is
+/// then the schedule's Δn at the median motion, `predicted_error` the worst frame's), and
+/// `reconstruct`, the written variant's reconstruction filter (the node's own, profile version 9).
+pub const EMIT_REPORT_VERSION: u32 = 5;
+
+fn emit_report_schema() -> String {
+    EMIT_REPORT_SCHEMA.into()
+}
+
+fn first_version() -> u32 {
+    1
+}
+
+/// What `emit` chose and wrote (`report.json`). With `--json` this is printed as is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EmitReport {
+    /// Always [`EMIT_REPORT_SCHEMA`] (absent before version 1: read as version 1).
+    #[serde(default = "emit_report_schema")]
+    pub schema: String,
+    #[serde(default = "first_version")]
+    pub version: u32,
+    pub profile: String,
+    pub shader: String,
+    /// The metric `max_error` bounds and `predicted_error` predicts (`l2` before version 2).
+    #[serde(default)]
+    pub metric: Metric,
+    pub max_error: f64,
+    /// Node id, `"root"`, a set's member ids joined by `+` (`"22+39"`, version 3), or `null` when
+    /// the original shader is kept.
+    pub node: Option<String>,
+    pub node_text: Option<String>,
+    /// Variant strategy of the choice (`3pass`, `2pass`, `fused`).
+    #[serde(default)]
+    pub strategy: Option<String>,
+    /// The written variant's reconstruction filter (`bilinear`, `nearest`, `catmull-rom`; version
+    /// 5), as its manifest says.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reconstruct: Option<String>,
+    pub line: Option<u32>,
+    pub col: Option<u32>,
+    pub delta_n: Option<u32>,
+    pub predicted_error: Option<f64>,
+    /// PSNR of the MSE measured at the profiled Δn, interpolated between neighbouring periods
+    /// (`None` beyond the longest profiled Δn or for a profile that recorded no MSE).
+    pub predicted_psnr: Option<f64>,
+    pub predicted_ms: Option<f64>,
+    pub original_ms: f64,
+    pub predicted_speedup: Option<f64>,
+    /// Its 95 % interval, where `analyze` timed the node interleaved with the original (profile
+    /// version 7 on): the timing model's shape over Δn scaled to that measurement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted_speedup_ci95: Option<[f64; 2]>,
+    /// Why the original shader was kept.
+    pub reason: Option<String>,
+    pub files: Vec<String>,
+    pub measured_error: Option<f64>,
+    /// Pixels, over the verified session, where the variant renders a NaN or an infinity and the
+    /// original does not (any fails the verification), and where the original itself does (left
+    /// out of the error). Absent when 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_nonfinite_pixels: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_nonfinite_reference_pixels: Option<u64>,
+    /// The re-rendered session's PSNR, as `reproj render` reports it.
+    pub measured_psnr: Option<f64>,
+    /// The re-rendered session's ꟻLIP and SSIM (mean and worst frame), on the profile's
+    /// perceptual stride.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_flip: Option<MetricSummary>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_ssim: Option<MetricSummary>,
+    /// Median ms per frame of the variant and of the original, timed interleaved in one run
+    /// (`reproj-bench`).
+    pub measured_ms: Option<f64>,
+    pub measured_original_ms: Option<f64>,
+    /// Original time over variant time, Hodges–Lehmann over the rounds of the interleaved
+    /// timing, and its 95 % interval; `--min-speedup` gates on the interval's lower end.
+    pub measured_speedup: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_speedup_ci95: Option<[f64; 2]>,
+    /// Rounds of the interleaved timing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_rounds: Option<u32>,
+    /// The machine the measured speed comes from (adapter, LP_NUM_THREADS, cores; a CPU
+    /// rasterizer says so).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured_on: Option<String>,
+    /// What the timing saw of the machine (load, drift, a wide interval); empty when clean.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub timing_warnings: Vec<String>,
+    pub adapter: String,
+    /// With several profiles (`--profile A --profile B`, one per session): each session's
+    /// prediction for the choice, which holds the budget on every one. Absent with one profile.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sessions: Vec<ScenePrediction>,
+    /// The sessions' motions and what emit did with them (version 4; absent before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<crate::motion::MotionReport>,
+    /// With `--adaptive` (version 5): the per-frame prediction of the chosen schedule and the
+    /// fastest fixed choice beside it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<crate::motion::AdaptiveReport>,
+}
+
+impl EmitReport {
+    /// The report of an emit before its choice is written: what the profile and options say.
+    fn empty(
+        profile: &Profile,
+        profile_path: &Path,
+        shader_path: &Path,
+        opts: &EmitOptions,
+    ) -> EmitReport {
+        EmitReport {
+            schema: EMIT_REPORT_SCHEMA.into(),
+            version: EMIT_REPORT_VERSION,
+            profile: profile_path.display().to_string(),
+            shader: shader_path.display().to_string(),
+            metric: opts.metric,
+            max_error: opts.max_error,
+            node: None,
+            node_text: None,
+            strategy: None,
+            reconstruct: None,
+            line: None,
+            col: None,
+            delta_n: None,
+            predicted_error: None,
+            predicted_psnr: None,
+            predicted_ms: None,
+            original_ms: profile.original.frame_ms,
+            predicted_speedup: None,
+            predicted_speedup_ci95: None,
+            reason: None,
+            files: Vec::new(),
+            measured_error: None,
+            measured_nonfinite_pixels: None,
+            measured_nonfinite_reference_pixels: None,
+            measured_psnr: None,
+            measured_flip: None,
+            measured_ssim: None,
+            measured_ms: None,
+            measured_original_ms: None,
+            measured_speedup: None,
+            measured_speedup_ci95: None,
+            measured_rounds: None,
+            measured_on: None,
+            timing_warnings: Vec::new(),
+            adapter: profile.machine.adapter.clone(),
+            sessions: Vec::new(),
+            motion: None,
+            adaptive: None,
+        }
+    }
+}
+
+/// Select under the budget and write the result into `opts.out`: the three passes and the
+/// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
+pub fn emit(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
+    let (shader_path, loaded, shader) = load_profiled(profile, profile_path, opts)?;
+    let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
+    // The sets' reconstruction and the cache format (each node's own filter is read below).
+    let (set_reconstruct, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
+    let cache_format = opts.cache_format.unwrap_or(profiled_format);
+    let select_opts = SelectOptions {
+        max_error: opts.max_error,
+        min_delta_n: opts.min_delta_n,
+        max_delta_n: opts.max_delta_n,
+    };
+    // Other sessions' profiles of the same shader: the budget must hold on each (worst case).
+    let mut all: Vec<Records> = vec![(profile, records, set_records)];
+    for (path, other) in &opts.also {
+        same_shader(profile, profile_path, other, path)?;
+        let (_, nodes, sets) = records_of(other, path, opts)?;
+        all.push((other, nodes, sets));
+    }
+    let names: Vec<String> = all.iter().map(|(p, _, _)| p.session.path.clone()).collect();
+    let chosen = choose(&all, &names, opts, &select_opts);
+    // The run-time Δn schedule of the choice (manifest `params.schedule`): at bands of motion
+    // around the profiled ones, each from the profile nearest in motion.
+    let beta = chosen.motion.as_ref().map_or(1.0, |m| m.exponent.beta);
+    let schedule_of = |find: &dyn Fn(&Records) -> Option<NodeRecord>| {
+        crate::motion::manifest_schedule(
+            all.iter()
+                .map(|r| (r.0.motion.as_ref().map(|m| m.pixels_per_frame), find(r))),
+            beta,
+            &select_opts,
+        )
+    };
+    let mut report = EmitReport::empty(profile, profile_path, &shader_path, opts);
+    (report.sessions, report.motion, report.adaptive) =
+        (chosen.sessions, chosen.motion, chosen.adaptive);
+    let selection = chosen.selection;
+    let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
+    let w = Writer {
+        profile,
+        profile_path,
+        opts,
+        shader_path: &shader_path,
+        shader: &shader,
+        loaded: &loaded,
+        cache_format,
+        staging: &staging,
+    };
+    let variant = match selection {
+        Selection::Node(choice) if !choice.members.is_empty() => {
+            let set = usable_sets
+                .iter()
+                .find(|s| s.members == choice.members && s.strategy == choice.strategy)
+                .expect("the selection comes from the profile's sets");
+            let schedule = schedule_of(&|(_, _, sets)| {
+                sets.iter()
+                    .find(|r| r.members == set.members && r.strategy == set.strategy)
+                    .map(SetRecord::as_node)
+            });
+            Some(w.set(&choice, set, set_reconstruct, schedule, &mut report)?)
+        }
+        Selection::Node(choice) => {
+            let node = profile
+                .nodes
+                .iter()
+                .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
+                .expect("the selection comes from the profile's nodes");
+            let schedule = schedule_of(&|(_, nodes, _)| {
+                nodes
+                    .iter()
+                    .find(|r| r.id == node.id && r.strategy == node.strategy)
+                    .cloned()
+            });
+            Some(w.node(&choice, node, schedule, &mut report)?)
+        }
+        Selection::Original { reason } => {
+            w.original(&reason.to_string(), &mut report)?;
+            None
+        }
+    };
+    report
+        .files
+        .push(opts.out.join("report.json").display().to_string());
+    write_report(&report, staging.path())?;
+    staging.commit()?;
+    Ok((report, variant))
+}
+
+pub use reproj_instance::ir_hash;
+
+/// Write `out/report.json`.
+pub(crate) fn write_report(report: &EmitReport, out: &Path) -> Result<(), AnalyzeError> {
+    let mut json = serde_json::to_vec_pretty(report).expect("report serializes");
+    json.push(b'\n');
+    Ok(reproj_io::write_file(&out.join("report.json"), &json)?)
+}

@@ -1,0 +1,231 @@
+//! Reading what `emit` chooses from: a profile (found, read, its shader and settings), and its
+//! nodes and sets as the selector's records.
+
+use std::path::{Path, PathBuf};
+
+use super::*;
+
+/// Read a profile, naming the field when it is malformed.
+pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
+    let profile: Profile = reproj_io::read_json(path, &reproj_models::PROFILE_KIND)?;
+    profile
+        .check()
+        .map_err(|(field, message)| reproj_io::ReadError::Field {
+            path: path.to_owned(),
+            field,
+            message,
+        })?;
+    Ok(profile)
+}
+
+/// The most recently modified `*.profile.json` in `dir`.
+pub fn latest_profile(dir: &Path) -> Result<PathBuf, AnalyzeError> {
+    let entries = std::fs::read_dir(dir).map_err(|source| AnalyzeError::Io {
+        path: dir.to_owned(),
+        source,
+    })?;
+    entries
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".profile.json"))
+        .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
+        .max()
+        .map(|(_, p)| p)
+        .ok_or_else(|| AnalyzeError::Options(format!(
+            "no *.profile.json in {}: run `reproj analyze SHADER --session SESSION` first, or pass --profile",
+            dir.display()
+        )))
+}
+
+/// Find a file a profile refers to: relative to the profile's directory (profiles from version 3
+/// on record it so), else as recorded (relative to the working directory), else beside the
+/// profile.
+pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
+    let p = PathBuf::from(recorded);
+    if p.is_relative()
+        && let Some(dir) = profile_path.parent().filter(|d| !d.as_os_str().is_empty())
+        && dir.join(&p).exists()
+    {
+        return dir.join(&p);
+    }
+    if p.exists() {
+        return p;
+    }
+    match (profile_path.parent(), p.file_name()) {
+        (Some(dir), Some(name)) if dir.join(name).exists() => dir.join(name),
+        _ => p,
+    }
+}
+
+/// The shader file a profile names, resolved against the profile's directory. It must be a
+/// shader file by its extension: a profile is data from anywhere, and loading what it names
+/// shows that file's first lines in a diagnostic (a profile naming `/etc/passwd` must not print
+/// it).
+pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf, AnalyzeError> {
+    let path = resolve(&profile.shader.path, profile_path);
+    if reproj_front::Lang::from_path(&path).is_some() {
+        Ok(path)
+    } else {
+        Err(AnalyzeError::BadProfile {
+            path: profile_path.to_owned(),
+            message: format!(
+                "field `shader.path`: `{}` is not a shader file (.wgsl, .glsl, .frag or .spv)",
+                profile.shader.path
+            ),
+        })
+    }
+}
+
+/// How the profile's variant of `node` was made (`None`: of its sets): its reconstruction (the
+/// node's own, else the profile's) and the cache format, which the written and rendered variants
+/// must share to run what was measured.
+pub fn profile_variant_settings(
+    profile: &Profile,
+    node: Option<&reproj_models::profile::NodeProfile>,
+    profile_path: &Path,
+) -> Result<(Reconstruct, CacheFormatChoice), AnalyzeError> {
+    let bad = |field: &str, value: &str| AnalyzeError::BadProfile {
+        path: profile_path.to_owned(),
+        message: format!("field `{field}`: `{value}` is not one reproj writes"),
+    };
+    let (field, name) = match node {
+        Some(n) if n.reconstruct.is_some() => (
+            format!("reconstruct` of node `{}", n.id),
+            n.reconstruct_in(profile),
+        ),
+        _ => ("reconstruct".to_string(), profile.reconstruct.as_str()),
+    };
+    let reconstruct = Reconstruct::from_name(name).ok_or_else(|| bad(&field, name))?;
+    let cache_format = CacheFormatChoice::from_name(&profile.cache_format)
+        .ok_or_else(|| bad("cache_format", &profile.cache_format))?;
+    Ok((reconstruct, cache_format))
+}
+
+/// A profile's usable sets (in `opts.strategy`, when one is named) and the selector records of its
+/// usable nodes and sets in `opts.metric`.
+#[allow(clippy::type_complexity)]
+pub(super) fn records_of<'p>(
+    profile: &'p Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+) -> Result<
+    (
+        Vec<&'p reproj_models::profile::SetProfile>,
+        Vec<NodeRecord>,
+        Vec<SetRecord>,
+    ),
+    AnalyzeError,
+> {
+    let usable: Vec<_> = profile
+        .nodes
+        .iter()
+        .filter(|n| n.status == NodeStatus::Ok)
+        .filter(|n| opts.strategy.is_none_or(|s| s.name() == n.strategy))
+        .filter(|n| opts.node.is_none_or(|c| c.admits(n)))
+        .collect();
+    if usable.iter().any(|n| n.fit(opts.metric).is_none()) {
+        return Err(AnalyzeError::BadProfile {
+            path: profile_path.to_owned(),
+            message: format!(
+                "it has no {} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {}",
+                opts.metric, profile.version, opts.metric
+            ),
+        });
+    }
+    let records: Vec<NodeRecord> = usable
+        .iter()
+        .filter_map(|n| NodeRecord::from_profile(profile, n, opts.metric))
+        .collect();
+    let usable_sets: Vec<_> = profile
+        .sets
+        .iter()
+        .filter(|s| s.status == NodeStatus::Ok)
+        .filter(|s| opts.strategy.is_none_or(|st| st.name() == s.strategy))
+        .filter(|_| opts.node.is_none())
+        .collect();
+    let set_records: Vec<SetRecord> = usable_sets
+        .iter()
+        .filter_map(|s| {
+            Some(SetRecord {
+                members: s.members.clone(),
+                texts: s.texts.clone(),
+                strategy: s.strategy.clone(),
+                error: s.fit(opts.metric)?.clone(),
+                timing: s.timing_fit.clone(),
+                mean_pixels: profile.original.mean_pixels,
+                measured_errors: reproj_select::measured_errors(&s.measurements, opts.metric),
+            })
+        })
+        .collect();
+    Ok((usable_sets, records, set_records))
+}
+
+/// Another session's profile must be of the same shader (IR), entry, unrolling and cache
+/// settings as the first: its node ids and variants are then the same ones.
+pub(super) fn same_shader(
+    first: &Profile,
+    first_path: &Path,
+    other: &Profile,
+    other_path: &Path,
+) -> Result<(), AnalyzeError> {
+    let shader = |p: &Profile| {
+        p.shader
+            .ir_hash
+            .clone()
+            .unwrap_or_else(|| p.shader.hash.clone())
+    };
+    let differs = if shader(first) != shader(other) {
+        Some("shader")
+    } else if first.entry != other.entry {
+        Some("entry point")
+    } else if first.unroll != other.unroll {
+        Some("--unroll")
+    } else if first.block != other.block || first.depth_epsilon != other.depth_epsilon {
+        Some("block size or depth tolerance")
+    } else {
+        None
+    };
+    match differs {
+        None => Ok(()),
+        Some(what) => Err(AnalyzeError::BadProfile {
+            path: other_path.to_owned(),
+            message: format!(
+                "its {what} differs from {}'s: profiles selected together must be of one shader with one setting, over different sessions",
+                first_path.display()
+            ),
+        }),
+    }
+}
+
+/// The shader `emit` writes for — `--shader`, else the profile's — loaded as `analyze` loaded it,
+/// and checked to be the one profiled (the WGSL the replay rendered, hashed): its path, the
+/// loaded shader, and that WGSL.
+pub(super) fn load_profiled(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+) -> Result<(PathBuf, reproj_front::Loaded, reproj_front::Shader), AnalyzeError> {
+    let shader_path = match &opts.shader {
+        Some(s) => s.clone(),
+        None => profile_shader(profile, profile_path)?,
+    };
+    let load_options = LoadOptions {
+        unroll: UnrollOptions {
+            max_trip: profile.unroll,
+        },
+        ..Default::default()
+    };
+    let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;
+    // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
+    let shader = loaded.shader.to_wgsl()?;
+    let fresh = match &profile.shader.ir_hash {
+        Some(h) => ir_hash(&shader) == *h,
+        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
+    };
+    if !fresh {
+        return Err(AnalyzeError::Stale {
+            path: shader_path,
+            what: "shader".into(),
+        });
+    }
+    Ok((shader_path, loaded, shader))
+}
