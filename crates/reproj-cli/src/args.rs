@@ -400,6 +400,48 @@ pub struct UnrollArg {
     pub unroll: u32,
 }
 
+/// Arguments of `reproj session`.
+#[derive(Debug, Args)]
+pub struct SessionArgs {
+    #[command(subcommand)]
+    pub command: SessionCommand,
+}
+
+/// What `reproj session` does.
+#[derive(Debug, clap::Subcommand)]
+pub enum SessionCommand {
+    /// Write a starting session for a shader: every uniform, texture, storage buffer and depth
+    /// texture its fragment entry point reads, with values guessed from their names (listed on
+    /// stderr), over a turning torus — so that `reproj render` runs at once.
+    Init(SessionInitArgs),
+}
+
+/// Arguments of `reproj session init`.
+#[derive(Debug, Args)]
+pub struct SessionInitArgs {
+    /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
+    pub shader: PathBuf,
+    /// The shader's language, when its extension does not say.
+    #[arg(long, value_enum)]
+    pub lang_in: Option<LangInArg>,
+    /// Fragment entry point (needed when the module has several).
+    #[arg(long)]
+    pub entry: Option<String>,
+    /// Write the session to this file (printed on stdout when left out).
+    #[arg(short, long)]
+    pub out: Option<PathBuf>,
+    /// Replace `--out` when it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Frames in the session.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: u32,
+    /// Render size, width and height in pixels.
+    #[arg(long, num_args = 2, value_names = ["W", "H"], default_values_t = [256u32, 256u32],
+          value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub resolution: Vec<u32>,
+}
+
 /// Arguments of `reproj nodes`.
 #[derive(Debug, Args)]
 pub struct NodesArgs {

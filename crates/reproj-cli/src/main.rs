@@ -64,6 +64,8 @@ enum Command {
     /// Time variants or other shaders against the original, interleaved in one run: median
     /// ms/frame and the speedup with its 95 % interval ("hyperfine for shaders").
     Bench(BenchArgs),
+    /// Start a session file for a shader (`reproj session init SHADER --out s.json`).
+    Session(SessionArgs),
     /// Print a shell completion script (`reproj completions bash > /etc/bash_completion.d/reproj`).
     Completions(CompletionsArgs),
 }
@@ -117,6 +119,7 @@ fn main() -> ExitCode {
         Command::Instance(args) => cmd::instance::run(&args),
         Command::Emit(args) => cmd::emit::run(&args),
         Command::Completions(args) => cmd::completions::run(&args),
+        Command::Session(args) => cmd::session::run(&args),
         #[cfg(feature = "gpu")]
         Command::Render(args) => cmd::render::run(&args),
         #[cfg(feature = "gpu")]

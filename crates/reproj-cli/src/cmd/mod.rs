@@ -22,6 +22,7 @@ pub mod nodes;
 pub mod render;
 #[cfg(feature = "gpu")]
 pub mod report;
+pub mod session;
 
 /// The error of a command (or option) this build was made without: exit 2, saying how to get it.
 #[cfg(not(feature = "gpu"))]

@@ -28,10 +28,12 @@
 use std::path::{Path, PathBuf};
 
 mod animate;
+mod init;
 mod schema;
 mod validate;
 
 pub use animate::{CameraState, FrameState};
+pub use init::{Starter, StarterError, StarterOptions, starter_session};
 pub use schema::*;
 
 static OUTSIDE_PATHS_ALLOWED: std::sync::atomic::AtomicBool =
