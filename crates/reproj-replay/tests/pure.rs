@@ -9,6 +9,10 @@ use reproj_replay::session::{Attribute, CameraPath, PointPath};
 use reproj_replay::vertex::{merge_inputs, vertex_wgsl};
 use reproj_replay::{ReplayError, Session, SessionError};
 
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
 fn data(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
@@ -257,4 +261,64 @@ fn merging_inputs_refuses_disagreeing_types() {
     assert!(merge_inputs(&[&iface.inputs, &iface.inputs]).is_ok());
     let e = merge_inputs(&[&iface.inputs, &other]).unwrap_err();
     assert!(e.to_string().contains("@location(0)"), "{e}");
+}
+
+/// `docs/session.schema.json` is what the session types generate. After changing them, run
+/// `REPROJ_BLESS=1 cargo test -p reproj-replay --test pure` and review the diff.
+#[test]
+fn the_published_session_schema_is_current_and_every_session_validates() {
+    let path = root().join("docs/session.schema.json");
+    let mut text = serde_json::to_string_pretty(&reproj_replay::session::session_schema()).unwrap();
+    text.push('\n');
+    if std::env::var_os("REPROJ_BLESS").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    let published = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        published == text,
+        "docs/session.schema.json is out of date: run `REPROJ_BLESS=1 cargo test -p reproj-replay --test pure`"
+    );
+    let schema: serde_json::Value = serde_json::from_str(&published).unwrap();
+    let validator = jsonschema::validator_for(&schema).unwrap();
+    // Every session of the repository, as written (not as loaded: defaults left out must pass).
+    let mut files = Vec::new();
+    let mut dirs = vec![root().join("sessions")];
+    while let Some(dir) = dirs.pop() {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|x| x == "json") {
+                files.push(p);
+            }
+        }
+    }
+    assert!(files.len() >= 10, "{files:?}");
+    for f in &files {
+        let value: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(f).unwrap()).unwrap();
+        if value["schema"] != "reproj.session" {
+            continue;
+        }
+        let errors: Vec<String> = validator
+            .iter_errors(&value)
+            .map(|e| format!("{e} at {}", e.instance_path()))
+            .collect();
+        assert!(errors.is_empty(), "{}: {errors:?}", f.display());
+    }
+    // A typo'd field, a wrong schema name and prose where numbers belong are caught, as the
+    // loader catches them.
+    let good: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("sessions/marble.json")).unwrap(),
+    )
+    .unwrap();
+    let mut typo = good.clone();
+    typo["camera"]["orbit"]["radus"] = serde_json::json!(2);
+    assert!(!validator.is_valid(&typo));
+    let mut other = good.clone();
+    other["schema"] = serde_json::json!("reproj.profile");
+    assert!(!validator.is_valid(&other));
+    let mut prose = good;
+    prose["resolution"] = serde_json::json!("256x256");
+    assert!(!validator.is_valid(&prose));
 }

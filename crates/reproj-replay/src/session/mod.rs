@@ -36,6 +36,36 @@ pub use animate::{CameraState, FrameState};
 pub use init::{Starter, StarterError, StarterOptions, starter_session};
 pub use schema::*;
 
+/// The `$id` of the session's JSON Schema (the repository's copy, `docs/session.schema.json`).
+pub const SESSION_SCHEMA_ID: &str = "https://example.invalid/reproj/docs/session.schema.json";
+
+/// The session's JSON Schema (draft 2020-12), as published in `docs/session.schema.json` for
+/// editors and other tools: generated from the types the loader reads, with its `$id`, and
+/// `schema` and `version` held by `const`. The loader stays the authority (it also checks ranges,
+/// key order and that files exist, and names the field at fault).
+pub fn session_schema() -> serde_json::Value {
+    let mut schema =
+        serde_json::to_value(schemars::schema_for!(Session)).expect("a schema serializes");
+    let root = schema.as_object_mut().expect("a schema is an object");
+    root.insert("$id".into(), SESSION_SCHEMA_ID.into());
+    let properties = root
+        .get_mut("properties")
+        .and_then(|p| p.as_object_mut())
+        .expect("the session has properties");
+    for (field, value) in [
+        ("schema", serde_json::Value::from(SESSION_KIND.schema)),
+        (
+            "version",
+            serde_json::Value::from(*SESSION_KIND.versions.end()),
+        ),
+    ] {
+        if let Some(p) = properties.get_mut(field).and_then(|p| p.as_object_mut()) {
+            p.insert("const".into(), value);
+        }
+    }
+    schema
+}
+
 static OUTSIDE_PATHS_ALLOWED: std::sync::atomic::AtomicBool =
     std::sync::atomic::AtomicBool::new(false);
 

@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// The value of the `schema` field.
@@ -51,7 +52,7 @@ fn default_inputs() -> BTreeMap<u32, Attribute> {
 }
 
 /// A session: resolution, frame count, scene and the data bound to the shader's interface.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Session {
     /// Always `"reproj.session"`.
@@ -115,14 +116,14 @@ pub struct Session {
 }
 
 /// The scene's objects, all drawn every frame with the same shader.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Geometry {
     pub objects: Vec<Object>,
 }
 
 /// One drawn object.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -137,7 +138,7 @@ pub struct Object {
 }
 
 /// Face culling of an object (counter-clockwise triangles are front faces).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Cull {
     #[default]
@@ -147,7 +148,7 @@ pub enum Cull {
 
 /// A mesh: procedural or loaded from an OBJ file. Written as a one-key object, e.g.
 /// `{"sphere": {"radius": 1}}`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Mesh {
     /// UV sphere centred at the origin. `segments` around the Y axis (default 64), `rings` from
@@ -209,7 +210,7 @@ pub enum Mesh {
 /// `.glb`). Every node of the scene that has a mesh becomes one object per triangle primitive,
 /// with the node's world transform sampled at every frame (time = frame / fps) from the file's
 /// animations (translation, rotation and scale channels; LINEAR, STEP and CUBICSPLINE).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GltfScene {
     /// The file, relative to the session file.
@@ -224,7 +225,7 @@ pub struct GltfScene {
 }
 
 /// A texture of a glTF material, as a texture spec's `gltf` form.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GltfTexture {
     /// The file, relative to the session file.
@@ -238,7 +239,7 @@ pub struct GltfTexture {
 }
 
 /// The textures a glTF material can name.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum MaterialSlot {
     #[default]
@@ -264,7 +265,7 @@ fn default_uv_scale() -> f32 {
 
 /// Animated model transform: `keys` interpolated over the frame index. The model matrix is
 /// `translate * rotate * scale`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Transform {
     pub keys: Vec<TransformKey>,
@@ -279,7 +280,7 @@ impl Default for Transform {
 }
 
 /// One key of a [`Transform`].
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TransformKey {
     /// Frame index of the key (may be fractional). Default 0.
@@ -311,7 +312,7 @@ impl Default for TransformKey {
 /// (applied in X, then Y, then Z order). Between two keys of the same form the parameters
 /// (angle, Euler angles) are interpolated, so 0° → 360° is a full turn; between keys of different
 /// forms the rotations are slerped.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Rotation {
     AxisAngle { axis: [f32; 3], deg: f32 },
@@ -319,7 +320,7 @@ pub enum Rotation {
 }
 
 /// Scale of a transform key.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Scale {
     Uniform(f32),
@@ -333,7 +334,7 @@ impl Default for Scale {
 }
 
 /// Camera path: `{"keys": [...]}` or `{"orbit": {...}}`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum CameraPath {
     Keys(Vec<CameraKey>),
@@ -344,7 +345,7 @@ pub enum CameraPath {
 }
 
 /// One camera key. Projection: perspective, right-handed, depth range [0, 1].
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraKey {
     #[serde(default)]
@@ -366,7 +367,7 @@ pub struct CameraKey {
 
 /// A camera circling `center` at `radius` and `height` above it, looking at `center`; the angle
 /// goes linearly from `start_deg` at frame 0 to `end_deg` at the last frame (0° is +X, 90° is +Z).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CameraOrbit {
     #[serde(default)]
@@ -403,14 +404,14 @@ fn default_far() -> f32 {
 
 /// A moving point (the light): `{"keys": [{"frame": 0, "position": [x,y,z]}, ...]}` or
 /// `{"orbit": {"center", "radius", "height", "start_deg", "end_deg"}}`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum PointPath {
     Keys(Vec<PointKey>),
     Orbit(PointOrbit),
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointKey {
     #[serde(default)]
@@ -418,7 +419,7 @@ pub struct PointKey {
     pub position: [f32; 3],
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointOrbit {
     #[serde(default)]
@@ -440,7 +441,7 @@ pub struct PointOrbit {
 ///
 /// Read by hand rather than by serde's untagged enums so that a bad value names what was expected
 /// and what was found.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum UniformValue {
     Keys {
@@ -549,7 +550,7 @@ impl<'de> Deserialize<'de> for UniformValue {
 }
 
 /// One key of an animated uniform.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UniformKey {
     #[serde(default)]
@@ -558,7 +559,7 @@ pub struct UniformKey {
 }
 
 /// A number or a (nested) list of numbers.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Value {
     Number(f64),
@@ -597,7 +598,7 @@ impl Value {
 /// or `faces` for a cube map) or, for a `texture_2d_array`, a list of `layers`, each a texture of
 /// its own (generated or a file, all of one size). Exactly one of `kind`, `file`, `faces`,
 /// `layers`, `gltf`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TextureSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -639,7 +640,7 @@ fn default_true() -> bool {
 }
 
 /// Generated texture kinds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum TextureKind {
     /// Tileable fractal value noise v in [0, 1], as `mix(color_low, color_high, v)` (default grey
@@ -657,7 +658,7 @@ pub enum TextureKind {
 }
 
 /// Texel formats a session can ask for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum TexFormat {
     Rgba8unorm,
@@ -666,7 +667,7 @@ pub enum TexFormat {
 }
 
 /// Parameters of generated textures; each kind reads the ones it needs.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct TextureParams {
     /// Random seed (noise, normal_map, environment clouds). Default 1.
@@ -720,7 +721,7 @@ impl Default for TextureParams {
 }
 
 /// A sampler by shader variable name.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SamplerSpec {
     /// Magnification and minification filter. Default linear.
@@ -757,7 +758,7 @@ fn default_aniso() -> u16 {
     1
 }
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Filter {
     #[default]
@@ -765,7 +766,7 @@ pub enum Filter {
     Nearest,
 }
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Address {
     #[default]
@@ -776,7 +777,7 @@ pub enum Address {
 
 /// A depth-only pass that renders every object of the scene into a depth texture
 /// (`depth32float`, cleared to 1, compare `less`, each object's face culling).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DepthPass {
     /// Texture size in texels, `[width, height]`. Default: the session's resolution.
@@ -790,7 +791,7 @@ pub struct DepthPass {
 /// pre-pass), `{"uniform": "light_view_proj"}` (the value of a uniform field the session gives,
 /// so the pass and the shader agree by construction) or `{"matrix": [16 numbers, column-major]}`
 /// (constant or `{"keys": ...}`).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ViewProj {
     Camera,
@@ -799,7 +800,7 @@ pub enum ViewProj {
 }
 
 /// Comparison function of a comparison sampler: the test is `reference OP texel`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Compare {
     Never,
@@ -814,7 +815,7 @@ pub enum Compare {
 }
 
 /// Vertex attributes a fragment input can be fed from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Attribute {
     /// World-space position (vec3; a vec4 input gets w = 1).
