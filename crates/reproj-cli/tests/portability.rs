@@ -2,7 +2,8 @@
 //! `scripts/check-portability.sh` against the built binary (every sample shader; the root and one
 //! node, every strategy). The compilers are not dependencies of the workspace: the test skips, with
 //! a message, when none of them is installed (`scripts/ensure-tools.sh` installs glslang and
-//! SPIRV-Tools; naga is `cargo install naga-cli`).
+//! SPIRV-Tools; naga is `cargo install naga-cli`) — except under CI (`CI` set), where the ones the
+//! set-up script installs must be there: a missing one fails the test instead of passing it.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -17,6 +18,14 @@ fn installed(tool: &str) -> bool {
 #[test]
 fn emitted_passes_compile_with_naga_tint_glslang_and_spirv_val() {
     let tools = ["naga", "tint", "glslangValidator", "spirv-val"];
+    if std::env::var_os("CI").is_some() {
+        for t in ["glslangValidator", "spirv-val", "bash"] {
+            assert!(
+                installed(t),
+                "CI is set and {t} is missing: scripts/ensure-tools.sh installs it (Debian glslang-tools, spirv-tools); a skipped check must not pass"
+            );
+        }
+    }
     let present: Vec<&str> = tools.into_iter().filter(|t| installed(t)).collect();
     if present.is_empty() || !installed("bash") {
         eprintln!("skipped: none of {tools:?} is installed (see scripts/ensure-tools.sh)");
