@@ -9,10 +9,9 @@
 
 use std::path::Path;
 
-use reproj_analyze::emit::{ir_hash, resolve};
+use reproj_analyze::emit::resolve;
 use reproj_front::Loaded;
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance_nodes};
-use reproj_models::content_hash;
 use reproj_models::profile::{NodeProfile, NodeStatus, SetProfile};
 use reproj_models::{Metric, Profile};
 use reproj_replay::{RenderOptions, VariantInput};
@@ -95,12 +94,7 @@ pub(crate) fn plan<'p>(
     target: Target,
     max_delta_n: u32,
 ) -> Result<Planned<'p>, CompareError> {
-    let shader = &loaded.shader;
-    let fresh = match &profile.shader.ir_hash {
-        Some(h) => ir_hash(shader) == *h,
-        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
-    };
-    if !fresh {
+    if !reproj_analyze::emit::is_profiled_shader(profile, &loaded.shader.to_wgsl()?) {
         return Err(reproj_analyze::AnalyzeError::Stale {
             path: resolve(&profile.shader.path, profile_path),
             what: "shader".into(),

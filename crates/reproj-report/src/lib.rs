@@ -17,8 +17,8 @@ mod page;
 use std::path::{Path, PathBuf};
 
 use reproj_analyze::AnalyzeError;
-use reproj_analyze::emit::{ir_hash, resolve};
-use reproj_models::{Profile, content_hash};
+use reproj_analyze::emit::resolve;
+use reproj_models::Profile;
 use reproj_replay::Renderer;
 
 pub use page::PAGE_SCHEMA_VERSION;
@@ -119,26 +119,12 @@ pub fn report(
     renderer: &Renderer,
     progress: &mut dyn FnMut(&str),
 ) -> Result<String, ReportError> {
-    let shader_path = match &opts.shader {
-        Some(s) => s.clone(),
-        None => reproj_analyze::emit::profile_shader(profile, profile_path)?,
-    };
+    let (_, _, shader) =
+        reproj_analyze::emit::load_profiled(profile, profile_path, opts.shader.as_deref())?;
     let session_path = opts
         .session
         .clone()
         .unwrap_or_else(|| resolve(&profile.session.path, profile_path));
-    let shader = reproj_front::load_file(&shader_path)?;
-    let fresh = match &profile.shader.ir_hash {
-        Some(h) => ir_hash(&shader) == *h,
-        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
-    };
-    if !fresh {
-        return Err(AnalyzeError::Stale {
-            path: shader_path,
-            what: "shader".into(),
-        }
-        .into());
-    }
     let session = frames::session(&session_path)?;
     let budgets = budgets::budgets(profile);
     progress(&format!(

@@ -28,9 +28,10 @@ mod write;
 
 use choose::{Records, choose};
 pub use profile::{
-    latest_profile, load_profile, profile_shader, profile_variant_settings, resolve,
+    is_profiled_shader, latest_profile, load_profile, load_profiled, profile_shader,
+    profile_variant_settings, resolve,
 };
-use profile::{load_profiled, records_of, same_shader};
+use profile::{records_of, same_shader};
 use write::Writer;
 
 /// Options of [`emit`].
@@ -258,7 +259,8 @@ pub fn emit(
     profile_path: &Path,
     opts: &EmitOptions,
 ) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
-    let (shader_path, loaded, shader) = load_profiled(profile, profile_path, opts)?;
+    let (shader_path, loaded, shader) =
+        load_profiled(profile, profile_path, opts.shader.as_deref())?;
     let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
     // The sets' reconstruction and the cache format (each node's own filter is read below).
     let (set_reconstruct, profiled_format) = profile_variant_settings(profile, None, profile_path)?;

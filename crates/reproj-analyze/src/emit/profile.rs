@@ -196,16 +196,27 @@ pub(super) fn same_shader(
     }
 }
 
-/// The shader `emit` writes for — `--shader`, else the profile's — loaded as `analyze` loaded it,
-/// and checked to be the one profiled (the WGSL the replay rendered, hashed): its path, the
-/// loaded shader, and that WGSL.
-pub(super) fn load_profiled(
+/// Whether `shader` — as WGSL, what `analyze` rendered and hashed — is the one `profile` was made
+/// of: the same IR written back by naga (comments and formatting aside), or for a profile before
+/// version 3 the same text.
+pub fn is_profiled_shader(profile: &Profile, shader: &reproj_front::Shader) -> bool {
+    match &profile.shader.ir_hash {
+        Some(h) => ir_hash(shader) == *h,
+        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
+    }
+}
+
+/// The shader a profile was made of — `shader` when given, else the profile's own — loaded as
+/// `analyze` loaded it (its entry point and unrolling), and checked to be the one profiled
+/// ([`is_profiled_shader`]): its path, the loaded shader, and its WGSL (what the replay renders:
+/// naga's WGSL for GLSL or SPIR-V). What `emit`, `report` and `compare` open a profile with.
+pub fn load_profiled(
     profile: &Profile,
     profile_path: &Path,
-    opts: &EmitOptions,
+    shader: Option<&Path>,
 ) -> Result<(PathBuf, reproj_front::Loaded, reproj_front::Shader), AnalyzeError> {
-    let shader_path = match &opts.shader {
-        Some(s) => s.clone(),
+    let shader_path = match shader {
+        Some(s) => s.to_owned(),
         None => profile_shader(profile, profile_path)?,
     };
     let load_options = LoadOptions {
@@ -215,13 +226,8 @@ pub(super) fn load_profiled(
         ..Default::default()
     };
     let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;
-    // `analyze` profiled (and hashed) the WGSL the replay renders: naga's WGSL for GLSL.
     let shader = loaded.shader.to_wgsl()?;
-    let fresh = match &profile.shader.ir_hash {
-        Some(h) => ir_hash(&shader) == *h,
-        None => content_hash(shader.source.as_bytes()) == profile.shader.hash,
-    };
-    if !fresh {
+    if !is_profiled_shader(profile, &shader) {
         return Err(AnalyzeError::Stale {
             path: shader_path,
             what: "shader".into(),
