@@ -6,7 +6,7 @@
 //! Here all of that is the recorded session, built with reproj-replay's public, GPU-free modules
 //! (session animation, meshes, texels, uniform reflection and packing) so that this host draws
 //! exactly the scene `reproj render` draws and the frames can be compared. An engine replaces this
-//! file with its own scene; `variant.rs` is the part to copy.
+//! file with its own scene; the variant itself runs through `reproj-runtime` (`variant.rs`).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fmt::Write as _;
@@ -18,21 +18,31 @@ use bytemuck::{Pod, Zeroable};
 use reproj_replay::reflect::{self, FragInput, Interface, ResourceKind, TexDim};
 use reproj_replay::session::{Address, Attribute, Compare, Cull, Filter, SamplerSpec, TexFormat};
 use reproj_replay::{Session, mesh, scene, textures};
+use reproj_runtime::VertexStage;
+use reproj_runtime::manifest::VertexContract;
 
 mod depth;
 mod original;
 
 use crate::gpu::Gpu;
-use crate::manifest::VertexContract;
 use depth::DepthPass;
-pub use original::Original;
+pub use original::{Original, OwnGroup, own_groups};
 
 /// The engine's frame target format. The manifest's `format: null` means this format.
 pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// The depth format of the engine's own pass (the original shader).
+/// The depth format of the engine's depth target (the original shader's pass and the variant's).
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Entry point of the host's vertex stage.
 pub const VERTEX_ENTRY: &str = "host_vs";
+/// The scene's vertex layout: position, normal, uv, tangent (`mesh::Vertex`).
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+const VERTEX_BUFFERS: [Option<wgpu::VertexBufferLayout<'static>>; 1] =
+    [Some(wgpu::VertexBufferLayout {
+        array_stride: size_of::<mesh::Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &VERTEX_ATTRIBUTES,
+    })];
 
 /// Per-object vertex-stage uniform: this frame's and the previous frame's matrices.
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -90,6 +100,8 @@ pub struct Engine {
     /// The frame target (`FRAME_FORMAT`, the frame size).
     pub frame: wgpu::Texture,
     pub frame_view: wgpu::TextureView,
+    /// The depth target (`DEPTH_FORMAT`, the frame size).
+    pub depth_view: wgpu::TextureView,
     shader_source: String,
     /// The original shader's fragment interface: inputs and resources by group and binding.
     iface: Interface,
@@ -426,6 +438,18 @@ impl Engine {
             view_formats: &[],
         });
         let frame_view = frame.create_view(&Default::default());
+        let depth_view = dev
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("depth"),
+                size: frame.size(),
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
         let bg = session.background.map(f64::from);
         gpu.check("building the scene")?;
         Ok(Engine {
@@ -440,6 +464,7 @@ impl Engine {
             height,
             frame,
             frame_view,
+            depth_view,
             shader_source,
             iface,
             objects,
@@ -676,8 +701,43 @@ impl Engine {
         &self.vertex_layout
     }
 
-    /// One pipeline per culling mode of the scene's objects (the engine's business: the manifest
-    /// says nothing about culling), drawing the scene's vertex layout as triangle lists.
+    /// The culling modes of the scene's objects, each once: one pipeline per mode.
+    fn culls(&self) -> Vec<Cull> {
+        let mut out = Vec::new();
+        for o in &self.objects {
+            if !out.contains(&o.cull) {
+                out.push(o.cull);
+            }
+        }
+        out
+    }
+
+    fn primitive(cull: Cull) -> wgpu::PrimitiveState {
+        wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: (cull == Cull::Back).then_some(wgpu::Face::Back),
+            ..Default::default()
+        }
+    }
+
+    /// The vertex stage `vs` once per culling mode (the engine's business: the manifest says
+    /// nothing about culling), for the variant's pipelines: [`Engine::draw_stages`] draws with
+    /// them in this order.
+    pub fn vertex_stages<'a>(&self, vs: &'a wgpu::ShaderModule) -> Vec<VertexStage<'a>> {
+        self.culls()
+            .into_iter()
+            .map(|cull| VertexStage {
+                module: vs,
+                entry_point: VERTEX_ENTRY,
+                buffers: &VERTEX_BUFFERS,
+                primitive: Self::primitive(cull),
+            })
+            .collect()
+    }
+
+    /// One pipeline per culling mode of the scene's objects, drawing the scene's vertex layout as
+    /// triangle lists.
     #[allow(clippy::too_many_arguments)]
     pub fn pipelines(
         &self,
@@ -690,10 +750,8 @@ impl Engine {
         targets: &[Option<wgpu::ColorTargetState>],
         depth: wgpu::DepthStencilState,
     ) -> Pipelines {
-        let culls: BTreeSet<bool> = self.objects.iter().map(|o| o.cull == Cull::Back).collect();
-        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
         let mut out = HashMap::new();
-        for back in culls {
+        for cull in self.culls() {
             let p = gpu
                 .device
                 .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -703,18 +761,9 @@ impl Engine {
                         module: vs,
                         entry_point: Some(VERTEX_ENTRY),
                         compilation_options: Default::default(),
-                        buffers: &[Some(wgpu::VertexBufferLayout {
-                            array_stride: size_of::<mesh::Vertex>() as u64,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &attrs,
-                        })],
+                        buffers: &VERTEX_BUFFERS,
                     },
-                    primitive: wgpu::PrimitiveState {
-                        topology: wgpu::PrimitiveTopology::TriangleList,
-                        front_face: wgpu::FrontFace::Ccw,
-                        cull_mode: back.then_some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
+                    primitive: Self::primitive(cull),
                     depth_stencil: Some(depth.clone()),
                     multisample: Default::default(),
                     fragment: Some(wgpu::FragmentState {
@@ -726,7 +775,7 @@ impl Engine {
                     multiview_mask: None,
                     cache: None,
                 });
-            out.insert(if back { Cull::Back } else { Cull::None }, p);
+            out.insert(cull, p);
         }
         out
     }
@@ -737,11 +786,27 @@ impl Engine {
             if let Some(p) = pipes.get(&o.cull) {
                 pass.set_pipeline(p);
             }
-            pass.set_bind_group(self.vertex_group, &o.group, &[]);
-            pass.set_vertex_buffer(0, o.vbuf.slice(..));
-            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..o.count, 0, 0..1);
+            self.draw_object(pass, o);
         }
+    }
+
+    /// Draw every object with the pipeline of its culling mode among `pipes`, one per
+    /// [`Engine::vertex_stages`] entry (the variant's passes).
+    pub fn draw_stages(&self, pass: &mut wgpu::RenderPass<'_>, pipes: &[wgpu::RenderPipeline]) {
+        let culls = self.culls();
+        for o in &self.objects {
+            if let Some(p) = culls.iter().position(|c| *c == o.cull).and_then(|i| pipes.get(i)) {
+                pass.set_pipeline(p);
+            }
+            self.draw_object(pass, o);
+        }
+    }
+
+    fn draw_object(&self, pass: &mut wgpu::RenderPass<'_>, o: &Object) {
+        pass.set_bind_group(self.vertex_group, &o.group, &[]);
+        pass.set_vertex_buffer(0, o.vbuf.slice(..));
+        pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..o.count, 0, 0..1);
     }
 
     /// A shader module from WGSL text, with wgpu's validation message on failure.
