@@ -117,7 +117,12 @@ fn the_runtime_depends_on_no_reproj_crate() {
         if line.starts_with('[') {
             section = line;
         } else if section == "[dependencies]" && !line.is_empty() && !line.starts_with('#') {
-            deps.push(line.split(['.', '=', ' ']).next().unwrap_or_default().to_owned());
+            deps.push(
+                line.split(['.', '=', ' '])
+                    .next()
+                    .unwrap_or_default()
+                    .to_owned(),
+            );
         }
     }
     assert!(deps.contains(&"wgpu".to_owned()), "{deps:?}");

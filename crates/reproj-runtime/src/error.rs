@@ -42,7 +42,9 @@ pub enum RuntimeError {
         message: String,
     },
     /// The device lacks features the manifest's `required_features` lists.
-    #[error("the device lacks {missing} (the manifest's `required_features`): request them when opening it")]
+    #[error(
+        "the device lacks {missing} (the manifest's `required_features`): request them when opening it"
+    )]
     MissingFeatures { missing: String },
     /// What the application passed does not fit the variant (a bind group index the variant owns,
     /// a target of the wrong format or size...). `what` names the argument.

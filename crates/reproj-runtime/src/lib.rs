@@ -94,6 +94,7 @@
 //! }
 //! ```
 
+mod build;
 mod error;
 pub mod manifest;
 mod plan;

@@ -266,7 +266,6 @@ pub struct DepthState {
     pub stencil: Option<String>,
 }
 
-
 impl Manifest {
     /// Read `path` (a variant's `manifest.json`): the schema name and version first (an older or
     /// newer manifest gets a message naming its version, not the first field that differs), then
@@ -314,13 +313,13 @@ impl Manifest {
     /// or a texture named `role` directly if no entry maps that role.
     pub fn texture_for<'a>(&'a self, role: &'a str, frame: usize) -> Option<&'a str> {
         let plan = &self.frames.ping_pong;
-        if let Some(t) = plan.get(frame % plan.len().max(1)).and_then(|m| m.get(role)) {
+        if let Some(t) = plan
+            .get(frame % plan.len().max(1))
+            .and_then(|m| m.get(role))
+        {
             return Some(t);
         }
-        self.textures
-            .iter()
-            .any(|t| t.name == role)
-            .then_some(role)
+        self.textures.iter().any(|t| t.name == role).then_some(role)
     }
 
     /// Whether the application's frame must hold what lies behind before the first pass: the

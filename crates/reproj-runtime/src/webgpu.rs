@@ -5,7 +5,6 @@
 use std::num::NonZeroU64;
 use std::str::FromStr;
 
-
 use crate::manifest::LayoutEntry;
 
 /// A WebGPU texture format name (uncompressed formats).

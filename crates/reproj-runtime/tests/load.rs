@@ -36,7 +36,10 @@ fn an_emitted_variant_loads_with_its_contract() {
     assert_eq!(v.reserved_groups().into_iter().collect::<Vec<_>>(), [0, 2]);
     assert_eq!(v.delta_n(), Some(8));
     assert!(!v.loads_frame_first());
-    assert!(v.scheduled_delta_n(1.0).is_none(), "instance writes no schedule");
+    assert!(
+        v.scheduled_delta_n(1.0).is_none(),
+        "instance writes no schedule"
+    );
     // Two payloads and two r32float depth copies, between 2 × 2 + 8 and 2 × 16 + 8 bytes.
     let bpp = v.bytes_per_pixel();
     assert!((12..=40).contains(&bpp), "{bpp} bytes per pixel");
@@ -63,16 +66,59 @@ fn a_broken_manifest_names_the_file_and_the_field() {
     instance_marble(&dir, &["--strategy", "3pass"]);
     type Edit = fn(&mut Value);
     let cases: [(&str, Edit, &str); 10] = [
-        ("schema", |m| m["schema"] = json!("reproj.session"), "`schema` is \"reproj.session\""),
-        ("version", |m| m["version"] = json!(99), "manifest version 99 is not supported"),
-        ("format", |m| m["textures"][0]["format"] = json!("rgb9000"), "`textures[0].format`: unknown texture format `rgb9000`"),
+        (
+            "schema",
+            |m| m["schema"] = json!("reproj.session"),
+            "`schema` is \"reproj.session\"",
+        ),
+        (
+            "version",
+            |m| m["version"] = json!(99),
+            "manifest version 99 is not supported",
+        ),
+        (
+            "format",
+            |m| m["textures"][0]["format"] = json!("rgb9000"),
+            "`textures[0].format`: unknown texture format `rgb9000`",
+        ),
         ("type", |m| m["passes"] = json!(5), "`passes`"),
-        ("missing", |m| m["passes"][0].as_object_mut().unwrap().remove("entry").map(drop).unwrap(), "`passes[0]`"),
-        ("role", |m| m["passes"][1]["depth"]["attachment"] = json!("nobody"), "`passes[1].depth.attachment`: no texture plays the role `nobody`"),
-        ("offset", |m| m["params"]["fields"][0]["offset"] = json!(64), "`params.fields[0].offset`"),
-        ("blend", |m| m["passes"][2]["colors"][0]["blend"] = json!("add"), "`passes[2].colors[0].blend`"),
-        ("file", |m| m["passes"][0]["file"] = json!("../elsewhere.wgsl"), "`passes[0].file`"),
-        ("own", |m| m["passes"][1]["bindings"][0]["resource"] = json!({"kind": "params"}), "`passes[1].bindings[0].resource`"),
+        (
+            "missing",
+            |m| {
+                m["passes"][0]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("entry")
+                    .map(drop)
+                    .unwrap()
+            },
+            "`passes[0]`",
+        ),
+        (
+            "role",
+            |m| m["passes"][1]["depth"]["attachment"] = json!("nobody"),
+            "`passes[1].depth.attachment`: no texture plays the role `nobody`",
+        ),
+        (
+            "offset",
+            |m| m["params"]["fields"][0]["offset"] = json!(64),
+            "`params.fields[0].offset`",
+        ),
+        (
+            "blend",
+            |m| m["passes"][2]["colors"][0]["blend"] = json!("add"),
+            "`passes[2].colors[0].blend`",
+        ),
+        (
+            "file",
+            |m| m["passes"][0]["file"] = json!("../elsewhere.wgsl"),
+            "`passes[0].file`",
+        ),
+        (
+            "own",
+            |m| m["passes"][1]["bindings"][0]["resource"] = json!({"kind": "params"}),
+            "`passes[1].bindings[0].resource`",
+        ),
     ];
     for (name, edit, expected) in cases {
         let to = tmp.path().join(name);
@@ -85,13 +131,18 @@ fn a_broken_manifest_names_the_file_and_the_field() {
             "{name}: `{text}` does not name {}",
             file.display()
         );
-        assert!(text.contains(expected), "{name}: `{text}` lacks `{expected}`");
+        assert!(
+            text.contains(expected),
+            "{name}: `{text}` lacks `{expected}`"
+        );
     }
 
     // A pass file that is not there: the error names it.
     let to = tmp.path().join("no-pass");
     edited(&dir, &to, |_| {});
-    let file = Variant::load(&to).unwrap().manifest().passes[1].file.clone();
+    let file = Variant::load(&to).unwrap().manifest().passes[1]
+        .file
+        .clone();
     std::fs::remove_file(to.join(&file)).unwrap();
     match Variant::load(&to) {
         Err(RuntimeError::Read { path, .. }) => assert_eq!(path, to.join(&file)),
@@ -100,5 +151,8 @@ fn a_broken_manifest_names_the_file_and_the_field() {
     // Not JSON at all.
     std::fs::write(to.join("manifest.json"), "{ not json").unwrap();
     let text = Variant::load(&to).unwrap_err().to_string();
-    assert!(text.contains("manifest.json") && text.contains("not JSON"), "{text}");
+    assert!(
+        text.contains("manifest.json") && text.contains("not JSON"),
+        "{text}"
+    );
 }

@@ -1,39 +1,27 @@
-//! A small wgpu app that uses `reproj-runtime`: it draws the marble variant `reproj instance`
-//! writes into its own frame, with its own depth target, its own vertex stage and its own bind
-//! group for the shader's `scene` uniform, and its frames must equal `reproj render --variant`'s
-//! (every channel of every pixel of every frame within [`TOLERANCE`]; on lavapipe they are
-//! identical, and the test prints the figure).
-//!
-//! The app's scene is the marble session, built with reproj-replay's GPU-free modules (session
-//! animation, the torus mesh, the shader's uniform reflection and packing), so that it draws the
-//! scene `reproj render` draws. Needs a Vulkan device (lavapipe without a GPU:
-//! `scripts/ensure-vulkan.sh`).
-
-mod common;
+//! The test app: the marble session's scene (built with reproj-replay's GPU-free modules: session
+//! animation, the torus mesh, the shader's uniform reflection and packing, so that it draws the
+//! scene `reproj render` draws), its own frame and depth targets, vertex stage and bind groups, and
+//! the variant run through the runtime.
 
 use std::fmt::Write as _;
 use std::num::NonZeroU64;
-use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
 use reproj_replay::reflect::{self, ResourceKind};
 use reproj_replay::session::Cull;
 use reproj_replay::{Session, mesh, scene};
-use reproj_runtime::{FrameInputs, FrameTargets, RuntimeError, Setup, Variant, VertexStage};
+use reproj_runtime::{FrameInputs, FrameTargets, Setup, Variant, VertexStage};
 
-use common::{instance_marble, reproj, s, workspace};
+use crate::common::workspace;
 
-/// Largest allowed difference of any channel of any pixel between the app's frames and
-/// `reproj render`'s.
-const TOLERANCE: f32 = 1e-4;
 /// Frames per run: the cache is reused many times at Δn = 8 and the ping-pong wraps.
-const FRAMES: u32 = 12;
-const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub const FRAMES: u32 = 12;
+pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The app's per-object group (the shader's `scene` uniform is in group 0, the variant's own
 /// group is 1).
-const OBJECT_GROUP: u32 = 2;
+pub const OBJECT_GROUP: u32 = 2;
 
 const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
@@ -67,24 +55,24 @@ struct Object {
 }
 
 /// The app: device, the marble scene, its targets.
-struct App {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-    session: Session,
-    size: [u32; 2],
+pub struct App {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub session: Session,
+    pub size: [u32; 2],
     frame: wgpu::Texture,
-    frame_view: wgpu::TextureView,
+    pub frame_view: wgpu::TextureView,
     depth: wgpu::Texture,
-    depth_view: wgpu::TextureView,
+    pub depth_view: wgpu::TextureView,
     scene_size: u32,
     scene_fields: Vec<reflect::UniformField>,
     scene_buffer: wgpu::Buffer,
-    scene_layout: wgpu::BindGroupLayout,
+    pub scene_layout: wgpu::BindGroupLayout,
     scene_group: wgpu::BindGroup,
-    object_layout: wgpu::BindGroupLayout,
+    pub object_layout: wgpu::BindGroupLayout,
     objects: Vec<Object>,
     culls: Vec<Cull>,
-    errors: Arc<Mutex<Vec<String>>>,
+    pub errors: Arc<Mutex<Vec<String>>>,
 }
 
 fn open_device(features: wgpu::Features) -> (wgpu::Device, wgpu::Queue) {
@@ -103,7 +91,7 @@ fn open_device(features: wgpu::Features) -> (wgpu::Device, wgpu::Queue) {
 }
 
 impl App {
-    fn new(features: wgpu::Features) -> App {
+    pub fn new(features: wgpu::Features) -> App {
         let (device, queue) = open_device(features);
         let errors: Arc<Mutex<Vec<String>>> = Arc::default();
         let sink = errors.clone();
@@ -130,7 +118,11 @@ impl App {
             panic!("`scene` is a uniform");
         };
         let locations: Vec<u32> = iface.inputs.iter().map(|i| i.location).collect();
-        assert_eq!(locations, [0, 1, 4], "the vertex stage below writes marble's inputs");
+        assert_eq!(
+            locations,
+            [0, 1, 4],
+            "the vertex stage below writes marble's inputs"
+        );
 
         let uniform_entry = |binding, visibility, size: u64| wgpu::BindGroupLayoutEntry {
             binding,
@@ -210,7 +202,10 @@ impl App {
                     bytemuck::cast_slice(&data.vertices),
                     wgpu::BufferUsages::VERTEX,
                 ),
-                indices: init(bytemuck::cast_slice(&data.indices), wgpu::BufferUsages::INDEX),
+                indices: init(
+                    bytemuck::cast_slice(&data.indices),
+                    wgpu::BufferUsages::INDEX,
+                ),
                 count: data.indices.len() as u32,
                 uniform,
                 group,
@@ -316,7 +311,8 @@ impl App {
                 prev_model: prev.models[i].to_cols_array_2d(),
                 normal_matrix: normal.to_cols_array_2d(),
             };
-            self.queue.write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
+            self.queue
+                .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
         }
         let bytes = scene::uniform_bytes(&self.session, &st, self.scene_size, &self.scene_fields);
         self.queue.write_buffer(&self.scene_buffer, 0, &bytes);
@@ -331,7 +327,8 @@ impl App {
     fn read(&self, tex: &wgpu::Texture, bytes: u32) -> Vec<f32> {
         let [w, h] = self.size;
         let tight = w * bytes;
-        let row = tight.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let row =
+            tight.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let buf = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size: u64::from(row * h),
@@ -366,7 +363,7 @@ impl App {
     }
 
     /// The app's vertex module for `variant` and its vertex buffer layout.
-    fn vertex_module(&self, variant: &Variant) -> wgpu::ShaderModule {
+    pub fn vertex_module(&self, variant: &Variant) -> wgpu::ShaderModule {
         self.device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("app vertex stage"),
@@ -375,7 +372,7 @@ impl App {
     }
 
     /// One vertex stage per culling mode of the scene's objects.
-    fn stages<'a>(&self, vs: &'a wgpu::ShaderModule) -> Vec<VertexStage<'a>> {
+    pub fn stages<'a>(&self, vs: &'a wgpu::ShaderModule) -> Vec<VertexStage<'a>> {
         self.culls
             .iter()
             .map(|c| VertexStage {
@@ -392,7 +389,7 @@ impl App {
 
     /// Run `variant` for [`FRAMES`] frames through the runtime; the frames, and the last frame's
     /// depth target.
-    fn run(&self, variant: &Variant) -> (Vec<Vec<f32>>, Vec<f32>) {
+    pub fn run(&self, variant: &Variant) -> (Vec<Vec<f32>>, Vec<f32>) {
         let vs = self.vertex_module(variant);
         let stages = self.stages(&vs);
         assert!(
@@ -406,7 +403,10 @@ impl App {
                     size: self.size,
                     color_format: COLOR,
                     vertex: &stages,
-                    bind_group_layouts: &[(0, &self.scene_layout), (OBJECT_GROUP, &self.object_layout)],
+                    bind_group_layouts: &[
+                        (0, &self.scene_layout),
+                        (OBJECT_GROUP, &self.object_layout),
+                    ],
                 },
             )
             .unwrap();
@@ -440,15 +440,21 @@ impl App {
                 bind_groups: &[(0, &self.scene_group)],
                 ..Default::default()
             };
-            gpu.record(&self.queue, &mut enc, &targets, &inputs, |pass, pipelines| {
-                for o in &self.objects {
-                    pass.set_pipeline(&pipelines[o.stage]);
-                    pass.set_bind_group(OBJECT_GROUP, &o.group, &[]);
-                    pass.set_vertex_buffer(0, o.vertices.slice(..));
-                    pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..o.count, 0, 0..1);
-                }
-            })
+            gpu.record(
+                &self.queue,
+                &mut enc,
+                &targets,
+                &inputs,
+                |pass, pipelines| {
+                    for o in &self.objects {
+                        pass.set_pipeline(&pipelines[o.stage]);
+                        pass.set_bind_group(OBJECT_GROUP, &o.group, &[]);
+                        pass.set_vertex_buffer(0, o.vertices.slice(..));
+                        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+                        pass.draw_indexed(0..o.count, 0, 0..1);
+                    }
+                },
+            )
             .unwrap();
             self.queue.submit([enc.finish()]);
             frames.push(self.read(&self.frame, 16));
@@ -458,149 +464,3 @@ impl App {
         (frames, self.read(&self.depth, 4))
     }
 }
-
-/// `reproj render` of the marble session with the variant in `dir`; its raw frames.
-fn render_reference(dir: &Path, out: &Path) -> Vec<Vec<f32>> {
-    let max = FRAMES.to_string();
-    reproj(&[
-        "render",
-        "shaders/marble.wgsl",
-        "--session",
-        "sessions/marble.json",
-        "--variant",
-        s(dir),
-        "--frames",
-        s(out),
-        "--raw-frames",
-        "--max-frames",
-        &max,
-    ]);
-    (0..FRAMES)
-        .map(|f| {
-            let bytes = std::fs::read(out.join(format!("frame_{f:03}.f32"))).unwrap();
-            bytemuck::pod_collect_to_vec::<u8, f32>(&bytes)
-        })
-        .collect()
-}
-
-/// The app's frames equal `reproj render --variant`'s, for the default 3pass variant and a 2pass
-/// variant written with `--frame-load load` (the app draws the background first); and the app's
-/// depth target holds the scene's depth afterwards: short of the far plane exactly where the
-/// variant drew something other than the background.
-#[test]
-fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
-    let tmp = tempfile::tempdir().unwrap();
-    let cases: [(&str, &[&str]); 2] = [
-        ("3pass", &[]),
-        ("2pass-frame-load", &["--strategy", "2pass", "--frame-load", "load"]),
-    ];
-    for (name, flags) in cases {
-        let dir = tmp.path().join(name);
-        instance_marble(&dir, flags);
-        let variant = Variant::load(&dir).unwrap();
-        assert_eq!(variant.delta_n(), Some(8), "{name}: the instancer's default Δn");
-        assert_eq!(variant.loads_frame_first(), name.ends_with("frame-load"));
-        let app = App::new(variant.required_features());
-        let (frames, depth) = app.run(&variant);
-        let reference = render_reference(&dir, &tmp.path().join(format!("{name}-render")));
-        let mut worst = 0.0f32;
-        for (f, (a, b)) in frames.iter().zip(&reference).enumerate() {
-            assert_eq!(a.len(), b.len(), "{name} frame {f}: sizes differ");
-            for (x, y) in a.iter().zip(b) {
-                assert!(x.is_finite() && y.is_finite(), "{name} frame {f}: not finite");
-                worst = worst.max((x - y).abs());
-            }
-        }
-        println!("{name} Δn 8: runtime app vs reproj render: max |difference| over {FRAMES} frames = {worst:e}");
-        assert!(worst <= TOLERANCE, "{name}: frames differ by up to {worst}");
-
-        let last = frames.last().unwrap();
-        let bg = app.session.background;
-        let mut drawn = 0;
-        for (px, z) in last.chunks_exact(4).zip(&depth) {
-            let background = px.iter().zip(&bg).all(|(a, b)| a == b);
-            assert_eq!(*z < 1.0, !background, "{name}: the depth target is the scene's depth");
-            drawn += usize::from(*z < 1.0);
-        }
-        assert!(drawn > last.len() / 4 / 10, "{name}: the torus covers the frame");
-    }
-}
-
-/// What the application gets wrong is an error naming the argument, never a panic or a wgpu
-/// validation error: a missing layout for the shader's own group, a layout in the variant's group,
-/// targets of another format or size, a frame size without pixels.
-#[test]
-fn misuse_is_an_error_naming_the_argument() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("v");
-    instance_marble(&dir, &[]);
-    let variant = Variant::load(&dir).unwrap();
-    let app = App::new(variant.required_features());
-    let vs = app.vertex_module(&variant);
-    let stages = app.stages(&vs);
-    let setup = |layouts: &[(u32, &wgpu::BindGroupLayout)]| {
-        variant.create(
-            &app.device,
-            &Setup {
-                size: app.size,
-                color_format: COLOR,
-                vertex: &stages,
-                bind_group_layouts: layouts,
-            },
-        )
-    };
-    usage(
-        setup(&[(OBJECT_GROUP, &app.object_layout)]),
-        "Setup::bind_group_layouts",
-        "`scene` in group 0",
-    );
-    usage(
-        setup(&[(0, &app.scene_layout), (variant.group(), &app.object_layout)]),
-        "Setup::bind_group_layouts",
-        "the variant's own group",
-    );
-    let mut gpu = setup(&[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)]).unwrap();
-    usage(gpu.resize(&app.device, [0, 5]), "size", "no pixel");
-    // The color target as the depth target: the wrong format.
-    let mut enc = app.device.create_command_encoder(&Default::default());
-    let wrong = FrameTargets {
-        color: &app.frame_view,
-        depth: &app.frame_view,
-        clear_color: wgpu::Color::BLACK,
-    };
-    usage(
-        gpu.record(&app.queue, &mut enc, &wrong, &FrameInputs::default(), no_draw),
-        "FrameTargets::depth",
-        "Depth32Float",
-    );
-    // Targets of the old size after a resize.
-    gpu.resize(&app.device, [app.size[0] / 2, app.size[1]]).unwrap();
-    let targets = FrameTargets {
-        color: &app.frame_view,
-        depth: &app.depth_view,
-        clear_color: wgpu::Color::BLACK,
-    };
-    usage(
-        gpu.record(&app.queue, &mut enc, &targets, &FrameInputs::default(), no_draw),
-        "FrameTargets::color",
-        "resize",
-    );
-    assert_eq!(gpu.frame(), 0, "nothing was recorded");
-    drop(enc);
-    let errors = std::mem::take(&mut *app.errors.lock().unwrap());
-    assert!(errors.is_empty(), "wgpu errors: {errors:#?}");
-}
-
-/// `r` is a [`RuntimeError::Usage`] whose message starts with `what` and says `says`.
-fn usage<T>(r: Result<T, RuntimeError>, what: &str, says: &str) {
-    match r {
-        Err(e @ RuntimeError::Usage { .. }) => {
-            let text = e.to_string();
-            assert!(text.starts_with(what) && text.contains(says), "`{text}`");
-        }
-        Err(e) => panic!("{what}: {e}"),
-        Ok(_) => panic!("{what}: accepted"),
-    }
-}
-
-fn no_draw(_: &mut wgpu::RenderPass<'_>, _: &[wgpu::RenderPipeline]) {}
