@@ -16,13 +16,14 @@
 //!
 //! Memory: the textures it allocates take [`Variant::bytes_per_pixel`] bytes per frame pixel: two
 //! payloads (2 to 16 bytes each, `r16float` to `rgba32float` by the cached value's width and
-//! precision) and two `r32float` depth copies, 12 to 40 bytes in all. Depth: every pass draws into your depth
-//! target, which the first pass clears (so what you drew into it before is not tested against,
-//! with or without `--frame-load load`) and which holds the scene's depth afterwards. Color: the
-//! first pass clears your color target to [`FrameTargets::clear_color`], unless the variant was
-//! written with `--frame-load load` ([`Variant::loads_frame_first`]): then it draws over what the
-//! target holds. Each [`VariantResources::record`] writes the params through the queue: submit a
-//! frame's encoder before recording the next.
+//! precision) and two `r32float` depth copies, 12 to 40 bytes in all. Depth: every pass draws into
+//! your depth target, which the first pass clears (every manifest reproj writes says so, with or
+//! without `--frame-load load`: what you drew into it before is not tested against) and which
+//! holds the scene's depth afterwards. Color: the first pass clears your color target to
+//! [`FrameTargets::clear_color`], unless the variant was written with `--frame-load load`
+//! ([`Variant::loads_frame_first`]): then it draws over what the target holds. Each
+//! [`VariantResources::record`] writes the params through the queue: submit a frame's encoder
+//! before recording the next.
 //!
 //! # Add to your wgpu app
 //!

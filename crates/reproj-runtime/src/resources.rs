@@ -63,7 +63,8 @@ pub struct FrameInputs<'a> {
     /// The application's frame-wide bind groups, by group index, set before the draw callback
     /// runs (the original shader's resources). Per-object groups are set in the callback.
     pub bind_groups: &'a [(u32, &'a wgpu::BindGroup)],
-    /// Timestamp queries: pass `i` writes `2i` at its beginning and `2i + 1` at its end.
+    /// Timestamp queries (at least 2 × [`crate::Variant::pass_count`] of them): pass `i` writes
+    /// `2i` at its beginning and `2i + 1` at its end.
     pub timestamps: Option<&'a wgpu::QuerySet>,
 }
 
@@ -93,8 +94,9 @@ impl VariantResources {
     ) -> Result<VariantResources, RuntimeError> {
         let missing = plan.required_features - device.features();
         if !missing.is_empty() {
+            let names: Vec<&str> = missing.iter().filter_map(|f| f.as_str()).collect();
             return Err(RuntimeError::MissingFeatures {
-                missing: format!("{missing:?}"),
+                missing: names.join(", "),
             });
         }
         check_size(setup.size)?;
@@ -103,6 +105,12 @@ impl VariantResources {
         }
         let user: BTreeMap<u32, &wgpu::BindGroupLayout> =
             setup.bind_group_layouts.iter().copied().collect();
+        if user.len() != setup.bind_group_layouts.len() {
+            return Err(RuntimeError::usage(
+                "Setup::bind_group_layouts",
+                "gives a group twice",
+            ));
+        }
         if user.contains_key(&plan.group) {
             return Err(RuntimeError::usage(
                 "Setup::bind_group_layouts",
@@ -147,8 +155,8 @@ impl VariantResources {
         self.size
     }
 
-    /// The index of the next frame [`VariantResources::record`] records (0 after creating,
-    /// resizing or a restart).
+    /// The index of the next frame [`VariantResources::record`] records: 0 after creating or
+    /// resizing, counted from the last [`FrameInputs::restart`].
     pub fn frame(&self) -> u32 {
         self.frame
     }
@@ -168,38 +176,16 @@ impl VariantResources {
 
     /// (Re)build the runtime's bind groups for every pass and ping-pong entry.
     fn bind(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
-        for (p, gp) in self.plan.passes.iter().zip(&mut self.passes) {
-            let textures = &self.textures;
-            let samplers = &self.samplers;
-            let params = &self.params;
-            gp.groups = checked(device, &p.label, || {
+        let mut all = Vec::new();
+        for (p, gp) in self.plan.passes.iter().zip(&self.passes) {
+            let layouts = &gp.layouts;
+            all.push(checked(device, &p.label, || {
                 (0..self.plan.ping_pong)
                     .map(|k| {
-                        gp.layouts
+                        layouts
                             .iter()
                             .map(|(g, layout)| {
-                                let entries: Vec<wgpu::BindGroupEntry<'_>> = p
-                                    .added
-                                    .iter()
-                                    .filter(|b| b.group == *g)
-                                    .map(|b| wgpu::BindGroupEntry {
-                                        binding: b.binding,
-                                        resource: match &b.resource {
-                                            Added::Params => params.as_entire_binding(),
-                                            Added::Texture(ts) => {
-                                                // The plan refuses a sampled depth attachment.
-                                                let view = textures[ts[k]]
-                                                    .as_ref()
-                                                    .map(|t| &t.view)
-                                                    .expect("the plan keeps the depth attachment unsampled");
-                                                wgpu::BindingResource::TextureView(view)
-                                            }
-                                            Added::Sampler(s) => {
-                                                wgpu::BindingResource::Sampler(&samplers[*s])
-                                            }
-                                        },
-                                    })
-                                    .collect();
+                                let entries = self.entries(p, *g, k);
                                 let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                                     label: Some(&p.label),
                                     layout,
@@ -210,9 +196,35 @@ impl VariantResources {
                             .collect()
                     })
                     .collect()
-            })?;
+            })?);
+        }
+        for (gp, groups) in self.passes.iter_mut().zip(all) {
+            gp.groups = groups;
         }
         Ok(())
+    }
+
+    /// The entries of pass `p`'s bind group `g` on ping-pong entry `k`.
+    fn entries(&self, p: &PassPlan, g: u32, k: usize) -> Vec<wgpu::BindGroupEntry<'_>> {
+        p.added
+            .iter()
+            .filter(|b| b.group == g)
+            .map(|b| wgpu::BindGroupEntry {
+                binding: b.binding,
+                resource: match &b.resource {
+                    Added::Params => self.params.as_entire_binding(),
+                    Added::Texture(ts) => wgpu::BindingResource::TextureView(
+                        // `Plan::new` refuses a manifest whose passes sample the depth
+                        // attachment, the one texture the runtime does not own.
+                        &self.textures[ts[k]]
+                            .as_ref()
+                            .expect("only the depth attachment is not the runtime's")
+                            .view,
+                    ),
+                    Added::Sampler(s) => wgpu::BindingResource::Sampler(&self.samplers[*s]),
+                },
+            })
+            .collect()
     }
 
     /// Record one frame into `encoder`: write its `reproj_params` (through `queue`, so submit the

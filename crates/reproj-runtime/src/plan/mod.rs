@@ -379,3 +379,71 @@ impl Plan {
 pub(crate) fn manifest_path(dir: &Path) -> PathBuf {
     dir.join("manifest.json")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plan with the params of every manifest reproj writes (16 bytes: Δn, clock, block, ε).
+    fn plan() -> Plan {
+        let field = |name: &str, offset, ty, value| ParamPlan {
+            name: name.into(),
+            offset,
+            ty,
+            value,
+        };
+        Plan {
+            required_features: wgpu::Features::empty(),
+            textures: Vec::new(),
+            depth_texture: 0,
+            samplers: Vec::new(),
+            ping_pong: 2,
+            params_size: 16,
+            params: vec![
+                field(
+                    "delta_n",
+                    0,
+                    ParamType::U32,
+                    ParamValue::Steady {
+                        value: 8.0,
+                        first: 1.0,
+                    },
+                ),
+                field("clock", 4, ParamType::U32, ParamValue::FrameIndex),
+                field(
+                    "block",
+                    8,
+                    ParamType::U32,
+                    ParamValue::Constant { value: 4.0 },
+                ),
+                field(
+                    "depth_epsilon",
+                    12,
+                    ParamType::F32,
+                    ParamValue::Constant { value: 0.01 },
+                ),
+            ],
+            passes: Vec::new(),
+            group: 1,
+            depth_clear: 1.0,
+        }
+    }
+
+    fn words(bytes: &[u8]) -> [u32; 4] {
+        std::array::from_fn(|i| u32::from_le_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap()))
+    }
+
+    #[test]
+    fn params_are_first_on_frame_0_then_steady_or_the_given_delta_n() {
+        let p = plan();
+        assert!(p.has_delta_n());
+        let eps = 0.01f32.to_bits();
+        // Frame 0: nothing to reuse, Δn is `first` whatever is asked.
+        assert_eq!(words(&p.params_bytes(0, None)), [1, 0, 4, eps]);
+        assert_eq!(words(&p.params_bytes(0, Some(16))), [1, 0, 4, eps]);
+        assert_eq!(words(&p.params_bytes(5, None)), [8, 5, 4, eps]);
+        assert_eq!(words(&p.params_bytes(5, Some(16))), [16, 5, 4, eps]);
+        // Δn is at least 1.
+        assert_eq!(words(&p.params_bytes(5, Some(0))), [1, 5, 4, eps]);
+    }
+}
