@@ -12,7 +12,7 @@
 //! adds the manifest's previous-clip-position output, [`Variant::vertex`]), the bind groups of the
 //! original shader's resources (passed by group index: the runtime owns only the group reproj
 //! added, [`Variant::group`]), and the draw calls. The runtime reads nothing of reproj but the
-//! manifest and the passes, and depends on wgpu and serde only.
+//! manifest and the passes, and depends on wgpu, serde, thiserror and pollster only.
 //!
 //! Memory: the textures it allocates take [`Variant::bytes_per_pixel`] bytes per frame pixel: two
 //! payloads (2 to 16 bytes each, `r16float` to `rgba32float` by the cached value's width and

@@ -11,7 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use reproj_replay::reflect::{self, ResourceKind};
 use reproj_replay::session::Cull;
 use reproj_replay::{Session, mesh, scene};
-use reproj_runtime::{FrameInputs, FrameTargets, Setup, Variant, VertexStage};
+use reproj_runtime::{FrameInputs, FrameTargets, Setup, Variant, VariantResources, VertexStage};
 
 use crate::common::workspace;
 
@@ -387,32 +387,42 @@ impl App {
             .collect()
     }
 
-    /// Run `variant` for [`FRAMES`] frames through the runtime; the frames, and the last frame's
-    /// depth target.
-    pub fn run(&self, variant: &Variant) -> (Vec<Vec<f32>>, Vec<f32>) {
-        let vs = self.vertex_module(variant);
-        let stages = self.stages(&vs);
+    /// Build `variant` for the app (its vertex stages from [`App::stages`]).
+    pub fn create(&self, variant: &Variant, stages: &[VertexStage<'_>]) -> VariantResources {
         assert!(
             !variant.reserved_groups().contains(&OBJECT_GROUP),
             "the app's object group is free"
         );
-        let mut gpu = variant
+        variant
             .create(
                 &self.device,
                 &Setup {
                     size: self.size,
                     color_format: COLOR,
-                    vertex: &stages,
+                    vertex: stages,
                     bind_group_layouts: &[
                         (0, &self.scene_layout),
                         (OBJECT_GROUP, &self.object_layout),
                     ],
                 },
             )
-            .unwrap();
+            .unwrap()
+    }
+
+    /// Run [`FRAMES`] frames of `variant` through `gpu`, from the session's frame 0 (`restart`:
+    /// asking the runtime to start over on it; else its clock must be at 0); the frames, and the
+    /// last frame's depth target.
+    pub fn run(
+        &self,
+        variant: &Variant,
+        gpu: &mut VariantResources,
+        restart: bool,
+    ) -> (Vec<Vec<f32>>, Vec<f32>) {
         let mut frames = Vec::new();
         for f in 0..FRAMES {
-            assert_eq!(gpu.frame(), f);
+            if !(restart && f == 0) {
+                assert_eq!(gpu.frame(), f);
+            }
             self.write_frame(f);
             let mut enc = self.device.create_command_encoder(&Default::default());
             if variant.loads_frame_first() {
@@ -438,6 +448,7 @@ impl App {
             };
             let inputs = FrameInputs {
                 bind_groups: &[(0, &self.scene_group)],
+                restart: restart && f == 0,
                 ..Default::default()
             };
             gpu.record(

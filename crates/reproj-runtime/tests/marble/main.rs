@@ -44,9 +44,10 @@ fn render_reference(dir: &Path, out: &Path) -> Vec<Vec<f32>> {
 }
 
 /// The app's frames equal `reproj render --variant`'s, for the default 3pass variant and a 2pass
-/// variant written with `--frame-load load` (the app draws the background first); and the app's
-/// depth target holds the scene's depth afterwards: short of the far plane exactly where the
-/// variant drew something other than the background.
+/// variant written with `--frame-load load` (the app draws the background first); running them
+/// again after a restart or a resize gives the same frames; and the app's depth target holds the
+/// scene's depth afterwards: short of the far plane exactly where the variant drew something other
+/// than the background.
 #[test]
 fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
     let tmp = tempfile::tempdir().unwrap();
@@ -68,7 +69,25 @@ fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
         );
         assert_eq!(variant.loads_frame_first(), name.ends_with("frame-load"));
         let app = App::new(variant.required_features());
-        let (frames, depth) = app.run(&variant);
+        let vs = app.vertex_module(&variant);
+        let stages = app.stages(&vs);
+        let mut gpu = app.create(&variant, &stages);
+        let (frames, depth) = app.run(&variant, &mut gpu, false);
+        // Starting over, by a restart or a resize (there and back), gives the same frames: the
+        // clock, the ping-pong and the textures' contents start again from frame 0.
+        let (restarted, _) = app.run(&variant, &mut gpu, true);
+        let [w, h] = app.size;
+        gpu.resize(&app.device, [w / 2, h / 3]).unwrap();
+        assert_eq!(gpu.size(), [w / 2, h / 3]);
+        gpu.resize(&app.device, app.size).unwrap();
+        let (resized, _) = app.run(&variant, &mut gpu, false);
+        for (again, how) in [(&restarted, "restart"), (&resized, "resize")] {
+            let same = frames
+                .iter()
+                .zip(again)
+                .all(|(a, b)| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
+            assert!(same, "{name}: the frames after a {how} differ");
+        }
         let reference = render_reference(&dir, &tmp.path().join(format!("{name}-render")));
         let mut worst = 0.0f32;
         for (f, (a, b)) in frames.iter().zip(&reference).enumerate() {
