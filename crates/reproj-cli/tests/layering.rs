@@ -1,6 +1,7 @@
 //! The crate layering: the GPU stays in the replay. Reads the workspace's `Cargo.lock` (the whole
 //! resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly or
-//! through any dependency: only reproj-replay, the crates built on it, and the example host.
+//! through any dependency: only reproj-replay, the crates built on it, the example host, and the
+//! runtime crate engines link (which names wgpu and no other reproj crate).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -88,12 +89,13 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
         "reproj-host",
         "reproj-replay",
         "reproj-report",
+        "reproj-runtime",
     ]);
     assert_eq!(with_gpu, expected);
-    // Of the library crates, only the replay names wgpu itself; the others reach it through it
-    // (the example host is a host: it renders with wgpu on its own).
+    // Of the library crates, only the replay and the runtime name wgpu themselves; the others
+    // reach it through the replay (the example host is a host: it renders with wgpu on its own).
     for p in &with_gpu {
-        if *p != "reproj-replay" && *p != "reproj-host" {
+        if !["reproj-replay", "reproj-host", "reproj-runtime"].contains(p) {
             assert!(
                 !graph[*p].contains("wgpu"),
                 "{p} depends on wgpu directly; use it through reproj-replay"
@@ -101,6 +103,31 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
             assert!(reaches(&graph, p, "reproj-replay"), "{p}");
         }
     }
+}
+
+/// The runtime an engine links depends on no other reproj crate (its test app's scene comes from
+/// reproj-replay as a dev-dependency only): the manifest is the interface.
+#[test]
+fn the_runtime_depends_on_no_reproj_crate() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../reproj-runtime/Cargo.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut section = "";
+    let mut deps = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.starts_with('[') {
+            section = line;
+        } else if section == "[dependencies]" && !line.is_empty() && !line.starts_with('#') {
+            deps.push(
+                line.split(['.', '=', ' '])
+                    .next()
+                    .unwrap_or_default()
+                    .to_owned(),
+            );
+        }
+    }
+    assert!(deps.contains(&"wgpu".to_owned()), "{deps:?}");
+    let ours: Vec<&String> = deps.iter().filter(|d| d.starts_with("reproj")).collect();
+    assert!(ours.is_empty(), "reproj-runtime depends on {ours:?}");
 }
 
 /// The light build CI uses to run `emit` (`reproj-cli` without its default `gpu` feature:

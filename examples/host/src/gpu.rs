@@ -232,6 +232,11 @@ impl Timer {
             })
     }
 
+    /// The query set, for a frame recorded by reproj-runtime (which writes the same indices).
+    pub fn query_set(&self) -> Option<&wgpu::QuerySet> {
+        self.set.as_ref().map(|(qs, _, _)| qs)
+    }
+
     /// Record resolving the frame's queries (after its last pass).
     pub fn resolve(&self, enc: &mut wgpu::CommandEncoder) {
         if let Some((qs, resolve, read)) = &self.set {

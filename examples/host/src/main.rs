@@ -10,9 +10,10 @@
 //!   original shader's own uniforms, storage buffers, textures and samplers), its vertex stage and
 //!   frame target (`mod.rs`), its depth passes (`depth.rs`) and its own pass of the original
 //!   shader (`original.rs`).
-//! - `variant.rs` runs a variant from `manifest.json` alone (read by `manifest.rs` with this
-//!   crate's own types): textures, samplers, params, layouts, bind groups, pipelines, per-frame
-//!   params and ping-pong, passes in order with their load operations.
+//! - `variant.rs` runs a variant through `reproj-runtime`, which reads `manifest.json` alone and
+//!   owns what reproj added (textures, samplers, params, its bind group, the passes' pipelines,
+//!   the per-frame params and ping-pong, passes in order with their load operations); the engine
+//!   gives it its vertex stage, bind groups, frame and depth targets and draw calls.
 //! - This file opens the device, runs the frames and writes `frame_NNN.png` (sRGB-encoded, as
 //!   `reproj render --frames` writes them), with `--raw` `frame_NNN.f32` (the frame's exact
 //!   linear RGBA: width × height × 4 little-endian f32, top row first, no header), and
@@ -20,10 +21,8 @@
 
 mod engine;
 mod gpu;
-mod manifest;
 mod motion;
 mod variant;
-mod webgpu;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -35,8 +34,8 @@ use serde::Serialize;
 
 use engine::{Engine, Original};
 use gpu::{Gpu, Timer};
-use manifest::Manifest;
-use variant::Variant;
+use reproj_runtime::Variant;
+use variant::HostVariant;
 
 /// Run a reproj variant (or the original shader) over a recorded session with wgpu, following
 /// the variant's manifest.json alone; write the frames and their times.
@@ -123,7 +122,7 @@ struct FrameRecord {
 
 /// What the frame loop draws.
 enum Mode {
-    Variant(Box<Variant>),
+    Variant(Box<HostVariant>),
     Original(Original),
 }
 
@@ -144,25 +143,24 @@ fn main() {
 fn run(args: &Args) -> anyhow::Result<()> {
     // The manifest first: its version, features and bind groups decide how the device and the
     // engine are set up.
-    let manifest = match &args.variant {
-        Some(dir) => Some(Manifest::load(dir)?),
+    let variant = match &args.variant {
+        Some(dir) => Some(Variant::load(dir)?),
         None => None,
     };
-    let required = match &manifest {
-        Some(m) => webgpu::features(&m.required_features).context("required_features")?,
-        None => wgpu::Features::empty(),
-    };
-    let gpu = Gpu::new(required, args.cpu_timing)?;
-    let reserved: BTreeSet<u32> = manifest
+    let required = variant
         .as_ref()
-        .map(variant::groups_used)
+        .map_or(wgpu::Features::empty(), Variant::required_features);
+    let gpu = Gpu::new(required, args.cpu_timing)?;
+    let reserved: BTreeSet<u32> = variant
+        .as_ref()
+        .map(Variant::reserved_groups)
         .unwrap_or_default();
     let entry = args
         .entry
         .as_deref()
-        .or(manifest.as_ref().map(|m| m.entry.as_str()));
+        .or(variant.as_ref().map(|v| v.manifest().entry.as_str()));
     let engine = Engine::new(&gpu, &args.session, &args.shader, entry, &reserved)?;
-    if let Some(m) = &manifest {
+    if let Some(m) = variant.as_ref().map(Variant::manifest) {
         let file = args.shader.file_name().and_then(|f| f.to_str());
         if file != Some(m.shader.as_str()) {
             eprintln!(
@@ -172,20 +170,16 @@ fn run(args: &Args) -> anyhow::Result<()> {
             );
         }
     }
-    let mode = match (manifest, &args.variant) {
-        (Some(m), Some(dir)) => {
-            let mut v = Variant::new(&gpu, &engine, dir, m)?;
-            if let Some(n) = args.delta_n {
-                v.set_param("delta_n", f64::from(n.max(1)))?;
-            }
-            Mode::Variant(Box::new(v))
-        }
-        _ => Mode::Original(Original::new(&gpu, &engine)?),
+    let mode = match variant {
+        Some(v) => Mode::Variant(Box::new(HostVariant::new(&gpu, &engine, v)?)),
+        None => Mode::Original(Original::new(&gpu, &engine)?),
     };
+    // The refresh period: `--delta-n`, else the manifest's; `--adaptive` sets it every frame.
+    let mut delta_n = args.delta_n.map(|n| n.max(1));
     let timer = Timer::new(
         &gpu,
         match &mode {
-            Mode::Variant(v) => v.pass_count(),
+            Mode::Variant(v) => v.variant.pass_count() as u32,
             Mode::Original(_) => 1,
         },
     );
@@ -202,7 +196,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         .then(|| motion::MotionProbe::new(&engine.session));
     let mut mode = mode;
     if let (true, Mode::Variant(v)) = (args.adaptive, &mode)
-        && v.manifest.params.schedule.is_empty()
+        && v.variant.manifest().params.schedule.is_empty()
     {
         anyhow::bail!(
             "--adaptive: the manifest has no run-time schedule (params.schedule; `reproj emit` writes one from a profile that records motion)"
@@ -214,7 +208,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         engine.encode_depth_passes(&mut enc);
         let mut adapted = (None, None);
-        if let (Some(probe), Mode::Variant(v)) = (&probe, &mut mode) {
+        if let (Some(probe), Mode::Variant(v)) = (&probe, &mode) {
             // This frame's motion from the previous frame's transforms to this one's.
             let now = engine.session.frame_state(f);
             let prev = engine.session.frame_state(f.saturating_sub(1));
@@ -223,15 +217,14 @@ fn run(args: &Args) -> anyhow::Result<()> {
             } else {
                 probe.pixels(&prev, &now)
             };
-            if let Some(dn) = v.manifest.params.scheduled_delta_n(px) {
-                v.set_param("delta_n", f64::from(dn.max(1)))?;
+            if let Some(dn) = v.variant.scheduled_delta_n(px) {
+                delta_n = Some(dn.max(1));
                 adapted = (Some(px), Some(dn));
             }
         }
-        match &mode {
+        match &mut mode {
             Mode::Variant(v) => {
-                v.write_params(&gpu, f);
-                if v.loads_frame_first() {
+                if v.variant.loads_frame_first() {
                     // `--frame-load load`: the passes draw over what the engine drew before; here
                     // that is its background.
                     enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -248,7 +241,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
                         ..Default::default()
                     });
                 }
-                v.encode_frame(&mut enc, &engine, f, &timer)?;
+                v.encode_frame(&gpu, &mut enc, &engine, delta_n, &timer)?;
             }
             Mode::Original(o) => o.encode(&mut enc, &engine, &timer),
         }
@@ -278,24 +271,11 @@ fn run(args: &Args) -> anyhow::Result<()> {
         steady.iter().sum::<f64>() / steady.len() as f64
     };
     let (variant, strategy, delta_n) = match &mode {
-        Mode::Variant(v) => {
-            let dn = v
-                .manifest
-                .params
-                .fields
-                .iter()
-                .find(|f| f.name == "delta_n")
-                .and_then(|f| match f.value {
-                    manifest::ParamValue::Steady { value, .. }
-                    | manifest::ParamValue::Constant { value } => Some(value as u32),
-                    manifest::ParamValue::FrameIndex => None,
-                });
-            (
-                args.variant.as_ref().map(|d| d.display().to_string()),
-                Some(v.manifest.strategy.clone()),
-                dn,
-            )
-        }
+        Mode::Variant(v) => (
+            args.variant.as_ref().map(|d| d.display().to_string()),
+            Some(v.variant.manifest().strategy.clone()),
+            delta_n.or(v.variant.delta_n()),
+        ),
         Mode::Original(_) => (None, None, None),
     };
     let summary = Summary {

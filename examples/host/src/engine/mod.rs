@@ -1,39 +1,39 @@
 //! The "engine": what a real engine already has before it runs reproj's output — its geometry, its
-//! per-frame camera and object transforms, its vertex stage, the original shader's own uniforms,
-//! storage buffers, textures and samplers, the depth passes it draws before the frame (shadow
-//! maps, depth pre-passes), and its frame target.
+//! per-frame camera and object transforms, its vertex stage (`vertex.rs`), pipelines and draw calls
+//! (`draw.rs`), the original shader's own uniforms, storage buffers, textures and samplers and
+//! their bind groups (`original.rs`), the depth passes it draws before the frame (shadow maps,
+//! depth pre-passes, `depth.rs`), and its frame and depth targets.
 //!
 //! Here all of that is the recorded session, built with reproj-replay's public, GPU-free modules
 //! (session animation, meshes, texels, uniform reflection and packing) so that this host draws
 //! exactly the scene `reproj render` draws and the frames can be compared. An engine replaces this
-//! file with its own scene; `variant.rs` is the part to copy.
+//! file with its own scene; the variant itself runs through `reproj-runtime` (`variant.rs`).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
-use std::fmt::Write as _;
 use std::num::NonZeroU64;
 use std::path::Path;
 
 use anyhow::{Context, anyhow, bail};
 use bytemuck::{Pod, Zeroable};
-use reproj_replay::reflect::{self, FragInput, Interface, ResourceKind, TexDim};
-use reproj_replay::session::{Address, Attribute, Compare, Cull, Filter, SamplerSpec, TexFormat};
+use reproj_replay::reflect::{self, Interface, ResourceKind, TexDim};
+use reproj_replay::session::{Address, Compare, Cull, Filter, SamplerSpec, TexFormat};
 use reproj_replay::{Session, mesh, scene, textures};
 
 mod depth;
+mod draw;
 mod original;
+mod vertex;
 
 use crate::gpu::Gpu;
-use crate::manifest::VertexContract;
 use depth::DepthPass;
-pub use original::Original;
+pub use original::{Original, OwnGroup, own_groups};
 
 /// The engine's frame target format. The manifest's `format: null` means this format.
 pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// The depth format of the engine's own pass (the original shader).
+/// The depth format of the engine's depth target (the original shader's pass and the variant's).
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Entry point of the host's vertex stage.
 pub const VERTEX_ENTRY: &str = "host_vs";
-
 /// Per-object vertex-stage uniform: this frame's and the previous frame's matrices.
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 #[repr(C)]
@@ -90,6 +90,8 @@ pub struct Engine {
     /// The frame target (`FRAME_FORMAT`, the frame size).
     pub frame: wgpu::Texture,
     pub frame_view: wgpu::TextureView,
+    /// The depth target (`DEPTH_FORMAT`, the frame size).
+    pub depth_view: wgpu::TextureView,
     shader_source: String,
     /// The original shader's fragment interface: inputs and resources by group and binding.
     iface: Interface,
@@ -146,57 +148,6 @@ fn reflect_shader(path: &Path, entry: Option<&str>) -> anyhow::Result<(String, I
         .ok_or_else(|| anyhow!("{}: no @fragment entry point `{name}`", path.display()))?;
     let iface = reflect::reflect(&module, &info, index)?;
     Ok((source, iface))
-}
-
-/// WGSL of `attr` with `n` components: truncated, or padded with zeros and a last component of 1
-/// for positions, 0 for directions.
-fn attribute_wgsl(attr: Attribute, n: u32) -> String {
-    let (src, m, w) = match attr {
-        Attribute::Position => ("world.xyz", 3, "1.0"),
-        Attribute::Normal => ("world_normal", 3, "0.0"),
-        Attribute::Uv => ("v.uv", 2, "0.0"),
-        Attribute::Tangent => ("world_tangent", 4, "1.0"),
-        Attribute::ObjectPosition => ("v.position", 3, "1.0"),
-        Attribute::ObjectNormal => ("v.normal", 3, "0.0"),
-    };
-    const SWIZZLE: [&str; 5] = ["", "x", "xy", "xyz", "xyzw"];
-    match n.cmp(&m) {
-        std::cmp::Ordering::Equal => src.to_owned(),
-        std::cmp::Ordering::Less => format!("{src}.{}", SWIZZLE[n as usize]),
-        std::cmp::Ordering::Greater => {
-            let mut parts = vec![src.to_owned()];
-            parts.extend((m..n - 1).map(|_| "0.0".to_owned()));
-            parts.push(w.to_owned());
-            format!("{}({})", wgsl_vec(n), parts.join(", "))
-        }
-    }
-}
-
-fn wgsl_vec(n: u32) -> String {
-    if n == 1 {
-        "f32".to_owned()
-    } else {
-        format!("vec{n}<f32>")
-    }
-}
-
-/// `@interpolate(...)` of a fragment input, as declared.
-fn interpolation(i: &FragInput) -> String {
-    match (&i.interpolation, &i.sampling) {
-        (None, _) => String::new(),
-        (Some(interp), Some(s)) if interp != "flat" || s == "first" || s == "either" => {
-            format!("@interpolate({interp}, {s}) ")
-        }
-        (Some(interp), _) => format!("@interpolate({interp}) "),
-    }
-}
-
-/// The name of the first function a WGSL snippet declares.
-fn first_fn_name(wgsl: &str) -> Option<&str> {
-    let at = wgsl.find("fn ")? + 3;
-    let rest = &wgsl[at..];
-    let end = rest.find(|c: char| !(c.is_alphanumeric() || c == '_'))?;
-    Some(rest[..end].trim()).filter(|n| !n.is_empty())
 }
 
 impl Engine {
@@ -426,6 +377,18 @@ impl Engine {
             view_formats: &[],
         });
         let frame_view = frame.create_view(&Default::default());
+        let depth_view = dev
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("depth"),
+                size: frame.size(),
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
         let bg = session.background.map(f64::from);
         gpu.check("building the scene")?;
         Ok(Engine {
@@ -440,6 +403,7 @@ impl Engine {
             height,
             frame,
             frame_view,
+            depth_view,
             shader_source,
             iface,
             objects,
@@ -575,173 +539,9 @@ impl Engine {
         }
     }
 
-    /// The engine's vertex stage: invariant clip position, one output per input of the original
-    /// fragment shader (fed from the session's attribute mapping) and, for a variant, the
-    /// previous frame's clip position at `contract.prev_clip_location`, computed by the
-    /// manifest's helper function.
-    pub fn vertex_wgsl(&self, contract: Option<&VertexContract>) -> anyhow::Result<String> {
-        let mut s = String::new();
-        let g = self.vertex_group;
-        s.push_str(
-            "// reproj-host: the engine's vertex stage.\n\
-             struct HostObject {\n    view_proj: mat4x4<f32>,\n    prev_view_proj: mat4x4<f32>,\n    \
-             model: mat4x4<f32>,\n    prev_model: mat4x4<f32>,\n    normal_matrix: mat4x4<f32>,\n};\n",
-        );
-        let _ = writeln!(
-            s,
-            "@group({g}) @binding(0) var<uniform> host_object: HostObject;"
-        );
-        s.push_str(
-            "struct HostVertexIn {\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    \
-             @location(2) uv: vec2<f32>,\n    @location(3) tangent: vec4<f32>,\n};\n",
-        );
-        // The clip position must be @invariant: every pass rasterizes the same depths.
-        s.push_str("struct HostVertexOut {\n    @builtin(position) @invariant clip: vec4<f32>,\n");
-        let mut body = String::new();
-        let mut missing = Vec::new();
-        for i in &self.iface.inputs {
-            let Some(attr) = self.session.inputs.get(&i.location) else {
-                missing.push(format!("@location({}) `{}`", i.location, i.name));
-                continue;
-            };
-            let _ = writeln!(
-                s,
-                "    @location({}) {}o{}: {},",
-                i.location,
-                interpolation(i),
-                i.location,
-                wgsl_vec(i.components)
-            );
-            let _ = writeln!(
-                body,
-                "    out.o{} = {};",
-                i.location,
-                attribute_wgsl(*attr, i.components)
-            );
-        }
-        if !missing.is_empty() {
-            bail!(
-                "the session's `inputs` maps no vertex attribute to the fragment input(s) {}",
-                missing.join(", ")
-            );
-        }
-        if let Some(c) = contract {
-            let loc = c.prev_clip_location;
-            if self.iface.inputs.iter().any(|i| i.location == loc) {
-                bail!("the manifest's prev_clip_location {loc} is an input of the shader itself");
-            }
-            if !c.invariant_position {
-                eprintln!(
-                    "note: the manifest does not ask for an invariant position; it is invariant anyway"
-                );
-            }
-            let f = first_fn_name(&c.wgsl)
-                .ok_or_else(|| anyhow!("the manifest's vertex.wgsl declares no function"))?;
-            // The helper's arguments, by the names the manifest gives them.
-            let args = c
-                .inputs
-                .iter()
-                .map(|i| match i.name.as_str() {
-                    "prev_view_proj" => Ok("host_object.prev_view_proj"),
-                    "prev_model" => Ok("host_object.prev_model"),
-                    "view_proj" => Ok("host_object.view_proj"),
-                    "model" => Ok("host_object.model"),
-                    "position" => Ok("v.position"),
-                    other => Err(anyhow!(
-                        "the manifest's vertex contract needs `{other}`, which this host does not supply"
-                    )),
-                })
-                .collect::<anyhow::Result<Vec<_>>>()?;
-            let _ = writeln!(s, "    @location({loc}) prev_clip: vec4<f32>,");
-            let _ = writeln!(body, "    out.prev_clip = {f}({});", args.join(", "));
-        }
-        s.push_str("};\n");
-        if let Some(c) = contract {
-            s.push_str(&c.wgsl);
-        }
-        let _ = write!(
-            s,
-            "@vertex\nfn {VERTEX_ENTRY}(v: HostVertexIn) -> HostVertexOut {{\n    \
-             let world = host_object.model * vec4<f32>(v.position, 1.0);\n    \
-             let world_normal = normalize((host_object.normal_matrix * vec4<f32>(v.normal, 0.0)).xyz);\n    \
-             let world_tangent = vec4<f32>(normalize((host_object.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz), v.tangent.w);\n    \
-             var out: HostVertexOut;\n    \
-             out.clip = host_object.view_proj * world;\n{body}    return out;\n}}\n"
-        );
-        Ok(s)
-    }
-
     /// The layout of the per-object transforms' bind group.
     pub fn vertex_layout(&self) -> &wgpu::BindGroupLayout {
         &self.vertex_layout
-    }
-
-    /// One pipeline per culling mode of the scene's objects (the engine's business: the manifest
-    /// says nothing about culling), drawing the scene's vertex layout as triangle lists.
-    #[allow(clippy::too_many_arguments)]
-    pub fn pipelines(
-        &self,
-        gpu: &Gpu,
-        label: &str,
-        layout: &wgpu::PipelineLayout,
-        vs: &wgpu::ShaderModule,
-        fs: &wgpu::ShaderModule,
-        entry: &str,
-        targets: &[Option<wgpu::ColorTargetState>],
-        depth: wgpu::DepthStencilState,
-    ) -> Pipelines {
-        let culls: BTreeSet<bool> = self.objects.iter().map(|o| o.cull == Cull::Back).collect();
-        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
-        let mut out = HashMap::new();
-        for back in culls {
-            let p = gpu
-                .device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(layout),
-                    vertex: wgpu::VertexState {
-                        module: vs,
-                        entry_point: Some(VERTEX_ENTRY),
-                        compilation_options: Default::default(),
-                        buffers: &[Some(wgpu::VertexBufferLayout {
-                            array_stride: size_of::<mesh::Vertex>() as u64,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &attrs,
-                        })],
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        topology: wgpu::PrimitiveTopology::TriangleList,
-                        front_face: wgpu::FrontFace::Ccw,
-                        cull_mode: back.then_some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(depth.clone()),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: fs,
-                        entry_point: Some(entry),
-                        compilation_options: Default::default(),
-                        targets,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
-            out.insert(if back { Cull::Back } else { Cull::None }, p);
-        }
-        out
-    }
-
-    /// Draw every object with `pipes` (the pass's other bind groups are already set).
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, pipes: &Pipelines) {
-        for o in &self.objects {
-            if let Some(p) = pipes.get(&o.cull) {
-                pass.set_pipeline(p);
-            }
-            pass.set_bind_group(self.vertex_group, &o.group, &[]);
-            pass.set_vertex_buffer(0, o.vbuf.slice(..));
-            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..o.count, 0, 0..1);
-        }
     }
 
     /// A shader module from WGSL text, with wgpu's validation message on failure.

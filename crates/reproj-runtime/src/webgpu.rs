@@ -1,15 +1,14 @@
 //! The manifest's WebGPU names as wgpu values. Every function fails with a message naming the
-//! value it does not know, so a manifest from a newer reproj is refused clearly.
+//! value it does not know (the caller adds the file and field), so a manifest from a newer reproj
+//! is refused clearly.
 
 use std::num::NonZeroU64;
 use std::str::FromStr;
 
-use anyhow::{Context, anyhow, bail};
-
 use crate::manifest::LayoutEntry;
 
 /// A WebGPU texture format name (uncompressed formats).
-pub fn texture_format(name: &str) -> anyhow::Result<wgpu::TextureFormat> {
+pub(crate) fn texture_format(name: &str) -> Result<wgpu::TextureFormat, String> {
     use wgpu::TextureFormat as F;
     Ok(match name {
         "r8unorm" => F::R8Unorm,
@@ -53,12 +52,12 @@ pub fn texture_format(name: &str) -> anyhow::Result<wgpu::TextureFormat> {
         "depth24plus-stencil8" => F::Depth24PlusStencil8,
         "depth32float" => F::Depth32Float,
         "depth32float-stencil8" => F::Depth32FloatStencil8,
-        other => bail!("unknown texture format `{other}`"),
+        other => return Err(format!("unknown texture format `{other}`")),
     })
 }
 
 /// Texture usages (the schema writes them in snake case).
-pub fn texture_usages(names: &[String]) -> anyhow::Result<wgpu::TextureUsages> {
+pub(crate) fn texture_usages(names: &[String]) -> Result<wgpu::TextureUsages, String> {
     let mut u = wgpu::TextureUsages::empty();
     for n in names {
         u |= match n.as_str() {
@@ -67,22 +66,22 @@ pub fn texture_usages(names: &[String]) -> anyhow::Result<wgpu::TextureUsages> {
             "storage_binding" => wgpu::TextureUsages::STORAGE_BINDING,
             "copy_src" => wgpu::TextureUsages::COPY_SRC,
             "copy_dst" => wgpu::TextureUsages::COPY_DST,
-            other => bail!("unknown texture usage `{other}`"),
+            other => return Err(format!("unknown texture usage `{other}`")),
         };
     }
     Ok(u)
 }
 
 /// WebGPU feature names (`float32-filterable`, ...).
-pub fn features(names: &[String]) -> anyhow::Result<wgpu::Features> {
+pub(crate) fn features(names: &[String]) -> Result<wgpu::Features, String> {
     let mut f = wgpu::Features::empty();
     for n in names {
-        f |= wgpu::Features::from_str(n).map_err(|()| anyhow!("unknown device feature `{n}`"))?;
+        f |= wgpu::Features::from_str(n).map_err(|()| format!("unknown device feature `{n}`"))?;
     }
     Ok(f)
 }
 
-pub fn compare(name: &str) -> anyhow::Result<wgpu::CompareFunction> {
+pub(crate) fn compare(name: &str) -> Result<wgpu::CompareFunction, String> {
     use wgpu::CompareFunction as C;
     Ok(match name {
         "never" => C::Never,
@@ -93,36 +92,36 @@ pub fn compare(name: &str) -> anyhow::Result<wgpu::CompareFunction> {
         "not-equal" => C::NotEqual,
         "greater-equal" => C::GreaterEqual,
         "always" => C::Always,
-        other => bail!("unknown compare function `{other}`"),
+        other => return Err(format!("unknown compare function `{other}`")),
     })
 }
 
-pub fn filter(name: &str) -> anyhow::Result<wgpu::FilterMode> {
+pub(crate) fn filter(name: &str) -> Result<wgpu::FilterMode, String> {
     Ok(match name {
         "nearest" => wgpu::FilterMode::Nearest,
         "linear" => wgpu::FilterMode::Linear,
-        other => bail!("unknown filter `{other}`"),
+        other => return Err(format!("unknown filter `{other}`")),
     })
 }
 
-pub fn mipmap_filter(name: &str) -> anyhow::Result<wgpu::MipmapFilterMode> {
+pub(crate) fn mipmap_filter(name: &str) -> Result<wgpu::MipmapFilterMode, String> {
     Ok(match name {
         "nearest" => wgpu::MipmapFilterMode::Nearest,
         "linear" => wgpu::MipmapFilterMode::Linear,
-        other => bail!("unknown mipmap filter `{other}`"),
+        other => return Err(format!("unknown mipmap filter `{other}`")),
     })
 }
 
-pub fn address_mode(name: &str) -> anyhow::Result<wgpu::AddressMode> {
+pub(crate) fn address_mode(name: &str) -> Result<wgpu::AddressMode, String> {
     Ok(match name {
         "clamp-to-edge" => wgpu::AddressMode::ClampToEdge,
         "repeat" => wgpu::AddressMode::Repeat,
         "mirror-repeat" => wgpu::AddressMode::MirrorRepeat,
-        other => bail!("unknown address mode `{other}`"),
+        other => return Err(format!("unknown address mode `{other}`")),
     })
 }
 
-pub fn view_dimension(name: &str) -> anyhow::Result<wgpu::TextureViewDimension> {
+pub(crate) fn view_dimension(name: &str) -> Result<wgpu::TextureViewDimension, String> {
     use wgpu::TextureViewDimension as D;
     Ok(match name {
         "1d" => D::D1,
@@ -131,12 +130,12 @@ pub fn view_dimension(name: &str) -> anyhow::Result<wgpu::TextureViewDimension> 
         "cube" => D::Cube,
         "cube-array" => D::CubeArray,
         "3d" => D::D3,
-        other => bail!("unknown view dimension `{other}`"),
+        other => return Err(format!("unknown view dimension `{other}`")),
     })
 }
 
 /// A bind group layout entry's binding type.
-pub fn binding_type(entry: &LayoutEntry) -> anyhow::Result<wgpu::BindingType> {
+pub(crate) fn binding_type(entry: &LayoutEntry) -> Result<wgpu::BindingType, String> {
     Ok(match entry {
         LayoutEntry::Buffer {
             buffer_type,
@@ -146,7 +145,7 @@ pub fn binding_type(entry: &LayoutEntry) -> anyhow::Result<wgpu::BindingType> {
                 "uniform" => wgpu::BufferBindingType::Uniform,
                 "storage" => wgpu::BufferBindingType::Storage { read_only: false },
                 "read-only-storage" => wgpu::BufferBindingType::Storage { read_only: true },
-                other => bail!("unknown buffer binding type `{other}`"),
+                other => return Err(format!("unknown buffer binding type `{other}`")),
             },
             has_dynamic_offset: false,
             min_binding_size: NonZeroU64::new(*min_binding_size),
@@ -162,7 +161,7 @@ pub fn binding_type(entry: &LayoutEntry) -> anyhow::Result<wgpu::BindingType> {
                 "depth" => wgpu::TextureSampleType::Depth,
                 "sint" => wgpu::TextureSampleType::Sint,
                 "uint" => wgpu::TextureSampleType::Uint,
-                other => bail!("unknown texture sample type `{other}`"),
+                other => return Err(format!("unknown texture sample type `{other}`")),
             },
             view_dimension: view_dimension(dim)?,
             multisampled: *multisampled,
@@ -172,7 +171,7 @@ pub fn binding_type(entry: &LayoutEntry) -> anyhow::Result<wgpu::BindingType> {
                 "filtering" => wgpu::SamplerBindingType::Filtering,
                 "non-filtering" => wgpu::SamplerBindingType::NonFiltering,
                 "comparison" => wgpu::SamplerBindingType::Comparison,
-                other => bail!("unknown sampler binding type `{other}`"),
+                other => return Err(format!("unknown sampler binding type `{other}`")),
             })
         }
         LayoutEntry::StorageTexture {
@@ -184,9 +183,9 @@ pub fn binding_type(entry: &LayoutEntry) -> anyhow::Result<wgpu::BindingType> {
                 "read-only" => wgpu::StorageTextureAccess::ReadOnly,
                 "write-only" => wgpu::StorageTextureAccess::WriteOnly,
                 "read-write" => wgpu::StorageTextureAccess::ReadWrite,
-                other => bail!("unknown storage texture access `{other}`"),
+                other => return Err(format!("unknown storage texture access `{other}`")),
             },
-            format: texture_format(format).context("storage texture")?,
+            format: texture_format(format).map_err(|e| format!("storage texture: {e}"))?,
             view_dimension: view_dimension(dim)?,
         },
     })

@@ -1,26 +1,33 @@
-//! `manifest.json`, read with this host's own types.
+//! `manifest.json`, read with this crate's own types.
 //!
 //! These structs mirror the published schema (`docs/manifest.schema.json`, schema
-//! `reproj.manifest`, version 3) and nothing else: an engine in any language can read the same
-//! JSON the same way. Only the fields this host uses are declared; serde ignores the others (the
+//! `reproj.manifest`, versions 3 to 5) and nothing else: an engine in any language reads the same
+//! JSON the same way. Only the fields the runtime uses are declared; serde ignores the others (the
 //! node, the notes, the WGSL types of bindings...). Enumerations are kept as the strings the schema
-//! uses (WebGPU names), converted to wgpu values where they are used (`webgpu.rs`), so a value this
-//! host does not know is an error naming it rather than a parse failure.
+//! uses (WebGPU names) and converted to wgpu values when the variant is loaded (`plan.rs`), so a
+//! value this runtime does not know is an error naming its field rather than a parse failure.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{Context, bail};
 use serde::Deserialize;
 
-/// The schema name and the versions this host reads (version 4 only added which nodes the payload
-/// holds, which a host need not know; version 5 the run-time Δn schedule, `params.schedule`,
-/// which `--adaptive` follows).
+use crate::RuntimeError;
+
+/// The schema name and the versions this runtime reads (version 4 only added which nodes the
+/// payload holds, which a host need not know; version 5 the run-time Δn schedule,
+/// `params.schedule`).
 pub const SCHEMA: &str = "reproj.manifest";
 pub const VERSION: u64 = 5;
 pub const OLDEST_VERSION: u64 = 3;
 
-#[derive(Debug, Deserialize)]
+/// The color attachment name that means the application's own frame target.
+pub const FRAME: &str = "frame";
+
+/// The `steady` parameter that holds the refresh period Δn.
+pub const DELTA_N: &str = "delta_n";
+
+#[derive(Debug, Clone, Deserialize)]
 pub struct Manifest {
     /// The original shader's file name and fragment entry point.
     pub shader: String,
@@ -40,7 +47,7 @@ pub struct Manifest {
     pub passes: Vec<Pass>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct Conventions {
     /// NDC x/y and depth ranges, and texture coordinates from NDC (`u = x·a + b`, `v = y·c + d`).
     pub ndc_xy: [f64; 2],
@@ -53,14 +60,14 @@ pub struct Conventions {
 impl Conventions {
     /// WebGPU's (and so wgpu's): the passes' arithmetic is only right for an engine that uses
     /// them. An engine on another API with other conventions would have to convert.
-    fn are_webgpu(&self) -> bool {
+    pub fn are_webgpu(&self) -> bool {
         self.ndc_xy == [-1.0, 1.0]
             && self.ndc_z == [0.0, 1.0]
             && self.uv_from_ndc == [0.5, 0.5, -0.5, 0.5]
     }
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct VertexContract {
     pub invariant_position: bool,
     /// `@location` of the extra `vec4<f32>` vertex output: the previous frame's clip position.
@@ -71,12 +78,12 @@ pub struct VertexContract {
     pub wgsl: String,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct VertexInput {
     pub name: String,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct Params {
     /// Bytes of the `reproj_params` uniform buffer.
     pub size: u32,
@@ -114,7 +121,7 @@ impl Params {
     }
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct ParamField {
     pub name: String,
     pub offset: u32,
@@ -139,7 +146,7 @@ pub enum ParamValue {
     FrameIndex,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct TextureDesc {
     pub name: String,
     /// WebGPU format name.
@@ -152,7 +159,7 @@ pub struct TextureDesc {
     pub sample_count: u32,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct SamplerDesc {
     pub name: String,
     pub mag_filter: String,
@@ -161,13 +168,13 @@ pub struct SamplerDesc {
     pub address_mode: String,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct FramePlan {
     /// Frame `i` resolves roles with `ping_pong[i % len]`: role → texture name.
     pub ping_pong: Vec<BTreeMap<String, String>>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct Pass {
     pub kind: String,
     pub file: String,
@@ -177,7 +184,7 @@ pub struct Pass {
     pub depth: DepthState,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct Binding {
     pub group: u32,
     pub binding: u32,
@@ -187,7 +194,7 @@ pub struct Binding {
 }
 
 /// WebGPU's `GPUBindGroupLayoutEntry` (fragment visibility).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "type")]
 pub enum LayoutEntry {
     Buffer {
@@ -210,7 +217,7 @@ pub enum LayoutEntry {
 }
 
 /// What to bind.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Resource {
     /// The engine's own resource at this group and binding (as for the original shader).
@@ -223,7 +230,7 @@ pub enum Resource {
     Sampler { name: String },
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "op")]
 pub enum LoadOp {
     /// Clear to `value`; `null`: the engine's own clear value (its clear color for the frame).
@@ -233,7 +240,7 @@ pub enum LoadOp {
     Load,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct ColorTarget {
     pub location: u32,
     /// `frame` (the engine's frame target) or a texture role.
@@ -246,7 +253,7 @@ pub struct ColorTarget {
     pub blend: Option<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 pub struct DepthState {
     /// A texture role.
     pub attachment: String,
@@ -259,63 +266,83 @@ pub struct DepthState {
     pub stencil: Option<String>,
 }
 
-/// The color attachment name that means the engine's own frame target.
-pub const FRAME: &str = "frame";
-
 impl Manifest {
-    /// Read `dir/manifest.json`: the schema name and version first (an older or newer manifest
-    /// gets a message naming its version, not the first field that differs), then the rest.
-    pub fn load(dir: &Path) -> anyhow::Result<Manifest> {
-        let path = dir.join("manifest.json");
-        let text = std::fs::read_to_string(&path)
-            .with_context(|| format!("reading {}", path.display()))?;
-        let head: serde_json::Value = serde_json::from_str(&text)
-            .with_context(|| format!("{} is not JSON", path.display()))?;
+    /// Read `path` (a variant's `manifest.json`): the schema name and version first (an older or
+    /// newer manifest gets a message naming its version, not the first field that differs), then
+    /// the rest, typed with the failing field's path.
+    pub fn read(path: &Path) -> Result<Manifest, RuntimeError> {
+        let text = std::fs::read_to_string(path).map_err(|source| RuntimeError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Manifest::parse(path, &text)
+    }
+
+    /// [`Manifest::read`] of text already in memory (`path` names it in errors).
+    pub fn parse(path: &Path, text: &str) -> Result<Manifest, RuntimeError> {
+        let head: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| RuntimeError::Parse {
+                path: path.to_owned(),
+                field: ".".into(),
+                message: format!("not JSON: {e}"),
+            })?;
         let schema = head.get("schema").and_then(|v| v.as_str());
         if schema != Some(SCHEMA) {
-            bail!(
-                "{}: `schema` is {:?}, expected \"{SCHEMA}\": not a reproj variant manifest",
-                path.display(),
-                schema.unwrap_or("(missing)")
-            );
+            return Err(RuntimeError::Schema {
+                path: path.to_owned(),
+                found: schema.map_or_else(|| "(missing)".into(), |s| format!("{s:?}")),
+            });
         }
         let version = head.get("version").and_then(|v| v.as_u64());
         if !version.is_some_and(|v| (OLDEST_VERSION..=VERSION).contains(&v)) {
-            bail!(
-                "{}: manifest version {} is not supported: this host reads versions {OLDEST_VERSION} to {VERSION} (write the variant again with a reproj that writes version {VERSION}, or update the host)",
-                path.display(),
-                version.map_or_else(|| "(missing)".to_string(), |v| v.to_string())
-            );
+            return Err(RuntimeError::Version {
+                path: path.to_owned(),
+                found: head
+                    .get("version")
+                    .map_or_else(|| "(missing)".into(), |v| v.to_string()),
+            });
         }
-        let m: Manifest = serde_json::from_str(&text)
-            .with_context(|| format!("{}: does not match the version 3 schema", path.display()))?;
-        if m.frames.ping_pong.is_empty() {
-            bail!("{}: `frames.ping_pong` is empty", path.display());
-        }
-        if !m.conventions.are_webgpu() {
-            bail!(
-                "{}: the passes assume the conventions {:?}, not WebGPU's, which this host uses",
-                path.display(),
-                m.conventions
-            );
-        }
-        if m.passes.is_empty() {
-            bail!("{}: no passes", path.display());
-        }
-        Ok(m)
+        serde_path_to_error::deserialize(head).map_err(|e| RuntimeError::Parse {
+            path: path.to_owned(),
+            field: e.path().to_string(),
+            message: e.inner().to_string(),
+        })
     }
 
-    /// The texture playing `role` on frame `frame`: through `frames.ping_pong[frame % len]`, or a
-    /// texture named `role` directly if no frame maps that role.
-    pub fn texture_for<'a>(&'a self, role: &'a str, frame: u32) -> anyhow::Result<&'a str> {
+    /// The texture name playing `role` on frame `frame`: through `frames.ping_pong[frame % len]`,
+    /// or a texture named `role` directly if no entry maps that role.
+    pub fn texture_for<'a>(&'a self, role: &'a str, frame: usize) -> Option<&'a str> {
         let plan = &self.frames.ping_pong;
-        let map = &plan[frame as usize % plan.len()];
-        if let Some(t) = map.get(role) {
-            return Ok(t);
+        if let Some(t) = plan
+            .get(frame % plan.len().max(1))
+            .and_then(|m| m.get(role))
+        {
+            return Some(t);
         }
-        if self.textures.iter().any(|t| t.name == role) {
-            return Ok(role);
-        }
-        bail!("the manifest maps no texture to the role `{role}` (frames.ping_pong, textures)")
+        self.textures.iter().any(|t| t.name == role).then_some(role)
+    }
+
+    /// Whether the application's frame must hold what lies behind before the first pass: the
+    /// first pass that draws to `frame` loads it (written with `--frame-load load`).
+    pub fn loads_frame_first(&self) -> bool {
+        self.passes
+            .iter()
+            .flat_map(|p| &p.colors)
+            .find(|c| c.attachment == FRAME)
+            .is_some_and(|c| matches!(c.load, LoadOp::Load))
+    }
+
+    /// The `value` of the `delta_n` parameter: the refresh period the variant was emitted with.
+    pub fn delta_n(&self) -> Option<u32> {
+        self.params
+            .fields
+            .iter()
+            .find(|f| f.name == DELTA_N)
+            .and_then(|f| match f.value {
+                ParamValue::Steady { value, .. } | ParamValue::Constant { value } => {
+                    Some(value.round().max(1.0) as u32)
+                }
+                ParamValue::FrameIndex => None,
+            })
     }
 }

@@ -1,0 +1,210 @@
+//! The GPU objects of a variant: its textures, samplers and, per pass, the layouts of its own
+//! group and one pipeline per vertex stage of the application. Every call runs in a validation
+//! error scope, so wgpu's complaints come back as errors naming the pass.
+
+use std::collections::BTreeMap;
+
+use crate::RuntimeError;
+use crate::plan::{Attachment, PassPlan, Plan, SamplerPlan};
+use crate::resources::Setup;
+
+/// A texture of the manifest's `textures`, on the device.
+#[derive(Debug)]
+pub(crate) struct Texture {
+    pub view: wgpu::TextureView,
+}
+
+/// One pass, ready to record.
+#[derive(Debug)]
+pub(crate) struct PassGpu {
+    /// One per vertex stage of the setup.
+    pub pipelines: Vec<wgpu::RenderPipeline>,
+    /// The layouts of the runtime's group(s), by index.
+    pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
+    /// The runtime's bind groups (group index, group) for each entry of `frames.ping_pong`.
+    pub groups: Vec<Vec<(u32, wgpu::BindGroup)>>,
+}
+
+/// Run `f` in a validation error scope; wgpu's error comes back naming `what`.
+pub(crate) fn checked<T>(
+    device: &wgpu::Device,
+    what: &str,
+    f: impl FnOnce() -> T,
+) -> Result<T, RuntimeError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = f();
+    match pollster::block_on(scope.pop()) {
+        Some(e) => Err(RuntimeError::Gpu {
+            what: what.to_owned(),
+            message: e.to_string(),
+        }),
+        None => Ok(out),
+    }
+}
+
+/// The textures the runtime owns, the frame's size (`None` for the depth attachment).
+pub(crate) fn textures(device: &wgpu::Device, plan: &Plan, size: [u32; 2]) -> Vec<Option<Texture>> {
+    plan.textures
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            (i != plan.depth_texture).then(|| {
+                let tex = device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(&t.name),
+                    size: wgpu::Extent3d {
+                        width: size[0],
+                        height: size[1],
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: t.mip_levels,
+                    sample_count: t.sample_count,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: t.format,
+                    usage: t.usage,
+                    view_formats: &[],
+                });
+                Texture {
+                    view: tex.create_view(&Default::default()),
+                }
+            })
+        })
+        .collect()
+}
+
+pub(crate) fn sampler(device: &wgpu::Device, s: &SamplerPlan) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some(&s.name),
+        address_mode_u: s.address,
+        address_mode_v: s.address,
+        address_mode_w: s.address,
+        mag_filter: s.mag,
+        min_filter: s.min,
+        mipmap_filter: s.mipmap,
+        ..Default::default()
+    })
+}
+
+/// Pass `p`'s layouts and pipelines (one per vertex stage); its bind groups come from `bind`.
+pub(crate) fn build_pass(
+    device: &wgpu::Device,
+    plan: &Plan,
+    p: &PassPlan,
+    setup: &Setup<'_>,
+    user: &BTreeMap<u32, &wgpu::BindGroupLayout>,
+) -> Result<PassGpu, RuntimeError> {
+    for (g, name) in &p.own_groups {
+        if !user.contains_key(g) {
+            return Err(RuntimeError::usage(
+                "Setup::bind_group_layouts",
+                format!(
+                    "{} declares the application's `{name}` in group {g}, which has no layout here",
+                    p.label
+                ),
+            ));
+        }
+    }
+    let mut targets: Vec<Option<wgpu::ColorTargetState>> = Vec::new();
+    for c in &p.colors {
+        let format = match (&c.attachment, c.format) {
+            (Attachment::Frame, Some(f)) if f != setup.color_format => {
+                return Err(RuntimeError::usage(
+                    "Setup::color_format",
+                    format!(
+                        "is {:?}, {} writes the frame as {f:?}",
+                        setup.color_format, p.label
+                    ),
+                ));
+            }
+            (Attachment::Frame, _) => setup.color_format,
+            (Attachment::Texture(ts), f) => f.unwrap_or(plan.textures[ts[0]].format),
+        };
+        let at = c.location as usize;
+        if targets.len() <= at {
+            targets.resize(at + 1, None);
+        }
+        targets[at] = Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        });
+    }
+    checked(device, &p.label, || {
+        let mut layouts = BTreeMap::new();
+        let groups: std::collections::BTreeSet<u32> = p.added.iter().map(|b| b.group).collect();
+        for g in groups {
+            let entries: Vec<wgpu::BindGroupLayoutEntry> = p
+                .added
+                .iter()
+                .filter(|b| b.group == g)
+                .map(|b| wgpu::BindGroupLayoutEntry {
+                    binding: b.binding,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: b.ty,
+                    count: None,
+                })
+                .collect();
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&p.label),
+                entries: &entries,
+            });
+            layouts.insert(g, layout);
+        }
+        let top = layouts
+            .keys()
+            .chain(user.keys())
+            .copied()
+            .max()
+            .unwrap_or(0);
+        let bgls: Vec<Option<&wgpu::BindGroupLayout>> = (0..=top)
+            .map(|g| layouts.get(&g).or_else(|| user.get(&g).copied()))
+            .collect();
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&p.label),
+            bind_group_layouts: &bgls,
+            immediate_size: 0,
+        });
+        let fs = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&p.label),
+            source: wgpu::ShaderSource::Wgsl(p.source.as_str().into()),
+        });
+        let depth = wgpu::DepthStencilState {
+            format: p.depth.format,
+            depth_write_enabled: Some(p.depth.write),
+            depth_compare: Some(p.depth.compare),
+            stencil: Default::default(),
+            bias: Default::default(),
+        };
+        let pipelines = setup
+            .vertex
+            .iter()
+            .map(|v| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(&p.label),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: v.module,
+                        entry_point: Some(v.entry_point),
+                        compilation_options: Default::default(),
+                        buffers: v.buffers,
+                    },
+                    primitive: v.primitive,
+                    depth_stencil: Some(depth.clone()),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &fs,
+                        entry_point: Some(&p.entry),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })
+            .collect();
+        PassGpu {
+            pipelines,
+            layouts,
+            groups: Vec::new(),
+        }
+    })
+}

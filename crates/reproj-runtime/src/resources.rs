@@ -1,0 +1,441 @@
+//! [`VariantResources`]: a variant on a device — its textures, samplers, params buffer, bind groups
+//! and pipelines — and [`VariantResources::record`], a frame recorded into the application's
+//! command encoder.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use crate::RuntimeError;
+use crate::build::{PassGpu, Texture, build_pass, checked, sampler, textures};
+use crate::plan::{Added, Attachment, ColorLoad, PassPlan, Plan};
+
+/// How the application builds the variant: its frame, its vertex stages and its bind group layouts.
+#[derive(Debug, Clone, Copy)]
+pub struct Setup<'a> {
+    /// The frame's width and height in pixels (the textures' size; [`VariantResources::resize`]
+    /// changes it).
+    pub size: [u32; 2],
+    /// The format of the application's color target: what the manifest's `frame` is.
+    pub color_format: wgpu::TextureFormat,
+    /// The application's vertex stages (one per pipeline state it draws with, such as its culling
+    /// modes). Each pass gets one pipeline per stage, in this order: the draw callback of
+    /// [`VariantResources::record`] receives them as a slice.
+    pub vertex: &'a [VertexStage<'a>],
+    /// The layouts of the application's bind groups, by group index: every group of
+    /// [`crate::Variant::own_groups`] (the original shader's resources, as the application bound
+    /// them for it) and the groups its vertex stage reads. The variant's own group
+    /// ([`crate::Variant::group`]) may not be among them.
+    pub bind_group_layouts: &'a [(u32, &'a wgpu::BindGroupLayout)],
+}
+
+/// One vertex stage of the application: its module (which writes the manifest's vertex contract,
+/// [`crate::Variant::vertex`]), entry point, vertex buffers and primitive state.
+#[derive(Debug, Clone)]
+pub struct VertexStage<'a> {
+    pub module: &'a wgpu::ShaderModule,
+    pub entry_point: &'a str,
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    pub primitive: wgpu::PrimitiveState,
+}
+
+/// The application's targets for one frame.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameTargets<'a> {
+    /// The color target (the manifest's `frame`): of [`Setup::color_format`] and the frame's size.
+    pub color: &'a wgpu::TextureView,
+    /// The depth target: of the manifest's depth format (`depth32float` in what reproj writes)
+    /// and the frame's size, with `RENDER_ATTACHMENT` usage. The first pass clears it and the
+    /// passes leave the scene's depth in it.
+    pub depth: &'a wgpu::TextureView,
+    /// The application's clear color: what a pass whose frame load is `clear` with `null` clears to.
+    pub clear_color: wgpu::Color,
+}
+
+/// What changes from frame to frame.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrameInputs<'a> {
+    /// The refresh period Δn this frame (1 or more): the `delta_n` parameter's value, from
+    /// [`crate::Variant::scheduled_delta_n`] say. `None`: the manifest's.
+    pub delta_n: Option<u32>,
+    /// Start over (a camera cut, a teleport): this frame is frame 0 again, every pixel is
+    /// recomputed and nothing of the previous frames is read.
+    pub restart: bool,
+    /// The application's frame-wide bind groups, by group index, set before the draw callback
+    /// runs (the original shader's resources). Per-object groups are set in the callback.
+    pub bind_groups: &'a [(u32, &'a wgpu::BindGroup)],
+    /// Timestamp queries (at least 2 × [`crate::Variant::pass_count`] of them): pass `i` writes
+    /// `2i` at its beginning and `2i + 1` at its end.
+    pub timestamps: Option<&'a wgpu::QuerySet>,
+}
+
+/// A variant on a device, for one frame size: textures (payload and depth-copy ping-pong),
+/// samplers, the params buffer, bind groups, pipelines, and the frame clock.
+#[derive(Debug)]
+pub struct VariantResources {
+    plan: Arc<Plan>,
+    size: [u32; 2],
+    color_format: wgpu::TextureFormat,
+    /// Indexed as the plan's textures; `None` for the depth attachment (the application's).
+    textures: Vec<Option<Texture>>,
+    samplers: Vec<wgpu::Sampler>,
+    params: wgpu::Buffer,
+    passes: Vec<PassGpu>,
+    /// The index of the next frame (0: nothing to reuse).
+    frame: u32,
+    /// The textures are new: clear them before the next frame reads them.
+    fresh: bool,
+}
+
+impl VariantResources {
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        plan: Arc<Plan>,
+        setup: &Setup<'_>,
+    ) -> Result<VariantResources, RuntimeError> {
+        let missing = plan.required_features - device.features();
+        if !missing.is_empty() {
+            let names: Vec<&str> = missing.iter().filter_map(|f| f.as_str()).collect();
+            return Err(RuntimeError::MissingFeatures {
+                missing: names.join(", "),
+            });
+        }
+        check_size(setup.size)?;
+        if setup.vertex.is_empty() {
+            return Err(RuntimeError::usage("Setup::vertex", "no vertex stage"));
+        }
+        let user: BTreeMap<u32, &wgpu::BindGroupLayout> =
+            setup.bind_group_layouts.iter().copied().collect();
+        if user.len() != setup.bind_group_layouts.len() {
+            return Err(RuntimeError::usage(
+                "Setup::bind_group_layouts",
+                "gives a group twice",
+            ));
+        }
+        if user.contains_key(&plan.group) {
+            return Err(RuntimeError::usage(
+                "Setup::bind_group_layouts",
+                format!(
+                    "group {} is the variant's own group (the manifest's `group`)",
+                    plan.group
+                ),
+            ));
+        }
+        let (textures, samplers, params) =
+            checked(device, "the variant's textures and buffers", || {
+                let samplers = plan.samplers.iter().map(|s| sampler(device, s)).collect();
+                let params = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("reproj_params"),
+                    size: plan.params_size as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                (textures(device, &plan, setup.size), samplers, params)
+            })?;
+        let mut passes = Vec::new();
+        for p in &plan.passes {
+            passes.push(build_pass(device, &plan, p, setup, &user)?);
+        }
+        let mut r = VariantResources {
+            plan,
+            size: setup.size,
+            color_format: setup.color_format,
+            textures,
+            samplers,
+            params,
+            passes,
+            frame: 0,
+            fresh: true,
+        };
+        r.bind(device)?;
+        Ok(r)
+    }
+
+    /// The frame size the textures have.
+    pub fn size(&self) -> [u32; 2] {
+        self.size
+    }
+
+    /// The index of the next frame [`VariantResources::record`] records: 0 after creating or
+    /// resizing, counted from the last [`FrameInputs::restart`].
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// Reallocate the textures for a new frame size. The frame clock starts over: the next frame
+    /// recomputes every pixel.
+    pub fn resize(&mut self, device: &wgpu::Device, size: [u32; 2]) -> Result<(), RuntimeError> {
+        check_size(size)?;
+        self.textures = checked(device, "the variant's textures", || {
+            textures(device, &self.plan, size)
+        })?;
+        self.size = size;
+        self.frame = 0;
+        self.fresh = true;
+        self.bind(device)
+    }
+
+    /// (Re)build the runtime's bind groups for every pass and ping-pong entry.
+    fn bind(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
+        let mut all = Vec::new();
+        for (p, gp) in self.plan.passes.iter().zip(&self.passes) {
+            let layouts = &gp.layouts;
+            all.push(checked(device, &p.label, || {
+                (0..self.plan.ping_pong)
+                    .map(|k| {
+                        layouts
+                            .iter()
+                            .map(|(g, layout)| {
+                                let entries = self.entries(p, *g, k);
+                                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                                    label: Some(&p.label),
+                                    layout,
+                                    entries: &entries,
+                                });
+                                (*g, group)
+                            })
+                            .collect()
+                    })
+                    .collect()
+            })?);
+        }
+        for (gp, groups) in self.passes.iter_mut().zip(all) {
+            gp.groups = groups;
+        }
+        Ok(())
+    }
+
+    /// The entries of pass `p`'s bind group `g` on ping-pong entry `k`.
+    fn entries(&self, p: &PassPlan, g: u32, k: usize) -> Vec<wgpu::BindGroupEntry<'_>> {
+        p.added
+            .iter()
+            .filter(|b| b.group == g)
+            .map(|b| wgpu::BindGroupEntry {
+                binding: b.binding,
+                resource: match &b.resource {
+                    Added::Params => self.params.as_entire_binding(),
+                    Added::Texture(ts) => wgpu::BindingResource::TextureView(
+                        // `Plan::new` refuses a manifest whose passes sample the depth
+                        // attachment, the one texture the runtime does not own.
+                        &self.textures[ts[k]]
+                            .as_ref()
+                            .expect("only the depth attachment is not the runtime's")
+                            .view,
+                    ),
+                    Added::Sampler(s) => wgpu::BindingResource::Sampler(&self.samplers[*s]),
+                },
+            })
+            .collect()
+    }
+
+    /// Record one frame into `encoder`: write its `reproj_params` (through `queue`, so submit the
+    /// encoder before recording the next frame), then each pass in order with its attachments and
+    /// load/store operations, the application's `bind_groups` and the runtime's, calling `draw`
+    /// to draw the application's geometry with the pass's pipelines (one per [`Setup::vertex`]
+    /// stage, in that order). Advances the frame clock and so the ping-pong.
+    pub fn record<F>(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &FrameTargets<'_>,
+        inputs: &FrameInputs<'_>,
+        mut draw: F,
+    ) -> Result<(), RuntimeError>
+    where
+        F: FnMut(&mut wgpu::RenderPass<'_>, &[wgpu::RenderPipeline]),
+    {
+        self.check_targets(targets)?;
+        for (g, _) in inputs.bind_groups {
+            if *g == self.plan.group {
+                return Err(RuntimeError::usage(
+                    "FrameInputs::bind_groups",
+                    format!("group {g} is the variant's own group"),
+                ));
+            }
+        }
+        if inputs.delta_n.is_some() && !self.plan.has_delta_n() {
+            return Err(RuntimeError::usage(
+                "FrameInputs::delta_n",
+                "the manifest's params have no `delta_n` field",
+            ));
+        }
+        if inputs.restart {
+            self.frame = 0;
+        }
+        if self.fresh {
+            self.clear_textures(encoder);
+            self.fresh = false;
+        }
+        let frame = self.frame;
+        queue.write_buffer(
+            &self.params,
+            0,
+            &self.plan.params_bytes(frame, inputs.delta_n),
+        );
+        let k = frame as usize % self.plan.ping_pong;
+        for (i, (p, gp)) in self.plan.passes.iter().zip(&self.passes).enumerate() {
+            let colors = self.color_attachments(p, k, targets);
+            let d = &p.depth;
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(&p.label),
+                color_attachments: &colors,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: targets.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: d.clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                        store: store(d.store),
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: inputs.timestamps.map(|query_set| {
+                    wgpu::RenderPassTimestampWrites {
+                        query_set,
+                        beginning_of_pass_write_index: Some(2 * i as u32),
+                        end_of_pass_write_index: Some(2 * i as u32 + 1),
+                    }
+                }),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            for (g, bg) in inputs.bind_groups {
+                pass.set_bind_group(*g, *bg, &[]);
+            }
+            for (g, bg) in &gp.groups[k] {
+                pass.set_bind_group(*g, bg, &[]);
+            }
+            draw(&mut pass, &gp.pipelines);
+        }
+        // Past u32::MAX the clock goes on at the same ping-pong entry without meaning frame 0.
+        let next = u64::from(frame) + 1;
+        let len = self.plan.ping_pong as u64;
+        self.frame = u32::try_from(next).unwrap_or((next % len + len) as u32);
+        Ok(())
+    }
+
+    /// The color attachments of pass `p` on ping-pong entry `k`, by location.
+    fn color_attachments<'a>(
+        &'a self,
+        p: &PassPlan,
+        k: usize,
+        targets: &FrameTargets<'a>,
+    ) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
+        let mut colors: Vec<Option<wgpu::RenderPassColorAttachment<'a>>> = Vec::new();
+        for c in &p.colors {
+            let view = match &c.attachment {
+                Attachment::Frame => targets.color,
+                Attachment::Texture(ts) => match &self.textures[ts[k]] {
+                    Some(t) => &t.view,
+                    None => targets.depth,
+                },
+            };
+            let load = match c.load {
+                ColorLoad::Load => wgpu::LoadOp::Load,
+                ColorLoad::Clear(value) => {
+                    wgpu::LoadOp::Clear(value.unwrap_or(targets.clear_color))
+                }
+            };
+            let at = c.location as usize;
+            if colors.len() <= at {
+                colors.resize(at + 1, None);
+            }
+            colors[at] = Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load,
+                    store: store(c.store),
+                },
+            });
+        }
+        colors
+    }
+
+    /// The targets are of the formats and size the variant was built for.
+    fn check_targets(&self, targets: &FrameTargets<'_>) -> Result<(), RuntimeError> {
+        let depth_format = self.plan.textures[self.plan.depth_texture].format;
+        for (what, view, format) in [
+            ("FrameTargets::color", targets.color, self.color_format),
+            ("FrameTargets::depth", targets.depth, depth_format),
+        ] {
+            let t = view.texture();
+            if t.format() != format {
+                return Err(RuntimeError::usage(
+                    what,
+                    format!("is {:?}, the variant was built for {format:?}", t.format()),
+                ));
+            }
+            let s = t.size();
+            if [s.width, s.height] != self.size {
+                return Err(RuntimeError::usage(
+                    what,
+                    format!(
+                        "is {}×{}, the variant's textures are {}×{} (resize them)",
+                        s.width, s.height, self.size[0], self.size[1]
+                    ),
+                ));
+            }
+            if !t.usage().contains(wgpu::TextureUsages::RENDER_ATTACHMENT) {
+                return Err(RuntimeError::usage(what, "has no RENDER_ATTACHMENT usage"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Clear every render-attachment texture the runtime owns, before the first frame reads
+    /// them: depth formats to the manifest's `conventions.depth_clear`, color formats to 0.
+    /// (Frame 0 reads nothing anyway: its `steady` params make every pixel fresh.)
+    fn clear_textures(&self, encoder: &mut wgpu::CommandEncoder) {
+        for (t, tex) in self.plan.textures.iter().zip(&self.textures) {
+            let Some(tex) = tex else { continue };
+            if !t.usage.contains(wgpu::TextureUsages::RENDER_ATTACHMENT) {
+                continue;
+            }
+            if t.format.is_depth_stencil_format() {
+                encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("reproj clear"),
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &tex.view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(self.plan.depth_clear),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    ..Default::default()
+                });
+            } else {
+                encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("reproj clear"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &tex.view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    ..Default::default()
+                });
+            }
+        }
+    }
+}
+
+fn store(s: bool) -> wgpu::StoreOp {
+    if s {
+        wgpu::StoreOp::Store
+    } else {
+        wgpu::StoreOp::Discard
+    }
+}
+
+fn check_size(size: [u32; 2]) -> Result<(), RuntimeError> {
+    if size.contains(&0) {
+        return Err(RuntimeError::usage(
+            "size",
+            format!("{}×{} has no pixel", size[0], size[1]),
+        ));
+    }
+    Ok(())
+}

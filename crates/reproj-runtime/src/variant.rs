@@ -1,0 +1,130 @@
+//! [`Variant`]: a variant directory, loaded and checked; what the application needs to know before
+//! it builds its device, vertex stage and bind groups.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::manifest::{Manifest, VertexContract};
+use crate::plan::{self, Plan};
+use crate::{RuntimeError, Setup, VariantResources};
+
+/// A variant written by `reproj emit` or `reproj instance`: its manifest and pass sources, checked.
+/// Nothing here touches a GPU; [`Variant::create`] builds it on a device.
+#[derive(Debug, Clone)]
+pub struct Variant {
+    dir: PathBuf,
+    manifest: Manifest,
+    pub(crate) plan: Arc<Plan>,
+}
+
+impl Variant {
+    /// Read `dir/manifest.json` (schema `reproj.manifest`, versions 3 to 5) and the pass files it
+    /// names, and check every field the runtime uses: an error names the file and the field.
+    pub fn load(dir: impl AsRef<Path>) -> Result<Variant, RuntimeError> {
+        let dir = dir.as_ref();
+        let manifest = Manifest::read(&plan::manifest_path(dir))?;
+        let plan = Plan::new(dir, &manifest)?;
+        Ok(Variant {
+            dir: dir.to_owned(),
+            manifest,
+            plan: Arc::new(plan),
+        })
+    }
+
+    /// The directory it was loaded from.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The manifest, as read.
+    pub fn manifest(&self) -> &Manifest {
+        &self.manifest
+    }
+
+    /// The device features the passes need (`required_features`): request them when opening
+    /// the device; [`Variant::create`] fails naming the missing ones.
+    pub fn required_features(&self) -> wgpu::Features {
+        self.plan.required_features
+    }
+
+    /// What the application's vertex stage must add for the passes: an `@invariant` clip
+    /// position and, at `prev_clip_location`, the previous frame's clip position computed by the
+    /// `wgsl` helper with `inputs` (`docs/USAGE.md`, "Your vertex stage").
+    pub fn vertex(&self) -> &VertexContract {
+        &self.manifest.vertex
+    }
+
+    /// The bind group the runtime owns (`group`): the application binds nothing there.
+    pub fn group(&self) -> u32 {
+        self.plan.group
+    }
+
+    /// The groups of the application's own resources (the original shader's) that some pass
+    /// declares: [`Setup::bind_group_layouts`] must give a layout for each.
+    pub fn own_groups(&self) -> BTreeSet<u32> {
+        self.plan
+            .passes
+            .iter()
+            .flat_map(|p| p.own_groups.keys().copied())
+            .collect()
+    }
+
+    /// Every group a pass declares (the application's own and the runtime's): the application's
+    /// per-object groups (its vertex transforms) go in another.
+    pub fn reserved_groups(&self) -> BTreeSet<u32> {
+        let mut g = self.own_groups();
+        g.insert(self.plan.group);
+        g
+    }
+
+    /// Number of render passes a frame records (1 to 3).
+    pub fn pass_count(&self) -> usize {
+        self.plan.passes.len()
+    }
+
+    /// Whether the frame must hold what lies behind the variant before [`VariantResources::record`]:
+    /// the manifest was written with `--frame-load load`, and its first pass that draws the frame
+    /// loads it instead of clearing it to [`crate::FrameTargets::clear_color`].
+    pub fn loads_frame_first(&self) -> bool {
+        self.manifest.loads_frame_first()
+    }
+
+    /// The refresh period Δn the variant was emitted with (the `delta_n` parameter's value).
+    pub fn delta_n(&self) -> Option<u32> {
+        self.manifest.delta_n()
+    }
+
+    /// The Δn of the manifest's run-time schedule (`params.schedule`, written by `reproj emit`
+    /// from a profile that records motion) at a frame's on-screen motion in pixels per frame;
+    /// `None` without a schedule. Pass it as [`crate::FrameInputs::delta_n`].
+    pub fn scheduled_delta_n(&self, pixels_per_frame: f64) -> Option<u32> {
+        self.manifest.params.scheduled_delta_n(pixels_per_frame)
+    }
+
+    /// Bytes per frame pixel of the textures [`Variant::create`] allocates (payload and depth-copy
+    /// ping-pong; the depth attachment is the application's): in the manifests reproj writes
+    /// today, two payloads of 2 to 16 bytes and two 4-byte depth copies, 12 to 40 bytes.
+    pub fn bytes_per_pixel(&self) -> u64 {
+        self.plan
+            .textures
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != self.plan.depth_texture)
+            .map(|(_, t)| {
+                u64::from(t.format.block_copy_size(None).unwrap_or(0)) * u64::from(t.sample_count)
+            })
+            .sum()
+    }
+
+    /// Build the variant on `device` for the application's frame: textures, samplers, the params
+    /// buffer, bind groups and one pipeline per pass and vertex stage. wgpu's validation errors
+    /// come back as [`RuntimeError::Gpu`] naming the pass.
+    pub fn create(
+        &self,
+        device: &wgpu::Device,
+        setup: &Setup<'_>,
+    ) -> Result<VariantResources, RuntimeError> {
+        VariantResources::new(device, Arc::clone(&self.plan), setup)
+    }
+}

@@ -1,0 +1,158 @@
+//! `Variant::load` without a GPU: a variant `reproj instance` writes loads, and each broken
+//! manifest is an error naming the file and the field, never a panic.
+
+mod common;
+
+use std::path::Path;
+
+use reproj_runtime::{RuntimeError, Variant};
+use serde_json::{Value, json};
+
+use common::instance_marble;
+
+/// A copy of `dir` in `to` whose manifest is `edit`ed.
+fn edited(dir: &Path, to: &Path, edit: impl FnOnce(&mut Value)) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+    let mut m: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
+    edit(&mut m);
+    std::fs::write(to.join("manifest.json"), serde_json::to_string(&m).unwrap()).unwrap();
+}
+
+#[test]
+fn an_emitted_variant_loads_with_its_contract() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("v");
+    instance_marble(&dir, &["--strategy", "3pass", "--group", "2"]);
+    let v = Variant::load(&dir).unwrap();
+    assert_eq!(v.pass_count(), 3);
+    assert_eq!(v.group(), 2);
+    // marble's `scene` uniform is the application's, in group 0.
+    assert_eq!(v.own_groups().into_iter().collect::<Vec<_>>(), [0]);
+    assert_eq!(v.reserved_groups().into_iter().collect::<Vec<_>>(), [0, 2]);
+    assert_eq!(v.delta_n(), Some(8));
+    assert!(!v.loads_frame_first());
+    assert!(
+        v.scheduled_delta_n(1.0).is_none(),
+        "instance writes no schedule"
+    );
+    // Two payloads and two r32float depth copies, between 2 × 2 + 8 and 2 × 16 + 8 bytes.
+    let bpp = v.bytes_per_pixel();
+    assert!((12..=40).contains(&bpp), "{bpp} bytes per pixel");
+    let payload = v
+        .manifest()
+        .textures
+        .iter()
+        .find(|t| t.name == "payload_0")
+        .unwrap();
+    let texel = match payload.format.as_str() {
+        "r16float" => 2,
+        "rg16float" | "r32float" => 4,
+        "rgba16float" | "rg32float" => 8,
+        "rgba32float" => 16,
+        other => panic!("payload format {other}"),
+    };
+    assert_eq!(bpp, 2 * texel + 8);
+}
+
+#[test]
+fn a_broken_manifest_names_the_file_and_the_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("v");
+    instance_marble(&dir, &["--strategy", "3pass"]);
+    type Edit = fn(&mut Value);
+    let cases: [(&str, Edit, &str); 10] = [
+        (
+            "schema",
+            |m| m["schema"] = json!("reproj.session"),
+            "`schema` is \"reproj.session\"",
+        ),
+        (
+            "version",
+            |m| m["version"] = json!(99),
+            "manifest version 99 is not supported",
+        ),
+        (
+            "format",
+            |m| m["textures"][0]["format"] = json!("rgb9000"),
+            "`textures[0].format`: unknown texture format `rgb9000`",
+        ),
+        ("type", |m| m["passes"] = json!(5), "`passes`"),
+        (
+            "missing",
+            |m| {
+                m["passes"][0]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("entry")
+                    .map(drop)
+                    .unwrap()
+            },
+            "`passes[0]`",
+        ),
+        (
+            "role",
+            |m| m["passes"][1]["depth"]["attachment"] = json!("nobody"),
+            "`passes[1].depth.attachment`: no texture plays the role `nobody`",
+        ),
+        (
+            "offset",
+            |m| m["params"]["fields"][0]["offset"] = json!(64),
+            "`params.fields[0].offset`",
+        ),
+        (
+            "blend",
+            |m| m["passes"][2]["colors"][0]["blend"] = json!("add"),
+            "`passes[2].colors[0].blend`",
+        ),
+        (
+            "file",
+            |m| m["passes"][0]["file"] = json!("../elsewhere.wgsl"),
+            "`passes[0].file`",
+        ),
+        (
+            "own",
+            |m| m["passes"][1]["bindings"][0]["resource"] = json!({"kind": "params"}),
+            "`passes[1].bindings[0].resource`",
+        ),
+    ];
+    for (name, edit, expected) in cases {
+        let to = tmp.path().join(name);
+        edited(&dir, &to, edit);
+        let e = Variant::load(&to).expect_err(name);
+        let text = e.to_string();
+        let file = to.join("manifest.json");
+        assert!(
+            text.starts_with(&file.display().to_string()),
+            "{name}: `{text}` does not name {}",
+            file.display()
+        );
+        assert!(
+            text.contains(expected),
+            "{name}: `{text}` lacks `{expected}`"
+        );
+    }
+
+    // A pass file that is not there: the error names it.
+    let to = tmp.path().join("no-pass");
+    edited(&dir, &to, |_| {});
+    let file = Variant::load(&to).unwrap().manifest().passes[1]
+        .file
+        .clone();
+    std::fs::remove_file(to.join(&file)).unwrap();
+    match Variant::load(&to) {
+        Err(RuntimeError::Read { path, .. }) => assert_eq!(path, to.join(&file)),
+        other => panic!("a missing pass file: {other:?}"),
+    }
+    // Not JSON at all.
+    std::fs::write(to.join("manifest.json"), "{ not json").unwrap();
+    let text = Variant::load(&to).unwrap_err().to_string();
+    assert!(
+        text.contains("manifest.json") && text.contains("not JSON"),
+        "{text}"
+    );
+}
