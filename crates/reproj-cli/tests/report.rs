@@ -38,8 +38,6 @@ fn marble_profile(dir: &Path) -> PathBuf {
             "--max-nodes",
             "3",
             "--no-charts",
-            // The page selects single nodes only (`select`); emit would also weigh sets.
-            "--no-sets",
         ],
     );
     assert_eq!(code, 0, "{err}");
@@ -203,8 +201,11 @@ fn the_report_page_follows_the_selector_in_a_browser() {
         let dn = text_of(&dom, "sel-dn");
         match emit_at(dir, b) {
             Some((n, d)) => {
+                // emit names a set by its members (`680+697`), the page `set 680+697`.
                 let want = if n == "root" {
                     " (root)".to_string()
+                } else if n.contains('+') {
+                    format!("set {n}")
                 } else {
                     format!("node {n}")
                 };

@@ -122,6 +122,46 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
     assert_eq!(cmp["reproj"]["node"], node, "{cmp:#}");
     assert!(cmp["reproj"]["text"].as_str().unwrap().contains(" + "));
 
+    // `report` chooses as `emit` does: at the same budget its page shows the same set, rendered
+    // (its frames) and timed.
+    let page = tmp.path().join("page.html");
+    let (code, stdout, err) = run(
+        &root(),
+        &[
+            "report",
+            profile_path.to_str().unwrap(),
+            "--out",
+            page.to_str().unwrap(),
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let html = std::fs::read_to_string(&page).unwrap();
+    let start = html
+        .find("<script type=\"application/json\"")
+        .expect("the page's data");
+    let open = start + html[start..].find('>').unwrap() + 1;
+    let close = open + html[open..].find("</script>").unwrap();
+    let data: serde_json::Value = serde_json::from_str(&html[open..close]).unwrap();
+    let label = format!("set {node}");
+    let entry = data["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .rfind(|e| e["budget"].as_f64().unwrap() <= 0.01)
+        .expect("an entry at or below 0.01");
+    let shown = &data["choices"][entry["choice"].as_u64().expect("a choice") as usize];
+    assert_eq!(shown["label"], label.as_str(), "{shown:#}");
+    assert_eq!(shown["delta_n"], report["delta_n"], "{shown:#}");
+    assert!(
+        !shown["measured"].is_null(),
+        "the set is rendered: {shown:#}"
+    );
+    assert!(
+        html.contains(&format!("data-label=\"{label} (")),
+        "its frames"
+    );
+
     // `--no-sets`: no search, nothing recorded.
     let (profile, log) = analyze(&tmp.path().join("p.profile.json"), &["--no-sets"]);
     assert_eq!(profile["version"], 9);

@@ -1,13 +1,13 @@
-//! The selector's choice for every budget of the slider, precomputed: `select` (as `reproj emit`
-//! runs it) at log-spaced budgets over the profile's error range and at every candidate's
-//! predicted error. The choice only changes where the budget crosses a candidate's predicted error,
-//! so "the entry with the largest budget ≤ b" is exactly `select` at b for any b in the range.
+//! The selector's choice for every budget of the slider, precomputed: `select_with_sets` (as `reproj
+//! emit` runs it, on the records `emit` builds: nodes and measured sets) at log-spaced budgets over
+//! the profile's error range and at every candidate's predicted error. The choice only changes
+//! where the budget crosses a candidate's predicted error, so "the entry with the largest budget ≤
+//! b" is exactly the selector at b for any b in the range.
 
 use reproj_models::Profile;
-use reproj_models::profile::NodeStatus;
 use reproj_select::{
     Choice, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection,
-    candidates, select,
+    SetRecord, candidates, select_with_sets,
 };
 use serde::Serialize;
 
@@ -31,43 +31,73 @@ pub struct Budgets {
     pub range: [f64; 2],
     /// By increasing budget.
     pub entries: Vec<BudgetEntry>,
-    /// The distinct (node, strategy, Δn) choices, in order of first appearance (lowest budget).
+    /// The distinct (node or set, strategy, Δn) choices, in order of first appearance (lowest
+    /// budget).
     pub choices: Vec<Choice>,
     /// The lowest budget that selects each choice.
     pub first_budget: Vec<f64>,
 }
 
-/// The selector's view of the usable nodes, exactly as `reproj emit` builds it.
-pub fn records(profile: &Profile) -> Vec<NodeRecord> {
-    profile
-        .nodes
-        .iter()
-        .filter(|n| n.status == NodeStatus::Ok)
-        .filter_map(|n| NodeRecord::from_profile(profile, n, reproj_models::Metric::L2))
-        .collect()
+/// The selector's records: the profile's usable nodes and sets, as `reproj emit` builds them
+/// (`reproj_analyze::emit::selector_records`).
+#[derive(Debug, Clone)]
+pub struct Records {
+    pub nodes: Vec<NodeRecord>,
+    pub sets: Vec<SetRecord>,
+}
+
+impl Records {
+    /// Every (node or set, Δn) the selector weighs, as points (a set as its first member).
+    fn candidates(&self, profile: &Profile) -> Vec<reproj_select::Prediction> {
+        let sets: Vec<NodeRecord> = self.sets.iter().map(SetRecord::as_node).collect();
+        [&self.nodes[..], &sets[..]]
+            .into_iter()
+            .flat_map(|r| {
+                candidates(
+                    r,
+                    &profile.hit_rate,
+                    DEFAULT_MIN_DELTA_N,
+                    DEFAULT_MAX_DELTA_N,
+                )
+            })
+            .collect()
+    }
 }
 
 /// The selection at `budget` (emit's defaults: Δn in 2..=50).
-pub fn select_at(profile: &Profile, records: &[NodeRecord], budget: f64) -> Selection {
-    select(
-        records,
+pub fn select_at(profile: &Profile, records: &Records, budget: f64) -> Selection {
+    select_with_sets(
+        &records.nodes,
+        &records.sets,
         &profile.hit_rate,
         profile.original.frame_ms,
         &SelectOptions::new(budget),
     )
 }
 
+/// The same choice: the same node or set, strategy and Δn.
+pub fn same_choice(a: &Choice, b: &Choice) -> bool {
+    (a.node_id, &a.members, &a.strategy, a.delta_n)
+        == (b.node_id, &b.members, &b.strategy, b.delta_n)
+}
+
+/// What the page calls a choice: `node 680`, `set 680+697`.
+pub fn label(c: &Choice) -> String {
+    if c.members.is_empty() {
+        format!("node {}", c.node_id)
+    } else {
+        let ids: Vec<String> = c.members.iter().map(u32::to_string).collect();
+        format!("set {}", ids.join("+"))
+    }
+}
+
 /// The slider's range: from half the lowest positive predicted (or measured) error to twice the
 /// highest; `[1e-4, 0.1]` when the profile has none.
-pub fn range(profile: &Profile, records: &[NodeRecord]) -> [f64; 2] {
-    let predicted = candidates(
-        records,
-        &profile.hit_rate,
-        DEFAULT_MIN_DELTA_N,
-        DEFAULT_MAX_DELTA_N,
-    )
-    .into_iter()
-    .map(|p| p.predicted_error);
+pub fn range(profile: &Profile, records: &Records) -> [f64; 2] {
+    let predicted = records
+        .candidates(profile)
+        .into_iter()
+        .map(|p| p.predicted_error);
     let measured = profile
         .nodes
         .iter()
@@ -85,22 +115,17 @@ pub fn range(profile: &Profile, records: &[NodeRecord]) -> [f64; 2] {
 
 /// The choices at [`GRID`] log-spaced budgets over [`range`] and at every candidate's predicted
 /// error inside it.
-pub fn budgets(profile: &Profile) -> Budgets {
-    let records = records(profile);
-    let [lo, hi] = range(profile, &records);
+pub fn budgets(profile: &Profile, records: &Records) -> Budgets {
+    let [lo, hi] = range(profile, records);
     let mut at: Vec<f64> = (0..GRID)
         .map(|i| lo * (hi / lo).powf(i as f64 / (GRID - 1) as f64))
         .collect();
     at.extend(
-        candidates(
-            &records,
-            &profile.hit_rate,
-            DEFAULT_MIN_DELTA_N,
-            DEFAULT_MAX_DELTA_N,
-        )
-        .into_iter()
-        .map(|p| p.predicted_error)
-        .filter(|e| (lo..=hi).contains(e)),
+        records
+            .candidates(profile)
+            .into_iter()
+            .map(|p| p.predicted_error)
+            .filter(|e| (lo..=hi).contains(e)),
     );
     at.sort_by(f64::total_cmp);
     at.dedup();
@@ -108,16 +133,16 @@ pub fn budgets(profile: &Profile) -> Budgets {
     let mut first_budget = Vec::new();
     let entries = at
         .into_iter()
-        .map(|budget| match select_at(profile, &records, budget) {
+        .map(|budget| match select_at(profile, records, budget) {
             Selection::Node(c) => {
-                let same = |k: &Choice| {
-                    (k.node_id, &k.strategy, k.delta_n) == (c.node_id, &c.strategy, c.delta_n)
-                };
-                let i = choices.iter().position(same).unwrap_or_else(|| {
-                    choices.push(c.clone());
-                    first_budget.push(budget);
-                    choices.len() - 1
-                });
+                let i = choices
+                    .iter()
+                    .position(|k| same_choice(k, &c))
+                    .unwrap_or_else(|| {
+                        choices.push(c.clone());
+                        first_budget.push(budget);
+                        choices.len() - 1
+                    });
                 BudgetEntry {
                     budget,
                     choice: Some(i),

@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use reproj_front::{NormalizeOptions, Shader, enumerate, normalize};
-use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
+use reproj_front::Shader;
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance, instance_nodes};
 use reproj_models::Profile;
 use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput, output};
 use reproj_select::Choice;
@@ -66,58 +66,76 @@ pub fn reference(
     )?)
 }
 
-/// Render `choice` (its node in the strategy the profile measured, at its Δn) and pick its frames.
+/// Render `choice` (its node or set in the strategy the profile measured, at its Δn) and pick
+/// its frames. `loaded` is the profile's shader as `load_profiled` gave it (its node table).
 pub fn render_choice(
     renderer: &Renderer,
     shader: &Shader,
+    loaded: &reproj_front::Loaded,
     profile: &Profile,
     session: &Session,
     reference: &reproj_replay::Reference,
     choice: &Choice,
 ) -> Result<Rendered, ReportError> {
-    let node = profile
-        .nodes
-        .iter()
-        .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
-        .expect("the choice comes from the profile's nodes");
-    let strategy: Strategy = node.strategy.parse().map_err(|e: String| {
-        reproj_analyze::AnalyzeError::Options(format!("node {}: {e}", node.id))
-    })?;
-    let norm = normalize(
-        shader,
-        &NormalizeOptions {
-            entry: Some(profile.entry.clone()),
-            unroll: reproj_front::UnrollOptions {
-                max_trip: profile.unroll,
-            },
-        },
-    )?;
-    let table = enumerate(shader, &norm);
-    let sel = if node.root {
-        NodeSelector::Root
-    } else {
-        NodeSelector::Id(node.id)
+    let strategy_of = |name: &str, what: String| -> Result<Strategy, ReportError> {
+        name.parse().map_err(|e: String| {
+            reproj_analyze::AnalyzeError::Options(format!("{what}: {e}")).into()
+        })
     };
-    let (reconstruct, cache_format) = reproj_analyze::emit::profile_variant_settings(
-        profile,
-        Some(node),
-        Path::new(&profile.shader.path),
-    )?;
-    let variant = instance(
-        shader,
-        &norm,
-        &table,
-        sel,
-        &InstanceOptions {
-            strategy,
-            delta_n: choice.delta_n,
-            block: node.block.unwrap_or(profile.block),
-            depth_epsilon: profile.depth_epsilon,
-            reconstruct,
-            cache_format,
-            ..InstanceOptions::default()
-        },
-    )?;
+    let profile_path = Path::new(&profile.shader.path);
+    let variant = if choice.members.is_empty() {
+        let node = profile
+            .nodes
+            .iter()
+            .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
+            .expect("the choice comes from the profile's nodes");
+        let sel = if node.root {
+            NodeSelector::Root
+        } else {
+            NodeSelector::Id(node.id)
+        };
+        let (reconstruct, cache_format) =
+            reproj_analyze::emit::profile_variant_settings(profile, Some(node), profile_path)?;
+        instance(
+            shader,
+            &loaded.norm,
+            &loaded.table,
+            sel,
+            &InstanceOptions {
+                strategy: strategy_of(&node.strategy, format!("node {}", node.id))?,
+                delta_n: choice.delta_n,
+                block: node.block.unwrap_or(profile.block),
+                depth_epsilon: profile.depth_epsilon,
+                reconstruct,
+                cache_format,
+                ..InstanceOptions::default()
+            },
+        )?
+    } else {
+        let set = profile
+            .sets
+            .iter()
+            .find(|s| s.members == choice.members && s.strategy == choice.strategy)
+            .expect("the choice comes from the profile's sets");
+        let (reconstruct, cache_format) =
+            reproj_analyze::emit::profile_variant_settings(profile, None, profile_path)?;
+        let sels: Vec<NodeSelector> = set.members.iter().map(|&id| NodeSelector::Id(id)).collect();
+        instance_nodes(
+            shader,
+            &loaded.norm,
+            &loaded.table,
+            &sels,
+            &InstanceOptions {
+                strategy: strategy_of(&set.strategy, format!("set {}", set.name()))?,
+                delta_n: choice.delta_n,
+                block: set.block,
+                depth_epsilon: profile.depth_epsilon,
+                reconstruct,
+                cache_format,
+                ..InstanceOptions::default()
+            },
+        )?
+    };
     let input = VariantInput::new(
         variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
         variant.manifest.clone(),

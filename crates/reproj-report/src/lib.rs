@@ -119,14 +119,17 @@ pub fn report(
     renderer: &Renderer,
     progress: &mut dyn FnMut(&str),
 ) -> Result<String, ReportError> {
-    let (_, _, shader) =
+    let (_, loaded, shader) =
         reproj_analyze::emit::load_profiled(profile, profile_path, opts.shader.as_deref())?;
+    let (nodes, sets) =
+        reproj_analyze::emit::selector_records(profile, profile_path, reproj_models::Metric::L2)?;
+    let records = budgets::Records { nodes, sets };
     let session_path = opts
         .session
         .clone()
         .unwrap_or_else(|| resolve(&profile.session.path, profile_path));
     let session = frames::session(&session_path)?;
-    let budgets = budgets::budgets(profile);
+    let budgets = budgets::budgets(profile, &records);
     progress(&format!(
         "{} budgets, {} distinct selections",
         budgets.entries.len(),
@@ -139,15 +142,15 @@ pub fn report(
     for (k, &i) in chosen.iter().enumerate() {
         let c = &budgets.choices[i];
         progress(&format!(
-            "[{}/{}] rendering node {} ({}) at Δn = {}",
+            "[{}/{}] rendering {} ({}) at Δn = {}",
             k + 1,
             chosen.len(),
-            c.node_id,
+            budgets::label(c),
             c.strategy,
             c.delta_n
         ));
         rendered[i] = Some(frames::render_choice(
-            renderer, &shader, profile, &session, &reference, c,
+            renderer, &shader, &loaded, profile, &session, &reference, c,
         )?);
     }
     // Every rendered selection against the original in one interleaved run: the speeds the
@@ -165,7 +168,7 @@ pub fn report(
                 let r = rendered[i].as_ref().expect("filtered");
                 let c = &budgets.choices[i];
                 reproj_bench::Candidate {
-                    name: format!("node {} Δn {}", c.node_id, c.delta_n),
+                    name: format!("{} Δn {}", budgets::label(c), c.delta_n),
                     subject: reproj_bench::Subject::Variant(r.input.clone()),
                 }
             })
@@ -204,6 +207,7 @@ pub fn report(
         profile_path,
         shader: &shader,
         budgets: &budgets,
+        records: &records,
         rendered: &rendered,
         charts: &charts,
     }))

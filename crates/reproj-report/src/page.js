@@ -112,7 +112,7 @@
       ring.setAttribute("visibility", "hidden");
     } else {
       var c = D.choices[e.choice];
-      $("sel-node").textContent = "node " + c.node_id + (c.root ? " (root)" : "");
+      $("sel-node").textContent = c.label + (c.root ? " (root)" : "");
       $("sel-strategy").textContent = c.reconstruct && c.reconstruct !== "bilinear"
         ? c.strategy + " · " + c.reconstruct : c.strategy;
       $("sel-dn").textContent = "Δn = " + c.delta_n;

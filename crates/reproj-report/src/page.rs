@@ -12,7 +12,7 @@ use reproj_select::{DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, candidates};
 use serde::Serialize;
 
 use crate::base64::png_uri;
-use crate::budgets::{BudgetEntry, Budgets, records};
+use crate::budgets::{BudgetEntry, Budgets, Records, label};
 use crate::frames::Rendered;
 use crate::metrics::{self, Metric};
 use crate::{ReportError, frames::FrameImages};
@@ -56,6 +56,8 @@ pub(crate) struct Page<'a> {
     pub(crate) profile_path: &'a Path,
     pub(crate) shader: &'a reproj_front::Shader,
     pub(crate) budgets: &'a Budgets,
+    /// What the budgets were chosen from (the chart's points are its nodes).
+    pub(crate) records: &'a Records,
     /// One per `budgets.choices`, in order; `None`: not rendered (over the limit).
     pub(crate) rendered: &'a [Option<Rendered>],
     pub(crate) charts: &'a Charts,
@@ -76,6 +78,10 @@ struct Data<'a> {
 #[derive(Serialize)]
 struct ChoiceView {
     node_id: u32,
+    /// `node 680`, `set 680+697`.
+    label: String,
+    /// A set's members (empty for one node).
+    members: Vec<u32>,
     root: bool,
     text: String,
     line: u32,
@@ -156,10 +162,17 @@ fn data<'a>(p: &'a Page<'_>) -> Data<'a> {
         .iter()
         .zip(p.rendered)
         .map(|(c, r)| {
-            let node = node_of(profile, c.node_id, &c.strategy);
+            // A set is shown at its first member's line; its filter is the profile's.
+            let node = if c.members.is_empty() {
+                node_of(profile, c.node_id, &c.strategy)
+            } else {
+                profile.nodes.iter().find(|n| n.id == c.node_id)
+            };
             let line = node.map_or(0, |n| n.line);
             ChoiceView {
                 node_id: c.node_id,
+                label: label(c),
+                members: c.members.clone(),
                 root: node.is_some_and(|n| n.root),
                 text: c.node_text.clone(),
                 line,
@@ -169,6 +182,7 @@ fn data<'a>(p: &'a Page<'_>) -> Data<'a> {
                     .map_or_else(String::new, |l| l.trim_end().to_string()),
                 strategy: c.strategy.clone(),
                 reconstruct: node
+                    .filter(|_| c.members.is_empty())
                     .map_or(profile.reconstruct.as_str(), |n| n.reconstruct_in(profile))
                     .to_string(),
                 delta_n: c.delta_n,
@@ -183,7 +197,7 @@ fn data<'a>(p: &'a Page<'_>) -> Data<'a> {
                     speedup: r.speedup,
                     speedup_ci95: r.speedup_ci95,
                 }),
-                profiled: node.and_then(|n| {
+                profiled: node.filter(|_| c.members.is_empty()).and_then(|n| {
                     n.measurements
                         .iter()
                         .find(|m| m.delta_n == c.delta_n)
@@ -193,7 +207,7 @@ fn data<'a>(p: &'a Page<'_>) -> Data<'a> {
         })
         .collect();
     let mut points: Vec<Point> = candidates(
-        &records(profile),
+        &p.records.nodes,
         &profile.hit_rate,
         DEFAULT_MIN_DELTA_N,
         DEFAULT_MAX_DELTA_N,
@@ -289,8 +303,9 @@ pub(crate) fn html(p: &Page<'_>) -> String {
         if let Some(r) = r {
             let _ = writeln!(
                 h,
-                r#"<div class="choice-frames" data-choice="{k}" data-label="node {} (Δn = {})" hidden>"#,
-                c.node_id, c.delta_n
+                r#"<div class="choice-frames" data-choice="{k}" data-label="{} (Δn = {})" hidden>"#,
+                label(c),
+                c.delta_n
             );
             for f in &r.frames {
                 frame_row(&mut h, f, c.delta_n);

@@ -1,13 +1,13 @@
-//! The page's lookup (the entry with the largest budget ≤ b) is `select` at b, for budgets all over
-//! the slider's range and right at and around every threshold. The profile is a real one: marble at
+//! The page's lookup (the entry with the largest budget ≤ b) is emit's selector at b, for budgets
+//! all over the slider's range and right at and around every threshold. The profile is a real one: marble at
 //! 160×120, 16 frames, three nodes (`reproj analyze --delta-n 2,4,8 --holdout 6 --max-nodes 3`).
 
-use reproj_report::budgets::{budgets, records, select_at};
+use reproj_report::budgets::{Records, budgets, select_at};
 use reproj_select::Selection;
 
-fn key(s: &Selection) -> Option<(u32, String, u32)> {
+fn key(s: &Selection) -> Option<(u32, Vec<u32>, String, u32)> {
     match s {
-        Selection::Node(c) => Some((c.node_id, c.strategy.clone(), c.delta_n)),
+        Selection::Node(c) => Some((c.node_id, c.members.clone(), c.strategy.clone(), c.delta_n)),
         Selection::Original { .. } => None,
     }
 }
@@ -18,9 +18,12 @@ fn the_lookup_is_the_selector_at_every_budget() {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/marble_small.profile.json"
     );
-    let profile = reproj_analyze::load_profile(std::path::Path::new(path)).unwrap();
-    let b = budgets(&profile);
-    let recs = records(&profile);
+    let path = std::path::Path::new(path);
+    let profile = reproj_analyze::load_profile(path).unwrap();
+    let (nodes, sets) =
+        reproj_analyze::emit::selector_records(&profile, path, reproj_models::Metric::L2).unwrap();
+    let recs = Records { nodes, sets };
+    let b = budgets(&profile, &recs);
     let [lo, hi] = b.range;
     assert!(lo > 0.0 && hi > lo);
     assert!(b.choices.len() >= 2, "the selection changes over the range");
@@ -38,7 +41,7 @@ fn the_lookup_is_the_selector_at_every_budget() {
         let entry = b.lookup(budget).unwrap();
         let got = entry.choice.map(|i| {
             let c = &b.choices[i];
-            (c.node_id, c.strategy.clone(), c.delta_n)
+            (c.node_id, c.members.clone(), c.strategy.clone(), c.delta_n)
         });
         assert_eq!(got, want, "budget {budget}");
         if last.as_ref() != Some(&want) {

@@ -103,44 +103,73 @@ pub fn profile_variant_settings(
 /// A profile's usable sets (in `opts.strategy`, when one is named) and the selector records of its
 /// usable nodes and sets in `opts.metric`.
 #[allow(clippy::type_complexity)]
+/// A profile's usable sets, and its nodes and sets as the selector's records.
+pub(super) type ProfileRecords<'p> = (
+    Vec<&'p reproj_models::profile::SetProfile>,
+    Vec<NodeRecord>,
+    Vec<SetRecord>,
+);
+
 pub(super) fn records_of<'p>(
     profile: &'p Profile,
     profile_path: &Path,
     opts: &EmitOptions,
-) -> Result<
-    (
-        Vec<&'p reproj_models::profile::SetProfile>,
-        Vec<NodeRecord>,
-        Vec<SetRecord>,
-    ),
-    AnalyzeError,
-> {
+) -> Result<ProfileRecords<'p>, AnalyzeError> {
+    records_with(
+        profile,
+        profile_path,
+        opts.metric,
+        opts.strategy.map(|s| s.name()),
+        opts.node.as_ref(),
+    )
+}
+
+/// The selector's records of a profile exactly as `emit` builds them with no `--strategy` or
+/// `--node`: its usable nodes and sets under `metric`. What `report` chooses with, so that its
+/// budget slider shows what `emit --max-error` writes, sets included.
+pub fn selector_records(
+    profile: &Profile,
+    profile_path: &Path,
+    metric: Metric,
+) -> Result<(Vec<NodeRecord>, Vec<SetRecord>), AnalyzeError> {
+    let (_, nodes, sets) = records_with(profile, profile_path, metric, None, None)?;
+    Ok((nodes, sets))
+}
+
+/// [`records_of`] with its filters spelled out.
+fn records_with<'p>(
+    profile: &'p Profile,
+    profile_path: &Path,
+    metric: Metric,
+    strategy: Option<&str>,
+    node: Option<&NodeChoice>,
+) -> Result<ProfileRecords<'p>, AnalyzeError> {
     let usable: Vec<_> = profile
         .nodes
         .iter()
         .filter(|n| n.status == NodeStatus::Ok)
-        .filter(|n| opts.strategy.is_none_or(|s| s.name() == n.strategy))
-        .filter(|n| opts.node.is_none_or(|c| c.admits(n)))
+        .filter(|n| strategy.is_none_or(|s| s == n.strategy))
+        .filter(|n| node.is_none_or(|c| c.admits(n)))
         .collect();
-    if usable.iter().any(|n| n.fit(opts.metric).is_none()) {
+    if usable.iter().any(|n| n.fit(metric).is_none()) {
         return Err(AnalyzeError::BadProfile {
             path: profile_path.to_owned(),
             message: format!(
-                "it has no {} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {}",
-                opts.metric, profile.version, opts.metric
+                "it has no {metric} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {metric}",
+                profile.version
             ),
         });
     }
     let records: Vec<NodeRecord> = usable
         .iter()
-        .filter_map(|n| NodeRecord::from_profile(profile, n, opts.metric))
+        .filter_map(|n| NodeRecord::from_profile(profile, n, metric))
         .collect();
     let usable_sets: Vec<_> = profile
         .sets
         .iter()
         .filter(|s| s.status == NodeStatus::Ok)
-        .filter(|s| opts.strategy.is_none_or(|st| st.name() == s.strategy))
-        .filter(|_| opts.node.is_none())
+        .filter(|s| strategy.is_none_or(|st| st == s.strategy))
+        .filter(|_| node.is_none())
         .collect();
     let set_records: Vec<SetRecord> = usable_sets
         .iter()
@@ -149,10 +178,10 @@ pub(super) fn records_of<'p>(
                 members: s.members.clone(),
                 texts: s.texts.clone(),
                 strategy: s.strategy.clone(),
-                error: s.fit(opts.metric)?.clone(),
+                error: s.fit(metric)?.clone(),
                 timing: s.timing_fit.clone(),
                 mean_pixels: profile.original.mean_pixels,
-                measured_errors: reproj_select::measured_errors(&s.measurements, opts.metric),
+                measured_errors: reproj_select::measured_errors(&s.measurements, metric),
             })
         })
         .collect();
