@@ -398,11 +398,19 @@ fn allow_nonuniform_derivatives(module: &mut naga::Module) {
 
 /// GLSL that glslang compiles and naga 30's SPIR-V reader cannot read: a word of the source, and
 /// what to tell the user about it.
-const NAGA_GAPS: &[(&str, &str)] = &[(
-    "subpassInput",
-    "an input attachment (`subpassInput`, read with `subpassLoad`): naga 30's SPIR-V reader has \
-     no subpass-data images; bind the attachment as a `sampler2D` and read it with `texelFetch`",
-)];
+const NAGA_GAPS: &[(&str, &str)] = &[
+    (
+        "subpassInput",
+        "an input attachment (`subpassInput`, read with `subpassLoad`): naga 30's SPIR-V reader \
+         has no subpass-data images; bind the attachment as a `sampler2D` and read it with \
+         `texelFetch`",
+    ),
+    (
+        "gl_ShadingRateEXT",
+        "the fragment shading rate (`gl_ShadingRateEXT`, GL_EXT_fragment_shading_rate): naga 30's \
+         SPIR-V reader does not take the SPV_KHR_fragment_shading_rate extension",
+    ),
+];
 
 /// The first construct of [`NAGA_GAPS`] in `source` (a whole word, or its prefix: `subpassInputMS`),
 /// with its byte range, when naga has refused glslang's SPIR-V.
@@ -432,6 +440,10 @@ mod tests {
         assert!(what.contains("input attachment"), "{what}");
         let ms = "uniform subpassInputMS samples;";
         assert_eq!(&ms[naga_gap(ms).unwrap().0], "subpassInputMS");
+        let rate = "void main() { if ((gl_ShadingRateEXT & 1) == 1) { c = vec4(1.0); } }";
+        let (range, what) = naga_gap(rate).unwrap();
+        assert_eq!(&rate[range], "gl_ShadingRateEXT");
+        assert!(what.contains("shading rate"), "{what}");
         // Part of another name is not the construct.
         assert!(naga_gap("float mySubpassInput = 1.0; float xsubpassInput;").is_none());
     }
