@@ -4,17 +4,20 @@
 
 use super::*;
 
+/// A name naga's WGSL writer invents for an expression it binds with `let` (`_e12`, `_e12_1`):
+/// the number is the expression's handle.
+fn generated(name: &str) -> bool {
+    name.strip_prefix("_e").is_some_and(|rest| {
+        !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_')
+    })
+}
+
 /// Write WGSL. Names naga's writer invented on an earlier trip (`_e12`, `_e12_1`, ...) are dropped
 /// first, so that the writer invents them again the same way and the text reaches a fixed point.
 /// The module's global `diagnostic(...)` directives, which naga's writer leaves out, are written
 /// first. `enable f16;` is written whenever an expression is f16 data (naga's writer looks only at
 /// the type arena, which need not hold f16 when literals and conversions make the values).
 pub fn write_wgsl(module: &Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
-    fn generated(name: &str) -> bool {
-        name.strip_prefix("_e").is_some_and(|rest| {
-            !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_')
-        })
-    }
     let mut module = module.clone();
     let strip = |f: &mut naga::Function| f.named_expressions.retain(|_, name| !generated(name));
     for (_, f) in module.functions.iter_mut() {
@@ -178,8 +181,11 @@ pub(crate) fn finish_module(
 
 /// True when `a` and `b` are the same WGSL text but for identifiers renamed one to one, each
 /// renaming being one naga's namer makes: the two names differ only in `_` and `_N` suffixes
-/// (`a`, `a_1`, `a_1_`, `a_1_1`). Keywords, types and built-in functions have no such suffix, so
-/// a change of any of them, or of anything else, still counts as a difference.
+/// (`a`, `a_1`, `a_1_`, `a_1_1`), or both are names naga's writer invents from expression handles
+/// (`_e31` and `_e30`: a trip that folds one more constant numbers the expressions after it
+/// anew; such names are local to their function, so each function may renumber them its own
+/// way). Keywords, types and built-in functions have no such suffix, so a change of any of them,
+/// or of anything else, still counts as a difference.
 pub(crate) fn same_up_to_names(a: &str, b: &str) -> bool {
     use std::collections::HashMap;
     fn tokens(s: &str) -> Vec<&str> {
@@ -227,13 +233,18 @@ pub(crate) fn same_up_to_names(a: &str, b: &str) -> bool {
     let mut forward: HashMap<&str, &str> = HashMap::new();
     let mut backward: HashMap<&str, &str> = HashMap::new();
     for (x, y) in ta.into_iter().zip(tb) {
+        if x == "fn" && y == "fn" {
+            // Invented names are numbered per function: each function renames them afresh.
+            forward.retain(|k, _| !generated(k));
+            backward.retain(|k, _| !generated(k));
+        }
         if !is_name(x) || !is_name(y) {
             if x != y {
                 return false;
             }
             continue;
         }
-        if x != y && base(x) != base(y) {
+        if x != y && base(x) != base(y) && !(generated(x) && generated(y)) {
             return false;
         }
         if *forward.entry(x).or_insert(y) != y || *backward.entry(y).or_insert(x) != x {
@@ -264,6 +275,28 @@ mod tests {
         let a = "fn f(a: f32) -> f32 { let a_1 = a * 2f; let a_2 = a_1 + 1f; return a_2; }";
         let b = "fn f(a: f32) -> f32 { let a_1_ = a * 2f; let a_1_1 = a_1_ + 1f; return a_1_1; }";
         assert!(same_up_to_names(a, b));
+    }
+
+    #[test]
+    fn renumbered_expression_names_are_the_same_text() {
+        // One more constant folded on a trip numbers the later expressions one lower.
+        let a = "fn f(t: vec2<i32>) -> f32 { let _e31 = t.x; let _e33 = t.y; return f32(_e31 + _e33); }";
+        let b = "fn f(t: vec2<i32>) -> f32 { let _e30 = t.x; let _e32 = t.y; return f32(_e30 + _e32); }";
+        assert!(same_up_to_names(a, b));
+        // Still one to one: two names merged into one is a difference.
+        let c = "fn f(t: vec2<i32>) -> f32 { let _e30 = t.x; let _e30 = t.y; return f32(_e30 + _e30); }";
+        assert!(!same_up_to_names(a, c));
+        // An invented name is not interchangeable with the shader's own.
+        let d = "fn f(t: vec2<i32>) -> f32 { let x = t.x; let _e32 = t.y; return f32(x + _e32); }";
+        assert!(!same_up_to_names(a, d));
+        // Each function numbers its own: one shifted down, the other up.
+        let two = |n: [u32; 2]| {
+            format!(
+                "fn f(t: i32) -> i32 {{ let _e{} = t; return _e{0}; }} fn g(t: i32) -> i32 {{ let _e{} = t; return _e{1}; }}",
+                n[0], n[1]
+            )
+        };
+        assert!(same_up_to_names(&two([5, 5]), &two([4, 6])));
     }
 
     #[test]

@@ -13,6 +13,7 @@
 //! uses a specialization constant inside a constant expression (`OpSpecConstantOp`, which naga
 //! does not read) has its specialization constants frozen at their defaults by `spirv-opt`.
 
+mod matrix_inputs;
 pub mod split;
 
 use std::ops::Range;
@@ -71,12 +72,24 @@ pub(crate) fn parse(path: &Path, source: String) -> Result<Shader, GlslangError>
         block_ctx_dump_prefix: None,
     };
     let mut module = naga::front::spv::parse_u8_slice(&bytes, &options).map_err(|e| {
-        parse_error(format!(
-            "naga cannot read glslang's SPIR-V of this shader: {e}"
-        ))
+        let reason = format!("naga cannot read glslang's SPIR-V of this shader: {e}");
+        match naga_gap(&source) {
+            Some((range, what)) => {
+                let mut m = Message::new(format!("unsupported: {what}"));
+                m.labels.push((range, String::new()));
+                GlslangError::Front(FrontError::Unsupported(SourceDiagnostic::new(
+                    path.to_owned(),
+                    &source,
+                    vec![m, Message::new(reason)],
+                )))
+            }
+            None => parse_error(reason),
+        }
     })?;
     let lines = line_spans(&source, &split::line_table(&words));
     remap_spans(&mut module, &|span| lines.map(span));
+    allow_nonuniform_derivatives(&mut module);
+    matrix_inputs::split_matrix_inputs(&mut module);
     let info = validator().validate(&module).map_err(|e| {
         GlslangError::Front(FrontError::Validation(SourceDiagnostic::new(
             path.to_owned(),
@@ -99,8 +112,18 @@ fn compile(path: &Path, source: &str) -> Result<Vec<u32>, GlslangError> {
     static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let out = std::env::temp_dir().join(format!("reproj-glslang-{}-{n}.spv", std::process::id()));
+    // `#include "x.glsl"` (GL_GOOGLE_include_directive) is resolved beside the shader's file, as
+    // glslang does when it reads the file itself.
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut include = std::ffi::OsString::from("-I");
+    include.push(dir);
     let mut child = Command::new(glslang_program())
-        .args(["--stdin", "-S", "frag", "-V", "-g", "-o"])
+        .args(["--stdin", "-S", "frag", "-V", "-g"])
+        .arg(include)
+        .arg("-o")
         .arg(&out)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -344,5 +367,84 @@ fn remap_spans(module: &mut naga::Module, f: &dyn Fn(naga::Span) -> naga::Span) 
     module.functions = functions;
     for ep in &mut module.entry_points {
         function(&mut ep.function, f);
+    }
+}
+
+/// GLSL has no uniformity rule: an implicit derivative (`texture`) in non-uniform control flow has
+/// an undefined value there, not a compile error, and Vulkan samples sample shadow maps inside
+/// such branches. The module says so as WGSL does, with a global
+/// `diagnostic(off, derivative_uniformity)`, which the WGSL written from it keeps (so that `tint`
+/// accepts what glslang accepted).
+fn allow_nonuniform_derivatives(module: &mut naga::Module) {
+    use naga::diagnostic_filter::{
+        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
+        StandardFilterableTriggeringRule,
+    };
+    let node = DiagnosticFilterNode {
+        inner: DiagnosticFilter {
+            new_severity: Severity::Off,
+            triggering_rule: FilterableTriggeringRule::Standard(
+                StandardFilterableTriggeringRule::DerivativeUniformity,
+            ),
+        },
+        parent: module.diagnostic_filter_leaf,
+    };
+    module.diagnostic_filter_leaf = Some(
+        module
+            .diagnostic_filters
+            .append(node, naga::Span::UNDEFINED),
+    );
+}
+
+/// GLSL that glslang compiles and naga 30's SPIR-V reader cannot read: a word of the source, and
+/// what to tell the user about it.
+const NAGA_GAPS: &[(&str, &str)] = &[
+    (
+        "subpassInput",
+        "an input attachment (`subpassInput`, read with `subpassLoad`): naga 30's SPIR-V reader \
+         has no subpass-data images; bind the attachment as a `sampler2D` and read it with \
+         `texelFetch`",
+    ),
+    (
+        "gl_ShadingRateEXT",
+        "the fragment shading rate (`gl_ShadingRateEXT`, GL_EXT_fragment_shading_rate): naga 30's \
+         SPIR-V reader does not take the SPV_KHR_fragment_shading_rate extension",
+    ),
+];
+
+/// The first construct of [`NAGA_GAPS`] in `source` (a whole word, or its prefix: `subpassInputMS`),
+/// with its byte range, when naga has refused glslang's SPIR-V.
+fn naga_gap(source: &str) -> Option<(Range<usize>, &'static str)> {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    NAGA_GAPS.iter().find_map(|&(word, what)| {
+        source.match_indices(word).find_map(|(at, _)| {
+            let before = source[..at].chars().next_back();
+            let end = at
+                + source[at..]
+                    .find(|c: char| !ident(c))
+                    .unwrap_or(source.len() - at);
+            (!before.is_some_and(ident)).then_some((at..end, what))
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::naga_gap;
+
+    #[test]
+    fn naga_gaps_are_found_as_words_at_their_place() {
+        let source = "layout (input_attachment_index = 0, binding = 0) uniform subpassInput c;";
+        let (range, what) = naga_gap(source).unwrap();
+        assert_eq!(&source[range], "subpassInput");
+        assert!(what.contains("input attachment"), "{what}");
+        let ms = "uniform subpassInputMS samples;";
+        assert_eq!(&ms[naga_gap(ms).unwrap().0], "subpassInputMS");
+        let rate = "void main() { if ((gl_ShadingRateEXT & 1) == 1) { c = vec4(1.0); } }";
+        let (range, what) = naga_gap(rate).unwrap();
+        assert_eq!(&rate[range], "gl_ShadingRateEXT");
+        assert!(what.contains("shading rate"), "{what}");
+        // Part of another name is not the construct.
+        assert!(naga_gap("float mySubpassInput = 1.0; float xsubpassInput;").is_none());
     }
 }
