@@ -2,10 +2,16 @@
 //! and binding numbers of the bindings the instancer adds to the variant's group, the layout of the
 //! `reproj_params` uniform buffer as a `#[repr(C)]` struct, the debug classification entry point
 //! and the bind group limit. Both sides use these items, so a renamed binding or a moved field is a
-//! compile error or a failing test (`contract_matches_library`, `params_layout_matches_struct`)
+//! compile error or a failing test (`contract_matches_library`, `params_struct_matches_wgsl`)
 //! instead of a run-time failure on a GPU.
 
 use bytemuck::{Pod, Zeroable};
+
+/// The output struct member of a pass that writes the new cache payload (a `vec4<f32>` at a
+/// location above 0).
+pub const CACHE_OUTPUT: &str = "reproj_cache";
+/// The output struct member of a pass that writes the depth copy (an `f32` at a location above 0).
+pub const DEPTH_OUTPUT: &str = "reproj_depth";
 
 /// Bind groups a variant may use: indices `0..MAX_BIND_GROUPS` (WebGPU's default `maxBindGroups`).
 pub const MAX_BIND_GROUPS: u32 = 4;

@@ -47,10 +47,7 @@ pub(crate) enum EntryKind {
     Shade,
 }
 
-/// Name of the output struct member holding the new cache payload.
-pub(crate) const CACHE_MEMBER: &str = "reproj_cache";
-/// Name of the output struct member holding the depth copy.
-pub(crate) const DEPTH_MEMBER: &str = "reproj_depth";
+pub(crate) use crate::contract::{CACHE_OUTPUT as CACHE_MEMBER, DEPTH_OUTPUT as DEPTH_MEMBER};
 
 /// Turn the entry point's function into an ordinary function: no bindings, a new name.
 pub(crate) fn as_function(mut f: Function, name: &str) -> Function {

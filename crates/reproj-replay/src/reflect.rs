@@ -7,6 +7,7 @@ use naga::{
 };
 
 use crate::ReplayError;
+use reproj_instance::contract::{CACHE_OUTPUT, DEPTH_OUTPUT};
 
 /// A fragment input at a `@location`.
 #[derive(Debug, Clone, PartialEq)]
@@ -511,8 +512,8 @@ pub fn reflect(
                         float_components(module, m.ty) == Some(4)
                     }
                     Some(Binding::Location { .. }) => match m.name.as_deref() {
-                        Some("reproj_cache") => float_components(module, m.ty) == Some(4),
-                        Some("reproj_depth") => float_components(module, m.ty) == Some(1),
+                        Some(CACHE_OUTPUT) => float_components(module, m.ty) == Some(4),
+                        Some(DEPTH_OUTPUT) => float_components(module, m.ty) == Some(1),
                         _ => false,
                     },
                     Some(Binding::BuiltIn(_)) => true,
