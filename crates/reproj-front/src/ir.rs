@@ -1,5 +1,6 @@
 //! Small helpers over naga IR that every stage needs: the operands of an expression, rebuilding an
-//! expression with mapped operands, and the local variable a pointer expression points into.
+//! expression with mapped operands, the local variable a pointer expression points into, and a
+//! module-wide diagnostic filter.
 
 use naga::{Expression, Handle, SampleLevel};
 
@@ -269,4 +270,29 @@ pub fn is_float_valued(inner: &naga::TypeInner, types: &naga::UniqueArena<naga::
         }
         _ => false,
     }
+}
+
+/// Turn WGSL's `derivative_uniformity` diagnostic off for the whole module, as a global
+/// `diagnostic(off, derivative_uniformity)` does (the WGSL written from the module keeps it). Used
+/// where derivatives are uniform enough in fact but the analysis cannot see it: GLSL, which has no
+/// uniformity rule, and the instancer's fused entry, whose recompute branch is uniform per quad.
+pub fn derivative_uniformity_off(module: &mut naga::Module) {
+    use naga::diagnostic_filter::{
+        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
+        StandardFilterableTriggeringRule,
+    };
+    let node = DiagnosticFilterNode {
+        inner: DiagnosticFilter {
+            new_severity: Severity::Off,
+            triggering_rule: FilterableTriggeringRule::Standard(
+                StandardFilterableTriggeringRule::DerivativeUniformity,
+            ),
+        },
+        parent: module.diagnostic_filter_leaf,
+    };
+    module.diagnostic_filter_leaf = Some(
+        module
+            .diagnostic_filters
+            .append(node, naga::Span::UNDEFINED),
+    );
 }

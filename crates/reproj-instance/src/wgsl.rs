@@ -91,24 +91,7 @@ pub(crate) fn diagnostic_directives(module: &Module) -> String {
 /// Turn WGSL's `derivative_uniformity` diagnostic off for the whole module (see the fused entry in
 /// [`strategy`]: its recompute branch is uniform over each 2×2 quad, which the analysis cannot see).
 pub(crate) fn allow_quad_uniform_derivatives(module: &mut Module) {
-    use naga::diagnostic_filter::{
-        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
-        StandardFilterableTriggeringRule,
-    };
-    let node = DiagnosticFilterNode {
-        inner: DiagnosticFilter {
-            new_severity: Severity::Off,
-            triggering_rule: FilterableTriggeringRule::Standard(
-                StandardFilterableTriggeringRule::DerivativeUniformity,
-            ),
-        },
-        parent: module.diagnostic_filter_leaf,
-    };
-    module.diagnostic_filter_leaf = Some(
-        module
-            .diagnostic_filters
-            .append(node, naga::Span::UNDEFINED),
-    );
+    reproj_front::ir::derivative_uniformity_off(module);
 }
 
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.

@@ -376,24 +376,7 @@ fn remap_spans(module: &mut naga::Module, f: &dyn Fn(naga::Span) -> naga::Span) 
 /// `diagnostic(off, derivative_uniformity)`, which the WGSL written from it keeps (so that `tint`
 /// accepts what glslang accepted).
 fn allow_nonuniform_derivatives(module: &mut naga::Module) {
-    use naga::diagnostic_filter::{
-        DiagnosticFilter, DiagnosticFilterNode, FilterableTriggeringRule, Severity,
-        StandardFilterableTriggeringRule,
-    };
-    let node = DiagnosticFilterNode {
-        inner: DiagnosticFilter {
-            new_severity: Severity::Off,
-            triggering_rule: FilterableTriggeringRule::Standard(
-                StandardFilterableTriggeringRule::DerivativeUniformity,
-            ),
-        },
-        parent: module.diagnostic_filter_leaf,
-    };
-    module.diagnostic_filter_leaf = Some(
-        module
-            .diagnostic_filters
-            .append(node, naga::Span::UNDEFINED),
-    );
+    crate::ir::derivative_uniformity_off(module);
 }
 
 /// GLSL that glslang compiles and naga 30's SPIR-V reader cannot read: a word of the source, and
