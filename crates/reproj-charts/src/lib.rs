@@ -33,7 +33,8 @@ use std::path::{Path, PathBuf};
 use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
 use reproj_models::{HitRateStatus, Profile};
 use reproj_select::{
-    DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, pareto, select,
+    DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord,
+    pareto, select_with_sets,
 };
 
 pub use caption::{Caption, draw_captions};
@@ -332,32 +333,42 @@ pub(crate) fn setting(profile: &Profile) -> String {
     )
 }
 
-/// The selector's view of the usable nodes (as `reproj emit` builds it).
-fn records(profile: &Profile) -> Vec<NodeRecord> {
-    profile
-        .nodes
-        .iter()
-        .filter(|n| n.status == NodeStatus::Ok)
-        .filter_map(|n| NodeRecord::from_profile(profile, n, reproj_models::Metric::L2))
-        .collect()
+/// The selector's records of the profile: its usable nodes and sets, as `reproj emit` builds them
+/// (`reproj_select::profile_records`; a node without an L2 model is left out).
+fn records(profile: &Profile) -> (Vec<NodeRecord>, Vec<SetRecord>) {
+    let keep = |_: &NodeProfile| true;
+    match reproj_select::profile_records(profile, reproj_models::Metric::L2, None, &keep, true) {
+        Ok(r) => (r.nodes, r.sets),
+        Err(_) => (
+            profile
+                .nodes
+                .iter()
+                .filter(|n| n.status == NodeStatus::Ok)
+                .filter_map(|n| NodeRecord::from_profile(profile, n, reproj_models::Metric::L2))
+                .collect(),
+            Vec::new(),
+        ),
+    }
 }
 
-/// The selections at `budgets`: one mark per distinct choice, labelled with its budgets.
+/// The selections at `budgets` (emit's selector, sets included): one mark per distinct choice,
+/// labelled with its budgets.
 fn marks(profile: &Profile, budgets: &[f64]) -> Vec<(f64, f64, String)> {
-    let nodes = records(profile);
-    /// (node, strategy, Δn), predicted ms and error, the budgets that choose it.
-    type Marked = ((u32, String, u32), f64, f64, Vec<f64>);
+    let (nodes, sets) = records(profile);
+    /// (node, members, strategy, Δn), predicted ms and error, the budgets that choose it.
+    type Marked = ((u32, Vec<u32>, String, u32), f64, f64, Vec<f64>);
     let mut marks: Vec<Marked> = Vec::new();
     for &budget in budgets {
-        let Selection::Node(c) = select(
+        let Selection::Node(c) = select_with_sets(
             &nodes,
+            &sets,
             &profile.hit_rate,
             profile.original.frame_ms,
             &SelectOptions::new(budget),
         ) else {
             continue;
         };
-        let key = (c.node_id, c.strategy.clone(), c.delta_n);
+        let key = (c.node_id, c.members.clone(), c.strategy.clone(), c.delta_n);
         match marks.iter_mut().find(|m| m.0 == key) {
             Some(m) => m.3.push(budget),
             None => marks.push((
@@ -370,12 +381,18 @@ fn marks(profile: &Profile, budgets: &[f64]) -> Vec<(f64, f64, String)> {
     }
     marks
         .into_iter()
-        .map(|((id, _, dn), ms, error, budgets)| {
+        .map(|((id, members, _, dn), ms, error, budgets)| {
             let budgets: Vec<String> = budgets.iter().map(|b| significant(*b)).collect();
+            let what = if members.is_empty() {
+                format!("node {id}")
+            } else {
+                let ids: Vec<String> = members.iter().map(u32::to_string).collect();
+                format!("set {}", ids.join("+"))
+            };
             (
                 ms,
                 error,
-                format!("ε ≤ {}: node {id}, Δn {dn}", budgets.join(", ")),
+                format!("ε ≤ {}: {what}, Δn {dn}", budgets.join(", ")),
             )
         })
         .collect()
@@ -398,7 +415,7 @@ fn significant(v: f64) -> String {
 fn tradeoff(profile: &Profile, budgets: &[f64]) -> Tradeoff {
     let original_ms = finite_pos(profile.original.frame_ms);
     let pareto: Vec<(f64, f64, u32, u32)> = pareto(
-        &records(profile),
+        &records(profile).0,
         &profile.hit_rate,
         DEFAULT_MIN_DELTA_N,
         DEFAULT_MAX_DELTA_N,

@@ -385,19 +385,26 @@ fn synthetic_profile_charts() {
     assert_eq!(models.matches("frame time (ms)").count(), ok);
     let mut chosen = BTreeSet::new();
     for &b in &budgets {
-        if let Selection::Node(c) = select(
-            &records(&profile),
+        let (nodes, sets) = records(&profile);
+        if let Selection::Node(c) = select_with_sets(
+            &nodes,
+            &sets,
             &profile.hit_rate,
             profile.original.frame_ms,
             &SelectOptions::new(b),
         ) {
-            chosen.insert(c.node_id);
-            // The trade-off chart marks it, labelled with the budget.
+            // The trade-off chart marks it, labelled with the budget (a set by its members).
             let marks = super::tradeoff(&profile, &budgets).marks;
+            let what = if c.members.is_empty() {
+                chosen.insert(c.node_id);
+                format!("node {}", c.node_id)
+            } else {
+                let ids: Vec<String> = c.members.iter().map(u32::to_string).collect();
+                format!("set {}", ids.join("+"))
+            };
             assert!(
                 marks.iter().any(|m| m.2.contains(&format!("{b}"))
-                    && (m.2.contains(&format!("node {},", c.node_id))
-                        || m.2.contains(&format!("node {} ", c.node_id)))),
+                    && (m.2.contains(&format!("{what},")) || m.2.contains(&format!("{what} ")))),
                 "{b}: {marks:?}"
             );
         }

@@ -132,6 +132,10 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
             profile_path.to_str().unwrap(),
             "--out",
             page.to_str().unwrap(),
+            // Every distinct selection rendered (8 by default, spread over the range: which ones
+            // depends on how many the timings give).
+            "--max-rendered",
+            "64",
             "--json",
         ],
     );

@@ -14,7 +14,6 @@ use reproj_instance::{
 };
 use reproj_io::Replace;
 use reproj_models::Metric;
-use reproj_models::profile::NodeStatus;
 use reproj_models::{Profile, content_hash};
 use reproj_replay::metrics::MetricSummary;
 use reproj_select::{NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};

@@ -136,7 +136,7 @@ pub fn selector_records(
     Ok((nodes, sets))
 }
 
-/// [`records_of`] with its filters spelled out.
+/// [`records_of`] with its filters spelled out (`reproj_select::profile_records`).
 fn records_with<'p>(
     profile: &'p Profile,
     profile_path: &Path,
@@ -144,48 +144,21 @@ fn records_with<'p>(
     strategy: Option<&str>,
     node: Option<&NodeChoice>,
 ) -> Result<ProfileRecords<'p>, AnalyzeError> {
-    let usable: Vec<_> = profile
-        .nodes
-        .iter()
-        .filter(|n| n.status == NodeStatus::Ok)
-        .filter(|n| strategy.is_none_or(|s| s == n.strategy))
-        .filter(|n| node.is_none_or(|c| c.admits(n)))
-        .collect();
-    if usable.iter().any(|n| n.fit(metric).is_none()) {
-        return Err(AnalyzeError::BadProfile {
-            path: profile_path.to_owned(),
-            message: format!(
-                "it has no {metric} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {metric}",
-                profile.version
-            ),
-        });
-    }
-    let records: Vec<NodeRecord> = usable
-        .iter()
-        .filter_map(|n| NodeRecord::from_profile(profile, n, metric))
-        .collect();
-    let usable_sets: Vec<_> = profile
-        .sets
-        .iter()
-        .filter(|s| s.status == NodeStatus::Ok)
-        .filter(|s| strategy.is_none_or(|st| st == s.strategy))
-        .filter(|_| node.is_none())
-        .collect();
-    let set_records: Vec<SetRecord> = usable_sets
-        .iter()
-        .filter_map(|s| {
-            Some(SetRecord {
-                members: s.members.clone(),
-                texts: s.texts.clone(),
-                strategy: s.strategy.clone(),
-                error: s.fit(metric)?.clone(),
-                timing: s.timing_fit.clone(),
-                mean_pixels: profile.original.mean_pixels,
-                measured_errors: reproj_select::measured_errors(&s.measurements, metric),
-            })
-        })
-        .collect();
-    Ok((usable_sets, records, set_records))
+    let r = reproj_select::profile_records(
+        profile,
+        metric,
+        strategy,
+        &|n| node.is_none_or(|c| c.admits(n)),
+        node.is_none(),
+    )
+    .map_err(|_| AnalyzeError::BadProfile {
+        path: profile_path.to_owned(),
+        message: format!(
+            "it has no {metric} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {metric}",
+            profile.version
+        ),
+    })?;
+    Ok((r.usable_sets, r.nodes, r.sets))
 }
 
 /// Another session's profile must be of the same shader (IR), entry, unrolling and cache
