@@ -10,9 +10,11 @@
 
 pub mod combine;
 pub mod motion;
+mod records;
 mod worst;
 
 pub use combine::{SetPrediction, best_set, combined_timing, predict_set};
+pub use records::{ProfileRecords, profile_records};
 pub use worst::{Scene, ScenePrediction, select_worst_case};
 
 use reproj_models::{ErrorFitFailure, ErrorFitStatus, HitRateFit, TimingFit, predicted_frame_ms};
@@ -183,70 +185,6 @@ impl Calibration {
                 rel_ci95: rel,
             })
     }
-}
-
-/// A profile's usable nodes and sets as the selector's records (status ok), kept by `strategy` (a
-/// pass layout's name) and `keep_node`; sets only where `sets`. The one way `emit`, `report` and
-/// the charts build what they choose from. `Err` names the first usable node with no model for
-/// `metric` (a profile made before that metric was recorded).
-pub fn profile_records<'p>(
-    profile: &'p reproj_models::Profile,
-    metric: reproj_models::Metric,
-    strategy: Option<&str>,
-    keep_node: &dyn Fn(&reproj_models::profile::NodeProfile) -> bool,
-    sets: bool,
-) -> Result<ProfileRecords<'p>, u32> {
-    use reproj_models::profile::NodeStatus;
-    let usable: Vec<_> = profile
-        .nodes
-        .iter()
-        .filter(|n| n.status == NodeStatus::Ok)
-        .filter(|n| strategy.is_none_or(|s| s == n.strategy))
-        .filter(|n| keep_node(n))
-        .collect();
-    if let Some(n) = usable.iter().find(|n| n.fit(metric).is_none()) {
-        return Err(n.id);
-    }
-    let nodes = usable
-        .iter()
-        .filter_map(|n| NodeRecord::from_profile(profile, n, metric))
-        .collect();
-    let usable_sets: Vec<_> = profile
-        .sets
-        .iter()
-        .filter(|s| s.status == NodeStatus::Ok)
-        .filter(|s| strategy.is_none_or(|st| st == s.strategy))
-        .filter(|_| sets)
-        .collect();
-    let set_records = usable_sets
-        .iter()
-        .filter_map(|s| {
-            Some(SetRecord {
-                members: s.members.clone(),
-                texts: s.texts.clone(),
-                strategy: s.strategy.clone(),
-                error: s.fit(metric)?.clone(),
-                timing: s.timing_fit.clone(),
-                mean_pixels: profile.original.mean_pixels,
-                measured_errors: measured_errors(&s.measurements, metric),
-            })
-        })
-        .collect();
-    Ok(ProfileRecords {
-        usable_sets,
-        nodes,
-        sets: set_records,
-    })
-}
-
-/// What [`profile_records`] builds.
-#[derive(Debug, Clone)]
-pub struct ProfileRecords<'p> {
-    /// The profile's usable sets, in the order of `sets`' records (a set whose model is missing
-    /// has no record).
-    pub usable_sets: Vec<&'p reproj_models::profile::SetProfile>,
-    pub nodes: Vec<NodeRecord>,
-    pub sets: Vec<SetRecord>,
 }
 
 impl NodeRecord {

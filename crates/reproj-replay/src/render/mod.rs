@@ -137,6 +137,25 @@ pub struct Reference {
     pub(crate) gpu: GpuReference,
 }
 
+impl Reference {
+    /// Check that these frames can be compared with a render of `frames` frames (from frame 0 of
+    /// the session, the window's end) at `size`.
+    pub(crate) fn covers(&self, [w, h]: [u32; 2], frames: u32) -> Result<(), ReplayError> {
+        if self.width == w && self.height == h && self.frames.len() as u32 >= frames {
+            return Ok(());
+        }
+        Err(ReplayError::ReferenceMismatch {
+            reference: format!(
+                "{} frames, {}×{}",
+                self.frames.len(),
+                self.width,
+                self.height
+            ),
+            session: format!("{frames} frames, {w}×{h}"),
+        })
+    }
+}
+
 /// A cached variant to render: the three pass modules in `manifest.passes` order, the manifest,
 /// and the runtime parameters.
 #[derive(Debug, Clone)]

@@ -133,20 +133,7 @@ impl Renderer {
         let frames = Self::frame_count(session, opts);
         let first = Self::first_frame(session, opts)?;
         let [w, h] = session.resolution;
-        if reference.width != w
-            || reference.height != h
-            || (reference.frames.len() as u32) < first + frames
-        {
-            return Err(ReplayError::ReferenceMismatch {
-                reference: format!(
-                    "{} frames, {}×{}",
-                    reference.frames.len(),
-                    reference.width,
-                    reference.height
-                ),
-                session: format!("{} frames, {w}×{h}", first + frames),
-            });
-        }
+        reference.covers([w, h], first + frames)?;
         let opts = RenderOptions {
             png_dir: None,
             timing_only: false,

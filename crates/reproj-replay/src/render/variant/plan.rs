@@ -18,20 +18,7 @@ impl Renderer {
         let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
         let first = Self::first_frame(session, opts)?;
-        if reference.width != w
-            || reference.height != h
-            || (reference.frames.len() as u32) < first + frames
-        {
-            return Err(ReplayError::ReferenceMismatch {
-                reference: format!(
-                    "{} frames, {}×{}",
-                    reference.frames.len(),
-                    reference.width,
-                    reference.height
-                ),
-                session: format!("{} frames, {w}×{h}", first + frames),
-            });
-        }
+        reference.covers([w, h], first + frames)?;
         if variant.delta_n == 0
             || variant.block == 0
             || variant.delta_n_per_frame.iter().flatten().any(|&d| d == 0)
