@@ -334,21 +334,13 @@ pub(crate) fn setting(profile: &Profile) -> String {
 }
 
 /// The selector's records of the profile: its usable nodes and sets, as `reproj emit` builds them
-/// (`reproj_select::profile_records`; a node without an L2 model is left out).
+/// (`reproj_select::profile_records`). Every node has an L2 model (`NodeProfile::fit`), so the
+/// builder's only error, a missing model, cannot happen here.
 fn records(profile: &Profile) -> (Vec<NodeRecord>, Vec<SetRecord>) {
     let keep = |_: &NodeProfile| true;
-    match reproj_select::profile_records(profile, reproj_models::Metric::L2, None, &keep, true) {
-        Ok(r) => (r.nodes, r.sets),
-        Err(_) => (
-            profile
-                .nodes
-                .iter()
-                .filter(|n| n.status == NodeStatus::Ok)
-                .filter_map(|n| NodeRecord::from_profile(profile, n, reproj_models::Metric::L2))
-                .collect(),
-            Vec::new(),
-        ),
-    }
+    reproj_select::profile_records(profile, reproj_models::Metric::L2, None, &keep, true)
+        .map(|r| (r.nodes, r.sets))
+        .unwrap_or_default()
 }
 
 /// The selections at `budgets` (emit's selector, sets included): one mark per distinct choice,
