@@ -398,6 +398,7 @@ fn key(frame: f32, m: Mat4) -> TransformKey {
             deg: angle.to_degrees(),
         }),
         scale: Scale::PerAxis(s.to_array()),
+        matrix: None,
     }
 }
 

@@ -109,6 +109,55 @@ fn key_frames_interpolate_linearly_and_clamp() {
     assert!(f0.models[0].abs_diff_eq(glam::Mat4::IDENTITY, 1e-6));
 }
 
+/// A `matrix` transform key is the model matrix exactly on its frame; between a matrix key and
+/// another the scale, rotation and translation are interpolated; a matrix that is not affine or
+/// comes with translation, rotation or scale is refused, naming the key.
+#[test]
+fn matrix_transform_keys_are_exact_on_their_frames() {
+    let a = glam::Mat4::from_scale_rotation_translation(
+        glam::Vec3::splat(2.0),
+        glam::Quat::from_rotation_y(0.3),
+        glam::Vec3::new(1.0, 0.0, 0.0),
+    );
+    let b = glam::Mat4::from_scale_rotation_translation(
+        glam::Vec3::splat(2.0),
+        glam::Quat::from_rotation_y(0.7),
+        glam::Vec3::new(3.0, 0.0, 0.0),
+    );
+    let mut v = tiny_json();
+    v["geometry"]["objects"][0]["transform"] = serde_json::json!({ "keys": [
+        { "frame": 0, "matrix": a.to_cols_array() },
+        { "frame": 2, "matrix": b.to_cols_array() },
+    ] });
+    let s = parse(&v).unwrap();
+    assert_eq!(s.frame_state(0).models[0], a, "exact on a key");
+    assert_eq!(s.frame_state(2).models[0], b, "exact on a key");
+    let mid = glam::Mat4::from_scale_rotation_translation(
+        glam::Vec3::splat(2.0),
+        glam::Quat::from_rotation_y(0.5),
+        glam::Vec3::new(2.0, 0.0, 0.0),
+    );
+    assert!(s.frame_state(1).models[0].abs_diff_eq(mid, 1e-5));
+
+    let mut projective = a.to_cols_array();
+    projective[3] = 0.5;
+    let mut both = serde_json::json!({ "frame": 0, "matrix": a.to_cols_array() });
+    both["translation"] = serde_json::json!([1, 0, 0]);
+    for (key, message) in [
+        (serde_json::json!({ "matrix": projective }), "affine"),
+        (both, "give one or the others"),
+    ] {
+        let mut v = tiny_json();
+        v["geometry"]["objects"][0]["transform"] = serde_json::json!({ "keys": [key] });
+        let e = parse(&v).unwrap_err();
+        assert!(e.to_string().contains(message), "{e}");
+        assert_eq!(
+            invalid_field(e),
+            "geometry.objects[0].transform.keys[0].matrix"
+        );
+    }
+}
+
 #[test]
 fn orbit_camera_keeps_its_radius_and_height() {
     let s = parse(&tiny_json()).unwrap();

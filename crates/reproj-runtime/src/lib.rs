@@ -14,6 +14,9 @@
 //! added, [`Variant::group`]), and the draw calls. The runtime reads nothing of reproj but the
 //! manifest and the passes, and depends on wgpu, serde, thiserror and pollster only.
 //!
+//! [`SessionCapture`] records the motion the app draws (camera, model matrices, light, uniform
+//! values per frame) as a session file, so `reproj analyze` measures the shader over it.
+//!
 //! Memory: the textures it allocates take [`Variant::bytes_per_pixel`] bytes per frame pixel: two
 //! payloads (2 to 16 bytes each, `r16float` to `rgba32float` by the cached value's width and
 //! precision) and two `r32float` depth copies, 12 to 40 bytes in all. Depth: every pass draws into
@@ -96,6 +99,7 @@
 //! ```
 
 mod build;
+pub mod capture;
 mod error;
 pub mod manifest;
 mod plan;
@@ -103,6 +107,7 @@ mod resources;
 mod variant;
 mod webgpu;
 
+pub use capture::{CaptureError, CapturedCamera, CapturedFrame, SessionCapture};
 pub use error::RuntimeError;
 pub use resources::{FrameInputs, FrameTargets, Setup, VariantResources, VertexStage};
 pub use variant::Variant;

@@ -17,8 +17,10 @@
 //! - This file opens the device, runs the frames and writes `frame_NNN.png` (sRGB-encoded, as
 //!   `reproj render --frames` writes them), with `--raw` `frame_NNN.f32` (the frame's exact
 //!   linear RGBA: width × height × 4 little-endian f32, top row first, no header), and
-//!   `summary.json` (per-frame milliseconds).
+//!   `summary.json` (per-frame milliseconds); with `--capture FILE` it records the frames it drew
+//!   as a session (`capture.rs`).
 
+mod capture;
 mod engine;
 mod gpu;
 mod motion;
@@ -34,7 +36,7 @@ use serde::Serialize;
 
 use engine::{Engine, Original};
 use gpu::{Gpu, Timer};
-use reproj_runtime::Variant;
+use reproj_runtime::{SessionCapture, Variant};
 use variant::HostVariant;
 
 /// Run a reproj variant (or the original shader) over a recorded session with wgpu, following
@@ -82,6 +84,11 @@ struct Args {
     /// Time frames with CPU submit + wait even if the adapter has timestamp queries.
     #[arg(long)]
     cpu_timing: bool,
+    /// Record the frames drawn as a session file (`reproj-runtime`'s `SessionCapture`: the
+    /// camera, the objects' model matrices, the light and the uniform values of every frame, on
+    /// top of `--session`), which `reproj render` replays to the same frames.
+    #[arg(long, value_name = "FILE")]
+    capture: Option<PathBuf>,
 }
 
 /// `summary.json`.
@@ -202,9 +209,16 @@ fn run(args: &Args) -> anyhow::Result<()> {
             "--adaptive: the manifest has no run-time schedule (params.schedule; `reproj emit` writes one from a profile that records motion)"
         );
     }
+    let mut capture = match &args.capture {
+        Some(_) => Some(SessionCapture::from_file(&args.session)?),
+        None => None,
+    };
     for f in 0..frames {
         // The engine's per-frame updates, then the variant's.
         engine.write_frame(&gpu, f);
+        if let Some(c) = &mut capture {
+            c.frame(capture::frame(&engine.session, f))?;
+        }
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         engine.encode_depth_passes(&mut enc);
         let mut adapted = (None, None);
@@ -264,6 +278,10 @@ fn run(args: &Args) -> anyhow::Result<()> {
         });
     }
 
+    if let (Some(c), Some(path)) = (&capture, &args.capture) {
+        c.write(path)?;
+        eprintln!("session recorded: {} ({frames} frames)", path.display());
+    }
     let steady: Vec<f64> = records.iter().skip(1).map(|r| r.ms).collect();
     let mean_ms = if steady.is_empty() {
         records[0].ms

@@ -1,6 +1,7 @@
 //! End to end, with the real binaries: `reproj instance` writes variants of the marble sample,
 //! `reproj render --variant DIR --frames DIR --raw-frames` renders them, `reproj-host` renders
-//! them again from their `manifest.json` alone, and the frames must agree.
+//! them again from their `manifest.json` alone, and the frames must agree; a session the host
+//! records while drawing replays to the frames it drew.
 //!
 //! Frames are compared as floats: both programs write `frame_NNN.f32` (the frame target's exact
 //! linear RGBA, width × height × 4 little-endian f32, top row first), and every channel of every
@@ -108,12 +109,17 @@ fn instance(dir: &Path, extra: &[&str]) {
 
 /// `reproj render` of the marble session: the original, or the variant in `variant`.
 fn reproj_render(variant: Option<&Path>, frames_dir: &Path) {
+    reproj_render_session(Path::new("sessions/marble.json"), variant, frames_dir);
+}
+
+/// `reproj render` of marble over `session`: the original, or the variant in `variant`.
+fn reproj_render_session(session: &Path, variant: Option<&Path>, frames_dir: &Path) {
     let max = FRAMES.to_string();
     let mut args = vec![
         "render",
         "shaders/marble.wgsl",
         "--session",
-        "sessions/marble.json",
+        s(session),
         "--frames",
         s(frames_dir),
         "--raw-frames",
@@ -241,6 +247,62 @@ fn host_at_delta_n_1_reproduces_the_original() {
             &original,
         );
     }
+}
+
+/// A session the host records while it draws (`--capture`, reproj-runtime's `SessionCapture`)
+/// replays with `reproj render` to the frames the host drew: the orbiting camera, the turning
+/// torus and the moving light become key frames (model matrices as they are), the rest of the
+/// session stays.
+#[test]
+fn a_session_the_host_records_replays_to_the_frames_it_drew() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("variant");
+    instance(&dir, &["--strategy", "2pass"]);
+    let captured = tmp.path().join("captured.json");
+    let hosted = tmp.path().join("host");
+    host(Some(&dir), &hosted, &["--capture", s(&captured)]);
+    let session: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&captured).unwrap()).unwrap();
+    assert_eq!(session["frames"], FRAMES);
+    assert!(
+        session["camera"]["orbit"].is_null(),
+        "the orbit became keys"
+    );
+    assert_eq!(
+        session["camera"]["keys"].as_array().unwrap().len(),
+        FRAMES as usize
+    );
+    let torus = &session["geometry"]["objects"][0];
+    assert_eq!(torus["mesh"]["torus"]["segments"], 48, "the mesh stays");
+    let keys = torus["transform"]["keys"].as_array().unwrap();
+    assert_eq!(keys.len(), FRAMES as usize);
+    assert_eq!(keys[5]["matrix"].as_array().unwrap().len(), 16);
+    assert_eq!(session["uniforms"]["shininess"], 60.0);
+    let schema: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(workspace().join("docs/session.schema.json")).unwrap(),
+    )
+    .unwrap();
+    let errors: Vec<String> = jsonschema::validator_for(&schema)
+        .unwrap()
+        .iter_errors(&session)
+        .map(|e| format!("{}: {e}", e.instance_path()))
+        .collect();
+    assert!(
+        errors.is_empty(),
+        "the recorded session against the schema: {errors:?}"
+    );
+    let replayed = tmp.path().join("replayed");
+    reproj_render_session(&captured, Some(&dir), &replayed);
+    assert_close(
+        "recorded session: reproj render vs the host that recorded it",
+        &replayed,
+        &hosted,
+    );
+    // And the session the host played, for the other direction: the recorded motion is the
+    // played one.
+    let played = tmp.path().join("played");
+    reproj_render(Some(&dir), &played);
+    assert_close("recorded vs played session", &replayed, &played);
 }
 
 /// Nothing but `frame` is a name the host knows: a manifest whose texture names, roles and

@@ -125,12 +125,40 @@ fn rotation_lerp(a: &Option<Rotation>, b: &Option<Rotation>, t: f32) -> Quat {
     }
 }
 
+impl TransformKey {
+    /// The key's model matrix: its `matrix` as given, or translate · rotate · scale.
+    fn model(&self) -> Mat4 {
+        match &self.matrix {
+            Some(m) => Mat4::from_cols_array(m),
+            None => Mat4::from_scale_rotation_translation(
+                self.scale.vec(),
+                rotation_quat(&self.rotation),
+                Vec3::from(self.translation),
+            ),
+        }
+    }
+}
+
 impl Transform {
-    /// Model matrix at a (fractional) frame index.
+    /// Model matrix at a (fractional) frame index. On a key it is the key's matrix exactly;
+    /// between keys the parameters are interpolated, or, where either key is a `matrix`, both
+    /// are taken apart into scale, rotation and translation and those interpolated (slerp).
     pub fn matrix(&self, frame: f32) -> Mat4 {
         let frames: Vec<f32> = self.keys.iter().map(|k| k.frame).collect();
         let (i, j, t) = segment(&frames, frame);
         let (a, b) = (&self.keys[i], &self.keys[j]);
+        if a.matrix.is_some() || b.matrix.is_some() {
+            if t == 0.0 {
+                return a.model();
+            }
+            let (sa, ra, ta) = a.model().to_scale_rotation_translation();
+            let (sb, rb, tb) = b.model().to_scale_rotation_translation();
+            return Mat4::from_scale_rotation_translation(
+                sa.lerp(sb, t),
+                ra.slerp(rb, t),
+                ta.lerp(tb, t),
+            );
+        }
         let tr = lerp3(a.translation, b.translation, t);
         let sc = a.scale.vec().lerp(b.scale.vec(), t);
         let rot = rotation_lerp(&a.rotation, &b.rotation, t);

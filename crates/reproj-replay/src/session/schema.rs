@@ -295,6 +295,12 @@ pub struct TransformKey {
     /// A number (uniform) or `[x, y, z]`. Default 1.
     #[serde(default)]
     pub scale: Scale,
+    /// The model matrix itself, 16 numbers column by column (as WGSL's `mat4x4<f32>` and
+    /// `glam::Mat4::to_cols_array` hold it), in place of `translation`, `rotation` and `scale`:
+    /// what an engine has, kept exactly (a session recorded with `reproj-runtime`'s capture
+    /// writes one per frame). Affine (last row 0, 0, 0, 1). Default none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<[f32; 16]>,
 }
 
 impl Default for TransformKey {
@@ -304,6 +310,7 @@ impl Default for TransformKey {
             translation: [0.0; 3],
             rotation: None,
             scale: Scale::default(),
+            matrix: None,
         }
     }
 }

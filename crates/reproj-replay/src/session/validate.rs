@@ -72,6 +72,33 @@ impl UniformValue {
     }
 }
 
+impl TransformKey {
+    /// What is wrong with the key's `matrix`, if anything: a number that is not finite, a last
+    /// row other than (0, 0, 0, 1) (the model matrix is affine), or `translation`, `rotation` or
+    /// `scale` given beside it.
+    fn matrix_problem(&self) -> Option<String> {
+        let m = self.matrix.as_ref()?;
+        if let Some(i) = m.iter().position(|x| !x.is_finite()) {
+            return Some(format!("element {i} is not a finite number"));
+        }
+        // Column-major: the last row is elements 3, 7, 11 and 15.
+        let row = [m[3], m[7], m[11], m[15]];
+        if row != [0.0, 0.0, 0.0, 1.0] {
+            return Some(format!(
+                "the last row (elements 3, 7, 11, 15: column-major) is {row:?}, expected [0, 0, 0, 1]: a model matrix is affine"
+            ));
+        }
+        let default_scale = matches!(self.scale, Scale::Uniform(s) if s == 1.0);
+        if self.translation != [0.0; 3] || self.rotation.is_some() || !default_scale {
+            return Some(
+                "`matrix` replaces `translation`, `rotation` and `scale`: give one or the others"
+                    .into(),
+            );
+        }
+        None
+    }
+}
+
 impl Session {
     /// The session's value of the uniform leaf at `path` (`shininess`, `sun.color`,
     /// `lights[2].position`, as [`crate::reflect`] names the leaves).
@@ -163,6 +190,15 @@ impl Session {
             }
             if !in_order(o.transform.keys.iter().map(|k| k.frame)) {
                 return Err(unordered(self, format!("{f}.transform.keys")));
+            }
+            for (k, key) in o.transform.keys.iter().enumerate() {
+                if let Some(message) = key.matrix_problem() {
+                    return Err(SessionError::Invalid {
+                        path: self.path.clone(),
+                        field: format!("{f}.transform.keys[{k}].matrix"),
+                        message,
+                    });
+                }
             }
             let bad = |m: &str| SessionError::Invalid {
                 path: self.path.clone(),
