@@ -17,7 +17,7 @@
 # and on what `reproj instance --lang glsl,spv` itself writes beside the WGSL (reproj's own
 # backend options, not the naga CLI's):
 #
-#   reproj glsl   each pass's .frag (GLSL 4.50) compiled by glslangValidator
+#   reproj glsl   each pass's .frag (GLSL 4.50) compiled for Vulkan by glslangValidator -V
 #   reproj spv    each pass's .spv checked by spirv-val
 #
 # and prints per tool how many passed (`glslang es300: 66/66`). A tool that is not installed is
@@ -164,8 +164,10 @@ for shader in "${shaders[@]}"; do
         mkdir -p "$outdir"
         for f in "$dir"/*.frag; do
             have glslangValidator || break
+            # Vulkan GLSL: -V refuses a resource without layout(binding) (the manifest lists them).
             check "reproj glsl" "$stem/$(basename "$dir")/$(basename "$f")" \
-                "glslangValidator -S frag $f" glslangValidator -S frag "$f"
+                "glslangValidator -V -S frag $f" \
+                glslangValidator -V -S frag "$f" -o "$outdir/$(basename "$f").vk.spv"
         done
         for f in "$dir"/*.spv; do
             have spirv-val || break

@@ -495,5 +495,6 @@ pub(crate) fn build_manifest(
         },
         passes: passes.iter().map(pass).collect(),
         notes,
+        languages: Vec::new(),
     }
 }

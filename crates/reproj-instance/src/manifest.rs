@@ -264,6 +264,44 @@ pub struct Manifest {
     pub passes: Vec<Pass>,
     /// Plain-language notes for a reader; everything in them is also in the fields above.
     pub notes: Vec<String>,
+    /// The passes in other languages (`--lang`), each with its files and how it binds every
+    /// resource. Absent when only WGSL was written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub languages: Vec<LanguageOutput>,
+}
+
+/// The passes written in one other language, and that language's bindings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct LanguageOutput {
+    /// `glsl`, `hlsl`, `msl` or `spirv` (as `--lang` takes it).
+    pub lang: String,
+    /// One file per pass, in the order of `passes`.
+    pub files: Vec<String>,
+    /// Every resource of the passes as this language binds it: the same slot in every pass.
+    pub bindings: Vec<LanguageBinding>,
+    /// The language's binding model in words (heaps, combined samplers, extra buffers).
+    pub notes: Vec<String>,
+}
+
+/// One resource in one language.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct LanguageBinding {
+    /// The WGSL resource (`passes[].bindings`).
+    pub group: u32,
+    pub binding: u32,
+    pub name: String,
+    /// `uniform`, `storage`, `read-only-storage`, `texture`, `storage-texture` or `sampler`.
+    pub kind: String,
+    /// The number the language binds it by: GLSL's `binding`, HLSL's register number (for a
+    /// sampler: its index in the group's sampler index buffer), MSL's buffer, texture or sampler
+    /// index, SPIR-V's binding.
+    pub slot: u32,
+    /// HLSL's register space or SPIR-V's descriptor set; absent for GLSL, MSL and HLSL samplers.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub space: Option<u32>,
+    /// As the file writes it: `layout(binding = 2)`, `register(t3, space1)`, `[[texture(1)]]`,
+    /// `DescriptorSet 1, Binding 3`.
+    pub target: String,
 }
 
 /// The cached node.

@@ -32,7 +32,8 @@ pub fn write_variant_in(
 }
 
 /// The files of a variant directory, by name: each pass's WGSL, each pass in each of `outputs`'
-/// languages (override constants resolved), and `manifest.json`.
+/// languages (override constants resolved), and `manifest.json` (listing those files and their
+/// bindings in `languages`).
 pub fn variant_files(
     variant: &Variant,
     outputs: &backends::Outputs,
@@ -45,15 +46,18 @@ pub fn variant_files(
         .iter()
         .map(|p| (pass_file(p.kind).to_owned(), p.wgsl.clone().into_bytes()))
         .collect();
+    let mut manifest = variant.manifest.clone();
     for &lang in &outputs.langs {
+        let table = backends::language_output(&variant.passes, lang);
         for p in &variant.passes {
             files.push((
                 backends::pass_file_in(p, lang),
-                backends::write_pass(p, lang, &outputs.overrides)?,
+                backends::write_pass(p, lang, &table, &outputs.overrides)?,
             ));
         }
+        manifest.languages.push(table);
     }
-    let mut manifest = serde_json::to_vec_pretty(&variant.manifest).expect("manifest serializes");
+    let mut manifest = serde_json::to_vec_pretty(&manifest).expect("manifest serializes");
     manifest.push(b'\n');
     files.push(("manifest.json".to_owned(), manifest));
     Ok(files)

@@ -3,7 +3,9 @@
 //! WGSL stays the source of truth (the manifest names the `.wgsl` files, the replay renders them);
 //! `--lang` adds each pass in GLSL 4.50, HLSL (shader model 5.1), MSL 2.1 or SPIR-V beside it,
 //! written from the same validated module. GLSL holds one entry point per file: the pass's
-//! (entry point 0, the one the manifest names); the others hold every entry point.
+//! (entry point 0, the one the manifest names); the others hold every entry point. Every
+//! resource's binding in each language is chosen here, explicitly, and listed in the manifest's
+//! `languages` ([`bindings`]).
 //!
 //! naga's writers take no `override` constants: each module's overrides are first replaced by
 //! their values ([`Outputs::overrides`], else their defaults) with naga's `process_overrides`.
@@ -14,7 +16,11 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use crate::{InstanceError, PassModule, pass_file};
+use crate::{InstanceError, LanguageOutput, PassModule, pass_file};
+
+pub mod bindings;
+
+pub use bindings::language_output;
 
 /// A shading language the passes can be written in besides WGSL.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -33,6 +39,16 @@ impl OutputLang {
             OutputLang::Hlsl => "hlsl",
             OutputLang::Msl => "metal",
             OutputLang::SpirV => "spv",
+        }
+    }
+
+    /// The language as `--lang` and the manifest's `languages[].lang` name it.
+    pub fn key(self) -> &'static str {
+        match self {
+            OutputLang::Glsl => "glsl",
+            OutputLang::Hlsl => "hlsl",
+            OutputLang::Msl => "msl",
+            OutputLang::SpirV => "spirv",
         }
     }
 
@@ -133,16 +149,18 @@ pub fn pass_file_in(pass: &PassModule, lang: OutputLang) -> String {
         .to_string()
 }
 
-/// `pass` written in `lang`, after validating its module again. naga's writers can panic on
+/// `pass` written in `lang` with the bindings of `table` ([`language_output`] of all the passes,
+/// for `lang`), after validating its module again. naga's writers can panic on
 /// input they do not support (`texture_external` in GLSL or SPIR-V, in naga 30): a panic there is
 /// caught and becomes [`InstanceError::Backend`] (a user error, exit 2) instead of ending the
 /// process — a last line of defence; refusing known-unsupported input first is better.
 pub fn write_pass(
     pass: &PassModule,
     lang: OutputLang,
+    table: &LanguageOutput,
     overrides: &Overrides,
 ) -> Result<Vec<u8>, InstanceError> {
-    guarded(|| write_pass_unguarded(pass, lang, overrides)).unwrap_or_else(|message| {
+    guarded(|| write_pass_unguarded(pass, lang, table, overrides)).unwrap_or_else(|message| {
         Err(InstanceError::Backend {
             file: pass_file_in(pass, lang),
             what: format!(
@@ -173,6 +191,7 @@ fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
 fn write_pass_unguarded(
     pass: &PassModule,
     lang: OutputLang,
+    table: &LanguageOutput,
     overrides: &Overrides,
 ) -> Result<Vec<u8>, InstanceError> {
     let fail = |what: String| InstanceError::Backend {
@@ -206,6 +225,7 @@ fn write_pass_unguarded(
             let options = glsl::Options {
                 version: glsl::Version::Desktop(450),
                 writer_flags: glsl::WriterFlags::empty(),
+                binding_map: bindings::glsl_map(table),
                 ..Default::default()
             };
             let pipeline = glsl::PipelineOptions {
@@ -230,11 +250,15 @@ fn write_pass_unguarded(
             let mut text = String::new();
             // A GLSL input's push constants (naga's immediates) need a register: `b0` of
             // space 254, out of the way of the bind groups' spaces and naga's sampler heap (255).
+            let (binding_map, sampler_buffer_binding_map) = bindings::hlsl_maps(table);
             let options = hlsl::Options {
                 immediates_target: Some(hlsl::BindTarget {
                     space: IMMEDIATES_SPACE,
                     ..Default::default()
                 }),
+                binding_map,
+                sampler_buffer_binding_map,
+                fake_missing_bindings: false,
                 ..Default::default()
             };
             let pipeline = hlsl::PipelineOptions::default();
@@ -247,6 +271,8 @@ fn write_pass_unguarded(
             use naga::back::msl;
             let options = msl::Options {
                 lang_version: (2, 1),
+                per_entry_point_map: bindings::msl_map(table, module),
+                fake_missing_bindings: false,
                 ..Default::default()
             };
             let (text, _) =
