@@ -136,8 +136,44 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
     match lang {
         Lang::SpirV => parse_spirv(path, &std::fs::read(path).map_err(io)?),
         Lang::Glsl => parse_glsl(path, std::fs::read_to_string(path).map_err(io)?),
-        text => parse_text(path, text, std::fs::read_to_string(path).map_err(io)?),
+        Lang::Wgsl => {
+            let source = std::fs::read_to_string(path).map_err(io)?;
+            if crate::compose::needs_composing(&source) {
+                parse_composed(path, &source)
+            } else {
+                parse_text(path, Lang::Wgsl, source)
+            }
+        }
     }
+}
+
+/// WGSL with `#import`s ([`crate::compose`]): composed with naga_oil, validated, and its WGSL made
+/// the source text, as for SPIR-V.
+pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
+    let module = crate::compose::compose(path, source)?;
+    let info = validator().validate(&module).map_err(|e| {
+        FrontError::Validation(SourceDiagnostic::new(
+            path.to_owned(),
+            "",
+            vec![Message::new(format!(
+                "the composed module is not valid: {}",
+                chain(&e)
+            ))],
+        ))
+    })?;
+    let wgsl = write_wgsl(&module, &info).map_err(|what| {
+        FrontError::Unsupported(SourceDiagnostic::new(
+            path.to_owned(),
+            "",
+            vec![Message::new(format!("unsupported: {what}"))],
+        ))
+    })?;
+    parse_text(path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
+        what: format!(
+            "naga's WGSL of the composed {} does not parse again: {e}",
+            path.display()
+        ),
+    })
 }
 
 /// Parse WGSL text and validate the module. Errors carry naga's rendered diagnostic.

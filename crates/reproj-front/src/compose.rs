@@ -1,0 +1,224 @@
+//! WGSL with `#import`s (Bevy's and naga_oil's preprocessor): composed into one module first.
+//!
+//! Bevy materials start with `#import bevy_pbr::forward_io::VertexOutput` and friends, which no
+//! WGSL parser reads. naga_oil (Bevy's composer) resolves them — when it has the modules. reproj
+//! looks for them in `.wgsl` files that declare `#define_import_path NAME`, in the shader's folder
+//! (and its subfolders) and in the folders listed in `REPROJ_WGSL_IMPORTS` (`:`-separated; point it
+//! at a checkout of the engine's shader sources, e.g. Bevy's `crates/`), adds the ones the shader
+//! needs in import order, and composes. The composed module is written back as WGSL and parsed
+//! again, as SPIR-V input is ([`crate::parse`]): spans and node lines then point into that text,
+//! whose imported names carry naga_oil's decoration. A module not found is refused at its
+//! `#import` line, naming the module and where it was looked for.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+use naga_oil::compose::{
+    ComposableModuleDescriptor, Composer, ComposerError, ComposerErrorInner, NagaModuleDescriptor,
+    ShaderLanguage, ShaderType, get_preprocessor_data,
+};
+
+use crate::diagnostic::{Message, SourceDiagnostic};
+use crate::parse::FrontError;
+
+/// The environment variable listing further folders of importable modules.
+pub const IMPORTS_VAR: &str = "REPROJ_WGSL_IMPORTS";
+
+/// Folders below a search root that are read, at most (a root is not meant to be a whole disk).
+const MAX_FILES: usize = 20_000;
+
+/// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
+/// `#define_import_path`, `#ifdef`...), which plain WGSL never does.
+pub fn needs_composing(source: &str) -> bool {
+    source.lines().any(|l| l.trim_start().starts_with('#'))
+}
+
+/// A module file found in the search folders.
+#[derive(Debug)]
+struct Found {
+    path: PathBuf,
+    source: String,
+    imports: Vec<String>,
+}
+
+/// The folders searched for the modules `shader` imports.
+fn search_roots(shader: &Path) -> Vec<PathBuf> {
+    let mut roots = vec![
+        shader
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_owned),
+    ];
+    if let Some(list) = std::env::var_os(IMPORTS_VAR) {
+        roots.extend(std::env::split_paths(&list).filter(|p| !p.as_os_str().is_empty()));
+    }
+    roots
+}
+
+/// Every `.wgsl` file under `roots` that declares `#define_import_path`, by module name (the
+/// first found wins).
+fn find_modules(roots: &[PathBuf], shader: &Path) -> BTreeMap<String, Found> {
+    let mut modules = BTreeMap::new();
+    let mut seen = 0;
+    for root in roots {
+        let mut dirs = vec![root.clone()];
+        while let Some(dir) = dirs.pop() {
+            let Ok(entries) = std::fs::read_dir(&dir) else {
+                continue;
+            };
+            let mut entries: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+            entries.sort();
+            for path in entries {
+                seen += 1;
+                if seen > MAX_FILES {
+                    return modules;
+                }
+                if path.is_dir() {
+                    dirs.push(path);
+                    continue;
+                }
+                if path.extension().is_none_or(|x| x != "wgsl") || path == shader {
+                    continue;
+                }
+                let Ok(source) = std::fs::read_to_string(&path) else {
+                    continue;
+                };
+                if !source.contains("#define_import_path") {
+                    continue;
+                }
+                let (name, imports, _) = get_preprocessor_data(&source);
+                if let Some(name) = name {
+                    let imports = imports.into_iter().map(|i| i.import).collect();
+                    modules.entry(name).or_insert(Found {
+                        path,
+                        source,
+                        imports,
+                    });
+                }
+            }
+        }
+    }
+    modules
+}
+
+/// The module an import names: the longest known module name that is the import or a prefix of
+/// it at a `::` (`bevy_pbr::forward_io::VertexOutput` imports from `bevy_pbr::forward_io`).
+fn module_of<'a>(import: &str, modules: &'a BTreeMap<String, Found>) -> Option<&'a str> {
+    modules
+        .keys()
+        .filter(|m| {
+            import == m.as_str()
+                || import
+                    .strip_prefix(m.as_str())
+                    .is_some_and(|rest| rest.starts_with("::"))
+        })
+        .max_by_key(|m| m.len())
+        .map(String::as_str)
+}
+
+/// Add `name` and, first, everything it imports.
+fn add_module(
+    composer: &mut Composer,
+    modules: &BTreeMap<String, Found>,
+    name: &str,
+    depth: usize,
+) -> Result<(), Box<ComposerError>> {
+    if composer.contains_module(name) || depth > 64 {
+        return Ok(());
+    }
+    let found = &modules[name];
+    for import in &found.imports {
+        if let Some(dep) = module_of(import, modules)
+            && dep != name
+        {
+            add_module(composer, modules, dep, depth + 1)?;
+        }
+    }
+    composer
+        .add_composable_module(ComposableModuleDescriptor {
+            source: &found.source,
+            file_path: &found.path.display().to_string(),
+            language: ShaderLanguage::Wgsl,
+            ..Default::default()
+        })
+        .map_err(Box::new)?;
+    Ok(())
+}
+
+/// Compose `source` (the shader at `path`) with the modules it imports into one naga module,
+/// the modules searched in the shader's folder and those of [`IMPORTS_VAR`].
+pub fn compose(path: &Path, source: &str) -> Result<naga::Module, FrontError> {
+    compose_searching(path, source, &search_roots(path))
+}
+
+/// [`compose`], the modules searched in `roots` (and their subfolders) only.
+pub fn compose_searching(
+    path: &Path,
+    source: &str,
+    roots: &[PathBuf],
+) -> Result<naga::Module, FrontError> {
+    let modules = find_modules(roots, path);
+    let (_, imports, _) = get_preprocessor_data(source);
+    let mut composer = Composer::default().with_capabilities(naga::valid::Capabilities::all());
+    for import in &imports {
+        let Some(module) = module_of(&import.import, &modules) else {
+            continue;
+        };
+        if let Err(e) = add_module(&mut composer, &modules, module, 0) {
+            return Err(composer_error(path, source, roots, &composer, &e));
+        }
+    }
+    composer
+        .make_naga_module(NagaModuleDescriptor {
+            source,
+            file_path: &path.display().to_string(),
+            shader_type: ShaderType::Wgsl,
+            shader_defs: HashMap::new(),
+            ..Default::default()
+        })
+        .map_err(|e| composer_error(path, source, roots, &composer, &e))
+}
+
+/// naga_oil's error as a front-end diagnostic: a missing module at its `#import`, with where it
+/// was looked for; anything else with naga_oil's own rendering as a note.
+fn composer_error(
+    path: &Path,
+    source: &str,
+    roots: &[PathBuf],
+    composer: &Composer,
+    e: &ComposerError,
+) -> FrontError {
+    let places = roots
+        .iter()
+        .map(|r| r.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let message = match &e.inner {
+        ComposerErrorInner::ImportNotFound(name, _) => {
+            let mut m = Message::new(format!(
+                "`#import {name}`: no module `{name}` was found (a .wgsl file declaring `#define_import_path` for it)"
+            ));
+            // The import's line in the shader itself, where it is there.
+            if let Some(at) = source.find(name.as_str()) {
+                m.labels.push((at..at + name.len(), "imported here".into()));
+            }
+            m.notes.push(format!(
+                "searched: {places}; add the folder holding the module's source to {IMPORTS_VAR} (`:`-separated), e.g. a checkout of the engine's shader sources (Bevy's modules are in its crates: bevy_pbr, bevy_render, ...)"
+            ));
+            m
+        }
+        _ => {
+            let mut m = Message::new(format!(
+                "composing the shader's imports failed: {}",
+                e.inner
+            ));
+            m.notes.push(e.emit_to_string(composer));
+            m
+        }
+    };
+    FrontError::Parse(SourceDiagnostic::new(
+        path.to_owned(),
+        source,
+        vec![message],
+    ))
+}
