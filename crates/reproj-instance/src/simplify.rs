@@ -74,7 +74,7 @@ pub fn simplify(
         .map_err(|e| internal(e.to_string()))?
         .function;
     module.entry_points[0].function = fun;
-    let (module, info, wgsl) = finish_module(module, 4, internal)?;
+    let (module, info, wgsl) = finish_module(module, internal)?;
     Ok(Simplified { module, info, wgsl })
 }
 

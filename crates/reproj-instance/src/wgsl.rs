@@ -97,7 +97,7 @@ pub(crate) fn allow_quad_uniform_derivatives(module: &mut Module) {
 /// Validate, compact, validate again, write WGSL and run it to a fixed point of the round trip.
 pub(crate) fn finish(pass: PassKind, module: Module) -> Result<PassModule, InstanceError> {
     let (module, info, wgsl) =
-        finish_module(module, 2, |what| InstanceError::Internal { pass, what })?;
+        finish_module(module, |what| InstanceError::Internal { pass, what })?;
     Ok(PassModule {
         kind: pass,
         module,
@@ -106,14 +106,21 @@ pub(crate) fn finish(pass: PassKind, module: Module) -> Result<PassModule, Insta
     })
 }
 
+/// Round trips allowed before the WGSL must stop changing. naga's WGSL front end folds one more
+/// level of a constant expression on each trip (a helper inlined with literal arguments leaves
+/// `d / ((1f + 0.2f) * (1f + 0.2f))`: `1.2f * 1.2f` on the first trip, `1.44f` on the second),
+/// so the trips needed grow with how deeply constants nest; each trip that changes the text makes
+/// it shorter, so this bound is reached only by a bug.
+const MAX_TRIPS: usize = 16;
+
 /// Validate, compact, validate again and write `module` as WGSL that is a fixed point of parse →
-/// validate → write within `rounds` trips; `internal` makes the error of a step that fails (a bug
-/// in reproj).
+/// validate → write within [`MAX_TRIPS`] trips; `internal` makes the error of a step that fails (a
+/// bug in reproj).
 pub(crate) fn finish_module(
     mut module: Module,
-    rounds: usize,
     internal: impl Fn(String) -> InstanceError,
 ) -> Result<(Module, naga::valid::ModuleInfo, String), InstanceError> {
+    let rounds = MAX_TRIPS;
     validator().validate(&module).map_err(|e| {
         internal(format!(
             "does not validate before compaction: {}",
@@ -147,15 +154,16 @@ pub(crate) fn finish_module(
         if again == text {
             return Ok((reparsed, reinfo, text));
         }
+        // naga's namer may rename on every trip (`a_1` becomes `a_1_`, and then the next `a`
+        // takes `a_1`): after the first trip, the same program under other names is a fixed
+        // point too.
+        if round >= 1 && same_up_to_names(&text, &again) {
+            return Ok((reparsed, reinfo, text));
+        }
         if round + 1 == rounds {
-            // naga's namer may still rename on the last trip (`a_1` becomes `a_1_`, and then the
-            // next `a` takes `a_1`): the same program under other names is a fixed point too.
-            if same_up_to_names(&text, &again) {
-                return Ok((reparsed, reinfo, text));
-            }
-            return Err(internal(
-                "the WGSL round trip does not reach a fixed point".into(),
-            ));
+            return Err(internal(format!(
+                "the WGSL round trip does not reach a fixed point in {rounds} trips"
+            )));
         }
         text = again;
     }
