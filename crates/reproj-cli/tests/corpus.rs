@@ -1,4 +1,5 @@
-//! The corpus (`shaders/corpus/`, sessions in `sessions/corpus/`): engine-style fragment shaders,
+//! The corpus (`shaders/corpus/`, sessions in `sessions/corpus/`; the GLSL shaders of
+//! `shaders/corpus/glsl/` that have a session in `sessions/corpus/glsl/`): engine-style fragment shaders,
 //! each run through the real binary and compared with the committed table
 //! `shaders/corpus/expected.json`, so that a shader that stops parsing, loses cacheable nodes, stops
 //! validating or rendering (or starts to) fails here. Per shader it records: whether `nodes` parses
@@ -189,6 +190,24 @@ fn corpus_matches_its_table() {
             "docs/CORPUS.md has no row for {name}.wgsl"
         );
         measured.insert(name.to_owned(), measure(shader, &session));
+    }
+    // The GLSL shaders that have a session (`sessions/corpus/glsl/NAME.json`) go the same way.
+    let mut glsl: Vec<_> = std::fs::read_dir(root.join("sessions/corpus/glsl"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    glsl.sort();
+    assert!(glsl.len() >= 5, "{} GLSL corpus sessions", glsl.len());
+    for session in &glsl {
+        let name = session.file_stem().unwrap().to_str().unwrap();
+        let shader = dir.join(format!("glsl/{name}.frag"));
+        assert!(shader.is_file(), "{}: no shader", session.display());
+        assert!(
+            doc.contains(&format!("`{name}.frag`")),
+            "docs/CORPUS.md has no row for {name}.frag"
+        );
+        measured.insert(format!("glsl/{name}"), measure(&shader, session));
     }
     let measured = Value::Object(measured);
 
