@@ -1,7 +1,9 @@
-//! The crate layering: the GPU stays in the replay. Reads the workspace's `Cargo.lock` (the whole
-//! resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly or
-//! through any dependency: only reproj-replay, the crates built on it, the example host, and the
-//! runtime crate engines link (which names wgpu and no other reproj crate).
+//! The crate layering: the GPU stays in the renderers. Reads the workspace's `Cargo.lock` (the
+//! whole resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly
+//! or through any dependency: only reproj-replay (the renderer), the crates built on it, the
+//! example host, and the runtime crate engines link (which names wgpu and no other reproj crate).
+//! The scene (reproj-scene) and the metrics (reproj-metrics) the replay draws and reports are
+//! GPU-free, so a host, `emit` and the light build use them without wgpu.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -64,6 +66,8 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
     let gpu_free = [
         "reproj-front",
         "reproj-instance",
+        "reproj-scene",
+        "reproj-metrics",
         "reproj-models",
         "reproj-select",
         "reproj-charts",
@@ -106,7 +110,7 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
 }
 
 /// The runtime an engine links depends on no other reproj crate (its test app's scene comes from
-/// reproj-replay as a dev-dependency only): the manifest is the interface.
+/// reproj-scene as a dev-dependency only): the manifest is the interface.
 #[test]
 fn the_runtime_depends_on_no_reproj_crate() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../reproj-runtime/Cargo.toml");
@@ -175,6 +179,7 @@ fn the_light_build_has_no_gpu_crates() {
         "nv-flip",
         "nv-flip-sys",
         "plotters",
+        "reproj-replay",
         "reproj-bench",
         "cc",
     ] {
@@ -183,14 +188,21 @@ fn the_light_build_has_no_gpu_crates() {
             "the light build depends on {heavy}: keep it behind reproj-cli's `gpu` feature"
         );
     }
-    for needed in ["reproj-analyze", "reproj-instance", "naga", "clap_complete"] {
+    for needed in [
+        "reproj-analyze",
+        "reproj-instance",
+        "reproj-scene",
+        "reproj-metrics",
+        "naga",
+        "clap_complete",
+    ] {
         assert!(
             light.contains(needed),
             "{needed} missing from the light build"
         );
     }
     let full = tree(&[]);
-    for heavy in ["wgpu", "nv-flip", "reproj-bench"] {
+    for heavy in ["wgpu", "nv-flip", "reproj-replay", "reproj-bench"] {
         assert!(full.contains(heavy), "the default build has {heavy}");
     }
 }
