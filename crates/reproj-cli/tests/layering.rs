@@ -206,3 +206,83 @@ fn the_light_build_has_no_gpu_crates() {
         assert!(full.contains(heavy), "the default build has {heavy}");
     }
 }
+
+/// Inside the crates split from the replay, a module imports only from the modules below it (no
+/// import circles): each list is the crate's modules bottom-up, as its `lib.rs` documents them,
+/// and every `crate::m` a module names (outside comments) must come before it in the list.
+#[test]
+fn modules_import_only_from_below() {
+    let crates: [(&str, &[&str]); 3] = [
+        (
+            "reproj-scene",
+            &[
+                "reflect", "session", "geometry", "gltf", "mesh", "textures", "load", "uniforms",
+                "init",
+            ],
+        ),
+        (
+            "reproj-metrics",
+            &["l2", "report", "srgb", "perceptual", "output"],
+        ),
+        (
+            "reproj-replay",
+            &[
+                "error", "backend", "vertex", "gpu", "readback", "assets", "reduce", "render",
+            ],
+        ),
+    ];
+    for (name, order) in crates {
+        let src = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(name)
+            .join("src");
+        let mut files = vec![src.clone()];
+        let mut seen = BTreeSet::new();
+        while let Some(p) = files.pop() {
+            if p.is_dir() {
+                files.extend(std::fs::read_dir(&p).unwrap().map(|e| e.unwrap().path()));
+                continue;
+            }
+            if p.extension().is_none_or(|x| x != "rs") || p.file_name().unwrap() == "lib.rs" {
+                continue;
+            }
+            let rel = p.strip_prefix(&src).unwrap();
+            let module = rel.iter().next().unwrap().to_str().unwrap();
+            let module = module.strip_suffix(".rs").unwrap_or(module);
+            let rank = |m: &str| order.iter().position(|o| *o == m);
+            let own = rank(module)
+                .unwrap_or_else(|| panic!("{name}: module {module} is not in the list"));
+            seen.insert(module.to_owned());
+            let text = std::fs::read_to_string(&p).unwrap();
+            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                for (i, _) in line.match_indices("crate::") {
+                    // `crate::`, not the end of another name (`$crate::` in a macro is fine).
+                    if line[..i]
+                        .chars()
+                        .last()
+                        .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+                    {
+                        continue;
+                    }
+                    let used: String = line[i + "crate::".len()..]
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                        .collect();
+                    let Some(r) = rank(&used) else {
+                        continue;
+                    };
+                    assert!(
+                        r <= own,
+                        "{name}: {} imports crate::{used}, which is above it ({order:?})",
+                        rel.display()
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            seen.len(),
+            order.len(),
+            "{name}: {seen:?} against {order:?}"
+        );
+    }
+}
