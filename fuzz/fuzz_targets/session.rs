@@ -1,17 +1,17 @@
 //! Arbitrary text as a session (`reproj.session` JSON): the versioned-JSON reader, glTF expansion,
-//! key sorting and validation (`Session::from_json`), then what the replay computes from a session
+//! key sorting and validation (`Session::from_json`), then what reproj-scene computes from a session
 //! without a GPU: the scene's state (camera, light, object transforms, depth passes' matrices) at
 //! a few frames, and every uniform's value there. Relative paths resolve against an empty
 //! temporary folder and paths leaving it are refused (the default), so a file a session names
 //! (OBJ, glTF, image) is never found. Errors are fine; a panic is a bug (build with
-//! `--features session`: reproj-replay pulls in wgpu).
+//! `--features session`: reproj-scene pulls in glTF and image decoding).
 #![no_main]
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use reproj_replay::Session;
+use reproj_scene::Session;
 
 fn base_dir() -> &'static Path {
     static DIR: OnceLock<(tempfile::TempDir, PathBuf)> = OnceLock::new();

@@ -12,7 +12,8 @@ use reproj_models::profile::{
     Shard, Source, StrategyProbe,
 };
 use reproj_models::{PROFILE_VERSION, Profile, content_hash, fit_hit_rate};
-use reproj_replay::{RenderOptions, Renderer, Session};
+use reproj_replay::{RenderOptions, Renderer};
+use reproj_scene::Session;
 
 use crate::AnalyzeError;
 use crate::journal::Journal;
@@ -525,8 +526,8 @@ pub fn analyze(
             adapter: adapter.name.clone(),
             backend: adapter.backend.clone(),
             timing_method: match renderer.timing_method() {
-                reproj_replay::TimingMethod::GpuTimestamps => "timestamp-queries".into(),
-                reproj_replay::TimingMethod::CpuSubmitWait => "cpu-wall-clock".into(),
+                reproj_metrics::TimingMethod::GpuTimestamps => "timestamp-queries".into(),
+                reproj_metrics::TimingMethod::CpuSubmitWait => "cpu-wall-clock".into(),
             },
             cpu_cores: std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),

@@ -54,6 +54,8 @@ pub enum AnalyzeError {
     Front(#[from] reproj_front::FrontError),
     #[error(transparent)]
     Instance(#[from] reproj_instance::InstanceError),
+    /// A replay failed (the `gpu` feature: only it renders).
+    #[cfg(feature = "gpu")]
     #[error(transparent)]
     Replay(#[from] reproj_replay::ReplayError),
     #[error("{0}")]
@@ -80,6 +82,7 @@ impl AnalyzeError {
         match self {
             AnalyzeError::Front(e) => e.is_user_error(),
             AnalyzeError::Instance(e) => e.is_user_error(),
+            #[cfg(feature = "gpu")]
             AnalyzeError::Replay(e) => e.is_user_error(),
             _ => true,
         }

@@ -5,13 +5,14 @@
 use std::time::Instant;
 
 use reproj_instance::Strategy;
+use reproj_metrics::RenderReport;
 use reproj_models::profile::{AnalysisTime, HoldoutCheck, Measurement, NodeStatus};
 use reproj_models::speedup::SpeedupEstimate;
 use reproj_models::{
     ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, FrameValue, MetricSummary, TimingFit,
     TimingStatus, fit_error, fit_timing_with_holdout, predicted_frame_ms,
 };
-use reproj_replay::{RenderOptions, RenderReport, Renderer, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, VariantInput};
 
 use crate::AnalyzeError;
 use crate::analyze::{AnalyzeInput, Progress};
@@ -490,7 +491,7 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
         flip: report.flip.map(summary),
         ssim: report.ssim.map(summary),
         mse: report.mse.is_finite().then_some(report.mse),
-        psnr: (report.psnr.is_finite() && report.psnr < reproj_replay::metrics::PSNR_CAP)
+        psnr: (report.psnr.is_finite() && report.psnr < reproj_metrics::PSNR_CAP)
             .then_some(report.psnr),
         hit_rate: finite(report.hit_rate),
         frame_ms: finite(report.frame_ms),
@@ -499,14 +500,14 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
     }
 }
 
-fn frame_value(v: reproj_replay::metrics::FrameValue) -> FrameValue {
+fn frame_value(v: reproj_metrics::FrameValue) -> FrameValue {
     FrameValue {
         frame: v.frame,
         value: finite(v.value),
     }
 }
 
-fn summary(s: reproj_replay::metrics::MetricSummary) -> MetricSummary {
+fn summary(s: reproj_metrics::MetricSummary) -> MetricSummary {
     MetricSummary {
         mean: finite(s.mean),
         worst: frame_value(s.worst),

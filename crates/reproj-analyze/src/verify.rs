@@ -4,9 +4,10 @@
 use std::path::Path;
 
 use reproj_instance::Variant;
+use reproj_metrics::PSNR_CAP;
 use reproj_models::Profile;
-use reproj_replay::metrics::PSNR_CAP;
-use reproj_replay::{RenderOptions, Renderer, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, VariantInput};
+use reproj_scene::Session;
 
 use crate::AnalyzeError;
 use crate::emit::{EmitReport, write_report};

@@ -8,7 +8,8 @@ use reproj_analyze::{
 };
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_models::profile::NodeStatus;
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 /// The tests time replays (races, set-aside, the set search): one at a time, so that one test's
 /// rendering does not load another's timings.

@@ -228,7 +228,7 @@ fn predicted_psnr_comes_from_the_measured_mse() {
     }
     let (r, _) = emit(&p, &pp, &opts(0.015, &dir.path().join("new"))).unwrap();
     let dn = f64::from(r.delta_n.unwrap());
-    let expect = reproj_replay::metrics::psnr(1e-5 * dn);
+    let expect = reproj_metrics::psnr(1e-5 * dn);
     assert!((r.predicted_psnr.unwrap() - expect).abs() < 1e-9, "{r:?}");
 }
 

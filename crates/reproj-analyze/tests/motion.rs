@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use reproj_analyze::motion::measure;
-use reproj_replay::Session;
+use reproj_scene::Session;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")

@@ -20,7 +20,8 @@ use reproj_models::speedup::{
     self, Conditions, SpeedupEstimate, StopRule, Subject as Slot, block_ms, round_order, stratum,
     window_start,
 };
-use reproj_replay::{Reference, RenderOptions, Renderer, ReplayError, Session, VariantInput};
+use reproj_replay::{Reference, RenderOptions, Renderer, ReplayError, VariantInput};
+use reproj_scene::Session;
 use serde::{Deserialize, Serialize};
 
 /// Schema name and version of [`BenchReport`] (`docs/SCHEMAS.md`).

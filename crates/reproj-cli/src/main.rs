@@ -112,7 +112,7 @@ fn main() -> ExitCode {
     });
     cmd::clean_up_on_signals();
     if cli.allow_outside_paths {
-        reproj_replay::session::allow_outside_paths();
+        reproj_scene::session::allow_outside_paths();
     }
     let result = match cli.command {
         Command::Nodes(args) => cmd::nodes::run(&args),

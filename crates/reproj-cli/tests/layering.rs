@@ -1,7 +1,9 @@
-//! The crate layering: the GPU stays in the replay. Reads the workspace's `Cargo.lock` (the whole
-//! resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly or
-//! through any dependency: only reproj-replay, the crates built on it, the example host, and the
-//! runtime crate engines link (which names wgpu and no other reproj crate).
+//! The crate layering: the GPU stays in the renderers. Reads the workspace's `Cargo.lock` (the
+//! whole resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly
+//! or through any dependency: only reproj-replay (the renderer), the crates built on it, the
+//! example host, and the runtime crate engines link (which names wgpu and no other reproj crate).
+//! The scene (reproj-scene) and the metrics (reproj-metrics) the replay draws and reports are
+//! GPU-free, so a host, `emit` and the light build use them without wgpu.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -64,6 +66,8 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
     let gpu_free = [
         "reproj-front",
         "reproj-instance",
+        "reproj-scene",
+        "reproj-metrics",
         "reproj-models",
         "reproj-select",
         "reproj-charts",
@@ -106,7 +110,7 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
 }
 
 /// The runtime an engine links depends on no other reproj crate (its test app's scene comes from
-/// reproj-replay as a dev-dependency only): the manifest is the interface.
+/// reproj-scene as a dev-dependency only): the manifest is the interface.
 #[test]
 fn the_runtime_depends_on_no_reproj_crate() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../reproj-runtime/Cargo.toml");
@@ -175,6 +179,7 @@ fn the_light_build_has_no_gpu_crates() {
         "nv-flip",
         "nv-flip-sys",
         "plotters",
+        "reproj-replay",
         "reproj-bench",
         "cc",
     ] {
@@ -183,14 +188,101 @@ fn the_light_build_has_no_gpu_crates() {
             "the light build depends on {heavy}: keep it behind reproj-cli's `gpu` feature"
         );
     }
-    for needed in ["reproj-analyze", "reproj-instance", "naga", "clap_complete"] {
+    for needed in [
+        "reproj-analyze",
+        "reproj-instance",
+        "reproj-scene",
+        "reproj-metrics",
+        "naga",
+        "clap_complete",
+    ] {
         assert!(
             light.contains(needed),
             "{needed} missing from the light build"
         );
     }
     let full = tree(&[]);
-    for heavy in ["wgpu", "nv-flip", "reproj-bench"] {
+    for heavy in ["wgpu", "nv-flip", "reproj-replay", "reproj-bench"] {
         assert!(full.contains(heavy), "the default build has {heavy}");
+    }
+}
+
+/// Inside the crates split from the replay, a module imports only from the modules below it (no
+/// import circles): each list is the crate's modules bottom-up, as its `lib.rs` documents them,
+/// and every `crate::m` a module names (outside comments) must come before it in the list.
+#[test]
+fn modules_import_only_from_below() {
+    let crates: [(&str, &[&str]); 3] = [
+        (
+            "reproj-scene",
+            &[
+                "reflect", "session", "geometry", "gltf", "mesh", "textures", "load", "uniforms",
+                "init",
+            ],
+        ),
+        (
+            "reproj-metrics",
+            &["l2", "report", "srgb", "perceptual", "output"],
+        ),
+        (
+            "reproj-replay",
+            &[
+                "error", "backend", "vertex", "gpu", "readback", "assets", "reduce", "render",
+            ],
+        ),
+    ];
+    for (name, order) in crates {
+        let src = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(name)
+            .join("src");
+        let mut files = vec![src.clone()];
+        let mut seen = BTreeSet::new();
+        while let Some(p) = files.pop() {
+            if p.is_dir() {
+                files.extend(std::fs::read_dir(&p).unwrap().map(|e| e.unwrap().path()));
+                continue;
+            }
+            if p.extension().is_none_or(|x| x != "rs") || p.file_name().unwrap() == "lib.rs" {
+                continue;
+            }
+            let rel = p.strip_prefix(&src).unwrap();
+            let module = rel.iter().next().unwrap().to_str().unwrap();
+            let module = module.strip_suffix(".rs").unwrap_or(module);
+            let rank = |m: &str| order.iter().position(|o| *o == m);
+            let own = rank(module)
+                .unwrap_or_else(|| panic!("{name}: module {module} is not in the list"));
+            seen.insert(module.to_owned());
+            let text = std::fs::read_to_string(&p).unwrap();
+            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                for (i, _) in line.match_indices("crate::") {
+                    // `crate::`, not the end of another name (`$crate::` in a macro is fine).
+                    if line[..i]
+                        .chars()
+                        .last()
+                        .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+                    {
+                        continue;
+                    }
+                    let used: String = line[i + "crate::".len()..]
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                        .collect();
+                    let Some(r) = rank(&used) else {
+                        continue;
+                    };
+                    assert!(
+                        r <= own,
+                        "{name}: {} imports crate::{used}, which is above it ({order:?})",
+                        rel.display()
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            seen.len(),
+            order.len(),
+            "{name}: {seen:?} against {order:?}"
+        );
     }
 }

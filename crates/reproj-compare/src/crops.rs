@@ -5,8 +5,9 @@
 //! Above each, its name and what it measured (speedup, PSNR), in the charts' font.
 
 use reproj_charts::{Caption, draw_captions};
-use reproj_replay::metrics::pixel_errors;
-use reproj_replay::output::{frame_to_rgba8, heat};
+use reproj_metrics::l2::pixel_errors;
+use reproj_metrics::output::heat;
+use reproj_metrics::srgb::frame_to_rgba8;
 use serde::{Deserialize, Serialize};
 
 use crate::CompareError;

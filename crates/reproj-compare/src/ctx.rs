@@ -6,9 +6,11 @@ use std::path::Path;
 
 use reproj_analyze::Progress;
 use reproj_front::Shader;
+use reproj_metrics::PSNR_CAP;
+use reproj_metrics::l2;
 use reproj_models::speedup::SpeedupEstimate;
-use reproj_replay::metrics::{self, PSNR_CAP};
-use reproj_replay::{Reference, RenderOptions, Renderer, Session};
+use reproj_replay::{Reference, RenderOptions, Renderer};
+use reproj_scene::Session;
 
 use crate::{CompareError, Scores};
 
@@ -74,7 +76,7 @@ impl Ctx<'_> {
         let r = self.reference;
         let (mut sum_error, mut sum_sq, mut covered) = (0.0, 0.0, 0u64);
         for (f, frame) in frames.iter().enumerate() {
-            let e = metrics::compare(frame, &r.frames[f], &r.depth[f]);
+            let e = l2::compare(frame, &r.frames[f], &r.depth[f]);
             sum_error += e.error();
             sum_sq += e.sum_sq;
             covered += e.covered;
@@ -87,7 +89,7 @@ impl Ctx<'_> {
                 .into_par_iter()
                 .filter(|&f| (f as u32).is_multiple_of(stride))
                 .map(|f| {
-                    let (p, _) = reproj_replay::perceptual::compare_perceptual(
+                    let (p, _) = reproj_metrics::perceptual::compare_perceptual(
                         &frames[f],
                         &r.frames[f],
                         &r.depth[f],
@@ -101,7 +103,7 @@ impl Ctx<'_> {
             Vec::new()
         };
         let n = frames.len().max(1) as f64;
-        let psnr = metrics::psnr(metrics::mse(sum_sq, covered));
+        let psnr = l2::psnr(l2::mse(sum_sq, covered));
         Scores {
             error: sum_error / n,
             psnr: if psnr.is_finite() { psnr } else { PSNR_CAP },

@@ -26,7 +26,8 @@ use std::path::{Path, PathBuf};
 use reproj_analyze::Progress;
 use reproj_front::Loaded;
 use reproj_models::Profile;
-use reproj_replay::{RenderOptions, Renderer, Session};
+use reproj_replay::{RenderOptions, Renderer};
+use reproj_scene::Session;
 use serde::{Deserialize, Serialize};
 
 pub(crate) use ctx::Ctx;

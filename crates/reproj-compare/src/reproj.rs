@@ -326,7 +326,7 @@ pub(crate) fn reproj(
                 psnr: if r.psnr.is_finite() {
                     r.psnr
                 } else {
-                    reproj_replay::metrics::PSNR_CAP
+                    reproj_metrics::PSNR_CAP
                 },
                 flip: r.flip.map(|f| f.mean),
             },

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use reproj_analyze::Silent;
 use reproj_compare::{CompareInput, CompareOptions, compare, simplify::SimplifyOptions};
 use reproj_front::{LoadOptions, load};
-use reproj_replay::{Renderer, RendererOptions, Session};
+use reproj_replay::{Renderer, RendererOptions};
+use reproj_scene::Session;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")

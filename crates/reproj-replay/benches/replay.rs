@@ -10,7 +10,8 @@ use std::time::Instant;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, instance};
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 fn main() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");

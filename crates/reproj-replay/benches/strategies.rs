@@ -15,9 +15,9 @@ use std::path::PathBuf;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
-use reproj_replay::{
-    RenderOptions, RenderReport, Renderer, RendererOptions, Session, VariantInput,
-};
+use reproj_metrics::RenderReport;
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 struct Args {
     shaders: Vec<String>,

@@ -3,7 +3,8 @@
 //! `cargo run -p reproj-replay --example replay -- SHADER SESSION [--png DIR] [--variant DIR --delta-n N] [--frames N] [--eps E]`
 use std::path::PathBuf;
 
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 fn main() {
     if let Err(e) = run() {

@@ -11,12 +11,12 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::ReplayError;
-use crate::mesh;
-use crate::reflect::TexDim;
-use crate::render::{Renderer, tex_dim};
-use crate::session::{Mesh, Session, TexFormat, TextureSpec};
-use crate::textures;
+use crate::error::ReplayError;
+use crate::gpu::{Gpu, tex_dim};
+use reproj_scene::mesh;
+use reproj_scene::reflect::TexDim;
+use reproj_scene::session::{Mesh, Session, TexFormat, TextureSpec};
+use reproj_scene::textures;
 
 /// A mesh's vertex and index buffers.
 #[derive(Debug, Clone)]
@@ -58,7 +58,7 @@ impl Assets {
     /// The vertex and index buffers of `m`, built on first use.
     pub(crate) fn mesh(
         &self,
-        r: &Renderer,
+        r: &Gpu,
         session: &Session,
         m: &Mesh,
     ) -> Result<MeshGpu, ReplayError> {
@@ -105,7 +105,7 @@ impl Assets {
     /// `dim`, built and uploaded on first use.
     pub(crate) fn texture(
         &self,
-        r: &Renderer,
+        r: &Gpu,
         session: &Session,
         name: &str,
         spec: &TextureSpec,

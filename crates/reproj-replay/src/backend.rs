@@ -8,7 +8,7 @@
 //! the workspace `Cargo.toml` (Vulkan only: lavapipe, Mesa's software Vulkan, runs every test; GL on
 //! llvmpipe cannot render to the `rgba32float` targets the replay uses).
 
-use crate::ReplayError;
+use crate::error::ReplayError;
 
 /// wgpu's backends with the names `WGPU_BACKEND` accepts for each, the first one canonical.
 const NAMES: &[(wgpu::Backends, &[&str])] = &[

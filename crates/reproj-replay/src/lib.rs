@@ -2,33 +2,39 @@
 //! with wgpu over a recorded *session*, and measure what the optimizer needs: per-frame error
 //! against the original, hit rate, frame time.
 //!
+//! The scene it draws is `reproj-scene`'s (the session, meshes, textures, the shader's reflected
+//! interface and its uniforms' bytes); the metrics and images it reports are `reproj-metrics`'s.
+//! This crate is the GPU half: the only analysis crate that depends on wgpu.
+//!
 //! # Pieces
 //!
-//! - [`Session`] (`session/`, schema in `SESSION.md`): resolution, frames, geometry, camera and
-//!   light paths, uniform values, textures, samplers, and which vertex attribute feeds each
-//!   fragment `@location`.
-//! - [`reflect`]: the fragment entry point's interface from the naga module: inputs, uniform structs
-//!   with their layouts, textures, samplers, by group and binding. Uniform fields are filled by name:
-//!   `camera_pos`, `light_pos`, `time` (seconds), `frame` and `resolution` automatically unless the
-//!   session's `uniforms` gives them; every other field from `uniforms`. A field, texture or vertex
-//!   input the session does not provide is an error naming each one ([`ReplayError::MissingResources`]).
-//! - [`scene`]: the CPU-side data of a frame a host writes to the shader's own uniform buffers
-//!   (GPU-free; the renderer uses it, and so can a host that renders a session itself, like
-//!   `examples/host`).
+//! Layered bottom-up, each module importing only from those above it in this list (and the
+//! renderer's own submodules from their parent):
+//!
+//! - [`backend`]: the wgpu backends this build has ([`compiled_backends`]) and `--backend` names.
 //! - [`vertex`]: the generated vertex stage (invariant clip position, one output per fragment input,
 //!   optionally the previous frame's clip position), with its transform uniforms in its own bind
 //!   group: the lowest group index the fragment modules do not use.
-//! - [`Renderer`]: wgpu device (Vulkan: the backends built in are [`compiled_backends`]);
-//!   [`Renderer::render_original`] renders the reference frames, [`Renderer::render_variant`] runs a
-//!   cached variant of any strategy (`docs/PASSES.md`) and compares it with the reference.
-//! - [`RenderReport`]: per-frame and mean error, PSNR, hit rate, frame time, adapter, timing method;
-//!   for variants ꟻLIP and SSIM ([`perceptual`]) with their worst frames.
-//! - [`output`]: PNG frames, hit maps and error maps.
+//! - `error`: [`ReplayError`] (below everything).
+//! - `gpu`: the adapter, device and queue every GPU module works on (`Gpu`: error scopes, host
+//!   waits), which the [`Renderer`] derefs to.
+//! - `readback`: the batched readback (`Staging`, `QueryKit`, `FrameBatch`).
+//! - `assets`: the session's meshes and textures on the GPU, kept across replays.
+//! - `reduce`: the [`Reference`] frames (kept on the GPU too) and the per-frame error reduction
+//!   compute pass against them (one record per 64×64 tile comes back).
+//! - [`Renderer`] (`render/`): [`Renderer::render_original`] renders the reference frames,
+//!   [`Renderer::render_variant`] runs a cached variant of any strategy (`docs/PASSES.md`) and
+//!   compares it with the reference. Uniform fields are filled by name (`reproj_scene::uniforms`);
+//!   a field, texture or vertex input the session does not provide is an error naming each one
+//!   ([`ReplayError::MissingResources`]).
+//! - The report ([`reproj_metrics::RenderReport`]): per-frame and mean error, PSNR, hit rate,
+//!   frame time, adapter, timing method; for variants ꟻLIP and SSIM with their worst frames.
 //!
 //! # Example
 //!
 //! ```no_run
-//! use reproj_replay::{Renderer, RendererOptions, RenderOptions, Session, VariantInput};
+//! use reproj_replay::{Renderer, RendererOptions, RenderOptions, VariantInput};
+//! use reproj_scene::Session;
 //! let shader = reproj_front::load_file("shaders/marble.wgsl".as_ref()).unwrap();
 //! let entry = shader.fragment_entry(None).unwrap();
 //! let session = Session::load("sessions/marble.json").unwrap();
@@ -51,104 +57,19 @@
 //! pixels, on the frames [`RenderOptions::perceptual_stride`] picks; a summary keeps the mean and
 //! the worst frame.
 
-// The GPU half (feature `gpu`, on by default): the renderer, the GPU error reduction, the
-// perceptual metrics (nv-flip) and image output. The rest is GPU-free.
-#[cfg(feature = "gpu")]
-mod assets;
-#[cfg(feature = "gpu")]
+mod error;
+
 pub mod backend;
-mod gltf;
-pub mod mesh;
-pub mod metrics;
-#[cfg(feature = "gpu")]
-pub mod output;
-#[cfg(feature = "gpu")]
-pub mod perceptual;
-#[cfg(feature = "gpu")]
-mod reduce;
-pub mod reflect;
-#[cfg(feature = "gpu")]
-mod render;
-pub mod scene;
-pub mod session;
-pub mod textures;
 pub mod vertex;
 
-#[cfg(feature = "gpu")]
+mod assets;
+mod gpu;
+mod readback;
+mod reduce;
+mod render;
+
 pub use backend::{compiled_backends, parse_backends};
-pub use metrics::{
-    AdapterReport, FrameError, FrameRecord, RENDER_REPORT_SCHEMA, RENDER_REPORT_VERSION,
-    RenderReport, TimingMethod,
-};
-#[cfg(feature = "gpu")]
-pub use render::{
-    FrameProgress, Reference, RenderOptions, Renderer, RendererOptions, VariantInput,
-};
-pub use session::{Session, SessionError};
+pub use reduce::Reference;
+pub use render::{FrameProgress, RenderOptions, Renderer, RendererOptions, VariantInput};
 
-use std::path::PathBuf;
-
-/// Everything that can go wrong replaying a session. Each variant renders as one clear message.
-#[derive(Debug, thiserror::Error)]
-pub enum ReplayError {
-    #[error(
-        "no GPU adapter found for backends {backends} (on a machine without a GPU driver install Mesa's software Vulkan driver: apt-get install mesa-vulkan-drivers)"
-    )]
-    NoAdapter { backends: String },
-    /// A backend name that is not a wgpu backend, or one this build does not have.
-    #[error(
-        "{origin}: backend `{name}` {reason} (this reproj has: {compiled}; accepted names: {accepted})"
-    )]
-    Backend {
-        /// Where the list came from: `--backend` or `WGPU_BACKEND`.
-        origin: String,
-        name: String,
-        reason: String,
-        compiled: String,
-        accepted: String,
-    },
-    #[error("cannot open the GPU device on {adapter}: {message}")]
-    Device { adapter: String, message: String },
-    #[error(transparent)]
-    Session(#[from] SessionError),
-    /// The shader declares resources the session does not provide.
-    #[error("the session provides no {what}: {}", names.join(", "))]
-    MissingResources { what: String, names: Vec<String> },
-    #[error("unsupported: {what}")]
-    Unsupported { what: String },
-    /// A texture or mesh of the session could not be built (file missing, bad image...).
-    #[error("{message}")]
-    Asset { message: String },
-    /// wgpu rejected a shader module or pipeline.
-    #[error("{what}: {message}")]
-    Gpu { what: String, message: String },
-    #[error(
-        "the reference has {reference} (frames, width, height) but the session needs {session}"
-    )]
-    ReferenceMismatch { reference: String, session: String },
-    #[error("variant: {message}")]
-    Variant { message: String },
-    #[error(transparent)]
-    Write(#[from] reproj_io::WriteError),
-    #[error(transparent)]
-    Read(#[from] reproj_io::ReadError),
-    #[error("cannot encode {path}: {message}")]
-    Image { path: PathBuf, message: String },
-    /// The object covers no pixel in any frame: every error would read 0 (PSNR 100) and mean
-    /// nothing.
-    #[error(
-        "{session}: the object covers no pixel in any of its {frames} frames (a camera looking away or whose `up` is parallel to its view, a zero scale, or the object behind the far plane); there is nothing to measure"
-    )]
-    NothingCovered { session: String, frames: u32 },
-    /// The render would not fit the adapter or the machine's memory: refused before allocating.
-    #[error("{session}: too large to render: {what}")]
-    TooLarge { session: String, what: String },
-}
-
-impl ReplayError {
-    /// True when the error comes from the user's input (exit code 2); false for a missing driver
-    /// or a GPU failure, which are not.
-    pub fn is_user_error(&self) -> bool {
-        !matches!(self, ReplayError::Gpu { .. } | ReplayError::Device { .. })
-    }
-}
+pub use error::ReplayError;

@@ -6,7 +6,7 @@
 //! variant with its reference where it was rendered: each 64×64 tile of the frame becomes one
 //! [`Partial`] record (20 bytes), and only those come back, into one slot per frame of a readback
 //! batch. The host sums the tiles in f64 into a [`FrameError`], the same sums
-//! [`crate::metrics::compare`] makes on the CPU (which stays for replays that read the pixels back
+//! [`reproj_metrics::l2::compare`] makes on the CPU (which stays for replays that read the pixels back
 //! anyway, to write PNGs).
 //!
 //! Precision: a thread sums its 4×4 pixels in f32, the workgroup sums its 256 threads in a tree
@@ -15,10 +15,13 @@
 
 use std::borrow::Cow;
 use std::num::NonZeroU64;
+use std::sync::Mutex;
 
-use crate::ReplayError;
-use crate::metrics::{self, FrameError};
-use crate::render::{Reference, Renderer, Staging, gpu_err, readback_row_bytes};
+use crate::error::ReplayError;
+use crate::gpu::{Gpu, gpu_err};
+use crate::readback::{Staging, readback_row_bytes};
+use reproj_metrics::RenderReport;
+use reproj_metrics::l2::{self, FrameError};
 
 /// Pixels per side of the tile one workgroup reduces (16×16 threads, 4×4 pixels each).
 const TILE: u32 = 64;
@@ -42,7 +45,41 @@ struct Partial {
 const NAN_ANY: u32 = 1;
 const NAN_COVERED: u32 = 2;
 
-/// The compute pipeline and its bind group layout, built once per [`Renderer`].
+/// Reference frames of the original shader: RGBA f32, row-major, top row first, one per frame,
+/// with their depth; the same frames stay on the GPU for the error reduction of variants.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    pub width: u32,
+    pub height: u32,
+    pub frames: Vec<Vec<f32>>,
+    /// Depth per pixel of each frame, row-major, top row first: 1 where nothing was drawn. The
+    /// pixels with depth < 1 are the *covered* ones, over which the MSE and PSNR are taken.
+    pub depth: Vec<Vec<f32>>,
+    pub report: RenderReport,
+    /// The frames and depths on the renderer's device.
+    pub(crate) gpu: GpuReference,
+}
+
+impl Reference {
+    /// Check that these frames can be compared with a render of `frames` frames (from frame 0 of
+    /// the session, the window's end) at `size`.
+    pub(crate) fn covers(&self, [w, h]: [u32; 2], frames: u32) -> Result<(), ReplayError> {
+        if self.width == w && self.height == h && self.frames.len() as u32 >= frames {
+            return Ok(());
+        }
+        Err(ReplayError::ReferenceMismatch {
+            reference: format!(
+                "{} frames, {}×{}",
+                self.frames.len(),
+                self.width,
+                self.height
+            ),
+            session: format!("{frames} frames, {w}×{h}"),
+        })
+    }
+}
+
+/// The compute pipeline and its bind group layout, built once per renderer ([`KernelCache`]).
 #[derive(Debug, Clone)]
 pub(crate) struct Kernel {
     pipeline: wgpu::ComputePipeline,
@@ -50,7 +87,7 @@ pub(crate) struct Kernel {
 }
 
 impl Kernel {
-    pub(crate) fn new(r: &Renderer) -> Result<Kernel, ReplayError> {
+    pub(crate) fn new(r: &Gpu) -> Result<Kernel, ReplayError> {
         let tex = |binding| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -110,6 +147,23 @@ impl Kernel {
     }
 }
 
+/// The reduction pipeline of one device, built on first use and kept (the renderer holds one).
+#[derive(Default)]
+pub(crate) struct KernelCache(Mutex<Option<Kernel>>);
+
+impl KernelCache {
+    /// The pipeline on `r`, built on first use.
+    pub(crate) fn get(&self, r: &Gpu) -> Result<Kernel, ReplayError> {
+        let mut k = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(k) = &*k {
+            return Ok(k.clone());
+        }
+        let built = Kernel::new(r)?;
+        *k = Some(built.clone());
+        Ok(built)
+    }
+}
+
 /// One reference frame on the GPU: its color (rgba32float) and its depth (r32float; 1 where
 /// nothing was drawn).
 #[derive(Debug, Clone)]
@@ -121,13 +175,13 @@ struct GpuFrame {
 /// The reference frames on the GPU of the renderer that rendered them.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct GpuReference {
-    /// [`Renderer::id`] of the owner: the textures belong to its device.
+    /// [`Gpu::id`] of the owner: the textures belong to its device.
     owner: u64,
     frames: Vec<GpuFrame>,
 }
 
 impl GpuReference {
-    pub(crate) fn new(r: &Renderer) -> GpuReference {
+    pub(crate) fn new(r: &Gpu) -> GpuReference {
         GpuReference {
             owner: r.id,
             frames: Vec::new(),
@@ -138,7 +192,7 @@ impl GpuReference {
     /// copies in `reference` when another renderer (another device) rendered them.
     pub(crate) fn on<'a>(
         &'a self,
-        r: &Renderer,
+        r: &Gpu,
         reference: &Reference,
         frames: u32,
     ) -> Result<Cow<'a, GpuReference>, ReplayError> {
@@ -169,7 +223,7 @@ impl GpuReference {
     /// Frames of `w`×`h` RGBA f32 `colors` and f32 `depths` (row-major, top row first) uploaded to
     /// `r`'s device.
     pub(crate) fn upload(
-        r: &Renderer,
+        r: &Gpu,
         w: u32,
         h: u32,
         colors: &[Vec<f32>],
@@ -223,7 +277,7 @@ fn extent(w: u32, h: u32) -> wgpu::Extent3d {
 }
 
 fn frame_texture(
-    r: &Renderer,
+    r: &Gpu,
     label: &str,
     w: u32,
     h: u32,
@@ -251,7 +305,7 @@ pub(crate) struct Keeper {
 }
 
 impl Keeper {
-    pub(crate) fn new(r: &Renderer, w: u32, h: u32) -> Keeper {
+    pub(crate) fn new(r: &Gpu, w: u32, h: u32) -> Keeper {
         let depth_rows = r.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("reference depth rows"),
             size: readback_row_bytes(w, 4) as u64 * h as u64,
@@ -267,7 +321,7 @@ impl Keeper {
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn keep(
         &self,
-        r: &Renderer,
+        r: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         color: &wgpu::Texture,
         depth: &wgpu::Texture,
@@ -336,13 +390,13 @@ impl<'a> Reducer<'a> {
     /// A reducer against `reference` (`w`×`h` frames on `r`'s device), read back in batches of
     /// `slots` frames.
     pub(crate) fn new(
-        r: &Renderer,
+        r: &Gpu,
+        kernel: Kernel,
         reference: Cow<'a, GpuReference>,
         w: u32,
         h: u32,
         slots: u32,
     ) -> Result<Reducer<'a>, ReplayError> {
-        let kernel = r.reduce_kernel()?;
         let groups = [w.div_ceil(TILE), h.div_ceil(TILE)];
         let bytes = (groups[0] * groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
         let align = u64::from(r.device.limits().min_storage_buffer_offset_alignment)
@@ -377,7 +431,7 @@ impl<'a> Reducer<'a> {
     /// against the reference frame, into `slot`, and its copy into the read buffer.
     pub(crate) fn encode(
         &self,
-        r: &Renderer,
+        r: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
         frame: u32,
@@ -455,7 +509,7 @@ pub(crate) enum PixelsBack {
     /// every frame's sums.
     Every(u32),
     /// Every frame (they are written as PNGs); the error is computed on the CPU
-    /// ([`crate::metrics::compare`]) and there is no reduction.
+    /// ([`reproj_metrics::l2::compare`]) and there is no reduction.
     All,
 }
 
@@ -483,7 +537,8 @@ pub(crate) struct FrameErrors<'a> {
 impl<'a> FrameErrors<'a> {
     /// For `frames` frames of `reference` read back in batches of `slots`.
     pub(crate) fn new(
-        r: &Renderer,
+        r: &Gpu,
+        kernels: &KernelCache,
         reference: &'a Reference,
         frames: u32,
         slots: u32,
@@ -496,7 +551,7 @@ impl<'a> FrameErrors<'a> {
             None
         } else {
             let gpu = reference.gpu.on(r, reference, frames)?;
-            Some(Reducer::new(r, gpu, w, h, slots)?)
+            Some(Reducer::new(r, kernels.get(r)?, gpu, w, h, slots)?)
         };
         Ok(FrameErrors {
             reducer,
@@ -516,7 +571,7 @@ impl<'a> FrameErrors<'a> {
     /// the reduction, the copy of its pixels, or both.
     pub(crate) fn encode(
         &self,
-        r: &Renderer,
+        r: &Gpu,
         enc: &mut wgpu::CommandEncoder,
         color: &wgpu::Texture,
         view: &wgpu::TextureView,
@@ -560,7 +615,7 @@ impl<'a> FrameErrors<'a> {
                 session: format!("frame {frame}"),
             });
         };
-        Ok((metrics::compare(&pixels, color, depth), Some(pixels)))
+        Ok((l2::compare(&pixels, color, depth), Some(pixels)))
     }
 }
 
@@ -595,7 +650,6 @@ fn sum(partials: &[Partial], pixels: u64) -> FrameError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::RendererOptions;
 
     /// A small deterministic generator (xorshift), values in [0, 1).
     struct Rng(u32);
@@ -609,24 +663,18 @@ mod tests {
     }
 
     /// Reduce `frame` against `reference` on the GPU, through slot 1 of a two-slot reducer.
-    fn gpu(
-        r: &Renderer,
-        w: u32,
-        h: u32,
-        frame: &[f32],
-        reference: &[f32],
-        depth: &[f32],
-    ) -> FrameError {
+    fn gpu(r: &Gpu, w: u32, h: u32, frame: &[f32], reference: &[f32], depth: &[f32]) -> FrameError {
         let refr = GpuReference::upload(r, w, h, &[reference.to_vec()], &[depth.to_vec()]).unwrap();
         let ones = vec![1.0; (w * h) as usize];
         let var = GpuReference::upload(r, w, h, &[frame.to_vec()], &[ones]).unwrap();
-        let red = Reducer::new(r, Cow::Borrowed(&refr), w, h, 2).unwrap();
+        let kernel = Kernel::new(r).unwrap();
+        let red = Reducer::new(r, kernel, Cow::Borrowed(&refr), w, h, 2).unwrap();
         let mut enc = r.device.create_command_encoder(&Default::default());
         red.encode(r, &mut enc, &var.frames[0].color, 0, 1).unwrap();
         r.queue.submit([enc.finish()]);
         r.map_read(&[red.read_buffer()]).unwrap();
         let e = red.read(1).unwrap();
-        Renderer::unmap_all(&[red.read_buffer()]);
+        Gpu::unmap_all(&[red.read_buffer()]);
         e
     }
 
@@ -636,7 +684,7 @@ mod tests {
 
     #[test]
     fn gpu_sums_equal_the_cpu_sums() {
-        let r = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe)");
+        let r = Gpu::open(None, false).expect("a Vulkan adapter (lavapipe)");
         let mut rng = Rng(0x1234_5678);
         // Not a multiple of the tile: partial tiles at the right and bottom edges. Colors in
         // [-0.5, 1.5) (clamping matters), a third of the pixels uncovered.
@@ -650,7 +698,7 @@ mod tests {
             let depth: Vec<f32> = (0..px)
                 .map(|_| if rng.next() < 0.33 { 1.0 } else { rng.next() })
                 .collect();
-            let cpu = metrics::compare(&frame, &reference, &depth);
+            let cpu = l2::compare(&frame, &reference, &depth);
             let g = gpu(&r, w, h, &frame, &reference, &depth);
             assert_eq!((g.pixels, g.covered), (cpu.pixels, cpu.covered), "{w}×{h}");
             assert_eq!(g.max_abs_diff, cpu.max_abs_diff, "{w}×{h}");
@@ -661,14 +709,14 @@ mod tests {
 
     #[test]
     fn gpu_nan_matches_the_cpu() {
-        let r = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe)");
+        let r = Gpu::open(None, false).expect("a Vulkan adapter (lavapipe)");
         let reference = vec![0.5f32; 4 * 4];
         let depth = [0.5, 1.0, 0.5, 1.0];
         // A NaN in an uncovered pixel's green: the L2 sum is NaN, the covered squares are not.
         let mut frame = reference.clone();
         frame[4 + 1] = f32::NAN;
         frame[8] = 0.75;
-        let cpu = metrics::compare(&frame, &reference, &depth);
+        let cpu = l2::compare(&frame, &reference, &depth);
         let g = gpu(&r, 2, 2, &frame, &reference, &depth);
         assert!(cpu.sum_l2.is_nan() && g.sum_l2.is_nan());
         assert_eq!(g.sum_sq, cpu.sum_sq);
@@ -677,13 +725,13 @@ mod tests {
         // In a covered pixel: both NaN.
         frame[1] = f32::NAN;
         let g = gpu(&r, 2, 2, &frame, &reference, &depth);
-        assert!(g.sum_sq.is_nan() && metrics::compare(&frame, &reference, &depth).sum_sq.is_nan());
+        assert!(g.sum_sq.is_nan() && l2::compare(&frame, &reference, &depth).sum_sq.is_nan());
         assert_eq!((g.nonfinite, g.nonfinite_reference), (2, 0));
     }
 
     #[test]
     fn gpu_counts_nonfinite_pixels_as_the_cpu_and_leaves_the_reference_s_out() {
-        let r = Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe)");
+        let r = Gpu::open(None, false).expect("a Vulkan adapter (lavapipe)");
         let mut reference = vec![0.5f32; 4 * 4];
         let depth = [0.5, 0.5, 0.5, 1.0];
         let mut frame = reference.clone();
@@ -692,7 +740,7 @@ mod tests {
         reference[4] = f32::NAN;
         reference[8 + 2] = f32::INFINITY;
         frame[4] = f32::NAN;
-        let cpu = metrics::compare(&frame, &reference, &depth);
+        let cpu = l2::compare(&frame, &reference, &depth);
         let g = gpu(&r, 2, 2, &frame, &reference, &depth);
         assert_eq!((g.nonfinite, g.nonfinite_reference), (0, 2));
         assert_eq!((cpu.nonfinite, cpu.nonfinite_reference), (0, 2));
@@ -705,7 +753,7 @@ mod tests {
         assert!(close(g.error(), 0.125) && close(cpu.error(), 0.125));
         // An infinity in the frame where the reference is finite: counted, and the error is NaN.
         frame[12 + 1] = f32::NEG_INFINITY;
-        let cpu = metrics::compare(&frame, &reference, &depth);
+        let cpu = l2::compare(&frame, &reference, &depth);
         let g = gpu(&r, 2, 2, &frame, &reference, &depth);
         assert_eq!((g.nonfinite, cpu.nonfinite), (1, 1));
         assert!(g.error().is_nan() && cpu.error().is_nan());

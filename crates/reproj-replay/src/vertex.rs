@@ -13,7 +13,7 @@
 //! };
 //! ```
 //!
-//! Vertex buffer: one interleaved [`crate::mesh::Vertex`] per vertex, `@location(0)` object position,
+//! Vertex buffer: one interleaved [`reproj_scene::mesh::Vertex`] per vertex, `@location(0)` object position,
 //! `(1)` object normal, `(2)` uv, `(3)` tangent (w = handedness).
 
 use std::collections::BTreeMap;
@@ -21,9 +21,9 @@ use std::fmt::Write;
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::ReplayError;
-use crate::reflect::FragInput;
-use crate::session::Attribute;
+use crate::error::ReplayError;
+use reproj_scene::reflect::FragInput;
+use reproj_scene::session::Attribute;
 
 /// Entry point name of the generated vertex stage.
 pub const VERTEX_ENTRY: &str = "replay_vs";

@@ -9,7 +9,8 @@ use std::path::PathBuf;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, instance};
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, instance};
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -122,11 +123,8 @@ fn a_scored_render_equals_scoring_the_kept_frames() {
         .render_original(&other, other_entry, &session, &opts)
         .unwrap();
     for (f, rec) in scored.frames.iter().enumerate() {
-        let cpu = reproj_replay::metrics::compare(
-            &kept.frames[f],
-            &reference.frames[f],
-            &reference.depth[f],
-        );
+        let cpu =
+            reproj_metrics::l2::compare(&kept.frames[f], &reference.frames[f], &reference.depth[f]);
         let (gpu, cpu) = (rec.error, cpu.error());
         assert!(
             gpu > 0.0 && (gpu - cpu).abs() <= 1e-5 * cpu,
@@ -134,7 +132,7 @@ fn a_scored_render_equals_scoring_the_kept_frames() {
         );
         assert_eq!(rec.flip.is_some(), f % 3 == 0, "frame {f}");
         if let Some(flip) = rec.flip {
-            let (p, _) = reproj_replay::perceptual::compare_perceptual(
+            let (p, _) = reproj_metrics::perceptual::compare_perceptual(
                 &kept.frames[f],
                 &reference.frames[f],
                 &reference.depth[f],

@@ -4,9 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use reproj_replay::{
-    Reference, RenderOptions, Renderer, RendererOptions, ReplayError, Session, SessionError,
-    VariantInput,
+    Reference, RenderOptions, Renderer, RendererOptions, ReplayError, VariantInput,
 };
+use reproj_scene::{Session, SessionError};
 
 fn data(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -7,8 +7,11 @@ use std::path::Path;
 
 use reproj_front::Shader;
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance, instance_nodes};
+use reproj_metrics::RenderReport;
+use reproj_metrics::srgb::frame_to_rgba8;
 use reproj_models::Profile;
-use reproj_replay::{RenderOptions, RenderReport, Renderer, Session, VariantInput, output};
+use reproj_replay::{RenderOptions, Renderer, VariantInput};
+use reproj_scene::Session;
 use reproj_select::Choice;
 
 use crate::ReportError;
@@ -199,7 +202,7 @@ pub fn render_choice(
             reference: png(
                 reference.width,
                 reference.height,
-                &output::frame_to_rgba8(&reference.frames[index as usize]),
+                &frame_to_rgba8(&reference.frames[index as usize]),
             )?,
             variant: read("frame")?,
             errmap: read("errmap")?,

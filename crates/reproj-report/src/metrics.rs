@@ -2,8 +2,8 @@
 //! metric added to the profile or the replay is one line here and appears everywhere in the page
 //! (the selection panel, the frames' captions and the table of measurements).
 
+use reproj_metrics::RenderReport;
 use reproj_models::profile::Measurement;
-use reproj_replay::RenderReport;
 use serde::Serialize;
 
 /// One metric's value, with how to print it.

@@ -2,9 +2,9 @@
 //! An engine gives its own camera, model matrices, light and uniform values; this one's come
 //! from the session it plays.
 
-use reproj_replay::Session;
-use reproj_replay::session::UniformValue;
 use reproj_runtime::{CapturedCamera, CapturedFrame};
+use reproj_scene::Session;
+use reproj_scene::session::UniformValue;
 
 /// Frame `f` as the engine draws it: the camera, every object's model matrix, the light and the
 /// session's plain uniform values (a struct's or an array of structs' entries are left as the

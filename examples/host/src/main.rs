@@ -343,7 +343,7 @@ fn write_frame(
     raw: bool,
 ) -> anyhow::Result<()> {
     let png = dir.join(format!("frame_{index:03}.png"));
-    let rgba8 = reproj_replay::output::frame_to_rgba8(rgba);
+    let rgba8 = reproj_metrics::srgb::frame_to_rgba8(rgba);
     image::save_buffer(&png, &rgba8, width, height, image::ExtendedColorType::Rgba8)
         .with_context(|| format!("writing {}", png.display()))?;
     if raw {

@@ -7,7 +7,7 @@
 //! meshes, model matrices and camera.
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
-use reproj_replay::session::{Cull, FrameState, Session};
+use reproj_scene::session::{Cull, FrameState, Session};
 
 /// Vertices sampled per object (evenly through its vertex list), as reproj measures sessions.
 const SAMPLES_PER_OBJECT: usize = 2000;
@@ -29,7 +29,7 @@ impl MotionProbe {
             .iter()
             .enumerate()
             .filter_map(|(i, o)| {
-                let mesh = reproj_replay::mesh::build(session, &o.mesh).ok()?;
+                let mesh = reproj_scene::mesh::build(session, &o.mesh).ok()?;
                 let step = mesh.vertices.len().div_ceil(SAMPLES_PER_OBJECT).max(1);
                 let points = mesh
                     .vertices

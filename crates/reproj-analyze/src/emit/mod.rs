@@ -13,9 +13,9 @@ use reproj_instance::{
     backends::Outputs,
 };
 use reproj_io::Replace;
+use reproj_metrics::MetricSummary;
 use reproj_models::Metric;
 use reproj_models::{Profile, content_hash};
-use reproj_replay::metrics::MetricSummary;
 use reproj_select::{NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};
 use serde::{Deserialize, Serialize};
 

@@ -8,9 +8,9 @@ use reproj_instance::{
     CacheFormatChoice, DeltaNBand, InstanceOptions, NodeSelector, Reconstruct, Strategy, Variant,
     instance, instance_nodes, variant_files,
 };
+use reproj_metrics::psnr;
 use reproj_models::Profile;
 use reproj_models::profile::{NodeProfile, SetProfile};
-use reproj_replay::metrics::psnr;
 use reproj_select::Choice;
 
 use super::{EmitOptions, EmitReport, profile_variant_settings};

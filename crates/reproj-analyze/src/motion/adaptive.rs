@@ -1,7 +1,7 @@
 //! `emit --adaptive`: the node (or set) whose run-time schedule is predicted fastest over the
 //! frames' motion ([`select_adaptive`]), and the per-frame Δn a host applies ([`adaptive_periods`]).
 
-use reproj_replay::Session;
+use reproj_scene::Session;
 use reproj_select::{NodeRecord, SetRecord};
 use serde::{Deserialize, Serialize};
 

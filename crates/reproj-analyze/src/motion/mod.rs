@@ -26,8 +26,8 @@ pub use segments::{NodeFrames, Segment, profile_segments, segments};
 use glam::{Mat3, Mat4, Vec3};
 use reproj_models::motion::Motion;
 
-use reproj_replay::Session;
-use reproj_replay::session::{Cull, FrameState};
+use reproj_scene::Session;
+use reproj_scene::session::{Cull, FrameState};
 
 /// Vertices sampled per object (evenly through its vertex list).
 pub const SAMPLES_PER_OBJECT: usize = 2000;
@@ -44,7 +44,7 @@ pub fn measure(session: &Session, frames: Option<u32>) -> Option<Motion> {
         .iter()
         .enumerate()
         .filter_map(|(i, o)| {
-            let mesh = reproj_replay::mesh::build(session, &o.mesh).ok()?;
+            let mesh = reproj_scene::mesh::build(session, &o.mesh).ok()?;
             let step = mesh.vertices.len().div_ceil(SAMPLES_PER_OBJECT).max(1);
             let points = mesh
                 .vertices

@@ -6,7 +6,8 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use reproj_analyze::{AnalyzeInput, AnalyzeOptions, Progress, PruneOptions, analyze};
-use reproj_replay::{Renderer, RendererOptions, Session};
+use reproj_replay::{Renderer, RendererOptions};
+use reproj_scene::Session;
 
 use crate::AnalyzeArgs;
 

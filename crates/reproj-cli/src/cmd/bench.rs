@@ -9,7 +9,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use reproj_bench::{Baseline, BenchOptions, BenchReport, Candidate, Subject, bench};
 use reproj_front::load_file_as;
 use reproj_models::speedup::StopRule;
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, Session, VariantInput};
+use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 use super::UserError;
 use crate::BenchArgs;
@@ -100,7 +101,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 fn candidate(
     path: &Path,
     original: &reproj_front::Shader,
-    session: &reproj_replay::Session,
+    session: &reproj_scene::Session,
     args: &BenchArgs,
 ) -> anyhow::Result<Candidate> {
     let name = path.display().to_string();

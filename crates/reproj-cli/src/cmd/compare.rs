@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use reproj_analyze::load_profile;
 use reproj_compare::{CompareInput, CompareOptions, Target, compare, write_outputs};
-use reproj_replay::{Renderer, RendererOptions, Session};
+use reproj_replay::{Renderer, RendererOptions};
+use reproj_scene::Session;
 
 use super::UserError;
 use super::analyze::{Bar, bar};

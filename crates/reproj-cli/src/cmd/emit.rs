@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile};
-use reproj_replay::Session;
+use reproj_scene::Session;
 
 use super::{UserError, cache_format};
 use crate::EmitArgs;

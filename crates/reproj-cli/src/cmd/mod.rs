@@ -91,7 +91,7 @@ pub const PROFILE_FILE: reproj_io::Owner = reproj_io::Owner::Json(&["reproj.prof
 /// applies it. Returns the per-frame periods' range, for messages.
 pub fn adapt(
     variant: &mut reproj_replay::VariantInput,
-    session: &reproj_replay::Session,
+    session: &reproj_scene::Session,
 ) -> anyhow::Result<(u32, u32)> {
     let params = &variant.manifest.params;
     if params.schedule.is_empty() {
@@ -239,7 +239,11 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
         if c.downcast_ref::<UserError>().is_some()
             || c.downcast_ref::<reproj_io::ReadError>().is_some()
             || c.downcast_ref::<reproj_io::WriteError>().is_some()
-            || c.downcast_ref::<reproj_replay::SessionError>().is_some()
+            || c.downcast_ref::<reproj_scene::SessionError>().is_some()
+            || c.downcast_ref::<reproj_scene::reflect::Unsupported>()
+                .is_some()
+            || c.downcast_ref::<reproj_metrics::output::OutputError>()
+                .is_some()
         {
             return (2, None);
         }
@@ -248,9 +252,6 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
         }
         if let Some(i) = c.downcast_ref::<reproj_instance::InstanceError>() {
             return (user(i.is_user_error()), i.diagnostic());
-        }
-        if let Some(r) = c.downcast_ref::<reproj_replay::ReplayError>() {
-            return (user(r.is_user_error()), None);
         }
         if let Some(a) = c.downcast_ref::<reproj_analyze::AnalyzeError>() {
             return (user(a.is_user_error()), a.diagnostic());
@@ -269,6 +270,9 @@ fn classify_gpu<'e>(
     c: &'e (dyn std::error::Error + 'static),
 ) -> Option<(u8, Option<&'e reproj_front::SourceDiagnostic>)> {
     let user = |yes: bool| if yes { 2 } else { 1 };
+    if let Some(r) = c.downcast_ref::<reproj_replay::ReplayError>() {
+        return Some((user(r.is_user_error()), None));
+    }
     if let Some(r) = c.downcast_ref::<reproj_compare::CompareError>() {
         return Some((user(r.is_user_error()), r.diagnostic()));
     }

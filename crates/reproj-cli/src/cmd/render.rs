@@ -10,9 +10,8 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use reproj_front::{Loaded, load_file_as};
 use reproj_instance::{NodeSelector, instance};
-use reproj_replay::{
-    FrameProgress, RenderOptions, Renderer, RendererOptions, Session, VariantInput,
-};
+use reproj_replay::{FrameProgress, RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_scene::Session;
 
 use super::UserError;
 use crate::RenderArgs;
@@ -101,7 +100,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     )?;
     if let Some(dir) = opts.png_dir.as_ref().filter(|_| has_variant) {
         for (i, frame) in reference.frames.iter().enumerate() {
-            reproj_replay::output::write_reference_frame(
+            reproj_metrics::output::write_reference_frame(
                 dir,
                 i as u32,
                 reference.width,
@@ -262,7 +261,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 #[derive(serde::Serialize)]
 struct RenderOutput<'a> {
     #[serde(flatten)]
-    report: &'a reproj_replay::RenderReport,
+    report: &'a reproj_metrics::RenderReport,
     /// The original's mean ms/frame in its own replay (a variant's render only): one replay, not
     /// a speed comparison.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -1,9 +1,9 @@
 //! `reproj session init`: a starting session for a shader (see
-//! `reproj_replay::session::starter_session`), written where asked or printed.
+//! `reproj_scene::init::starter_session`), written where asked or printed.
 
 use std::io::Write;
 
-use reproj_replay::session::{StarterError, StarterOptions, starter_session};
+use reproj_scene::init::{StarterError, StarterOptions, starter_session};
 
 use super::UserError;
 use crate::{SessionArgs, SessionCommand, SessionInitArgs};
@@ -28,7 +28,7 @@ fn init(args: &SessionInitArgs) -> anyhow::Result<()> {
     let input = reproj_front::load_file_as(&args.shader, super::lang_in(args.lang_in))?;
     let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
-    let iface = reproj_replay::reflect::reflect(&shader.module, &shader.info, entry)?;
+    let iface = reproj_scene::reflect::reflect(&shader.module, &shader.info, entry)?;
     let name = args.shader.file_name().map_or_else(
         || args.shader.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -37,7 +37,7 @@ fn init(args: &SessionInitArgs) -> anyhow::Result<()> {
         resolution: [args.resolution[0], args.resolution[1]],
         frames: args.frames,
         description: format!(
-            "A starting session for {name} (`{}`), written by `reproj session init`: a torus turning under an orbiting camera and light. Values marked in the notes are guesses: set what the shader expects (crates/reproj-replay/SESSION.md).",
+            "A starting session for {name} (`{}`), written by `reproj session init`: a torus turning under an orbiting camera and light. Values marked in the notes are guesses: set what the shader expects (crates/reproj-scene/SESSION.md).",
             iface.entry
         ),
     };

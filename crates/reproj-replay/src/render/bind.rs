@@ -3,8 +3,10 @@
 use std::collections::BTreeMap;
 use std::num::NonZeroU64;
 
-use crate::ReplayError;
-use crate::reflect::{self, Interface, ResourceKind, TexDim};
+use crate::error::ReplayError;
+use reproj_scene::reflect::{self, Interface, ResourceKind};
+
+use crate::gpu::tex_dim;
 
 use reproj_instance::contract;
 
@@ -32,15 +34,6 @@ pub(super) struct Bindings {
     pub(super) groups: BTreeMap<u32, wgpu::BindGroup>,
     /// Each layout's entries, written out: part of the pipeline cache key.
     pub(super) layout_keys: BTreeMap<u32, String>,
-}
-
-pub(crate) fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
-    match d {
-        TexDim::D2 => wgpu::TextureViewDimension::D2,
-        TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
-        TexDim::D3 => wgpu::TextureViewDimension::D3,
-        TexDim::Cube => wgpu::TextureViewDimension::Cube,
-    }
 }
 
 /// Give the resources (and uniform fields) of a pass module the names they have in the original

@@ -5,13 +5,14 @@
 //! a vertex-only pipeline from the generated vertex stage with no fragment inputs; it is submitted
 //! on its own, ahead of the frame, so the frame loops do not change.
 
+use std::collections::BTreeMap;
 use std::num::NonZeroU64;
 
-use crate::ReplayError;
-use crate::session::{Cull, FrameState, Session};
+use crate::error::ReplayError;
 use crate::vertex::{self, TransformUniform, VERTEX_ENTRY};
+use reproj_scene::session::{Cull, FrameState, Session};
 
-use super::scene::ObjectGpu;
+use super::object::ObjectGpu;
 use super::*;
 
 /// One depth pass on the GPU.
@@ -98,7 +99,7 @@ impl Renderer {
                         entry_point: Some(VERTEX_ENTRY),
                         compilation_options: Default::default(),
                         buffers: &[Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<crate::mesh::Vertex>() as u64,
+                            array_stride: std::mem::size_of::<reproj_scene::mesh::Vertex>() as u64,
                             step_mode: wgpu::VertexStepMode::Vertex,
                             attributes: &attrs,
                         })],
@@ -132,9 +133,15 @@ impl Renderer {
     }
 
     /// Draw every depth pass of the frame `st` and submit them (ahead of the frame's own work).
-    pub(super) fn render_depth_passes(&self, session: &Session, scene: &Scene, st: &FrameState) {
+    pub(super) fn render_depth_passes(
+        &self,
+        session: &Session,
+        passes: &BTreeMap<String, DepthPassGpu>,
+        objects: &[ObjectGpu],
+        st: &FrameState,
+    ) {
         let mut enc = self.device.create_command_encoder(&Default::default());
-        for (name, pass) in &scene.depth {
+        for (name, pass) in passes {
             let vp = session.depth_view_proj(&session.depth_passes[name], st);
             for ((buf, _), model) in pass.transforms.iter().zip(&st.models) {
                 let u = TransformUniform::new(vp, vp, *model, *model);
@@ -155,7 +162,7 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            for (o, (_, bg)) in scene.objects.iter().zip(&pass.transforms) {
+            for (o, (_, bg)) in objects.iter().zip(&pass.transforms) {
                 if let Some((_, p)) = pass.pipelines.iter().find(|(c, _)| *c == o.cull) {
                     rp.set_pipeline(p);
                 }

@@ -8,7 +8,7 @@
 //! as much wall time as rendering itself. So the frame loops batch the readback: each frame's
 //! submission copies its color image (and classification map) into its own slot of a `K`-slot
 //! [`Staging`] buffer and resolves its queries into its own slot of the [`QueryKit`] buffers; the
-//! host maps and waits once per `K` frames ([`Renderer::batch_len`]) and then computes the records
+//! host maps and waits once per `K` frames (`Gpu::batch_len`) and then computes the records
 //! of those frames in order. Results are unchanged: frame times still come from each frame's own
 //! GPU timestamps, and queue order keeps each frame's uniform writes, render and copies in sequence.
 //! Only `cpu_ms` is amortized: the wall time of a batch's submit + wait divided by its frames.
@@ -17,32 +17,30 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::AtomicU64;
-use std::sync::{Arc, Mutex};
 
 use reproj_instance::{MANIFEST_KIND, Manifest};
 
-use crate::ReplayError;
 use crate::assets::Assets;
-use crate::metrics::{AdapterReport, RenderReport};
-use crate::reduce::{self, GpuReference};
+use crate::error::ReplayError;
+use crate::gpu::Gpu;
+use crate::readback::*;
+use crate::reduce::{KernelCache, Reference};
 
 mod bind;
 mod depth;
 mod device;
+mod object;
 mod original;
 mod pipeline;
-mod readback;
 mod scene;
 mod variant;
 
 use bind::*;
+use object::ObjectGpu;
 use pipeline::*;
-use readback::*;
 use scene::*;
-
-pub(crate) use bind::tex_dim;
-pub(crate) use readback::{Staging, readback_row_bytes};
 
 pub use reproj_instance::contract::{CLASSIFY_ENTRY, MAX_BIND_GROUPS};
 
@@ -100,9 +98,9 @@ pub struct RenderOptions {
     /// hit / miss / refresh pixel counts). Ignored when the pass-1 module has no such entry point.
     pub classify: bool,
     /// With `png_dir`: also write each frame's exact RGBA f32 values as `frame_NNN.f32`
-    /// ([`output::write_frame_raw`]).
+    /// ([`reproj_metrics::output::write_frame_raw`]).
     pub raw_frames: bool,
-    /// Variants: compute the perceptual metrics ([`crate::perceptual`]: ꟻLIP and SSIM over the
+    /// Variants: compute the perceptual metrics ([`reproj_metrics::perceptual`]: ꟻLIP and SSIM over the
     /// covered pixels) on frames `f` with `f % k == 0`, reading those frames back (with
     /// `png_dir`, also their ꟻLIP maps). `None`: not computed.
     pub perceptual_stride: Option<u32>,
@@ -119,40 +117,6 @@ impl Default for RenderOptions {
             raw_frames: false,
             perceptual_stride: None,
         }
-    }
-}
-
-/// Reference frames of the original shader: RGBA f32, row-major, top row first, one per frame,
-/// with their depth; the same frames stay on the GPU for the error reduction of variants.
-#[derive(Debug, Clone)]
-pub struct Reference {
-    pub width: u32,
-    pub height: u32,
-    pub frames: Vec<Vec<f32>>,
-    /// Depth per pixel of each frame, row-major, top row first: 1 where nothing was drawn. The
-    /// pixels with depth < 1 are the *covered* ones, over which the MSE and PSNR are taken.
-    pub depth: Vec<Vec<f32>>,
-    pub report: RenderReport,
-    /// The frames and depths on the renderer's device.
-    pub(crate) gpu: GpuReference,
-}
-
-impl Reference {
-    /// Check that these frames can be compared with a render of `frames` frames (from frame 0 of
-    /// the session, the window's end) at `size`.
-    pub(crate) fn covers(&self, [w, h]: [u32; 2], frames: u32) -> Result<(), ReplayError> {
-        if self.width == w && self.height == h && self.frames.len() as u32 >= frames {
-            return Ok(());
-        }
-        Err(ReplayError::ReferenceMismatch {
-            reference: format!(
-                "{} frames, {}×{}",
-                self.frames.len(),
-                self.width,
-                self.height
-            ),
-            session: format!("{frames} frames, {w}×{h}"),
-        })
     }
 }
 
@@ -200,29 +164,6 @@ impl VariantInput {
             .unwrap_or(self.delta_n)
     }
 
-    /// From naga modules (written back to WGSL with naga's writer).
-    pub fn from_modules(
-        modules: &[naga::Module],
-        manifest: Manifest,
-        delta_n: u32,
-    ) -> Result<Self, ReplayError> {
-        let mut sources = Vec::new();
-        for (i, m) in modules.iter().enumerate() {
-            let info = reproj_front::validator()
-                .validate(m)
-                .map_err(|e| ReplayError::Variant {
-                    message: format!("pass module {i} does not validate: {e}"),
-                })?;
-            let text =
-                naga::back::wgsl::write_string(m, &info, naga::back::wgsl::WriterFlags::empty())
-                    .map_err(|e| ReplayError::Variant {
-                        message: format!("pass module {i}: cannot write WGSL: {e}"),
-                    })?;
-            sources.push(text);
-        }
-        Ok(Self::new(sources, manifest, delta_n))
-    }
-
     /// From a directory holding `manifest.json` and the pass files it names.
     pub fn from_dir(dir: &Path, delta_n: u32) -> Result<Self, ReplayError> {
         let mpath = dir.join("manifest.json");
@@ -242,20 +183,12 @@ impl VariantInput {
     }
 }
 
-/// The GPU: instance, adapter, device and queue, plus what the adapter supports, and what is kept
-/// across replays: the session's meshes and textures, the error reduction pipeline.
+/// The renderer: its [`Gpu`] (which it derefs to), and what is kept across replays: the session's
+/// meshes and textures, the error reduction pipeline, the render pipelines.
 pub struct Renderer {
-    _instance: wgpu::Instance,
-    adapter_info: AdapterReport,
-    pub(crate) device: wgpu::Device,
-    pub(crate) queue: wgpu::Queue,
-    timestamps: bool,
-    timestamp_period: f32,
-    errors: Arc<Mutex<Vec<String>>>,
-    /// Unique per renderer in the process: tells whose device a [`Reference`]'s textures are on.
-    pub(crate) id: u64,
+    gpu: Gpu,
     assets: Assets,
-    reduce_kernel: Mutex<Option<reduce::Kernel>>,
+    reduce_kernel: KernelCache,
     /// Render pipelines kept across replays (see [`Renderer::pipeline`]).
     pipelines: Mutex<HashMap<String, Pipe>>,
     pipeline_hits: AtomicU64,
@@ -267,12 +200,5 @@ impl std::fmt::Debug for Renderer {
             .field("adapter", &self.adapter_info)
             .field("timestamps", &self.timestamps)
             .finish()
-    }
-}
-
-pub(crate) fn gpu_err(what: impl Into<String>, e: impl std::fmt::Display) -> ReplayError {
-    ReplayError::Gpu {
-        what: what.into(),
-        message: e.to_string(),
     }
 }

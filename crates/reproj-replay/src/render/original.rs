@@ -4,13 +4,14 @@ use std::collections::BTreeSet;
 
 use reproj_front::Shader;
 
-use crate::ReplayError;
-use crate::metrics::{self, FrameRecord, RenderReport};
-use crate::output;
+use crate::error::ReplayError;
 use crate::reduce::{FrameErrors, GpuReference, Keeper, PixelsBack};
-use crate::reflect::{self};
-use crate::session::Session;
 use crate::vertex;
+use reproj_metrics::l2;
+use reproj_metrics::output;
+use reproj_metrics::{FrameRecord, RenderReport};
+use reproj_scene::reflect::{self};
+use reproj_scene::session::Session;
 
 use super::*;
 
@@ -218,7 +219,14 @@ impl Renderer {
                 };
                 Some((
                     reference,
-                    FrameErrors::new(self, reference, first + frames, slots, back)?,
+                    FrameErrors::new(
+                        self,
+                        &self.reduce_kernel,
+                        reference,
+                        first + frames,
+                        slots,
+                        back,
+                    )?,
                 ))
             }
             Keep::Frames => None,
@@ -304,13 +312,11 @@ impl Renderer {
                     _ => (Vec::new(), Vec::new()),
                 };
                 let mut covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
-                let mut nonfinite = pixels
-                    .chunks_exact(4)
-                    .filter(|p| !metrics::finite3(p))
-                    .count() as u64;
+                let mut nonfinite =
+                    pixels.chunks_exact(4).filter(|p| !l2::finite3(p)).count() as u64;
                 // Scored: the error against the reference (its covered pixels) and the sampled
                 // frames' pixels for the perceptual metrics.
-                let mut errs = metrics::FrameError::default();
+                let mut errs = l2::FrameError::default();
                 if let Some((reference, e)) = &errors {
                     let (fe, px) = e.read(slot, reference, f)?;
                     if let Some(px) = px.filter(|_| perceptual(f)) {
@@ -373,8 +379,8 @@ impl Renderer {
         session: &Session,
     ) -> RenderReport {
         RenderReport {
-            schema: metrics::RENDER_REPORT_SCHEMA.into(),
-            version: metrics::RENDER_REPORT_VERSION,
+            schema: reproj_metrics::RENDER_REPORT_SCHEMA.into(),
+            version: reproj_metrics::RENDER_REPORT_VERSION,
             kind: kind.into(),
             shader: shader.path.display().to_string(),
             entry: entry.into(),
@@ -391,7 +397,7 @@ impl Renderer {
             flip: None,
             ssim: None,
             mse: 0.0,
-            psnr: metrics::PSNR_CAP,
+            psnr: l2::PSNR_CAP,
             hit_rate: 0.0,
             frame_ms: 0.0,
             cpu_ms: 0.0,

@@ -7,11 +7,11 @@ use std::sync::atomic::Ordering;
 use reproj_front::Shader;
 use reproj_instance::{Manifest, PassKind};
 
-use crate::ReplayError;
-use crate::mesh::Vertex;
-use crate::reflect::{self, Interface};
-use crate::session::Cull;
+use crate::error::ReplayError;
 use crate::vertex::VERTEX_ENTRY;
+use reproj_scene::mesh::Vertex;
+use reproj_scene::reflect::{self, Interface};
+use reproj_scene::session::Cull;
 
 use super::*;
 

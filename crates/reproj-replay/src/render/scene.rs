@@ -4,11 +4,12 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::num::NonZeroU64;
 
-use crate::ReplayError;
-use crate::reflect::{self, Interface, ResourceKind, TexDim};
-use crate::session::{Address, Compare, Cull, Filter, SamplerSpec, Session};
+use crate::error::ReplayError;
 use crate::vertex::TransformUniform;
+use reproj_scene::reflect::{self, Interface, ResourceKind, TexDim};
+use reproj_scene::session::{Address, Compare, Filter, SamplerSpec, Session};
 
+use super::depth::DepthPassGpu;
 use super::*;
 
 /// GPU resources of a session (shared by every pipeline of one render).
@@ -21,17 +22,8 @@ pub(super) struct Scene {
     /// Read-only storage buffers by variable name, with their leaves for the session's data.
     pub(super) storage: BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)>,
     /// The session's depth passes, by the depth texture variable they fill.
-    pub(super) depth: BTreeMap<String, super::depth::DepthPassGpu>,
+    pub(super) depth: BTreeMap<String, DepthPassGpu>,
     pub(super) vertex_bgl: wgpu::BindGroupLayout,
-}
-
-pub(super) struct ObjectGpu {
-    pub(super) vbuf: wgpu::Buffer,
-    pub(super) ibuf: wgpu::Buffer,
-    pub(super) count: u32,
-    pub(super) cull: Cull,
-    pub(super) xf_buf: wgpu::Buffer,
-    pub(super) xf_bg: wgpu::BindGroup,
 }
 
 /// Lowest group index not in `used`.
@@ -72,7 +64,7 @@ impl Renderer {
                 match &r.kind {
                     ResourceKind::Uniform { size, fields } => {
                         for f in fields {
-                            if !crate::scene::session_must_provide(&f.name) {
+                            if !reproj_scene::uniforms::session_must_provide(&f.name) {
                                 continue;
                             }
                             match session.uniform(&f.name) {
@@ -105,7 +97,7 @@ impl Renderer {
                             missing_buffers.push(format!("`{}`", r.name));
                             continue;
                         }
-                        match crate::scene::storage_fields(session, &r.name, layout) {
+                        match reproj_scene::uniforms::storage_fields(session, &r.name, layout) {
                             Ok(sf) => {
                                 storage_needed.insert(r.name.clone(), sf);
                             }
@@ -335,15 +327,15 @@ impl Renderer {
                 .write_buffer(&o.xf_buf, 0, bytemuck::bytes_of(&u));
         }
         for (buf, size, fields) in scene.uniforms.values() {
-            let bytes = crate::scene::uniform_bytes(session, &st, *size, fields);
+            let bytes = reproj_scene::uniforms::uniform_bytes(session, &st, *size, fields);
             self.queue.write_buffer(buf, 0, &bytes);
         }
         for (name, (buf, size, fields)) in &scene.storage {
-            let bytes = crate::scene::storage_bytes(session, &st, name, *size, fields);
+            let bytes = reproj_scene::uniforms::storage_bytes(session, &st, name, *size, fields);
             self.queue.write_buffer(buf, 0, &bytes);
         }
         if !scene.depth.is_empty() {
-            self.render_depth_passes(session, scene, &st);
+            self.render_depth_passes(session, &scene.depth, &scene.objects, &st);
         }
     }
 }

@@ -8,10 +8,10 @@ use std::num::NonZeroU64;
 use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
-use reproj_replay::reflect::{self, ResourceKind};
-use reproj_replay::session::Cull;
-use reproj_replay::{Session, mesh, scene};
 use reproj_runtime::{FrameInputs, FrameTargets, Setup, Variant, VariantResources, VertexStage};
+use reproj_scene::reflect::{self, ResourceKind};
+use reproj_scene::session::Cull;
+use reproj_scene::{Session, mesh, uniforms};
 
 use crate::common::workspace;
 
@@ -314,7 +314,8 @@ impl App {
             self.queue
                 .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
         }
-        let bytes = scene::uniform_bytes(&self.session, &st, self.scene_size, &self.scene_fields);
+        let bytes =
+            uniforms::uniform_bytes(&self.session, &st, self.scene_size, &self.scene_fields);
         self.queue.write_buffer(&self.scene_buffer, 0, &bytes);
     }
 

@@ -4,9 +4,9 @@
 
 use std::collections::HashMap;
 
-use reproj_replay::Session;
-use reproj_replay::mesh;
-use reproj_replay::session::{Cull, FrameState};
+use reproj_scene::Session;
+use reproj_scene::mesh;
+use reproj_scene::session::{Cull, FrameState};
 
 use super::{DEPTH_FORMAT, Engine, Object, ObjectUniform, Pipelines, VERTEX_ENTRY};
 use crate::gpu::Gpu;

@@ -3,8 +3,8 @@
 
 use std::collections::HashMap;
 
-use reproj_replay::session::Cull;
 use reproj_runtime::VertexStage;
+use reproj_scene::session::Cull;
 
 use super::vertex::VERTEX_BUFFERS;
 use super::{Engine, Object, Pipelines, VERTEX_ENTRY};

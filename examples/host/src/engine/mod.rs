@@ -15,9 +15,9 @@ use std::path::Path;
 
 use anyhow::{Context, anyhow, bail};
 use bytemuck::{Pod, Zeroable};
-use reproj_replay::reflect::{self, Interface, ResourceKind, TexDim};
-use reproj_replay::session::{Address, Compare, Cull, Filter, SamplerSpec, TexFormat};
-use reproj_replay::{Session, mesh, scene, textures};
+use reproj_scene::reflect::{self, Interface, ResourceKind, TexDim};
+use reproj_scene::session::{Address, Compare, Cull, Filter, SamplerSpec, TexFormat};
+use reproj_scene::{Session, mesh, textures, uniforms};
 
 mod depth;
 mod draw;
@@ -240,7 +240,7 @@ impl Engine {
             let res = match &r.kind {
                 ResourceKind::Uniform { size, fields } => {
                     for f in fields {
-                        if scene::session_must_provide(&f.name)
+                        if uniforms::session_must_provide(&f.name)
                             && session.uniform(&f.name).is_none()
                         {
                             missing.push(format!("uniform field `{}`", f.name));
@@ -265,7 +265,7 @@ impl Engine {
                     }
                 },
                 ResourceKind::Storage(layout) => {
-                    let (size, fields) = scene::storage_fields(&session, &r.name, layout)
+                    let (size, fields) = uniforms::storage_fields(&session, &r.name, layout)
                         .map_err(|e| anyhow!("{e}"))?;
                     Own::Storage {
                         name: r.name.clone(),
@@ -419,7 +419,7 @@ impl Engine {
         gpu: &Gpu,
         session: &Session,
         name: &str,
-        spec: &reproj_replay::session::TextureSpec,
+        spec: &reproj_scene::session::TextureSpec,
         dim: TexDim,
     ) -> anyhow::Result<wgpu::TextureView> {
         let data = textures::build(session, name, spec, dim)
@@ -511,7 +511,7 @@ impl Engine {
         for own in self.own.values() {
             match own {
                 Own::Uniform { buf, size, fields } => {
-                    let bytes = scene::uniform_bytes(&self.session, &st, *size, fields);
+                    let bytes = uniforms::uniform_bytes(&self.session, &st, *size, fields);
                     gpu.queue.write_buffer(buf, 0, &bytes);
                 }
                 Own::Storage {
@@ -520,7 +520,7 @@ impl Engine {
                     size,
                     fields,
                 } => {
-                    let bytes = scene::storage_bytes(&self.session, &st, name, *size, fields);
+                    let bytes = uniforms::storage_bytes(&self.session, &st, name, *size, fields);
                     gpu.queue.write_buffer(buf, 0, &bytes);
                 }
                 _ => {}

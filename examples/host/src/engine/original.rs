@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::num::NonZeroU64;
 
 use anyhow::anyhow;
-use reproj_replay::reflect::{self, ResourceKind, TexDim};
+use reproj_scene::reflect::{self, ResourceKind, TexDim};
 
 use super::{DEPTH_FORMAT, Engine, FRAME_FORMAT, Pipelines};
 use crate::gpu::Gpu;

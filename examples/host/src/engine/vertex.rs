@@ -5,10 +5,10 @@
 use std::fmt::Write as _;
 
 use anyhow::{anyhow, bail};
-use reproj_replay::mesh;
-use reproj_replay::reflect::FragInput;
-use reproj_replay::session::Attribute;
 use reproj_runtime::manifest::VertexContract;
+use reproj_scene::mesh;
+use reproj_scene::reflect::FragInput;
+use reproj_scene::session::Attribute;
 
 use super::{Engine, VERTEX_ENTRY};
 

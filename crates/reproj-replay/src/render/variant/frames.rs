@@ -49,6 +49,7 @@ impl Renderer {
         } else {
             Some(FrameErrors::new(
                 self,
+                &self.reduce_kernel,
                 reference,
                 first + frames,
                 slots,
@@ -173,7 +174,7 @@ impl Renderer {
                     if opts.raw_frames {
                         output::write_frame_raw(dir, f, pixels)?;
                     }
-                    output::write_errmap(dir, f, w, h, &metrics::pixel_errors(pixels, refr))?;
+                    output::write_errmap(dir, f, w, h, &l2::pixel_errors(pixels, refr))?;
                     if let Some(c) = &cls_px {
                         output::write_hitmap(dir, f, w, h, c)?;
                     }

@@ -9,15 +9,16 @@ use std::path::Path;
 use reproj_front::Shader;
 use reproj_instance::CacheFormat;
 
-use crate::ReplayError;
-use crate::metrics::{self, FrameRecord, RenderReport};
-use crate::output;
-use crate::perceptual;
+use crate::error::ReplayError;
 use crate::reduce::{FrameErrors, PixelsBack};
-use crate::reflect::{self, Interface};
-use crate::session::Session;
 use crate::vertex;
 use rayon::prelude::*;
+use reproj_metrics::l2;
+use reproj_metrics::output;
+use reproj_metrics::perceptual;
+use reproj_metrics::{FrameRecord, RenderReport};
+use reproj_scene::reflect::{self, Interface};
+use reproj_scene::session::Session;
 
 use reproj_instance::contract;
 

@@ -4,7 +4,7 @@
 //!
 //! From the fragment entry point's reflected interface ([`crate::reflect::reflect`]): a torus
 //! turning under an orbiting camera and an orbiting light; every uniform leaf the scene does not
-//! fill itself ([`crate::scene::session_must_provide`]) with a value guessed from its type and name
+//! fill itself ([`crate::uniforms::session_must_provide`]) with a value guessed from its type and name
 //! (colours 0.8, scales 1, counts 4, matrices the identity, else 0.5); every texture generated
 //! (noise, a normal map by name, an environment for a cube); every storage buffer with four
 //! elements in its runtime-sized array; every depth texture as a depth pre-pass from the camera;
@@ -16,8 +16,8 @@ use std::collections::BTreeMap;
 use serde_json::{Value, json};
 
 use crate::reflect::{FragInput, Interface, ResourceKind, ScalarTy, TexDim, UniformField};
-use crate::scene::session_must_provide;
 use crate::session::{PathStep, Session, SessionError, path_steps};
+use crate::uniforms::session_must_provide;
 
 /// What [`starter_session`] is asked for.
 #[derive(Debug, Clone, PartialEq)]

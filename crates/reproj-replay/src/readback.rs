@@ -1,16 +1,17 @@
-//! Batched readback: the staging buffer of frame images, the query buffers, frame submission.
+//! Batched readback: the staging buffer of frame images, the query buffers, frame submission
+//! (the renderer's module docs say why frames come back in batches). On a [`Gpu`]; used by the
+//! reduction and the frame loops above it.
 
 use std::time::Instant;
 
-use crate::ReplayError;
-
-use super::*;
+use crate::error::ReplayError;
+use crate::gpu::{Gpu, gpu_err};
 
 /// Most frames whose readbacks share one host wait (see the module docs).
-pub(super) const MAX_BATCH: u32 = 16;
+pub(crate) const MAX_BATCH: u32 = 16;
 
 /// Host-visible staging memory one batch may use for frame images.
-pub(super) const BATCH_BYTES: u64 = 64 << 20;
+pub(crate) const BATCH_BYTES: u64 = 64 << 20;
 
 pub(crate) fn readback_row_bytes(width: u32, bpp: u32) -> u32 {
     let a = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -22,13 +23,13 @@ pub(crate) fn readback_row_bytes(width: u32, bpp: u32) -> u32 {
 pub(crate) struct Staging {
     pub(crate) buf: wgpu::Buffer,
     pub(crate) slot_bytes: u64,
-    pub(super) w: u32,
-    pub(super) h: u32,
-    pub(super) bpp: u32,
+    pub(crate) w: u32,
+    pub(crate) h: u32,
+    pub(crate) bpp: u32,
 }
 
 impl Staging {
-    pub(crate) fn new(r: &Renderer, label: &str, w: u32, h: u32, bpp: u32, slots: u32) -> Staging {
+    pub(crate) fn new(r: &Gpu, label: &str, w: u32, h: u32, bpp: u32, slots: u32) -> Staging {
         let slot_bytes = Self::slot_bytes(w, h, bpp);
         let buf = r.buffer(
             label,
@@ -45,7 +46,7 @@ impl Staging {
     }
 
     /// Bytes of one padded image (a multiple of the row alignment, so slots stay aligned).
-    pub(super) fn slot_bytes(w: u32, h: u32, bpp: u32) -> u64 {
+    pub(crate) fn slot_bytes(w: u32, h: u32, bpp: u32) -> u64 {
         readback_row_bytes(w, bpp) as u64 * h as u64
     }
 
@@ -81,28 +82,28 @@ impl Staging {
             .buf
             .get_mapped_range(at..at + self.slot_bytes)
             .map_err(|e| gpu_err("reading a readback buffer", e))?;
-        Ok(Renderer::unpad(&view, self.w, self.h, self.bpp))
+        Ok(Gpu::unpad(&view, self.w, self.h, self.bpp))
     }
 }
 
 /// Occlusion and timestamp query sets for `passes` passes, with resolve and readback buffers of
 /// `slots` frames: the query sets are reused every frame, and each frame of a readback batch
 /// resolves its results into its own slot.
-pub(super) struct QueryKit {
-    pub(super) passes: u32,
-    pub(super) occlusion: wgpu::QuerySet,
-    pub(super) occ_resolve: wgpu::Buffer,
-    pub(super) occ_read: wgpu::Buffer,
+pub(crate) struct QueryKit {
+    pub(crate) passes: u32,
+    pub(crate) occlusion: wgpu::QuerySet,
+    pub(crate) occ_resolve: wgpu::Buffer,
+    pub(crate) occ_read: wgpu::Buffer,
     /// Bytes between the slots of the occlusion buffers (resolve offsets are 256-aligned).
-    pub(super) occ_stride: u64,
-    pub(super) ts: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
+    pub(crate) occ_stride: u64,
+    pub(crate) ts: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
     /// Bytes between the slots of the timestamp buffers.
-    pub(super) ts_stride: u64,
-    pub(super) period_ns: f32,
+    pub(crate) ts_stride: u64,
+    pub(crate) period_ns: f32,
 }
 
 impl QueryKit {
-    pub(super) fn new(r: &Renderer, passes: u32, slots: u32) -> QueryKit {
+    pub(crate) fn new(r: &Gpu, passes: u32, slots: u32) -> QueryKit {
         let align = |n: u64| {
             n.div_ceil(wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT) * wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT
         };
@@ -153,7 +154,7 @@ impl QueryKit {
         }
     }
 
-    pub(super) fn writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    pub(crate) fn writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         self.ts
             .as_ref()
             .map(|(qs, _, _)| wgpu::RenderPassTimestampWrites {
@@ -164,7 +165,7 @@ impl QueryKit {
     }
 
     /// Record resolving this frame's queries into `slot` of the readback buffers.
-    pub(super) fn resolve(&self, enc: &mut wgpu::CommandEncoder, slot: u32) {
+    pub(crate) fn resolve(&self, enc: &mut wgpu::CommandEncoder, slot: u32) {
         let at = self.occ_stride * slot as u64;
         enc.resolve_query_set(&self.occlusion, 0..self.passes, &self.occ_resolve, at);
         enc.copy_buffer_to_buffer(
@@ -182,7 +183,7 @@ impl QueryKit {
     }
 
     /// The readback buffers, to map once per batch.
-    pub(super) fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
+    pub(crate) fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
         let mut v = vec![&self.occ_read];
         if let Some((_, _, read)) = &self.ts {
             v.push(read);
@@ -192,7 +193,7 @@ impl QueryKit {
 
     /// (occlusion counts per pass, per-pass ms, first-begin-to-last-end ms) of the frame in
     /// `slot` (the read buffers must be mapped); times empty / None without timestamps.
-    pub(super) fn read(&self, slot: u32) -> Result<QueryResults, ReplayError> {
+    pub(crate) fn read(&self, slot: u32) -> Result<QueryResults, ReplayError> {
         let mapped = |buf: &wgpu::Buffer, at: u64, len: u64| -> Result<Vec<u64>, ReplayError> {
             let view = buf
                 .get_mapped_range(at..at + len)
@@ -221,12 +222,12 @@ impl QueryKit {
 }
 
 /// Occlusion counts, per-pass ms, frame span ms of one frame's queries.
-pub(super) type QueryResults = (Vec<u64>, Vec<f64>, Option<f64>);
+pub(crate) type QueryResults = (Vec<u64>, Vec<f64>, Option<f64>);
 
-impl Renderer {
+impl Gpu {
     /// Frames per readback batch: up to [`MAX_BATCH`] and [`BATCH_BYTES`] of staging for images
     /// of `slot_bytes`; 1 without timestamp queries, where the frame time is the CPU wait.
-    pub(super) fn batch_len(&self, frames: u32, slot_bytes: u64) -> u32 {
+    pub(crate) fn batch_len(&self, frames: u32, slot_bytes: u64) -> u32 {
         if !self.timestamps {
             return 1;
         }
@@ -239,7 +240,7 @@ impl Renderer {
     /// submission and nothing waits (None: the batch's wall time is amortized later). Without, the
     /// render submission is waited for and timed alone (that is the frame time) before the readback
     /// is submitted.
-    pub(super) fn submit_frame(
+    pub(crate) fn submit_frame(
         &self,
         render: wgpu::CommandEncoder,
         readback: wgpu::CommandEncoder,
@@ -258,7 +259,7 @@ impl Renderer {
         Ok(Some(cpu_ms))
     }
 
-    pub(super) fn unpad(data: &[u8], w: u32, h: u32, bpp: u32) -> Vec<u8> {
+    pub(crate) fn unpad(data: &[u8], w: u32, h: u32, bpp: u32) -> Vec<u8> {
         let row = readback_row_bytes(w, bpp) as usize;
         let tight = (w * bpp) as usize;
         let mut out = Vec::with_capacity(tight * h as usize);
@@ -272,7 +273,7 @@ impl Renderer {
 /// The frame loops' batching, shared by the reference and the variant loop: each frame is
 /// submitted into the next slot, and the batch is read back with one host wait when its slots are
 /// full or the last frame is in (see the module docs of `render`).
-pub(super) struct FrameBatch<'a> {
+pub(crate) struct FrameBatch<'a> {
     /// `""` or `"variant "`: goes into messages.
     what: &'a str,
     slots: u32,
@@ -284,7 +285,7 @@ pub(super) struct FrameBatch<'a> {
 }
 
 impl<'a> FrameBatch<'a> {
-    pub(super) fn new(what: &'a str, slots: u32, frames: u32) -> FrameBatch<'a> {
+    pub(crate) fn new(what: &'a str, slots: u32, frames: u32) -> FrameBatch<'a> {
         FrameBatch {
             what,
             slots,
@@ -295,14 +296,14 @@ impl<'a> FrameBatch<'a> {
     }
 
     /// The slot the next frame's images and queries go in.
-    pub(super) fn slot(&self) -> u32 {
+    pub(crate) fn slot(&self) -> u32 {
         self.pending.len() as u32
     }
 
-    /// Submit frame `f` ([`Renderer::submit_frame`]); true when the batch must now be read back.
-    pub(super) fn submit(
+    /// Submit frame `f` ([`Gpu::submit_frame`]); true when the batch must now be read back.
+    pub(crate) fn submit(
         &mut self,
-        r: &Renderer,
+        r: &Gpu,
         render: wgpu::CommandEncoder,
         readback: wgpu::CommandEncoder,
         f: u32,
@@ -322,9 +323,9 @@ impl<'a> FrameBatch<'a> {
     /// Map `bufs` with one wait, call `each(slot, frame, cpu_ms)` for the batch's frames in order
     /// (`cpu_ms`: the frame's own CPU time, else the batch's wall time per frame), unmap, and start
     /// a new batch.
-    pub(super) fn read_back(
+    pub(crate) fn read_back(
         &mut self,
-        r: &Renderer,
+        r: &Gpu,
         bufs: &[&wgpu::Buffer],
         mut each: impl FnMut(u32, u32, f64) -> Result<(), ReplayError>,
     ) -> Result<(), ReplayError> {
@@ -337,7 +338,7 @@ impl<'a> FrameBatch<'a> {
         for (slot, &(f, cpu)) in self.pending.iter().enumerate() {
             each(slot as u32, f, cpu.unwrap_or(batch_ms))?;
         }
-        Renderer::unmap_all(bufs);
+        Gpu::unmap_all(bufs);
         r.check_errors(&format!("reading {what}frames {first}..={last}"))?;
         self.pending.clear();
         Ok(())

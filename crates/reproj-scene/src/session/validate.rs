@@ -146,8 +146,19 @@ impl Session {
 
     /// Range and consistency checks (called by [`Session::load`], and by the renderer before a
     /// replay). Key frames must be in frame order: loading sorts them ([`Session::sort_keys`]);
-    /// a session built in code whose keys are out of order is an error here.
+    /// a session built in code whose keys are out of order is an error here. The checks run in
+    /// this order and the first fault is the error.
     pub fn validate(&self) -> Result<(), SessionError> {
+        self.check_header()?;
+        self.check_objects()?;
+        self.check_camera()?;
+        self.check_light()?;
+        self.check_values()?;
+        self.check_depth_passes()
+    }
+
+    /// Schema, version, resolution, frame count and rate.
+    fn check_header(&self) -> Result<(), SessionError> {
         if self.schema != SESSION_SCHEMA {
             return Err(self.invalid(
                 "schema",
@@ -176,6 +187,11 @@ impl Session {
         if !(self.fps.is_finite() && self.fps > 0.0) {
             return Err(self.invalid("fps", "must be a positive number"));
         }
+        Ok(())
+    }
+
+    /// Every object: its transform keys and its mesh.
+    fn check_objects(&self) -> Result<(), SessionError> {
         if self.geometry.objects.is_empty() {
             return Err(self.invalid("geometry.objects", "the scene has no objects"));
         }
@@ -200,66 +216,77 @@ impl Session {
                     });
                 }
             }
-            let bad = |m: &str| SessionError::Invalid {
-                path: self.path.clone(),
-                field: format!("{f}.mesh"),
-                message: m.to_owned(),
-            };
-            match &o.mesh {
-                Mesh::Sphere {
-                    radius,
-                    segments,
-                    rings,
-                } => {
-                    if !positive(*radius) || *segments < 3 || rings.is_some_and(|r| r < 2) {
-                        return Err(bad("sphere needs radius > 0, segments ≥ 3, rings ≥ 2"));
-                    }
-                }
-                Mesh::Torus {
-                    major_radius,
-                    minor_radius,
-                    segments,
-                    sides,
-                } => {
-                    if !(positive(*major_radius) && positive(*minor_radius))
-                        || *segments < 3
-                        || *sides < 3
-                    {
-                        return Err(bad("torus needs radii > 0, segments ≥ 3, sides ≥ 3"));
-                    }
-                }
-                Mesh::Plane {
-                    size, subdivisions, ..
-                } => {
-                    if !positive(*size) || *subdivisions == 0 || *subdivisions > 1024 {
-                        return Err(bad("plane needs size > 0 and 1 ≤ subdivisions ≤ 1024"));
-                    }
-                }
-                Mesh::Cube { size } => {
-                    if size.iter().any(|s| !positive(*s)) {
-                        return Err(bad("cube needs every size > 0"));
-                    }
-                }
-                Mesh::Lathe { profile, segments } => {
-                    if profile.len() < 2 || *segments < 3 || profile.iter().any(|p| p[0] < 0.0) {
-                        return Err(bad(
-                            "lathe needs ≥ 2 profile points with radius ≥ 0 and segments ≥ 3",
-                        ));
-                    }
-                }
-                Mesh::Obj { .. } | Mesh::Gltf { .. } => {}
-            }
-            if [
-                matches!(&o.mesh, Mesh::Sphere { segments, rings, .. } if *segments > 4096 || rings.is_some_and(|r| r > 4096)),
-                matches!(&o.mesh, Mesh::Torus { segments, sides, .. } if *segments > 4096 || *sides > 4096),
-                matches!(&o.mesh, Mesh::Lathe { segments, .. } if *segments > 4096),
-            ]
-            .iter()
-            .any(|b| *b)
-            {
-                return Err(bad("at most 4096 segments"));
-            }
+            self.check_mesh(&f, &o.mesh)?;
         }
+        Ok(())
+    }
+
+    /// One object's mesh (`field`: its JSON path): sizes and counts in range.
+    fn check_mesh(&self, field: &str, mesh: &Mesh) -> Result<(), SessionError> {
+        let bad = |m: &str| SessionError::Invalid {
+            path: self.path.clone(),
+            field: format!("{field}.mesh"),
+            message: m.to_owned(),
+        };
+        match mesh {
+            Mesh::Sphere {
+                radius,
+                segments,
+                rings,
+            } => {
+                if !positive(*radius) || *segments < 3 || rings.is_some_and(|r| r < 2) {
+                    return Err(bad("sphere needs radius > 0, segments ≥ 3, rings ≥ 2"));
+                }
+            }
+            Mesh::Torus {
+                major_radius,
+                minor_radius,
+                segments,
+                sides,
+            } => {
+                if !(positive(*major_radius) && positive(*minor_radius))
+                    || *segments < 3
+                    || *sides < 3
+                {
+                    return Err(bad("torus needs radii > 0, segments ≥ 3, sides ≥ 3"));
+                }
+            }
+            Mesh::Plane {
+                size, subdivisions, ..
+            } => {
+                if !positive(*size) || *subdivisions == 0 || *subdivisions > 1024 {
+                    return Err(bad("plane needs size > 0 and 1 ≤ subdivisions ≤ 1024"));
+                }
+            }
+            Mesh::Cube { size } => {
+                if size.iter().any(|s| !positive(*s)) {
+                    return Err(bad("cube needs every size > 0"));
+                }
+            }
+            Mesh::Lathe { profile, segments } => {
+                if profile.len() < 2 || *segments < 3 || profile.iter().any(|p| p[0] < 0.0) {
+                    return Err(bad(
+                        "lathe needs ≥ 2 profile points with radius ≥ 0 and segments ≥ 3",
+                    ));
+                }
+            }
+            Mesh::Obj { .. } | Mesh::Gltf { .. } => {}
+        }
+        if [
+            matches!(mesh, Mesh::Sphere { segments, rings, .. } if *segments > 4096 || rings.is_some_and(|r| r > 4096)),
+            matches!(mesh, Mesh::Torus { segments, sides, .. } if *segments > 4096 || *sides > 4096),
+            matches!(mesh, Mesh::Lathe { segments, .. } if *segments > 4096),
+        ]
+        .iter()
+        .any(|b| *b)
+        {
+            return Err(bad("at most 4096 segments"));
+        }
+        Ok(())
+    }
+
+    /// The camera path: keys present and in order with a sound projection, or an orbit.
+    fn check_camera(&self) -> Result<(), SessionError> {
         match &self.camera {
             CameraPath::Keys(keys) => {
                 if keys.is_empty() {
@@ -301,6 +328,11 @@ impl Session {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The light path's keys: present and in order.
+    fn check_light(&self) -> Result<(), SessionError> {
         if let PointPath::Keys(keys) = &self.light {
             if keys.is_empty() {
                 return Err(self.invalid("light.keys", "needs at least one key"));
@@ -309,6 +341,11 @@ impl Session {
                 return Err(unordered(self, "light.keys".into()));
             }
         }
+        Ok(())
+    }
+
+    /// Uniform values, textures, samplers and storage-buffer values.
+    fn check_values(&self) -> Result<(), SessionError> {
         for (name, u) in self.uniforms.iter() {
             u.check_keys(&format!("uniforms.{name}"))
                 .map_err(|(field, message)| self.invalid(field, message))?;
@@ -327,6 +364,11 @@ impl Session {
             b.check_keys(&format!("buffers.{name}"))
                 .map_err(|(field, message)| self.invalid(field, message))?;
         }
+        Ok(())
+    }
+
+    /// Depth passes: their size, and a view-projection that resolves to 16 numbers.
+    fn check_depth_passes(&self) -> Result<(), SessionError> {
         for (name, d) in &self.depth_passes {
             let field = format!("depth_passes.{name}");
             if let Some([w, h]) = d.size

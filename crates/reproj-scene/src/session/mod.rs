@@ -28,12 +28,10 @@
 use std::path::{Path, PathBuf};
 
 mod animate;
-mod init;
 mod schema;
 mod validate;
 
 pub use animate::{CameraState, FrameState};
-pub use init::{Starter, StarterError, StarterOptions, starter_session};
 pub use schema::*;
 
 /// The `$id` of the session's JSON Schema (the repository's copy, `docs/session.schema.json`).
@@ -75,30 +73,6 @@ pub fn allow_outside_paths() {
 }
 
 impl Session {
-    /// Read, parse and validate a session file. Relative paths inside it resolve against its
-    /// directory.
-    pub fn load(path: impl AsRef<Path>) -> Result<Session, SessionError> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| reproj_io::ReadError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
-        let base = path.parent().map(Path::to_owned).unwrap_or_default();
-        Self::from_json(&text, path, &base)
-    }
-
-    /// Parse and validate session JSON text. `path` is used in messages, `base_dir` resolves
-    /// relative paths.
-    pub fn from_json(text: &str, path: &Path, base_dir: &Path) -> Result<Session, SessionError> {
-        let mut s: Session = reproj_io::parse_json(text, path, &SESSION_KIND)?;
-        s.base_dir = base_dir.to_owned();
-        s.path = path.to_owned();
-        crate::gltf::expand(&mut s)?;
-        s.sort_keys();
-        s.validate()?;
-        Ok(s)
-    }
-
     /// Resolve a path from the session file against its directory. A path that leaves that
     /// directory (absolute, `..` above it, or a link out of it) is refused unless
     /// [`allow_outside_paths`] was called: a session, like a document, names files beside it, and

@@ -13,20 +13,19 @@ use std::path::{Path, PathBuf};
 
 use image::ImageEncoder;
 
-use crate::ReplayError;
+use crate::srgb::frame_to_rgba8;
+
+/// An image that could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("cannot encode {path}: {message}")]
+    Image { path: PathBuf, message: String },
+    #[error(transparent)]
+    Write(#[from] reproj_io::WriteError),
+}
 
 /// Error that maps to white in error maps.
 pub const ERRMAP_FULL_SCALE: f32 = 0.1;
-
-/// Linear → sRGB transfer function.
-pub fn srgb_encode(x: f32) -> f32 {
-    let x = x.clamp(0.0, 1.0);
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
 
 /// Write RGBA8 pixels as PNG atomically (temp file + rename).
 pub fn write_png_rgba8(
@@ -34,29 +33,15 @@ pub fn write_png_rgba8(
     width: u32,
     height: u32,
     rgba: &[u8],
-) -> Result<(), ReplayError> {
+) -> Result<(), OutputError> {
     let mut bytes = Vec::new();
     image::codecs::png::PngEncoder::new(&mut bytes)
         .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
-        .map_err(|e| ReplayError::Image {
+        .map_err(|e| OutputError::Image {
             path: path.to_owned(),
             message: e.to_string(),
         })?;
     Ok(reproj_io::write_file(path, &bytes)?)
-}
-
-/// RGBA f32 linear frame → sRGB-encoded RGBA8 (clamped, alpha forced to 255).
-pub fn frame_to_rgba8(rgba: &[f32]) -> Vec<u8> {
-    rgba.chunks_exact(4)
-        .flat_map(|p| {
-            [
-                (srgb_encode(p[0]) * 255.0 + 0.5) as u8,
-                (srgb_encode(p[1]) * 255.0 + 0.5) as u8,
-                (srgb_encode(p[2]) * 255.0 + 0.5) as u8,
-                255,
-            ]
-        })
-        .collect()
 }
 
 /// Heat-map color of an error value.
@@ -85,7 +70,7 @@ pub fn write_frame(
     width: u32,
     height: u32,
     rgba: &[f32],
-) -> Result<PathBuf, ReplayError> {
+) -> Result<PathBuf, OutputError> {
     write_srgb_frame(
         &dir.join(format!("frame_{index:03}.png")),
         width,
@@ -97,7 +82,7 @@ pub fn write_frame(
 /// `frame_NNN.f32` from an RGBA f32 linear frame: no header, `width × height × 4` little-endian
 /// `f32` values (R, G, B, A per pixel), row-major, top row first — the frame target's texels as
 /// rendered, not clamped.
-pub fn write_frame_raw(dir: &Path, index: u32, rgba: &[f32]) -> Result<PathBuf, ReplayError> {
+pub fn write_frame_raw(dir: &Path, index: u32, rgba: &[f32]) -> Result<PathBuf, OutputError> {
     let p = dir.join(format!("frame_{index:03}.f32"));
     let bytes: Vec<u8> = rgba.iter().flat_map(|x| x.to_le_bytes()).collect();
     reproj_io::write_file(&p, &bytes)?;
@@ -111,7 +96,7 @@ pub fn write_reference_frame(
     width: u32,
     height: u32,
     rgba: &[f32],
-) -> Result<PathBuf, ReplayError> {
+) -> Result<PathBuf, OutputError> {
     write_srgb_frame(
         &dir.join(format!("ref_{index:03}.png")),
         width,
@@ -126,7 +111,7 @@ fn write_srgb_frame(
     width: u32,
     height: u32,
     rgba: &[f32],
-) -> Result<PathBuf, ReplayError> {
+) -> Result<PathBuf, OutputError> {
     write_png_rgba8(path, width, height, &frame_to_rgba8(rgba))?;
     Ok(path.to_owned())
 }
@@ -138,7 +123,7 @@ pub fn write_errmap(
     width: u32,
     height: u32,
     errors: &[f32],
-) -> Result<PathBuf, ReplayError> {
+) -> Result<PathBuf, OutputError> {
     let p = dir.join(format!("errmap_{index:03}.png"));
     let (h, px) = errmap_rgba8(width, height, errors);
     write_png_rgba8(&p, width, h, &px)?;
@@ -228,6 +213,7 @@ fn glyph(c: char) -> [u8; 5] {
     }
 }
 
+#[cfg(feature = "flip")]
 /// `flipmap_NNN.png`: a ꟻLIP error map ([`crate::perceptual::flip_map`]) through NVIDIA's magma
 /// colour map (black: no error, pale yellow: 1).
 pub fn write_flipmap(
@@ -236,7 +222,7 @@ pub fn write_flipmap(
     width: u32,
     height: u32,
     map: &[f32],
-) -> Result<PathBuf, ReplayError> {
+) -> Result<PathBuf, OutputError> {
     let p = dir.join(format!("flipmap_{index:03}.png"));
     write_png_rgba8(
         &p,
@@ -254,7 +240,7 @@ pub fn write_hitmap(
     width: u32,
     height: u32,
     classify_rgba8: &[u8],
-) -> Result<PathBuf, ReplayError> {
+) -> Result<PathBuf, OutputError> {
     let p = dir.join(format!("hitmap_{index:03}.png"));
     let px: Vec<u8> = classify_rgba8
         .chunks_exact(4)

@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use glam::{Mat4, Quat, Vec3};
 use gltf::animation::{Interpolation, Property, util::ReadOutputs};
 
-use crate::mesh::{MeshData, Vertex};
+use crate::geometry::{MeshData, Vertex, compute_tangents, smooth_normals};
 use crate::session::{
     CameraKey, CameraPath, Cull, GltfTexture, MaterialSlot, Mesh, Object, Rotation, Scale, Session,
     SessionError, Transform, TransformKey,
@@ -145,9 +145,9 @@ pub(crate) fn mesh(
         indices,
     };
     if normals.is_none() {
-        crate::mesh::smooth_normals(&mut data);
+        smooth_normals(&mut data);
     }
-    crate::mesh::compute_tangents(&mut data);
+    compute_tangents(&mut data);
     Ok(data)
 }
 

@@ -1,6 +1,6 @@
 //! Perceptual error of a frame against its reference: ꟻLIP and SSIM over the covered pixels.
 //!
-//! The mean L2 distance over all pixels (the paper's error, [`crate::metrics`]) says how much a
+//! The mean L2 distance over all pixels (the paper's error, [`crate::l2`]) says how much a
 //! frame changed, not whether a person sees it; ꟻLIP (Andersson et al. 2020) and SSIM (Wang et
 //! al. 2004) are what graphics teams trust for that. Both compare what a viewer sees: the linear
 //! RGB frame clamped to [0, 1], sRGB-encoded and quantized to 8 bits, as the PNGs `render --frames`
@@ -13,7 +13,7 @@
 //! K1 = 0.01, K2 = 0.03, dynamic range 1, on the luma of the sRGB-encoded image, over the windows
 //! that lie inside the frame (Wang et al.'s reference code filters with `'valid'`).
 
-use crate::output::srgb_encode;
+use crate::srgb::to_srgb8;
 
 /// Side of the SSIM window.
 pub const SSIM_WINDOW: usize = 11;
@@ -31,14 +31,6 @@ pub struct PerceptualError {
     /// Mean SSIM over the covered pixels whose window lies inside the frame, in [-1, 1]
     /// (1: identical); 1 when there is no such pixel.
     pub ssim: f64,
-}
-
-/// A linear RGBA f32 frame as the viewer sees it: clamped, sRGB-encoded, 8-bit RGB (no alpha),
-/// rounded as [`crate::output::frame_to_rgba8`] does for PNGs.
-pub fn to_srgb8(rgba: &[f32]) -> Vec<u8> {
-    rgba.chunks_exact(4)
-        .flat_map(|p| [0, 1, 2].map(|c| (srgb_encode(p[c]) * 255.0 + 0.5) as u8))
-        .collect()
 }
 
 /// The ꟻLIP error map of `test` against `reference` (both sRGB 8-bit RGB, `width`×`height`, top
@@ -459,14 +451,5 @@ mod tests {
             1.0 > small.ssim && small.ssim > large.ssim,
             "{small:?} {large:?}"
         );
-    }
-
-    #[test]
-    fn srgb8_rounds_like_the_pngs() {
-        let px = [0.0, 0.5, 1.0, 0.3, 2.0, -1.0, 0.0031308, 1.0];
-        let rgb = to_srgb8(&px);
-        let png = crate::output::frame_to_rgba8(&px);
-        assert_eq!(rgb, [png[0], png[1], png[2], png[4], png[5], png[6]]);
-        assert_eq!(&rgb[..3], &[0, 188, 255]);
     }
 }

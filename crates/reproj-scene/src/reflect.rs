@@ -6,8 +6,15 @@ use naga::{
     TypeInner, proc::Layouter, valid::ModuleInfo,
 };
 
-use crate::ReplayError;
 use reproj_instance::contract::{CACHE_OUTPUT, DEPTH_OUTPUT};
+
+/// An interface the replay cannot feed (a user error: the shader's, not the machine's). The
+/// replay's error turns it into its own `Unsupported`, with the same message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("unsupported: {what}")]
+pub struct Unsupported {
+    pub what: String,
+}
 
 /// A fragment input at a `@location`.
 #[derive(Debug, Clone, PartialEq)]
@@ -264,7 +271,7 @@ fn collect_input(
     binding: &Option<Binding>,
     out: &mut Vec<FragInput>,
     entry: &str,
-) -> Result<(), ReplayError> {
+) -> Result<(), Unsupported> {
     match binding {
         Some(Binding::BuiltIn(_)) => Ok(()),
         Some(Binding::Location {
@@ -273,7 +280,7 @@ fn collect_input(
             sampling,
             ..
         }) => {
-            let components = float_components(module, ty).ok_or_else(|| ReplayError::Unsupported {
+            let components = float_components(module, ty).ok_or_else(|| Unsupported {
                 what: format!(
                     "fragment input `{name}` at @location({location}) of `{entry}` has type {}; the replay feeds only f32 scalars and vectors",
                     type_text(module, ty)
@@ -302,7 +309,7 @@ fn collect_input(
                 }
                 Ok(())
             }
-            _ => Err(ReplayError::Unsupported {
+            _ => Err(Unsupported {
                 what: format!("fragment argument `{name}` of `{entry}` has no binding"),
             }),
         },
@@ -475,15 +482,15 @@ pub fn reflect(
     module: &Module,
     info: &ModuleInfo,
     entry_index: usize,
-) -> Result<Interface, ReplayError> {
+) -> Result<Interface, Unsupported> {
     let ep = module
         .entry_points
         .get(entry_index)
-        .ok_or_else(|| ReplayError::Unsupported {
+        .ok_or_else(|| Unsupported {
             what: format!("no entry point #{entry_index}"),
         })?;
     if ep.stage != naga::ShaderStage::Fragment {
-        return Err(ReplayError::Unsupported {
+        return Err(Unsupported {
             what: format!("entry point `{}` is not a @fragment entry point", ep.name),
         });
     }
@@ -524,7 +531,7 @@ pub fn reflect(
             _ => false,
         };
         if !ok {
-            return Err(ReplayError::Unsupported {
+            return Err(Unsupported {
                 what: format!(
                     "entry point `{}` must return one vec4<f32> at @location(0) (optionally with builtins)",
                     ep.name
@@ -534,11 +541,9 @@ pub fn reflect(
     }
 
     let mut layouter = Layouter::default();
-    layouter
-        .update(module.to_ctx())
-        .map_err(|e| ReplayError::Unsupported {
-            what: format!("layout of the module's types: {e}"),
-        })?;
+    layouter.update(module.to_ctx()).map_err(|e| Unsupported {
+        what: format!("layout of the module's types: {e}"),
+    })?;
 
     let fi = info.get_entry_point(entry_index);
     let mut resources = Vec::new();

@@ -4,7 +4,9 @@
 use glam::{Vec3, Vec4};
 
 use crate::reflect::TexDim;
-use crate::session::{MaterialSlot, Session, TexFormat, TextureKind, TextureSpec};
+use crate::session::{
+    GltfTexture, MaterialSlot, Session, TexFormat, TextureKind, TextureParams, TextureSpec,
+};
 
 /// Texel data of one texture, f32 RGBA, all mip levels; each level holds `layers` images (6 for a
 /// cube, the layer count for a 2D array, 1 otherwise) or, for 3D, `depth` slices.
@@ -176,7 +178,7 @@ fn cube_dir(face: u32, s: f32, t: f32) -> Vec3 {
     .normalize()
 }
 
-fn environment(d: Vec3, p: &crate::session::TextureParams) -> [f32; 4] {
+fn environment(d: Vec3, p: &TextureParams) -> [f32; 4] {
     let sun = Vec3::from(p.sun_direction).normalize_or_zero();
     let sky = Vec3::from(p.sky_color);
     let hor = Vec3::from(p.horizon_color);
@@ -278,243 +280,304 @@ fn build_single(
     spec: &TextureSpec,
     dim: TexDim,
 ) -> Result<TextureData, String> {
-    let p = &spec.params;
-    let size = spec.size;
     let mut data = if let Some(kind) = spec.kind {
-        let format = spec.format.unwrap_or(if kind == TextureKind::Environment {
-            TexFormat::Rgba16float
-        } else {
-            TexFormat::Rgba8unorm
-        });
-        match (kind, dim) {
-            (TextureKind::Environment, TexDim::Cube) => {
-                let mut texels = Vec::with_capacity((size * size * 6) as usize);
-                for face in 0..6 {
-                    for y in 0..size {
-                        for x in 0..size {
-                            let s = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
-                            let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
-                            texels.push(environment(cube_dir(face, s, t), p));
-                        }
-                    }
-                }
-                TextureData {
-                    dim,
-                    width: size,
-                    height: size,
-                    layers: 6,
-                    format,
-                    levels: vec![texels],
-                }
-            }
-            (TextureKind::Environment, TexDim::D2) => {
-                // Equirectangular: u = atan2(d.z, d.x) / 2π + 0.5, v = acos(d.y) / π.
-                let (w, h) = (size * 2, size);
-                let mut texels = Vec::with_capacity((w * h) as usize);
-                for y in 0..h {
-                    for x in 0..w {
-                        let lon = ((x as f32 + 0.5) / w as f32 - 0.5) * std::f32::consts::TAU;
-                        let th = (y as f32 + 0.5) / h as f32 * std::f32::consts::PI;
-                        let d = Vec3::new(th.sin() * lon.cos(), th.cos(), th.sin() * lon.sin());
-                        texels.push(environment(d, p));
-                    }
-                }
-                TextureData {
-                    dim,
-                    width: w,
-                    height: h,
-                    layers: 1,
-                    format,
-                    levels: vec![texels],
-                }
-            }
-            (_, TexDim::D2Array) => {
-                return Err(format!(
-                    "texture `{name}` is a texture_2d_array; give its images in `layers`"
-                ));
-            }
-            (_, TexDim::Cube) => {
-                return Err(format!(
-                    "texture `{name}` is a texture_cube; only kind \"environment\" or `faces` can fill it"
-                ));
-            }
-            (TextureKind::Environment, TexDim::D3) => {
-                return Err(format!(
-                    "texture `{name}` is a texture_3d; kind \"environment\" makes 2D or cube maps"
-                ));
-            }
-            (kind, TexDim::D3) => {
-                if kind != TextureKind::Noise && kind != TextureKind::Solid {
-                    return Err(format!(
-                        "texture `{name}` is a texture_3d; only kinds \"noise\" and \"solid\" make 3D textures"
-                    ));
-                }
-                let n = size.min(256);
-                let period = p.scale.round().max(1.0) as i32;
-                let mut texels = Vec::with_capacity((n * n * n) as usize);
-                for z in 0..n {
-                    for y in 0..n {
-                        for x in 0..n {
-                            if kind == TextureKind::Solid {
-                                texels.push(p.color);
-                            } else {
-                                let q = Vec3::new(x as f32, y as f32, z as f32) / n as f32
-                                    * period as f32;
-                                let v = fbm(q, period, p.octaves, p.seed);
-                                texels.push(std::array::from_fn(|c| {
-                                    p.color_low[c] + (p.color_high[c] - p.color_low[c]) * v
-                                }));
-                            }
-                        }
-                    }
-                }
-                TextureData {
-                    dim,
-                    width: n,
-                    height: n,
-                    layers: n,
-                    format,
-                    levels: vec![texels],
-                }
-            }
-            (kind, TexDim::D2) => {
-                let period = p.scale.round().max(1.0) as i32;
-                let height = |x: u32, y: u32| {
-                    let q = Vec3::new(x as f32 / size as f32, y as f32 / size as f32, 0.0)
-                        * period as f32;
-                    fbm(q, period, p.octaves, p.seed)
-                };
-                let mut texels = Vec::with_capacity((size * size) as usize);
-                match kind {
-                    TextureKind::Noise => {
-                        for y in 0..size {
-                            for x in 0..size {
-                                let v = height(x, y);
-                                texels.push(std::array::from_fn(|c| {
-                                    p.color_low[c] + (p.color_high[c] - p.color_low[c]) * v
-                                }));
-                            }
-                        }
-                    }
-                    TextureKind::NormalMap => {
-                        let hs: Vec<f32> = (0..size * size)
-                            .map(|i| height(i % size, i / size))
-                            .collect();
-                        let at = |x: i64, y: i64| {
-                            let s = size as i64;
-                            hs[(y.rem_euclid(s) * s + x.rem_euclid(s)) as usize]
-                        };
-                        let k = p.strength * size as f32 / period as f32;
-                        for y in 0..size as i64 {
-                            for x in 0..size as i64 {
-                                let dx = (at(x + 1, y) - at(x - 1, y)) * 0.5 * k;
-                                let dy = (at(x, y + 1) - at(x, y - 1)) * 0.5 * k;
-                                let n = Vec3::new(-dx, -dy, 1.0).normalize();
-                                let e = n * 0.5 + Vec3::splat(0.5);
-                                texels.push([e.x, e.y, e.z, 1.0]);
-                            }
-                        }
-                    }
-                    TextureKind::Checker => {
-                        let sq = p.squares.max(1);
-                        for y in 0..size {
-                            for x in 0..size {
-                                let cx = x * sq / size;
-                                let cy = y * sq / size;
-                                texels.push(if (cx + cy).is_multiple_of(2) {
-                                    p.color_a
-                                } else {
-                                    p.color_b
-                                });
-                            }
-                        }
-                    }
-                    TextureKind::Solid => texels.resize((size * size) as usize, p.color),
-                    TextureKind::Environment => unreachable!(),
-                }
-                TextureData {
-                    dim,
-                    width: size,
-                    height: size,
-                    layers: 1,
-                    format,
-                    levels: vec![texels],
-                }
-            }
-        }
+        procedural(name, spec, kind, dim)?
     } else if let Some(g) = &spec.gltf {
-        if dim != TexDim::D2 {
-            return Err(format!(
-                "texture `{name}` is {}; a glTF material's texture is 2D",
-                dim_text(dim)
-            ));
-        }
-        let (width, height, texels) =
-            crate::gltf::texture(session, g).map_err(|e| format!("texture `{name}`: {e}"))?;
-        // Base color and emissive textures hold sRGB values (glTF 2.0 § 3.9.2).
-        let srgb = matches!(g.slot, MaterialSlot::BaseColor | MaterialSlot::Emissive);
-        TextureData {
-            dim,
-            width,
-            height,
-            layers: 1,
-            format: spec.format.unwrap_or(if srgb {
-                TexFormat::Rgba8unormSrgb
-            } else {
-                TexFormat::Rgba8unorm
-            }),
-            levels: vec![texels],
-        }
+        from_gltf(session, name, spec, g, dim)?
     } else {
-        let format = spec.format.unwrap_or(TexFormat::Rgba8unorm);
-        let files: Vec<std::path::PathBuf> = match (&spec.file, &spec.faces) {
-            (Some(f), _) => vec![f.clone()],
-            (_, Some(fs)) => fs.clone(),
-            _ => return Err(format!("texture `{name}` has neither `kind` nor `file`")),
-        };
-        let expect = if dim == TexDim::Cube { 6 } else { 1 };
-        if matches!(dim, TexDim::D3 | TexDim::D2Array) {
-            return Err(format!(
-                "texture `{name}` is {}; image files make 2D or cube textures",
-                dim_text(dim)
-            ));
-        }
-        if files.len() != expect {
-            return Err(format!(
-                "texture `{name}` needs {expect} image(s) for its shader type, the session gives {}",
-                files.len()
-            ));
-        }
-        let mut texels = Vec::new();
-        let mut dims = None;
-        for f in &files {
-            let full = session
-                .resolve(f)
-                .map_err(|e| format!("texture `{name}`: {e}"))?;
-            let img = image::open(&full)
-                .map_err(|e| format!("texture `{name}`: cannot read {}: {e}", full.display()))?;
-            let img = img.to_rgba32f();
-            let d = img.dimensions();
-            if dims.is_some_and(|x| x != d) {
-                return Err(format!("texture `{name}`: cube faces differ in size"));
-            }
-            dims = Some(d);
-            texels.extend(img.pixels().map(|p| p.0));
-        }
-        let (w, h) = dims.unwrap_or((1, 1));
-        TextureData {
-            dim,
-            width: w,
-            height: h,
-            layers: expect as u32,
-            format,
-            levels: vec![texels],
-        }
+        from_files(session, name, spec, dim)?
     };
     if spec.mipmaps {
         data.build_mips();
     }
     Ok(data)
+}
+
+/// A generated texture (`kind`) of the shader's dimension: an environment as a cube map or an
+/// equirectangular 2D map, a 3D noise or solid volume, or a 2D noise, normal map, checker or solid.
+fn procedural(
+    name: &str,
+    spec: &TextureSpec,
+    kind: TextureKind,
+    dim: TexDim,
+) -> Result<TextureData, String> {
+    let p = &spec.params;
+    let size = spec.size;
+    let format = spec.format.unwrap_or(if kind == TextureKind::Environment {
+        TexFormat::Rgba16float
+    } else {
+        TexFormat::Rgba8unorm
+    });
+    Ok(match (kind, dim) {
+        (TextureKind::Environment, TexDim::Cube) => environment_cube(p, size, dim, format),
+        (TextureKind::Environment, TexDim::D2) => environment_equirect(p, size, dim, format),
+        (_, TexDim::D2Array) => {
+            return Err(format!(
+                "texture `{name}` is a texture_2d_array; give its images in `layers`"
+            ));
+        }
+        (_, TexDim::Cube) => {
+            return Err(format!(
+                "texture `{name}` is a texture_cube; only kind \"environment\" or `faces` can fill it"
+            ));
+        }
+        (TextureKind::Environment, TexDim::D3) => {
+            return Err(format!(
+                "texture `{name}` is a texture_3d; kind \"environment\" makes 2D or cube maps"
+            ));
+        }
+        (kind, TexDim::D3) => volume(name, kind, p, size, dim, format)?,
+        (kind, TexDim::D2) => flat(kind, p, size, dim, format),
+    })
+}
+
+/// The six faces of a cube map of the procedural environment, `size`² texels each.
+fn environment_cube(p: &TextureParams, size: u32, dim: TexDim, format: TexFormat) -> TextureData {
+    let mut texels = Vec::with_capacity((size * size * 6) as usize);
+    for face in 0..6 {
+        for y in 0..size {
+            for x in 0..size {
+                let s = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
+                let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
+                texels.push(environment(cube_dir(face, s, t), p));
+            }
+        }
+    }
+    TextureData {
+        dim,
+        width: size,
+        height: size,
+        layers: 6,
+        format,
+        levels: vec![texels],
+    }
+}
+
+/// The procedural environment as an equirectangular 2D map, `2·size`×`size`.
+fn environment_equirect(
+    p: &TextureParams,
+    size: u32,
+    dim: TexDim,
+    format: TexFormat,
+) -> TextureData {
+    // Equirectangular: u = atan2(d.z, d.x) / 2π + 0.5, v = acos(d.y) / π.
+    let (w, h) = (size * 2, size);
+    let mut texels = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let lon = ((x as f32 + 0.5) / w as f32 - 0.5) * std::f32::consts::TAU;
+            let th = (y as f32 + 0.5) / h as f32 * std::f32::consts::PI;
+            let d = Vec3::new(th.sin() * lon.cos(), th.cos(), th.sin() * lon.sin());
+            texels.push(environment(d, p));
+        }
+    }
+    TextureData {
+        dim,
+        width: w,
+        height: h,
+        layers: 1,
+        format,
+        levels: vec![texels],
+    }
+}
+
+/// A 3D texture: fBm noise between two colours, or a solid colour (at most 256³).
+fn volume(
+    name: &str,
+    kind: TextureKind,
+    p: &TextureParams,
+    size: u32,
+    dim: TexDim,
+    format: TexFormat,
+) -> Result<TextureData, String> {
+    if kind != TextureKind::Noise && kind != TextureKind::Solid {
+        return Err(format!(
+            "texture `{name}` is a texture_3d; only kinds \"noise\" and \"solid\" make 3D textures"
+        ));
+    }
+    let n = size.min(256);
+    let period = p.scale.round().max(1.0) as i32;
+    let mut texels = Vec::with_capacity((n * n * n) as usize);
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                if kind == TextureKind::Solid {
+                    texels.push(p.color);
+                } else {
+                    let q = Vec3::new(x as f32, y as f32, z as f32) / n as f32 * period as f32;
+                    let v = fbm(q, period, p.octaves, p.seed);
+                    texels.push(std::array::from_fn(|c| {
+                        p.color_low[c] + (p.color_high[c] - p.color_low[c]) * v
+                    }));
+                }
+            }
+        }
+    }
+    Ok(TextureData {
+        dim,
+        width: n,
+        height: n,
+        layers: n,
+        format,
+        levels: vec![texels],
+    })
+}
+
+/// A 2D texture of `kind` (not the environment): noise, a normal map of the noise, a checker, or
+/// a solid colour.
+fn flat(
+    kind: TextureKind,
+    p: &TextureParams,
+    size: u32,
+    dim: TexDim,
+    format: TexFormat,
+) -> TextureData {
+    let period = p.scale.round().max(1.0) as i32;
+    let height = |x: u32, y: u32| {
+        let q = Vec3::new(x as f32 / size as f32, y as f32 / size as f32, 0.0) * period as f32;
+        fbm(q, period, p.octaves, p.seed)
+    };
+    let mut texels = Vec::with_capacity((size * size) as usize);
+    match kind {
+        TextureKind::Noise => {
+            for y in 0..size {
+                for x in 0..size {
+                    let v = height(x, y);
+                    texels.push(std::array::from_fn(|c| {
+                        p.color_low[c] + (p.color_high[c] - p.color_low[c]) * v
+                    }));
+                }
+            }
+        }
+        TextureKind::NormalMap => {
+            let hs: Vec<f32> = (0..size * size)
+                .map(|i| height(i % size, i / size))
+                .collect();
+            let at = |x: i64, y: i64| {
+                let s = size as i64;
+                hs[(y.rem_euclid(s) * s + x.rem_euclid(s)) as usize]
+            };
+            let k = p.strength * size as f32 / period as f32;
+            for y in 0..size as i64 {
+                for x in 0..size as i64 {
+                    let dx = (at(x + 1, y) - at(x - 1, y)) * 0.5 * k;
+                    let dy = (at(x, y + 1) - at(x, y - 1)) * 0.5 * k;
+                    let n = Vec3::new(-dx, -dy, 1.0).normalize();
+                    let e = n * 0.5 + Vec3::splat(0.5);
+                    texels.push([e.x, e.y, e.z, 1.0]);
+                }
+            }
+        }
+        TextureKind::Checker => {
+            let sq = p.squares.max(1);
+            for y in 0..size {
+                for x in 0..size {
+                    let cx = x * sq / size;
+                    let cy = y * sq / size;
+                    texels.push(if (cx + cy).is_multiple_of(2) {
+                        p.color_a
+                    } else {
+                        p.color_b
+                    });
+                }
+            }
+        }
+        TextureKind::Solid => texels.resize((size * size) as usize, p.color),
+        TextureKind::Environment => unreachable!(),
+    }
+    TextureData {
+        dim,
+        width: size,
+        height: size,
+        layers: 1,
+        format,
+        levels: vec![texels],
+    }
+}
+
+/// A glTF material's texture, read from the file (2D only; base colour and emissive are sRGB).
+fn from_gltf(
+    session: &Session,
+    name: &str,
+    spec: &TextureSpec,
+    g: &GltfTexture,
+    dim: TexDim,
+) -> Result<TextureData, String> {
+    if dim != TexDim::D2 {
+        return Err(format!(
+            "texture `{name}` is {}; a glTF material's texture is 2D",
+            dim_text(dim)
+        ));
+    }
+    let (width, height, texels) =
+        crate::gltf::texture(session, g).map_err(|e| format!("texture `{name}`: {e}"))?;
+    // Base color and emissive textures hold sRGB values (glTF 2.0 § 3.9.2).
+    let srgb = matches!(g.slot, MaterialSlot::BaseColor | MaterialSlot::Emissive);
+    Ok(TextureData {
+        dim,
+        width,
+        height,
+        layers: 1,
+        format: spec.format.unwrap_or(if srgb {
+            TexFormat::Rgba8unormSrgb
+        } else {
+            TexFormat::Rgba8unorm
+        }),
+        levels: vec![texels],
+    })
+}
+
+/// A 2D texture from an image file, or a cube map from six (`faces`), read through `image`.
+fn from_files(
+    session: &Session,
+    name: &str,
+    spec: &TextureSpec,
+    dim: TexDim,
+) -> Result<TextureData, String> {
+    let format = spec.format.unwrap_or(TexFormat::Rgba8unorm);
+    let files: Vec<std::path::PathBuf> = match (&spec.file, &spec.faces) {
+        (Some(f), _) => vec![f.clone()],
+        (_, Some(fs)) => fs.clone(),
+        _ => return Err(format!("texture `{name}` has neither `kind` nor `file`")),
+    };
+    let expect = if dim == TexDim::Cube { 6 } else { 1 };
+    if matches!(dim, TexDim::D3 | TexDim::D2Array) {
+        return Err(format!(
+            "texture `{name}` is {}; image files make 2D or cube textures",
+            dim_text(dim)
+        ));
+    }
+    if files.len() != expect {
+        return Err(format!(
+            "texture `{name}` needs {expect} image(s) for its shader type, the session gives {}",
+            files.len()
+        ));
+    }
+    let mut texels = Vec::new();
+    let mut dims = None;
+    for f in &files {
+        let full = session
+            .resolve(f)
+            .map_err(|e| format!("texture `{name}`: {e}"))?;
+        let img = image::open(&full)
+            .map_err(|e| format!("texture `{name}`: cannot read {}: {e}", full.display()))?;
+        let img = img.to_rgba32f();
+        let d = img.dimensions();
+        if dims.is_some_and(|x| x != d) {
+            return Err(format!("texture `{name}`: cube faces differ in size"));
+        }
+        dims = Some(d);
+        texels.extend(img.pixels().map(|p| p.0));
+    }
+    let (w, h) = dims.unwrap_or((1, 1));
+    Ok(TextureData {
+        dim,
+        width: w,
+        height: h,
+        layers: expect as u32,
+        format,
+        levels: vec![texels],
+    })
 }
 
 #[cfg(test)]

@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use reproj_replay::reflect::{self, ResourceKind, StorageLayout, TexDim, UniformField};
-use reproj_replay::scene::{field_values, storage_bytes, storage_fields, uniform_bytes};
-use reproj_replay::{Session, SessionError, textures};
+use reproj_scene::reflect::{self, ResourceKind, StorageLayout, TexDim, UniformField};
+use reproj_scene::uniforms::{field_values, storage_bytes, storage_fields, uniform_bytes};
+use reproj_scene::{Session, SessionError, textures};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -225,7 +225,7 @@ fn storage_buffers_size_their_runtime_array_from_the_session() {
     b["lights"][2]["color"] = serde_json::json!([1, 1]);
     bad.buffers.insert(
         "lights_buffer".into(),
-        reproj_replay::session::UniformValue::from_json(b).unwrap(),
+        reproj_scene::session::UniformValue::from_json(b).unwrap(),
     );
     let e = storage_fields(&bad, "lights_buffer", layout).unwrap_err();
     assert!(e.contains("`lights[1].radius` (f32) is missing"), "{e}");
