@@ -42,6 +42,8 @@ pub use journal::JournalOptions;
 #[cfg(feature = "gpu")]
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
+/// The error budget and the default refresh periods, as the CLI checks them at its edge.
+pub use reproj_select::{Budget, DELTA_N_RANGE};
 #[cfg(feature = "gpu")]
 pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
 #[cfg(feature = "gpu")]

@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
 use reproj_models::{HitRateStatus, Profile};
 use reproj_select::{
-    DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord,
+    Budget, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord,
     pareto, select_with_sets,
 };
 
@@ -351,12 +351,16 @@ fn marks(profile: &Profile, budgets: &[f64]) -> Vec<(f64, f64, String)> {
     type Marked = ((u32, Vec<u32>, String, u32), f64, f64, Vec<f64>);
     let mut marks: Vec<Marked> = Vec::new();
     for &budget in budgets {
+        // A budget that is none (negative, not finite) selects nothing.
+        let Ok(max_error) = Budget::new(budget) else {
+            continue;
+        };
         let Selection::Node(c) = select_with_sets(
             &nodes,
             &sets,
             &profile.hit_rate,
             profile.original.frame_ms,
-            &SelectOptions::new(budget),
+            &SelectOptions::new(max_error),
         ) else {
             continue;
         };

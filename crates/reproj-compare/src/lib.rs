@@ -122,7 +122,7 @@ pub enum Target {
     Speedup(f64),
     /// The speedup reproj's own selection under this error budget (mean per-pixel L2, as
     /// `emit --max-error`) is predicted to reach; needs a profile.
-    Budget(f64),
+    Budget(reproj_select::Budget),
 }
 
 /// Options of [`compare`].
@@ -154,7 +154,7 @@ impl Default for CompareOptions {
             max_frames: None,
             resize: Default::default(),
             simplify: Default::default(),
-            max_delta_n: 50,
+            max_delta_n: reproj_select::DEFAULT_MAX_DELTA_N,
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
             timing: reproj_bench::BenchOptions::default(),
             search_timing: reproj_analyze::DEFAULT_RACE,
@@ -272,7 +272,7 @@ pub fn compare(
     };
     let (target, max_error) = match (opts.target, &planned) {
         (Target::Speedup(x), _) => (x, None),
-        (Target::Budget(e), Some(p)) => (p.predicted_speedup, Some(e)),
+        (Target::Budget(e), Some(p)) => (p.predicted_speedup, Some(e.get())),
         (Target::Budget(_), None) => {
             return Err(CompareError::Options(
                 "an error budget as the target needs a profile: reproj's selection under it sets the speedup".into(),

@@ -208,7 +208,7 @@ pub(crate) fn plan<'p>(
                 Selection::Original { reason } => {
                     return Err(CompareError::KeepsOriginal {
                         path: profile_path.to_owned(),
-                        max_error,
+                        max_error: max_error.get(),
                         reason: reason.to_string(),
                     });
                 }

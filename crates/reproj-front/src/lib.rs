@@ -19,6 +19,7 @@ pub mod normalize;
 pub mod parse;
 pub mod rebuild;
 pub mod unroll;
+pub mod wgsl;
 
 pub use diagnostic::{Message, SourceDiagnostic};
 pub use load::{CullSummary, LoadOptions, Loaded, load};
@@ -29,3 +30,4 @@ pub use parse::{
     validator,
 };
 pub use unroll::{UnrollOptions, Unrolled, unroll};
+pub use wgsl::write_wgsl;

@@ -35,7 +35,8 @@ pub use layout::{
 pub use manifest::*;
 pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
 use wgsl::{allow_quad_uniform_derivatives, finish, finish_module};
-pub use wgsl::{pass_file, write_wgsl};
+pub use reproj_front::write_wgsl;
+pub use wgsl::pass_file;
 pub use write::{VARIANT_FILES, variant_files, write_variant, write_variant_in};
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.

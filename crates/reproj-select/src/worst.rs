@@ -167,7 +167,7 @@ pub fn select_worst_case(
     }
     let best = common
         .iter()
-        .filter(|(_, e, _, _)| *e <= opts.max_error)
+        .filter(|(_, e, _, _)| opts.max_error.admits(*e))
         .max_by(|a, b| {
             a.2.total_cmp(&b.2)
                 // Ties: fewer members, shorter Δn, lower ids (reversed: max_by keeps the last).
@@ -180,7 +180,7 @@ pub fn select_worst_case(
         return (
             Selection::Original {
                 reason: OriginalReason::OverBudget {
-                    max_error: opts.max_error,
+                    max_error: opts.max_error.get(),
                     lowest_error,
                 },
             },
