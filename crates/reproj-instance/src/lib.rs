@@ -27,7 +27,7 @@ mod write;
 pub mod contract;
 
 pub use error::InstanceError;
-use layout::build_manifest;
+use layout::{ManifestInput, build_manifest};
 pub use layout::{
     ATTACHMENT_FRAME, ROLE_CUR_DEPTH, ROLE_CUR_DEPTH_COPY, ROLE_CUR_PAYLOAD, ROLE_PREV_DEPTH_COPY,
     ROLE_PREV_PAYLOAD, SAMPLER_LINEAR,
@@ -266,16 +266,16 @@ pub fn instance_nodes(
             strategy_passes(norm, &slots, &library, opts.strategy, prev_clip_location)?
         }
     };
-    let manifest = build_manifest(
+    let manifest = build_manifest(&ManifestInput {
         shader,
         norm,
-        &picked,
+        nodes: &picked,
         opts,
         cache_format,
         group,
         prev_clip_location,
-        &passes,
-    );
+        passes: &passes,
+    });
     Ok(Variant { manifest, passes })
 }
 
