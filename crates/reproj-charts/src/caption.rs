@@ -5,7 +5,7 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::draw::{Theme, at};
+use crate::style::{Theme, at};
 use crate::font::font;
 use crate::glyph::GlyphBitmap;
 

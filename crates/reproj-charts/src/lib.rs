@@ -25,6 +25,7 @@ mod font;
 mod glyph;
 mod hitrate;
 mod models;
+mod style;
 mod tradeoff;
 
 use std::collections::{BTreeMap, BTreeSet};
