@@ -11,10 +11,11 @@ use reproj_models::profile::{
     AnalysisTime, FilterProbe, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
     Shard, Source, StrategyProbe,
 };
-use reproj_models::{PROFILE_VERSION, Profile, content_hash, fit_hit_rate};
+use reproj_models::{PROFILE_VERSION, Profile, content_hash};
 use reproj_replay::{RenderOptions, Renderer, Session};
 
 use crate::AnalyzeError;
+pub use crate::input::{AnalyzeInput, Progress, Silent};
 use crate::journal::Journal;
 pub use crate::options::{
     AnalyzeOptions, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
@@ -22,48 +23,11 @@ pub use crate::options::{
 };
 use crate::options::{check_periods, period_plan};
 use crate::prune::profile_candidates;
-use crate::replayer::{Fitted, RaceEntry, Replayer, Subject, finite, fit_replays, mean, too_slow};
+use crate::replayer::{
+    Fitted, RaceEntry, Replayer, Subject, finite, fit_replays, fit_session_hit_rate, mean, too_slow,
+};
 use crate::strategies::{StrategyPruner, Verdict};
 use reproj_models::speedup::{SpeedupEstimate, separates};
-
-/// Progress of a long analysis, reported by [`analyze`] (the CLI draws a bar).
-pub trait Progress {
-    /// `total` replays will follow (the reference included).
-    fn start(&self, total: u64);
-    /// One replay is done; `what` says which.
-    fn step(&self, what: &str);
-    /// A line worth showing (a node set aside, ...).
-    fn note(&self, line: &str);
-    /// `more` replays will follow beyond those announced by `start` (the set search decides
-    /// how many it replays as it goes).
-    fn extend(&self, more: u64) {
-        let _ = more;
-    }
-    fn finish(&self);
-}
-
-/// A [`Progress`] that shows nothing.
-#[derive(Debug, Default)]
-pub struct Silent;
-
-impl Progress for Silent {
-    fn start(&self, _: u64) {}
-    fn step(&self, _: &str) {}
-    fn note(&self, _: &str) {}
-    fn finish(&self) {}
-}
-
-/// What [`analyze`] works on.
-#[derive(Debug)]
-pub struct AnalyzeInput<'a> {
-    pub shader: &'a Shader,
-    pub norm: &'a Normalized,
-    pub table: &'a NodeTable,
-    /// Session file path (recorded in the profile) and its bytes (hashed).
-    pub session_path: &'a Path,
-    pub session_bytes: &'a [u8],
-    pub session: &'a Session,
-}
 
 /// Profile the shader over the session.
 pub fn analyze(
@@ -552,19 +516,6 @@ pub fn analyze(
         shard: opts.shard,
         motion: crate::motion::measure(input.session, Some(reference.frames.len() as u32)),
     })
-}
-
-/// The hit-rate model of a shader and session: one fit over every node's measurements at the
-/// training periods (`analyze`, and `merge` over the joined shards).
-pub(crate) fn fit_session_hit_rate<'a>(
-    measurements: impl Iterator<Item = &'a Measurement>,
-    train: &[u32],
-) -> reproj_models::HitRateFit {
-    let samples: Vec<(f64, f64)> = measurements
-        .filter(|m| train.contains(&m.delta_n))
-        .map(|m| (m.delta_n as f64, m.hit_rate))
-        .collect();
-    fit_hit_rate(&samples)
 }
 
 /// One strategy of one node in `analyze`, instanced: its index in the options' strategies and

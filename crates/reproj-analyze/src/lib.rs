@@ -10,6 +10,8 @@ pub mod emit;
 #[cfg(feature = "gpu")]
 mod filters;
 #[cfg(feature = "gpu")]
+mod input;
+#[cfg(feature = "gpu")]
 pub mod journal;
 #[cfg(feature = "gpu")]
 pub mod merge;

@@ -7,7 +7,7 @@
 //! pairs whose payload is wider than [`MAX_PAYLOAD_FLOATS`], ranks the pairs by the frame time
 //! `reproj-select`'s `combine` predicts from the members' single-node fits, and replays the best
 //! `replays` of them through the same replay and fit code the single nodes use
-//! ([`crate::analyze`]'s `Replayer`). The best measured set then grows by one node at a time, up to
+//! ([`crate::replayer`]'s `Replayer`). The best measured set then grows by one node at a time, up to
 //! `max_nodes`, while the set's own fitted models combined with one more node's predict a faster
 //! frame and the grown set measures faster. A set slower than the original at the longest period
 //! is set aside as a single node is.
@@ -18,7 +18,7 @@ use reproj_models::profile::{Measurement, NodeProfile, NodeStatus, SetPredicted,
 use reproj_select::{NodeRecord, predict, predict_set};
 
 use crate::AnalyzeError;
-use crate::analyze::Progress;
+use crate::input::Progress;
 use crate::options::period_plan;
 use crate::replayer::{Fitted, Replayer, Subject, fit_replays};
 

@@ -5,6 +5,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::HitRate;
+use crate::style::DrawResult;
 use crate::style::*;
 
 pub(crate) fn hit_rate<DB: DrawingBackend>(

@@ -6,6 +6,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::Tradeoff;
+use crate::style::DrawResult;
 use crate::style::*;
 
 /// Draw the trade-off chart: the header, the axes from the data's span, the node paths, the

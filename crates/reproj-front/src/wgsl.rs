@@ -7,7 +7,7 @@ use naga::Module;
 
 /// A name naga's WGSL writer invents for an expression it binds with `let` (`_e12`, `_e12_1`):
 /// the number is the expression's handle.
-fn generated(name: &str) -> bool {
+pub fn generated(name: &str) -> bool {
     name.strip_prefix("_e").is_some_and(|rest| {
         !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit() || b == b'_')
     })

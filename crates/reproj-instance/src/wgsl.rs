@@ -3,6 +3,7 @@
 //! and the file name of each pass.
 
 use super::*;
+use reproj_front::wgsl::generated;
 use reproj_front::write_wgsl;
 
 /// Turn WGSL's `derivative_uniformity` diagnostic off for the whole module (see the fused entry in

@@ -174,7 +174,7 @@ impl Out<'_, '_> {
     fn emit(
         &mut self,
         ctx: &mut Ctx,
-        range: naga::arena::Range<Expression>,
+        range: naga::Range<Expression>,
         span: Span,
     ) -> Result<(), FrontError> {
         for h in range {
