@@ -394,7 +394,10 @@ fn record(
     probes.push(FilterProbe {
         kept: v.kept,
         note: Some(note),
-        ..timed(probe(race, CHALLENGER, longest, challenger_error), raced.last)
+        ..timed(
+            probe(race, CHALLENGER, longest, challenger_error),
+            raced.last,
+        )
     });
 }
 

@@ -34,8 +34,8 @@ use std::path::{Path, PathBuf};
 use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
 use reproj_models::{HitRateStatus, Profile};
 use reproj_select::{
-    Budget, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord,
-    pareto, select_with_sets,
+    Budget, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection,
+    SetRecord, pareto, select_with_sets,
 };
 
 pub use caption::{Caption, draw_captions};

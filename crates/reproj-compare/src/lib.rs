@@ -286,13 +286,10 @@ pub fn compare(
     };
     let progress = &counted;
     let steps = Steps {
-        per_simplify_step: (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2))
-            as u64,
+        per_simplify_step: (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)) as u64,
         reproj: u64::from(input.profile.is_some()),
     };
-    progress.remaining(
-        2 + opts.resize.tries as u64 + 2 * steps.per_simplify_step + steps.reproj,
-    );
+    progress.remaining(2 + opts.resize.tries as u64 + 2 * steps.per_simplify_step + steps.reproj);
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
     progress.step("original");
     let frames = reference.frames.len() as u32;

@@ -244,11 +244,9 @@ fn finish(
 ) -> Result<Simplification, CompareError> {
     let steps = search.steps;
     let (wgsl, frame_ms, speedup, ci95) =
-        search
-            .last
-            .ok_or_else(|| CompareError::NothingToSimplify {
-                shader: table.shader.clone(),
-            })?;
+        search.last.ok_or_else(|| CompareError::NothingToSimplify {
+            shader: table.shader.clone(),
+        })?;
     let (frames, _) = ctx.render_wgsl("simplified.wgsl", &wgsl)?;
     let scores = ctx.score(&frames, true);
     let result = MethodResult {

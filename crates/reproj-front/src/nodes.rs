@@ -391,7 +391,10 @@ struct Flags {
 }
 
 /// The expressions the root depends on through continuous edges only.
-fn continuous_from(root: Handle<Expression>, deps: &[Vec<(Handle<Expression>, bool)>]) -> Vec<bool> {
+fn continuous_from(
+    root: Handle<Expression>,
+    deps: &[Vec<(Handle<Expression>, bool)>],
+) -> Vec<bool> {
     let mut continuous = vec![false; deps.len()];
     let mut stack = vec![root];
     while let Some(h) = stack.pop() {
@@ -411,10 +414,7 @@ fn continuous_from(root: Handle<Expression>, deps: &[Vec<(Handle<Expression>, bo
 /// What feeds explicit derivatives, and the coordinates of samples whose level of detail the
 /// hardware derives from them (`textureSample`, `textureSampleBias`): in the shade pass a cached
 /// value comes from a texel per pixel, and helper lanes at silhouettes read the background.
-fn feeds_derivatives(
-    fun: &naga::Function,
-    deps: &[Vec<(Handle<Expression>, bool)>],
-) -> Vec<bool> {
+fn feeds_derivatives(fun: &naga::Function, deps: &[Vec<(Handle<Expression>, bool)>]) -> Vec<bool> {
     let mut feeds_derivative = vec![false; deps.len()];
     let mut stack: Vec<Handle<Expression>> = fun
         .expressions

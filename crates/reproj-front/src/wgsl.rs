@@ -31,8 +31,7 @@ pub fn write_wgsl(
         strip(&mut ep.function);
     }
     let text =
-        naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())
-?;
+        naga::back::wgsl::write_string(&module, info, naga::back::wgsl::WriterFlags::empty())?;
     let enable = if uses_f16(&module, info) && !text.starts_with("enable f16;") {
         "enable f16;\n\n"
     } else {
@@ -91,4 +90,3 @@ fn diagnostic_directives(module: &Module) -> String {
         lines.concat() + "\n"
     }
 }
-

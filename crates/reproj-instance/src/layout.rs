@@ -455,7 +455,9 @@ fn vertex_contract(prev_clip_location: u32) -> VertexContract {
             VertexInput {
                 name: "prev_view_proj".into(),
                 ty: "mat4x4<f32>".into(),
-                meaning: "the previous frame's view-projection matrix (this frame's on the first frame)".into(),
+                meaning:
+                    "the previous frame's view-projection matrix (this frame's on the first frame)"
+                        .into(),
             },
             VertexInput {
                 name: "prev_model".into(),

@@ -27,16 +27,16 @@ mod write;
 pub mod contract;
 
 pub use error::InstanceError;
-use layout::{ManifestInput, build_manifest};
 pub use layout::{
     ATTACHMENT_FRAME, ROLE_CUR_DEPTH, ROLE_CUR_DEPTH_COPY, ROLE_CUR_PAYLOAD, ROLE_PREV_DEPTH_COPY,
     ROLE_PREV_PAYLOAD, SAMPLER_LINEAR,
 };
+use layout::{ManifestInput, build_manifest};
 pub use manifest::*;
-pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
-use wgsl::{allow_quad_uniform_derivatives, finish, finish_module};
 pub use reproj_front::write_wgsl;
+pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
 pub use wgsl::pass_file;
+use wgsl::{allow_quad_uniform_derivatives, finish, finish_module};
 pub use write::{VARIANT_FILES, variant_files, write_variant, write_variant_in};
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.

@@ -5,9 +5,8 @@ use reproj_models::{
     fit_error, fit_timing,
 };
 use reproj_select::{
-    Budget,
-    NodeRecord, OriginalReason, SelectOptions, Selection, SkipReason, candidates, check_node,
-    pareto, select,
+    Budget, NodeRecord, OriginalReason, SelectOptions, Selection, SkipReason, candidates,
+    check_node, pareto, select,
 };
 
 const M: f64 = 500_000.0;
@@ -197,12 +196,7 @@ fn invalid_inputs_keep_original() {
     );
     let failed_mu = reproj_models::fit_hit_rate(&[]);
     assert_eq!(
-        reason(select(
-            &ns,
-            &failed_mu,
-            ORIGINAL_MS,
-            &within(0.1)
-        )),
+        reason(select(&ns, &failed_mu, ORIGINAL_MS, &within(0.1))),
         OriginalReason::HitRateUnavailable
     );
     assert_eq!(

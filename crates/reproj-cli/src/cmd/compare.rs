@@ -5,9 +5,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use reproj_analyze::load_profile;
-use reproj_compare::{
-    CompareInput, CompareOptions, CompareReport, Target, compare, write_outputs,
-};
+use reproj_compare::{CompareInput, CompareOptions, CompareReport, Target, compare, write_outputs};
 use reproj_replay::{Renderer, RendererOptions, Session};
 
 use super::UserError;

@@ -3,9 +3,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use reproj_analyze::{
-    DELTA_N_RANGE, EmitOptions, EmitReport, emit, latest_profile, load_profile,
-};
+use reproj_analyze::{DELTA_N_RANGE, EmitOptions, EmitReport, emit, latest_profile, load_profile};
 use reproj_models::Profile;
 use reproj_replay::Session;
 

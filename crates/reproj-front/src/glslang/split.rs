@@ -334,15 +334,15 @@ impl Rewrite<'_> {
                 self.out.push(i);
             }
             Some(Op::Variable) if sh.twins.contains_key(&o[1]) => self.variable(inst),
-            Some(Op::Decorate) if o.len() >= 3 && o[1] == BINDING && sh.twins.contains_key(&o[0]) => {
+            Some(Op::Decorate)
+                if o.len() >= 3 && o[1] == BINDING && sh.twins.contains_key(&o[0]) =>
+            {
                 self.binding(inst)
             }
             Some(Op::Name) if sh.twins.contains_key(&o[0]) && sh.vars.contains(&o[0]) => {
                 self.name(inst)
             }
-            Some(Op::FunctionParameter) if sh.pointers.contains_key(&o[0]) => {
-                self.parameter(inst)
-            }
+            Some(Op::FunctionParameter) if sh.pointers.contains_key(&o[0]) => self.parameter(inst),
             Some(Op::AccessChain | Op::InBoundsAccessChain) if sh.twins.contains_key(&o[2]) => {
                 self.access_chain(inst)?
             }

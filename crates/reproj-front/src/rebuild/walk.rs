@@ -193,8 +193,7 @@ impl Out<'_, '_> {
                     ));
                 }
                 self.stop_values[i] = Some(m);
-                if let Some(values) = self.stop_values.iter().copied().collect::<Option<Vec<_>>>()
-                {
+                if let Some(values) = self.stop_values.iter().copied().collect::<Option<Vec<_>>>() {
                     let stop = stop.clone();
                     self.payload_return(&stop, &values, span);
                     self.stopped = true;
