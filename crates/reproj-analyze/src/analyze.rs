@@ -64,20 +64,7 @@ pub fn analyze(
     let journal = open_journal(input, renderer, opts, &ids, stride, progress)?;
     // Per node: each strategy instanced (or pruned), the race, the longest period and the plan.
     progress.start(1 + (ids.len() * (3 + plan.len() + extra)) as u64);
-    let render_opts = RenderOptions {
-        png_dir: None,
-        max_frames: opts.max_frames,
-        first_frame: 0,
-        timing_only: false,
-        classify: false,
-        raw_frames: false,
-        perceptual_stride: Some(stride),
-    };
-    let mut time = AnalysisTime::default();
-    let t = Instant::now();
-    let entry = input.shader.fragment_entry(Some(&input.norm.entry))?;
-    let reference = renderer.render_original(input.shader, entry, input.session, &render_opts)?;
-    time.reference_s = t.elapsed().as_secs_f64();
+    let (reference, render_opts, time) = render_reference(input, renderer, opts, stride)?;
     progress.step("original");
     let (mut original, mean_pixels) = original_record(&reference, progress);
     let mut journal = journal;
@@ -223,6 +210,31 @@ fn open_journal(
         ));
     }
     Ok(Some(journal))
+}
+
+/// The original's reference replay over the session (the options every whole-session replay
+/// shares), and the time it took.
+fn render_reference(
+    input: &AnalyzeInput,
+    renderer: &Renderer,
+    opts: &AnalyzeOptions,
+    stride: u32,
+) -> Result<(reproj_replay::Reference, RenderOptions, AnalysisTime), AnalyzeError> {
+    let render_opts = RenderOptions {
+        png_dir: None,
+        max_frames: opts.max_frames,
+        first_frame: 0,
+        timing_only: false,
+        classify: false,
+        raw_frames: false,
+        perceptual_stride: Some(stride),
+    };
+    let mut time = AnalysisTime::default();
+    let t = Instant::now();
+    let entry = input.shader.fragment_entry(Some(&input.norm.entry))?;
+    let reference = renderer.render_original(input.shader, entry, input.session, &render_opts)?;
+    time.reference_s = t.elapsed().as_secs_f64();
+    Ok((reference, render_opts, time))
 }
 
 /// The original's record from its reference replay (frame 0, which compiles shaders, left out)
