@@ -310,32 +310,10 @@ pub fn compare(
         target,
         progress,
     };
-    let Methods {
-        mut results,
-        crop_frames,
-        resize: resize_detail,
-        simplified,
-        reproj: reproj_detail,
-        reproj_input,
-    } = run_methods(&ctx, &counted, input, opts, planned.as_ref(), mid, steps)?;
-    // Every method's final candidate against the original, interleaved in one longer run: the
-    // speeds the table reports (the searches above decided on short interleaved runs).
-    let small = {
-        let mut small = input.session.clone();
-        small.resolution = resize_detail.tries[resize_detail.chosen].resolution;
-        small
-    };
-    let timed = time_methods(
-        renderer,
-        ctx.baseline,
-        input.session,
-        small,
-        &simplified.wgsl,
-        reproj_input,
-        &opts.timing,
-    )?;
+    let mut m = run_methods(&ctx, &counted, input, opts, planned.as_ref(), mid, steps)?;
+    let timed = time_final(&ctx, input, opts, &mut m)?;
     progress.step("timing, interleaved");
-    apply_timing(&mut results, &timed, target);
+    apply_timing(&mut m.results, &timed, target);
     let original_ms = timed.baseline.median_ms;
     progress.finish();
     let [w, h] = input.session.resolution;
@@ -356,18 +334,18 @@ pub fn compare(
         original_ms,
         measured_on: Some(reproj_bench::Machine::of(renderer).describe()),
         timing_warnings: merged_warnings(timed.warnings, ctx.timing_warnings.take()),
-        methods: results,
-        resize: resize_detail,
-        simplify: simplified.detail,
-        reproj: reproj_detail,
+        methods: m.results,
+        resize: m.resize,
+        simplify: m.simplified.detail,
+        reproj: m.reproj,
         crops: region,
         files: Vec::new(),
     };
     Ok(Comparison {
         report,
-        crop_frames,
+        crop_frames: m.crop_frames,
         crop_depth,
-        simplified_wgsl: simplified.wgsl,
+        simplified_wgsl: m.simplified.wgsl,
     })
 }
 
@@ -468,6 +446,31 @@ fn run_methods(
         reproj: reproj_detail,
         reproj_input,
     })
+}
+
+/// Every method's final candidate against the original, interleaved in one longer run: the
+/// speeds the table reports (the searches decided on short interleaved runs). Takes reproj's
+/// variant out of `m`.
+fn time_final(
+    ctx: &Ctx,
+    input: &CompareInput,
+    opts: &CompareOptions,
+    m: &mut Methods,
+) -> Result<reproj_bench::BenchReport, CompareError> {
+    let small = {
+        let mut small = input.session.clone();
+        small.resolution = m.resize.tries[m.resize.chosen].resolution;
+        small
+    };
+    time_methods(
+        ctx.renderer,
+        ctx.baseline,
+        input.session,
+        small,
+        &m.simplified.wgsl,
+        m.reproj_input.take(),
+        &opts.timing,
+    )
 }
 
 /// Each method's speed from the final interleaved run (where it gave an estimate).

@@ -103,16 +103,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let original_ms = variant_input.as_ref().map(|_| reference.report.frame_ms);
     if let Some(original_ms) = original_ms.filter(|_| speedup.is_none() && !args.json) {
-        crate::ui::note(format!(
-            "original: {:.3} ms/frame; variant: {:.3} ms/frame (one replay each; for the speedup with its 95 % interval: --speedup, or reproj bench {} --session {} {})",
-            original_ms,
-            report.frame_ms,
-            args.shader.display(),
-            args.session.display(),
-            args.variant
-                .as_ref()
-                .map_or_else(|| "VARIANT_DIR".into(), |v| v.display().to_string()),
-        ));
+        note_single_replays(args, original_ms, report.frame_ms);
     }
     if let Some(frames) = frames {
         frames.commit()?;
@@ -134,6 +125,21 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         print_report(&mut stdout, &out, args)?;
     }
     Ok(())
+}
+
+/// A variant's and the original's frame times from one replay each are no speed comparison:
+/// said as such, with how to get the speedup.
+fn note_single_replays(args: &RenderArgs, original_ms: f64, variant_ms: f64) {
+    crate::ui::note(format!(
+        "original: {:.3} ms/frame; variant: {:.3} ms/frame (one replay each; for the speedup with its 95 % interval: --speedup, or reproj bench {} --session {} {})",
+        original_ms,
+        variant_ms,
+        args.shader.display(),
+        args.session.display(),
+        args.variant
+            .as_ref()
+            .map_or_else(|| "VARIANT_DIR".into(), |v| v.display().to_string()),
+    ));
 }
 
 /// The variant to render, if any: `--node` instanced here, or `--variant DIR` read (checked to be
