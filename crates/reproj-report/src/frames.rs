@@ -225,7 +225,6 @@ fn frame_images(
             })
         };
         let hitmap = dir
-            .path()
             .join(format!("hitmap_{index:03}.png"))
             .is_file()
             .then(|| read("hitmap"))
