@@ -216,7 +216,7 @@ fn at_speedup<'p>(
         let as_node = rec.as_node();
         for dn in DEFAULT_MIN_DELTA_N..=max_delta_n {
             if let Some(p) = predict(&as_node, &profile.hit_rate, dn) {
-                points.push((Pick::Set(*set), dn, p.predicted_error, p.predicted_ms));
+                points.push((Pick::Set(set), dn, p.predicted_error, p.predicted_ms));
             }
         }
     }
@@ -259,7 +259,7 @@ fn under_budget<'p>(
                 .find(|s| s.members == choice.members && s.strategy == choice.strategy)
                 .expect("the choice comes from the profile's sets");
             Ok((
-                Pick::Set(*set),
+                Pick::Set(set),
                 choice.delta_n,
                 choice.predicted_error,
                 choice.predicted_ms,
