@@ -1,21 +1,19 @@
 //! `analyze`: replay the session for the original shader and for the variants of the chosen nodes
 //! at every training and held-out Δn, fit the models, and gather everything into a [`Profile`].
 
-use std::path::Path;
 use std::time::Instant;
 
 use rayon::prelude::*;
-use reproj_front::{NodeTable, Normalized, Shader};
 use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, instance};
 use reproj_models::profile::{
     AnalysisTime, FilterProbe, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord,
     Shard, Source, StrategyProbe,
 };
-use reproj_models::{PROFILE_VERSION, Profile, content_hash, fit_hit_rate};
+use reproj_models::{PROFILE_VERSION, Profile, content_hash};
 use reproj_replay::{RenderOptions, Renderer};
-use reproj_scene::Session;
 
 use crate::AnalyzeError;
+pub use crate::input::{AnalyzeInput, Progress, Silent};
 use crate::journal::Journal;
 pub use crate::options::{
     AnalyzeOptions, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
@@ -23,50 +21,15 @@ pub use crate::options::{
 };
 use crate::options::{check_periods, period_plan};
 use crate::prune::profile_candidates;
-use crate::replayer::{Fitted, RaceEntry, Replayer, Subject, finite, fit_replays, mean, too_slow};
+use crate::replayer::{
+    Fitted, RaceEntry, Replayer, Subject, finite, fit_replays, fit_session_hit_rate, mean, too_slow,
+};
 use crate::strategies::{StrategyPruner, Verdict};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
-/// Progress of a long analysis, reported by [`analyze`] (the CLI draws a bar).
-pub trait Progress {
-    /// `total` replays will follow (the reference included).
-    fn start(&self, total: u64);
-    /// One replay is done; `what` says which.
-    fn step(&self, what: &str);
-    /// A line worth showing (a node set aside, ...).
-    fn note(&self, line: &str);
-    /// `more` replays will follow beyond those announced by `start` (the set search decides
-    /// how many it replays as it goes).
-    fn extend(&self, more: u64) {
-        let _ = more;
-    }
-    fn finish(&self);
-}
-
-/// A [`Progress`] that shows nothing.
-#[derive(Debug, Default)]
-pub struct Silent;
-
-impl Progress for Silent {
-    fn start(&self, _: u64) {}
-    fn step(&self, _: &str) {}
-    fn note(&self, _: &str) {}
-    fn finish(&self) {}
-}
-
-/// What [`analyze`] works on.
-#[derive(Debug)]
-pub struct AnalyzeInput<'a> {
-    pub shader: &'a Shader,
-    pub norm: &'a Normalized,
-    pub table: &'a NodeTable,
-    /// Session file path (recorded in the profile) and its bytes (hashed).
-    pub session_path: &'a Path,
-    pub session_bytes: &'a [u8],
-    pub session: &'a Session,
-}
-
-/// Profile the shader over the session.
+/// Profile the shader over the session. Phases: the nodes and the journal, the reference,
+/// the replays node by node ([`replay_nodes`]), the fits ([`fit_nodes`]), the sets, then the
+/// profile ([`profile`]).
 pub fn analyze(
     input: &AnalyzeInput,
     renderer: &Renderer,
@@ -82,6 +45,87 @@ pub fn analyze(
     for w in &period_warnings {
         progress.note(&format!("warning: {w}"));
     }
+    let ids = node_ids(input, opts)?;
+    // The longest training period first: it is the fastest a variant gets, so a node whose variant is
+    // slower than the original even there can never be chosen and is set aside at once.
+    let longest = *opts.delta_n_train.iter().max().expect("checked above");
+    let plan = period_plan(opts, longest);
+    if opts.strategies.is_empty() {
+        return Err(AnalyzeError::Options("no strategy to profile".into()));
+    }
+    let extra = opts.strategies.len() - 1;
+    let session_frames = opts
+        .max_frames
+        .map_or(input.session.frames, |m| m.min(input.session.frames))
+        .max(1);
+    let stride = opts
+        .perceptual_stride
+        .unwrap_or(session_frames.div_ceil(DEFAULT_PERCEPTUAL_FRAMES));
+    let journal = open_journal(input, renderer, opts, &ids, stride, progress)?;
+    // Per node: each strategy instanced (or pruned), the race, the longest period and the plan.
+    progress.start(1 + (ids.len() * (3 + plan.len() + extra)) as u64);
+    let (reference, render_opts, time) = render_reference(input, renderer, opts, stride)?;
+    progress.step("original");
+    let (mut original, mean_pixels) = original_record(&reference, progress);
+    let mut journal = journal;
+    if let Some(j) = &mut journal {
+        // A resumed run keeps the first run's original times: they decide what is set aside.
+        original = j.original(original)?;
+    }
+    let mut rp = Replayer {
+        renderer,
+        input,
+        reference: &reference,
+        render_opts,
+        opts,
+        progress,
+        journal,
+        time,
+        original_ms: original.frame_ms,
+        longest,
+        timing_warnings: Vec::new(),
+    };
+    let replays = replay_nodes(&mut rp, &ids, &plan)?;
+    let t = Instant::now();
+    let (hit_rate, nodes) = fit_nodes(&rp, &replays.raws, mean_pixels);
+    rp.time.fitting_s += t.elapsed().as_secs_f64();
+    let sets = match &opts.sets {
+        // A shard sees only its part of the nodes: sets are searched over whole analyses.
+        Some(set_opts) if ids.len() > 1 && opts.shard.is_none() => {
+            crate::sets::analyze_sets(&mut rp, &nodes, &hit_rate, mean_pixels, set_opts)?
+        }
+        _ => Vec::new(),
+    };
+    progress.finish();
+    if let Some(j) = &rp.journal {
+        progress.note(&format!(
+            "replayed {}, reused {} recorded by an earlier run; raced {}, reused {}",
+            j.recorded, j.reused, j.races_recorded, j.races_reused
+        ));
+    }
+    let mut time = rp.time;
+    time.total_s = started.elapsed().as_secs_f64();
+    Ok(profile(
+        input,
+        renderer,
+        opts,
+        Measured {
+            frames: reference.frames.len() as u32,
+            stride,
+            original,
+            hit_rate,
+            nodes,
+            replays,
+            sets,
+            time,
+            timing_warnings: rp.timing_warnings,
+        },
+    ))
+}
+
+/// The nodes to profile: `--nodes` checked against the table (the root added), or the pruned
+/// candidates; a shard's share of them.
+fn node_ids(input: &AnalyzeInput, opts: &AnalyzeOptions) -> Result<Vec<u32>, AnalyzeError> {
     let ids = match &opts.nodes {
         Some(ids) => {
             let mut ids = ids.clone();
@@ -119,60 +163,63 @@ pub fn analyze(
             .map(|(_, id)| id)
             .collect(),
     };
-    // The longest training period first: it is the fastest a variant gets, so a node whose variant is
-    // slower than the original even there can never be chosen and is set aside at once.
-    let longest = *opts.delta_n_train.iter().max().expect("checked above");
-    let plan = period_plan(opts, longest);
-    if opts.strategies.is_empty() {
-        return Err(AnalyzeError::Options("no strategy to profile".into()));
-    }
-    let extra = opts.strategies.len() - 1;
-    let session_frames = opts
-        .max_frames
-        .map_or(input.session.frames, |m| m.min(input.session.frames))
-        .max(1);
-    let stride = opts
-        .perceptual_stride
-        .unwrap_or(session_frames.div_ceil(DEFAULT_PERCEPTUAL_FRAMES));
-    let mut journal = match &opts.journal {
-        None => None,
-        Some(j) => {
-            let key = content_hash(
-                format!(
-                    "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {} {:?} {}",
-                    content_hash(input.shader.source.as_bytes()),
-                    content_hash(input.session_bytes),
-                    opts.delta_n_train,
-                    opts.delta_n_holdout,
-                    opts.strategies,
-                    opts.block,
-                    opts.instance,
-                    opts.max_frames,
-                    renderer.adapter().name,
-                    renderer.timing_method(),
-                    stride,
-                    opts.probe_frames,
-                    input.norm.unroll.max_trip,
-                )
-                .as_bytes(),
-            );
-            let (journal, note) = Journal::open(j, &key)?;
-            if let Some(note) = note {
-                progress.note(&note);
-            }
-            if journal.len() > 0 {
-                progress.note(&format!(
-                    "resuming: {} replays already done in {} (--fresh starts over)",
-                    journal.len(),
-                    j.path.display()
-                ));
-            }
-            Some(journal)
-        }
-    };
-    // Per node: each strategy instanced (or pruned), the race, the longest period and the plan.
-    progress.start(1 + (ids.len() * (3 + plan.len() + extra)) as u64);
+    Ok(ids)
+}
 
+/// The journal of this analysis (`--journal`), keyed by everything a replay's result depends
+/// on, with a note when it resumes.
+fn open_journal(
+    input: &AnalyzeInput,
+    renderer: &Renderer,
+    opts: &AnalyzeOptions,
+    ids: &[u32],
+    stride: u32,
+    progress: &dyn Progress,
+) -> Result<Option<Journal>, AnalyzeError> {
+    let Some(j) = &opts.journal else {
+        return Ok(None);
+    };
+    let key = content_hash(
+        format!(
+            "{} {} {:?} {:?} {ids:?} {:?} {:?} {:?} {:?} {} {:?} {} {:?} {}",
+            content_hash(input.shader.source.as_bytes()),
+            content_hash(input.session_bytes),
+            opts.delta_n_train,
+            opts.delta_n_holdout,
+            opts.strategies,
+            opts.block,
+            opts.instance,
+            opts.max_frames,
+            renderer.adapter().name,
+            renderer.timing_method(),
+            stride,
+            opts.probe_frames,
+            input.norm.unroll.max_trip,
+        )
+        .as_bytes(),
+    );
+    let (journal, note) = Journal::open(j, &key)?;
+    if let Some(note) = note {
+        progress.note(&note);
+    }
+    if journal.len() > 0 {
+        progress.note(&format!(
+            "resuming: {} replays already done in {} (--fresh starts over)",
+            journal.len(),
+            j.path.display()
+        ));
+    }
+    Ok(Some(journal))
+}
+
+/// The original's reference replay over the session (the options every whole-session replay
+/// shares), and the time it took.
+fn render_reference(
+    input: &AnalyzeInput,
+    renderer: &Renderer,
+    opts: &AnalyzeOptions,
+    stride: u32,
+) -> Result<(reproj_replay::Reference, RenderOptions, AnalysisTime), AnalyzeError> {
     let render_opts = RenderOptions {
         png_dir: None,
         max_frames: opts.max_frames,
@@ -187,10 +234,18 @@ pub fn analyze(
     let entry = input.shader.fragment_entry(Some(&input.norm.entry))?;
     let reference = renderer.render_original(input.shader, entry, input.session, &render_opts)?;
     time.reference_s = t.elapsed().as_secs_f64();
-    progress.step("original");
+    Ok((reference, render_opts, time))
+}
+
+/// The original's record from its reference replay (frame 0, which compiles shaders, left out)
+/// and its mean shaded pixels; a warning when it renders non-finite pixels.
+fn original_record(
+    reference: &reproj_replay::Reference,
+    progress: &dyn Progress,
+) -> (OriginalRecord, f64) {
     let original_frames: Vec<_> = reference.report.frames.iter().skip(1).collect();
     let mean_pixels = mean(original_frames.iter().map(|f| f.shaded as f64));
-    let mut original = OriginalRecord {
+    let original = OriginalRecord {
         frame_ms: finite(reference.report.frame_ms),
         mean_pixels,
         frame_times_ms: original_frames.iter().map(|f| finite(f.frame_ms)).collect(),
@@ -202,239 +257,317 @@ pub fn analyze(
             reference.report.nonfinite_pixels, first.frame
         ));
     }
-    if let Some(j) = &mut journal {
-        // A resumed run keeps the first run's original times: they decide what is set aside.
-        original = j.original(original)?;
-    }
-    let mut rp = Replayer {
-        renderer,
-        input,
-        reference: &reference,
-        render_opts,
-        opts,
-        progress,
-        journal,
-        time,
-        original_ms: original.frame_ms,
-        longest,
-        timing_warnings: Vec::new(),
-    };
+    (original, mean_pixels)
+}
 
-    // Replays, node by node.
-    struct Raw {
-        id: u32,
-        strategy: Strategy,
-        block: u32,
-        reconstruct: Reconstruct,
-        measurements: Vec<Measurement>,
-        failure: Option<String>,
+/// One node's replays: the strategy and filter it was profiled with, its measurements, and why
+/// it failed (when it did).
+struct Raw {
+    id: u32,
+    strategy: Strategy,
+    block: u32,
+    reconstruct: Reconstruct,
+    measurements: Vec<Measurement>,
+    failure: Option<String>,
+}
+
+/// What the replay phase gathers: each node's replays and the probes of the strategy and filter
+/// races.
+#[derive(Default)]
+struct Replays {
+    raws: Vec<Raw>,
+    probes: Vec<StrategyProbe>,
+    filter_probes: Vec<FilterProbe>,
+}
+
+/// Replay the nodes one by one ([`replay_node`]), pruning the strategies that keep losing.
+fn replay_nodes(
+    rp: &mut Replayer<'_, '_>,
+    ids: &[u32],
+    plan: &[(u32, bool)],
+) -> Result<Replays, AnalyzeError> {
+    let mut replays = Replays::default();
+    let mut pruner = StrategyPruner::new(rp.opts.strategies.len());
+    for &id in ids {
+        let raw = replay_node(rp, id, plan, &mut pruner, &mut replays)?;
+        replays.raws.push(raw);
     }
-    let mut raws = Vec::new();
-    let mut probes: Vec<StrategyProbe> = Vec::new();
-    let mut filter_probes: Vec<FilterProbe> = Vec::new();
-    let mut pruner = StrategyPruner::new(opts.strategies.len());
-    for &id in &ids {
-        let node = input.table.get(id).expect("ids come from the table");
-        let sel = if node.root {
-            NodeSelector::Root
-        } else {
-            NodeSelector::Id(id)
-        };
-        // The strategies still in the running for this node.
-        let mut to_try: Vec<(usize, Strategy)> = Vec::new();
-        for (si, &strategy) in opts.strategies.iter().enumerate() {
-            match pruner.verdict(si) {
-                Verdict::Try => to_try.push((si, strategy)),
-                Verdict::PruneNow => {
-                    progress.note(&format!(
-                        "{strategy}: at least {:.2}× slower than the fastest strategy at Δn = {longest} for {} nodes; not tried for the remaining nodes",
-                        StrategyPruner::MARGIN,
-                        StrategyPruner::LOSSES
-                    ));
-                    progress.step(&format!("node {id} {strategy} pruned"));
-                }
-                Verdict::Pruned => progress.step(&format!("node {id} {strategy} pruned")),
-            }
-        }
-        // Each strategy still in the running is instanced, then all race the original at the
-        // longest period, interleaved (`reproj-bench`): the fastest wins only where its interval
-        // separates from the simplest's, and a node is set aside only when its winner's interval
-        // lies wholly below 1×.
-        let mut built: Vec<Built> = Vec::new();
-        let mut instance_failure = None;
-        for &(si, strategy) in &to_try {
-            let block = opts.block.unwrap_or(strategy.default_block());
-            let inst = InstanceOptions {
-                strategy,
-                block,
-                ..opts.instance
-            };
-            let t = Instant::now();
-            let variant = instance(input.shader, input.norm, input.table, sel, &inst);
-            rp.time.instancing_s += t.elapsed().as_secs_f64();
-            progress.step(&format!("node {id} {strategy} instanced"));
-            match variant {
-                Ok(variant) => built.push(Built {
-                    si,
-                    strategy,
-                    block,
-                    sources: variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
-                    variant,
-                }),
-                Err(e) => {
-                    progress.note(&format!("node {id} ({strategy}): cannot instance: {e}"));
-                    instance_failure.get_or_insert(format!("cannot instance: {e}"));
-                }
-            }
-        }
-        let race = if built.is_empty() {
-            None
-        } else {
-            let entries: Vec<RaceEntry> = built
-                .iter()
-                .map(|b| RaceEntry {
-                    name: b.strategy.name().to_string(),
-                    sources: &b.sources,
-                    variant: &b.variant,
-                    delta_n: longest,
-                })
-                .collect();
-            Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
-        };
-        progress.step(&format!("node {id} race at Δn={longest}"));
-        let estimates: Vec<Option<SpeedupEstimate>> = race
-            .as_ref()
-            .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
-            .unwrap_or_default();
-        let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
-        let winner = race_winner(&strategies, &estimates);
-        if let Some(w) = winner
-            && let Some(best) = estimates[w]
-        {
-            for (b, e) in built.iter().zip(&estimates) {
-                // A loss counts only where the intervals separate.
-                let ratio = match e {
-                    Some(e) if separates(&best, e) => best.speedup / e.speedup,
-                    Some(_) => 1.0,
-                    None => f64::INFINITY,
-                };
-                pruner.record(b.si, ratio, best.surely_faster());
-            }
-        }
-        if let Some(r) = &race {
-            for (i, (b, c)) in built.iter().zip(&r.candidates).enumerate() {
-                probes.push(StrategyProbe {
-                    node: id,
-                    strategy: b.strategy.name().into(),
-                    block: b.block,
-                    delta_n: longest,
-                    frame_ms: finite(c.median_ms.unwrap_or(0.0)),
-                    error: None,
-                    pass_ms: Vec::new(),
-                    kept: Some(i) == winner,
-                    frames: None,
-                    original_ms: Some(finite(r.baseline.median_ms)),
-                    speedup: c.speedup.map(finite),
-                    speedup_ci95: c.speedup_ci95.map(|[lo, hi]| [finite(lo), finite(hi)]),
-                    rounds: Some(c.rounds),
-                });
-            }
-        }
-        let Some(w) = winner else {
-            let why = instance_failure
-                .unwrap_or_else(|| "no strategy could be timed (no finite frame time)".into());
-            for _ in 0..1 + plan.len() {
-                progress.step(&format!("node {id}"));
-            }
-            raws.push(Raw {
-                id,
-                strategy: opts.strategies[0],
-                block: opts.block.unwrap_or(opts.strategies[0].default_block()),
-                reconstruct: opts.instance.reconstruct,
-                measurements: Vec::new(),
-                failure: Some(why),
-            });
-            continue;
-        };
-        let estimate = estimates[w].expect("the winner has an estimate");
-        let Built {
-            strategy,
-            block,
-            sources,
-            variant,
-            ..
-        } = built.swap_remove(w);
-        let verdict = too_slow(&estimate, node.root, longest, strategy);
-        let mut failure = None;
-        let mut measurements = Vec::new();
-        let node_plan: Vec<(u32, bool)> = std::iter::once((longest, false))
-            .chain(plan.iter().copied())
+    Ok(replays)
+}
+
+/// One node: each strategy still in the running instanced, then all raced against the original
+/// at the longest period, interleaved (`reproj-bench`): the fastest wins only where its interval
+/// separates from the simplest's, and a node is set aside only when its winner's interval lies
+/// wholly below 1×. The winner is then replayed over the plan ([`profile_winner`]).
+fn replay_node(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    plan: &[(u32, bool)],
+    pruner: &mut StrategyPruner,
+    replays: &mut Replays,
+) -> Result<Raw, AnalyzeError> {
+    let (opts, progress, longest) = (rp.opts, rp.progress, rp.longest);
+    let to_try = strategies_to_try(rp, id, pruner);
+    let (mut built, instance_failure) = instance_strategies(rp, id, &to_try);
+    let race = if built.is_empty() {
+        None
+    } else {
+        let entries: Vec<RaceEntry> = built
+            .iter()
+            .map(|b| RaceEntry {
+                name: b.strategy.name().to_string(),
+                sources: &b.sources,
+                variant: &b.variant,
+                delta_n: longest,
+            })
             .collect();
-        let subject = Subject {
-            node: id,
-            set: Vec::new(),
-            who: format!("node {id}"),
-            text: node.text.clone(),
-            root: node.root,
+        Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
+    };
+    progress.step(&format!("node {id} race at Δn={longest}"));
+    let estimates: Vec<Option<SpeedupEstimate>> = race
+        .as_ref()
+        .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
+        .unwrap_or_default();
+    let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
+    let winner = race_winner(&strategies, &estimates);
+    if let Some(w) = winner
+        && let Some(best) = estimates[w]
+    {
+        for (b, e) in built.iter().zip(&estimates) {
+            // A loss counts only where the intervals separate.
+            let ratio = match e {
+                Some(e) if separates(&best, e) => best.speedup / e.speedup,
+                Some(_) => 1.0,
+                None => f64::INFINITY,
+            };
+            pruner.record(b.si, ratio, best.surely_faster());
+        }
+    }
+    if let Some(r) = &race {
+        replays
+            .probes
+            .extend(strategy_probes(id, longest, &built, r, winner));
+    }
+    let Some(w) = winner else {
+        let why = instance_failure
+            .unwrap_or_else(|| "no strategy could be timed (no finite frame time)".into());
+        for _ in 0..1 + plan.len() {
+            progress.step(&format!("node {id}"));
+        }
+        return Ok(Raw {
+            id,
+            strategy: opts.strategies[0],
+            block: opts.block.unwrap_or(opts.strategies[0].default_block()),
+            reconstruct: opts.instance.reconstruct,
+            measurements: Vec::new(),
+            failure: Some(why),
+        });
+    };
+    let estimate = estimates[w].expect("the winner has an estimate");
+    let winner = built.swap_remove(w);
+    profile_winner(rp, id, winner, estimate, plan, &mut replays.filter_probes)
+}
+
+/// The strategies still in the running for node `id` (the others pruned, said once).
+fn strategies_to_try(
+    rp: &Replayer<'_, '_>,
+    id: u32,
+    pruner: &mut StrategyPruner,
+) -> Vec<(usize, Strategy)> {
+    let (progress, longest) = (rp.progress, rp.longest);
+    let mut to_try: Vec<(usize, Strategy)> = Vec::new();
+    for (si, &strategy) in rp.opts.strategies.iter().enumerate() {
+        match pruner.verdict(si) {
+            Verdict::Try => to_try.push((si, strategy)),
+            Verdict::PruneNow => {
+                progress.note(&format!(
+                    "{strategy}: at least {:.2}× slower than the fastest strategy at Δn = {longest} for {} nodes; not tried for the remaining nodes",
+                    StrategyPruner::MARGIN,
+                    StrategyPruner::LOSSES
+                ));
+                progress.step(&format!("node {id} {strategy} pruned"));
+            }
+            Verdict::Pruned => progress.step(&format!("node {id} {strategy} pruned")),
+        }
+    }
+    to_try
+}
+
+/// The node's selector: the root, or its id.
+fn selector(rp: &Replayer<'_, '_>, id: u32) -> NodeSelector {
+    let node = rp.input.table.get(id).expect("ids come from the table");
+    if node.root {
+        NodeSelector::Root
+    } else {
+        NodeSelector::Id(id)
+    }
+}
+
+/// Each strategy to try instanced for node `id`, and the first instancing failure.
+fn instance_strategies(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    to_try: &[(usize, Strategy)],
+) -> (Vec<Built>, Option<String>) {
+    let (input, opts, progress) = (rp.input, rp.opts, rp.progress);
+    let sel = selector(rp, id);
+    let mut built: Vec<Built> = Vec::new();
+    let mut instance_failure = None;
+    for &(si, strategy) in to_try {
+        let block = opts.block.unwrap_or(strategy.default_block());
+        let inst = InstanceOptions {
             strategy,
             block,
-            reconstruct: None,
-            raced: true,
-            verdict,
+            ..opts.instance
         };
-        rp.replay_plan(
-            &subject,
-            &sources,
-            &variant,
-            &node_plan,
-            &mut measurements,
-            &mut failure,
-        )?;
-        let mut reconstruct = opts.instance.reconstruct;
-        if opts.race_filters && failure.is_none() {
-            let race = crate::filters::FilterRace {
-                id,
-                sel,
+        let t = Instant::now();
+        let variant = instance(input.shader, input.norm, input.table, sel, &inst);
+        rp.time.instancing_s += t.elapsed().as_secs_f64();
+        progress.step(&format!("node {id} {strategy} instanced"));
+        match variant {
+            Ok(variant) => built.push(Built {
+                si,
                 strategy,
                 block,
-                base_sources: &sources,
-                base_variant: &variant,
-                base_measurements: &measurements,
-                base_speedup: Some(estimate.speedup),
-            };
-            if let Some(kept) = crate::filters::race_filter(&mut rp, &race, &mut filter_probes)? {
-                // The node is profiled with the kept filter alone: its measurement at the longest
-                // period, then the rest of the plan.
-                reconstruct = crate::filters::CHALLENGER;
-                measurements = vec![kept.measurement];
-                progress.extend(plan.len() as u64);
-                let subject = Subject {
-                    reconstruct: Some(reconstruct),
-                    verdict: None,
-                    ..subject
-                };
-                rp.replay_plan(
-                    &subject,
-                    &kept.sources,
-                    &kept.variant,
-                    &plan,
-                    &mut measurements,
-                    &mut failure,
-                )?;
+                sources: variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                variant,
+            }),
+            Err(e) => {
+                progress.note(&format!("node {id} ({strategy}): cannot instance: {e}"));
+                instance_failure.get_or_insert(format!("cannot instance: {e}"));
             }
         }
-        raws.push(Raw {
+    }
+    (built, instance_failure)
+}
+
+/// The probes of node `id`'s strategy race at the longest period, the winner's kept.
+fn strategy_probes(
+    id: u32,
+    longest: u32,
+    built: &[Built],
+    r: &reproj_bench::BenchReport,
+    winner: Option<usize>,
+) -> Vec<StrategyProbe> {
+    built
+        .iter()
+        .zip(&r.candidates)
+        .enumerate()
+        .map(|(i, (b, c))| StrategyProbe {
+            node: id,
+            strategy: b.strategy.name().into(),
+            block: b.block,
+            delta_n: longest,
+            frame_ms: finite(c.median_ms.unwrap_or(0.0)),
+            error: None,
+            pass_ms: Vec::new(),
+            kept: Some(i) == winner,
+            frames: None,
+            original_ms: Some(finite(r.baseline.median_ms)),
+            speedup: c.speedup.map(finite),
+            speedup_ci95: c.speedup_ci95.map(|[lo, hi]| [finite(lo), finite(hi)]),
+            rounds: Some(c.rounds),
+        })
+        .collect()
+}
+
+/// The winning strategy replayed over the longest period and the plan, and, with
+/// `race_filters`, the challenger filter raced at equal error and, when kept, replayed instead.
+fn profile_winner(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    winner: Built,
+    estimate: SpeedupEstimate,
+    plan: &[(u32, bool)],
+    filter_probes: &mut Vec<FilterProbe>,
+) -> Result<Raw, AnalyzeError> {
+    let (input, opts, progress, longest) = (rp.input, rp.opts, rp.progress, rp.longest);
+    let node = input.table.get(id).expect("ids come from the table");
+    let sel = selector(rp, id);
+    let Built {
+        strategy,
+        block,
+        sources,
+        variant,
+        ..
+    } = winner;
+    let verdict = too_slow(&estimate, node.root, longest, strategy);
+    let mut failure = None;
+    let mut measurements = Vec::new();
+    let node_plan: Vec<(u32, bool)> = std::iter::once((longest, false))
+        .chain(plan.iter().copied())
+        .collect();
+    let subject = Subject {
+        node: id,
+        set: Vec::new(),
+        who: format!("node {id}"),
+        text: node.text.clone(),
+        root: node.root,
+        strategy,
+        block,
+        reconstruct: None,
+        raced: true,
+        verdict,
+    };
+    rp.replay_plan(
+        &subject,
+        &sources,
+        &variant,
+        &node_plan,
+        &mut measurements,
+        &mut failure,
+    )?;
+    let mut reconstruct = opts.instance.reconstruct;
+    if opts.race_filters && failure.is_none() {
+        let race = crate::filters::FilterRace {
             id,
+            sel,
             strategy,
             block,
-            reconstruct,
-            measurements,
-            failure,
-        });
+            base_sources: &sources,
+            base_variant: &variant,
+            base_measurements: &measurements,
+            base_speedup: Some(estimate.speedup),
+        };
+        if let Some(kept) = crate::filters::race_filter(rp, &race, filter_probes)? {
+            // The node is profiled with the kept filter alone: its measurement at the longest
+            // period, then the rest of the plan.
+            reconstruct = crate::filters::CHALLENGER;
+            measurements = vec![kept.measurement];
+            progress.extend(plan.len() as u64);
+            let subject = Subject {
+                reconstruct: Some(reconstruct),
+                verdict: None,
+                ..subject
+            };
+            rp.replay_plan(
+                &subject,
+                &kept.sources,
+                &kept.variant,
+                plan,
+                &mut measurements,
+                &mut failure,
+            )?;
+        }
     }
+    Ok(Raw {
+        id,
+        strategy,
+        block,
+        reconstruct,
+        measurements,
+        failure,
+    })
+}
 
-    // Fits.
-    let t = Instant::now();
+/// The session's hit-rate model, and each node's fits from its replays; a note for each node
+/// its fits set aside.
+fn fit_nodes(
+    rp: &Replayer<'_, '_>,
+    raws: &[Raw],
+    mean_pixels: f64,
+) -> (reproj_models::HitRateFit, Vec<NodeProfile>) {
+    let (input, opts, progress) = (rp.input, rp.opts, rp.progress);
     let hit_rate = fit_session_hit_rate(
         raws.iter().flat_map(|r| &r.measurements),
         &opts.delta_n_train,
@@ -486,28 +619,31 @@ pub fn analyze(
             progress.note(&format!("node {} `{}`: set aside: {reason}", n.id, n.text));
         }
     }
-    rp.time.fitting_s += t.elapsed().as_secs_f64();
+    (hit_rate, nodes)
+}
 
-    let sets = match &opts.sets {
-        // A shard sees only its part of the nodes: sets are searched over whole analyses.
-        Some(set_opts) if ids.len() > 1 && opts.shard.is_none() => {
-            crate::sets::analyze_sets(&mut rp, &nodes, &hit_rate, mean_pixels, set_opts)?
-        }
-        _ => Vec::new(),
-    };
-    progress.finish();
-    if let Some(j) = &rp.journal {
-        progress.note(&format!(
-            "replayed {}, reused {} recorded by an earlier run; raced {}, reused {}",
-            j.recorded, j.reused, j.races_recorded, j.races_reused
-        ));
-    }
-    let mut time = rp.time;
-    time.total_s = started.elapsed().as_secs_f64();
-    let timing_warnings = rp.timing_warnings;
+/// What the analysis measured and fitted, for the profile.
+struct Measured {
+    frames: u32,
+    stride: u32,
+    original: OriginalRecord,
+    hit_rate: reproj_models::HitRateFit,
+    nodes: Vec<NodeProfile>,
+    replays: Replays,
+    sets: Vec<reproj_models::profile::SetProfile>,
+    time: AnalysisTime,
+    timing_warnings: Vec<String>,
+}
 
+/// The profile: the sources and their hashes, the machine, the settings, and what was measured.
+fn profile(
+    input: &AnalyzeInput,
+    renderer: &Renderer,
+    opts: &AnalyzeOptions,
+    m: Measured,
+) -> Profile {
     let adapter = renderer.adapter();
-    Ok(Profile {
+    Profile {
         schema: "reproj.profile".into(),
         version: PROFILE_VERSION,
         shader: Source {
@@ -534,38 +670,25 @@ pub fn analyze(
             cpu_rasterizer: reproj_bench::Machine::of(renderer).cpu_rasterizer,
         },
         resolution: input.session.resolution,
-        frames: reference.frames.len() as u32,
+        frames: m.frames,
         delta_n_train: opts.delta_n_train.clone(),
         delta_n_holdout: opts.delta_n_holdout.clone(),
-        perceptual_stride: Some(stride),
+        perceptual_stride: Some(m.stride),
         block: opts.block.unwrap_or(Strategy::ThreePass.default_block()),
         depth_epsilon: opts.instance.depth_epsilon,
         reconstruct: opts.instance.reconstruct.name().into(),
         cache_format: opts.instance.cache_format.name(),
-        original,
-        hit_rate,
-        nodes,
-        strategy_probes: probes,
-        filter_probes,
-        timing_warnings,
-        sets,
-        time,
+        original: m.original,
+        hit_rate: m.hit_rate,
+        nodes: m.nodes,
+        strategy_probes: m.replays.probes,
+        filter_probes: m.replays.filter_probes,
+        timing_warnings: m.timing_warnings,
+        sets: m.sets,
+        time: m.time,
         shard: opts.shard,
-        motion: crate::motion::measure(input.session, Some(reference.frames.len() as u32)),
-    })
-}
-
-/// The hit-rate model of a shader and session: one fit over every node's measurements at the
-/// training periods (`analyze`, and `merge` over the joined shards).
-pub(crate) fn fit_session_hit_rate<'a>(
-    measurements: impl Iterator<Item = &'a Measurement>,
-    train: &[u32],
-) -> reproj_models::HitRateFit {
-    let samples: Vec<(f64, f64)> = measurements
-        .filter(|m| train.contains(&m.delta_n))
-        .map(|m| (m.delta_n as f64, m.hit_rate))
-        .collect();
-    fit_hit_rate(&samples)
+        motion: crate::motion::measure(input.session, Some(m.frames)),
+    }
 }
 
 /// One strategy of one node in `analyze`, instanced: its index in the options' strategies and

@@ -30,7 +30,7 @@
 use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, instance};
 use reproj_models::profile::{FilterProbe, Measurement};
 use reproj_models::speedup::{SpeedupEstimate, separates};
-use reproj_models::{ErrorFitOptions, fit_error};
+use reproj_models::{ErrorFit, ErrorFitOptions, fit_error};
 
 use crate::AnalyzeError;
 use crate::journal::ReplayKey;
@@ -117,20 +117,60 @@ pub(crate) struct Kept {
 
 /// Race the challenger filter against the node's base filter (see the module docs), appending
 /// the probes to `probes`. `Some`: the challenger is kept and its remaining periods are the
-/// caller's to replay. Reports three progress steps (instance, replay, race).
+/// caller's to replay. Reports three progress steps (instance, replay, race). Phases: the base's
+/// error model, the challenger at the longest period, the race at equal error, the verdict.
 pub(crate) fn race_filter(
     rp: &mut Replayer<'_, '_>,
     race: &FilterRace<'_>,
     probes: &mut Vec<FilterProbe>,
 ) -> Result<Option<Kept>, AnalyzeError> {
-    let (id, longest) = (race.id, rp.longest);
+    let longest = rp.longest;
     let base = rp.opts.instance.reconstruct;
-    let who = format!("node {id}");
     if !worth_racing(race.base_speedup) {
         return Ok(None);
     }
-    let probe = |reconstruct: Reconstruct, delta_n: u32, error: f64| FilterProbe {
-        node: id,
+    let Some((base_at_longest, fit)) = base_model(rp, race) else {
+        return Ok(None);
+    };
+    rp.progress.extend(3);
+    let Some(challenger) = challenger_at_longest(rp, race)? else {
+        return Ok(None);
+    };
+    let challenger_error = challenger.measurement.error;
+    if challenger_error >= base_at_longest {
+        rp.progress.step(&format!("node {} filters", race.id));
+        probes.push(FilterProbe {
+            note: Some(format!(
+                "{CHALLENGER} is no more accurate than {base} at Δn {longest} ({challenger_error:.5} vs {base_at_longest:.5}): not raced"
+            )),
+            ..probe(race, CHALLENGER, longest, challenger_error)
+        });
+        return Ok(None);
+    }
+    let predict = |dn: u32| fit.predict(f64::from(dn));
+    let base_period = equal_error_period(predict, challenger_error, longest);
+    let raced = race_at_equal_error(rp, race, &challenger, base_period)?;
+    let kept = match &raced.challenger {
+        Some(c) if base_period.is_none() || raced.base.is_some() => {
+            challenger_pays(raced.base.as_ref(), c)
+        }
+        _ => false,
+    };
+    let verdict = Verdict {
+        base,
+        base_period,
+        base_error: base_period.map(|dn| predict(dn).unwrap_or(0.0)),
+        challenger_error,
+        kept,
+    };
+    record(rp, race, &raced, &verdict, probes);
+    Ok(kept.then_some(challenger))
+}
+
+/// A probe of the node's race: `reconstruct` at `delta_n` with its error, untimed, not kept.
+fn probe(race: &FilterRace, reconstruct: Reconstruct, delta_n: u32, error: f64) -> FilterProbe {
+    FilterProbe {
+        node: race.id,
         reconstruct: reconstruct.name().into(),
         strategy: race.strategy.name().into(),
         block: race.block,
@@ -141,15 +181,18 @@ pub(crate) fn race_filter(
         rounds: None,
         kept: false,
         note: None,
-    };
-    let Some(base_at_longest) = race
+    }
+}
+
+/// The base filter's error at the longest period and its error model over the training
+/// periods; `None` when there is nothing to compare against (no measurement there, or a failed
+/// fit, which sets the node aside on its own).
+fn base_model(rp: &Replayer<'_, '_>, race: &FilterRace<'_>) -> Option<(f64, ErrorFit)> {
+    let base_at_longest = race
         .base_measurements
         .iter()
-        .find(|m| m.delta_n == longest)
-        .map(|m| m.error)
-    else {
-        return Ok(None);
-    };
+        .find(|m| m.delta_n == rp.longest)
+        .map(|m| m.error)?;
     let train: Vec<(f64, f64)> = race
         .base_measurements
         .iter()
@@ -157,12 +200,18 @@ pub(crate) fn race_filter(
         .map(|m| (f64::from(m.delta_n), m.error))
         .collect();
     let fit = fit_error(&train, &ErrorFitOptions::default());
-    if !fit.is_ok() {
-        // The node is set aside by its own fit; nothing to compare against.
-        return Ok(None);
-    }
-    rp.progress.extend(3);
+    fit.is_ok().then_some((base_at_longest, fit))
+}
 
+/// The challenger instanced and replayed at the longest period (two progress steps, and the
+/// third when it fails); `None` when it cannot be, said in a note.
+fn challenger_at_longest(
+    rp: &mut Replayer<'_, '_>,
+    race: &FilterRace<'_>,
+) -> Result<Option<Kept>, AnalyzeError> {
+    let (id, longest) = (race.id, rp.longest);
+    let base = rp.opts.instance.reconstruct;
+    let who = format!("node {id}");
     let inst = InstanceOptions {
         strategy: race.strategy,
         block: race.block,
@@ -203,44 +252,56 @@ pub(crate) fn race_filter(
     let replayed = rp.replay(key, &sources, &variant, longest, None)?;
     rp.progress
         .step(&format!("{who} {CHALLENGER} Δn={longest}"));
-    let measurement = match replayed {
-        Ok((m, _)) => m,
+    match replayed {
+        Ok((measurement, _)) => Ok(Some(Kept {
+            sources,
+            variant,
+            measurement,
+        })),
         Err(e) => {
             rp.progress.note(&format!(
                 "{who}: {CHALLENGER} replay failed at Δn={longest}: {e}; keeps {base}"
             ));
             rp.progress.step(&format!("{who} filters"));
-            return Ok(None);
+            Ok(None)
         }
-    };
-    let challenger_error = measurement.error;
-    if challenger_error >= base_at_longest {
-        rp.progress.step(&format!("{who} filters"));
-        probes.push(FilterProbe {
-            note: Some(format!(
-                "{CHALLENGER} is no more accurate than {base} at Δn {longest} ({challenger_error:.5} vs {base_at_longest:.5}): not raced"
-            )),
-            ..probe(CHALLENGER, longest, challenger_error)
-        });
-        return Ok(None);
     }
-    let predict = |dn: u32| fit.predict(f64::from(dn));
-    let base_period = equal_error_period(predict, challenger_error, longest);
-    let base_name = base_period.map(|dn| format!("{base}@{dn}"));
-    let challenger_name = format!("{CHALLENGER}@{longest}");
+}
+
+/// The race's report and its two estimates: the base at its equal-error period (when it has
+/// one), the challenger at the longest period.
+struct Raced {
+    report: reproj_bench::BenchReport,
+    /// The challenger's index among the candidates.
+    last: usize,
+    base: Option<SpeedupEstimate>,
+    challenger: Option<SpeedupEstimate>,
+}
+
+/// Race the base at its equal-error period (when it has one) and the challenger at the longest,
+/// again and longer when the first race leaves it undecided (the third progress step).
+fn race_at_equal_error(
+    rp: &mut Replayer<'_, '_>,
+    race: &FilterRace<'_>,
+    challenger: &Kept,
+    base_period: Option<u32>,
+) -> Result<Raced, AnalyzeError> {
+    let (id, longest) = (race.id, rp.longest);
+    let base = rp.opts.instance.reconstruct;
+    let who = format!("node {id}");
     let mut entries = Vec::new();
-    if let (Some(dn), Some(name)) = (base_period, &base_name) {
+    if let Some(dn) = base_period {
         entries.push(RaceEntry {
-            name: name.clone(),
+            name: format!("{base}@{dn}"),
             sources: race.base_sources,
             variant: race.base_variant,
             delta_n: dn,
         });
     }
     entries.push(RaceEntry {
-        name: challenger_name,
-        sources: &sources,
-        variant: &variant,
+        name: format!("{CHALLENGER}@{longest}"),
+        sources: &challenger.sources,
+        variant: &challenger.variant,
         delta_n: longest,
     });
     let mut report = rp.race(&format!("{who} filters"), id, &[], &entries)?;
@@ -266,14 +327,37 @@ pub(crate) fn race_filter(
         (base_estimate, challenger_estimate) = estimates(&report);
     }
     rp.progress.step(&format!("{who} filters raced"));
-    let kept = match &challenger_estimate {
-        Some(c) if base_period.is_none() || base_estimate.is_some() => {
-            challenger_pays(base_estimate.as_ref(), c)
-        }
-        _ => false,
-    };
+    Ok(Raced {
+        report,
+        last,
+        base: base_estimate,
+        challenger: challenger_estimate,
+    })
+}
+
+/// What the race decided: the base filter and its equal-error period with the error its model
+/// predicts there, the challenger's error, and whether the challenger is kept.
+struct Verdict {
+    base: Reconstruct,
+    base_period: Option<u32>,
+    base_error: Option<f64>,
+    challenger_error: f64,
+    kept: bool,
+}
+
+/// The verdict as a note and as the two timed probes (the base's, when it raced, and the
+/// challenger's).
+fn record(
+    rp: &Replayer<'_, '_>,
+    race: &FilterRace<'_>,
+    raced: &Raced,
+    v: &Verdict,
+    probes: &mut Vec<FilterProbe>,
+) {
+    let (base, longest) = (v.base, rp.longest);
+    let challenger_error = v.challenger_error;
     let timed = |p: FilterProbe, i: usize| {
-        let c = report.candidates.get(i);
+        let c = raced.report.candidates.get(i);
         FilterProbe {
             speedup: c.and_then(|c| c.speedup).map(finite),
             speedup_ci95: c
@@ -284,39 +368,37 @@ pub(crate) fn race_filter(
         }
     };
     let shown = |e: Option<&SpeedupEstimate>| e.map_or_else(|| "untimed".into(), |e| e.display());
-    let against = match base_period {
+    let against = match v.base_period {
         Some(dn) => format!(
             "{base} at Δn {dn}, its equal-error period, {}",
-            shown(base_estimate.as_ref())
+            shown(raced.base.as_ref())
         ),
         None => format!("the original ({base} exceeds that error at every period)"),
     };
     let note = format!(
         "{CHALLENGER} at Δn {longest} (error {challenger_error:.5}, {}) against {against}: {}",
-        shown(challenger_estimate.as_ref()),
-        if kept {
+        shown(raced.challenger.as_ref()),
+        if v.kept {
             format!("faster at equal error, keeps {CHALLENGER}")
         } else {
             format!("not faster beyond doubt, keeps {base}")
         }
     );
-    rp.progress.note(&format!("{who}: {note}"));
-    if let Some(dn) = base_period {
+    rp.progress.note(&format!("node {}: {note}", race.id));
+    if let (Some(dn), Some(error)) = (v.base_period, v.base_error) {
         probes.push(FilterProbe {
-            kept: !kept,
-            ..timed(probe(base, dn, predict(dn).unwrap_or(0.0)), 0)
+            kept: !v.kept,
+            ..timed(probe(race, base, dn, error), 0)
         });
     }
     probes.push(FilterProbe {
-        kept,
+        kept: v.kept,
         note: Some(note),
-        ..timed(probe(CHALLENGER, longest, challenger_error), last)
+        ..timed(
+            probe(race, CHALLENGER, longest, challenger_error),
+            raced.last,
+        )
     });
-    Ok(kept.then_some(Kept {
-        sources,
-        variant,
-        measurement,
-    }))
 }
 
 #[cfg(test)]

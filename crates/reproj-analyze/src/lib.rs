@@ -10,6 +10,8 @@ pub mod emit;
 #[cfg(feature = "gpu")]
 mod filters;
 #[cfg(feature = "gpu")]
+mod input;
+#[cfg(feature = "gpu")]
 pub mod journal;
 #[cfg(feature = "gpu")]
 pub mod merge;
@@ -42,6 +44,8 @@ pub use journal::JournalOptions;
 #[cfg(feature = "gpu")]
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
+/// The error budget and the default refresh periods, as the CLI checks them at its edge.
+pub use reproj_select::{Budget, DELTA_N_RANGE};
 #[cfg(feature = "gpu")]
 pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
 #[cfg(feature = "gpu")]

@@ -114,7 +114,7 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             instancing_s: t.instancing_s + p.time.instancing_s,
             timing_s: t.timing_s + p.time.timing_s,
         });
-    merged.hit_rate = crate::analyze::fit_session_hit_rate(
+    merged.hit_rate = crate::replayer::fit_session_hit_rate(
         merged.nodes.iter().flat_map(|n| &n.measurements),
         &merged.delta_n_train,
     );

@@ -4,14 +4,28 @@
 use reproj_instance::{InstanceOptions, Strategy};
 use reproj_models::profile::{Measurement, Shard};
 use reproj_models::{ErrorFitOptions, fit_error};
+use reproj_select::{DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N};
 
 use crate::AnalyzeError;
 use crate::journal::JournalOptions;
 use crate::prune::PruneOptions;
 use crate::sets::SetSearchOptions;
 
-/// The paper's training periods (seeds 002 §4.2).
-pub const DEFAULT_TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];
+/// The paper's training periods (seeds 002 §4.2): seven spread evenly over
+/// [`reproj_select::DELTA_N_RANGE`], both ends included (2, 10, …, 50).
+pub const DEFAULT_TRAIN: [u32; 7] = {
+    let (first, last) = (DEFAULT_MIN_DELTA_N, DEFAULT_MAX_DELTA_N);
+    let step = (last - first) / 6;
+    [
+        first,
+        first + step,
+        first + 2 * step,
+        first + 3 * step,
+        first + 4 * step,
+        first + 5 * step,
+        last,
+    ]
+};
 /// Periods used only to check the models.
 pub const DEFAULT_HOLDOUT: [u32; 2] = [6, 30];
 /// The stride `emit` and `report` use for a profile that does not record its own (profiles
@@ -256,6 +270,11 @@ const MAX_PERIODS_PER_SESSION: u32 = 10;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_training_periods_are_the_paper_s_and_span_the_range() {
+        assert_eq!(DEFAULT_TRAIN, [2, 10, 18, 26, 34, 42, 50]);
+    }
 
     fn opts(sampling: Sampling) -> AnalyzeOptions {
         AnalyzeOptions {

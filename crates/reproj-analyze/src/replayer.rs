@@ -15,7 +15,7 @@ use reproj_models::{
 use reproj_replay::{RenderOptions, Renderer, VariantInput};
 
 use crate::AnalyzeError;
-use crate::analyze::{AnalyzeInput, Progress};
+use crate::input::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
 use crate::options::{AnalyzeOptions, model_holds};
 
@@ -549,6 +549,19 @@ pub(crate) fn mean(it: impl Iterator<Item = f64>) -> f64 {
 /// NaN and infinities never reach the profile.
 pub(crate) fn finite(x: f64) -> f64 {
     if x.is_finite() { x } else { 0.0 }
+}
+
+/// The hit-rate model of a shader and session: one fit over every node's measurements at the
+/// training periods (`analyze`, and `merge` over the joined shards).
+pub(crate) fn fit_session_hit_rate<'a>(
+    measurements: impl Iterator<Item = &'a Measurement>,
+    train: &[u32],
+) -> reproj_models::HitRateFit {
+    let samples: Vec<(f64, f64)> = measurements
+        .filter(|m| train.contains(&m.delta_n))
+        .map(|m| (m.delta_n as f64, m.hit_rate))
+        .collect();
+    reproj_models::fit_hit_rate(&samples)
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! pairs whose payload is wider than [`MAX_PAYLOAD_FLOATS`], ranks the pairs by the frame time
 //! `reproj-select`'s `combine` predicts from the members' single-node fits, and replays the best
 //! `replays` of them through the same replay and fit code the single nodes use
-//! ([`crate::analyze`]'s `Replayer`). The best measured set then grows by one node at a time, up to
+//! ([`crate::replayer`]'s `Replayer`). The best measured set then grows by one node at a time, up to
 //! `max_nodes`, while the set's own fitted models combined with one more node's predict a faster
 //! frame and the grown set measures faster. A set slower than the original at the longest period
 //! is set aside as a single node is.
@@ -18,7 +18,7 @@ use reproj_models::profile::{Measurement, NodeProfile, NodeStatus, SetPredicted,
 use reproj_select::{NodeRecord, predict, predict_set};
 
 use crate::AnalyzeError;
-use crate::analyze::Progress;
+use crate::input::Progress;
 use crate::options::period_plan;
 use crate::replayer::{Fitted, Replayer, Subject, fit_replays};
 
@@ -269,9 +269,9 @@ fn set_record(set: &SetProfile, members: &[&SetCandidate]) -> NodeRecord {
     }
 }
 
-/// `analyze`'s set phase: the usable single nodes as candidates (their subtrees from the
-/// normalized function), each set instanced in its first member's strategy and block and
-/// replayed at the longest training period and then the single nodes' periods.
+/// `analyze`'s set phase: the usable single nodes as candidates ([`set_candidates`]), each set
+/// instanced in its first member's strategy and block and replayed at the longest training
+/// period and then the single nodes' periods ([`measure_set`]).
 pub(crate) fn analyze_sets(
     rp: &mut Replayer,
     nodes: &[NodeProfile],
@@ -279,6 +279,27 @@ pub(crate) fn analyze_sets(
     mean_pixels: f64,
     opts: &SetSearchOptions,
 ) -> Result<Vec<SetProfile>, AnalyzeError> {
+    let candidates = set_candidates(rp, nodes, mean_pixels);
+    let ctx = SetContext {
+        hit_rate,
+        original_ms: rp.original_ms,
+        delta_n: rp.longest,
+    };
+    let progress = rp.progress;
+    let plan: Vec<(u32, bool)> = std::iter::once((rp.longest, false))
+        .chain(period_plan(rp.opts, rp.longest))
+        .collect();
+    let fits = SetFits {
+        hit_rate,
+        mean_pixels,
+    };
+    let mut measure = |members: &[&SetCandidate]| measure_set(rp, members, &plan, &fits);
+    search_sets(&candidates, &ctx, opts, &mut measure, progress)
+}
+
+/// The usable single nodes (fitted, not the root) as set candidates: their records, payload
+/// components and block, and the other candidates inside their subtrees.
+fn set_candidates(rp: &Replayer, nodes: &[NodeProfile], mean_pixels: f64) -> Vec<SetCandidate> {
     let input = rp.input;
     let fun = input.norm.function();
     let usable: Vec<(&NodeProfile, &reproj_front::Node)> = nodes
@@ -287,7 +308,7 @@ pub(crate) fn analyze_sets(
         .filter_map(|n| Some((n, input.table.get(n.id)?)))
         .filter(|(_, t)| t.handle.is_some())
         .collect();
-    let candidates: Vec<SetCandidate> = usable
+    usable
         .iter()
         .map(|(n, t)| {
             let sub = reproj_front::nodes::subtree(fun, t.handle.expect("filtered"));
@@ -311,106 +332,113 @@ pub(crate) fn analyze_sets(
                     .collect(),
             }
         })
-        .collect();
-    let ctx = SetContext {
-        hit_rate,
-        original_ms: rp.original_ms,
-        delta_n: rp.longest,
-    };
-    let progress = rp.progress;
-    let plan: Vec<(u32, bool)> = std::iter::once((rp.longest, false))
-        .chain(period_plan(rp.opts, rp.longest))
-        .collect();
-    let mut measure = |members: &[&SetCandidate]| -> Result<SetProfile, AnalyzeError> {
-        let first = members[0];
-        let strategy: Strategy = first.record.strategy.parse().unwrap_or(Strategy::ThreePass);
-        let block = first.block;
-        let ids: Vec<u32> = members.iter().map(|c| c.record.id).collect();
-        let who = format!("set {}", name(members));
-        let texts: Vec<String> = members.iter().map(|c| c.record.text.clone()).collect();
-        progress.extend(plan.len() as u64);
-        let t = std::time::Instant::now();
-        let variant = instance_nodes(
-            input.shader,
-            input.norm,
-            input.table,
-            &ids.iter()
-                .map(|&id| NodeSelector::Id(id))
-                .collect::<Vec<_>>(),
-            &InstanceOptions {
+        .collect()
+}
+
+/// What a set's fits need of the analysis: the session's hit-rate model and the original's
+/// mean shaded pixels.
+struct SetFits<'a> {
+    hit_rate: &'a HitRateFit,
+    mean_pixels: f64,
+}
+
+/// One set instanced in one payload, replayed over `plan` and fitted (a note when its fits set
+/// it aside).
+fn measure_set(
+    rp: &mut Replayer,
+    members: &[&SetCandidate],
+    plan: &[(u32, bool)],
+    fits: &SetFits,
+) -> Result<SetProfile, AnalyzeError> {
+    let (input, progress) = (rp.input, rp.progress);
+    let (hit_rate, mean_pixels) = (fits.hit_rate, fits.mean_pixels);
+    let first = members[0];
+    let strategy: Strategy = first.record.strategy.parse().unwrap_or(Strategy::ThreePass);
+    let block = first.block;
+    let ids: Vec<u32> = members.iter().map(|c| c.record.id).collect();
+    let who = format!("set {}", name(members));
+    let texts: Vec<String> = members.iter().map(|c| c.record.text.clone()).collect();
+    progress.extend(plan.len() as u64);
+    let t = std::time::Instant::now();
+    let variant = instance_nodes(
+        input.shader,
+        input.norm,
+        input.table,
+        &ids.iter()
+            .map(|&id| NodeSelector::Id(id))
+            .collect::<Vec<_>>(),
+        &InstanceOptions {
+            strategy,
+            block,
+            ..rp.opts.instance
+        },
+    );
+    rp.time.instancing_s += t.elapsed().as_secs_f64();
+    let mut measurements = Vec::new();
+    let mut failure = None;
+    match variant {
+        Err(e) => {
+            progress.note(&format!("{who}: cannot instance: {e}"));
+            failure = Some(format!("cannot instance: {e}"));
+            for &(dn, _) in plan {
+                progress.step(&format!("{who} Δn={dn}"));
+            }
+        }
+        Ok(variant) => {
+            let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
+            let subject = Subject {
+                node: ids[0],
+                set: ids.clone(),
+                who: who.clone(),
+                text: texts.join(" + "),
+                root: false,
                 strategy,
                 block,
-                ..rp.opts.instance
-            },
-        );
-        rp.time.instancing_s += t.elapsed().as_secs_f64();
-        let mut measurements = Vec::new();
-        let mut failure = None;
-        match variant {
-            Err(e) => {
-                progress.note(&format!("{who}: cannot instance: {e}"));
-                failure = Some(format!("cannot instance: {e}"));
-                for &(dn, _) in &plan {
-                    progress.step(&format!("{who} Δn={dn}"));
-                }
-            }
-            Ok(variant) => {
-                let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-                let subject = Subject {
-                    node: ids[0],
-                    set: ids.clone(),
-                    who: who.clone(),
-                    text: texts.join(" + "),
-                    root: false,
-                    strategy,
-                    block,
-                    reconstruct: None,
-                    raced: false,
-                    verdict: None,
-                };
-                rp.replay_plan(
-                    &subject,
-                    &sources,
-                    &variant,
-                    &plan,
-                    &mut measurements,
-                    &mut failure,
-                )?;
-            }
+                reconstruct: None,
+                raced: false,
+                verdict: None,
+            };
+            rp.replay_plan(
+                &subject,
+                &sources,
+                &variant,
+                plan,
+                &mut measurements,
+                &mut failure,
+            )?;
         }
-        let Fitted {
-            error_fit,
-            flip_fit,
-            dssim_fit,
-            timing_fit,
-            holdout,
-            status,
-        } = fit_replays(
-            &measurements,
-            failure.as_deref(),
-            rp.opts,
-            hit_rate,
-            mean_pixels,
-        );
-        if let (NodeStatus::SetAside { reason }, None) = (&status, &failure) {
-            progress.note(&format!("{who}: set aside: {reason}"));
-        }
-        Ok(SetProfile {
-            members: ids,
-            texts,
-            strategy: strategy.name().into(),
-            block,
-            measurements,
-            predicted: Vec::new(),
-            error_fit,
-            flip_fit,
-            dssim_fit,
-            timing_fit,
-            holdout,
-            status,
-        })
-    };
-    search_sets(&candidates, &ctx, opts, &mut measure, progress)
+    }
+    let Fitted {
+        error_fit,
+        flip_fit,
+        dssim_fit,
+        timing_fit,
+        holdout,
+        status,
+    } = fit_replays(
+        &measurements,
+        failure.as_deref(),
+        rp.opts,
+        hit_rate,
+        mean_pixels,
+    );
+    if let (NodeStatus::SetAside { reason }, None) = (&status, &failure) {
+        progress.note(&format!("{who}: set aside: {reason}"));
+    }
+    Ok(SetProfile {
+        members: ids,
+        texts,
+        strategy: strategy.name().into(),
+        block,
+        measurements,
+        predicted: Vec::new(),
+        error_fit,
+        flip_fit,
+        dssim_fit,
+        timing_fit,
+        holdout,
+        status,
+    })
 }
 
 #[cfg(test)]

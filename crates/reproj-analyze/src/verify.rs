@@ -38,7 +38,7 @@ pub fn verify(
         perceptual_stride: Some(
             profile
                 .perceptual_stride
-                .unwrap_or(crate::analyze::DEFAULT_PERCEPTUAL_STRIDE),
+                .unwrap_or(crate::options::DEFAULT_PERCEPTUAL_STRIDE),
         ),
     };
     let reference = renderer.render_original(&shader, entry, session, &opts)?;

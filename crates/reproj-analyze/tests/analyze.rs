@@ -143,7 +143,7 @@ fn static_session_profiles_without_nan_and_emits() {
         &back,
         &path,
         &EmitOptions {
-            max_error: 0.01,
+            max_error: reproj_select::Budget::new(0.01).unwrap(),
             metric: Default::default(),
             min_delta_n: 2,
             max_delta_n: 50,
@@ -377,7 +377,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
         &load_profile(&path).unwrap(),
         &path,
         &EmitOptions {
-            max_error: 0.01,
+            max_error: reproj_select::Budget::new(0.01).unwrap(),
             metric: Default::default(),
             min_delta_n: 2,
             max_delta_n: 50,

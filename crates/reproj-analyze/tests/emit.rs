@@ -132,7 +132,7 @@ fn profile(shader: &Path) -> Profile {
 
 fn opts(max_error: f64, out: &Path) -> EmitOptions {
     EmitOptions {
-        max_error,
+        max_error: reproj_select::Budget::new(max_error).unwrap(),
         metric: Metric::L2,
         min_delta_n: 2,
         max_delta_n: 50,

@@ -5,9 +5,9 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::draw::{Theme, at};
 use crate::font::font;
 use crate::glyph::GlyphBitmap;
+use crate::style::{Theme, at};
 
 /// One line of text, centered horizontally on `x`, its top at `y` (pixels).
 #[derive(Debug, Clone, PartialEq)]

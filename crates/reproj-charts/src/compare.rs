@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use crate::draw::{
+use crate::style::{
     Axes, DrawResult, Sample, Theme, at, color, formatter, header, legend_row, mesh_style,
 };
 use crate::{ChartError, Png, encode_png, font};

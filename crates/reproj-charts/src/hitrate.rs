@@ -5,8 +5,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::HitRate;
-use crate::draw::DrawResult;
-use crate::draw::*;
+use crate::style::DrawResult;
+use crate::style::*;
 
 pub(crate) fn hit_rate<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,

@@ -25,6 +25,7 @@ mod font;
 mod glyph;
 mod hitrate;
 mod models;
+mod style;
 mod tradeoff;
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -33,8 +34,8 @@ use std::path::{Path, PathBuf};
 use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
 use reproj_models::{HitRateStatus, Profile};
 use reproj_select::{
-    DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord,
-    pareto, select_with_sets,
+    Budget, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection,
+    SetRecord, pareto, select_with_sets,
 };
 
 pub use caption::{Caption, draw_captions};
@@ -351,12 +352,16 @@ fn marks(profile: &Profile, budgets: &[f64]) -> Vec<(f64, f64, String)> {
     type Marked = ((u32, Vec<u32>, String, u32), f64, f64, Vec<f64>);
     let mut marks: Vec<Marked> = Vec::new();
     for &budget in budgets {
+        // A budget that is none (negative, not finite) selects nothing.
+        let Ok(max_error) = Budget::new(budget) else {
+            continue;
+        };
         let Selection::Node(c) = select_with_sets(
             &nodes,
             &sets,
             &profile.hit_rate,
             profile.original.frame_ms,
-            &SelectOptions::new(budget),
+            &SelectOptions::new(max_error),
         ) else {
             continue;
         };
@@ -404,6 +409,9 @@ fn significant(v: f64) -> String {
     }
 }
 
+/// The trade-off chart's data: every node's measured path, the predicted frontier, the
+/// original's time and the selections at `budgets`; the best nodes highlighted
+/// ([`highlighted`]).
 fn tradeoff(profile: &Profile, budgets: &[f64]) -> Tradeoff {
     let original_ms = finite_pos(profile.original.frame_ms);
     let pareto: Vec<(f64, f64, u32, u32)> = pareto(
@@ -423,105 +431,36 @@ fn tradeoff(profile: &Profile, budgets: &[f64]) -> Tradeoff {
         )
     })
     .collect();
-
-    let points = |n: &NodeProfile| -> Vec<(u32, f64, f64)> {
-        let mut v: Vec<(u32, f64, f64)> = n
-            .measurements
-            .iter()
-            .filter(|m| usable(m))
-            .map(|m| (m.delta_n, m.frame_ms, m.error))
-            .collect();
-        v.sort_by_key(|p| p.0);
-        v
-    };
     let ok: Vec<&NodeProfile> = profile
         .nodes
         .iter()
-        .filter(|n| n.status == NodeStatus::Ok && !points(n).is_empty())
+        .filter(|n| n.status == NodeStatus::Ok && !measured_points(n).is_empty())
         .collect();
     let aside: Vec<&NodeProfile> = profile
         .nodes
         .iter()
-        .filter(|n| n.status != NodeStatus::Ok && !points(n).is_empty())
+        .filter(|n| n.status != NodeStatus::Ok && !measured_points(n).is_empty())
         .collect();
-
-    // The best nodes: most points on the predicted and on the measured frontier, then lowest
-    // normalized distance to the lower left.
-    let chosen: BTreeSet<u32> = if ok.len() <= MAX_LEGEND_NODES {
-        ok.iter().map(|n| n.id).collect()
-    } else {
-        let all: Vec<(u32, f64, f64)> = ok
-            .iter()
-            .flat_map(|n| points(n).into_iter().map(|(_, t, e)| (n.id, t, e)))
-            .collect();
-        let mut on_front: BTreeMap<u32, usize> = BTreeMap::new();
-        for &(id, t, e) in &all {
-            let dominated = all
-                .iter()
-                .any(|&(_, t2, e2)| t2 <= t && e2 <= e && (t2 < t || e2 < e));
-            if !dominated {
-                *on_front.entry(id).or_default() += 1;
-            }
-        }
-        for p in &pareto {
-            *on_front.entry(p.3).or_default() += 1;
-        }
-        let (tmax, emax) = all
-            .iter()
-            .fold((0.0f64, 0.0f64), |(a, b), p| (a.max(p.1), b.max(p.2)));
-        let closeness = |n: &NodeProfile| -> f64 {
-            points(n)
-                .iter()
-                .map(|&(_, t, e)| {
-                    t / if tmax > 0.0 { tmax } else { 1.0 }
-                        + e / if emax > 0.0 { emax } else { 1.0 }
-                })
-                .fold(f64::INFINITY, f64::min)
-        };
-        let mut ranked: Vec<(usize, f64, u32)> = ok
-            .iter()
-            .map(|n| {
-                (
-                    on_front.get(&n.id).copied().unwrap_or(0),
-                    closeness(n),
-                    n.id,
-                )
-            })
-            .collect();
-        ranked.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-        ranked.iter().take(HIGHLIGHTED).map(|r| r.2).collect()
+    let chosen = highlighted(&ok, &pareto);
+    let path = |n: &NodeProfile, color: Option<usize>, set_aside: bool| NodePath {
+        id: n.id,
+        label: node_label(n, 38),
+        color,
+        set_aside,
+        points: measured_points(n),
     };
-
     let mut paths = Vec::new();
     // Colored first (in id order), so they get stable colors; then the others below them.
     for n in ok.iter().filter(|n| chosen.contains(&n.id)) {
-        paths.push(NodePath {
-            id: n.id,
-            label: node_label(n, 38),
-            color: Some(paths.len()),
-            set_aside: false,
-            points: points(n),
-        });
+        paths.push(path(n, Some(paths.len()), false));
     }
     let mut others = 0;
     for n in ok.iter().filter(|n| !chosen.contains(&n.id)) {
         others += 1;
-        paths.push(NodePath {
-            id: n.id,
-            label: node_label(n, 38),
-            color: None,
-            set_aside: false,
-            points: points(n),
-        });
+        paths.push(path(n, None, false));
     }
     for n in &aside {
-        paths.push(NodePath {
-            id: n.id,
-            label: node_label(n, 38),
-            color: None,
-            set_aside: true,
-            points: points(n),
-        });
+        paths.push(path(n, None, true));
     }
     let usable_nodes = profile
         .nodes
@@ -544,6 +483,66 @@ fn tradeoff(profile: &Profile, budgets: &[f64]) -> Tradeoff {
         original_ms,
         marks: marks(profile, budgets),
     }
+}
+
+/// A node's usable measurements as `(Δn, ms, error)`, by Δn.
+fn measured_points(n: &NodeProfile) -> Vec<(u32, f64, f64)> {
+    let mut v: Vec<(u32, f64, f64)> = n
+        .measurements
+        .iter()
+        .filter(|m| usable(m))
+        .map(|m| (m.delta_n, m.frame_ms, m.error))
+        .collect();
+    v.sort_by_key(|p| p.0);
+    v
+}
+
+/// The nodes drawn in colour: all of them when the legend holds them, else the best ones: most
+/// points on the predicted and on the measured frontier, then lowest normalized distance to the
+/// lower left.
+fn highlighted(ok: &[&NodeProfile], pareto: &[(f64, f64, u32, u32)]) -> BTreeSet<u32> {
+    if ok.len() <= MAX_LEGEND_NODES {
+        return ok.iter().map(|n| n.id).collect();
+    }
+    let all: Vec<(u32, f64, f64)> = ok
+        .iter()
+        .flat_map(|n| measured_points(n).into_iter().map(|(_, t, e)| (n.id, t, e)))
+        .collect();
+    let mut on_front: BTreeMap<u32, usize> = BTreeMap::new();
+    for &(id, t, e) in &all {
+        let dominated = all
+            .iter()
+            .any(|&(_, t2, e2)| t2 <= t && e2 <= e && (t2 < t || e2 < e));
+        if !dominated {
+            *on_front.entry(id).or_default() += 1;
+        }
+    }
+    for p in pareto {
+        *on_front.entry(p.3).or_default() += 1;
+    }
+    let (tmax, emax) = all
+        .iter()
+        .fold((0.0f64, 0.0f64), |(a, b), p| (a.max(p.1), b.max(p.2)));
+    let closeness = |n: &NodeProfile| -> f64 {
+        measured_points(n)
+            .iter()
+            .map(|&(_, t, e)| {
+                t / if tmax > 0.0 { tmax } else { 1.0 } + e / if emax > 0.0 { emax } else { 1.0 }
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut ranked: Vec<(usize, f64, u32)> = ok
+        .iter()
+        .map(|n| {
+            (
+                on_front.get(&n.id).copied().unwrap_or(0),
+                closeness(n),
+                n.id,
+            )
+        })
+        .collect();
+    ranked.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+    ranked.iter().take(HIGHLIGHTED).map(|r| r.2).collect()
 }
 
 fn hit_rate(profile: &Profile) -> HitRate {

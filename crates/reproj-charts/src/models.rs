@@ -11,7 +11,7 @@ use reproj_models::profile::{Measurement, NodeProfile, NodeStatus};
 use reproj_models::{Profile, predicted_frame_ms};
 use reproj_select::DEFAULT_MAX_DELTA_N;
 
-use crate::draw::{
+use crate::style::{
     Axes, DrawResult, INK, MUTED, Sample, Theme, WARN, at, color, formatter, header, legend_row,
     mesh_style, span,
 };

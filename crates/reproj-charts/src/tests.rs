@@ -391,7 +391,7 @@ fn synthetic_profile_charts() {
             &sets,
             &profile.hit_rate,
             profile.original.frame_ms,
-            &SelectOptions::new(b),
+            &SelectOptions::new(reproj_select::Budget::new(b).unwrap()),
         ) {
             // The trade-off chart marks it, labelled with the budget (a set by its members).
             let marks = super::tradeoff(&profile, &budgets).marks;

@@ -6,9 +6,11 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};
 
 use crate::Tradeoff;
-use crate::draw::DrawResult;
-use crate::draw::*;
+use crate::style::DrawResult;
+use crate::style::*;
 
+/// Draw the trade-off chart: the header, the axes from the data's span, the node paths, the
+/// frontier and the original's time, the selections, then the legend in its own column.
 pub(crate) fn tradeoff<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     t: &Tradeoff,
@@ -22,37 +24,8 @@ where
     let (_, body) = root.split_vertically(64);
     let legend_w = 300;
     let (plot, legend) = body.split_horizontally(w as i32 - legend_w);
-
-    let errors: Vec<f64> = t
-        .paths
-        .iter()
-        .flat_map(|p| p.points.iter().map(|q| q.2))
-        .chain(t.pareto.iter().map(|p| p.1))
-        .collect();
-    let positive: Vec<f64> = errors.iter().copied().filter(|e| *e > 0.0).collect();
-    let (pmin, pmax) = positive
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(a, b), &e| (a.min(e), b.max(e)));
-    let has_zero = errors.iter().any(|e| *e <= 0.0);
-    let scale = if positive.len() >= 2 && pmax / pmin >= 30.0 {
-        YScale::Log { floor: pmin / 2.0 }
-    } else {
-        YScale::Linear
-    };
-    let xs = t
-        .paths
-        .iter()
-        .flat_map(|p| p.points.iter().map(|q| q.1))
-        .chain(t.pareto.iter().map(|p| p.0))
-        .chain(t.original_ms);
-    let (x0, x1) = span(xs, (0.0, 1.0), 0.06, true);
-    let (y0, y1) = span(
-        errors.iter().map(|e| scale.map(*e)),
-        (0.0, 0.01),
-        0.06,
-        true,
-    );
-
+    let frame = Frame::of(t);
+    let (x0, x1, y0, y1) = (frame.x.0, frame.x.1, frame.y.0, frame.y.1);
     let mut chart = ChartBuilder::on(&plot)
         .margin_top(6)
         .margin_left(8)
@@ -61,10 +34,84 @@ where
         .x_label_area_size(48)
         .y_label_area_size(78)
         .build_cartesian_2d(x0..x1, y0..y1)?;
+    axes(&mut chart, &frame, theme)?;
+    paths(&mut chart, t, &frame, theme)?;
+    marks(&mut chart, t, &frame, theme)?;
+    if t.paths.is_empty() {
+        note_center(
+            chart.plotting_area(),
+            &["no measurements in this profile", "(no node was replayed)"],
+            theme,
+        )?;
+    }
+    draw_legend(&legend, &legend_rows(t), theme)
+}
+
+/// The plot's coordinates: the error scale (log when the positive errors span 30× or more) and
+/// the x (ms) and y (scaled error) ranges of everything drawn.
+struct Frame {
+    scale: YScale,
+    /// Whether an error is 0 (drawn at the bottom of a log scale).
+    has_zero: bool,
+    x: (f64, f64),
+    y: (f64, f64),
+}
+
+impl Frame {
+    fn of(t: &Tradeoff) -> Frame {
+        let errors: Vec<f64> = t
+            .paths
+            .iter()
+            .flat_map(|p| p.points.iter().map(|q| q.2))
+            .chain(t.pareto.iter().map(|p| p.1))
+            .collect();
+        let positive: Vec<f64> = errors.iter().copied().filter(|e| *e > 0.0).collect();
+        let (pmin, pmax) = positive
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &e| (a.min(e), b.max(e)));
+        let has_zero = errors.iter().any(|e| *e <= 0.0);
+        let scale = if positive.len() >= 2 && pmax / pmin >= 30.0 {
+            YScale::Log { floor: pmin / 2.0 }
+        } else {
+            YScale::Linear
+        };
+        let xs = t
+            .paths
+            .iter()
+            .flat_map(|p| p.points.iter().map(|q| q.1))
+            .chain(t.pareto.iter().map(|p| p.0))
+            .chain(t.original_ms);
+        let x = span(xs, (0.0, 1.0), 0.06, true);
+        let y = span(
+            errors.iter().map(|e| scale.map(*e)),
+            (0.0, 0.01),
+            0.06,
+            true,
+        );
+        Frame {
+            scale,
+            has_zero,
+            x,
+            y,
+        }
+    }
+
+    /// A path point `(Δn, ms, error)` in the plot's coordinates.
+    fn point(&self, q: &(u32, f64, f64)) -> (f64, f64) {
+        (q.1, self.scale.map(q.2))
+    }
+}
+
+/// The axes, their descriptions and labels (powers of ten on a log scale).
+fn axes<DB: DrawingBackend>(chart: &mut Chart2d<'_, DB>, frame: &Frame, theme: &Theme) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let ((x0, x1), (y0, y1)) = (frame.x, frame.y);
     let x_fmt = formatter(x0, x1);
     let lin_fmt = formatter(y0, y1);
     type BoxedFmt = Box<dyn Fn(&f64) -> String>;
-    let (y_desc, y_fmt, y_labels): (String, BoxedFmt, usize) = match scale {
+    let (y_desc, y_fmt, y_labels): (String, BoxedFmt, usize) = match frame.scale {
         YScale::Linear => (
             "error: mean per-pixel L2 RGB distance".to_string(),
             Box::new(lin_fmt),
@@ -73,14 +120,14 @@ where
         YScale::Log { .. } => (
             format!(
                 "error: mean per-pixel L2 RGB (log scale{})",
-                if has_zero { "; 0 at bottom" } else { "" }
+                if frame.has_zero { "; 0 at bottom" } else { "" }
             ),
             Box::new(log_label),
             ((y1 - y0).ceil() as usize + 1).clamp(3, 10),
         ),
     };
     mesh_style(
-        &mut chart,
+        chart,
         theme,
         &Axes {
             x_desc: "mean frame time (ms)",
@@ -89,15 +136,29 @@ where
             y_fmt: &*y_fmt,
             labels: (10, y_labels),
             label_size: 13.0,
-            y_light_lines: if matches!(scale, YScale::Log { .. }) {
+            y_light_lines: if matches!(frame.scale, YScale::Log { .. }) {
                 0
             } else {
                 2
             },
         },
     )?;
+    Ok(())
+}
 
-    let pt = |q: &(u32, f64, f64)| (q.1, scale.map(q.2));
+/// The node paths (grey, grey dashed when set aside), the predicted frontier dotted, the
+/// original's frame time dashed, then the highlighted nodes in colour with Δn at their ends.
+fn paths<DB: DrawingBackend>(
+    chart: &mut Chart2d<'_, DB>,
+    t: &Tradeoff,
+    frame: &Frame,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let ((x0, x1), (y0, y1)) = (frame.x, frame.y);
+    let pt = |q: &(u32, f64, f64)| frame.point(q);
     // Unhighlighted usable nodes, thin grey; set-aside nodes, grey dashed.
     for p in t.paths.iter().filter(|p| p.color.is_none()) {
         let pts: Vec<(f64, f64)> = p.points.iter().map(pt).collect();
@@ -116,7 +177,11 @@ where
     }
     // Predicted frontier, dotted.
     if !t.pareto.is_empty() {
-        let pts: Vec<(f64, f64)> = t.pareto.iter().map(|p| (p.0, scale.map(p.1))).collect();
+        let pts: Vec<(f64, f64)> = t
+            .pareto
+            .iter()
+            .map(|p| (p.0, frame.scale.map(p.1)))
+            .collect();
         chart.draw_series(DashedLineSeries::new(
             pts.clone(),
             2,
@@ -170,9 +235,23 @@ where
             ))?;
         }
     }
-    // The selections at the budgets: a black ring on the predicted point, labelled.
+    Ok(())
+}
+
+/// The selections at the budgets: a black ring on the predicted point, labelled, the labels
+/// alternately above and below so that neighbours do not overlap.
+fn marks<DB: DrawingBackend>(
+    chart: &mut Chart2d<'_, DB>,
+    t: &Tradeoff,
+    frame: &Frame,
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let (x0, x1) = frame.x;
     for (i, (ms, e, label)) in t.marks.iter().enumerate() {
-        let q = (*ms, scale.map(*e));
+        let q = (*ms, frame.scale.map(*e));
         chart.draw_series(std::iter::once(Circle::new(q, 8, INK.stroke_width(2))))?;
         let right = *ms > x0 + 0.6 * (x1 - x0);
         let (h, dx) = if right {
@@ -190,15 +269,12 @@ where
             EmptyElement::at(q) + Text::new(label.clone(), (dx, dy), at(&theme.bold(12.0), h, v)),
         ))?;
     }
-    if t.paths.is_empty() {
-        note_center(
-            chart.plotting_area(),
-            &["no measurements in this profile", "(no node was replayed)"],
-            theme,
-        )?;
-    }
+    Ok(())
+}
 
-    // Legend, in its own column.
+/// The legend's rows: the highlighted nodes, the other and set-aside nodes, the frontier, the
+/// selections and the original.
+fn legend_rows(t: &Tradeoff) -> Vec<(Sample, String)> {
     let mut rows: Vec<(Sample, String)> = Vec::new();
     for p in t.paths.iter().filter(|p| p.color.is_some()) {
         rows.push((
@@ -221,26 +297,22 @@ where
         ));
     }
     let aside = t.paths.iter().filter(|p| p.set_aside).count();
+    let dashed_grey = Sample::Dashed {
+        color: GREY,
+        width: 1,
+        dash: 5,
+        gap: 4,
+    };
     if aside > 0 && aside <= 3 {
         for p in t.paths.iter().filter(|p| p.set_aside) {
             rows.push((
-                Sample::Dashed {
-                    color: GREY,
-                    width: 1,
-                    dash: 5,
-                    gap: 4,
-                },
+                dashed_grey,
                 format!("{} (set aside)", crate::truncate(&p.label, 26)),
             ));
         }
     } else if aside > 0 {
         rows.push((
-            Sample::Dashed {
-                color: GREY,
-                width: 1,
-                dash: 5,
-                gap: 4,
-            },
+            dashed_grey,
             format!("{aside} set-aside node{} (grey dashed)", plural(aside)),
         ));
     }
@@ -272,11 +344,23 @@ where
             format!("original shader ({} ms)", fmt_ms(orig)),
         ));
     }
+    rows
+}
+
+/// The legend column: its head, the rows, and how to read the chart.
+fn draw_legend<DB: DrawingBackend>(
+    legend: &DrawingArea<DB, Shift>,
+    rows: &[(Sample, String)],
+    theme: &Theme,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
     let head = at(&theme.bold(14.0), HPos::Left, VPos::Top);
     legend.draw_text("node (id: expression)", &head, (8, 8))?;
     let style = theme.text(12.5);
     for (i, (sample, label)) in rows.iter().enumerate() {
-        legend_row(&legend, (10, 40 + i as i32 * 22), *sample, label, &style)?;
+        legend_row(legend, (10, 40 + i as i32 * 22), *sample, label, &style)?;
     }
     let foot = 40 + rows.len() as i32 * 22 + 12;
     let notes = [
@@ -292,19 +376,4 @@ where
         )?;
     }
     Ok(())
-}
-
-pub(crate) fn plural(n: usize) -> &'static str {
-    if n == 1 { "" } else { "s" }
-}
-
-/// Milliseconds with 3 significant digits or 2 decimals.
-pub(crate) fn fmt_ms(ms: f64) -> String {
-    if ms >= 100.0 {
-        format!("{ms:.0}")
-    } else if ms >= 10.0 {
-        format!("{ms:.1}")
-    } else {
-        format!("{ms:.2}")
-    }
 }

@@ -4,9 +4,10 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use reproj_analyze::{Budget, DELTA_N_RANGE};
 
 use crate::values::{
-    backend_help, block_size, delta_n_limit, depth_epsilon, non_negative, output_path,
+    at_least_one, backend_help, block_size, budget, delta_n_limit, depth_epsilon, output_path,
     override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period,
     unit_fraction,
 };
@@ -93,8 +94,8 @@ pub struct CompareArgs {
     pub speedup: Option<f64>,
     /// Aim instead at the speedup reproj's own selection is predicted to reach under this error
     /// budget (as `emit --max-error`; needs --profile).
-    #[arg(long, requires = "profile")]
-    pub max_error: Option<f64>,
+    #[arg(long, requires = "profile", value_parser = budget)]
+    pub max_error: Option<Budget>,
     /// Profile from `reproj analyze` of this shader, for reproj's own choice (without one, only
     /// resizing and simplification are compared).
     #[arg(long)]
@@ -108,16 +109,16 @@ pub struct CompareArgs {
     pub max_frames: Option<u32>,
     /// Simplification: nodes with the largest static saving tried per step (and half as many
     /// more nearest the saving still needed for the target).
-    #[arg(long, default_value_t = 6)]
+    #[arg(long, default_value_t = 6, value_parser = at_least_one)]
     pub candidates: usize,
     /// Simplification: most nodes replaced.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = at_least_one)]
     pub max_steps: usize,
     /// Resizing: most scales rendered in the search.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, value_parser = at_least_one)]
     pub resize_tries: usize,
     /// Longest refresh period reproj may choose.
-    #[arg(long, default_value_t = 50, value_parser = delta_n_limit)]
+    #[arg(long, default_value_t = *DELTA_N_RANGE.end(), value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Print compare.json instead of the table.
     #[arg(long)]
@@ -315,8 +316,8 @@ pub struct EmitArgs {
     /// Error budget, in the unit of --metric: with `l2` the mean per-pixel L2 distance in linear
     /// RGB over all pixels (in [0, √3]), with `flip` the mean ꟻLIP error over the covered pixels
     /// (in [0, 1]).
-    #[arg(long, value_parser = non_negative)]
-    pub max_error: f64,
+    #[arg(long, value_parser = budget)]
+    pub max_error: Budget,
     /// Which measured error the budget bounds: `l2` (the paper's) or `flip` (perceptual).
     #[arg(long, default_value = "l2")]
     pub metric: reproj_models::Metric,
@@ -330,7 +331,7 @@ pub struct EmitArgs {
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Largest refresh period to consider.
-    #[arg(long, default_value_t = 50, value_parser = delta_n_limit)]
+    #[arg(long, default_value_t = *DELTA_N_RANGE.end(), value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Cache texel format of the written passes (default: the profile's).
     #[arg(long, value_enum)]

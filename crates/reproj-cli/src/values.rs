@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+use reproj_analyze::Budget;
+
 /// A time limit in seconds: finite and positive.
 pub(crate) fn positive_seconds(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
@@ -56,11 +58,16 @@ pub(crate) fn depth_epsilon(s: &str) -> Result<f32, String> {
     }
 }
 
-/// A finite number ≥ 0 (an error budget).
-pub(crate) fn non_negative(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("`{s}` is not a finite number ≥ 0")),
+/// An error budget (`--max-error`): a finite number ≥ 0, checked here once as a [`Budget`].
+pub(crate) fn budget(s: &str) -> Result<Budget, String> {
+    s.parse()
+}
+
+/// A count of at least 1 (`compare --candidates`, `--max-steps`, `--resize-tries`).
+pub(crate) fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(v) if v >= 1 => Ok(v),
+        _ => Err(format!("`{s}` is not a whole number ≥ 1")),
     }
 }
 

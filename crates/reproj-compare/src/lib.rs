@@ -123,7 +123,7 @@ pub enum Target {
     Speedup(f64),
     /// The speedup reproj's own selection under this error budget (mean per-pixel L2, as
     /// `emit --max-error`) is predicted to reach; needs a profile.
-    Budget(f64),
+    Budget(reproj_select::Budget),
 }
 
 /// Options of [`compare`].
@@ -155,7 +155,7 @@ impl Default for CompareOptions {
             max_frames: None,
             resize: Default::default(),
             simplify: Default::default(),
-            max_delta_n: 50,
+            max_delta_n: reproj_select::DEFAULT_MAX_DELTA_N,
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
             timing: reproj_bench::BenchOptions::default(),
             search_timing: reproj_analyze::DEFAULT_RACE,
@@ -254,37 +254,15 @@ pub struct Comparison {
 }
 
 /// Render the original, then each method at the target speedup; score each against the
-/// original.
+/// original. Phases: the target (reproj's plan from the profile), the reference, the methods'
+/// searches, their final interleaved timing, then the report.
 pub fn compare(
     renderer: &Renderer,
     input: &CompareInput,
     opts: &CompareOptions,
     progress: &dyn Progress,
 ) -> Result<Comparison, CompareError> {
-    let planned = match input.profile {
-        Some((profile, path)) => Some(reproj::plan(
-            input.loaded,
-            profile,
-            path,
-            opts.target,
-            opts.max_delta_n,
-        )?),
-        None => None,
-    };
-    let (target, max_error) = match (opts.target, &planned) {
-        (Target::Speedup(x), _) => (x, None),
-        (Target::Budget(e), Some(p)) => (p.predicted_speedup, Some(e)),
-        (Target::Budget(_), None) => {
-            return Err(CompareError::Options(
-                "an error budget as the target needs a profile: reproj's selection under it sets the speedup".into(),
-            ));
-        }
-    };
-    if !(target.is_finite() && target > 1.0) {
-        return Err(CompareError::Options(format!(
-            "the target speedup must be a number above 1, got {target}"
-        )));
-    }
+    let (planned, target, max_error) = plan_target(input, opts)?;
     if opts.perceptual_stride == 0 {
         return Err(CompareError::Options(
             "the perceptual stride must be at least 1".into(),
@@ -308,9 +286,11 @@ pub fn compare(
         done: Cell::new(0),
     };
     let progress = &counted;
-    let per_step = (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)) as u64;
-    let reproj_steps = u64::from(input.profile.is_some());
-    progress.remaining(2 + opts.resize.tries as u64 + 2 * per_step + reproj_steps);
+    let steps = Steps {
+        per_simplify_step: (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)) as u64,
+        reproj: u64::from(input.profile.is_some()),
+    };
+    progress.remaining(2 + opts.resize.tries as u64 + 2 * steps.per_simplify_step + steps.reproj);
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
     progress.step("original");
     let frames = reference.frames.len() as u32;
@@ -331,62 +311,10 @@ pub fn compare(
         target,
         progress,
     };
-    let mut methods = Vec::new();
-    let mut crop_frames = vec![("reference".to_string(), reference.frames[mid].clone())];
-
-    let (resize_detail, resize_frames, resize_result) =
-        resize::resize(&ctx, shader, entry, &opts.resize)?;
-    methods.push(resize_result);
-    crop_frames.push(("resize".into(), resize_frames[mid].clone()));
-    drop(resize_frames);
-    progress.remaining(1 + 2 * per_step + reproj_steps);
-
-    let simplified = simplify::simplify(&ctx, input.loaded, &opts.simplify)?;
-    progress.remaining(1 + reproj_steps);
-    methods.push(simplified.result);
-    crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
-
-    let mut reproj_input = None;
-    let reproj_detail = match (input.profile, &planned) {
-        (Some((profile, path)), Some(planned)) => {
-            let r = reproj::reproj(&ctx, input.loaded, profile, path, planned, mid as u32)?;
-            methods.push(r.result);
-            crop_frames.push(("reproj".into(), r.crop_frame));
-            reproj_input = Some(r.input);
-            Some(r.detail)
-        }
-        _ => None,
-    };
-
-    // Every method's final candidate against the original, interleaved in one longer run: the
-    // speeds the table reports (the searches above decided on short interleaved runs).
-    let small = {
-        let mut small = input.session.clone();
-        small.resolution = resize_detail.tries[resize_detail.chosen].resolution;
-        small
-    };
-    let timed = time_methods(
-        renderer,
-        reproj_bench::Baseline {
-            shader,
-            entry,
-            reference: &reference,
-        },
-        input.session,
-        small,
-        &simplified.wgsl,
-        reproj_input,
-        &opts.timing,
-    )?;
+    let mut m = run_methods(&ctx, &counted, input, opts, planned.as_ref(), mid, steps)?;
+    let timed = time_final(&ctx, input, opts, &mut m)?;
     progress.step("timing, interleaved");
-    for (i, m) in methods.iter_mut().enumerate() {
-        if let Some(e) = timed.estimate(i) {
-            m.speedup = e.speedup;
-            m.speedup_ci95 = Some(e.ci95);
-            m.frame_ms = e.candidate_ms;
-            m.reached_target = e.speedup >= target;
-        }
-    }
+    apply_timing(&mut m.results, &timed, target);
     let original_ms = timed.baseline.median_ms;
     progress.finish();
     let [w, h] = input.session.resolution;
@@ -406,29 +334,167 @@ pub fn compare(
         max_error,
         original_ms,
         measured_on: Some(reproj_bench::Machine::of(renderer).describe()),
-        timing_warnings: {
-            let mut w = timed.warnings;
-            for s in ctx.timing_warnings.take() {
-                let s = format!("search: {s}");
-                if !w.contains(&s) {
-                    w.push(s);
-                }
-            }
-            w
-        },
-        methods,
-        resize: resize_detail,
-        simplify: simplified.detail,
-        reproj: reproj_detail,
+        timing_warnings: merged_warnings(timed.warnings, ctx.timing_warnings.take()),
+        methods: m.results,
+        resize: m.resize,
+        simplify: m.simplified.detail,
+        reproj: m.reproj,
         crops: region,
         files: Vec::new(),
     };
     Ok(Comparison {
         report,
-        crop_frames,
+        crop_frames: m.crop_frames,
         crop_depth,
-        simplified_wgsl: simplified.wgsl,
+        simplified_wgsl: m.simplified.wgsl,
     })
+}
+
+/// reproj's plan from the profile (when there is one), the speedup every method aims at (the
+/// target's, or what the plan predicts under the budget) and the budget.
+fn plan_target<'p>(
+    input: &CompareInput<'p>,
+    opts: &CompareOptions,
+) -> Result<(Option<reproj::Planned<'p>>, f64, Option<f64>), CompareError> {
+    let planned = match input.profile {
+        Some((profile, path)) => Some(reproj::plan(
+            input.loaded,
+            profile,
+            path,
+            opts.target,
+            opts.max_delta_n,
+        )?),
+        None => None,
+    };
+    let (target, max_error) = match (opts.target, &planned) {
+        (Target::Speedup(x), _) => (x, None),
+        (Target::Budget(e), Some(p)) => (p.predicted_speedup, Some(e.get())),
+        (Target::Budget(_), None) => {
+            return Err(CompareError::Options(
+                "an error budget as the target needs a profile: reproj's selection under it sets the speedup".into(),
+            ));
+        }
+    };
+    if !(target.is_finite() && target > 1.0) {
+        return Err(CompareError::Options(format!(
+            "the target speedup must be a number above 1, got {target}"
+        )));
+    }
+    Ok((planned, target, max_error))
+}
+
+/// The progress steps a method is expected to take: each simplification step's, and reproj's
+/// (1 with a profile).
+#[derive(Clone, Copy)]
+struct Steps {
+    per_simplify_step: u64,
+    reproj: u64,
+}
+
+/// What the methods' searches found, in order (resize, simplify, reproj where planned): their
+/// results, the crop frames (the reference's first), and what the timing and the report need.
+struct Methods {
+    results: Vec<MethodResult>,
+    crop_frames: Vec<(String, Vec<f32>)>,
+    resize: resize::ResizeDetail,
+    simplified: simplify::Simplification,
+    reproj: Option<reproj::ReprojDetail>,
+    /// reproj's variant, for the final timing.
+    reproj_input: Option<reproj_replay::VariantInput>,
+}
+
+/// Run each method's search at the target: resizing, simplification, then reproj's planned
+/// choice; `mid` is the frame the crops are taken from.
+fn run_methods(
+    ctx: &Ctx,
+    progress: &Counted,
+    input: &CompareInput,
+    opts: &CompareOptions,
+    planned: Option<&reproj::Planned>,
+    mid: usize,
+    steps: Steps,
+) -> Result<Methods, CompareError> {
+    let shader = &input.loaded.shader;
+    let entry = ctx.baseline.entry;
+    let mut results = Vec::new();
+    let mut crop_frames = vec![("reference".to_string(), ctx.reference.frames[mid].clone())];
+    let (resize_detail, resize_frames, resize_result) =
+        resize::resize(ctx, shader, entry, &opts.resize)?;
+    results.push(resize_result);
+    crop_frames.push(("resize".into(), resize_frames[mid].clone()));
+    drop(resize_frames);
+    progress.remaining(1 + 2 * steps.per_simplify_step + steps.reproj);
+    let simplified = simplify::simplify(ctx, input.loaded, &opts.simplify)?;
+    progress.remaining(1 + steps.reproj);
+    results.push(simplified.result.clone());
+    crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
+    let mut reproj_input = None;
+    let reproj_detail = match (input.profile, planned) {
+        (Some((profile, path)), Some(planned)) => {
+            let r = reproj::reproj(ctx, input.loaded, profile, path, planned, mid as u32)?;
+            results.push(r.result);
+            crop_frames.push(("reproj".into(), r.crop_frame));
+            reproj_input = Some(r.input);
+            Some(r.detail)
+        }
+        _ => None,
+    };
+    Ok(Methods {
+        results,
+        crop_frames,
+        resize: resize_detail,
+        simplified,
+        reproj: reproj_detail,
+        reproj_input,
+    })
+}
+
+/// Every method's final candidate against the original, interleaved in one longer run: the
+/// speeds the table reports (the searches decided on short interleaved runs). Takes reproj's
+/// variant out of `m`.
+fn time_final(
+    ctx: &Ctx,
+    input: &CompareInput,
+    opts: &CompareOptions,
+    m: &mut Methods,
+) -> Result<reproj_bench::BenchReport, CompareError> {
+    let small = {
+        let mut small = input.session.clone();
+        small.resolution = m.resize.tries[m.resize.chosen].resolution;
+        small
+    };
+    time_methods(
+        ctx.renderer,
+        ctx.baseline,
+        input.session,
+        small,
+        &m.simplified.wgsl,
+        m.reproj_input.take(),
+        &opts.timing,
+    )
+}
+
+/// Each method's speed from the final interleaved run (where it gave an estimate).
+fn apply_timing(methods: &mut [MethodResult], timed: &reproj_bench::BenchReport, target: f64) {
+    for (i, m) in methods.iter_mut().enumerate() {
+        if let Some(e) = timed.estimate(i) {
+            m.speedup = e.speedup;
+            m.speedup_ci95 = Some(e.ci95);
+            m.frame_ms = e.candidate_ms;
+            m.reached_target = e.speedup >= target;
+        }
+    }
+}
+
+/// The final run's timing warnings, then the searches' (each once, marked `search:`).
+fn merged_warnings(mut warnings: Vec<String>, search: Vec<String>) -> Vec<String> {
+    for s in search {
+        let s = format!("search: {s}");
+        if !warnings.contains(&s) {
+            warnings.push(s);
+        }
+    }
+    warnings
 }
 
 /// A [`Progress`] that counts finished steps, so the total can be re-estimated mid-way.

@@ -16,7 +16,7 @@ use reproj_models::profile::{NodeProfile, NodeStatus, SetProfile};
 use reproj_models::{Metric, Profile};
 use reproj_replay::{RenderOptions, VariantInput};
 use reproj_select::{
-    DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord, pareto, predict,
+    Budget, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection, SetRecord, pareto, predict,
     select_with_sets,
 };
 use serde::{Deserialize, Serialize};
@@ -86,7 +86,8 @@ pub(crate) struct Planned<'p> {
 
 /// Choose reproj's (node or set, Δn) from the profile: for a target speedup, the point with the
 /// least predicted error that reaches it among the single nodes' frontier and the sets' points
-/// (the fastest when none does); for an error budget, what `emit --max-error` selects.
+/// (the fastest when none does, [`at_speedup`]); for an error budget, what `emit --max-error`
+/// selects ([`under_budget`]).
 pub(crate) fn plan<'p>(
     loaded: &Loaded,
     profile: &'p Profile,
@@ -101,126 +102,177 @@ pub(crate) fn plan<'p>(
         }
         .into());
     }
-    let usable: Vec<_> = profile
-        .nodes
-        .iter()
-        .filter(|n| n.status == NodeStatus::Ok)
-        .collect();
-    let records: Vec<NodeRecord> = usable
-        .iter()
-        .filter_map(|n| NodeRecord::from_profile(profile, n, Metric::L2))
-        .collect();
-    let sets: Vec<&SetProfile> = profile
-        .sets
-        .iter()
-        .filter(|s| s.status == NodeStatus::Ok && s.members.len() > 1)
-        .collect();
-    let set_records: Vec<SetRecord> = sets
-        .iter()
-        .map(|s| SetRecord {
-            members: s.members.clone(),
-            texts: s.texts.clone(),
-            strategy: s.strategy.clone(),
-            error: s.error_fit.clone(),
-            timing: s.timing_fit.clone(),
-            mean_pixels: profile.original.mean_pixels,
-            measured_errors: reproj_select::measured_errors(&s.measurements, Metric::L2),
-        })
-        .collect();
-    let original_ms = profile.original.frame_ms;
-    let speedup = |ms: f64| original_ms / ms;
-    let node_pick = |id: u32, strategy: &str| {
-        Pick::Node(
-            usable
-                .iter()
-                .find(|n| n.id == id && n.strategy == strategy)
-                .expect("the choice comes from the profile's nodes"),
-        )
-    };
-    // (pick, Δn, predicted error, predicted ms)
-    let (pick, delta_n, predicted_error, predicted_ms) = match target {
-        Target::Speedup(target) => {
-            let front = pareto(
-                &records,
-                &profile.hit_rate,
-                DEFAULT_MIN_DELTA_N,
-                max_delta_n,
-            );
-            let mut points: Vec<(Pick, u32, f64, f64)> = front
-                .iter()
-                .map(|p| {
-                    (
-                        node_pick(p.node_id, &p.strategy),
-                        p.delta_n,
-                        p.predicted_error,
-                        p.predicted_ms,
-                    )
-                })
-                .collect();
-            for (set, rec) in sets.iter().zip(&set_records) {
-                let as_node = rec.as_node();
-                for dn in DEFAULT_MIN_DELTA_N..=max_delta_n {
-                    if let Some(p) = predict(&as_node, &profile.hit_rate, dn) {
-                        points.push((Pick::Set(set), dn, p.predicted_error, p.predicted_ms));
-                    }
-                }
-            }
-            points
-                .iter()
-                .filter(|p| speedup(p.3) >= target)
-                .min_by(|a, b| a.2.total_cmp(&b.2))
-                .or_else(|| {
-                    points
-                        .iter()
-                        .max_by(|a, b| speedup(a.3).total_cmp(&speedup(b.3)))
-                })
-                .copied()
-                .ok_or_else(|| CompareError::NoSelection {
-                    path: profile_path.to_owned(),
-                })?
-        }
-        Target::Budget(max_error) => {
-            let opts = SelectOptions {
-                max_error,
-                min_delta_n: DEFAULT_MIN_DELTA_N,
-                max_delta_n,
-            };
-            match select_with_sets(
-                &records,
-                &set_records,
-                &profile.hit_rate,
-                original_ms,
-                &opts,
-            ) {
-                Selection::Node(c) if !c.members.is_empty() => {
-                    let set = sets
-                        .iter()
-                        .find(|s| s.members == c.members && s.strategy == c.strategy)
-                        .expect("the choice comes from the profile's sets");
-                    (Pick::Set(set), c.delta_n, c.predicted_error, c.predicted_ms)
-                }
-                Selection::Node(c) => (
-                    node_pick(c.node_id, &c.strategy),
-                    c.delta_n,
-                    c.predicted_error,
-                    c.predicted_ms,
-                ),
-                Selection::Original { reason } => {
-                    return Err(CompareError::KeepsOriginal {
+    let c = Candidates::of(profile);
+    let (pick, delta_n, predicted_error, predicted_ms) =
+        match target {
+            Target::Speedup(target) => {
+                at_speedup(&c, profile, target, max_delta_n).ok_or_else(|| {
+                    CompareError::NoSelection {
                         path: profile_path.to_owned(),
-                        max_error,
-                        reason: reason.to_string(),
-                    });
-                }
+                    }
+                })?
             }
-        }
-    };
+            Target::Budget(max_error) => under_budget(&c, profile, max_error, max_delta_n)
+                .map_err(|reason| CompareError::KeepsOriginal {
+                    path: profile_path.to_owned(),
+                    max_error: max_error.get(),
+                    reason,
+                })?,
+        };
     Ok(Planned {
         pick,
         delta_n,
         predicted_error,
-        predicted_speedup: speedup(predicted_ms),
+        predicted_speedup: profile.original.frame_ms / predicted_ms,
     })
+}
+
+/// A planned point: (pick, Δn, predicted error, predicted ms).
+type Point<'p> = (Pick<'p>, u32, f64, f64);
+
+/// What reproj may choose from a profile: its usable nodes and measured sets, and their
+/// selector records.
+struct Candidates<'p> {
+    usable: Vec<&'p NodeProfile>,
+    records: Vec<NodeRecord>,
+    sets: Vec<&'p SetProfile>,
+    set_records: Vec<SetRecord>,
+}
+
+impl<'p> Candidates<'p> {
+    fn of(profile: &'p Profile) -> Candidates<'p> {
+        let usable: Vec<&NodeProfile> = profile
+            .nodes
+            .iter()
+            .filter(|n| n.status == NodeStatus::Ok)
+            .collect();
+        let records: Vec<NodeRecord> = usable
+            .iter()
+            .filter_map(|n| NodeRecord::from_profile(profile, n, Metric::L2))
+            .collect();
+        let sets: Vec<&SetProfile> = profile
+            .sets
+            .iter()
+            .filter(|s| s.status == NodeStatus::Ok && s.members.len() > 1)
+            .collect();
+        let set_records: Vec<SetRecord> = sets
+            .iter()
+            .map(|s| SetRecord {
+                members: s.members.clone(),
+                texts: s.texts.clone(),
+                strategy: s.strategy.clone(),
+                error: s.error_fit.clone(),
+                timing: s.timing_fit.clone(),
+                mean_pixels: profile.original.mean_pixels,
+                measured_errors: reproj_select::measured_errors(&s.measurements, Metric::L2),
+            })
+            .collect();
+        Candidates {
+            usable,
+            records,
+            sets,
+            set_records,
+        }
+    }
+
+    /// The node `id` in `strategy`, as a pick.
+    fn node(&self, id: u32, strategy: &str) -> Pick<'p> {
+        Pick::Node(
+            self.usable
+                .iter()
+                .find(|n| n.id == id && n.strategy == strategy)
+                .expect("the choice comes from the profile's nodes"),
+        )
+    }
+}
+
+/// For a target speedup: among the single nodes' frontier and every set's points, the least
+/// predicted error that reaches it, else the fastest; `None` when there is no point.
+fn at_speedup<'p>(
+    c: &Candidates<'p>,
+    profile: &Profile,
+    target: f64,
+    max_delta_n: u32,
+) -> Option<Point<'p>> {
+    let speedup = |ms: f64| profile.original.frame_ms / ms;
+    let front = pareto(
+        &c.records,
+        &profile.hit_rate,
+        DEFAULT_MIN_DELTA_N,
+        max_delta_n,
+    );
+    let mut points: Vec<Point> = front
+        .iter()
+        .map(|p| {
+            (
+                c.node(p.node_id, &p.strategy),
+                p.delta_n,
+                p.predicted_error,
+                p.predicted_ms,
+            )
+        })
+        .collect();
+    for (set, rec) in c.sets.iter().zip(&c.set_records) {
+        let as_node = rec.as_node();
+        for dn in DEFAULT_MIN_DELTA_N..=max_delta_n {
+            if let Some(p) = predict(&as_node, &profile.hit_rate, dn) {
+                points.push((Pick::Set(set), dn, p.predicted_error, p.predicted_ms));
+            }
+        }
+    }
+    points
+        .iter()
+        .filter(|p| speedup(p.3) >= target)
+        .min_by(|a, b| a.2.total_cmp(&b.2))
+        .or_else(|| {
+            points
+                .iter()
+                .max_by(|a, b| speedup(a.3).total_cmp(&speedup(b.3)))
+        })
+        .copied()
+}
+
+/// For an error budget: what `emit --max-error` selects, sets included; why the original is
+/// kept otherwise.
+fn under_budget<'p>(
+    c: &Candidates<'p>,
+    profile: &Profile,
+    max_error: Budget,
+    max_delta_n: u32,
+) -> Result<Point<'p>, String> {
+    let opts = SelectOptions {
+        max_error,
+        min_delta_n: DEFAULT_MIN_DELTA_N,
+        max_delta_n,
+    };
+    match select_with_sets(
+        &c.records,
+        &c.set_records,
+        &profile.hit_rate,
+        profile.original.frame_ms,
+        &opts,
+    ) {
+        Selection::Node(choice) if !choice.members.is_empty() => {
+            let set = c
+                .sets
+                .iter()
+                .find(|s| s.members == choice.members && s.strategy == choice.strategy)
+                .expect("the choice comes from the profile's sets");
+            Ok((
+                Pick::Set(set),
+                choice.delta_n,
+                choice.predicted_error,
+                choice.predicted_ms,
+            ))
+        }
+        Selection::Node(choice) => Ok((
+            c.node(choice.node_id, &choice.strategy),
+            choice.delta_n,
+            choice.predicted_error,
+            choice.predicted_ms,
+        )),
+        Selection::Original { reason } => Err(reason.to_string()),
+    }
 }
 
 /// Instance and render the planned variant; `crop` is the frame kept for the crops.

@@ -17,7 +17,7 @@
 
 use std::collections::{BTreeMap, HashSet};
 
-use reproj_front::{Loaded, Node};
+use reproj_front::{Loaded, Node, NodeTable};
 use reproj_instance::{Replacement, probe, simplify as simplified_shader};
 use serde::{Deserialize, Serialize};
 
@@ -87,7 +87,6 @@ pub(crate) fn simplify(
     opts: &SimplifyOptions,
 ) -> Result<Simplification, CompareError> {
     let table = &loaded.table;
-    let fun = loaded.norm.function();
     let replaceable: Vec<&Node> = table
         .cacheable()
         .filter(|n| !n.root && (1..=4).contains(&n.components))
@@ -99,90 +98,60 @@ pub(crate) fn simplify(
         });
     }
     let total = table.root().cost;
-    let mut means: BTreeMap<u32, [f32; 4]> = BTreeMap::new();
-    let mut removed: Vec<Replacement> = Vec::new();
-    let mut dead: HashSet<naga::Handle<naga::Expression>> = HashSet::new();
-    let mut steps: Vec<SimplifyStep> = Vec::new();
-    // The last step's WGSL, frame time, speedup and interval.
-    let mut last: Option<(String, f64, f64, Option<[f64; 2]>)> = None;
+    let mut search = Search::default();
     for _ in 0..opts.max_steps.max(1) {
         let mut pool: Vec<&Node> = replaceable
             .iter()
             .copied()
-            .filter(|n| !removed.iter().any(|r| r.node == n.id))
-            .filter(|n| !n.handle.is_some_and(|h| dead.contains(&h)))
+            .filter(|n| !search.removed.iter().any(|r| r.node == n.id))
+            .filter(|n| !n.handle.is_some_and(|h| search.dead.contains(&h)))
             .collect();
         pool.retain(|n| saving(n) > 0.0);
-        let saved: f64 = steps.iter().map(|s| s.saving).sum();
+        let saved: f64 = search.steps.iter().map(|s| s.saving).sum();
         let needed = (total * (1.0 - 1.0 / ctx.target) - saved).max(0.0);
         let pool = candidate_pool(pool, needed, opts.candidates.max(1));
         if pool.is_empty() {
             break;
         }
-        let mut tried: Vec<Tried> = Vec::new();
-        for node in pool {
-            let value = match means.get(&node.id) {
-                Some(v) => *v,
-                None => {
-                    let v = node_mean(ctx, loaded, node)?;
-                    means.insert(node.id, v);
-                    v
-                }
-            };
-            let mut replace = removed.clone();
-            replace.push(Replacement {
-                node: node.id,
-                value,
-            });
-            let s = simplified_shader(
-                &loaded.norm,
-                table,
-                &reproj_instance::SimplifyOptions {
-                    replace: replace.clone(),
-                },
-            )?;
-            let (error, shader) = ctx.error_of_wgsl("simplified.wgsl", &s.wgsl)?;
-            ctx.progress
-                .step(&format!("simplify: node {} error {error:.5}", node.id));
-            tried.push(Tried {
-                node,
-                value,
-                error,
-                frame_ms: 0.0,
-                speedup: 0.0,
-                ci95: None,
-                wgsl: s.wgsl,
-                shader: Some(shader),
-            });
+        let mut tried = render_candidates(ctx, loaded, pool, &mut search)?;
+        time_candidates(ctx, &mut tried)?;
+        let speedup = search.take_best(tried, ctx.target, loaded.norm.function());
+        if speedup >= ctx.target {
+            break;
         }
-        // The step's candidates against the original, interleaved in one run.
-        let candidates: Vec<reproj_bench::Candidate> = tried
-            .iter_mut()
-            .map(|t| {
-                let shader = t.shader.take().expect("rendered above");
-                Ctx::shader_candidate(&format!("node {}", t.node.id), shader, 0, None)
-            })
-            .collect();
-        for (t, e) in tried.iter_mut().zip(ctx.race(&candidates)?) {
-            if let Some(e) = e {
-                t.frame_ms = e.candidate_ms;
-                t.speedup = e.speedup;
-                t.ci95 = Some(e.ci95);
-            }
-        }
-        let best = pick(&tried, |t| t.speedup >= ctx.target);
+    }
+    finish(ctx, search, opts, table)
+}
+
+/// The greedy search's state: the session means computed so far, the nodes replaced, the
+/// expressions that died with them, the steps, and the last step's WGSL, frame time, speedup and
+/// interval.
+#[derive(Default)]
+struct Search {
+    means: BTreeMap<u32, [f32; 4]>,
+    removed: Vec<Replacement>,
+    dead: HashSet<naga::Handle<naga::Expression>>,
+    steps: Vec<SimplifyStep>,
+    last: Option<(String, f64, f64, Option<[f64; 2]>)>,
+}
+
+impl Search {
+    /// Keep the step's best candidate (the least error among those reaching the target, else
+    /// the fastest: [`pick`]) and record the step; its speedup.
+    fn take_best(&mut self, mut tried: Vec<Tried>, target: f64, fun: &naga::Function) -> f64 {
+        let best = pick(&tried, |t| t.speedup >= target);
         let chosen = tried.swap_remove(best);
         let rejected = tried.iter().map(|t| (t.node.id, t.error)).collect();
         let speedup = chosen.speedup;
         let node = chosen.node;
         if let Some(h) = node.handle {
-            dead.extend(reproj_front::nodes::subtree(fun, h));
+            self.dead.extend(reproj_front::nodes::subtree(fun, h));
         }
-        removed.push(Replacement {
+        self.removed.push(Replacement {
             node: node.id,
             value: chosen.value,
         });
-        steps.push(SimplifyStep {
+        self.steps.push(SimplifyStep {
             node: node.id,
             text: node.text.clone(),
             line: node.line,
@@ -194,16 +163,90 @@ pub(crate) fn simplify(
             speedup_ci95: chosen.ci95,
             rejected,
         });
-        last = Some((chosen.wgsl, chosen.frame_ms, speedup, chosen.ci95));
-        if speedup >= ctx.target {
-            break;
+        self.last = Some((chosen.wgsl, chosen.frame_ms, speedup, chosen.ci95));
+        speedup
+    }
+}
+
+/// Each candidate of a step with its node replaced (beside the nodes replaced before) by its
+/// session mean, rendered and scored.
+fn render_candidates<'n>(
+    ctx: &Ctx,
+    loaded: &Loaded,
+    pool: Vec<&'n Node>,
+    search: &mut Search,
+) -> Result<Vec<Tried<'n>>, CompareError> {
+    let mut tried: Vec<Tried> = Vec::new();
+    for node in pool {
+        let value = match search.means.get(&node.id) {
+            Some(v) => *v,
+            None => {
+                let v = node_mean(ctx, loaded, node)?;
+                search.means.insert(node.id, v);
+                v
+            }
+        };
+        let mut replace = search.removed.clone();
+        replace.push(Replacement {
+            node: node.id,
+            value,
+        });
+        let s = simplified_shader(
+            &loaded.norm,
+            &loaded.table,
+            &reproj_instance::SimplifyOptions {
+                replace: replace.clone(),
+            },
+        )?;
+        let (error, shader) = ctx.error_of_wgsl("simplified.wgsl", &s.wgsl)?;
+        ctx.progress
+            .step(&format!("simplify: node {} error {error:.5}", node.id));
+        tried.push(Tried {
+            node,
+            value,
+            error,
+            frame_ms: 0.0,
+            speedup: 0.0,
+            ci95: None,
+            wgsl: s.wgsl,
+            shader: Some(shader),
+        });
+    }
+    Ok(tried)
+}
+
+/// The step's candidates against the original, interleaved in one run.
+fn time_candidates(ctx: &Ctx, tried: &mut [Tried]) -> Result<(), CompareError> {
+    let candidates: Vec<reproj_bench::Candidate> = tried
+        .iter_mut()
+        .map(|t| {
+            let shader = t.shader.take().expect("rendered above");
+            Ctx::shader_candidate(&format!("node {}", t.node.id), shader, 0, None)
+        })
+        .collect();
+    for (t, e) in tried.iter_mut().zip(ctx.race(&candidates)?) {
+        if let Some(e) = e {
+            t.frame_ms = e.candidate_ms;
+            t.speedup = e.speedup;
+            t.ci95 = Some(e.ci95);
         }
     }
-    let (wgsl, frame_ms, speedup, ci95) = last.ok_or_else(|| CompareError::NothingToSimplify {
-        shader: table.shader.clone(),
-    })?;
-    // The steps kept only their errors: the chosen one is rendered again for its frames (the
-    // crops, ꟻLIP).
+    Ok(())
+}
+
+/// The last step's shader, rendered again for its frames (the steps kept only their errors:
+/// the crops and ꟻLIP need them), scored, as the method's result.
+fn finish(
+    ctx: &Ctx,
+    search: Search,
+    opts: &SimplifyOptions,
+    table: &NodeTable,
+) -> Result<Simplification, CompareError> {
+    let steps = search.steps;
+    let (wgsl, frame_ms, speedup, ci95) =
+        search.last.ok_or_else(|| CompareError::NothingToSimplify {
+            shader: table.shader.clone(),
+        })?;
     let (frames, _) = ctx.render_wgsl("simplified.wgsl", &wgsl)?;
     let scores = ctx.score(&frames, true);
     let result = MethodResult {

@@ -103,6 +103,22 @@ struct Place {
     case_top: bool,
 }
 
+/// Where a statement is lowered: its place, its span, and the statements after it in its block
+/// (which a statement that may return takes over).
+struct At<'r> {
+    place: Place,
+    span: Span,
+    rest: &'r mut std::vec::IntoIter<(Statement, Span)>,
+}
+
+/// What lowering one statement leaves to its block.
+enum Next {
+    /// Go on with the next statement.
+    Statement,
+    /// The block ends here with this flow (the rest, if any, already lowered into it).
+    End(Flow),
+}
+
 struct Exits<'f> {
     fun: &'f mut Function,
     /// Pointer to the `result` local (`None` for a function without a result).
@@ -175,175 +191,223 @@ fn rewrite(fun: &mut Function, bool_ty: Handle<naga::Type>) {
 }
 
 impl Exits<'_> {
-    /// Lower a list of statements; returns the new block and whether it returns.
+    /// Lower a list of statements; returns the new block and whether it returns. A dispatch on
+    /// the statements that return or hold returns, one method each; the others are kept.
     fn block(&mut self, stmts: Vec<(Statement, Span)>, place: Place) -> (Block, Flow) {
         let mut out = Block::new();
         let mut iter = stmts.into_iter();
         while let Some((stmt, span)) = iter.next() {
-            match stmt {
-                Statement::Return { value } => {
-                    self.last_return = span;
-                    if let (Some(ptr), Some(v)) = (self.result, value) {
-                        out.push(
-                            Statement::Store {
-                                pointer: ptr,
-                                value: v,
-                            },
-                            span,
-                        );
-                    }
-                    out.push(
-                        Statement::Store {
-                            pointer: self.flag,
-                            value: self.yes,
-                        },
-                        span,
-                    );
-                    if place.breakable && !place.case_top {
-                        out.push(Statement::Break, span);
-                    }
-                    return (out, Flow::Always);
-                }
+            let at = At {
+                place,
+                span,
+                rest: &mut iter,
+            };
+            let next = match stmt {
+                Statement::Return { value } => self.return_stmt(&mut out, value, at),
                 Statement::If {
                     condition,
                     accept,
                     reject,
-                } => {
-                    let inner = Place {
-                        case_top: false,
-                        ..place
-                    };
-                    let (a, fa) = self.block(stmts_of(&accept), inner);
-                    let (r, fr) = self.block(stmts_of(&reject), inner);
-                    if (fa, fr) == (Flow::Never, Flow::Never) {
-                        out.push(If(condition, a, r).into(), span);
-                        continue;
-                    }
-                    let rest: Vec<_> = iter.by_ref().collect();
-                    match (fa, fr) {
-                        (Flow::Always, Flow::Always) => {
-                            out.push(If(condition, a, r).into(), span);
-                            return (out, Flow::Always);
-                        }
-                        // One side returns, the other falls through: the rest goes there.
-                        (Flow::Always, Flow::Never) | (Flow::Never, Flow::Always) => {
-                            let (mut rest, f) = self.block(rest, place);
-                            let (a, r) = if fa == Flow::Never {
-                                (concat(a, &mut rest), r)
-                            } else {
-                                (a, concat(r, &mut rest))
-                            };
-                            out.push(If(condition, a, r).into(), span);
-                            let flow = if f == Flow::Always {
-                                Flow::Always
-                            } else {
-                                Flow::Maybe
-                            };
-                            return (out, flow);
-                        }
-                        _ => {
-                            out.push(If(condition, a, r).into(), span);
-                            // Inside a loop or switch the returns have already broken out.
-                            return self.after_maybe(out, rest, place, false, span);
-                        }
-                    }
-                }
-                Statement::Block(b) => {
-                    let inner = Place {
-                        case_top: false,
-                        ..place
-                    };
-                    let (nb, f) = self.block(stmts_of(&b), inner);
-                    out.push(Statement::Block(nb), span);
-                    match f {
-                        Flow::Never => {}
-                        Flow::Always => return (out, Flow::Always),
-                        Flow::Maybe => {
-                            let rest: Vec<_> = iter.by_ref().collect();
-                            return self.after_maybe(out, rest, place, false, span);
-                        }
-                    }
-                }
+                } => self.if_stmt(&mut out, If(condition, accept, reject), at),
+                Statement::Block(b) => self.block_stmt(&mut out, &b, at),
                 Statement::Switch { selector, cases } => {
-                    let mut flows = Vec::with_capacity(cases.len());
-                    let mut new_cases = Vec::with_capacity(cases.len());
-                    for case in &cases {
-                        let inner = Place {
-                            breakable: true,
-                            case_top: !case.fall_through,
-                        };
-                        let (body, f) = self.block(stmts_of(&case.body), inner);
-                        // A `break` leaves the switch without returning.
-                        let f = if f == Flow::Always && breaks(&case.body) {
-                            Flow::Maybe
-                        } else {
-                            f
-                        };
-                        flows.push(f);
-                        new_cases.push(naga::SwitchCase {
-                            value: case.value,
-                            body,
-                            fall_through: case.fall_through,
-                        });
-                    }
-                    // A case that falls through ends as the next one does.
-                    let mut next = Flow::Never;
-                    for (case, f) in cases.iter().zip(flows.iter_mut()).rev() {
-                        if case.fall_through && *f == Flow::Never {
-                            *f = next;
-                        } else if case.fall_through && *f == Flow::Maybe && next == Flow::Always {
-                            *f = Flow::Always;
-                        }
-                        next = *f;
-                    }
-                    let flow = flows
-                        .iter()
-                        .copied()
-                        .reduce(Flow::join)
-                        .unwrap_or(Flow::Never);
-                    out.push(
-                        Statement::Switch {
-                            selector,
-                            cases: new_cases,
-                        },
-                        span,
-                    );
-                    match flow {
-                        Flow::Never => {}
-                        Flow::Always => return (out, Flow::Always),
-                        Flow::Maybe => {
-                            let rest: Vec<_> = iter.by_ref().collect();
-                            return self.after_maybe(out, rest, place, true, span);
-                        }
-                    }
+                    self.switch_stmt(&mut out, selector, cases, at)
                 }
                 Statement::Loop {
                     body,
                     continuing,
                     break_if,
-                } => {
-                    let inner = Place {
-                        breakable: true,
-                        case_top: false,
-                    };
-                    let (nb, f) = self.block(stmts_of(&body), inner);
-                    out.push(
-                        Statement::Loop {
-                            body: nb,
-                            continuing,
-                            break_if,
-                        },
-                        span,
-                    );
-                    if f != Flow::Never {
-                        let rest: Vec<_> = iter.by_ref().collect();
-                        return self.after_maybe(out, rest, place, true, span);
-                    }
+                } => self.loop_stmt(&mut out, (body, continuing, break_if), at),
+                other => {
+                    out.push(other, span);
+                    Next::Statement
                 }
-                other => out.push(other, span),
+            };
+            if let Next::End(flow) = next {
+                return (out, flow);
             }
         }
         (out, Flow::Never)
+    }
+
+    /// The rest of the block after a statement that may have returned, lowered into `out`.
+    fn end_after_maybe(&mut self, out: &mut Block, at: At, left_construct: bool) -> Next {
+        let rest: Vec<_> = at.rest.collect();
+        let done = std::mem::take(out);
+        let (block, flow) = self.after_maybe(done, rest, at.place, left_construct, at.span);
+        *out = block;
+        Next::End(flow)
+    }
+
+    /// A `return`: the value stored to `result`, the flag set, and a `break` out of the loop or
+    /// case around it.
+    fn return_stmt(&mut self, out: &mut Block, value: Option<Handle<Expression>>, at: At) -> Next {
+        let span = at.span;
+        self.last_return = span;
+        if let (Some(ptr), Some(v)) = (self.result, value) {
+            out.push(
+                Statement::Store {
+                    pointer: ptr,
+                    value: v,
+                },
+                span,
+            );
+        }
+        out.push(
+            Statement::Store {
+                pointer: self.flag,
+                value: self.yes,
+            },
+            span,
+        );
+        if at.place.breakable && !at.place.case_top {
+            out.push(Statement::Break, span);
+        }
+        Next::End(Flow::Always)
+    }
+
+    /// An `if` whose branches may return: the rest of the block moves into the branch that does
+    /// not, or is guarded when either may.
+    fn if_stmt(&mut self, out: &mut Block, If(condition, accept, reject): If, at: At) -> Next {
+        let (place, span) = (at.place, at.span);
+        let inner = Place {
+            case_top: false,
+            ..place
+        };
+        let (a, fa) = self.block(stmts_of(&accept), inner);
+        let (r, fr) = self.block(stmts_of(&reject), inner);
+        if (fa, fr) == (Flow::Never, Flow::Never) {
+            out.push(If(condition, a, r).into(), span);
+            return Next::Statement;
+        }
+        match (fa, fr) {
+            (Flow::Always, Flow::Always) => {
+                out.push(If(condition, a, r).into(), span);
+                Next::End(Flow::Always)
+            }
+            // One side returns, the other falls through: the rest goes there.
+            (Flow::Always, Flow::Never) | (Flow::Never, Flow::Always) => {
+                let rest: Vec<_> = at.rest.collect();
+                let (mut rest, f) = self.block(rest, place);
+                let (a, r) = if fa == Flow::Never {
+                    (concat(a, &mut rest), r)
+                } else {
+                    (a, concat(r, &mut rest))
+                };
+                out.push(If(condition, a, r).into(), span);
+                Next::End(if f == Flow::Always {
+                    Flow::Always
+                } else {
+                    Flow::Maybe
+                })
+            }
+            _ => {
+                out.push(If(condition, a, r).into(), span);
+                // Inside a loop or switch the returns have already broken out.
+                self.end_after_maybe(out, at, false)
+            }
+        }
+    }
+
+    /// A nested block: the rest is guarded when it may have returned.
+    fn block_stmt(&mut self, out: &mut Block, b: &Block, at: At) -> Next {
+        let inner = Place {
+            case_top: false,
+            ..at.place
+        };
+        let (nb, f) = self.block(stmts_of(b), inner);
+        out.push(Statement::Block(nb), at.span);
+        match f {
+            Flow::Never => Next::Statement,
+            Flow::Always => Next::End(Flow::Always),
+            Flow::Maybe => self.end_after_maybe(out, at, false),
+        }
+    }
+
+    /// A `switch`: each case lowered (a `break` leaves it without returning, a case that falls
+    /// through ends as the next one does), the rest guarded when a case may have returned.
+    fn switch_stmt(
+        &mut self,
+        out: &mut Block,
+        selector: Handle<Expression>,
+        cases: Vec<naga::SwitchCase>,
+        at: At,
+    ) -> Next {
+        let mut flows = Vec::with_capacity(cases.len());
+        let mut new_cases = Vec::with_capacity(cases.len());
+        for case in &cases {
+            let inner = Place {
+                breakable: true,
+                case_top: !case.fall_through,
+            };
+            let (body, f) = self.block(stmts_of(&case.body), inner);
+            // A `break` leaves the switch without returning.
+            let f = if f == Flow::Always && breaks(&case.body) {
+                Flow::Maybe
+            } else {
+                f
+            };
+            flows.push(f);
+            new_cases.push(naga::SwitchCase {
+                value: case.value,
+                body,
+                fall_through: case.fall_through,
+            });
+        }
+        // A case that falls through ends as the next one does.
+        let mut next = Flow::Never;
+        for (case, f) in cases.iter().zip(flows.iter_mut()).rev() {
+            if case.fall_through && *f == Flow::Never {
+                *f = next;
+            } else if case.fall_through && *f == Flow::Maybe && next == Flow::Always {
+                *f = Flow::Always;
+            }
+            next = *f;
+        }
+        let flow = flows
+            .iter()
+            .copied()
+            .reduce(Flow::join)
+            .unwrap_or(Flow::Never);
+        out.push(
+            Statement::Switch {
+                selector,
+                cases: new_cases,
+            },
+            at.span,
+        );
+        match flow {
+            Flow::Never => Next::Statement,
+            Flow::Always => Next::End(Flow::Always),
+            Flow::Maybe => self.end_after_maybe(out, at, true),
+        }
+    }
+
+    /// A `loop` whose body may return (its `break` leaves the loop): the rest is guarded.
+    fn loop_stmt(
+        &mut self,
+        out: &mut Block,
+        (body, continuing, break_if): (Block, Block, Option<Handle<Expression>>),
+        at: At,
+    ) -> Next {
+        let inner = Place {
+            breakable: true,
+            case_top: false,
+        };
+        let (nb, f) = self.block(stmts_of(&body), inner);
+        out.push(
+            Statement::Loop {
+                body: nb,
+                continuing,
+                break_if,
+            },
+            at.span,
+        );
+        if f != Flow::Never {
+            self.end_after_maybe(out, at, true)
+        } else {
+            Next::Statement
+        }
     }
 
     /// The rest of a block after a statement that may have returned. `left_construct`: the

@@ -20,6 +20,7 @@ pub mod normalize;
 pub mod parse;
 pub mod rebuild;
 pub mod unroll;
+pub mod wgsl;
 
 pub use diagnostic::{Message, SourceDiagnostic};
 pub use load::{CullSummary, LoadOptions, Loaded, load};
@@ -30,3 +31,4 @@ pub use parse::{
     validator,
 };
 pub use unroll::{UnrollOptions, Unrolled, unroll};
+pub use wgsl::write_wgsl;

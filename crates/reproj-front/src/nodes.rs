@@ -181,149 +181,20 @@ struct StoreInfo {
     control: Vec<Handle<Expression>>,
 }
 
-/// Enumerate, cull and cost the nodes of a normalized shader.
+/// Enumerate, cull and cost the nodes of a normalized shader. Phases: where each expression is
+/// evaluated ([`Walk`]), the dependency edges, the costs over the reachability graph, continuity
+/// and what feeds derivatives, then one [`Node`] per float-valued expression.
 pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
     let fun = norm.function();
     let info = norm.function_info();
     let types = &norm.module.types;
-
-    // 1. Where each expression is evaluated, and the stores.
-    let mut places: HashMap<Handle<Expression>, Place> = HashMap::new();
-    let mut stores: HashMap<Handle<naga::LocalVariable>, Vec<StoreInfo>> = HashMap::new();
-    let mut kill_conditions = Vec::new();
-    walk(
-        fun,
-        info,
-        &fun.body,
-        Place {
-            weight: 1.0,
-            ..Place::default()
-        },
-        &mut Vec::new(),
-        &mut places,
-        &mut stores,
-        &mut kill_conditions,
-    );
-
-    // 2. Dependency edges: (dependency, discontinuous).
-    let n = fun.expressions.len();
-    let mut deps: Vec<Vec<(Handle<Expression>, bool)>> = vec![Vec::new(); n];
-    let is_float = |h: Handle<Expression>| {
-        matches!(
-            info[h].ty.inner_with(types).scalar_kind(),
-            Some(naga::ScalarKind::Float)
-        )
+    let walked = Walk::function(fun, info);
+    let deps = dependencies(fun, info, types, &walked.stores);
+    let costs = Costs::new(fun, info, types, norm.root, &walked, &deps);
+    let flags = Flags {
+        continuous: continuous_from(norm.root, &deps),
+        feeds_derivative: feeds_derivatives(fun, &deps),
     };
-    for (h, e) in fun.expressions.iter() {
-        let ops = ir::operands(e);
-        let disc = ir::discontinuous_edges(e, is_float(h));
-        deps[h.index()].extend(ops.into_iter().zip(disc));
-        if let Expression::Load { pointer } = *e
-            && let Some(v) = ir::root_local(&fun.expressions, pointer)
-        {
-            for s in stores.get(&v).into_iter().flatten() {
-                deps[h.index()].push((s.value, false));
-                deps[h.index()].push((s.pointer, true));
-                deps[h.index()].extend(s.control.iter().map(|c| (*c, true)));
-            }
-        }
-    }
-
-    // 3. Costs. What each expression reaches, and what only it leads to from the output and
-    // the kill conditions (a virtual vertex `n` stands for them): see `crate::graph`. The weights
-    // are whole numbers, so sums in any order are exact and equal the old per-node ones.
-    let weight: Vec<f64> = fun
-        .expressions
-        .iter()
-        .map(|(h, e)| {
-            let mult = places.get(&h).map_or(1.0, |p| p.weight);
-            op_cost(e, info[h].ty.inner_with(types)) * mult
-        })
-        .collect();
-    let outputs = n as u32;
-    let mut succ: Vec<Vec<u32>> = deps
-        .iter()
-        .map(|d| d.iter().map(|&(h, _)| h.index() as u32).collect())
-        .collect();
-    succ.push(
-        std::iter::once(norm.root)
-            .chain(kill_conditions.iter().copied())
-            .map(|h| h.index() as u32)
-            .collect(),
-    );
-    let reach = Reach::new(&succ, &[outputs]);
-    let mut total_closure = vec![false; n + 1];
-    for &(s, e) in reach.runs(outputs) {
-        for &v in &reach.by_position()[s as usize..e as usize] {
-            total_closure[v as usize] = true;
-        }
-    }
-    total_closure.truncate(n);
-    let total_cost: f64 = (0..n)
-        .filter(|&i| total_closure[i])
-        .map(|i| weight[i])
-        .sum();
-    // Prefix sums over positions: of the weight, and of the weight of what the output needs.
-    let prefix = |keep: &dyn Fn(usize) -> bool| -> Vec<f64> {
-        let mut sums = Vec::with_capacity(n + 2);
-        sums.push(0.0);
-        let mut acc = 0.0;
-        for &v in reach.by_position() {
-            let v = v as usize;
-            if v < n && keep(v) {
-                acc += weight[v];
-            }
-            sums.push(acc);
-        }
-        sums
-    };
-    let all_weight = prefix(&|_| true);
-    let needed_weight = prefix(&|v| total_closure[v]);
-    let mut dominated = dominators(&succ, outputs).subtree_sums(&{
-        let mut w = weight.clone();
-        w.push(0.0);
-        w
-    });
-    dominated.truncate(n);
-
-    // 4. Continuity from the root, and what feeds derivatives.
-    let mut continuous = vec![false; n];
-    let mut stack = vec![norm.root];
-    while let Some(h) = stack.pop() {
-        if continuous[h.index()] {
-            continue;
-        }
-        continuous[h.index()] = true;
-        for &(d, disc) in &deps[h.index()] {
-            if !disc && !continuous[d.index()] {
-                stack.push(d);
-            }
-        }
-    }
-    // Explicit derivatives, and the coordinates of samples whose level of detail the hardware
-    // derives from them (`textureSample`, `textureSampleBias`): in the shade pass a cached value
-    // comes from a texel per pixel, and helper lanes at silhouettes read the background.
-    let mut feeds_derivative = vec![false; n];
-    let mut stack: Vec<Handle<Expression>> = fun
-        .expressions
-        .iter()
-        .filter_map(|(_, e)| match *e {
-            Expression::Derivative { expr, .. } => Some(expr),
-            Expression::ImageSample {
-                coordinate,
-                level: naga::SampleLevel::Auto | naga::SampleLevel::Bias(_),
-                ..
-            } => Some(coordinate),
-            _ => None,
-        })
-        .collect();
-    while let Some(h) = stack.pop() {
-        if !std::mem::replace(&mut feeds_derivative[h.index()], true) {
-            stack.extend(deps[h.index()].iter().map(|&(d, _)| d));
-        }
-    }
-
-    // 5. The nodes.
     let lines = LineIndex::new(&shader.source);
     let mut nodes = Vec::new();
     for (h, e) in fun.expressions.iter() {
@@ -332,65 +203,11 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             continue;
         };
         let is_root = h == norm.root;
-        let v = h.index() as u32;
-        let cost = reach.sum(v, &all_weight);
-        // The part of the subtree the rest still needs: all of it but what only `h` leads to
-        // (when the output needs `h`), or what the output needs (when it does not).
-        let overlap = if is_root {
-            0.0
-        } else if total_closure[h.index()] {
-            cost - dominated[h.index()]
-        } else {
-            reach.sum(v, &needed_weight)
-        };
-        let place = places.get(&h).copied().unwrap_or_default();
-        let components = match inner {
-            TypeInner::Scalar(s) if s.width == 4 && s.kind == naga::ScalarKind::Float => 1,
-            TypeInner::Vector { size, scalar }
-                if scalar.width == 4 && scalar.kind == naga::ScalarKind::Float =>
-            {
-                *size as u32
-            }
-            _ => 0,
-        };
-        // Weights are never negative.
-        let trivial = cost == 0.0;
-        let reason = if components == 0 {
-            Some(CullReason::PayloadType)
-        } else if trivial {
-            Some(CullReason::Trivial)
-        } else if place.in_loop {
-            Some(CullReason::InLoop)
-        } else if place.non_uniform {
-            Some(CullReason::NonUniformBranch)
-        } else if feeds_derivative[h.index()] {
-            Some(CullReason::Derivative)
-        } else if !continuous[h.index()] {
-            Some(CullReason::Discontinuous)
-        } else {
-            None
-        };
-        let span = fun.expressions.get_span(h);
-        let (line, col, text) = match (span.is_defined(), e) {
-            // Loads made by the front end (`x += ...`, a read after a loop) have no span: name the
-            // variable instead.
-            (false, Expression::Load { pointer }) => {
-                match ir::root_local(&fun.expressions, *pointer) {
-                    Some(v) => {
-                        let (l, c, _) = span_text(shader, &lines, fun.local_variables.get_span(v));
-                        (
-                            l,
-                            c,
-                            fun.local_variables[v].name.clone().unwrap_or_default(),
-                        )
-                    }
-                    None => (0, 0, String::new()),
-                }
-            }
-            (false, _) => operand_span(shader, &fun.expressions, e)
-                .map_or((0, 0, String::new()), |s| span_text(shader, &lines, s)),
-            _ => span_text(shader, &lines, span),
-        };
+        let (cost, overlap) = costs.of(h, is_root);
+        let components = payload_components(inner);
+        let place = walked.places.get(&h).copied().unwrap_or_default();
+        let reason = cull_reason(components, cost, place, &flags, h);
+        let (line, col, text) = source_position(shader, &lines, fun, h, e);
         let call = norm.call_site.get(&h).map(|s| {
             let (l, c, _) = span_text(shader, &lines, *s);
             (l, c)
@@ -420,8 +237,273 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             |f| f.to_string_lossy().into_owned(),
         ),
         entry: norm.entry.clone(),
-        total_cost,
+        total_cost: costs.total_cost,
         nodes,
+    }
+}
+
+/// Dependency edges of each expression: `(dependency, discontinuous)`, its operands and, for a
+/// load, every store to its local with the pointer and the control that guards it.
+fn dependencies(
+    fun: &naga::Function,
+    info: &naga::valid::FunctionInfo,
+    types: &naga::UniqueArena<naga::Type>,
+    stores: &HashMap<Handle<naga::LocalVariable>, Vec<StoreInfo>>,
+) -> Vec<Vec<(Handle<Expression>, bool)>> {
+    let n = fun.expressions.len();
+    let mut deps: Vec<Vec<(Handle<Expression>, bool)>> = vec![Vec::new(); n];
+    let is_float = |h: Handle<Expression>| {
+        matches!(
+            info[h].ty.inner_with(types).scalar_kind(),
+            Some(naga::ScalarKind::Float)
+        )
+    };
+    for (h, e) in fun.expressions.iter() {
+        let ops = ir::operands(e);
+        let disc = ir::discontinuous_edges(e, is_float(h));
+        deps[h.index()].extend(ops.into_iter().zip(disc));
+        if let Expression::Load { pointer } = *e
+            && let Some(v) = ir::root_local(&fun.expressions, pointer)
+        {
+            for s in stores.get(&v).into_iter().flatten() {
+                deps[h.index()].push((s.value, false));
+                deps[h.index()].push((s.pointer, true));
+                deps[h.index()].extend(s.control.iter().map(|c| (*c, true)));
+            }
+        }
+    }
+    deps
+}
+
+/// The costs of every expression's subtree, from one reachability graph over the dependency
+/// edges (see `crate::graph`). The weights are whole numbers, so sums in any order are exact and
+/// equal the old per-node ones.
+struct Costs {
+    reach: Reach,
+    /// Prefix sums over `reach`'s positions of every expression's weight.
+    all_weight: Vec<f64>,
+    /// The same, of the weight of what the output needs.
+    needed_weight: Vec<f64>,
+    /// What only each expression leads to from the output and the kill conditions.
+    dominated: Vec<f64>,
+    /// Whether the output (or a kill condition) needs each expression.
+    total_closure: Vec<bool>,
+    /// The cost of everything the output needs.
+    total_cost: f64,
+}
+
+impl Costs {
+    /// What each expression reaches, and what only it leads to from the output and the kill
+    /// conditions (a virtual vertex `n` stands for them).
+    fn new(
+        fun: &naga::Function,
+        info: &naga::valid::FunctionInfo,
+        types: &naga::UniqueArena<naga::Type>,
+        root: Handle<Expression>,
+        walked: &Walk,
+        deps: &[Vec<(Handle<Expression>, bool)>],
+    ) -> Costs {
+        let n = fun.expressions.len();
+        let weight: Vec<f64> = fun
+            .expressions
+            .iter()
+            .map(|(h, e)| {
+                let mult = walked.places.get(&h).map_or(1.0, |p| p.weight);
+                op_cost(e, info[h].ty.inner_with(types)) * mult
+            })
+            .collect();
+        let outputs = n as u32;
+        let mut succ: Vec<Vec<u32>> = deps
+            .iter()
+            .map(|d| d.iter().map(|&(h, _)| h.index() as u32).collect())
+            .collect();
+        succ.push(
+            std::iter::once(root)
+                .chain(walked.kills.iter().copied())
+                .map(|h| h.index() as u32)
+                .collect(),
+        );
+        let reach = Reach::new(&succ, &[outputs]);
+        let mut total_closure = vec![false; n + 1];
+        for &(s, e) in reach.runs(outputs) {
+            for &v in &reach.by_position()[s as usize..e as usize] {
+                total_closure[v as usize] = true;
+            }
+        }
+        total_closure.truncate(n);
+        let total_cost: f64 = (0..n)
+            .filter(|&i| total_closure[i])
+            .map(|i| weight[i])
+            .sum();
+        // Prefix sums over positions: of the weight, and of the weight of what the output needs.
+        let prefix = |keep: &dyn Fn(usize) -> bool| -> Vec<f64> {
+            let mut sums = Vec::with_capacity(n + 2);
+            sums.push(0.0);
+            let mut acc = 0.0;
+            for &v in reach.by_position() {
+                let v = v as usize;
+                if v < n && keep(v) {
+                    acc += weight[v];
+                }
+                sums.push(acc);
+            }
+            sums
+        };
+        let all_weight = prefix(&|_| true);
+        let needed_weight = prefix(&|v| total_closure[v]);
+        let mut dominated = dominators(&succ, outputs).subtree_sums(&{
+            let mut w = weight.clone();
+            w.push(0.0);
+            w
+        });
+        dominated.truncate(n);
+        Costs {
+            reach,
+            all_weight,
+            needed_weight,
+            dominated,
+            total_closure,
+            total_cost,
+        }
+    }
+
+    /// The cost of `h`'s subtree, and its overlap: the part of the subtree the rest still needs,
+    /// all of it but what only `h` leads to (when the output needs `h`), or what the output
+    /// needs (when it does not).
+    fn of(&self, h: Handle<Expression>, is_root: bool) -> (f64, f64) {
+        let v = h.index() as u32;
+        let cost = self.reach.sum(v, &self.all_weight);
+        let overlap = if is_root {
+            0.0
+        } else if self.total_closure[h.index()] {
+            cost - self.dominated[h.index()]
+        } else {
+            self.reach.sum(v, &self.needed_weight)
+        };
+        (cost, overlap)
+    }
+}
+
+/// Per expression: continuous from the root, and feeding a derivative.
+struct Flags {
+    continuous: Vec<bool>,
+    feeds_derivative: Vec<bool>,
+}
+
+/// The expressions the root depends on through continuous edges only.
+fn continuous_from(
+    root: Handle<Expression>,
+    deps: &[Vec<(Handle<Expression>, bool)>],
+) -> Vec<bool> {
+    let mut continuous = vec![false; deps.len()];
+    let mut stack = vec![root];
+    while let Some(h) = stack.pop() {
+        if continuous[h.index()] {
+            continue;
+        }
+        continuous[h.index()] = true;
+        for &(d, disc) in &deps[h.index()] {
+            if !disc && !continuous[d.index()] {
+                stack.push(d);
+            }
+        }
+    }
+    continuous
+}
+
+/// What feeds explicit derivatives, and the coordinates of samples whose level of detail the
+/// hardware derives from them (`textureSample`, `textureSampleBias`): in the shade pass a cached
+/// value comes from a texel per pixel, and helper lanes at silhouettes read the background.
+fn feeds_derivatives(fun: &naga::Function, deps: &[Vec<(Handle<Expression>, bool)>]) -> Vec<bool> {
+    let mut feeds_derivative = vec![false; deps.len()];
+    let mut stack: Vec<Handle<Expression>> = fun
+        .expressions
+        .iter()
+        .filter_map(|(_, e)| match *e {
+            Expression::Derivative { expr, .. } => Some(expr),
+            Expression::ImageSample {
+                coordinate,
+                level: naga::SampleLevel::Auto | naga::SampleLevel::Bias(_),
+                ..
+            } => Some(coordinate),
+            _ => None,
+        })
+        .collect();
+    while let Some(h) = stack.pop() {
+        if !std::mem::replace(&mut feeds_derivative[h.index()], true) {
+            stack.extend(deps[h.index()].iter().map(|&(d, _)| d));
+        }
+    }
+    feeds_derivative
+}
+
+/// The f32 components of a payload of this type: 1 to 4, or 0 when it cannot be one.
+fn payload_components(inner: &TypeInner) -> u32 {
+    match inner {
+        TypeInner::Scalar(s) if s.width == 4 && s.kind == naga::ScalarKind::Float => 1,
+        TypeInner::Vector { size, scalar }
+            if scalar.width == 4 && scalar.kind == naga::ScalarKind::Float =>
+        {
+            *size as u32
+        }
+        _ => 0,
+    }
+}
+
+/// Why the expression `h` cannot be cached, the first reason in this order; `None` when it can.
+fn cull_reason(
+    components: u32,
+    cost: f64,
+    place: Place,
+    flags: &Flags,
+    h: Handle<Expression>,
+) -> Option<CullReason> {
+    // Weights are never negative.
+    let trivial = cost == 0.0;
+    if components == 0 {
+        Some(CullReason::PayloadType)
+    } else if trivial {
+        Some(CullReason::Trivial)
+    } else if place.in_loop {
+        Some(CullReason::InLoop)
+    } else if place.non_uniform {
+        Some(CullReason::NonUniformBranch)
+    } else if flags.feeds_derivative[h.index()] {
+        Some(CullReason::Derivative)
+    } else if !flags.continuous[h.index()] {
+        Some(CullReason::Discontinuous)
+    } else {
+        None
+    }
+}
+
+/// Line, column and source text of the expression `h`, from its span or, where the front end
+/// left none, from the variable it loads or its operands.
+fn source_position(
+    shader: &Shader,
+    lines: &LineIndex,
+    fun: &naga::Function,
+    h: Handle<Expression>,
+    e: &Expression,
+) -> (u32, u32, String) {
+    let span = fun.expressions.get_span(h);
+    match (span.is_defined(), e) {
+        // Loads made by the front end (`x += ...`, a read after a loop) have no span: name the
+        // variable instead.
+        (false, Expression::Load { pointer }) => match ir::root_local(&fun.expressions, *pointer) {
+            Some(v) => {
+                let (l, c, _) = span_text(shader, lines, fun.local_variables.get_span(v));
+                (
+                    l,
+                    c,
+                    fun.local_variables[v].name.clone().unwrap_or_default(),
+                )
+            }
+            None => (0, 0, String::new()),
+        },
+        (false, _) => operand_span(shader, &fun.expressions, e)
+            .map_or((0, 0, String::new()), |s| span_text(shader, lines, s)),
+        _ => span_text(shader, lines, span),
     }
 }
 
@@ -591,82 +673,108 @@ fn loop_control(body: &Block, out: &mut Vec<Handle<Expression>>) {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn walk(
-    fun: &naga::Function,
-    info: &naga::valid::FunctionInfo,
-    block: &Block,
-    place: Place,
-    control: &mut Vec<Handle<Expression>>,
-    places: &mut HashMap<Handle<Expression>, Place>,
-    stores: &mut HashMap<Handle<naga::LocalVariable>, Vec<StoreInfo>>,
-    kills: &mut Vec<Handle<Expression>>,
-) {
-    for stmt in block.iter() {
-        match stmt {
-            Statement::Emit(range) => {
-                for h in range.clone() {
-                    places.insert(h, place);
+/// Where each expression of a function is evaluated, the stores to its locals (with the
+/// conditions that guard them), and the conditions under which it discards.
+struct Walk<'a> {
+    fun: &'a naga::Function,
+    info: &'a naga::valid::FunctionInfo,
+    /// The conditions of the statements around the one being walked.
+    control: Vec<Handle<Expression>>,
+    places: HashMap<Handle<Expression>, Place>,
+    stores: HashMap<Handle<naga::LocalVariable>, Vec<StoreInfo>>,
+    /// The conditions around each `discard`.
+    kills: Vec<Handle<Expression>>,
+}
+
+impl<'a> Walk<'a> {
+    /// Walk the function's body.
+    fn function(fun: &'a naga::Function, info: &'a naga::valid::FunctionInfo) -> Walk<'a> {
+        let mut w = Walk {
+            fun,
+            info,
+            control: Vec::new(),
+            places: HashMap::new(),
+            stores: HashMap::new(),
+            kills: Vec::new(),
+        };
+        w.block(
+            &fun.body,
+            Place {
+                weight: 1.0,
+                ..Place::default()
+            },
+        );
+        w
+    }
+
+    fn block(&mut self, block: &Block, place: Place) {
+        for stmt in block.iter() {
+            match stmt {
+                Statement::Emit(range) => {
+                    for h in range.clone() {
+                        self.places.insert(h, place);
+                    }
                 }
-            }
-            Statement::Store { pointer, value } => {
-                if let Some(v) = ir::root_local(&fun.expressions, *pointer) {
-                    stores.entry(v).or_default().push(StoreInfo {
-                        value: *value,
-                        pointer: *pointer,
-                        control: control.clone(),
-                    });
+                Statement::Store { pointer, value } => {
+                    if let Some(v) = ir::root_local(&self.fun.expressions, *pointer) {
+                        self.stores.entry(v).or_default().push(StoreInfo {
+                            value: *value,
+                            pointer: *pointer,
+                            control: self.control.clone(),
+                        });
+                    }
                 }
-            }
-            Statement::Kill => kills.extend(control.iter().copied()),
-            Statement::Block(b) => walk(fun, info, b, place, control, places, stores, kills),
-            Statement::If {
-                condition,
-                accept,
-                reject,
-            } => {
-                let nu = info[*condition].uniformity.non_uniform_result.is_some();
-                let inner = Place {
-                    non_uniform: place.non_uniform || nu,
-                    ..place
-                };
-                control.push(*condition);
-                walk(fun, info, accept, inner, control, places, stores, kills);
-                walk(fun, info, reject, inner, control, places, stores, kills);
-                control.pop();
-            }
-            Statement::Switch { selector, cases } => {
-                let nu = info[*selector].uniformity.non_uniform_result.is_some();
-                let inner = Place {
-                    non_uniform: place.non_uniform || nu,
-                    ..place
-                };
-                control.push(*selector);
-                for c in cases {
-                    walk(fun, info, &c.body, inner, control, places, stores, kills);
+                Statement::Kill => self.kills.extend(self.control.iter().copied()),
+                Statement::Block(b) => self.block(b, place),
+                Statement::If {
+                    condition,
+                    accept,
+                    reject,
+                } => {
+                    let inner = self.branch(place, *condition);
+                    self.control.push(*condition);
+                    self.block(accept, inner);
+                    self.block(reject, inner);
+                    self.control.pop();
                 }
-                control.pop();
+                Statement::Switch { selector, cases } => {
+                    let inner = self.branch(place, *selector);
+                    self.control.push(*selector);
+                    for c in cases {
+                        self.block(&c.body, inner);
+                    }
+                    self.control.pop();
+                }
+                Statement::Loop {
+                    body,
+                    continuing,
+                    break_if,
+                } => {
+                    let inner = Place {
+                        in_loop: true,
+                        weight: place.weight * trip_count(self.fun, body),
+                        ..place
+                    };
+                    let mut ctl = Vec::new();
+                    loop_control(body, &mut ctl);
+                    ctl.extend(*break_if);
+                    let depth = self.control.len();
+                    self.control.extend(ctl);
+                    self.block(body, inner);
+                    self.block(continuing, inner);
+                    self.control.truncate(depth);
+                }
+                _ => {}
             }
-            Statement::Loop {
-                body,
-                continuing,
-                break_if,
-            } => {
-                let inner = Place {
-                    in_loop: true,
-                    weight: place.weight * trip_count(fun, body),
-                    ..place
-                };
-                let mut ctl = Vec::new();
-                loop_control(body, &mut ctl);
-                ctl.extend(*break_if);
-                let depth = control.len();
-                control.extend(ctl);
-                walk(fun, info, body, inner, control, places, stores, kills);
-                walk(fun, info, continuing, inner, control, places, stores, kills);
-                control.truncate(depth);
-            }
-            _ => {}
+        }
+    }
+
+    /// The place inside a branch on `condition`: non-uniform when the condition is.
+    fn branch(&self, place: Place, condition: Handle<Expression>) -> Place {
+        let nu = self.info[condition].uniformity.non_uniform_result.is_some();
+        Place {
+            non_uniform: place.non_uniform || nu,
+            ..place
         }
     }
 }

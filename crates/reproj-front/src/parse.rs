@@ -269,9 +269,10 @@ fn chain(e: &dyn std::error::Error) -> String {
     s
 }
 
-/// `module` as WGSL text (naga's writer), for the languages that are not WGSL.
+/// `module` as WGSL text ([`crate::write_wgsl`], the one writer), for the languages that are
+/// not WGSL.
 fn write_wgsl(module: &naga::Module, info: &ModuleInfo) -> Result<String, String> {
-    naga::back::wgsl::write_string(module, info, naga::back::wgsl::WriterFlags::empty())
+    crate::write_wgsl(module, info)
         .map_err(|e| format!("naga cannot write this module as WGSL ({e})"))
 }
 

@@ -187,17 +187,160 @@ fn reproj_prev_clip(prev_view_proj: mat4x4<f32>, prev_model: mat4x4<f32>, positi
 }
 ";
 
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn build_manifest(
-    shader: &Shader,
-    norm: &Normalized,
-    nodes: &[&Node],
-    opts: &InstanceOptions,
+/// What a variant's manifest is built from: the shader, its normalized function, the cached
+/// nodes, the options, and what the instancer decided (cache format, added group, the vertex
+/// output location of the previous clip position, the finished passes).
+pub(crate) struct ManifestInput<'a> {
+    pub shader: &'a Shader,
+    pub norm: &'a Normalized,
+    pub nodes: &'a [&'a Node],
+    pub opts: &'a InstanceOptions,
+    pub cache_format: CacheFormat,
+    pub group: u32,
+    pub prev_clip_location: u32,
+    pub passes: &'a [PassModule],
+}
+
+/// The manifest of a variant: the nodes of its payload, its passes' targets and bindings, the
+/// vertex contract, the params, the textures and the ping-pong plan, and the notes for a host.
+pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
+    let ManifestInput {
+        shader,
+        norm,
+        nodes,
+        opts,
+        cache_format,
+        group,
+        prev_clip_location,
+        passes,
+    } = *input;
+    let mut notes = host_notes(opts, prev_clip_location);
+    let infos = node_infos(nodes);
+    if nodes.len() > 1 {
+        notes.push(format!(
+            "The payload holds {} nodes, each at its offset: {}.",
+            nodes.len(),
+            infos
+                .iter()
+                .map(|i| format!("node {} at {}", i.id, i.offset))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    Manifest {
+        schema: "reproj.manifest".into(),
+        version: MANIFEST_VERSION,
+        shader: shader.path.file_name().map_or_else(
+            || shader.path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        ),
+        entry: norm.entry.clone(),
+        shader_ir_hash: Some(crate::manifest::ir_hash(shader)),
+        node: infos[0].clone(),
+        also: infos[1..].to_vec(),
+        strategy: opts.strategy,
+        reconstruct: opts.reconstruct,
+        cache_format,
+        required_features: if !cache_format.is_half() && opts.reconstruct.filters() {
+            vec!["float32-filterable".into()]
+        } else {
+            Vec::new()
+        },
+        group,
+        conventions: Conventions::default(),
+        vertex: vertex_contract(prev_clip_location),
+        params: params(opts),
+        textures: textures(cache_format),
+        samplers: vec![SamplerDesc {
+            name: SAMPLER_LINEAR.into(),
+            mag_filter: Filter::Linear,
+            min_filter: Filter::Linear,
+            mipmap_filter: Filter::Nearest,
+            address_mode: "clamp-to-edge".into(),
+        }],
+        frames: FramePlan {
+            ping_pong: vec![ping_pong("0", "1"), ping_pong("1", "0")],
+        },
+        passes: passes
+            .iter()
+            .map(|p| pass(p, opts, cache_format, group))
+            .collect(),
+        notes,
+        languages: Vec::new(),
+    }
+}
+
+/// What a host must know beyond the data: how the passes draw, the vertex stage's extra output,
+/// the depth copy, the ping-pong, the first frame, the debug entry, the frame target's load.
+fn host_notes(opts: &InstanceOptions, prev_clip_location: u32) -> Vec<String> {
+    let draw = match opts.strategy {
+        Strategy::ThreePass => "All three passes draw",
+        Strategy::TwoPass => "Both passes draw",
+        Strategy::Fused => "The pass draws",
+    };
+    let mut notes = vec![
+        format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
+        format!(
+            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
+        ),
+        "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
+        "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
+        "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
+        "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
+    ];
+    if opts.frame_load == FrameLoad::Load {
+        notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());
+    }
+    notes
+}
+
+/// The payload's nodes in order, each at the component offset after the ones before it.
+fn node_infos(nodes: &[&Node]) -> Vec<NodeInfo> {
+    let mut offset = 0;
+    nodes
+        .iter()
+        .map(|node| {
+            let info = NodeInfo {
+                id: node_id(node),
+                text: node.text.clone(),
+                line: node.line,
+                col: node.col,
+                ty: node.ty.clone(),
+                components: node.components,
+                offset,
+            };
+            offset += node.components;
+            info
+        })
+        .collect()
+}
+
+/// One pass of the manifest: its file, entry point, bindings, and the targets and depth state of
+/// its kind.
+fn pass(p: &PassModule, opts: &InstanceOptions, cache_format: CacheFormat, group: u32) -> Pass {
+    let (colors, depth) = pass_targets(p, opts.frame_load, cache_format);
+    Pass {
+        kind: p.kind,
+        file: pass_file(p.kind).into(),
+        entry: p
+            .module
+            .entry_points
+            .iter()
+            .find(|e| e.name != contract::CLASSIFY_ENTRY)
+            .map_or_else(String::new, |e| e.name.clone()),
+        bindings: bindings(&p.module, group, opts.reconstruct),
+        colors,
+        depth,
+    }
+}
+
+/// The color targets and the depth state of a pass, by its kind: which pass clears the cache,
+/// the frame, the depth and its copy, and which load what an earlier pass wrote.
+fn pass_targets(
+    p: &PassModule,
+    frame_load: FrameLoad,
     cache_format: CacheFormat,
-    group: u32,
-    prev_clip_location: u32,
-    passes: &[PassModule],
-) -> Manifest {
+) -> (Vec<ColorTarget>, DepthState) {
     let clear_cache = || LoadOp::Clear {
         value: Some(vec![0.0; 4]),
     };
@@ -209,7 +352,7 @@ pub(crate) fn build_manifest(
         store: true,
         blend: None,
     };
-    let frame_first = || match opts.frame_load {
+    let frame_first = || match frame_load {
         FrameLoad::Clear => LoadOp::Clear { value: None },
         FrameLoad::Load => LoadOp::Load,
     };
@@ -244,95 +387,150 @@ pub(crate) fn build_manifest(
     let clear_depth_copy = || LoadOp::Clear {
         value: Some(vec![1.0, 0.0, 0.0, 0.0]),
     };
-    // The location of an output struct member (the cache and the depth copy follow the shader's
-    // outputs).
-    let location_of = |p: &PassModule, name: &str| {
-        let ep = &p.module.entry_points[0];
-        let ty = ep
-            .function
-            .result
-            .as_ref()
-            .map(|r| &p.module.types[r.ty].inner);
-        match ty {
-            Some(naga::TypeInner::Struct { members, .. }) => members
-                .iter()
-                .find(|m| m.name.as_deref() == Some(name))
-                .and_then(|m| match m.binding {
-                    Some(naga::Binding::Location { location, .. }) => Some(location),
-                    _ => None,
-                })
-                .unwrap_or(1),
-            _ => 1,
-        }
-    };
-    let cache_at = |p: &PassModule| location_of(p, strategy::CACHE_MEMBER);
-    let depth_at = |p: &PassModule| location_of(p, strategy::DEPTH_MEMBER);
-    let pass = |p: &PassModule| {
-        let (colors, depth) = match p.kind {
-            PassKind::Reproject => (
-                vec![cache(0, clear_cache())],
-                depth("less", true, clear_depth()),
-            ),
-            PassKind::Recompute => (
-                vec![cache(0, LoadOp::Load)],
-                depth("less", true, LoadOp::Load),
-            ),
-            PassKind::Shade => (
-                vec![
-                    frame(frame_first()),
-                    depth_copy(depth_at(p), clear_depth_copy()),
-                ],
-                depth("equal", false, LoadOp::Load),
-            ),
-            PassKind::Fused | PassKind::ShadeHits => (
-                vec![
-                    frame(frame_first()),
-                    cache(cache_at(p), clear_cache()),
-                    depth_copy(depth_at(p), clear_depth_copy()),
-                ],
-                depth("less", true, clear_depth()),
-            ),
-            PassKind::ShadeMisses => (
-                vec![
-                    frame(LoadOp::Load),
-                    cache(cache_at(p), LoadOp::Load),
-                    depth_copy(depth_at(p), LoadOp::Load),
-                ],
-                depth("less", true, LoadOp::Load),
-            ),
-        };
-        Pass {
-            kind: p.kind,
-            file: pass_file(p.kind).into(),
-            entry: p
-                .module
-                .entry_points
-                .iter()
-                .find(|e| e.name != contract::CLASSIFY_ENTRY)
-                .map_or_else(String::new, |e| e.name.clone()),
-            bindings: bindings(&p.module, group, opts.reconstruct),
-            colors,
-            depth,
-        }
-    };
-    let draw = match opts.strategy {
-        Strategy::ThreePass => "All three passes draw",
-        Strategy::TwoPass => "Both passes draw",
-        Strategy::Fused => "The pass draws",
-    };
-    let mut notes = vec![
-        format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
-        format!(
-            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
+    let cache_at = output_location(p, strategy::CACHE_MEMBER);
+    let depth_at = output_location(p, strategy::DEPTH_MEMBER);
+    match p.kind {
+        PassKind::Reproject => (
+            vec![cache(0, clear_cache())],
+            depth("less", true, clear_depth()),
         ),
-        "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
-        "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
-        "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
-        "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
-    ];
-    if opts.frame_load == FrameLoad::Load {
-        notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());
+        PassKind::Recompute => (
+            vec![cache(0, LoadOp::Load)],
+            depth("less", true, LoadOp::Load),
+        ),
+        PassKind::Shade => (
+            vec![
+                frame(frame_first()),
+                depth_copy(depth_at, clear_depth_copy()),
+            ],
+            depth("equal", false, LoadOp::Load),
+        ),
+        PassKind::Fused | PassKind::ShadeHits => (
+            vec![
+                frame(frame_first()),
+                cache(cache_at, clear_cache()),
+                depth_copy(depth_at, clear_depth_copy()),
+            ],
+            depth("less", true, clear_depth()),
+        ),
+        PassKind::ShadeMisses => (
+            vec![
+                frame(LoadOp::Load),
+                cache(cache_at, LoadOp::Load),
+                depth_copy(depth_at, LoadOp::Load),
+            ],
+            depth("less", true, LoadOp::Load),
+        ),
     }
+}
+
+/// The location of the pass's output struct member `name` (the cache and the depth copy follow
+/// the shader's outputs); 1 where there is none.
+fn output_location(p: &PassModule, name: &str) -> u32 {
+    let ep = &p.module.entry_points[0];
+    let ty = ep
+        .function
+        .result
+        .as_ref()
+        .map(|r| &p.module.types[r.ty].inner);
+    match ty {
+        Some(naga::TypeInner::Struct { members, .. }) => members
+            .iter()
+            .find(|m| m.name.as_deref() == Some(name))
+            .and_then(|m| match m.binding {
+                Some(naga::Binding::Location { location, .. }) => Some(location),
+                _ => None,
+            })
+            .unwrap_or(1),
+        _ => 1,
+    }
+}
+
+/// The vertex stage's contract: an @invariant position and the previous clip position at
+/// `prev_clip_location`, from the inputs the helper [`VERTEX_CONTRACT_WGSL`] takes.
+fn vertex_contract(prev_clip_location: u32) -> VertexContract {
+    VertexContract {
+        invariant_position: true,
+        prev_clip_location,
+        inputs: vec![
+            VertexInput {
+                name: "prev_view_proj".into(),
+                ty: "mat4x4<f32>".into(),
+                meaning:
+                    "the previous frame's view-projection matrix (this frame's on the first frame)"
+                        .into(),
+            },
+            VertexInput {
+                name: "prev_model".into(),
+                ty: "mat4x4<f32>".into(),
+                meaning: "the object's model matrix in the previous frame".into(),
+            },
+            VertexInput {
+                name: "position".into(),
+                ty: "vec3<f32>".into(),
+                meaning: "the vertex's object-space position".into(),
+            },
+        ],
+        wgsl: VERTEX_CONTRACT_WGSL.into(),
+    }
+}
+
+/// The params uniform's layout, its fields at the contract's [`ReprojParams`] offsets, and their
+/// values (Δn steady after a first frame of 1, the frame index, the constants).
+fn params(opts: &InstanceOptions) -> Params {
+    let field = |name: &str, offset: usize, ty: ScalarType, value: ParamValue| ParamField {
+        name: name.into(),
+        offset: offset as u32,
+        ty,
+        value,
+    };
+    Params {
+        delta_n: opts.delta_n,
+        block: opts.block,
+        depth_epsilon: opts.depth_epsilon,
+        size: contract::PARAMS_SIZE,
+        fields: vec![
+            field(
+                "delta_n",
+                offset_of!(ReprojParams, delta_n),
+                ScalarType::U32,
+                ParamValue::Steady {
+                    value: f64::from(opts.delta_n),
+                    first: 1.0,
+                },
+            ),
+            field(
+                "clock",
+                offset_of!(ReprojParams, clock),
+                ScalarType::U32,
+                ParamValue::FrameIndex,
+            ),
+            field(
+                "block",
+                offset_of!(ReprojParams, block),
+                ScalarType::U32,
+                ParamValue::Constant {
+                    value: f64::from(opts.block),
+                },
+            ),
+            field(
+                "depth_epsilon",
+                offset_of!(ReprojParams, depth_epsilon),
+                ScalarType::F32,
+                ParamValue::Constant {
+                    // The f32's shortest decimal (0.01, not 0.009999999776482582).
+                    value: opts.depth_epsilon.to_string().parse().unwrap_or_default(),
+                },
+            ),
+        ],
+        // `emit` sets it from the error model at each motion band.
+        schedule: Vec::new(),
+    }
+}
+
+/// The textures a host allocates: two payloads and two depth copies (ping-pong) and the depth
+/// attachment, all frame-sized.
+fn textures(cache_format: CacheFormat) -> Vec<TextureDesc> {
     let texture = |name: &str, format: &str| TextureDesc {
         name: name.into(),
         format: format.into(),
@@ -341,160 +539,28 @@ pub(crate) fn build_manifest(
         mip_levels: 1,
         sample_count: 1,
     };
-    let plan = |a: &str, b: &str| {
-        [
-            (ROLE_CUR_PAYLOAD, format!("payload_{a}")),
-            (ROLE_PREV_PAYLOAD, format!("payload_{b}")),
-            (ROLE_CUR_DEPTH_COPY, format!("depth_copy_{a}")),
-            (ROLE_PREV_DEPTH_COPY, format!("depth_copy_{b}")),
-            (ROLE_CUR_DEPTH, "depth".to_string()),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v))
-        .collect()
-    };
-    let sampler = |name: &str, f: Filter| SamplerDesc {
-        name: name.into(),
-        mag_filter: f,
-        min_filter: f,
-        mipmap_filter: Filter::Nearest,
-        address_mode: "clamp-to-edge".into(),
-    };
-    let field = |name: &str, offset: u32, ty: ScalarType, value: ParamValue| ParamField {
-        name: name.into(),
-        offset,
-        ty,
-        value,
-    };
-    let mut offset = 0;
-    let infos: Vec<NodeInfo> = nodes
-        .iter()
-        .map(|node| {
-            let info = NodeInfo {
-                id: node_id(node),
-                text: node.text.clone(),
-                line: node.line,
-                col: node.col,
-                ty: node.ty.clone(),
-                components: node.components,
-                offset,
-            };
-            offset += node.components;
-            info
-        })
-        .collect();
-    if nodes.len() > 1 {
-        notes.push(format!(
-            "The payload holds {} nodes, each at its offset: {}.",
-            nodes.len(),
-            infos
-                .iter()
-                .map(|i| format!("node {} at {}", i.id, i.offset))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-    }
-    Manifest {
-        schema: "reproj.manifest".into(),
-        version: MANIFEST_VERSION,
-        shader: shader.path.file_name().map_or_else(
-            || shader.path.display().to_string(),
-            |f| f.to_string_lossy().into_owned(),
-        ),
-        entry: norm.entry.clone(),
-        shader_ir_hash: Some(crate::manifest::ir_hash(shader)),
-        node: infos[0].clone(),
-        also: infos[1..].to_vec(),
-        strategy: opts.strategy,
-        reconstruct: opts.reconstruct,
-        cache_format,
-        required_features: if !cache_format.is_half() && opts.reconstruct.filters() {
-            vec!["float32-filterable".into()]
-        } else {
-            Vec::new()
+    vec![
+        texture("payload_0", cache_format.name()),
+        texture("payload_1", cache_format.name()),
+        texture("depth_copy_0", "r32float"),
+        texture("depth_copy_1", "r32float"),
+        TextureDesc {
+            usage: vec![TextureUsage::RenderAttachment],
+            ..texture("depth", "depth32float")
         },
-        group,
-        conventions: Conventions::default(),
-        vertex: VertexContract {
-            invariant_position: true,
-            prev_clip_location,
-            inputs: vec![
-                VertexInput {
-                    name: "prev_view_proj".into(),
-                    ty: "mat4x4<f32>".into(),
-                    meaning: "the previous frame's view-projection matrix (this frame's on the first frame)".into(),
-                },
-                VertexInput {
-                    name: "prev_model".into(),
-                    ty: "mat4x4<f32>".into(),
-                    meaning: "the object's model matrix in the previous frame".into(),
-                },
-                VertexInput {
-                    name: "position".into(),
-                    ty: "vec3<f32>".into(),
-                    meaning: "the vertex's object-space position".into(),
-                },
-            ],
-            wgsl: VERTEX_CONTRACT_WGSL.into(),
-        },
-        params: Params {
-            delta_n: opts.delta_n,
-            block: opts.block,
-            depth_epsilon: opts.depth_epsilon,
-            size: contract::PARAMS_SIZE,
-            fields: vec![
-                field(
-                    "delta_n",
-                    offset_of!(ReprojParams, delta_n) as u32,
-                    ScalarType::U32,
-                    ParamValue::Steady {
-                        value: f64::from(opts.delta_n),
-                        first: 1.0,
-                    },
-                ),
-                field(
-                    "clock",
-                    offset_of!(ReprojParams, clock) as u32,
-                    ScalarType::U32,
-                    ParamValue::FrameIndex,
-                ),
-                field(
-                    "block",
-                    offset_of!(ReprojParams, block) as u32,
-                    ScalarType::U32,
-                    ParamValue::Constant {
-                        value: f64::from(opts.block),
-                    },
-                ),
-                field(
-                    "depth_epsilon",
-                    offset_of!(ReprojParams, depth_epsilon) as u32,
-                    ScalarType::F32,
-                    ParamValue::Constant {
-                        // The f32's shortest decimal (0.01, not 0.009999999776482582).
-                        value: opts.depth_epsilon.to_string().parse().unwrap_or_default(),
-                    },
-                ),
-            ],
-            // `emit` sets it from the error model at each motion band.
-            schedule: Vec::new(),
-        },
-        textures: vec![
-            texture("payload_0", cache_format.name()),
-            texture("payload_1", cache_format.name()),
-            texture("depth_copy_0", "r32float"),
-            texture("depth_copy_1", "r32float"),
-            TextureDesc {
-                usage: vec![TextureUsage::RenderAttachment],
-                ..texture("depth", "depth32float")
-            },
-        ],
-        samplers: vec![sampler(SAMPLER_LINEAR, Filter::Linear)],
-        frames: FramePlan {
-            ping_pong: vec![plan("0", "1"), plan("1", "0")],
-        },
-        passes: passes.iter().map(pass).collect(),
-        notes,
-        languages: Vec::new(),
-    }
+    ]
+}
+
+/// One frame's roles: the current payload and depth copy are textures `a`, the previous `b`.
+fn ping_pong(a: &str, b: &str) -> std::collections::BTreeMap<String, String> {
+    [
+        (ROLE_CUR_PAYLOAD, format!("payload_{a}")),
+        (ROLE_PREV_PAYLOAD, format!("payload_{b}")),
+        (ROLE_CUR_DEPTH_COPY, format!("depth_copy_{a}")),
+        (ROLE_PREV_DEPTH_COPY, format!("depth_copy_{b}")),
+        (ROLE_CUR_DEPTH, "depth".to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
 }

@@ -27,15 +27,16 @@ mod write;
 pub mod contract;
 
 pub use error::InstanceError;
-use layout::build_manifest;
 pub use layout::{
     ATTACHMENT_FRAME, ROLE_CUR_DEPTH, ROLE_CUR_DEPTH_COPY, ROLE_CUR_PAYLOAD, ROLE_PREV_DEPTH_COPY,
     ROLE_PREV_PAYLOAD, SAMPLER_LINEAR,
 };
+use layout::{ManifestInput, build_manifest};
 pub use manifest::*;
+pub use reproj_front::write_wgsl;
 pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
+pub use wgsl::pass_file;
 use wgsl::{allow_quad_uniform_derivatives, finish, finish_module};
-pub use wgsl::{pass_file, write_wgsl};
 pub use write::{VARIANT_FILES, variant_files, write_variant, write_variant_in};
 
 /// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
@@ -265,16 +266,16 @@ pub fn instance_nodes(
             strategy_passes(norm, &slots, &library, opts.strategy, prev_clip_location)?
         }
     };
-    let manifest = build_manifest(
+    let manifest = build_manifest(&ManifestInput {
         shader,
         norm,
-        &picked,
+        nodes: &picked,
         opts,
         cache_format,
         group,
         prev_clip_location,
-        &passes,
-    );
+        passes: &passes,
+    });
     Ok(Variant { manifest, passes })
 }
 

@@ -218,6 +218,8 @@ impl Body {
 
 /// Build the entry point `kind` of a fused or two-pass module. `entry` is the shader's entry
 /// function (its arguments and result); `prev_clip_location` the extra vertex output's location.
+/// Phases: the arguments, the body's start (the original arguments and the fragment position),
+/// the payload (fetched, recomputed, or both), then the shade call and the output struct.
 pub(crate) fn build_entry(
     module: &Module,
     entry: &Function,
@@ -225,10 +227,91 @@ pub(crate) fn build_entry(
     kind: EntryKind,
     prev_clip_location: u32,
 ) -> Result<Function, InstanceError> {
-    let internal = |what: &str| InstanceError::Internal {
+    let EntryArguments {
+        arguments,
+        original_args,
+        position: (pi, member),
+        prev_clip,
+    } = entry_arguments(module, entry, parts, kind, prev_clip_location);
+    let mut local_variables = naga::Arena::new();
+    let payload_var = local_variables.append(
+        naga::LocalVariable {
+            name: Some("reproj_payload".into()),
+            ty: parts.vec4,
+            init: None,
+        },
+        Span::UNDEFINED,
+    );
+    let mut b = Body::new(Function {
+        name: entry.name.clone(),
+        arguments,
+        result: Some(naga::FunctionResult {
+            ty: parts.output,
+            binding: None,
+        }),
+        local_variables,
+        expressions: naga::Arena::new(),
+        named_expressions: Default::default(),
+        body: naga::Block::new(),
+        diagnostic_filter_leaf: None,
+    });
+    let args: Vec<Handle<Expression>> = (0..original_args)
+        .map(|i| b.expr(Expression::FunctionArgument(i)))
+        .collect();
+    let mut pos = b.expr(Expression::FunctionArgument(pi));
+    if let Some(m) = member {
+        pos = b.expr(Expression::AccessIndex {
+            base: pos,
+            index: m,
+        });
+    }
+    let start = EntryStart {
+        parts,
+        kind,
+        args,
+        pos,
+        prev_clip,
+        payload_var,
+    };
+    let payload = payload(&mut b, &start)?;
+    let out = entry_output(&mut b, module, entry, &start, payload)?;
+    b.stmt(Statement::Return { value: Some(out) });
+    let mut fun = b.finish();
+    if kind != EntryKind::Fused {
+        // The payload variable is only used by the fused body.
+        fun.local_variables = naga::Arena::new();
+    }
+    Ok(fun)
+}
+
+/// A bug in reproj while building the entry point `kind`.
+fn internal(kind: EntryKind, what: &str) -> InstanceError {
+    InstanceError::Internal {
         pass: pass_kind(kind),
         what: what.into(),
-    };
+    }
+}
+
+/// The new entry point's arguments and where the ones it adds are.
+struct EntryArguments {
+    arguments: Vec<naga::FunctionArgument>,
+    /// How many of `arguments` are the shader's own (the shade and recompute calls take them).
+    original_args: u32,
+    /// The fragment position: an argument, and its member when the argument is a struct.
+    position: (u32, Option<u32>),
+    /// The previous clip position's argument, for the entries that fetch.
+    prev_clip: Option<u32>,
+}
+
+/// The shader's arguments, plus the fragment position where the shader has none (every entry
+/// writes the depth copy) and the previous clip position where the entry fetches.
+fn entry_arguments(
+    module: &Module,
+    entry: &Function,
+    parts: &Parts,
+    kind: EntryKind,
+    prev_clip_location: u32,
+) -> EntryArguments {
     let mut arguments = entry.arguments.clone();
     let original_args = arguments.len() as u32;
     // Every entry writes the depth copy, so every one needs the fragment's position.
@@ -260,137 +343,152 @@ pub(crate) fn build_entry(
         });
         prev_clip = Some(arguments.len() as u32 - 1);
     }
-    let mut local_variables = naga::Arena::new();
-    let payload_var = local_variables.append(
-        naga::LocalVariable {
-            name: Some("reproj_payload".into()),
-            ty: parts.vec4,
-            init: None,
-        },
-        Span::UNDEFINED,
-    );
-    let mut b = Body::new(Function {
-        name: entry.name.clone(),
+    EntryArguments {
         arguments,
-        result: Some(naga::FunctionResult {
-            ty: parts.output,
-            binding: None,
-        }),
-        local_variables,
-        expressions: naga::Arena::new(),
-        named_expressions: Default::default(),
-        body: naga::Block::new(),
-        diagnostic_filter_leaf: None,
-    });
-    let args: Vec<Handle<Expression>> = (0..original_args)
-        .map(|i| b.expr(Expression::FunctionArgument(i)))
-        .collect();
-    let recompute = || {
-        parts
-            .recompute
-            .ok_or_else(|| internal("no recompute function"))
-    };
-    let (pi, member) = position;
-    let mut pos = b.expr(Expression::FunctionArgument(pi));
-    if let Some(m) = member {
-        pos = b.expr(Expression::AccessIndex {
-            base: pos,
-            index: m,
-        });
+        original_args,
+        position,
+        prev_clip,
     }
-    let payload = match kind {
-        EntryKind::Shade => None,
-        EntryKind::ShadeMisses => Some(b.call(recompute()?, args.clone())),
-        EntryKind::Fused | EntryKind::ShadeHits => {
-            let fetch = parts.fetch.ok_or_else(|| internal("no lookup library"))?;
-            let prev = b.expr(Expression::FunctionArgument(
-                prev_clip.ok_or_else(|| internal("no previous clip position"))?,
-            ));
-            let r = b.call(fetch, vec![pos, prev]);
-            let fetched = b.expr(Expression::AccessIndex { base: r, index: 0 });
-            let status = b.expr(Expression::AccessIndex { base: r, index: 1 });
-            let zero = b.expr(Expression::Literal(naga::Literal::U32(0)));
-            let missed = b.expr(Expression::Binary {
-                op: naga::BinaryOperator::NotEqual,
-                left: status,
-                right: zero,
-            });
-            if kind == EntryKind::ShadeHits {
-                b.open();
-                b.stmt(Statement::Kill);
-                let accept = b.close();
-                b.stmt(Statement::If {
-                    condition: missed,
-                    accept,
-                    reject: naga::Block::new(),
-                });
-                Some(fetched)
-            } else {
-                // Recompute the whole 2×2 quad when any of its pixels missed or is refreshed, so
-                // that derivatives in the recompute branch (implicit-LOD texture samples, dpdx) see
-                // four active pixels. Fine derivatives of the miss flag reach the horizontal, then
-                // the vertical neighbour: `quad` > 0 iff one of the four flags is 1. Refreshed
-                // blocks already cover whole quads (k even); misses need not.
-                let fzero = b.expr(Expression::Literal(naga::Literal::F32(0.0)));
-                let fone = b.expr(Expression::Literal(naga::Literal::F32(1.0)));
-                let flag = b.expr(Expression::Select {
-                    condition: missed,
-                    accept: fone,
-                    reject: fzero,
-                });
-                let spread = |b: &mut Body, v, axis| {
-                    let d = b.expr(Expression::Derivative {
-                        axis,
-                        ctrl: naga::DerivativeControl::Fine,
-                        expr: v,
-                    });
-                    let a = b.expr(Expression::Math {
-                        fun: naga::MathFunction::Abs,
-                        arg: d,
-                        arg1: None,
-                        arg2: None,
-                        arg3: None,
-                    });
-                    b.expr(Expression::Binary {
-                        op: naga::BinaryOperator::Add,
-                        left: v,
-                        right: a,
-                    })
-                };
-                let row = spread(&mut b, flag, naga::DerivativeAxis::X);
-                let quad = spread(&mut b, row, naga::DerivativeAxis::Y);
-                let missed = b.expr(Expression::Binary {
-                    op: naga::BinaryOperator::Greater,
-                    left: quad,
-                    right: fzero,
-                });
-                let var = b.expr(Expression::LocalVariable(payload_var));
-                b.stmt(Statement::Store {
-                    pointer: var,
-                    value: fetched,
-                });
-                b.open();
-                let computed = b.call(recompute()?, args.clone());
-                b.stmt(Statement::Store {
-                    pointer: var,
-                    value: computed,
-                });
-                let accept = b.close();
-                b.stmt(Statement::If {
-                    condition: missed,
-                    accept,
-                    reject: naga::Block::new(),
-                });
-                Some(b.expr(Expression::Load { pointer: var }))
-            }
-        }
+}
+
+/// What the later phases of an entry point use: its parts and kind, and the handles its start
+/// made (the shader's arguments, the fragment position) or declared.
+struct EntryStart<'a> {
+    parts: &'a Parts,
+    kind: EntryKind,
+    args: Vec<Handle<Expression>>,
+    pos: Handle<Expression>,
+    prev_clip: Option<u32>,
+    payload_var: Handle<naga::LocalVariable>,
+}
+
+impl EntryStart<'_> {
+    /// `reproj_recompute`, which the entries that recompute need.
+    fn recompute(&self) -> Result<Handle<Function>, InstanceError> {
+        self.parts
+            .recompute
+            .ok_or_else(|| internal(self.kind, "no recompute function"))
+    }
+}
+
+/// The payload the shade call takes: none (3pass shade), recomputed (shade misses), fetched with
+/// the misses discarded (shade hits), or fetched and recomputed where the quad missed (fused).
+fn payload(b: &mut Body, s: &EntryStart) -> Result<Option<Handle<Expression>>, InstanceError> {
+    let kind = s.kind;
+    if kind == EntryKind::Shade {
+        return Ok(None);
+    }
+    if kind == EntryKind::ShadeMisses {
+        return Ok(Some(b.call(s.recompute()?, s.args.clone())));
+    }
+    let fetch = s
+        .parts
+        .fetch
+        .ok_or_else(|| internal(kind, "no lookup library"))?;
+    let prev = b.expr(Expression::FunctionArgument(
+        s.prev_clip
+            .ok_or_else(|| internal(kind, "no previous clip position"))?,
+    ));
+    let r = b.call(fetch, vec![s.pos, prev]);
+    let fetched = b.expr(Expression::AccessIndex { base: r, index: 0 });
+    let status = b.expr(Expression::AccessIndex { base: r, index: 1 });
+    let zero = b.expr(Expression::Literal(naga::Literal::U32(0)));
+    let missed = b.expr(Expression::Binary {
+        op: naga::BinaryOperator::NotEqual,
+        left: status,
+        right: zero,
+    });
+    if kind == EntryKind::ShadeHits {
+        b.open();
+        b.stmt(Statement::Kill);
+        let accept = b.close();
+        b.stmt(Statement::If {
+            condition: missed,
+            accept,
+            reject: naga::Block::new(),
+        });
+        return Ok(Some(fetched));
+    }
+    let quad_missed = quad_missed(b, missed);
+    let var = b.expr(Expression::LocalVariable(s.payload_var));
+    b.stmt(Statement::Store {
+        pointer: var,
+        value: fetched,
+    });
+    b.open();
+    let computed = b.call(s.recompute()?, s.args.clone());
+    b.stmt(Statement::Store {
+        pointer: var,
+        value: computed,
+    });
+    let accept = b.close();
+    b.stmt(Statement::If {
+        condition: quad_missed,
+        accept,
+        reject: naga::Block::new(),
+    });
+    Ok(Some(b.expr(Expression::Load { pointer: var })))
+}
+
+/// Whether any pixel of the 2×2 quad missed, from each pixel's `missed`: the fused entry
+/// recomputes the whole quad then, so that derivatives in the recompute branch (implicit-LOD
+/// texture samples, dpdx) see four active pixels. Fine derivatives of the miss flag reach the
+/// horizontal, then the vertical neighbour: `quad` > 0 iff one of the four flags is 1. Refreshed
+/// blocks already cover whole quads (k even); misses need not.
+fn quad_missed(b: &mut Body, missed: Handle<Expression>) -> Handle<Expression> {
+    let fzero = b.expr(Expression::Literal(naga::Literal::F32(0.0)));
+    let fone = b.expr(Expression::Literal(naga::Literal::F32(1.0)));
+    let flag = b.expr(Expression::Select {
+        condition: missed,
+        accept: fone,
+        reject: fzero,
+    });
+    let spread = |b: &mut Body, v, axis| {
+        let d = b.expr(Expression::Derivative {
+            axis,
+            ctrl: naga::DerivativeControl::Fine,
+            expr: v,
+        });
+        let a = b.expr(Expression::Math {
+            fun: naga::MathFunction::Abs,
+            arg: d,
+            arg1: None,
+            arg2: None,
+            arg3: None,
+        });
+        b.expr(Expression::Binary {
+            op: naga::BinaryOperator::Add,
+            left: v,
+            right: a,
+        })
     };
-    let mut shade_args = args;
+    let row = spread(b, flag, naga::DerivativeAxis::X);
+    let quad = spread(b, row, naga::DerivativeAxis::Y);
+    b.expr(Expression::Binary {
+        op: naga::BinaryOperator::Greater,
+        left: quad,
+        right: fzero,
+    })
+}
+
+/// Call the shade function with the payload and compose the output struct: the shader's outputs,
+/// the payload (the cache target, where written) and the fragment's depth for the depth copy
+/// (`@builtin(position).z`, unless the shader writes its own).
+fn entry_output(
+    b: &mut Body,
+    module: &Module,
+    entry: &Function,
+    s: &EntryStart,
+    payload: Option<Handle<Expression>>,
+) -> Result<Handle<Expression>, InstanceError> {
+    let mut shade_args = s.args.clone();
     shade_args.extend(payload);
-    let color = b.call(parts.shade, shade_args);
-    let result = entry.result.as_ref().ok_or_else(|| internal("no result"))?;
+    let color = b.call(s.parts.shade, shade_args);
+    let result = entry
+        .result
+        .as_ref()
+        .ok_or_else(|| internal(s.kind, "no result"))?;
     let mut components = Vec::new();
-    // The fragment's depth: `@builtin(position).z`, unless the shader writes its own.
     let mut depth = None;
     match (&result.binding, &module.types[result.ty].inner) {
         (None, naga::TypeInner::Struct { members, .. }) => {
@@ -411,22 +509,15 @@ pub(crate) fn build_entry(
     let depth = match depth {
         Some(d) => d,
         None => b.expr(Expression::AccessIndex {
-            base: pos,
+            base: s.pos,
             index: 2,
         }),
     };
     components.push(depth);
-    let out = b.expr(Expression::Compose {
-        ty: parts.output,
+    Ok(b.expr(Expression::Compose {
+        ty: s.parts.output,
         components,
-    });
-    b.stmt(Statement::Return { value: Some(out) });
-    let mut fun = b.finish();
-    if kind != EntryKind::Fused {
-        // The payload variable is only used by the fused body.
-        fun.local_variables = naga::Arena::new();
-    }
-    Ok(fun)
+    }))
 }
 
 /// Which entry points a strategy's modules have, in pass order.

@@ -252,7 +252,9 @@ fn validate(frames: &[FrameTiming]) -> Result<(), TimingFitFailure> {
     Ok(())
 }
 
-/// Fit to `frames` with `opts`; `holdout` may be empty.
+/// Fit to `frames` with `opts`; `holdout` may be empty. Phases: the checks, the least-squares
+/// system, the costs (by an active set at full rank, [`full_rank_costs`]; the determined ones
+/// otherwise, [`rank_deficient_costs`]), then the quality of the fit.
 pub fn fit_timing_with_options(
     frames: &[FrameTiming],
     holdout: &[FrameTiming],
@@ -275,102 +277,41 @@ pub fn fit_timing_with_options(
     if mean_pixels <= 0.0 {
         return TimingFit::failed(n, TimingFitFailure::NoShadedPixels);
     }
-
-    let cols = [
-        frames.iter().map(|f| f.hits as f64).collect::<Vec<_>>(),
-        frames.iter().map(|f| f.misses as f64).collect::<Vec<_>>(),
-        vec![1.0; n],
-    ];
-    let t: Vec<f64> = frames.iter().map(|f| f.time_ms).collect();
-    let params = [TimingParam::Hit, TimingParam::Miss, TimingParam::Overhead];
-    let full = least_squares(&cols, &[0, 1, 2], &t, rtol);
+    let system = System {
+        cols: [
+            frames.iter().map(|f| f.hits as f64).collect::<Vec<_>>(),
+            frames.iter().map(|f| f.misses as f64).collect::<Vec<_>>(),
+            vec![1.0; n],
+        ],
+        t: frames.iter().map(|f| f.time_ms).collect(),
+        rtol,
+    };
+    let full = least_squares(&system.cols, &[0, 1, 2], &system.t, rtol);
     let full_rank = full.rank;
     let mut warnings = Vec::new();
-    // Final values (None = undetermined) and the values used to compute fitted times.
-    let mut value: [Option<f64>; 3] = [None; 3];
-    let mut used = [0.0; 3];
-
-    let status = if full_rank == 3 {
-        // Active set (as in Lawson–Hanson NNLS): fix the most negative cost at 0 and refit the
-        // others, one at a time. With nearly collinear columns (pixel counts that barely change
-        // between frames) several raw costs can come out negative together, and only the worst
-        // is wrong: fixing all of them at once would throw away the per-pixel cost that is real.
-        let mut fixed = [false; 3];
-        let mut sol = full;
-        loop {
-            let worst = sol
-                .cols
-                .iter()
-                .zip(&sol.x)
-                .filter(|(_, x)| **x < 0.0)
-                .min_by(|a, b| a.1.total_cmp(b.1))
-                .map(|(j, x)| (*j, *x));
-            let Some((j, raw)) = worst else {
-                break;
-            };
-            fixed[j] = true;
-            warnings.push(TimingWarning::NegativeClamped {
-                param: params[j],
-                raw,
-            });
-            let free: Vec<usize> = (0..3).filter(|&j| !fixed[j]).collect();
-            if free.is_empty() {
-                sol = LsSolution::empty();
-                break;
-            }
-            sol = least_squares(&cols, &free, &t, rtol);
-        }
-        for j in 0..3 {
-            let v = sol
-                .cols
-                .iter()
-                .position(|&c| c == j)
-                .map_or(0.0, |k| sol.x[k]);
-            value[j] = Some(v);
-            used[j] = v;
-        }
-        TimingStatus::Ok
+    let (costs, status) = if full_rank == 3 {
+        (
+            full_rank_costs(&system, full, &mut warnings),
+            TimingStatus::Ok,
+        )
     } else {
-        let (lo, hi) = pixels
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &p| {
-                (lo.min(p), hi.max(p))
-            });
-        let constant_pixels = hi - lo <= rtol * hi;
-        let (sol, overhead_absorbed) = if constant_pixels {
-            (least_squares(&cols, &[0, 1], &t, rtol), true)
-        } else {
-            (full, false)
-        };
-        if overhead_absorbed {
-            value[2] = Some(0.0);
-        }
-        for (k, &j) in sol.cols.iter().enumerate() {
-            used[j] = sol.x[k];
-            if sol.identifiable[k] {
-                let v = sol.x[k];
-                if v < 0.0 {
-                    warnings.push(TimingWarning::NegativeClamped {
-                        param: params[j],
-                        raw: v,
-                    });
-                    value[j] = Some(0.0);
-                    used[j] = 0.0;
-                } else {
-                    value[j] = Some(v);
-                }
-            }
-        }
-        TimingStatus::RankDeficient {
-            rank: full_rank,
-            overhead_absorbed,
-            undetermined: (0..3)
-                .filter(|&j| value[j].is_none())
-                .map(|j| params[j])
-                .collect(),
-        }
+        let (costs, overhead_absorbed) =
+            rank_deficient_costs(&system, &pixels, full, &mut warnings);
+        let undetermined = (0..3)
+            .filter(|&j| costs.value[j].is_none())
+            .map(|j| PARAMS[j])
+            .collect();
+        (
+            costs,
+            TimingStatus::RankDeficient {
+                rank: full_rank,
+                overhead_absorbed,
+                undetermined,
+            },
+        )
     };
-
+    let Costs { value, used } = costs;
+    let t = &system.t;
     let fitted: Vec<f64> = frames
         .iter()
         .map(|f| used[2] + f.hits as f64 * used[0] + f.misses as f64 * used[1])
@@ -384,8 +325,8 @@ pub fn fit_timing_with_options(
         miss_ms: value[1],
         overhead_ms: value[2],
         mean_pixels: Some(mean_pixels),
-        r2: Some(r_squared(&t, &fitted)),
-        rms_residual_ms: Some(rms_residual(&t, &fitted)),
+        r2: Some(r_squared(t, &fitted)),
+        rms_residual_ms: Some(rms_residual(t, &fitted)),
         holdout_rms_ms: None,
         holdout_mean_relative_error: None,
         n_frames: n,
@@ -398,6 +339,119 @@ pub fn fit_timing_with_options(
         evaluate_holdout(&mut fit, holdout);
     }
     fit
+}
+
+/// The costs' columns, in [`PARAMS`] order.
+const PARAMS: [TimingParam; 3] = [TimingParam::Hit, TimingParam::Miss, TimingParam::Overhead];
+
+/// The least-squares system of a timing fit: the columns (hits, misses, a constant), the frame
+/// times, and the rank tolerance.
+struct System {
+    cols: [Vec<f64>; 3],
+    t: Vec<f64>,
+    rtol: f64,
+}
+
+/// A fit's costs in [`PARAMS`] order: the reported values (`None`: undetermined) and the values
+/// the fitted times are computed with.
+struct Costs {
+    value: [Option<f64>; 3],
+    used: [f64; 3],
+}
+
+/// At full rank, by an active set (as in Lawson–Hanson NNLS): fix the most negative cost at 0
+/// and refit the others, one at a time. With nearly collinear columns (pixel counts that barely
+/// change between frames) several raw costs can come out negative together, and only the worst
+/// is wrong: fixing all of them at once would throw away the per-pixel cost that is real.
+fn full_rank_costs(system: &System, full: LsSolution, warnings: &mut Vec<TimingWarning>) -> Costs {
+    let mut fixed = [false; 3];
+    let mut sol = full;
+    loop {
+        let worst = sol
+            .cols
+            .iter()
+            .zip(&sol.x)
+            .filter(|(_, x)| **x < 0.0)
+            .min_by(|a, b| a.1.total_cmp(b.1))
+            .map(|(j, x)| (*j, *x));
+        let Some((j, raw)) = worst else {
+            break;
+        };
+        fixed[j] = true;
+        warnings.push(TimingWarning::NegativeClamped {
+            param: PARAMS[j],
+            raw,
+        });
+        let free: Vec<usize> = (0..3).filter(|&j| !fixed[j]).collect();
+        if free.is_empty() {
+            sol = LsSolution::empty();
+            break;
+        }
+        sol = least_squares(&system.cols, &free, &system.t, system.rtol);
+    }
+    let mut costs = Costs {
+        value: [None; 3],
+        used: [0.0; 3],
+    };
+    for j in 0..3 {
+        let v = sol
+            .cols
+            .iter()
+            .position(|&c| c == j)
+            .map_or(0.0, |k| sol.x[k]);
+        costs.value[j] = Some(v);
+        costs.used[j] = v;
+    }
+    costs
+}
+
+/// Below full rank: the overhead absorbed (fixed at 0) when every frame shades the same number
+/// of pixels, and only the costs the data determines reported (a negative one clamped at 0).
+/// Also whether the overhead was absorbed.
+fn rank_deficient_costs(
+    system: &System,
+    pixels: &[f64],
+    full: LsSolution,
+    warnings: &mut Vec<TimingWarning>,
+) -> (Costs, bool) {
+    let (lo, hi) = pixels
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let constant_pixels = hi - lo <= system.rtol * hi;
+    let (sol, overhead_absorbed) = if constant_pixels {
+        (
+            least_squares(&system.cols, &[0, 1], &system.t, system.rtol),
+            true,
+        )
+    } else {
+        (full, false)
+    };
+    let mut costs = Costs {
+        value: [None; 3],
+        used: [0.0; 3],
+    };
+    if overhead_absorbed {
+        costs.value[2] = Some(0.0);
+    }
+    for (k, &j) in sol.cols.iter().enumerate() {
+        costs.used[j] = sol.x[k];
+        if sol.identifiable[k] {
+            let v = sol.x[k];
+            if v < 0.0 {
+                warnings.push(TimingWarning::NegativeClamped {
+                    param: PARAMS[j],
+                    raw: v,
+                });
+                costs.value[j] = Some(0.0);
+                costs.used[j] = 0.0;
+            } else {
+                costs.value[j] = Some(v);
+            }
+        }
+    }
+    (costs, overhead_absorbed)
 }
 
 /// Fill the hold-out fields of `fit` (or add a `HoldoutSkipped` warning).

@@ -6,7 +6,7 @@
 
 use reproj_models::Profile;
 use reproj_select::{
-    Choice, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection,
+    Budget, Choice, DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N, NodeRecord, SelectOptions, Selection,
     SetRecord, candidates, select_with_sets,
 };
 use serde::Serialize;
@@ -64,8 +64,8 @@ impl Records {
     }
 }
 
-/// The selection at `budget` (emit's defaults: Δn in 2..=50).
-pub fn select_at(profile: &Profile, records: &Records, budget: f64) -> Selection {
+/// The selection at `budget` (emit's defaults: Δn in [`reproj_select::DELTA_N_RANGE`]).
+pub fn select_at(profile: &Profile, records: &Records, budget: Budget) -> Selection {
     select_with_sets(
         &records.nodes,
         &records.sets,
@@ -133,7 +133,12 @@ pub fn budgets(profile: &Profile, records: &Records) -> Budgets {
     let mut first_budget = Vec::new();
     let entries = at
         .into_iter()
-        .map(|budget| match select_at(profile, records, budget) {
+        .map(|budget| {
+            // The range is finite and positive, and so is every point of it.
+            Budget::new(budget).expect("the slider's budgets lie in a finite, positive range")
+        })
+        .map(|b| (b.get(), select_at(profile, records, b)))
+        .map(|(budget, selection)| match selection {
             Selection::Node(c) => {
                 let i = choices
                     .iter()

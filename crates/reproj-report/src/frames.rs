@@ -71,6 +71,8 @@ pub fn reference(
 
 /// Render `choice` (its node or set in the strategy the profile measured, at its Δn) and pick
 /// its frames. `loaded` is the profile's shader as `load_profiled` gave it (its node table).
+/// Phases: the variant ([`choice_variant`]), its replay, the frames picked ([`picked_frames`])
+/// and their images ([`frame_images`]).
 pub fn render_choice(
     renderer: &Renderer,
     shader: &Shader,
@@ -80,13 +82,63 @@ pub fn render_choice(
     reference: &reproj_replay::Reference,
     choice: &Choice,
 ) -> Result<Rendered, ReportError> {
+    let variant = choice_variant(shader, loaded, profile, choice)?;
+    let input = VariantInput::new(
+        variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+        variant.manifest.clone(),
+        choice.delta_n,
+    );
+    let dir = tempfile::tempdir().map_err(|source| reproj_analyze::AnalyzeError::Io {
+        path: std::env::temp_dir(),
+        source,
+    })?;
+    let report = renderer.render_variant(
+        shader,
+        session,
+        &input,
+        reference,
+        &RenderOptions {
+            png_dir: Some(dir.path().to_owned()),
+            max_frames: Some(profile.frames),
+            first_frame: 0,
+            timing_only: false,
+            classify: true,
+            raw_frames: false,
+            // The perceptual metrics on the profile's frames (or analyze's default stride).
+            perceptual_stride: Some(
+                profile
+                    .perceptual_stride
+                    .unwrap_or(reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE),
+            ),
+        },
+    )?;
+    let picks = picked_frames(&report);
+    let frames = frame_images(dir.path(), reference, &report, picks)?;
+    Ok(Rendered {
+        report,
+        original_ms: reference.report.frame_ms,
+        frames,
+        input,
+        speedup: None,
+        speedup_ci95: None,
+    })
+}
+
+/// The variant of `choice`: its node, or its set in one payload, in the strategy and with the
+/// settings the profile measured, at the choice's Δn.
+fn choice_variant(
+    shader: &Shader,
+    loaded: &reproj_front::Loaded,
+    profile: &Profile,
+    choice: &Choice,
+) -> Result<reproj_instance::Variant, ReportError> {
     let strategy_of = |name: &str, what: String| -> Result<Strategy, ReportError> {
         name.parse().map_err(|e: String| {
             reproj_analyze::AnalyzeError::Options(format!("{what}: {e}")).into()
         })
     };
     let profile_path = Path::new(&profile.shader.path);
-    let variant = if choice.members.is_empty() {
+    Ok(if choice.members.is_empty() {
         let node = profile
             .nodes
             .iter()
@@ -138,36 +190,11 @@ pub fn render_choice(
                 ..InstanceOptions::default()
             },
         )?
-    };
-    let input = VariantInput::new(
-        variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
-        variant.manifest.clone(),
-        choice.delta_n,
-    );
-    let dir = tempfile::tempdir().map_err(|source| reproj_analyze::AnalyzeError::Io {
-        path: std::env::temp_dir(),
-        source,
-    })?;
-    let report = renderer.render_variant(
-        shader,
-        session,
-        &input,
-        reference,
-        &RenderOptions {
-            png_dir: Some(dir.path().to_owned()),
-            max_frames: Some(profile.frames),
-            first_frame: 0,
-            timing_only: false,
-            classify: true,
-            raw_frames: false,
-            // The perceptual metrics on the profile's frames (or analyze's default stride).
-            perceptual_stride: Some(
-                profile
-                    .perceptual_stride
-                    .unwrap_or(reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE),
-            ),
-        },
-    )?;
+    })
+}
+
+/// The frames shown: the middle one, and the one with the largest error when it is another.
+fn picked_frames(report: &RenderReport) -> Vec<(u32, &'static str)> {
     let mut picks: Vec<(u32, &'static str)> = Vec::new();
     let n = report.frames.len() as u32;
     if n > 0 {
@@ -181,16 +208,26 @@ pub fn render_choice(
             picks.push((worst, "largest error"));
         }
     }
+    picks
+}
+
+/// The picked frames' images: the reference's (as PNG), and the variant's frame, error map and
+/// hit map the replay wrote into `dir`.
+fn frame_images(
+    dir: &Path,
+    reference: &reproj_replay::Reference,
+    report: &RenderReport,
+    picks: Vec<(u32, &'static str)>,
+) -> Result<Vec<FrameImages>, ReportError> {
     let mut frames = Vec::new();
     for (index, why) in picks {
         let read = |name: &str| -> Result<Vec<u8>, ReportError> {
-            let p = dir.path().join(format!("{name}_{index:03}.png"));
+            let p = dir.join(format!("{name}_{index:03}.png"));
             std::fs::read(&p).map_err(|source| {
                 ReportError::from(reproj_analyze::AnalyzeError::Io { path: p, source })
             })
         };
         let hitmap = dir
-            .path()
             .join(format!("hitmap_{index:03}.png"))
             .is_file()
             .then(|| read("hitmap"))
@@ -209,14 +246,7 @@ pub fn render_choice(
             hitmap,
         });
     }
-    Ok(Rendered {
-        report,
-        original_ms: reference.report.frame_ms,
-        frames,
-        input,
-        speedup: None,
-        speedup_ci95: None,
-    })
+    Ok(frames)
 }
 
 /// RGBA8 pixels as PNG bytes.

@@ -404,110 +404,121 @@ fn fits(h: &mut String, profile: &Profile) {
         },
     );
     for n in &profile.nodes {
-        let status = match &n.status {
-            // A timing fit that explains little of the frame times is no "ok" for the speed.
-            NodeStatus::Ok => match n.timing_fit.r2.filter(|r2| *r2 < WEAK_TIME_R2) {
-                Some(r2) => format!(
-                    "ok for the error; timing fit weak (R² {r2:.3}): the speed leans on the interleaved race"
-                ),
-                None => "ok".to_string(),
-            },
-            NodeStatus::SetAside { reason } => format!("set aside: {reason}"),
-        };
-        // The reconstruction filter, with what its race measured where one was run.
-        let filter = match profile
-            .filter_probes
-            .iter()
-            .find(|p| p.node == n.id && p.note.is_some())
-        {
-            Some(p) => format!(
-                "{} ({})",
-                n.reconstruct_in(profile),
-                p.note.as_deref().unwrap_or_default()
-            ),
-            None => n.reconstruct_in(profile).to_string(),
-        };
-        let e = &n.error_fit;
-        let t = &n.timing_fit;
-        let holdout: Vec<String> = n
-            .holdout
-            .iter()
-            .map(|c| {
-                format!(
-                    "{}: {} / {}; {} / {}",
-                    c.delta_n,
-                    num(Some(c.measured_error), 5),
-                    num(c.predicted_error, 5),
-                    num(Some(c.measured_ms), 2),
-                    num(c.predicted_ms, 2)
-                )
-            })
-            .collect();
-        let _ = writeln!(
-            h,
-            r#"<tr class="{cls}"><td>{id}{root}</td><td class="code">{text}</td><td>{strategy}</td><td>{filter}</td><td>{status}</td><td>{alpha}</td><td>{lambda}</td><td>{er2}</td><td>{erms}</td><td>{hit}</td><td>{miss}</td><td>{over}</td><td>{tr2}</td><td>{hold}</td><td>{checks}</td></tr>"#,
-            cls = if n.status == NodeStatus::Ok {
-                "ok"
-            } else {
-                "aside"
-            },
-            id = n.id,
-            root = if n.root { " (root)" } else { "" },
-            text = esc(&n.text),
-            strategy = esc(&n.strategy),
-            filter = esc(&filter),
-            status = esc(&status),
-            alpha = num(e.alpha, 5),
-            lambda = num(e.lambda, 4),
-            er2 = num(e.r2, 3),
-            erms = sci(e.rms_residual),
-            hit = sci(t.hit_ms),
-            miss = sci(t.miss_ms),
-            over = num(t.overhead_ms, 3),
-            tr2 = num(t.r2, 3),
-            hold = t
-                .holdout_mean_relative_error
-                .filter(|v| v.is_finite())
-                .map_or_else(|| "–".to_string(), |v| format!("{:.1} %", v * 100.0)),
-            checks = esc(&holdout.join(" · ")),
-        );
+        fit_row(h, profile, n);
     }
     h.push_str("</tbody></table>\n");
     for n in profile.nodes.iter().filter(|n| !n.measurements.is_empty()) {
-        let names: Vec<&'static str> = n
-            .measurements
-            .first()
-            .map(|m| metrics::of_measurement(m).iter().map(|x| x.name).collect())
-            .unwrap_or_default();
-        let _ = write!(
-            h,
-            r#"<details><summary>node {} measurements ({})</summary><table class="fits"><thead><tr><th>Δn</th>"#,
-            n.id,
-            n.measurements.len()
-        );
-        for name in &names {
-            let _ = write!(h, "<th>{name}</th>");
-        }
-        h.push_str("<th>hit rate</th><th>frame ms</th></tr></thead><tbody>");
-        let mut ms: Vec<_> = n.measurements.iter().collect();
-        ms.sort_by_key(|m| m.delta_n);
-        for m in ms {
-            let _ = write!(h, "<tr><td>{}</td>", m.delta_n);
-            for x in metrics::of_measurement(m) {
-                let _ = write!(
-                    h,
-                    "<td>{} {}</td>",
-                    num(x.value, x.decimals as usize),
-                    x.unit
-                );
-            }
-            let _ = write!(
-                h,
-                "<td>{:.3}</td><td>{:.3}</td></tr>",
-                m.hit_rate, m.frame_ms
-            );
-        }
-        h.push_str("</tbody></table></details>\n");
+        measurements(h, n);
     }
     h.push_str("</section>\n");
+}
+
+/// A node's row of the fits table: its status (a weak timing fit said), its filter (with its
+/// race's note), its models' parameters and quality, its held-out checks.
+fn fit_row(h: &mut String, profile: &Profile, n: &NodeProfile) {
+    let status = match &n.status {
+        // A timing fit that explains little of the frame times is no "ok" for the speed.
+        NodeStatus::Ok => match n.timing_fit.r2.filter(|r2| *r2 < WEAK_TIME_R2) {
+            Some(r2) => format!(
+                "ok for the error; timing fit weak (R² {r2:.3}): the speed leans on the interleaved race"
+            ),
+            None => "ok".to_string(),
+        },
+        NodeStatus::SetAside { reason } => format!("set aside: {reason}"),
+    };
+    // The reconstruction filter, with what its race measured where one was run.
+    let filter = match profile
+        .filter_probes
+        .iter()
+        .find(|p| p.node == n.id && p.note.is_some())
+    {
+        Some(p) => format!(
+            "{} ({})",
+            n.reconstruct_in(profile),
+            p.note.as_deref().unwrap_or_default()
+        ),
+        None => n.reconstruct_in(profile).to_string(),
+    };
+    let e = &n.error_fit;
+    let t = &n.timing_fit;
+    let holdout: Vec<String> = n
+        .holdout
+        .iter()
+        .map(|c| {
+            format!(
+                "{}: {} / {}; {} / {}",
+                c.delta_n,
+                num(Some(c.measured_error), 5),
+                num(c.predicted_error, 5),
+                num(Some(c.measured_ms), 2),
+                num(c.predicted_ms, 2)
+            )
+        })
+        .collect();
+    let _ = writeln!(
+        h,
+        r#"<tr class="{cls}"><td>{id}{root}</td><td class="code">{text}</td><td>{strategy}</td><td>{filter}</td><td>{status}</td><td>{alpha}</td><td>{lambda}</td><td>{er2}</td><td>{erms}</td><td>{hit}</td><td>{miss}</td><td>{over}</td><td>{tr2}</td><td>{hold}</td><td>{checks}</td></tr>"#,
+        cls = if n.status == NodeStatus::Ok {
+            "ok"
+        } else {
+            "aside"
+        },
+        id = n.id,
+        root = if n.root { " (root)" } else { "" },
+        text = esc(&n.text),
+        strategy = esc(&n.strategy),
+        filter = esc(&filter),
+        status = esc(&status),
+        alpha = num(e.alpha, 5),
+        lambda = num(e.lambda, 4),
+        er2 = num(e.r2, 3),
+        erms = sci(e.rms_residual),
+        hit = sci(t.hit_ms),
+        miss = sci(t.miss_ms),
+        over = num(t.overhead_ms, 3),
+        tr2 = num(t.r2, 3),
+        hold = t
+            .holdout_mean_relative_error
+            .filter(|v| v.is_finite())
+            .map_or_else(|| "–".to_string(), |v| format!("{:.1} %", v * 100.0)),
+        checks = esc(&holdout.join(" · ")),
+    );
+}
+
+/// A node's measurements, one row per Δn, in a fold.
+fn measurements(h: &mut String, n: &NodeProfile) {
+    let names: Vec<&'static str> = n
+        .measurements
+        .first()
+        .map(|m| metrics::of_measurement(m).iter().map(|x| x.name).collect())
+        .unwrap_or_default();
+    let _ = write!(
+        h,
+        r#"<details><summary>node {} measurements ({})</summary><table class="fits"><thead><tr><th>Δn</th>"#,
+        n.id,
+        n.measurements.len()
+    );
+    for name in &names {
+        let _ = write!(h, "<th>{name}</th>");
+    }
+    h.push_str("<th>hit rate</th><th>frame ms</th></tr></thead><tbody>");
+    let mut ms: Vec<_> = n.measurements.iter().collect();
+    ms.sort_by_key(|m| m.delta_n);
+    for m in ms {
+        let _ = write!(h, "<tr><td>{}</td>", m.delta_n);
+        for x in metrics::of_measurement(m) {
+            let _ = write!(
+                h,
+                "<td>{} {}</td>",
+                num(x.value, x.decimals as usize),
+                x.unit
+            );
+        }
+        let _ = write!(
+            h,
+            "<td>{:.3}</td><td>{:.3}</td></tr>",
+            m.hit_rate, m.frame_ms
+        );
+    }
+    h.push_str("</tbody></table></details>\n");
 }

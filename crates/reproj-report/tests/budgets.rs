@@ -37,7 +37,11 @@ fn the_lookup_is_the_selector_at_every_budget() {
     let mut changes = 0;
     let mut last = None;
     for budget in tried.into_iter().filter(|x| (lo..=hi).contains(x)) {
-        let want = key(&select_at(&profile, &recs, budget));
+        let want = key(&select_at(
+            &profile,
+            &recs,
+            reproj_select::Budget::new(budget).unwrap(),
+        ));
         let entry = b.lookup(budget).unwrap();
         let got = entry.choice.map(|i| {
             let c = &b.choices[i];

@@ -8,11 +8,13 @@
 //! `t̂` with `ε̂ ≤ ε_max` that beats the original, ties broken by lower Δn then lower node id.
 //! [`pareto`] gives the error-vs-time frontier of the same predictions, for charts.
 
+mod budget;
 pub mod combine;
 pub mod motion;
 mod records;
 mod worst;
 
+pub use budget::{Budget, DELTA_N_RANGE, InvalidBudget};
 pub use combine::{SetPrediction, best_set, combined_timing, predict_set};
 pub use records::{ProfileRecords, profile_records};
 pub use worst::{Scene, ScenePrediction, select_worst_case};
@@ -20,10 +22,11 @@ pub use worst::{Scene, ScenePrediction, select_worst_case};
 use reproj_models::{ErrorFitFailure, ErrorFitStatus, HitRateFit, TimingFit, predicted_frame_ms};
 use serde::{Deserialize, Serialize};
 
-/// Default largest refresh period considered (the paper's clip).
-pub const DEFAULT_MAX_DELTA_N: u32 = 50;
-/// Default smallest refresh period considered (Δn = 1 recomputes every frame: never faster).
-pub const DEFAULT_MIN_DELTA_N: u32 = 2;
+/// Default largest refresh period considered (the paper's clip): [`DELTA_N_RANGE`]'s end.
+pub const DEFAULT_MAX_DELTA_N: u32 = *DELTA_N_RANGE.end();
+/// Default smallest refresh period considered (Δn = 1 recomputes every frame: never faster):
+/// [`DELTA_N_RANGE`]'s start.
+pub const DEFAULT_MIN_DELTA_N: u32 = *DELTA_N_RANGE.start();
 
 /// What the selector knows of one candidate node.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -250,7 +253,7 @@ pub struct SelectOptions {
     /// ε_max: largest acceptable predicted error, in the unit of the nodes' error models (the
     /// mean per-pixel L2 RGB distance, or the mean ꟻLIP when `emit --metric flip` hands over the
     /// models fitted to it).
-    pub max_error: f64,
+    pub max_error: Budget,
     /// Smallest Δn considered (≥ 1).
     pub min_delta_n: u32,
     /// Largest Δn considered.
@@ -258,8 +261,8 @@ pub struct SelectOptions {
 }
 
 impl SelectOptions {
-    /// Options with budget `max_error` and the default Δn range 2..=50.
-    pub fn new(max_error: f64) -> Self {
+    /// Options with budget `max_error` and the default Δn range, [`DELTA_N_RANGE`].
+    pub fn new(max_error: Budget) -> Self {
         Self {
             max_error,
             min_delta_n: DEFAULT_MIN_DELTA_N,
@@ -446,12 +449,6 @@ pub struct Choice {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, thiserror::Error)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum OriginalReason {
-    /// ε_max is negative or not finite.
-    #[error("invalid error budget {max_error:?} (must be finite and ≥ 0)")]
-    InvalidBudget {
-        /// The budget given; `None` when it was not finite.
-        max_error: Option<f64>,
-    },
     /// The Δn range is empty or starts below 1.
     #[error("invalid refresh-period range {min}..={max}")]
     InvalidDeltaNRange {
@@ -515,11 +512,6 @@ pub fn select(
     opts: &SelectOptions,
 ) -> Selection {
     let original = |reason| Selection::Original { reason };
-    if !(opts.max_error.is_finite() && opts.max_error >= 0.0) {
-        return original(OriginalReason::InvalidBudget {
-            max_error: opts.max_error.is_finite().then_some(opts.max_error),
-        });
-    }
     if opts.min_delta_n < 1 || opts.min_delta_n > opts.max_delta_n {
         return original(OriginalReason::InvalidDeltaNRange {
             min: opts.min_delta_n,
@@ -546,7 +538,7 @@ pub fn select(
     }
     let under: Vec<&Prediction> = all
         .iter()
-        .filter(|p| p.predicted_error <= opts.max_error)
+        .filter(|p| opts.max_error.admits(p.predicted_error))
         .collect();
     let Some(best) = under.iter().copied().min_by(|a, b| by_time(a, b)) else {
         let lowest_error = all
@@ -554,7 +546,7 @@ pub fn select(
             .map(|p| p.predicted_error)
             .fold(f64::INFINITY, f64::min);
         return original(OriginalReason::OverBudget {
-            max_error: opts.max_error,
+            max_error: opts.max_error.get(),
             lowest_error,
         });
     };
@@ -657,7 +649,7 @@ pub fn select_with_sets(
             (opts.min_delta_n..=opts.max_delta_n)
                 .filter_map(move |dn| predict(&node, hit_rate, dn).map(|p| (s, p)))
         })
-        .filter(|(_, p)| p.predicted_error <= opts.max_error)
+        .filter(|(_, p)| opts.max_error.admits(p.predicted_error))
         .min_by(|(sa, a), (sb, b)| by_time(a, b).then(sa.members.cmp(&sb.members)));
     let Some((set, p)) = best else {
         return single;

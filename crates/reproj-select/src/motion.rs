@@ -155,7 +155,7 @@ pub fn schedule(
             .find(|&dn| {
                 carried
                     .iter()
-                    .all(|c| predicted_error(c, dn).is_some_and(|e| e <= opts.max_error))
+                    .all(|c| predicted_error(c, dn).is_some_and(|e| opts.max_error.admits(e)))
             })
             .unwrap_or(1)
     };
@@ -347,7 +347,7 @@ mod tests {
             measured: None,
             measured_errors: samples.iter().map(|&(d, e)| (d as u32, e)).collect(),
         };
-        let opts = SelectOptions::new(0.008);
+        let opts = SelectOptions::new(crate::Budget::new(0.008).unwrap());
         let s = schedule(&[(2.0, &record)], 1.0, &opts);
         assert!(s.len() >= 3, "{s:?}");
         assert_eq!(s.last().unwrap().0, None);
@@ -420,7 +420,7 @@ mod tests {
             hit_rate: &hit,
             original_ms,
         };
-        let opts = SelectOptions::new(0.008);
+        let opts = SelectOptions::new(crate::Budget::new(0.008).unwrap());
         // Mostly slow (1 px/frame) with a burst of fast motion (8 px/frame).
         let trace: Vec<f64> = (0..72)
             .map(|f| if (30..42).contains(&f) { 8.0 } else { 1.0 })

@@ -106,12 +106,7 @@ pub fn select_worst_case(
     opts: &SelectOptions,
 ) -> (Selection, Vec<ScenePrediction>) {
     let [first, rest @ ..] = scenes else {
-        return (
-            Selection::Original {
-                reason: OriginalReason::NoUsableNodes { skipped: 0 },
-            },
-            Vec::new(),
-        );
+        return keep(OriginalReason::NoUsableNodes { skipped: 0 });
     };
     // The checks of the budget, the range and the fits are the single-session selector's.
     let single = select_with_sets(
@@ -124,11 +119,13 @@ pub fn select_worst_case(
     if rest.is_empty() {
         let per = match &single {
             Selection::Node(c) => vec![ScenePrediction {
-                session: first.name.to_string(),
-                predicted_error: c.predicted_error,
-                predicted_ms: c.predicted_ms,
                 original_ms: c.original_ms,
-                predicted_speedup: c.predicted_speedup,
+                ..prediction(
+                    first,
+                    c.predicted_error,
+                    c.predicted_ms,
+                    c.predicted_speedup,
+                )
             }],
             Selection::Original { .. } => Vec::new(),
         };
@@ -148,26 +145,16 @@ pub fn select_worst_case(
         .iter()
         .any(|s| !(s.original_ms.is_finite() && s.original_ms > 0.0 && s.hit_rate.is_usable()))
     {
-        return (
-            Selection::Original {
-                reason: OriginalReason::HitRateUnavailable,
-            },
-            Vec::new(),
-        );
+        return keep(OriginalReason::HitRateUnavailable);
     }
     let all: Vec<_> = scenes.iter().map(|s| predictions(s, opts)).collect();
     let common = worst_cases(&all, scenes);
     if common.is_empty() {
-        return (
-            Selection::Original {
-                reason: OriginalReason::NoUsableNodes { skipped: 0 },
-            },
-            Vec::new(),
-        );
+        return keep(OriginalReason::NoUsableNodes { skipped: 0 });
     }
     let best = common
         .iter()
-        .filter(|(_, e, _, _)| *e <= opts.max_error)
+        .filter(|(_, e, _, _)| opts.max_error.admits(*e))
         .max_by(|a, b| {
             a.2.total_cmp(&b.2)
                 // Ties: fewer members, shorter Δn, lower ids (reversed: max_by keeps the last).
@@ -177,41 +164,30 @@ pub fn select_worst_case(
         });
     let Some((key, error, speedup, slowest)) = best else {
         let lowest_error = common.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
-        return (
-            Selection::Original {
-                reason: OriginalReason::OverBudget {
-                    max_error: opts.max_error,
-                    lowest_error,
-                },
-            },
-            Vec::new(),
-        );
+        return keep(OriginalReason::OverBudget {
+            max_error: opts.max_error.get(),
+            lowest_error,
+        });
     };
     let (worst, text) = &all[*slowest][*key];
     let worst_scene = &scenes[*slowest];
     if *speedup <= 1.0 {
-        return (
-            Selection::Original {
-                reason: OriginalReason::NotFaster {
-                    best_ms: worst.predicted_ms,
-                    original_ms: worst_scene.original_ms,
-                },
-            },
-            Vec::new(),
-        );
+        return keep(OriginalReason::NotFaster {
+            best_ms: worst.predicted_ms,
+            original_ms: worst_scene.original_ms,
+        });
     }
     let per = all
         .iter()
         .zip(scenes)
         .map(|(m, s)| {
             let p = &m[*key].0;
-            ScenePrediction {
-                session: s.name.to_string(),
-                predicted_error: p.predicted_error,
-                predicted_ms: p.predicted_ms,
-                original_ms: s.original_ms,
-                predicted_speedup: s.original_ms / p.predicted_ms,
-            }
+            prediction(
+                s,
+                p.predicted_error,
+                p.predicted_ms,
+                s.original_ms / p.predicted_ms,
+            )
         })
         .collect();
     let original_ms = worst_scene.original_ms;
@@ -233,4 +209,20 @@ pub fn select_worst_case(
         },
     };
     (Selection::Node(choice), per)
+}
+
+/// The original kept, for `reason`, with no scene's prediction.
+fn keep(reason: OriginalReason) -> (Selection, Vec<ScenePrediction>) {
+    (Selection::Original { reason }, Vec::new())
+}
+
+/// A scene's prediction for the choice.
+fn prediction(s: &Scene, error: f64, ms: f64, speedup: f64) -> ScenePrediction {
+    ScenePrediction {
+        session: s.name.to_string(),
+        predicted_error: error,
+        predicted_ms: ms,
+        original_ms: s.original_ms,
+        predicted_speedup: speedup,
+    }
 }

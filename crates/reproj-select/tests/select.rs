@@ -5,8 +5,8 @@ use reproj_models::{
     fit_error, fit_timing,
 };
 use reproj_select::{
-    NodeRecord, OriginalReason, SelectOptions, Selection, SkipReason, candidates, check_node,
-    pareto, select,
+    Budget, NodeRecord, OriginalReason, SelectOptions, Selection, SkipReason, candidates,
+    check_node, pareto, select,
 };
 
 const M: f64 = 500_000.0;
@@ -57,7 +57,7 @@ fn choice(sel: &Selection) -> &reproj_select::Choice {
 #[test]
 fn tight_budget_keeps_original() {
     let mu = HitRateFit::from_mu(0.9);
-    let sel = select(&nodes(), &mu, ORIGINAL_MS, &SelectOptions::new(1e-5));
+    let sel = select(&nodes(), &mu, ORIGINAL_MS, &within(1e-5));
     match sel {
         Selection::Original {
             reason: OriginalReason::OverBudget { lowest_error, .. },
@@ -71,7 +71,7 @@ fn tight_budget_keeps_original() {
 #[test]
 fn moderate_budget_picks_a_node_within_budget() {
     let mu = HitRateFit::from_mu(0.9);
-    let opts = SelectOptions::new(0.01);
+    let opts = within(0.01);
     let sel = select(&nodes(), &mu, ORIGINAL_MS, &opts);
     let c = choice(&sel);
     assert!(c.predicted_error <= 0.01);
@@ -94,7 +94,7 @@ fn moderate_budget_picks_a_node_within_budget() {
 #[test]
 fn loose_budget_picks_cheapest() {
     let mu = HitRateFit::from_mu(0.9);
-    let sel = select(&nodes(), &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+    let sel = select(&nodes(), &mu, ORIGINAL_MS, &within(1.0));
     let c = choice(&sel);
     // Node 1 has the cheapest hits; the highest hit rate is at the largest Δn.
     assert_eq!((c.node_id, c.delta_n), (1, 50));
@@ -106,7 +106,7 @@ fn not_faster_keeps_original() {
     let mu = HitRateFit::from_mu(0.9);
     // Hits cost more than misses: caching only slows down.
     let slow = vec![node(1, 0.001, 0.1, 3e-5, 2e-5)];
-    let sel = select(&slow, &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+    let sel = select(&slow, &mu, ORIGINAL_MS, &within(1.0));
     assert!(matches!(
         sel,
         Selection::Original {
@@ -133,11 +133,11 @@ fn failed_fits_are_skipped() {
         Err(SkipReason::ErrorFitFailed { .. })
     ));
     assert_eq!(check_node(&ns[1]), Err(SkipReason::TimingNotUsable));
-    let c = choice(&select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(1.0))).clone();
+    let c = choice(&select(&ns, &mu, ORIGINAL_MS, &within(1.0))).clone();
     assert_eq!(c.node_id, 3);
     // A fit that failed on NaN input has no parameters and is skipped too.
     ns[2].error = fit_error(&[(2.0, f64::NAN)], &ErrorFitOptions::default());
-    let sel = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+    let sel = select(&ns, &mu, ORIGINAL_MS, &within(1.0));
     assert_eq!(
         sel,
         Selection::Original {
@@ -155,7 +155,7 @@ fn ties_are_deterministic() {
     let a = node(7, 0.01, 0.1, 1e-5, 1e-5);
     let b = node(4, 0.01, 0.1, 1e-5, 1e-5);
     for ns in [vec![a.clone(), b.clone()], vec![b, a]] {
-        let sel = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(1.0));
+        let sel = select(&ns, &mu, ORIGINAL_MS, &within(1.0));
         let c = choice(&sel);
         assert_eq!((c.node_id, c.delta_n), (4, 2));
     }
@@ -165,7 +165,7 @@ fn ties_are_deterministic() {
 fn zero_error_node_is_lossless() {
     let mu = HitRateFit::from_mu(0.9);
     let ns = vec![node(5, 0.0, 0.0, 1e-6, 2e-5)];
-    let sel = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(0.0));
+    let sel = select(&ns, &mu, ORIGINAL_MS, &within(0.0));
     let c = choice(&sel);
     assert_eq!(c.delta_n, 50);
     assert_eq!(c.predicted_error, 0.0);
@@ -179,41 +179,41 @@ fn invalid_inputs_keep_original() {
         Selection::Original { reason } => reason,
         s => panic!("{s:?}"),
     };
-    assert_eq!(
-        reason(select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(f64::NAN))),
-        OriginalReason::InvalidBudget { max_error: None }
-    );
+    // An invalid budget is no budget: the type refuses it before any selection.
+    assert!(Budget::new(f64::NAN).is_err());
     let opts = SelectOptions {
         min_delta_n: 10,
         max_delta_n: 5,
-        ..SelectOptions::new(0.1)
+        ..within(0.1)
     };
     assert!(matches!(
         reason(select(&ns, &mu, ORIGINAL_MS, &opts)),
         OriginalReason::InvalidDeltaNRange { .. }
     ));
     assert_eq!(
-        reason(select(&ns, &mu, f64::NAN, &SelectOptions::new(0.1))),
+        reason(select(&ns, &mu, f64::NAN, &within(0.1))),
         OriginalReason::InvalidOriginalTime
     );
     let failed_mu = reproj_models::fit_hit_rate(&[]);
     assert_eq!(
-        reason(select(
-            &ns,
-            &failed_mu,
-            ORIGINAL_MS,
-            &SelectOptions::new(0.1)
-        )),
+        reason(select(&ns, &failed_mu, ORIGINAL_MS, &within(0.1))),
         OriginalReason::HitRateUnavailable
     );
     assert_eq!(
-        reason(select(&[], &mu, ORIGINAL_MS, &SelectOptions::new(0.1))),
+        reason(select(&[], &mu, ORIGINAL_MS, &within(0.1))),
         OriginalReason::NoUsableNodes { skipped: 0 }
     );
-    // Every reason serializes (no NaN in JSON).
-    let s = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(f64::INFINITY));
-    let json = serde_json::to_string(&s).unwrap();
-    assert_eq!(serde_json::from_str::<Selection>(&json).unwrap(), s);
+    // Every reason serializes (no NaN in JSON); an infinite budget is refused by its type.
+    assert!(Budget::new(f64::INFINITY).is_err());
+    for s in [
+        select(&ns, &mu, ORIGINAL_MS, &within(0.0)),
+        select(&ns, &failed_mu, ORIGINAL_MS, &within(0.1)),
+        select(&[], &mu, ORIGINAL_MS, &within(0.1)),
+    ] {
+        assert!(matches!(s, Selection::Original { .. }), "{s:?}");
+        let json = serde_json::to_string(&s).unwrap();
+        assert_eq!(serde_json::from_str::<Selection>(&json).unwrap(), s);
+    }
 }
 
 #[test]
@@ -235,7 +235,7 @@ fn pareto_frontier_is_monotone_and_undominated() {
     }
     // Selection under any budget lands on the frontier.
     for budget in [0.001, 0.005, 0.01, 0.03, 0.1] {
-        if let Selection::Node(c) = select(&ns, &mu, ORIGINAL_MS, &SelectOptions::new(budget)) {
+        if let Selection::Node(c) = select(&ns, &mu, ORIGINAL_MS, &within(budget)) {
             assert!(
                 front
                     .iter()
@@ -310,7 +310,7 @@ fn a_set_wins_only_when_predicted_faster_under_the_budget() {
     use reproj_select::select_with_sets;
     let mu = HitRateFit::from_mu(0.9);
     let ns = nodes();
-    let opts = SelectOptions::new(0.01);
+    let opts = within(0.01);
     let single = choice(&select(&ns, &mu, ORIGINAL_MS, &opts)).clone();
     assert!(single.members.is_empty());
     // No set: what `select` picks.
@@ -333,7 +333,7 @@ fn a_set_wins_only_when_predicted_faster_under_the_budget() {
     assert!(c.predicted_ms < single.predicted_ms && c.predicted_error <= 0.01);
     assert!((c.predicted_speedup - ORIGINAL_MS / c.predicted_ms).abs() < 1e-12);
     // The same set over the budget at every Δn: the single node stays.
-    let tight = SelectOptions::new(0.002);
+    let tight = within(0.002);
     let over = set(&[2, 3], 0.5, 3e-6);
     assert_eq!(
         select_with_sets(&ns, &[over], &mu, ORIGINAL_MS, &tight),
@@ -351,17 +351,12 @@ fn a_set_wins_only_when_predicted_faster_under_the_budget() {
         &[set(&[2, 3], 0.0, 1e-5)],
         &mu,
         ORIGINAL_MS,
-        &SelectOptions::new(0.0),
+        &within(0.0),
     ))
     .clone();
     assert_eq!(c.members, vec![2, 3]);
-    // An invalid budget keeps the original whatever the sets.
-    assert!(matches!(
-        select_with_sets(&ns, &[fast], &mu, ORIGINAL_MS, &SelectOptions::new(-1.0)),
-        Selection::Original {
-            reason: OriginalReason::InvalidBudget { .. }
-        }
-    ));
+    // An invalid budget is refused by its type, whatever the sets.
+    assert!(Budget::new(-1.0).is_err());
 }
 
 /// emit respects the profile's measurements: never below a measured error (the model anchored at
@@ -401,7 +396,7 @@ fn measured_errors_bound_the_prediction_and_the_range() {
     assert!(predict(&n, &hr, 50).is_none());
     // Under budget 0.002 the node is not chosen at Δn = 2 (the model alone would choose it).
     let opts = SelectOptions {
-        max_error: 0.002,
+        max_error: Budget::new(0.002).unwrap(),
         min_delta_n: 2,
         max_delta_n: 50,
     };
@@ -447,7 +442,7 @@ fn several_sessions_hold_the_budget_on_every_one() {
             original_ms: ORIGINAL_MS,
         },
     ];
-    let opts = SelectOptions::new(0.01);
+    let opts = within(0.01);
     let (sel, per) = select_worst_case(&scenes, &opts);
     let c = choice(&sel);
     assert_eq!(per.len(), 2);
@@ -472,7 +467,7 @@ fn several_sessions_hold_the_budget_on_every_one() {
     assert_eq!(one, alone);
     assert_eq!(per.len(), 1);
     // A budget no session meets: the original, with the lowest worst-case error.
-    let (tight, per) = select_worst_case(&scenes, &SelectOptions::new(1e-6));
+    let (tight, per) = select_worst_case(&scenes, &within(1e-6));
     assert!(matches!(
         tight,
         Selection::Original {
@@ -480,4 +475,9 @@ fn several_sessions_hold_the_budget_on_every_one() {
         }
     ));
     assert!(per.is_empty());
+}
+
+/// Selection options with the default Δn range under the budget `max_error`.
+fn within(max_error: f64) -> SelectOptions {
+    SelectOptions::new(Budget::new(max_error).unwrap())
 }

@@ -16,7 +16,7 @@ use reproj_io::Replace;
 use reproj_metrics::MetricSummary;
 use reproj_models::Metric;
 use reproj_models::{Profile, content_hash};
-use reproj_select::{NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};
+use reproj_select::{Budget, NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};
 use serde::{Deserialize, Serialize};
 
 use crate::AnalyzeError;
@@ -37,7 +37,7 @@ use write::Writer;
 #[derive(Debug, Clone)]
 pub struct EmitOptions {
     /// Error budget, in the unit of `metric`.
-    pub max_error: f64,
+    pub max_error: Budget,
     /// Which measured error the budget bounds (the error model fitted to it predicts it).
     pub metric: Metric,
     pub min_delta_n: u32,
@@ -214,7 +214,7 @@ impl EmitReport {
             profile: profile_path.display().to_string(),
             shader: shader_path.display().to_string(),
             metric: opts.metric,
-            max_error: opts.max_error,
+            max_error: opts.max_error.get(),
             node: None,
             node_text: None,
             strategy: None,

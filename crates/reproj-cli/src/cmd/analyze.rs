@@ -370,3 +370,18 @@ fn analyze_session(
         time: profile.time.clone(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    /// `--delta-n`'s default is the library's training periods, spread over the Δn range.
+    #[test]
+    fn the_default_training_periods_are_the_library_s() {
+        let cli = crate::Cli::parse_from(["reproj", "analyze", "s.wgsl", "--session", "s.json"]);
+        let crate::Command::Analyze(args) = cli.command else {
+            unreachable!()
+        };
+        assert_eq!(args.delta_n, reproj_analyze::analyze::DEFAULT_TRAIN);
+    }
+}

@@ -2,10 +2,10 @@
 //! equal frame time (the paper's Fig. 10); a table or `compare.json` on stdout, files in `--out`.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use reproj_analyze::load_profile;
-use reproj_compare::{CompareInput, CompareOptions, Target, compare, write_outputs};
+use reproj_compare::{CompareInput, CompareOptions, CompareReport, Target, compare, write_outputs};
 use reproj_replay::{Renderer, RendererOptions};
 use reproj_scene::Session;
 
@@ -13,29 +13,9 @@ use super::UserError;
 use super::analyze::{Bar, bar};
 use crate::CompareArgs;
 
+/// `reproj compare`: the target, the shader and session, the comparison and its files, the table.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let target = match (args.speedup, args.max_error) {
-        (Some(x), _) if !(x.is_finite() && x > 1.0) => {
-            return Err(UserError(format!("--speedup must be a number above 1, got {x}")).into());
-        }
-        (Some(x), _) => Target::Speedup(x),
-        (None, Some(e)) if !(e.is_finite() && e >= 0.0) => {
-            return Err(UserError(format!("--max-error must be a number ≥ 0, got {e}")).into());
-        }
-        (None, Some(e)) => Target::Budget(e),
-        (None, None) => {
-            return Err(UserError("give --speedup or --max-error".into()).into());
-        }
-    };
-    if args.candidates == 0 || args.max_steps == 0 || args.resize_tries == 0 {
-        return Err(UserError(
-            "--candidates, --max-steps and --resize-tries must be at least 1".into(),
-        )
-        .into());
-    }
-    if args.max_frames == Some(0) {
-        return Err(UserError("--max-frames must be at least 1".into()).into());
-    }
+    let target = target(args)?;
     let profile = match &args.profile {
         Some(p) => Some((load_profile(p)?, p.clone())),
         None => None,
@@ -100,9 +80,26 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     for w in &result.report.timing_warnings {
         crate::ui::warn(w);
     }
-    let r = &result.report;
+    print_table(&result.report, &out, args.json)
+}
+
+/// What every method aims at: `--speedup` (checked here, a number above 1) or reproj's own
+/// selection under `--max-error` (a [`reproj_analyze::Budget`], checked by clap).
+fn target(args: &CompareArgs) -> Result<Target, UserError> {
+    match (args.speedup, args.max_error) {
+        (Some(x), _) if !(x.is_finite() && x > 1.0) => Err(UserError(format!(
+            "--speedup must be a number above 1, got {x}"
+        ))),
+        (Some(x), _) => Ok(Target::Speedup(x)),
+        (None, Some(e)) => Ok(Target::Budget(e)),
+        (None, None) => Err(UserError("give --speedup or --max-error".into())),
+    }
+}
+
+/// The comparison on stdout: `compare.json` with `--json`, else the table of methods.
+fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    if args.json {
+    if json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(r)?)?;
         return Ok(());
     }

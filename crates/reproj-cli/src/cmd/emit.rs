@@ -3,21 +3,65 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use reproj_analyze::{EmitOptions, emit, latest_profile, load_profile};
+use reproj_analyze::{DELTA_N_RANGE, EmitOptions, EmitReport, emit, latest_profile, load_profile};
+use reproj_models::Profile;
 use reproj_scene::Session;
 
 use super::{UserError, cache_format};
 use crate::EmitArgs;
 
+/// `reproj emit`: the inputs, the selection and its passes, `--verify`, the bars, the report.
 pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    if !(args.max_error.is_finite() && args.max_error >= 0.0) {
-        return Err(UserError(format!(
-            "--max-error must be a number ≥ 0, got {}",
-            args.max_error
-        ))
-        .into());
+    let Inputs {
+        profile_path,
+        profile,
+        session,
+        opts,
+    } = inputs(args)?;
+    let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
+    for w in report.motion.iter().flat_map(|m| &m.warnings) {
+        crate::ui::warn(w);
     }
+    if args.verify {
+        let (session, _, _) = session
+            .as_ref()
+            .expect("clap requires --session with --verify");
+        verify_selection(
+            &mut report,
+            &opts.out,
+            variant.as_ref(),
+            &profile,
+            session,
+            args,
+        )?;
+    }
+    for w in &report.timing_warnings {
+        crate::ui::warn(w);
+    }
+    let unmet = gate(&report, args);
+    if args.json {
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
+        return unmet.map_or(Ok(()), Err);
+    }
+    print_choice(&mut stdout, &report, &profile)?;
+    print_measured(&mut stdout, &report)?;
+    writeln!(stdout, "wrote    {}", report.files.join(", "))?;
+    unmet.map_or(Ok(()), Err)
+}
+
+/// What `emit` works from: the profiles, the session the variant is for (with its motion and
+/// hash) and the library's options.
+struct Inputs {
+    profile_path: PathBuf,
+    profile: Profile,
+    session: Option<(Session, Option<reproj_models::motion::Motion>, String)>,
+    opts: EmitOptions,
+}
+
+/// Read the profiles (the newest one here without `--profile`) and the session, and turn the
+/// arguments into [`EmitOptions`]; nothing is written yet.
+fn inputs(args: &EmitArgs) -> anyhow::Result<Inputs> {
     let profile_path = match args.profile.first() {
         Some(p) => p.clone(),
         None => {
@@ -65,7 +109,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
     let opts = EmitOptions {
         max_error: args.max_error,
         metric: args.metric,
-        min_delta_n: 2,
+        min_delta_n: *DELTA_N_RANGE.start(),
         max_delta_n: args.max_delta_n,
         out,
         cache_format: args.cache_format.map(cache_format),
@@ -88,31 +132,21 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             reproj_analyze::motion::PeriodChoice::Fixed
         },
     };
-    let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
-    for w in report.motion.iter().flat_map(|m| &m.warnings) {
-        crate::ui::warn(w);
-    }
-    if args.verify {
-        let (session, _, _) = session
-            .as_ref()
-            .expect("clap requires --session with --verify");
-        verify_selection(
-            &mut report,
-            &opts.out,
-            variant.as_ref(),
-            &profile,
-            session,
-            args,
-        )?;
-    }
-    for w in &report.timing_warnings {
-        crate::ui::warn(w);
-    }
-    let unmet = gate(&report, args);
-    if args.json {
-        writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
-        return unmet.map_or(Ok(()), Err);
-    }
+    Ok(Inputs {
+        profile_path,
+        profile,
+        session,
+        opts,
+    })
+}
+
+/// The table's first part: the profile, the budget and what was selected (or why the original
+/// is kept), with the predictions per session or the adaptive schedule.
+fn print_choice(
+    stdout: &mut impl Write,
+    report: &EmitReport,
+    profile: &Profile,
+) -> std::io::Result<()> {
     writeln!(
         stdout,
         "profile  {} ({} on {})",
@@ -124,81 +158,83 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         metric_label(report.metric),
         report.max_error
     )?;
-    match (&report.node, report.delta_n) {
-        (Some(node), Some(dn)) => {
-            writeln!(
-                stdout,
-                "selected node {node} `{}` (line {}:{}) at Δn = {dn}, strategy {}",
-                report.node_text.as_deref().unwrap_or(""),
-                report.line.unwrap_or(0),
-                report.col.unwrap_or(0),
-                report.strategy.as_deref().unwrap_or("3pass")
-            )?;
-            writeln!(
-                stdout,
-                "predicted {} {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x{}",
-                metric_label(report.metric),
-                report.predicted_error.unwrap_or(0.0),
-                report
-                    .predicted_psnr
-                    .map_or_else(String::new, |p| format!(" (PSNR {p:.2} dB)")),
-                report.predicted_ms.unwrap_or(0.0),
-                report.original_ms,
-                report.predicted_speedup.unwrap_or(0.0),
-                report
-                    .predicted_speedup_ci95
-                    .map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]")),
-            )?;
-            if let Some(a) = &report.adaptive {
-                writeln!(
-                    stdout,
-                    "adaptive  Δn {}–{} by motion over the {} frames of {} (worst frame predicted {:.5}, mean {:.5}){}",
-                    a.delta_n_min,
-                    a.delta_n_max,
-                    a.frames,
-                    a.trace,
-                    a.predicted_worst_error,
-                    a.predicted_mean_error,
-                    match (&a.fixed_node, a.fixed_delta_n, a.fixed_predicted_speedup) {
-                        (Some(n), Some(dn), Some(s)) => {
-                            format!("; the fastest fixed choice: node {n} at Δn {dn}, {s:.2}x")
-                        }
-                        _ => String::new(),
-                    }
-                )?;
-            } else {
-                for sp in &report.sessions {
-                    writeln!(
-                        stdout,
-                        "  on {}: {} {:.5}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
-                        sp.session,
-                        metric_label(report.metric),
-                        sp.predicted_error,
-                        sp.predicted_ms,
-                        sp.original_ms,
-                        sp.predicted_speedup
-                    )?;
+    let (Some(node), Some(dn)) = (&report.node, report.delta_n) else {
+        return writeln!(
+            stdout,
+            "kept the original shader: {}",
+            report
+                .reason
+                .as_deref()
+                .unwrap_or("no node fits the budget")
+        );
+    };
+    writeln!(
+        stdout,
+        "selected node {node} `{}` (line {}:{}) at Δn = {dn}, strategy {}",
+        report.node_text.as_deref().unwrap_or(""),
+        report.line.unwrap_or(0),
+        report.col.unwrap_or(0),
+        report.strategy.as_deref().unwrap_or("3pass")
+    )?;
+    writeln!(
+        stdout,
+        "predicted {} {:.5}{}, {:.3} ms/frame vs {:.3} ms original: {:.2}x{}",
+        metric_label(report.metric),
+        report.predicted_error.unwrap_or(0.0),
+        report
+            .predicted_psnr
+            .map_or_else(String::new, |p| format!(" (PSNR {p:.2} dB)")),
+        report.predicted_ms.unwrap_or(0.0),
+        report.original_ms,
+        report.predicted_speedup.unwrap_or(0.0),
+        report
+            .predicted_speedup_ci95
+            .map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]")),
+    )?;
+    if let Some(a) = &report.adaptive {
+        writeln!(
+            stdout,
+            "adaptive  Δn {}–{} by motion over the {} frames of {} (worst frame predicted {:.5}, mean {:.5}){}",
+            a.delta_n_min,
+            a.delta_n_max,
+            a.frames,
+            a.trace,
+            a.predicted_worst_error,
+            a.predicted_mean_error,
+            match (&a.fixed_node, a.fixed_delta_n, a.fixed_predicted_speedup) {
+                (Some(n), Some(dn), Some(s)) => {
+                    format!("; the fastest fixed choice: node {n} at Δn {dn}, {s:.2}x")
                 }
+                _ => String::new(),
             }
-            if profile.machine.cpu_rasterizer {
-                writeln!(
-                    stdout,
-                    "          (profiled on {}, a CPU rasterizer: GPU figures differ)",
-                    profile.machine.adapter
-                )?;
-            }
-        }
-        _ => {
+        )?;
+    } else {
+        for sp in &report.sessions {
             writeln!(
                 stdout,
-                "kept the original shader: {}",
-                report
-                    .reason
-                    .as_deref()
-                    .unwrap_or("no node fits the budget")
+                "  on {}: {} {:.5}, {:.3} ms/frame vs {:.3} ms original: {:.2}x",
+                sp.session,
+                metric_label(report.metric),
+                sp.predicted_error,
+                sp.predicted_ms,
+                sp.original_ms,
+                sp.predicted_speedup
             )?;
         }
     }
+    if profile.machine.cpu_rasterizer {
+        writeln!(
+            stdout,
+            "          (profiled on {}, a CPU rasterizer: GPU figures differ)",
+            profile.machine.adapter
+        )?;
+    }
+    Ok(())
+}
+
+/// The table's second part, after `--verify`: the measured error and speedup, the worst band of
+/// an adaptive schedule, the motion carried to the session, and the perceptual metrics.
+fn print_measured(stdout: &mut impl Write, report: &EmitReport) -> std::io::Result<()> {
     if let (Some(e), Some(s)) = (report.measured_error, report.measured_speedup) {
         let ci = report
             .measured_speedup_ci95
@@ -227,34 +263,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
                 b.error, b.frames, b.delta_n
             )?;
         }
-        if let (Some(m), Some(p), Some(t)) = (
-            &report.motion,
-            report
-                .motion
-                .as_ref()
-                .and_then(|m| m.target_predicted_error),
-            report.motion.as_ref().and_then(|m| m.target.as_ref()),
-        ) && report.metric == reproj_models::Metric::L2
-        {
-            writeln!(
-                stdout,
-                "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {}",
-                format_args!("{:.2}", t.pixels_per_frame),
-                m.carried_from.as_deref().unwrap_or("?"),
-                m.period_scale.unwrap_or(1.0),
-                m.exponent.beta,
-                match m.exponent.source {
-                    reproj_models::motion::ExponentSource::Fitted => "fitted",
-                    reproj_models::motion::ExponentSource::Assumed => "assumed",
-                },
-                // A ratio of two errors far under the budget says nothing about the promise.
-                if p.max(e) < report.max_error * 0.1 {
-                    "both under a tenth of the budget".to_string()
-                } else {
-                    format!("{:+.0} %", (e / p - 1.0) * 100.0)
-                }
-            )?;
-        }
+        print_motion(stdout, report, e)?;
         if let Some(n) = report.measured_nonfinite_reference_pixels {
             crate::ui::warn(format_args!(
                 "the original shader renders {n} pixels that are NaN or infinite on this session; they are left out of the measured error"
@@ -268,8 +277,41 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             f.mean, f.worst.value, f.worst.frame, s.mean, s.worst.value, s.worst.frame
         )?;
     }
-    writeln!(stdout, "wrote    {}", report.files.join(", "))?;
-    unmet.map_or(Ok(()), Err)
+    Ok(())
+}
+
+/// The motion line: the error predicted on the verified session (carried from a profiled one)
+/// against the measured `e`.
+fn print_motion(stdout: &mut impl Write, report: &EmitReport, e: f64) -> std::io::Result<()> {
+    if let (Some(m), Some(p), Some(t)) = (
+        &report.motion,
+        report
+            .motion
+            .as_ref()
+            .and_then(|m| m.target_predicted_error),
+        report.motion.as_ref().and_then(|m| m.target.as_ref()),
+    ) && report.metric == reproj_models::Metric::L2
+    {
+        writeln!(
+            stdout,
+            "motion    {} px/frame on this session; predicted here {p:.5} before rendering (carried from {}, r = {:.2}, β = {:.1} {}): measured {}",
+            format_args!("{:.2}", t.pixels_per_frame),
+            m.carried_from.as_deref().unwrap_or("?"),
+            m.period_scale.unwrap_or(1.0),
+            m.exponent.beta,
+            match m.exponent.source {
+                reproj_models::motion::ExponentSource::Fitted => "fitted",
+                reproj_models::motion::ExponentSource::Assumed => "assumed",
+            },
+            // A ratio of two errors far under the budget says nothing about the promise.
+            if p.max(e) < report.max_error * 0.1 {
+                "both under a tenth of the budget".to_string()
+            } else {
+                format!("{:+.0} %", (e / p - 1.0) * 100.0)
+            }
+        )?;
+    }
+    Ok(())
 }
 
 /// `--verify`: re-render the selection and time it against the original (the timing engine).

@@ -19,6 +19,8 @@ use crate::RenderArgs;
 /// What `render --frames DIR` writes (and so what DIR may hold for it to be replaced).
 const FRAME_FILES: &[&str] = &["png", "f32"];
 
+/// `reproj render`: the shader and the variant, the reference replay, the variant's replay and
+/// its timing on request, the frames committed, the warnings, then the report.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
     let input = load_file_as(&args.shader, super::lang_in(args.lang_in))?;
@@ -26,37 +28,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     let session = Session::load(&args.session)?;
-    // The variant first: a wrong node or a variant of another shader is refused before the
-    // reference frames are rendered.
-    let variant_input = match (&args.node, &args.variant) {
-        (None, None) => None,
-        (Some(node), _) => {
-            let sel: NodeSelector = node.parse().map_err(UserError)?;
-            let loaded = Loaded::new(input, args.entry.as_deref())?;
-            let variant = instance(
-                &loaded.shader,
-                &loaded.norm,
-                &loaded.table,
-                sel,
-                &super::instance_options(args.cache, args.delta_n.unwrap_or(8))?,
-            )?;
-            Some(VariantInput::new(
-                variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
-                variant.manifest.clone(),
-                args.delta_n.unwrap_or(8),
-            ))
-        }
-        (None, Some(dir)) => {
-            let mut variant = VariantInput::from_dir(dir, 1)?;
-            super::check_variant_shader(&input, &args.shader, &variant.manifest, dir)?;
-            variant.delta_n = args.delta_n.unwrap_or(variant.manifest.params.delta_n);
-            if args.adaptive {
-                let (lo, hi) = super::adapt(&mut variant, &session)?;
-                crate::ui::note(format!("adaptive: Δn {lo}..={hi} by each frame's motion"));
-            }
-            Some(variant)
-        }
-    };
+    let variant_input = variant_input(args, input, &session)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
@@ -128,22 +100,89 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         )?),
         _ => None,
     };
-    if variant_input.is_some() && speedup.is_none() && !args.json {
-        crate::ui::note(format!(
-            "original: {:.3} ms/frame; variant: {:.3} ms/frame (one replay each; for the speedup with its 95 % interval: --speedup, or reproj bench {} --session {} {})",
-            reference.report.frame_ms,
-            report.frame_ms,
-            args.shader.display(),
-            args.session.display(),
-            args.variant
-                .as_ref()
-                .map_or_else(|| "VARIANT_DIR".into(), |v| v.display().to_string()),
-        ));
+    let original_ms = variant_input.as_ref().map(|_| reference.report.frame_ms);
+    if let Some(original_ms) = original_ms.filter(|_| speedup.is_none() && !args.json) {
+        note_single_replays(args, original_ms, report.frame_ms);
     }
     if let Some(frames) = frames {
         frames.commit()?;
     }
-    // Never a silent NaN: said on stderr whatever the output format.
+    warn_nonfinite(&report);
+    if let Some(s) = &speedup {
+        for w in &s.warnings {
+            crate::ui::warn(w);
+        }
+    }
+    let out = RenderOutput {
+        report: &report,
+        original_frame_ms: original_ms,
+        speedup: speedup.as_ref(),
+    };
+    if args.json {
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
+    } else {
+        print_report(&mut stdout, &out, args)?;
+    }
+    Ok(())
+}
+
+/// A variant's and the original's frame times from one replay each are no speed comparison:
+/// said as such, with how to get the speedup.
+fn note_single_replays(args: &RenderArgs, original_ms: f64, variant_ms: f64) {
+    crate::ui::note(format!(
+        "original: {:.3} ms/frame; variant: {:.3} ms/frame (one replay each; for the speedup with its 95 % interval: --speedup, or reproj bench {} --session {} {})",
+        original_ms,
+        variant_ms,
+        args.shader.display(),
+        args.session.display(),
+        args.variant
+            .as_ref()
+            .map_or_else(|| "VARIANT_DIR".into(), |v| v.display().to_string()),
+    ));
+}
+
+/// The variant to render, if any: `--node` instanced here, or `--variant DIR` read (checked to be
+/// of this shader, its Δn from the flag, the manifest or `--adaptive`). Done before the reference
+/// is rendered, so a wrong node or another shader's variant is refused first.
+fn variant_input(
+    args: &RenderArgs,
+    input: reproj_front::Shader,
+    session: &Session,
+) -> anyhow::Result<Option<VariantInput>> {
+    Ok(match (&args.node, &args.variant) {
+        (None, None) => None,
+        (Some(node), _) => {
+            let sel: NodeSelector = node.parse().map_err(UserError)?;
+            let loaded = Loaded::new(input, args.entry.as_deref())?;
+            let variant = instance(
+                &loaded.shader,
+                &loaded.norm,
+                &loaded.table,
+                sel,
+                &super::instance_options(args.cache, args.delta_n.unwrap_or(8))?,
+            )?;
+            Some(VariantInput::new(
+                variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                variant.manifest.clone(),
+                args.delta_n.unwrap_or(8),
+            ))
+        }
+        (None, Some(dir)) => {
+            let mut variant = VariantInput::from_dir(dir, 1)?;
+            super::check_variant_shader(&input, &args.shader, &variant.manifest, dir)?;
+            variant.delta_n = args.delta_n.unwrap_or(variant.manifest.params.delta_n);
+            if args.adaptive {
+                let (lo, hi) = super::adapt(&mut variant, session)?;
+                crate::ui::note(format!("adaptive: Δn {lo}..={hi} by each frame's motion"));
+            }
+            Some(variant)
+        }
+    })
+}
+
+/// Never a silent NaN: the non-finite pixels of the render and of the original, said on stderr
+/// whatever the output format.
+fn warn_nonfinite(report: &reproj_metrics::RenderReport) {
     let is_variant = report.node.is_some();
     if report.nonfinite_pixels > 0 {
         crate::ui::warn(format_args!(
@@ -167,90 +206,82 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             report.nonfinite_reference_pixels
         ));
     }
-    if let Some(s) = &speedup {
-        for w in &s.warnings {
-            crate::ui::warn(w);
-        }
+}
+
+/// The report as text: what was rendered, its errors, hit rate and frame time, the original's
+/// own replay time beside a variant's, the timing engine's speedup on request.
+fn print_report(
+    stdout: &mut impl Write,
+    out: &RenderOutput,
+    args: &RenderArgs,
+) -> std::io::Result<()> {
+    let report = out.report;
+    writeln!(
+        stdout,
+        "{} over {} ({} frames, {}x{}) on {} [{:?}]",
+        report.node.as_deref().map_or_else(
+            || "original".to_string(),
+            |n| format!("node {n} at Δn = {}", report.delta_n.unwrap_or(1))
+        ),
+        args.session.display(),
+        report.frames.len(),
+        report.resolution[0],
+        report.resolution[1],
+        report.adapter.name,
+        report.timing,
+    )?;
+    writeln!(
+        stdout,
+        "  error     {:.6} (mean per-pixel L2, linear RGB)",
+        report.error
+    )?;
+    if let Some(w) = report.error_worst.filter(|_| report.node.is_some()) {
+        writeln!(stdout, "  worst     {:.6} (frame {})", w.value, w.frame)?;
     }
-    if args.json {
-        let out = RenderOutput {
-            report: &report,
-            original_frame_ms: variant_input.as_ref().map(|_| reference.report.frame_ms),
-            speedup: speedup.as_ref(),
-        };
-        writeln!(stdout, "{}", serde_json::to_string_pretty(&out)?)?;
-    } else {
+    writeln!(stdout, "  PSNR      {:.2} dB", report.psnr)?;
+    if let Some(f) = report.flip {
         writeln!(
             stdout,
-            "{} over {} ({} frames, {}x{}) on {} [{:?}]",
-            report.node.as_deref().map_or_else(
-                || "original".to_string(),
-                |n| format!("node {n} at Δn = {}", report.delta_n.unwrap_or(1))
-            ),
-            args.session.display(),
-            report.frames.len(),
-            report.resolution[0],
-            report.resolution[1],
-            report.adapter.name,
-            report.timing,
+            "  ꟻLIP      {:.6} mean, worst {:.6} (frame {}) (covered pixels, {} of {} frames)",
+            f.mean,
+            f.worst.value,
+            f.worst.frame,
+            f.frames,
+            report.frames.len()
         )?;
+    }
+    if let Some(s) = report.ssim {
         writeln!(
             stdout,
-            "  error     {:.6} (mean per-pixel L2, linear RGB)",
-            report.error
+            "  SSIM      {:.6} mean, worst {:.6} (frame {})",
+            s.mean, s.worst.value, s.worst.frame
         )?;
-        if let Some(w) = report.error_worst.filter(|_| report.node.is_some()) {
-            writeln!(stdout, "  worst     {:.6} (frame {})", w.value, w.frame)?;
-        }
-        writeln!(stdout, "  PSNR      {:.2} dB", report.psnr)?;
-        if let Some(f) = report.flip {
-            writeln!(
-                stdout,
-                "  ꟻLIP      {:.6} mean, worst {:.6} (frame {}) (covered pixels, {} of {} frames)",
-                f.mean,
-                f.worst.value,
-                f.worst.frame,
-                f.frames,
-                report.frames.len()
-            )?;
-        }
-        if let Some(s) = report.ssim {
-            writeln!(
-                stdout,
-                "  SSIM      {:.6} mean, worst {:.6} (frame {})",
-                s.mean, s.worst.value, s.worst.frame
-            )?;
-        }
-        writeln!(stdout, "  hit rate  {:.3}", report.hit_rate)?;
+    }
+    writeln!(stdout, "  hit rate  {:.3}", report.hit_rate)?;
+    writeln!(
+        stdout,
+        "  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)",
+        report.frame_ms
+    )?;
+    if let Some(original_ms) = out.original_frame_ms {
+        writeln!(stdout, "  original  {original_ms:.3} ms (its own replay)")?;
+    }
+    if let Some(s) = out.speedup {
         writeln!(
             stdout,
-            "  frame     {:.3} ms (mean over frames 1..; frame 0 compiles shaders)",
-            report.frame_ms
+            "  speedup   {} (timing engine: {} rounds interleaved with the original, {:.1} s; original {:.3} ms/frame)",
+            match (s.speedup, s.speedup_ci95) {
+                (Some(x), Some([lo, hi])) => format!("{x:.2}x [{lo:.2}, {hi:.2}]"),
+                (Some(x), None) => format!("{x:.2}x"),
+                _ => "no usable timing".into(),
+            },
+            s.rounds,
+            s.seconds,
+            s.original_median_ms,
         )?;
-        if variant_input.is_some() {
-            writeln!(
-                stdout,
-                "  original  {:.3} ms (its own replay)",
-                reference.report.frame_ms
-            )?;
-        }
-        if let Some(s) = &speedup {
-            writeln!(
-                stdout,
-                "  speedup   {} (timing engine: {} rounds interleaved with the original, {:.1} s; original {:.3} ms/frame)",
-                match (s.speedup, s.speedup_ci95) {
-                    (Some(x), Some([lo, hi])) => format!("{x:.2}x [{lo:.2}, {hi:.2}]"),
-                    (Some(x), None) => format!("{x:.2}x"),
-                    _ => "no usable timing".into(),
-                },
-                s.rounds,
-                s.seconds,
-                s.original_median_ms,
-            )?;
-        }
-        if let Some(dir) = &args.frames {
-            writeln!(stdout, "  PNGs in   {}", dir.display())?;
-        }
+    }
+    if let Some(dir) = &args.frames {
+        writeln!(stdout, "  PNGs in   {}", dir.display())?;
     }
     Ok(())
 }

@@ -103,65 +103,146 @@ fn string_words(s: &str) -> Vec<u32> {
 }
 
 /// The module with its combined image samplers split, and the samplers it split, by group and
-/// binding. A module without combined samplers comes back unchanged.
+/// binding. A module without combined samplers comes back unchanged. Phases: find the combined
+/// shapes ([`Shapes::find`]), give each sampler its binding ([`sampler_bindings`]), rewrite the
+/// instructions ([`Rewrite`]).
 pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSampler>), String> {
     let (mut header, mut insts) = decode(words)?;
     strip_global_lines(&mut insts);
-    let mut next_id = header[3];
-    let mut fresh = || {
-        next_id += 1;
-        next_id - 1
+    let mut ids = Ids { next: header[3] };
+    let Some(shapes) = Shapes::find(&insts, &mut ids)? else {
+        return Ok((encode(&header, &insts), Vec::new()));
     };
+    let (split, sampler_binding) = sampler_bindings(&shapes);
+    let mut rewrite = Rewrite {
+        out: Vec::with_capacity(insts.len() + 4 * shapes.vars.len()),
+        shapes,
+        sampler_binding,
+        ids: &mut ids,
+        sampler_declared: false,
+    };
+    for inst in insts {
+        rewrite.inst(inst)?;
+    }
+    let out = rewrite.out;
+    header[3] = ids.next;
+    Ok((encode(&header, &out), split))
+}
 
-    // The combined-sampler shapes: sampled-image types (→ their image type) and arrays of them,
-    // pointers to either, and the variables of those pointer types.
-    let mut sampled: HashMap<u32, u32> = HashMap::new();
-    let mut arrays: HashMap<u32, u32> = HashMap::new(); // array → its sampler-array twin
-    let mut pointers: HashMap<u32, u32> = HashMap::new(); // pointer → its sampler-pointer twin
-    let mut twins: HashMap<u32, u32> = HashMap::new(); // combined pointer value → sampler pointer
-    let mut vars: Vec<u32> = Vec::new();
-    let mut sampler_type = None;
-    let mut decorations: HashMap<(u32, u32), u32> = HashMap::new();
-    let mut names: HashMap<u32, String> = HashMap::new();
-    for inst in &insts {
-        let o = &inst.operands;
-        match Op::from_u32(inst.op as u32) {
-            Some(Op::TypeSampler) => sampler_type = Some(o[0]),
-            Some(Op::TypeSampledImage) => {
-                sampled.insert(o[0], o[1]);
-            }
-            Some(Op::TypeArray | Op::TypeRuntimeArray)
-                if sampled.contains_key(&o[1]) || arrays.contains_key(&o[1]) =>
-            {
-                arrays.insert(o[0], fresh());
-            }
-            Some(Op::TypePointer) if sampled.contains_key(&o[2]) || arrays.contains_key(&o[2]) => {
-                pointers.insert(o[0], fresh());
-            }
-            Some(Op::Variable) if pointers.contains_key(&o[0]) => {
-                if o[2] != UNIFORM_CONSTANT {
-                    return Err("a combined image sampler outside uniform storage".into());
+/// The module's id bound, from which new ids are taken in order.
+struct Ids {
+    next: u32,
+}
+
+impl Ids {
+    fn fresh(&mut self) -> u32 {
+        self.next += 1;
+        self.next - 1
+    }
+}
+
+/// The combined-sampler shapes of a module: sampled-image types (→ their image type) and arrays
+/// of them, pointers to either, and the variables of those pointer types, each with the id of
+/// its sampler twin; and the bindings and names of the variables.
+struct Shapes {
+    sampled: HashMap<u32, u32>,
+    /// array → its sampler-array twin
+    arrays: HashMap<u32, u32>,
+    /// pointer → its sampler-pointer twin
+    pointers: HashMap<u32, u32>,
+    /// combined pointer value → sampler pointer (grows as parameters and access chains are
+    /// rewritten)
+    twins: HashMap<u32, u32>,
+    vars: Vec<u32>,
+    /// The module's `OpTypeSampler`, or the id it will be declared with.
+    sampler_type: u32,
+    decorations: HashMap<(u32, u32), u32>,
+    names: HashMap<u32, String>,
+}
+
+impl Shapes {
+    /// The shapes of `insts`; `None` when the module has no combined sampler.
+    fn find(insts: &[Inst], ids: &mut Ids) -> Result<Option<Shapes>, String> {
+        let mut sampled: HashMap<u32, u32> = HashMap::new();
+        let mut arrays: HashMap<u32, u32> = HashMap::new();
+        let mut pointers: HashMap<u32, u32> = HashMap::new();
+        let mut twins: HashMap<u32, u32> = HashMap::new();
+        let mut vars: Vec<u32> = Vec::new();
+        let mut sampler_type = None;
+        let mut decorations: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut names: HashMap<u32, String> = HashMap::new();
+        for inst in insts {
+            let o = &inst.operands;
+            match Op::from_u32(inst.op as u32) {
+                Some(Op::TypeSampler) => sampler_type = Some(o[0]),
+                Some(Op::TypeSampledImage) => {
+                    sampled.insert(o[0], o[1]);
                 }
-                vars.push(o[1]);
-                twins.insert(o[1], fresh());
+                Some(Op::TypeArray | Op::TypeRuntimeArray)
+                    if sampled.contains_key(&o[1]) || arrays.contains_key(&o[1]) =>
+                {
+                    arrays.insert(o[0], ids.fresh());
+                }
+                Some(Op::TypePointer)
+                    if sampled.contains_key(&o[2]) || arrays.contains_key(&o[2]) =>
+                {
+                    pointers.insert(o[0], ids.fresh());
+                }
+                Some(Op::Variable) if pointers.contains_key(&o[0]) => {
+                    if o[2] != UNIFORM_CONSTANT {
+                        return Err("a combined image sampler outside uniform storage".into());
+                    }
+                    vars.push(o[1]);
+                    twins.insert(o[1], ids.fresh());
+                }
+                Some(Op::Decorate)
+                    if o.len() >= 3 && (o[1] == DESCRIPTOR_SET || o[1] == BINDING) =>
+                {
+                    decorations.insert((o[0], o[1]), o[2]);
+                }
+                Some(Op::Name) => {
+                    names.insert(o[0], string_of(&o[1..]));
+                }
+                _ => {}
             }
-            Some(Op::Decorate) if o.len() >= 3 && (o[1] == DESCRIPTOR_SET || o[1] == BINDING) => {
-                decorations.insert((o[0], o[1]), o[2]);
-            }
-            Some(Op::Name) => {
-                names.insert(o[0], string_of(&o[1..]));
-            }
-            _ => {}
+        }
+        if sampled.is_empty() {
+            return Ok(None);
+        }
+        let sampler_type = sampler_type.unwrap_or_else(|| ids.fresh());
+        Ok(Some(Shapes {
+            sampled,
+            arrays,
+            pointers,
+            twins,
+            vars,
+            sampler_type,
+            decorations,
+            names,
+        }))
+    }
+
+    /// The image type of a combined type (an array's is itself: its element is rewritten).
+    fn image_of(&self, t: u32) -> u32 {
+        self.sampled.get(&t).copied().unwrap_or(t)
+    }
+
+    /// The sampler type standing beside a combined type.
+    fn sampler_of(&self, t: u32) -> u32 {
+        if self.sampled.contains_key(&t) {
+            self.sampler_type
+        } else {
+            self.arrays[&t]
         }
     }
-    if sampled.is_empty() {
-        return Ok((encode(&header, &insts), Vec::new()));
-    }
-    let sampler_type = sampler_type.unwrap_or_else(&mut fresh);
+}
 
-    // Each sampler takes the next binding its group leaves free, in declaration order.
+/// Each sampler takes the next binding its group leaves free, in declaration order: the samplers
+/// split, and each variable's sampler `(group, binding)`.
+fn sampler_bindings(shapes: &Shapes) -> (Vec<SplitSampler>, HashMap<u32, (u32, u32)>) {
+    let decorations = &shapes.decorations;
     let mut free: BTreeMap<u32, u32> = BTreeMap::new();
-    for (&(target, kind), &value) in &decorations {
+    for (&(target, kind), &value) in decorations {
         if kind == BINDING {
             let group = decorations
                 .get(&(target, DESCRIPTOR_SET))
@@ -173,7 +254,7 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
     }
     let mut split = Vec::new();
     let mut sampler_binding: HashMap<u32, (u32, u32)> = HashMap::new();
-    for &var in &vars {
+    for &var in &shapes.vars {
         let Some(&image_binding) = decorations.get(&(var, BINDING)) else {
             continue;
         };
@@ -186,7 +267,8 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
         *slot += 1;
         sampler_binding.insert(var, (group, binding));
         split.push(SplitSampler {
-            name: names
+            name: shapes
+                .names
                 .get(&var)
                 .cloned()
                 .unwrap_or_else(|| format!("id{var}")),
@@ -195,145 +277,205 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
             sampler_binding: binding,
         });
     }
+    (split, sampler_binding)
+}
 
-    let image_of = |t: u32| sampled.get(&t).copied().unwrap_or(t);
-    let sampler_of = |t: u32| {
-        if sampled.contains_key(&t) {
-            sampler_type
-        } else {
-            arrays[&t]
+/// An instruction whose operands from `first` on are a list (a function type's parameters, a
+/// call's arguments): each one with a twin in `twins` is followed by its twin.
+fn with_twins(op: Op, inst: &Inst, first: usize, twins: &HashMap<u32, u32>) -> Inst {
+    let o = &inst.operands;
+    let mut operands = o[..first].to_vec();
+    for &p in &o[first..] {
+        operands.push(p);
+        if let Some(&twin) = twins.get(&p) {
+            operands.push(twin);
         }
-    };
-    let mut out: Vec<Inst> = Vec::with_capacity(insts.len() + 4 * vars.len());
-    let mut sampler_declared = false;
-    for inst in insts {
-        let o = inst.operands.clone();
+    }
+    Inst::new(op, operands)
+}
+
+/// The rewrite of the instructions, one at a time in order: each combined shape becomes an image
+/// and a sampler twin.
+struct Rewrite<'a> {
+    shapes: Shapes,
+    sampler_binding: HashMap<u32, (u32, u32)>,
+    ids: &'a mut Ids,
+    out: Vec<Inst>,
+    /// `OpTypeSampler` is declared once, before the first sampled-image type.
+    sampler_declared: bool,
+}
+
+impl Rewrite<'_> {
+    /// Rewrite one instruction: a dispatch on its opcode.
+    fn inst(&mut self, inst: Inst) -> Result<(), String> {
+        let sh = &self.shapes;
+        let o = &inst.operands;
         match Op::from_u32(inst.op as u32) {
             Some(Op::TypeSampler) => {
-                // Declared (once) before the first sampled-image type, below.
-                if !sampler_declared {
-                    out.push(inst);
-                    sampler_declared = true;
+                if !self.sampler_declared {
+                    self.out.push(inst);
+                    self.sampler_declared = true;
                 }
             }
             Some(Op::TypeSampledImage) => {
-                if !sampler_declared {
-                    out.push(Inst::new(Op::TypeSampler, vec![sampler_type]));
-                    sampler_declared = true;
+                if !self.sampler_declared {
+                    let t = sh.sampler_type;
+                    self.out.push(Inst::new(Op::TypeSampler, vec![t]));
+                    self.sampler_declared = true;
                 }
-                out.push(inst);
+                self.out.push(inst);
             }
-            Some(Op::TypeArray | Op::TypeRuntimeArray) if arrays.contains_key(&o[0]) => {
-                let mut image = o.clone();
-                image[1] = image_of(o[1]);
-                let mut sampler = o.clone();
-                sampler[0] = arrays[&o[0]];
-                sampler[1] = sampler_of(o[1]);
-                out.push(Inst {
-                    op: inst.op,
-                    operands: image,
-                });
-                out.push(Inst {
-                    op: inst.op,
-                    operands: sampler,
-                });
+            Some(Op::TypeArray | Op::TypeRuntimeArray) if sh.arrays.contains_key(&o[0]) => {
+                self.array_type(inst)
             }
-            Some(Op::TypePointer) if pointers.contains_key(&o[0]) => {
-                out.push(Inst::new(Op::TypePointer, vec![o[0], o[1], image_of(o[2])]));
-                out.push(Inst::new(
-                    Op::TypePointer,
-                    vec![pointers[&o[0]], o[1], sampler_of(o[2])],
-                ));
-            }
+            Some(Op::TypePointer) if sh.pointers.contains_key(&o[0]) => self.pointer_type(&inst),
             Some(Op::TypeFunction) => {
-                let mut operands = vec![o[0], o[1]];
-                for &p in &o[2..] {
-                    operands.push(p);
-                    if let Some(&twin) = pointers.get(&p) {
-                        operands.push(twin);
-                    }
-                }
-                out.push(Inst::new(Op::TypeFunction, operands));
+                let i = with_twins(Op::TypeFunction, &inst, 2, &sh.pointers);
+                self.out.push(i);
             }
-            Some(Op::Variable) if twins.contains_key(&o[1]) => {
-                let mut sampler = o.clone();
-                sampler[0] = pointers[&o[0]];
-                sampler[1] = twins[&o[1]];
-                out.push(inst);
-                out.push(Inst::new(Op::Variable, sampler));
+            Some(Op::Variable) if sh.twins.contains_key(&o[1]) => self.variable(inst),
+            Some(Op::Decorate)
+                if o.len() >= 3 && o[1] == BINDING && sh.twins.contains_key(&o[0]) =>
+            {
+                self.binding(inst)
             }
-            Some(Op::Decorate) if o.len() >= 3 && o[1] == BINDING && twins.contains_key(&o[0]) => {
-                out.push(inst);
-                if let Some(&(group, binding)) = sampler_binding.get(&o[0]) {
-                    let twin = twins[&o[0]];
-                    out.push(Inst::new(Op::Decorate, vec![twin, DESCRIPTOR_SET, group]));
-                    out.push(Inst::new(Op::Decorate, vec![twin, BINDING, binding]));
-                }
+            Some(Op::Name) if sh.twins.contains_key(&o[0]) && sh.vars.contains(&o[0]) => {
+                self.name(inst)
             }
-            Some(Op::Name) if twins.contains_key(&o[0]) && vars.contains(&o[0]) => {
-                let mut operands = vec![twins[&o[0]]];
-                operands.extend(string_words(&format!("{}_sampler", string_of(&o[1..]))));
-                out.push(inst);
-                out.push(Inst::new(Op::Name, operands));
+            Some(Op::FunctionParameter) if sh.pointers.contains_key(&o[0]) => self.parameter(inst),
+            Some(Op::AccessChain | Op::InBoundsAccessChain) if sh.twins.contains_key(&o[2]) => {
+                self.access_chain(inst)?
             }
-            Some(Op::FunctionParameter) if pointers.contains_key(&o[0]) => {
-                let twin = fresh();
-                twins.insert(o[1], twin);
-                out.push(inst);
-                out.push(Inst::new(
-                    Op::FunctionParameter,
-                    vec![pointers[&o[0]], twin],
-                ));
-            }
-            Some(Op::AccessChain | Op::InBoundsAccessChain) if twins.contains_key(&o[2]) => {
-                let twin_type = *pointers
-                    .get(&o[0])
-                    .ok_or("an access chain into a combined image sampler of an unknown type")?;
-                let twin = fresh();
-                let mut sampler = o.clone();
-                sampler[0] = twin_type;
-                sampler[1] = twin;
-                sampler[2] = twins[&o[2]];
-                twins.insert(o[1], twin);
-                out.push(inst.clone());
-                out.push(Inst {
-                    op: inst.op,
-                    operands: sampler,
-                });
-            }
-            Some(Op::Load) if twins.contains_key(&o[2]) => {
-                if !sampled.contains_key(&o[0]) {
-                    return Err("a whole array of combined image samplers is loaded".into());
-                }
-                let (image, sampler) = (fresh(), fresh());
-                let mut load_image = o.clone();
-                load_image[0] = image_of(o[0]);
-                load_image[1] = image;
-                out.push(Inst::new(Op::Load, load_image));
-                out.push(Inst::new(
-                    Op::Load,
-                    vec![sampler_type, sampler, twins[&o[2]]],
-                ));
-                out.push(Inst::new(
-                    Op::SampledImage,
-                    vec![o[0], o[1], image, sampler],
-                ));
-            }
+            Some(Op::Load) if sh.twins.contains_key(&o[2]) => self.load(&inst)?,
             Some(Op::FunctionCall) => {
-                let mut operands = o[..3].to_vec();
-                for &arg in &o[3..] {
-                    operands.push(arg);
-                    if let Some(&twin) = twins.get(&arg) {
-                        operands.push(twin);
-                    }
-                }
-                out.push(Inst::new(Op::FunctionCall, operands));
+                let i = with_twins(Op::FunctionCall, &inst, 3, &sh.twins);
+                self.out.push(i);
             }
-            _ => out.push(inst),
+            _ => self.out.push(inst),
+        }
+        Ok(())
+    }
+
+    /// An array of combined samplers: an array of images, then its sampler-array twin.
+    fn array_type(&mut self, inst: Inst) {
+        let o = &inst.operands;
+        let mut image = o.clone();
+        image[1] = self.shapes.image_of(o[1]);
+        let mut sampler = o.clone();
+        sampler[0] = self.shapes.arrays[&o[0]];
+        sampler[1] = self.shapes.sampler_of(o[1]);
+        self.out.push(Inst {
+            op: inst.op,
+            operands: image,
+        });
+        self.out.push(Inst {
+            op: inst.op,
+            operands: sampler,
+        });
+    }
+
+    /// A pointer to a combined shape: a pointer to the image, then its sampler-pointer twin.
+    fn pointer_type(&mut self, inst: &Inst) {
+        let o = &inst.operands;
+        let sh = &self.shapes;
+        let image = Inst::new(Op::TypePointer, vec![o[0], o[1], sh.image_of(o[2])]);
+        let sampler = Inst::new(
+            Op::TypePointer,
+            vec![sh.pointers[&o[0]], o[1], sh.sampler_of(o[2])],
+        );
+        self.out.extend([image, sampler]);
+    }
+
+    /// A combined variable: kept as the image, followed by its sampler variable.
+    fn variable(&mut self, inst: Inst) {
+        let o = &inst.operands;
+        let mut sampler = o.clone();
+        sampler[0] = self.shapes.pointers[&o[0]];
+        sampler[1] = self.shapes.twins[&o[1]];
+        self.out.push(inst);
+        self.out.push(Inst::new(Op::Variable, sampler));
+    }
+
+    /// A combined variable's binding: kept for the image, and the sampler's set and binding.
+    fn binding(&mut self, inst: Inst) {
+        let target = inst.operands[0];
+        self.out.push(inst);
+        if let Some(&(group, binding)) = self.sampler_binding.get(&target) {
+            let twin = self.shapes.twins[&target];
+            self.out
+                .push(Inst::new(Op::Decorate, vec![twin, DESCRIPTOR_SET, group]));
+            self.out
+                .push(Inst::new(Op::Decorate, vec![twin, BINDING, binding]));
         }
     }
-    header[3] = next_id;
-    Ok((encode(&header, &out), split))
+
+    /// A combined variable's name: kept for the image, `NAME_sampler` for the sampler.
+    fn name(&mut self, inst: Inst) {
+        let o = &inst.operands;
+        let mut operands = vec![self.shapes.twins[&o[0]]];
+        operands.extend(string_words(&format!("{}_sampler", string_of(&o[1..]))));
+        self.out.push(inst);
+        self.out.push(Inst::new(Op::Name, operands));
+    }
+
+    /// A parameter that points to a combined shape: followed by its sampler-pointer twin.
+    fn parameter(&mut self, inst: Inst) {
+        let (ty, id) = (inst.operands[0], inst.operands[1]);
+        let twin = self.ids.fresh();
+        self.shapes.twins.insert(id, twin);
+        self.out.push(inst);
+        self.out.push(Inst::new(
+            Op::FunctionParameter,
+            vec![self.shapes.pointers[&ty], twin],
+        ));
+    }
+
+    /// An access chain into a combined array: followed by the same chain into the samplers.
+    fn access_chain(&mut self, inst: Inst) -> Result<(), String> {
+        let o = &inst.operands;
+        let twin_type = *self
+            .shapes
+            .pointers
+            .get(&o[0])
+            .ok_or("an access chain into a combined image sampler of an unknown type")?;
+        let twin = self.ids.fresh();
+        let mut sampler = o.clone();
+        sampler[0] = twin_type;
+        sampler[1] = twin;
+        sampler[2] = self.shapes.twins[&o[2]];
+        self.shapes.twins.insert(o[1], twin);
+        let op = inst.op;
+        self.out.push(inst);
+        self.out.push(Inst {
+            op,
+            operands: sampler,
+        });
+        Ok(())
+    }
+
+    /// A load of a combined sampler: two loads and an `OpSampledImage` with the old load's id, so
+    /// every use of the combined value is unchanged.
+    fn load(&mut self, inst: &Inst) -> Result<(), String> {
+        let o = &inst.operands;
+        if !self.shapes.sampled.contains_key(&o[0]) {
+            return Err("a whole array of combined image samplers is loaded".into());
+        }
+        let (image, sampler) = (self.ids.fresh(), self.ids.fresh());
+        let mut load_image = o.clone();
+        load_image[0] = self.shapes.image_of(o[0]);
+        load_image[1] = image;
+        let sampler_type = self.shapes.sampler_type;
+        self.out.push(Inst::new(Op::Load, load_image));
+        self.out.push(Inst::new(
+            Op::Load,
+            vec![sampler_type, sampler, self.shapes.twins[&o[2]]],
+        ));
+        self.out.push(Inst::new(
+            Op::SampledImage,
+            vec![o[0], o[1], image, sampler],
+        ));
+        Ok(())
+    }
 }
 
 /// Whether the module holds an `OpSpecConstantOp` (a specialization constant in a constant

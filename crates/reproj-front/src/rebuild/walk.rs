@@ -108,6 +108,7 @@ impl Out<'_, '_> {
         Ok(self.exit())
     }
 
+    /// Rebuild one statement: a dispatch on its kind, one method per kind.
     pub(super) fn walk_stmt(
         &mut self,
         ctx: &mut Ctx,
@@ -121,177 +122,36 @@ impl Out<'_, '_> {
             ));
         }
         match stmt {
-            Statement::Emit(range) => {
-                for h in range.clone() {
-                    if ctx.is_top && !self.is_live_expr(h) {
-                        continue;
-                    }
-                    let m = self.translate(ctx, h)?;
-                    if let Some(stop) = &self.opts.stop_after
-                        && ctx.is_top
-                        && let Some(i) = stop.slots.iter().position(|s| s.target == h)
-                    {
-                        if stop.slots.len() > 1 && self.depth > 0 {
-                            return Err(unsupported(
-                                span,
-                                "nodes cached together must be computed outside branches",
-                            ));
-                        }
-                        self.stop_values[i] = Some(m);
-                        if let Some(values) =
-                            self.stop_values.iter().copied().collect::<Option<Vec<_>>>()
-                        {
-                            let stop = stop.clone();
-                            self.payload_return(&stop, &values, span);
-                            self.stopped = true;
-                            return Ok(());
-                        }
-                    }
-                }
-            }
-            Statement::Block(b) => {
-                // Values stored inside the block were emitted in its scope: do not forward them
-                // past it (naga's validator does not catch an expression used out of scope).
-                let mark = self.stored_log.len();
-                let nb = self.nested(ctx, b)?;
-                self.kill_since(mark);
-                self.push_stmt(Statement::Block(nb), span);
-            }
+            Statement::Emit(range) => self.emit(ctx, range.clone(), span),
+            Statement::Block(b) => self.block_stmt(ctx, b, span),
             Statement::If {
                 condition,
                 accept,
                 reject,
-            } => {
-                let c = self.translate(ctx, *condition)?;
-                let mark = self.stored_log.len();
-                let before = self.env.clone();
-                let a = self.nested(ctx, accept)?;
-                self.env = before.clone();
-                let r = self.nested(ctx, reject)?;
-                self.env = before;
-                self.kill_since(mark);
-                self.push_stmt(
-                    Statement::If {
-                        condition: c,
-                        accept: a,
-                        reject: r,
-                    },
-                    span,
-                );
-            }
-            Statement::Switch { selector, cases } => {
-                let s = self.translate(ctx, *selector)?;
-                let mark = self.stored_log.len();
-                let before = self.env.clone();
-                let mut new_cases = Vec::with_capacity(cases.len());
-                for (i, case) in cases.iter().enumerate() {
-                    self.env = before.clone();
-                    let (body, fall_through) = if case.fall_through && !case.body.is_empty() {
-                        (self.fall_through_case(ctx, &cases[i..])?, false)
-                    } else {
-                        (self.nested(ctx, &case.body)?, case.fall_through)
-                    };
-                    new_cases.push(naga::SwitchCase {
-                        value: case.value,
-                        body,
-                        fall_through,
-                    });
-                }
-                self.env = before;
-                self.kill_since(mark);
-                self.push_stmt(
-                    Statement::Switch {
-                        selector: s,
-                        cases: new_cases,
-                    },
-                    span,
-                );
-            }
+            } => self.if_stmt(ctx, *condition, accept, reject, span),
+            Statement::Switch { selector, cases } => self.switch_stmt(ctx, *selector, cases, span),
             Statement::Loop {
                 body,
                 continuing,
                 break_if,
-            } => {
-                let mut carried = HashSet::new();
-                self.stored_in(ctx, body, &mut carried);
-                self.stored_in(ctx, continuing, &mut carried);
-                for v in &carried {
-                    self.env.remove(v);
-                }
-                let mark = self.stored_log.len();
-                let before = self.env.clone();
-                let b = self.nested(ctx, body)?;
-                self.enter();
-                self.walk_block(ctx, continuing)?;
-                let bi = match break_if {
-                    Some(h) => Some(self.translate(ctx, *h)?),
-                    None => None,
-                };
-                let c = self.exit();
-                self.env = before;
-                self.kill_since(mark);
-                self.push_stmt(
-                    Statement::Loop {
-                        body: b,
-                        continuing: c,
-                        break_if: bi,
-                    },
-                    span,
-                );
-            }
+            } => self.loop_stmt(ctx, body, continuing, *break_if, span),
             Statement::Break | Statement::Continue | Statement::Kill => {
-                self.push_stmt(stmt.clone(), span)
+                self.push_stmt(stmt.clone(), span);
+                Ok(())
             }
-            Statement::Return { value } => {
-                if ctx.is_top {
-                    let v = match (value, &self.opts.stop_after) {
-                        // A return before the cached node in the recompute pass: its value is not
-                        // the payload; return zero.
-                        (_, Some(stop)) => {
-                            Some(self.append(Expression::ZeroValue(stop.vec4), span))
-                        }
-                        (Some(v), None) => Some(self.translate(ctx, *v)?),
-                        (None, None) => None,
-                    };
-                    if self.depth == 0 {
-                        self.root = v;
-                    }
-                    self.push_stmt(Statement::Return { value: v }, span);
-                } else {
-                    ctx.ret = match value {
-                        Some(v) => Some(self.translate(ctx, *v)?),
-                        None => None,
-                    };
-                }
-            }
+            Statement::Return { value } => self.return_stmt(ctx, *value, span),
             Statement::Store { pointer, value } => {
                 let p = self.translate(ctx, *pointer)?;
                 let v = self.translate(ctx, *value)?;
                 self.store(p, v, span);
+                Ok(())
             }
             Statement::ImageStore {
                 image,
                 coordinate,
                 array_index,
                 value,
-            } => {
-                let image = self.translate(ctx, *image)?;
-                let coordinate = self.translate(ctx, *coordinate)?;
-                let array_index = match array_index {
-                    Some(a) => Some(self.translate(ctx, *a)?),
-                    None => None,
-                };
-                let value = self.translate(ctx, *value)?;
-                self.push_stmt(
-                    Statement::ImageStore {
-                        image,
-                        coordinate,
-                        array_index,
-                        value,
-                    },
-                    span,
-                );
-            }
+            } => self.image_store(ctx, [*image, *coordinate, *value], *array_index, span),
             Statement::Call {
                 function,
                 arguments,
@@ -303,25 +163,217 @@ impl Out<'_, '_> {
                         "a function call in a normalized function",
                     ));
                 }
-                self.inline_call(ctx, *function, arguments, *result, span)?;
+                self.inline_call(ctx, *function, arguments, *result, span)
             }
-            other => {
-                let what = format!("the statement {:?}", std::mem::discriminant(other));
-                let name = match other {
-                    Statement::ControlBarrier(_) | Statement::MemoryBarrier(_) => "a barrier",
-                    Statement::Atomic { .. } | Statement::ImageAtomic { .. } => {
-                        "an atomic operation"
-                    }
-                    Statement::WorkGroupUniformLoad { .. } => "workgroupUniformLoad",
-                    Statement::RayQuery { .. } | Statement::RayPipelineFunction(_) => "ray queries",
-                    Statement::SubgroupBallot { .. }
-                    | Statement::SubgroupGather { .. }
-                    | Statement::SubgroupCollectiveOperation { .. } => "subgroup operations",
-                    _ => what.as_str(),
-                };
-                return Err(unsupported(span, format!("{name} in a fragment shader")));
+            other => Err(unsupported_statement(other, span)),
+        }
+    }
+
+    /// The expressions of an `Emit`, translated in order (dead ones skipped at the top level);
+    /// where `StopAfter` caches the last of its nodes, the payload is returned and the walk stops.
+    fn emit(
+        &mut self,
+        ctx: &mut Ctx,
+        range: naga::Range<Expression>,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        for h in range {
+            if ctx.is_top && !self.is_live_expr(h) {
+                continue;
+            }
+            let m = self.translate(ctx, h)?;
+            if let Some(stop) = &self.opts.stop_after
+                && ctx.is_top
+                && let Some(i) = stop.slots.iter().position(|s| s.target == h)
+            {
+                if stop.slots.len() > 1 && self.depth > 0 {
+                    return Err(unsupported(
+                        span,
+                        "nodes cached together must be computed outside branches",
+                    ));
+                }
+                self.stop_values[i] = Some(m);
+                if let Some(values) = self.stop_values.iter().copied().collect::<Option<Vec<_>>>() {
+                    let stop = stop.clone();
+                    self.payload_return(&stop, &values, span);
+                    self.stopped = true;
+                    return Ok(());
+                }
             }
         }
+        Ok(())
+    }
+
+    /// A nested block. Values stored inside the block were emitted in its scope: they are not
+    /// forwarded past it (naga's validator does not catch an expression used out of scope).
+    fn block_stmt(&mut self, ctx: &mut Ctx, b: &Block, span: Span) -> Result<(), FrontError> {
+        let mark = self.stored_log.len();
+        let nb = self.nested(ctx, b)?;
+        self.kill_since(mark);
+        self.push_stmt(Statement::Block(nb), span);
+        Ok(())
+    }
+
+    /// An `if`: each branch walked from the values known before it; none stored in either is
+    /// forwarded past it.
+    fn if_stmt(
+        &mut self,
+        ctx: &mut Ctx,
+        condition: Handle<Expression>,
+        accept: &Block,
+        reject: &Block,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        let c = self.translate(ctx, condition)?;
+        let mark = self.stored_log.len();
+        let before = self.env.clone();
+        let a = self.nested(ctx, accept)?;
+        self.env = before.clone();
+        let r = self.nested(ctx, reject)?;
+        self.env = before;
+        self.kill_since(mark);
+        self.push_stmt(
+            Statement::If {
+                condition: c,
+                accept: a,
+                reject: r,
+            },
+            span,
+        );
+        Ok(())
+    }
+
+    /// A `switch`: each case walked from the values known before it, a case that falls through
+    /// written with the bodies it falls into.
+    fn switch_stmt(
+        &mut self,
+        ctx: &mut Ctx,
+        selector: Handle<Expression>,
+        cases: &[naga::SwitchCase],
+        span: Span,
+    ) -> Result<(), FrontError> {
+        let s = self.translate(ctx, selector)?;
+        let mark = self.stored_log.len();
+        let before = self.env.clone();
+        let mut new_cases = Vec::with_capacity(cases.len());
+        for (i, case) in cases.iter().enumerate() {
+            self.env = before.clone();
+            let (body, fall_through) = if case.fall_through && !case.body.is_empty() {
+                (self.fall_through_case(ctx, &cases[i..])?, false)
+            } else {
+                (self.nested(ctx, &case.body)?, case.fall_through)
+            };
+            new_cases.push(naga::SwitchCase {
+                value: case.value,
+                body,
+                fall_through,
+            });
+        }
+        self.env = before;
+        self.kill_since(mark);
+        self.push_stmt(
+            Statement::Switch {
+                selector: s,
+                cases: new_cases,
+            },
+            span,
+        );
+        Ok(())
+    }
+
+    /// A `loop`: what it stores is forgotten before it (carried from one iteration to the next),
+    /// and what it stores inside is not forwarded past it.
+    fn loop_stmt(
+        &mut self,
+        ctx: &mut Ctx,
+        body: &Block,
+        continuing: &Block,
+        break_if: Option<Handle<Expression>>,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        let mut carried = HashSet::new();
+        self.stored_in(ctx, body, &mut carried);
+        self.stored_in(ctx, continuing, &mut carried);
+        for v in &carried {
+            self.env.remove(v);
+        }
+        let mark = self.stored_log.len();
+        let before = self.env.clone();
+        let b = self.nested(ctx, body)?;
+        self.enter();
+        self.walk_block(ctx, continuing)?;
+        let bi = match break_if {
+            Some(h) => Some(self.translate(ctx, h)?),
+            None => None,
+        };
+        let c = self.exit();
+        self.env = before;
+        self.kill_since(mark);
+        self.push_stmt(
+            Statement::Loop {
+                body: b,
+                continuing: c,
+                break_if: bi,
+            },
+            span,
+        );
+        Ok(())
+    }
+
+    /// A `return`: at the top level the function's result (zero in the recompute pass, before
+    /// the cached node), in an inlined helper the value of the call.
+    fn return_stmt(
+        &mut self,
+        ctx: &mut Ctx,
+        value: Option<Handle<Expression>>,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        if ctx.is_top {
+            let v = match (value, &self.opts.stop_after) {
+                // A return before the cached node in the recompute pass: its value is not
+                // the payload; return zero.
+                (_, Some(stop)) => Some(self.append(Expression::ZeroValue(stop.vec4), span)),
+                (Some(v), None) => Some(self.translate(ctx, v)?),
+                (None, None) => None,
+            };
+            if self.depth == 0 {
+                self.root = v;
+            }
+            self.push_stmt(Statement::Return { value: v }, span);
+        } else {
+            ctx.ret = match value {
+                Some(v) => Some(self.translate(ctx, v)?),
+                None => None,
+            };
+        }
+        Ok(())
+    }
+
+    /// An image store, its operands translated in order: `[image, coordinate, value]` and the
+    /// array index (translated before the value).
+    fn image_store(
+        &mut self,
+        ctx: &mut Ctx,
+        [image, coordinate, value]: [Handle<Expression>; 3],
+        array_index: Option<Handle<Expression>>,
+        span: Span,
+    ) -> Result<(), FrontError> {
+        let image = self.translate(ctx, image)?;
+        let coordinate = self.translate(ctx, coordinate)?;
+        let array_index = match array_index {
+            Some(a) => Some(self.translate(ctx, a)?),
+            None => None,
+        };
+        let value = self.translate(ctx, value)?;
+        self.push_stmt(
+            Statement::ImageStore {
+                image,
+                coordinate,
+                array_index,
+                value,
+            },
+            span,
+        );
         Ok(())
     }
 
@@ -453,4 +505,20 @@ fn check_single_return(fun: &Function) -> Result<(), FrontError> {
         }
     }
     Ok(())
+}
+
+/// The error for a statement a fragment shader reproj rebuilds cannot hold, named by its kind.
+fn unsupported_statement(other: &Statement, span: Span) -> FrontError {
+    let what = format!("the statement {:?}", std::mem::discriminant(other));
+    let name = match other {
+        Statement::ControlBarrier(_) | Statement::MemoryBarrier(_) => "a barrier",
+        Statement::Atomic { .. } | Statement::ImageAtomic { .. } => "an atomic operation",
+        Statement::WorkGroupUniformLoad { .. } => "workgroupUniformLoad",
+        Statement::RayQuery { .. } | Statement::RayPipelineFunction(_) => "ray queries",
+        Statement::SubgroupBallot { .. }
+        | Statement::SubgroupGather { .. }
+        | Statement::SubgroupCollectiveOperation { .. } => "subgroup operations",
+        _ => what.as_str(),
+    };
+    unsupported(span, format!("{name} in a fragment shader"))
 }
