@@ -151,26 +151,33 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
 /// the source text, as for SPIR-V.
 pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
     let module = crate::compose::compose(path, source)?;
-    let info = validator().validate(&module).map_err(|e| {
+    reparse_as_wgsl(path, &module, "composed")
+}
+
+/// A module read from another form (SPIR-V, composed WGSL), validated and written as WGSL, which
+/// is then parsed as the shader's source text (its spans point there). `what` names the form in
+/// messages. Its spans are not into any text the user has: errors are reported without them.
+fn reparse_as_wgsl(path: &Path, module: &naga::Module, what: &str) -> Result<Shader, FrontError> {
+    let info = validator().validate(module).map_err(|e| {
         FrontError::Validation(SourceDiagnostic::new(
             path.to_owned(),
             "",
             vec![Message::new(format!(
-                "the composed module is not valid: {}",
+                "the {what} module is not valid: {}",
                 chain(&e)
             ))],
         ))
     })?;
-    let wgsl = write_wgsl(&module, &info).map_err(|what| {
+    let wgsl = write_wgsl(module, &info).map_err(|why| {
         FrontError::Unsupported(SourceDiagnostic::new(
             path.to_owned(),
             "",
-            vec![Message::new(format!("unsupported: {what}"))],
+            vec![Message::new(format!("unsupported: {why}"))],
         ))
     })?;
     parse_text(path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
         what: format!(
-            "naga's WGSL of the composed {} does not parse again: {e}",
+            "naga's WGSL of the {what} module {} does not parse again: {e}",
             path.display()
         ),
     })
@@ -217,7 +224,6 @@ fn missing_glslang_note(text: &str) -> String {
 /// Parse a SPIR-V binary (naga's SPIR-V front end), validate it, and make its WGSL the source
 /// text (see the module docs).
 pub fn parse_spirv(path: &Path, bytes: &[u8]) -> Result<Shader, FrontError> {
-    let path_str = path.display().to_string();
     let options = naga::front::spv::Options {
         adjust_coordinate_space: false,
         strict_capabilities: false,
@@ -231,26 +237,7 @@ pub fn parse_spirv(path: &Path, bytes: &[u8]) -> Result<Shader, FrontError> {
         ))
     })?;
     // Spans of a SPIR-V module are byte offsets into the binary: report errors without them.
-    let info = validator().validate(&module).map_err(|e| {
-        FrontError::Validation(SourceDiagnostic::new(
-            path.to_owned(),
-            "",
-            vec![Message::new(format!(
-                "the SPIR-V module is not valid: {}",
-                chain(&e)
-            ))],
-        ))
-    })?;
-    let wgsl = write_wgsl(&module, &info).map_err(|what| {
-        FrontError::Unsupported(SourceDiagnostic::new(
-            path.to_owned(),
-            "",
-            vec![Message::new(format!("unsupported: {what}"))],
-        ))
-    })?;
-    let shader = parse_text(path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
-        what: format!("naga's WGSL of {path_str} does not parse again: {e}"),
-    })?;
+    let shader = reparse_as_wgsl(path, &module, "SPIR-V")?;
     Ok(Shader {
         lang: Lang::SpirV,
         ..shader

@@ -780,21 +780,30 @@ fn h(x: f32) -> f32 {
     return vec4<f32>(a_1, b, a, 1.0);
 }
 ";
-    let shader = reproj_front::parse_shader(Path::new("names.wgsl"), src.to_owned()).unwrap();
-    let norm = normalize(&shader, &Default::default()).unwrap();
-    let table = enumerate(&shader, &norm);
-    for strategy in [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused] {
-        let opts = InstanceOptions {
-            strategy,
-            ..Default::default()
-        };
-        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts)
-            .unwrap_or_else(|e| panic!("{strategy:?}: {e}"));
+    for v in root_in_every_strategy("names.wgsl", src) {
         for p in &v.passes {
             let m = naga::front::wgsl::parse_str(&p.wgsl).unwrap();
             reproj_front::validator().validate(&m).unwrap();
         }
     }
+}
+
+/// The root variant of the WGSL `src` in each strategy (panics naming the strategy that fails).
+fn root_in_every_strategy(name: &str, src: &str) -> Vec<Variant> {
+    let shader = reproj_front::parse_shader(Path::new(name), src.to_owned()).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused]
+        .into_iter()
+        .map(|strategy| {
+            let opts = InstanceOptions {
+                strategy,
+                ..Default::default()
+            };
+            instance(&shader, &norm, &table, NodeSelector::Root, &opts)
+                .unwrap_or_else(|e| panic!("{strategy:?}: {e}"))
+        })
+        .collect()
 }
 
 /// A helper inlined with literal arguments leaves constants nested in its body (`(1 + w) * (1 +
@@ -812,16 +821,7 @@ fn soften(d: f32, w: f32) -> f32 {
     return vec4<f32>(vec3<f32>(d * sin(p.x * 7.0)), 1.0);
 }
 ";
-    let shader = reproj_front::parse_shader(Path::new("nested.wgsl"), src.to_owned()).unwrap();
-    let norm = normalize(&shader, &Default::default()).unwrap();
-    let table = enumerate(&shader, &norm);
-    for strategy in [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused] {
-        let opts = InstanceOptions {
-            strategy,
-            ..Default::default()
-        };
-        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts)
-            .unwrap_or_else(|e| panic!("{strategy:?}: {e}"));
+    for v in root_in_every_strategy("nested.wgsl", src) {
         for p in &v.passes {
             // A fixed point: written again, the text does not change.
             let m = naga::front::wgsl::parse_str(&p.wgsl).unwrap();
