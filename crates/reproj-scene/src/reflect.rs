@@ -477,37 +477,10 @@ fn storage_layout(
     })
 }
 
-/// Reflect the fragment entry point `entry_index` of a validated module.
-pub fn reflect(
-    module: &Module,
-    info: &ModuleInfo,
-    entry_index: usize,
-) -> Result<Interface, Unsupported> {
-    let ep = module
-        .entry_points
-        .get(entry_index)
-        .ok_or_else(|| Unsupported {
-            what: format!("no entry point #{entry_index}"),
-        })?;
-    if ep.stage != naga::ShaderStage::Fragment {
-        return Err(Unsupported {
-            what: format!("entry point `{}` is not a @fragment entry point", ep.name),
-        });
-    }
-    let mut inputs = Vec::new();
-    for arg in &ep.function.arguments {
-        collect_input(
-            module,
-            arg.name.as_deref().unwrap_or("?"),
-            arg.ty,
-            &arg.binding,
-            &mut inputs,
-            &ep.name,
-        )?;
-    }
-    inputs.sort_by_key(|i| i.location);
-    // Output: one vec4<f32> at @location(0); a variant's pass may add its cache output
-    // (`reproj_cache`, a vec4<f32>) and its depth copy (`reproj_depth`, an f32) at higher locations.
+/// The entry point's output: one vec4<f32> at @location(0); a variant's pass may add its cache
+/// output (`reproj_cache`, a vec4<f32>) and its depth copy (`reproj_depth`, an f32) at higher
+/// locations, and builtins.
+fn check_output(module: &Module, ep: &naga::EntryPoint) -> Result<(), Unsupported> {
     if let Some(res) = &ep.function.result {
         let ok = match &res.binding {
             Some(Binding::Location { location: 0, .. }) => {
@@ -539,6 +512,113 @@ pub fn reflect(
             });
         }
     }
+    Ok(())
+}
+
+/// What the replay binds for the global `gv` (named `name`), or `None` for a global that is not a
+/// resource; what it cannot provide is `ResourceKind::Unsupported` with the reason.
+fn resource_kind(
+    module: &Module,
+    layouter: &Layouter,
+    gv: &naga::GlobalVariable,
+    name: &str,
+) -> Option<ResourceKind> {
+    let inner = &module.types[gv.ty].inner;
+    let kind = match gv.space {
+        AddressSpace::Uniform => {
+            let size = layouter[gv.ty].size;
+            // A struct's leaves are named from its members; a plain value by the variable.
+            let root = match inner {
+                TypeInner::Struct { .. } => "",
+                _ => name,
+            };
+            let mut fields = Vec::new();
+            match uniform_leaves(module, layouter, root, gv.ty, 0, &mut fields) {
+                Ok(()) => ResourceKind::Uniform { size, fields },
+                Err(e) if root.is_empty() => ResourceKind::Unsupported(format!("`{name}`: {e}")),
+                Err(e) => ResourceKind::Unsupported(e),
+            }
+        }
+        AddressSpace::Handle => match *inner {
+            TypeInner::Image {
+                dim,
+                arrayed,
+                class,
+            } => {
+                let d = match (dim, arrayed) {
+                    (ImageDimension::D2, false) => Some(TexDim::D2),
+                    (ImageDimension::D2, true) => Some(TexDim::D2Array),
+                    (ImageDimension::D3, false) => Some(TexDim::D3),
+                    (ImageDimension::Cube, false) => Some(TexDim::Cube),
+                    _ => None,
+                };
+                match (class, d) {
+                    (
+                        ImageClass::Sampled {
+                            kind: ScalarKind::Float,
+                            multi: false,
+                        },
+                        Some(dim),
+                    ) => ResourceKind::Texture { dim },
+                    (ImageClass::Depth { multi: false }, Some(TexDim::D2)) => {
+                        ResourceKind::DepthTexture
+                    }
+                    _ => ResourceKind::Unsupported(format!(
+                        "texture `{name}` ({}): the replay provides float 2D, 2D-array, 3D and cube textures and 2D depth textures only",
+                        type_text(module, gv.ty)
+                    )),
+                }
+            }
+            TypeInner::Sampler { comparison } => ResourceKind::Sampler { comparison },
+            _ => ResourceKind::Unsupported(format!(
+                "resource `{name}` of type {}",
+                type_text(module, gv.ty)
+            )),
+        },
+        AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => {
+            ResourceKind::Unsupported(format!(
+                "storage buffer `{name}` is read_write: the replay provides read-only storage buffers"
+            ))
+        }
+        AddressSpace::Storage { .. } => match storage_layout(module, layouter, gv.ty) {
+            Ok(layout) => ResourceKind::Storage(layout),
+            Err(e) => ResourceKind::Unsupported(format!("storage buffer `{name}`: {e}")),
+        },
+        _ => return None,
+    };
+    Some(kind)
+}
+
+/// Reflect the fragment entry point `entry_index` of a validated module.
+pub fn reflect(
+    module: &Module,
+    info: &ModuleInfo,
+    entry_index: usize,
+) -> Result<Interface, Unsupported> {
+    let ep = module
+        .entry_points
+        .get(entry_index)
+        .ok_or_else(|| Unsupported {
+            what: format!("no entry point #{entry_index}"),
+        })?;
+    if ep.stage != naga::ShaderStage::Fragment {
+        return Err(Unsupported {
+            what: format!("entry point `{}` is not a @fragment entry point", ep.name),
+        });
+    }
+    let mut inputs = Vec::new();
+    for arg in &ep.function.arguments {
+        collect_input(
+            module,
+            arg.name.as_deref().unwrap_or("?"),
+            arg.ty,
+            &arg.binding,
+            &mut inputs,
+            &ep.name,
+        )?;
+    }
+    inputs.sort_by_key(|i| i.location);
+    check_output(module, ep)?;
 
     let mut layouter = Layouter::default();
     layouter.update(module.to_ctx()).map_err(|e| Unsupported {
@@ -556,70 +636,8 @@ pub fn reflect(
             .name
             .clone()
             .unwrap_or_else(|| format!("group{}_binding{}", rb.group, rb.binding));
-        let inner = &module.types[gv.ty].inner;
-        let kind = match gv.space {
-            AddressSpace::Uniform => {
-                let size = layouter[gv.ty].size;
-                // A struct's leaves are named from its members; a plain value by the variable.
-                let root = match inner {
-                    TypeInner::Struct { .. } => "",
-                    _ => name.as_str(),
-                };
-                let mut fields = Vec::new();
-                match uniform_leaves(module, &layouter, root, gv.ty, 0, &mut fields) {
-                    Ok(()) => ResourceKind::Uniform { size, fields },
-                    Err(e) if root.is_empty() => {
-                        ResourceKind::Unsupported(format!("`{name}`: {e}"))
-                    }
-                    Err(e) => ResourceKind::Unsupported(e),
-                }
-            }
-            AddressSpace::Handle => match *inner {
-                TypeInner::Image {
-                    dim,
-                    arrayed,
-                    class,
-                } => {
-                    let d = match (dim, arrayed) {
-                        (ImageDimension::D2, false) => Some(TexDim::D2),
-                        (ImageDimension::D2, true) => Some(TexDim::D2Array),
-                        (ImageDimension::D3, false) => Some(TexDim::D3),
-                        (ImageDimension::Cube, false) => Some(TexDim::Cube),
-                        _ => None,
-                    };
-                    match (class, d) {
-                        (
-                            ImageClass::Sampled {
-                                kind: ScalarKind::Float,
-                                multi: false,
-                            },
-                            Some(dim),
-                        ) => ResourceKind::Texture { dim },
-                        (ImageClass::Depth { multi: false }, Some(TexDim::D2)) => {
-                            ResourceKind::DepthTexture
-                        }
-                        _ => ResourceKind::Unsupported(format!(
-                            "texture `{name}` ({}): the replay provides float 2D, 2D-array, 3D and cube textures and 2D depth textures only",
-                            type_text(module, gv.ty)
-                        )),
-                    }
-                }
-                TypeInner::Sampler { comparison } => ResourceKind::Sampler { comparison },
-                _ => ResourceKind::Unsupported(format!(
-                    "resource `{name}` of type {}",
-                    type_text(module, gv.ty)
-                )),
-            },
-            AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => {
-                ResourceKind::Unsupported(format!(
-                    "storage buffer `{name}` is read_write: the replay provides read-only storage buffers"
-                ))
-            }
-            AddressSpace::Storage { .. } => match storage_layout(module, &layouter, gv.ty) {
-                Ok(layout) => ResourceKind::Storage(layout),
-                Err(e) => ResourceKind::Unsupported(format!("storage buffer `{name}`: {e}")),
-            },
-            _ => continue,
+        let Some(kind) = resource_kind(module, &layouter, gv, &name) else {
+            continue;
         };
         resources.push(Resource {
             group: rb.group,
