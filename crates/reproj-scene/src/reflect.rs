@@ -631,6 +631,15 @@ pub fn reflect(
         if fi[h].is_empty() {
             continue;
         }
+        if gv.space == AddressSpace::Immediate {
+            // Refused here, by name, rather than by wgpu's pipeline validation later.
+            return Err(Unsupported {
+                what: format!(
+                    "`{}` is a push-constant block (naga's immediates): the replay cannot bind push constants yet; declare its members in a uniform block to render or analyze this shader",
+                    gv.name.as_deref().unwrap_or("the immediate block")
+                ),
+            });
+        }
         let Some(rb) = &gv.binding else { continue };
         let name = gv
             .name

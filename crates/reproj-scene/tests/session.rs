@@ -238,6 +238,24 @@ fn reflection_refuses_a_vertex_entry() {
     assert!(e.to_string().contains("not a @fragment"), "{e}");
 }
 
+/// A push-constant block (naga's immediates: GLSL's `layout(push_constant)`) is refused by name
+/// at reflection — `render`, `analyze` and `session init` exit 2 with it — instead of by wgpu's
+/// pipeline validation (exit 1, several lines).
+#[test]
+fn reflection_refuses_push_constants_by_name() {
+    let src = "struct Push { tint: vec4<f32> }
+var<immediate> push: Push;
+@fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> { return push.tint * p.x; }";
+    let module = naga::front::wgsl::parse_str(src).unwrap();
+    let info = reproj_front::validator().validate(&module).unwrap();
+    let e = reflect::reflect(&module, &info, 0).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`push` is a push-constant block (naga's immediates)"),
+        "{e}"
+    );
+}
+
 /// `docs/session.schema.json` is what the session types generate. After changing them, run
 /// `REPROJ_BLESS=1 cargo test -p reproj-scene --test session` and review the diff.
 #[test]
