@@ -555,13 +555,29 @@ pub struct IntegrationArgs {
     /// would) or `load` what the engine drew before.
     #[arg(long, value_enum, default_value = "clear")]
     pub frame_load: FrameLoadArg,
+    /// How the first pass starts the depth target: `clear` it, or `load` the engine's depth (its
+    /// opaque geometry, drawn before) so the variant is hidden behind it.
+    #[arg(long, value_enum, default_value = "clear")]
+    pub depth_load: FrameLoadArg,
+    /// Where the lookup finds a fragment in the previous frame: the `vertex` stage's extra output
+    /// (the previous clip position), or the engine's `motion-vectors` texture (.xy = uv_current −
+    /// uv_previous, texture UV, y down; docs/PASSES.md).
+    #[arg(long, value_enum, default_value = "vertex")]
+    pub reproject: ReprojectArg,
 }
 
-/// How the frame target starts.
+/// How the frame (or depth) target starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FrameLoadArg {
     Clear,
     Load,
+}
+
+/// Where the previous position comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ReprojectArg {
+    Vertex,
+    MotionVectors,
 }
 
 /// Input language of the shader.

@@ -40,17 +40,26 @@ pub const CUR_PAYLOAD_BINDING: u32 = 3;
 pub const LINEAR_SAMPLER: &str = "reproj_linear_sampler";
 /// Binding number of [`LINEAR_SAMPLER`].
 pub const LINEAR_SAMPLER_BINDING: u32 = 5;
+/// The engine's motion-vector texture (`reprojection: motion_vectors`): `.xy` = `uv_current -
+/// uv_previous` per frame pixel.
+pub const MOTION: &str = "reproj_motion";
+/// Binding number of [`MOTION`].
+pub const MOTION_BINDING: u32 = 6;
+/// The function of the motion-vector library that turns a fragment position into its previous
+/// clip position.
+pub const MOTION_CLIP: &str = "reproj_motion_clip";
 /// Nearest clamp-to-edge sampler, declared by variants written by earlier versions (the replay
 /// still binds it; this instancer no longer declares it).
 pub const POINT_SAMPLER: &str = "reproj_point_sampler";
 
 /// Every binding this instancer adds to the variant's group: (name, binding number).
-pub const ADDED_BINDINGS: [(&str, u32); 5] = [
+pub const ADDED_BINDINGS: [(&str, u32); 6] = [
     (PARAMS, PARAMS_BINDING),
     (PREV_PAYLOAD, PREV_PAYLOAD_BINDING),
     (PREV_DEPTH, PREV_DEPTH_BINDING),
     (CUR_PAYLOAD, CUR_PAYLOAD_BINDING),
     (LINEAR_SAMPLER, LINEAR_SAMPLER_BINDING),
+    (MOTION, MOTION_BINDING),
 ];
 
 /// The `reproj_params` uniform buffer, byte for byte as the lookup library's `ReprojParams`
@@ -102,33 +111,48 @@ pub const PARAMS_OFFSETS: [(&str, u32); 4] = [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Reconstruct, library_text};
+    use crate::Reconstruct;
+    use crate::library::{PrevClip, library_text};
 
-    fn library() -> naga::Module {
-        let text = library_text(1, 7, Reconstruct::Bilinear);
+    fn library_with(prev_clip: PrevClip) -> naga::Module {
+        let text = library_text(1, prev_clip, Reconstruct::Bilinear);
         naga::front::wgsl::parse_str(&text).expect("the lookup library parses")
     }
 
-    /// The lookup library declares exactly the contract's bindings, by name and number.
+    fn library() -> naga::Module {
+        library_with(PrevClip::Location(7))
+    }
+
+    /// The lookup library declares exactly the contract's bindings, by name and number: the
+    /// motion vectors only where it reads them.
     #[test]
     fn contract_matches_library() {
-        let m = library();
-        let declared: Vec<(String, u32)> = m
-            .global_variables
-            .iter()
-            .filter_map(|(_, g)| Some((g.name.clone()?, g.binding.as_ref()?.binding)))
-            .collect();
-        for (name, binding) in &declared {
-            assert!(
-                ADDED_BINDINGS.contains(&(name.as_str(), *binding)),
-                "the library declares {name} at binding {binding}, which the contract does not list"
-            );
-        }
-        // The current payload is added by the instancer in code (not the library).
-        for (name, binding) in ADDED_BINDINGS.iter().filter(|(n, _)| *n != CUR_PAYLOAD) {
-            assert!(
-                declared.contains(&(name.to_string(), *binding)),
-                "the contract lists {name} at binding {binding}, the library does not declare it"
+        for prev_clip in [PrevClip::Location(7), PrevClip::Motion] {
+            let m = library_with(prev_clip);
+            let declared: Vec<(String, u32)> = m
+                .global_variables
+                .iter()
+                .filter_map(|(_, g)| Some((g.name.clone()?, g.binding.as_ref()?.binding)))
+                .collect();
+            for (name, binding) in &declared {
+                assert!(
+                    ADDED_BINDINGS.contains(&(name.as_str(), *binding)),
+                    "the library declares {name} at binding {binding}, which the contract does not list"
+                );
+            }
+            // The current payload is added by the instancer in code (not the library).
+            let expected = ADDED_BINDINGS.iter().filter(|(n, _)| {
+                *n != CUR_PAYLOAD && (*n != MOTION || prev_clip == PrevClip::Motion)
+            });
+            for (name, binding) in expected {
+                assert!(
+                    declared.contains(&(name.to_string(), *binding)),
+                    "the contract lists {name} at binding {binding}, the library does not declare it"
+                );
+            }
+            assert_eq!(
+                m.functions.iter().any(|(_, f)| f.name.as_deref() == Some(MOTION_CLIP)),
+                prev_clip == PrevClip::Motion
             );
         }
     }

@@ -147,6 +147,7 @@ pub(crate) fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) ->
                         },
                         true,
                     ),
+                    contract::MOTION => (BindingResource::Motion, false),
                     other => unreachable!("the lookup library declares no binding `{other}`"),
                 }
             };
@@ -197,7 +198,8 @@ pub(crate) struct ManifestInput<'a> {
     pub opts: &'a InstanceOptions,
     pub cache_format: CacheFormat,
     pub group: u32,
-    pub prev_clip_location: u32,
+    /// `None` with the engine's motion vectors.
+    pub prev_clip_location: Option<u32>,
     pub passes: &'a [PassModule],
 }
 
@@ -248,9 +250,11 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         },
         group,
         conventions: Conventions::default(),
+        reprojection: opts.reprojection,
         vertex: vertex_contract(prev_clip_location),
         params: params(opts),
         textures: textures(cache_format),
+        bytes_per_pixel: Some(bytes_per_pixel(cache_format)),
         samplers: vec![SamplerDesc {
             name: SAMPLER_LINEAR.into(),
             mag_filter: Filter::Linear,
@@ -272,17 +276,24 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
 
 /// What a host must know beyond the data: how the passes draw, the vertex stage's extra output,
 /// the depth copy, the ping-pong, the first frame, the debug entry, the frame target's load.
-fn host_notes(opts: &InstanceOptions, prev_clip_location: u32) -> Vec<String> {
+fn host_notes(opts: &InstanceOptions, prev_clip_location: Option<u32>) -> Vec<String> {
     let draw = match opts.strategy {
         Strategy::ThreePass => "All three passes draw",
         Strategy::TwoPass => "Both passes draw",
         Strategy::Fused => "The pass draws",
     };
+    let previous = match prev_clip_location {
+        Some(location) => format!(
+            "The vertex stage also writes @location({location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
+        ),
+        None => format!(
+            "The passes that look up the cache read the engine's motion vectors (binding {} of the group, resource \"motion\"): .xy = uv_current - uv_previous in texture UV (0 to 1, y down), one texel per frame pixel, written before the first pass. The vertex stage writes nothing extra.",
+            contract::MOTION_BINDING
+        ),
+    };
     let mut notes = vec![
         format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
-        format!(
-            "The vertex stage also writes @location({prev_clip_location}) prev_clip: vec4<f32> = previous frame's view_proj * previous model * position (the manifest's vertex.wgsl)."
-        ),
+        previous,
         "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
         "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
         "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
@@ -290,6 +301,9 @@ fn host_notes(opts: &InstanceOptions, prev_clip_location: u32) -> Vec<String> {
     ];
     if opts.frame_load == FrameLoad::Load {
         notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());
+    }
+    if opts.depth_load == DepthLoad::Load {
+        notes.push("The depth target is loaded, not cleared: clear it and draw the engine's opaque geometry into it before the first pass; the variant's fragments behind it are neither drawn nor cached.".into());
     }
     notes
 }
@@ -318,7 +332,7 @@ fn node_infos(nodes: &[&Node]) -> Vec<NodeInfo> {
 /// One pass of the manifest: its file, entry point, bindings, and the targets and depth state of
 /// its kind.
 fn pass(p: &PassModule, opts: &InstanceOptions, cache_format: CacheFormat, group: u32) -> Pass {
-    let (colors, depth) = pass_targets(p, opts.frame_load, cache_format);
+    let (colors, depth) = pass_targets(p, opts, cache_format);
     Pass {
         kind: p.kind,
         file: pass_file(p.kind).into(),
@@ -338,7 +352,7 @@ fn pass(p: &PassModule, opts: &InstanceOptions, cache_format: CacheFormat, group
 /// the frame, the depth and its copy, and which load what an earlier pass wrote.
 fn pass_targets(
     p: &PassModule,
-    frame_load: FrameLoad,
+    opts: &InstanceOptions,
     cache_format: CacheFormat,
 ) -> (Vec<ColorTarget>, DepthState) {
     let clear_cache = || LoadOp::Clear {
@@ -352,7 +366,7 @@ fn pass_targets(
         store: true,
         blend: None,
     };
-    let frame_first = || match frame_load {
+    let frame_first = || match opts.frame_load {
         FrameLoad::Clear => LoadOp::Clear { value: None },
         FrameLoad::Load => LoadOp::Load,
     };
@@ -364,8 +378,11 @@ fn pass_targets(
         store: true,
         blend: None,
     };
-    let clear_depth = || LoadOp::Clear {
-        value: Some(vec![1.0]),
+    let clear_depth = || match opts.depth_load {
+        DepthLoad::Clear => LoadOp::Clear {
+            value: Some(vec![1.0]),
+        },
+        DepthLoad::Load => LoadOp::Load,
     };
     let depth = |compare: &str, write: bool, load: LoadOp| DepthState {
         attachment: ROLE_CUR_DEPTH.into(),
@@ -447,8 +464,17 @@ fn output_location(p: &PassModule, name: &str) -> u32 {
 }
 
 /// The vertex stage's contract: an @invariant position and the previous clip position at
-/// `prev_clip_location`, from the inputs the helper [`VERTEX_CONTRACT_WGSL`] takes.
-fn vertex_contract(prev_clip_location: u32) -> VertexContract {
+/// `prev_clip_location`, from the inputs the helper [`VERTEX_CONTRACT_WGSL`] takes; with the
+/// engine's motion vectors (`None`), the position alone.
+fn vertex_contract(prev_clip_location: Option<u32>) -> VertexContract {
+    if prev_clip_location.is_none() {
+        return VertexContract {
+            invariant_position: true,
+            prev_clip_location: None,
+            inputs: Vec::new(),
+            wgsl: String::new(),
+        };
+    }
     VertexContract {
         invariant_position: true,
         prev_clip_location,
@@ -549,6 +575,13 @@ fn textures(cache_format: CacheFormat) -> Vec<TextureDesc> {
             ..texture("depth", "depth32float")
         },
     ]
+}
+
+/// Bytes per frame pixel of [`textures`] apart from the depth attachment: two payloads and two
+/// depth copies.
+fn bytes_per_pixel(cache_format: CacheFormat) -> u32 {
+    let payload = cache_format.channels() * if cache_format.is_half() { 2 } else { 4 };
+    2 * payload + 2 * 4
 }
 
 /// One frame's roles: the current payload and depth copy are textures `a`, the previous `b`.

@@ -18,6 +18,8 @@ pub mod backends;
 mod error;
 pub mod import;
 mod layout;
+mod library;
+use library::{PrevClip, library_text, parse_library, reproject_text};
 pub mod manifest;
 mod simplify;
 mod strategy;
@@ -38,11 +40,6 @@ pub use simplify::{Replacement, Simplified, SimplifyOptions, probe, simplify};
 pub use wgsl::pass_file;
 use wgsl::{allow_quad_uniform_derivatives, finish, finish_module};
 pub use write::{VARIANT_FILES, variant_files, write_variant, write_variant_in};
-
-/// The lookup library; `REPROJ_GROUP`, `REPROJ_PREV_CLIP` and `REPROJ_RECONSTRUCT` are substituted.
-const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
-/// The three-pass strategy's pass-1 entry, appended to the library.
-const REPROJECT_ENTRY: &str = include_str!("reproject.wgsl");
 
 pub use contract::MAX_BIND_GROUPS;
 use contract::ReprojParams;
@@ -131,6 +128,10 @@ pub struct InstanceOptions {
     pub group: Option<u32>,
     /// How the first pass that writes the frame color starts it.
     pub frame_load: FrameLoad,
+    /// How the first pass starts the depth target.
+    pub depth_load: DepthLoad,
+    /// Where the lookup finds a fragment in the previous frame.
+    pub reprojection: Reprojection,
 }
 
 /// How the variant's first frame-color write starts the frame target.
@@ -141,6 +142,18 @@ pub enum FrameLoad {
     Clear,
     /// Keep what the engine drew before (its other passes, a sky): the variant's passes only
     /// write the pixels of their geometry.
+    Load,
+}
+
+/// How the variant's first pass starts the depth target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DepthLoad {
+    /// Clear it: the variant is depth-tested against itself only, as a standalone pass of the
+    /// original shader would be.
+    #[default]
+    Clear,
+    /// Keep the engine's depth (its opaque geometry drawn before): the variant's fragments behind
+    /// it are not drawn, nor cached. The host clears the depth at the frame's start.
     Load,
 }
 
@@ -155,6 +168,8 @@ impl Default for InstanceOptions {
             depth_epsilon: 0.01,
             group: None,
             frame_load: FrameLoad::Clear,
+            depth_load: DepthLoad::Clear,
+            reprojection: Reprojection::Vertex,
         }
     }
 }
@@ -241,7 +256,10 @@ pub fn instance_nodes(
             g
         }
     };
-    let prev_clip_location = prev_clip_location(&norm.module);
+    let prev_clip = match opts.reprojection {
+        Reprojection::Vertex => PrevClip::Location(prev_clip_location(&norm.module)),
+        Reprojection::MotionVectors => PrevClip::Motion,
+    };
     let cache_format = opts.cache_format.resolve(components);
     if cache_format.channels() < components {
         return Err(InstanceError::FormatTooNarrow {
@@ -255,15 +273,15 @@ pub fn instance_nodes(
             components,
         });
     }
-    let library = library_text(group, prev_clip_location, opts.reconstruct);
+    let library = library_text(group, prev_clip, opts.reconstruct);
     let passes = match opts.strategy {
         Strategy::ThreePass => vec![
-            reproject_pass(&library)?,
+            reproject_pass(&library, prev_clip)?,
             recompute_pass(norm, &slots)?,
             shade_pass(norm, &slots, group)?,
         ],
         Strategy::Fused | Strategy::TwoPass => {
-            strategy_passes(norm, &slots, &library, opts.strategy, prev_clip_location)?
+            strategy_passes(norm, &slots, &library, opts.strategy, prev_clip)?
         }
     };
     let manifest = build_manifest(&ManifestInput {
@@ -273,7 +291,10 @@ pub fn instance_nodes(
         opts,
         cache_format,
         group,
-        prev_clip_location,
+        prev_clip_location: match prev_clip {
+            PrevClip::Location(l) => Some(l),
+            PrevClip::Motion => None,
+        },
         passes: &passes,
     });
     Ok(Variant { manifest, passes })
@@ -349,70 +370,8 @@ fn prev_clip_location(module: &Module) -> u32 {
     max.map_or(0, |m| m + 1)
 }
 
-/// Catmull-Rom reconstruction for [`Reconstruct::CatmullRom`], inserted into the lookup library.
-const CATMULL_ROM: &str = r#"// Catmull-Rom at `uv` in five filtered fetches: the 4×4 kernel's inner 2×2 as one bilinear fetch
-// at the weighted offset, its four edge pairs as one fetch each, the corners (weights ≈ 0.01)
-// dropped and the rest renormalized. Then clamped to the range of the 2×2 texels around `uv`
-// (`p0`, `p1`, clamped to the edge, as the depth test reads them): a cubic overshoots at edges,
-// and a value carried over many frames would ring further each time.
-fn reproj_catmull_rom(uv: vec2<f32>, size: vec2<f32>, p0: vec2<i32>, p1: vec2<i32>) -> vec4<f32> {
-    let pos = uv * size;
-    let c1 = floor(pos - vec2<f32>(0.5)) + vec2<f32>(0.5);
-    let f = pos - c1;
-    let w0 = f * (vec2<f32>(-0.5) + f * (vec2<f32>(1.0) - 0.5 * f));
-    let w1 = vec2<f32>(1.0) + f * f * (vec2<f32>(-2.5) + 1.5 * f);
-    let w2 = f * (vec2<f32>(0.5) + f * (vec2<f32>(2.0) - 1.5 * f));
-    let w3 = f * f * (vec2<f32>(-0.5) + 0.5 * f);
-    let w12 = w1 + w2;
-    let t0 = (c1 - vec2<f32>(1.0)) / size;
-    let t3 = (c1 + vec2<f32>(2.0)) / size;
-    let t12 = (c1 + w2 / w12) / size;
-    let a = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t12.x, t0.y), 0.0) * (w12.x * w0.y);
-    let b = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t0.x, t12.y), 0.0) * (w0.x * w12.y);
-    let c = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, t12, 0.0) * (w12.x * w12.y);
-    let d = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t3.x, t12.y), 0.0) * (w3.x * w12.y);
-    let e = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t12.x, t3.y), 0.0) * (w12.x * w3.y);
-    let total = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
-    let v = (a + b + c + d + e) / total;
-    let q00 = textureLoad(reproj_prev_payload, p0, 0);
-    let q10 = textureLoad(reproj_prev_payload, vec2<i32>(p1.x, p0.y), 0);
-    let q01 = textureLoad(reproj_prev_payload, vec2<i32>(p0.x, p1.y), 0);
-    let q11 = textureLoad(reproj_prev_payload, p1, 0);
-    return clamp(v, min(min(q00, q10), min(q01, q11)), max(max(q00, q10), max(q01, q11)));
-}
-"#;
-
-/// The lookup library's WGSL for this group, input location and reconstruction.
-fn library_text(group: u32, location: u32, reconstruct: Reconstruct) -> String {
-    let fetch = match reconstruct {
-        Reconstruct::Bilinear => {
-            "textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0.0)"
-        }
-        Reconstruct::Nearest => {
-            "textureLoad(reproj_prev_payload, vec2<i32>(min(uv * size, size - vec2<f32>(1.0))), 0)"
-        }
-        Reconstruct::CatmullRom => "reproj_catmull_rom(uv, size, p0, p1)",
-    };
-    let filters = match reconstruct {
-        Reconstruct::CatmullRom => CATMULL_ROM,
-        Reconstruct::Bilinear | Reconstruct::Nearest => "",
-    };
-    LOOKUP_LIBRARY
-        .replace("REPROJ_GROUP", &group.to_string())
-        .replace("REPROJ_PREV_CLIP", &location.to_string())
-        .replace("REPROJ_RECONSTRUCT", fetch)
-        .replace("// REPROJ_FILTERS\n", filters)
-}
-
-fn parse_library(text: &str, pass: PassKind) -> Result<Module, InstanceError> {
-    naga::front::wgsl::parse_str(text).map_err(|e| InstanceError::Internal {
-        pass,
-        what: e.emit_to_string(text),
-    })
-}
-
-fn reproject_pass(library: &str) -> Result<PassModule, InstanceError> {
-    let text = format!("{library}{REPROJECT_ENTRY}");
+fn reproject_pass(library: &str, prev_clip: PrevClip) -> Result<PassModule, InstanceError> {
+    let text = reproject_text(library, prev_clip);
     finish(
         PassKind::Reproject,
         parse_library(&text, PassKind::Reproject)?,
@@ -425,7 +384,7 @@ fn strategy_passes(
     slots: &[Slot],
     library: &str,
     which: Strategy,
-    prev_clip_location: u32,
+    prev_clip: PrevClip,
 ) -> Result<Vec<PassModule>, InstanceError> {
     let kinds = strategy::entries(which);
     let first = strategy::pass_kind(kinds[0]);
@@ -470,22 +429,26 @@ fn strategy_passes(
         let pass = strategy::pass_kind(kind);
         let mut module = base.clone();
         module.entry_points.clear();
-        let fetch = if strategy::needs_fetch(kind) {
+        let (fetch, motion_clip) = if strategy::needs_fetch(kind) {
             let lib = parse_library(library, pass)?;
             let imported = import::import_module(&mut module, &lib)
                 .map_err(|what| InstanceError::Internal { pass, what })?;
-            imported.functions.get("reproj_fetch").copied()
+            (
+                imported.functions.get("reproj_fetch").copied(),
+                imported.functions.get(contract::MOTION_CLIP).copied(),
+            )
         } else {
-            None
+            (None, None)
         };
         let parts = strategy::Parts {
             vec4,
             recompute: Some(recompute),
             shade,
             fetch,
+            motion_clip,
             output,
         };
-        let function = strategy::build_entry(&module, &entry, &parts, kind, prev_clip_location)?;
+        let function = strategy::build_entry(&module, &entry, &parts, kind, prev_clip)?;
         if kind == strategy::EntryKind::Fused {
             allow_quad_uniform_derivatives(&mut module);
         }
@@ -622,9 +585,16 @@ fn shade_pass(norm: &Normalized, slots: &[Slot], group: u32) -> Result<PassModul
         recompute: None,
         shade,
         fetch: None,
+        motion_clip: None,
         output,
     };
-    let function = strategy::build_entry(&module, &entry, &parts, strategy::EntryKind::Shade, 0)?;
+    let function = strategy::build_entry(
+        &module,
+        &entry,
+        &parts,
+        strategy::EntryKind::Shade,
+        PrevClip::Location(0),
+    )?;
     module.entry_points[0].function = function;
     finish(PassKind::Shade, module)
 }

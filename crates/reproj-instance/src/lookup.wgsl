@@ -25,10 +25,9 @@ struct ReprojParams {
 // Linear, clamp-to-edge: bilinear reconstruction of the payload in one fetch.
 @group(REPROJ_GROUP) @binding(5) var reproj_linear_sampler: sampler;
 
-struct ReprojInput {
-    @builtin(position) position: vec4<f32>,
-    @location(REPROJ_PREV_CLIP) prev_clip: vec4<f32>,
-};
+// Where a fragment was in the previous frame (`ReprojInput`): from the vertex stage's extra output
+// or from the engine's motion vectors (library.rs fills it in).
+// REPROJ_INPUT
 
 // REPROJ_FILTERS
 // 0: hit, 1: miss (off screen or disoccluded), 2: refresh.
@@ -104,15 +103,5 @@ fn reproj_fetch(position: vec4<f32>, prev_clip: vec4<f32>) -> ReprojLookup {
     return reproj_lookup(ReprojInput(position, prev_clip));
 }
 
-// Debug entry point: the hit map (green hit, red miss, blue refresh), without discarding.
-@fragment
-fn reproj_classify(in: ReprojInput) -> @location(0) vec4<f32> {
-    let r = reproj_lookup(in);
-    var c = vec4<f32>(1.0, 0.0, 0.0, 1.0);
-    if r.status == 0u {
-        c = vec4<f32>(0.0, 1.0, 0.0, 1.0);
-    } else if r.status == 2u {
-        c = vec4<f32>(0.0, 0.0, 1.0, 1.0);
-    }
-    return c;
-}
+// The debug entry point (library.rs fills it in).
+// REPROJ_CLASSIFY

@@ -12,7 +12,9 @@ use serde::{Deserialize, Serialize};
 /// the vertex-stage contract, the params layout field by field.
 /// Version 4: `also` (several nodes in one payload).
 /// Version 5: `params.schedule`, the run-time Δn schedule by motion band.
-pub const MANIFEST_VERSION: u32 = 5;
+/// Version 6: `reprojection` (the engine's motion vectors instead of the vertex stage's previous
+/// clip position, which `vertex.prev_clip_location` then leaves out), `bytes_per_pixel`.
+pub const MANIFEST_VERSION: u32 = 6;
 
 /// What [`reproj_io::read_json`] expects of a `manifest.json`.
 pub const MANIFEST_KIND: reproj_io::Kind = reproj_io::Kind {
@@ -79,6 +81,40 @@ impl CacheFormat {
             CacheFormat::Rg16float => "rg16float",
             CacheFormat::R16float => "r16float",
         }
+    }
+}
+
+/// Where the lookup finds a fragment's surface point in the previous frame (`docs/PASSES.md`,
+/// "Reprojection").
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema, Default,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Reprojection {
+    /// The host's vertex stage writes the vertex's previous clip position
+    /// (`vertex.prev_clip_location`): exact, and the hit test compares the previous depth with
+    /// the point's own depth in the previous frame.
+    #[default]
+    Vertex,
+    /// The engine's motion-vector texture, bound as `reproj_motion` (resource `motion`): `.xy` is
+    /// `uv_current - uv_previous` in texture UV units (0 to 1 across the frame, origin top left,
+    /// y down: Bevy's and Unity's convention), one texel per frame pixel, read at the fragment's
+    /// pixel with `textureLoad`. The vertex stage writes no previous clip position; the hit test
+    /// compares the previous depth at the reprojected position with this fragment's depth.
+    MotionVectors,
+}
+
+impl Reprojection {
+    /// The name used on the command line and in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reprojection::Vertex => "vertex",
+            Reprojection::MotionVectors => "motion_vectors",
+        }
+    }
+
+    pub fn is_vertex(&self) -> bool {
+        *self == Reprojection::Vertex
     }
 }
 
@@ -250,12 +286,19 @@ pub struct Manifest {
     pub group: u32,
     /// Coordinate and depth conventions the passes assume.
     pub conventions: Conventions,
+    /// Where the lookup finds a fragment in the previous frame (version 6; absent: `vertex`).
+    #[serde(default, skip_serializing_if = "Reprojection::is_vertex")]
+    pub reprojection: Reprojection,
     /// What the host's vertex stage must provide.
     pub vertex: VertexContract,
     /// The runtime parameters (uniform buffer `reproj_params`).
     pub params: Params,
     /// Textures the host creates for the variant (besides its own frame target).
     pub textures: Vec<TextureDesc>,
+    /// Bytes per frame pixel of `textures` apart from the depth attachment (which the host's
+    /// frame has anyway): the variant's memory is this times width times height (version 6).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bytes_per_pixel: Option<u32>,
     /// Samplers the host creates for the variant.
     pub samplers: Vec<SamplerDesc>,
     /// Which texture plays which role on each frame.
@@ -358,8 +401,10 @@ pub struct VertexContract {
     /// same depths as the others.
     pub invariant_position: bool,
     /// `@location` of the extra vertex output: the vertex's clip-space position in the previous
-    /// frame, `vec4<f32>`.
-    pub prev_clip_location: u32,
+    /// frame, `vec4<f32>`. Absent with `reprojection: motion_vectors` (version 6), where the
+    /// vertex stage writes nothing extra.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prev_clip_location: Option<u32>,
     /// Data the host supplies to compute it (per object and frame), by name.
     pub inputs: Vec<VertexInput>,
     /// A WGSL function computing the output from those inputs; call it in the vertex stage.
@@ -612,6 +657,9 @@ pub enum BindingResource {
     Params,
     /// The texture playing this role this frame ([`FramePlan`]), whole, default view.
     Texture { role: String },
+    /// The host's motion-vector texture of this frame (`reprojection: motion_vectors`), whole,
+    /// default view: a float format, read with `textureLoad` (unfilterable is enough).
+    Motion,
     /// A sampler of [`Manifest::samplers`].
     Sampler { name: String },
 }

@@ -22,6 +22,7 @@
 //!
 //! The functions are ordinary naga functions; the entry points are built directly in IR.
 
+use crate::library::PrevClip;
 use crate::{InstanceError, PassKind};
 use naga::{Expression, Function, Handle, Module, Span, Statement, Type};
 
@@ -33,6 +34,8 @@ pub(crate) struct Parts {
     pub shade: Handle<Function>,
     /// `reproj_fetch`, when the lookup library was imported.
     pub fetch: Option<Handle<Function>>,
+    /// `reproj_motion_clip`, when the library imported reads the engine's motion vectors.
+    pub motion_clip: Option<Handle<Function>>,
     /// The output struct: the original outputs, the cache (when written) and the depth copy.
     pub output: Handle<Type>,
 }
@@ -217,7 +220,8 @@ impl Body {
 }
 
 /// Build the entry point `kind` of a fused or two-pass module. `entry` is the shader's entry
-/// function (its arguments and result); `prev_clip_location` the extra vertex output's location.
+/// function (its arguments and result); `prev_clip` where the previous clip position comes from
+/// (an extra vertex output, or the motion vectors through `reproj_motion_clip`).
 /// Phases: the arguments, the body's start (the original arguments and the fragment position),
 /// the payload (fetched, recomputed, or both), then the shade call and the output struct.
 pub(crate) fn build_entry(
@@ -225,14 +229,14 @@ pub(crate) fn build_entry(
     entry: &Function,
     parts: &Parts,
     kind: EntryKind,
-    prev_clip_location: u32,
+    prev_clip: PrevClip,
 ) -> Result<Function, InstanceError> {
     let EntryArguments {
         arguments,
         original_args,
         position: (pi, member),
         prev_clip,
-    } = entry_arguments(module, entry, parts, kind, prev_clip_location);
+    } = entry_arguments(module, entry, parts, kind, prev_clip);
     let mut local_variables = naga::Arena::new();
     let payload_var = local_variables.append(
         naga::LocalVariable {
@@ -299,18 +303,19 @@ struct EntryArguments {
     original_args: u32,
     /// The fragment position: an argument, and its member when the argument is a struct.
     position: (u32, Option<u32>),
-    /// The previous clip position's argument, for the entries that fetch.
+    /// The previous clip position's argument, for the entries that fetch it from the vertex stage.
     prev_clip: Option<u32>,
 }
 
 /// The shader's arguments, plus the fragment position where the shader has none (every entry
-/// writes the depth copy) and the previous clip position where the entry fetches.
+/// writes the depth copy) and the previous clip position where the entry fetches it from the
+/// vertex stage.
 fn entry_arguments(
     module: &Module,
     entry: &Function,
     parts: &Parts,
     kind: EntryKind,
-    prev_clip_location: u32,
+    prev_clip: PrevClip,
 ) -> EntryArguments {
     let mut arguments = entry.arguments.clone();
     let original_args = arguments.len() as u32;
@@ -328,8 +333,12 @@ fn entry_arguments(
             (arguments.len() as u32 - 1, None)
         }
     };
+    let prev_clip_location = match prev_clip {
+        PrevClip::Location(l) if needs_fetch(kind) => Some(l),
+        _ => None,
+    };
     let mut prev_clip = None;
-    if needs_fetch(kind) {
+    if let Some(prev_clip_location) = prev_clip_location {
         arguments.push(naga::FunctionArgument {
             name: Some("reproj_prev_clip".into()),
             ty: parts.vec4,
@@ -385,10 +394,11 @@ fn payload(b: &mut Body, s: &EntryStart) -> Result<Option<Handle<Expression>>, I
         .parts
         .fetch
         .ok_or_else(|| internal(kind, "no lookup library"))?;
-    let prev = b.expr(Expression::FunctionArgument(
-        s.prev_clip
-            .ok_or_else(|| internal(kind, "no previous clip position"))?,
-    ));
+    let prev = match (s.prev_clip, s.parts.motion_clip) {
+        (Some(arg), _) => b.expr(Expression::FunctionArgument(arg)),
+        (None, Some(motion_clip)) => b.call(motion_clip, vec![s.pos]),
+        (None, None) => return Err(internal(kind, "no previous clip position")),
+    };
     let r = b.call(fetch, vec![s.pos, prev]);
     let fetched = b.expr(Expression::AccessIndex { base: r, index: 0 });
     let status = b.expr(Expression::AccessIndex { base: r, index: 1 });

@@ -69,6 +69,7 @@
 //!             color_format: wgpu::TextureFormat::Rgba16Float,
 //!             vertex: &vertex,
 //!             bind_group_layouts: &[(0, &app.scene_layout), (2, &app.object_layout)],
+//!             motion: None,
 //!         },
 //!     )?;
 //!     for _ in 0..frames {

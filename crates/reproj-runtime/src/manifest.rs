@@ -1,7 +1,7 @@
 //! `manifest.json`, read with this crate's own types.
 //!
 //! These structs mirror the published schema (`docs/manifest.schema.json`, schema
-//! `reproj.manifest`, versions 3 to 5) and nothing else: an engine in any language reads the same
+//! `reproj.manifest`, versions 3 to 6) and nothing else: an engine in any language reads the same
 //! JSON the same way. Only the fields the runtime uses are declared; serde ignores the others (the
 //! node, the notes, the WGSL types of bindings...). Enumerations are kept as the strings the schema
 //! uses (WebGPU names) and converted to wgpu values when the variant is loaded (`plan.rs`), so a
@@ -16,10 +16,15 @@ use crate::RuntimeError;
 
 /// The schema name and the versions this runtime reads (version 4 only added which nodes the
 /// payload holds, which a host need not know; version 5 the run-time Δn schedule,
-/// `params.schedule`).
+/// `params.schedule`; version 6 `reprojection`, the engine's motion vectors).
 pub const SCHEMA: &str = "reproj.manifest";
-pub const VERSION: u64 = 5;
+pub const VERSION: u64 = 6;
 pub const OLDEST_VERSION: u64 = 3;
+
+/// `reprojection` before it was written.
+fn vertex() -> String {
+    "vertex".into()
+}
 
 /// The color attachment name that means the application's own frame target.
 pub const FRAME: &str = "frame";
@@ -39,6 +44,11 @@ pub struct Manifest {
     /// The bind group the instancer added (no engine resource may live there).
     pub group: u32,
     pub conventions: Conventions,
+    /// Where the lookup finds a fragment in the previous frame: `vertex` (the vertex stage's
+    /// previous clip position; the default before version 6) or `motion_vectors` (the
+    /// application's motion-vector texture, [`crate::Setup::motion`]).
+    #[serde(default = "vertex")]
+    pub reprojection: String,
     pub vertex: VertexContract,
     pub params: Params,
     pub textures: Vec<TextureDesc>,
@@ -70,8 +80,10 @@ impl Conventions {
 #[derive(Debug, Clone, Deserialize)]
 pub struct VertexContract {
     pub invariant_position: bool,
-    /// `@location` of the extra `vec4<f32>` vertex output: the previous frame's clip position.
-    pub prev_clip_location: u32,
+    /// `@location` of the extra `vec4<f32>` vertex output: the previous frame's clip position
+    /// (absent with `reprojection: motion_vectors`: the vertex stage writes nothing extra).
+    #[serde(default)]
+    pub prev_clip_location: Option<u32>,
     /// The values the helper function takes, in argument order.
     pub inputs: Vec<VertexInput>,
     /// WGSL source of the helper function; pasted into the host's vertex module.
@@ -228,6 +240,8 @@ pub enum Resource {
     Texture { role: String },
     /// A sampler of `samplers`.
     Sampler { name: String },
+    /// The application's motion-vector texture ([`crate::Setup::motion`]).
+    Motion,
 }
 
 #[derive(Debug, Clone, Deserialize)]

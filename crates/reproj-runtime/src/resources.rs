@@ -26,6 +26,12 @@ pub struct Setup<'a> {
     /// them for it) and the groups its vertex stage reads. The variant's own group
     /// ([`crate::Variant::group`]) may not be among them.
     pub bind_group_layouts: &'a [(u32, &'a wgpu::BindGroupLayout)],
+    /// The application's motion vectors, for a variant that reads them
+    /// ([`crate::Variant::reads_motion_vectors`]; `None` for any other): a float texture of the
+    /// frame's size with `TEXTURE_BINDING` usage, `.xy` = `uv_current - uv_previous` (texture UV,
+    /// y down), written before each frame's [`VariantResources::record`]. After a resize give
+    /// the new one with [`VariantResources::set_motion`].
+    pub motion: Option<&'a wgpu::TextureView>,
 }
 
 /// One vertex stage of the application: its module (which writes the manifest's vertex contract,
@@ -80,6 +86,8 @@ pub struct VariantResources {
     samplers: Vec<wgpu::Sampler>,
     params: wgpu::Buffer,
     passes: Vec<PassGpu>,
+    /// The application's motion vectors ([`Setup::motion`]).
+    motion: Option<wgpu::TextureView>,
     /// The index of the next frame (0: nothing to reuse).
     frame: u32,
     /// The textures are new: clear them before the next frame reads them.
@@ -102,6 +110,16 @@ impl VariantResources {
         check_size(setup.size)?;
         if setup.vertex.is_empty() {
             return Err(RuntimeError::usage("Setup::vertex", "no vertex stage"));
+        }
+        if plan.motion != setup.motion.is_some() {
+            return Err(RuntimeError::usage(
+                "Setup::motion",
+                if plan.motion {
+                    "is None, but the variant reads the motion vectors (manifest `reprojection: motion_vectors`): give their texture"
+                } else {
+                    "is given, but the variant reads no motion vectors (manifest `reprojection: vertex`)"
+                },
+            ));
         }
         let user: BTreeMap<u32, &wgpu::BindGroupLayout> =
             setup.bind_group_layouts.iter().copied().collect();
@@ -143,6 +161,7 @@ impl VariantResources {
             samplers,
             params,
             passes,
+            motion: setup.motion.cloned(),
             frame: 0,
             fresh: true,
         };
@@ -171,6 +190,23 @@ impl VariantResources {
         self.size = size;
         self.frame = 0;
         self.fresh = true;
+        self.bind(device)
+    }
+
+    /// Give the motion-vector texture again (after the application made a new one, on a resize):
+    /// the bind groups are rebuilt. An error for a variant that reads no motion vectors.
+    pub fn set_motion(
+        &mut self,
+        device: &wgpu::Device,
+        motion: &wgpu::TextureView,
+    ) -> Result<(), RuntimeError> {
+        if !self.plan.motion {
+            return Err(RuntimeError::usage(
+                "set_motion",
+                "the variant reads no motion vectors (manifest `reprojection: vertex`)",
+            ));
+        }
+        self.motion = Some(motion.clone());
         self.bind(device)
     }
 
@@ -222,6 +258,11 @@ impl VariantResources {
                             .view,
                     ),
                     Added::Sampler(s) => wgpu::BindingResource::Sampler(&self.samplers[*s]),
+                    Added::Motion => wgpu::BindingResource::TextureView(
+                        self.motion
+                            .as_ref()
+                            .expect("`new` refuses a variant that reads motion without them"),
+                    ),
                 },
             })
             .collect()

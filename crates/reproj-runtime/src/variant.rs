@@ -50,9 +50,17 @@ impl Variant {
 
     /// What the application's vertex stage must add for the passes: an `@invariant` clip
     /// position and, at `prev_clip_location`, the previous frame's clip position computed by the
-    /// `wgsl` helper with `inputs` (`docs/USAGE.md`, "Your vertex stage").
+    /// `wgsl` helper with `inputs` (`docs/USAGE.md`, "Your vertex stage"); for a variant that
+    /// reads motion vectors, the position alone.
     pub fn vertex(&self) -> &VertexContract {
         &self.manifest.vertex
+    }
+
+    /// Whether the passes read the application's motion vectors (manifest `reprojection:
+    /// motion_vectors`) instead of a previous clip position from the vertex stage: give them as
+    /// [`crate::Setup::motion`].
+    pub fn reads_motion_vectors(&self) -> bool {
+        self.plan.motion
     }
 
     /// The bind group the runtime owns (`group`): the application binds nothing there.

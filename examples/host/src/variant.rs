@@ -41,6 +41,7 @@ impl HostVariant {
                 color_format: engine::FRAME_FORMAT,
                 vertex: &engine.vertex_stages(&vs),
                 bind_group_layouts: &layouts,
+                motion: None,
             },
         )?;
         gpu.check("building the variant")?;

@@ -50,7 +50,8 @@ pub struct EmitOptions {
     pub strategy: Option<Strategy>,
     /// Only consider this node (`None`: any; sets are then left out).
     pub node: Option<NodeChoice>,
-    /// Where the written passes fit in a host: its `group` and `frame_load` are used (the rest
+    /// Where the written passes fit in a host: its `group`, `frame_load`, `depth_load` and
+    /// `reprojection` are used (the rest
     /// comes from the selection and the profile).
     pub integration: InstanceOptions,
     /// The shader to instance (`None`: the profile's, relative to the profile file). Either way

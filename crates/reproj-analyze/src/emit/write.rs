@@ -55,6 +55,8 @@ impl Writer<'_> {
                 depth_epsilon: self.profile.depth_epsilon,
                 group: self.opts.integration.group,
                 frame_load: self.opts.integration.frame_load,
+                depth_load: self.opts.integration.depth_load,
+                reprojection: self.opts.integration.reprojection,
             },
         )?;
         variant.manifest.params.schedule = schedule;
@@ -100,6 +102,8 @@ impl Writer<'_> {
                 depth_epsilon: self.profile.depth_epsilon,
                 group: self.opts.integration.group,
                 frame_load: self.opts.integration.frame_load,
+                depth_load: self.opts.integration.depth_load,
+                reprojection: self.opts.integration.reprojection,
             },
         )?;
         variant.manifest.params.schedule = schedule;

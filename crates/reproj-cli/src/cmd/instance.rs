@@ -83,10 +83,17 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
             format!("{:?}", p.kind).to_lowercase(),
         )?;
     }
+    let previous = match m.vertex.prev_clip_location {
+        Some(location) => format!("prev clip @location({location})"),
+        None => format!(
+            "motion vectors at binding {}",
+            reproj_instance::contract::MOTION_BINDING
+        ),
+    };
     writeln!(
         stdout,
-        "  manifest   manifest.json (bind group {}, prev clip @location({}))",
-        m.group, m.vertex.prev_clip_location
+        "  manifest   manifest.json (bind group {}, {previous})",
+        m.group
     )?;
     Ok(())
 }

@@ -321,6 +321,14 @@ pub fn integrate(
             crate::FrameLoadArg::Clear => reproj_instance::FrameLoad::Clear,
             crate::FrameLoadArg::Load => reproj_instance::FrameLoad::Load,
         },
+        depth_load: match i.depth_load {
+            crate::FrameLoadArg::Clear => reproj_instance::DepthLoad::Clear,
+            crate::FrameLoadArg::Load => reproj_instance::DepthLoad::Load,
+        },
+        reprojection: match i.reproject {
+            crate::ReprojectArg::Vertex => reproj_instance::Reprojection::Vertex,
+            crate::ReprojectArg::MotionVectors => reproj_instance::Reprojection::MotionVectors,
+        },
         ..opts
     }
 }

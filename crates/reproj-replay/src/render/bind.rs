@@ -26,6 +26,8 @@ pub(super) struct AddedResources<'a> {
     /// declares `reproj_prev_depth` as a depth texture (they list no depth copy target).
     pub(super) prev_depth_buffer: Option<&'a wgpu::TextureView>,
     pub(super) cur_payload: &'a wgpu::TextureView,
+    /// The motion vectors of this frame, for a variant that reads them (`reproj_motion`).
+    pub(super) motion: Option<&'a wgpu::TextureView>,
 }
 
 /// Bind group layouts and bind groups of one fragment entry point.
@@ -136,6 +138,9 @@ impl Renderer {
                                 (contract::PREV_PAYLOAD, Some(a)) => a.prev_payload,
                                 (contract::PREV_DEPTH, Some(a)) => a.prev_depth_copy,
                                 (contract::CUR_PAYLOAD, Some(a)) => a.cur_payload,
+                                (contract::MOTION, Some(a)) => {
+                                    a.motion.ok_or_else(|| missing("texture"))?
+                                }
                                 _ => return Err(missing("texture")),
                             }
                         } else {

@@ -75,6 +75,8 @@ pub(crate) enum Added {
     /// A texture (index into `textures`) per ping-pong entry.
     Texture(Vec<usize>),
     Sampler(usize),
+    /// The application's motion vectors ([`crate::Setup::motion`]).
+    Motion,
 }
 
 #[derive(Debug, Clone)]
@@ -130,6 +132,8 @@ pub(crate) struct Plan {
     pub group: u32,
     /// What a depth texture the runtime owns is cleared to before the first frame.
     pub depth_clear: f32,
+    /// A pass reads the application's motion vectors (`reprojection: motion_vectors`).
+    pub motion: bool,
 }
 
 /// Errors of one manifest file, naming the field.
@@ -183,6 +187,28 @@ impl Plan {
             .map(|(i, p)| check.pass(i, p))
             .collect::<Result<Vec<_>, _>>()?;
         let depth_texture = depth_attachment(&at, &textures, &passes)?;
+        let motion = passes
+            .iter()
+            .any(|p| p.added.iter().any(|b| matches!(b.resource, Added::Motion)));
+        match (m.reprojection.as_str(), motion) {
+            ("vertex", false) | ("motion_vectors", true) => {}
+            ("vertex" | "motion_vectors", _) => {
+                return Err(at.err(
+                    "reprojection",
+                    format!(
+                        "is `{}`, but {} pass binds the motion vectors (resource `motion`)",
+                        m.reprojection,
+                        if motion { "a" } else { "no" }
+                    ),
+                ));
+            }
+            (other, _) => {
+                return Err(at.err(
+                    "reprojection",
+                    format!("`{other}` is neither `vertex` nor `motion_vectors`"),
+                ));
+            }
+        }
         let (params_size, params) = params(&at, m)?;
         Ok(Plan {
             required_features,
@@ -195,6 +221,7 @@ impl Plan {
             passes,
             group: m.group,
             depth_clear: m.conventions.depth_clear as f32,
+            motion,
         })
     }
 }
@@ -426,6 +453,7 @@ mod tests {
             passes: Vec::new(),
             group: 1,
             depth_clear: 1.0,
+            motion: false,
         }
     }
 

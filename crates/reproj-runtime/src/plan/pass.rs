@@ -226,6 +226,7 @@ impl Check<'_> {
                     ));
                 }
                 Resource::Params => Added::Params,
+                Resource::Motion => Added::Motion,
                 Resource::Texture { role } => {
                     Added::Texture(self.resolve(&field(".resource.role"), role)?)
                 }

@@ -279,6 +279,7 @@ impl App {
              struct In {{ @location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @location(2) uv: vec2<f32>, @location(3) tangent: vec4<f32> }};\n\
              struct Out {{ @builtin(position) @invariant clip: vec4<f32>, @location(0) world: vec3<f32>, @location(1) normal: vec3<f32>, @location(4) object_pos: vec3<f32>, @location({}) prev_clip: vec4<f32> }};\n",
             c.prev_clip_location
+                .expect("the test's variants reproject with the vertex stage")
         );
         s.push_str(&c.wgsl);
         let _ = write!(
@@ -405,6 +406,7 @@ impl App {
                         (0, &self.scene_layout),
                         (OBJECT_GROUP, &self.object_layout),
                     ],
+                    motion: None,
                 },
             )
             .unwrap()

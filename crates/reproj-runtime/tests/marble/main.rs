@@ -144,6 +144,7 @@ fn misuse_is_an_error_naming_the_argument() {
                 color_format: COLOR,
                 vertex: &stages,
                 bind_group_layouts: layouts,
+                motion: None,
             },
         )
     };

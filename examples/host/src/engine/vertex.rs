@@ -125,7 +125,11 @@ impl Engine {
             );
         }
         if let Some(c) = contract {
-            let loc = c.prev_clip_location;
+            let Some(loc) = c.prev_clip_location else {
+                bail!(
+                    "the variant reads the engine's motion vectors (manifest `reprojection: motion_vectors`); this host has no velocity pass: write it with `--reproject vertex`"
+                );
+            };
             if self.iface.inputs.iter().any(|i| i.location == loc) {
                 bail!("the manifest's prev_clip_location {loc} is an input of the shader itself");
             }

@@ -233,12 +233,34 @@ impl Renderer {
             pipes,
             clear,
             host_clears_frame,
+            host_clears_depth,
+            motion,
             ..
         } = gpu;
         let (vgroup, clear) = (*vgroup, *clear);
         let b = &binds[cur];
         let clear_payload = wgpu::Color::TRANSPARENT;
         let mut enc = self.device.create_command_encoder(&Default::default());
+        if let Some(mg) = motion {
+            self.encode_motion(&mut enc, mg, scene, vgroup);
+        }
+        if *host_clears_depth {
+            // `--depth-load load`: the passes test against the engine's depth, which starts the
+            // frame cleared; a replay draws nothing else into it.
+            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("host clears the depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: gpu.depth_at(cur),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+        }
         if *host_clears_frame {
             // `--frame-load load`: the passes keep what the engine drew; here that is the
             // background, as the original shader's frame starts.

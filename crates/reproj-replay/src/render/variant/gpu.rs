@@ -33,13 +33,25 @@ impl Renderer {
             ifaces.push(c);
         }
         let scene = self.build_scene(session, &ifaces, Some(m.group))?;
-        let vs_src = vertex::vertex_wgsl(
-            vgroup,
-            &inputs,
-            &session.inputs,
-            Some(m.vertex.prev_clip_location),
-        )?;
+        // With motion vectors the passes read no previous clip position; the replay's motion
+        // pass (the engine's velocity pass) does, one location past the shader's inputs.
+        let prev_clip_location = m
+            .vertex
+            .prev_clip_location
+            .unwrap_or_else(|| motion::location_after(&inputs));
+        let vs_src = vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(prev_clip_location))?;
         let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
+        let motion = match m.reprojection {
+            Reprojection::Vertex => None,
+            Reprojection::MotionVectors => Some(self.motion_gpu(
+                [w, h],
+                &vs,
+                &vs_src,
+                &scene,
+                vgroup,
+                prev_clip_location,
+            )?),
+        };
         let fsm: Vec<wgpu::ShaderModule> = stages
             .iter()
             .map(|s| self.shader_module(&s.shader.path.display().to_string(), &s.shader.source))
@@ -124,6 +136,7 @@ impl Renderer {
                 prev_depth_copy: &depth_copy_v[1 - parity],
                 prev_depth_buffer: legacy_depth.then(|| depth_at(1 - parity)),
                 cur_payload: &payload_v[parity],
+                motion: motion.as_ref().map(|mg| &mg.view),
             };
             let mut per_pass = Vec::new();
             for (st, spec) in stages.iter().zip(specs) {
@@ -198,6 +211,7 @@ impl Renderer {
             a: bg[3] as f64,
         };
 
+        let host_clears_depth = specs.first().is_some_and(|s| s.depth_load);
         let host_clears_frame = !specs.iter().any(|s| {
             s.colors
                 .iter()
@@ -221,6 +235,8 @@ impl Renderer {
             pc,
             clear,
             host_clears_frame,
+            host_clears_depth,
+            motion,
         })
     }
     /// Clear both parities' payload, depth copy and depth: the "previous" cache before the first
@@ -297,6 +313,11 @@ pub(super) struct VariantGpu {
     pub(super) clear: wgpu::Color,
     /// No pass clears the frame (`--frame-load load`): the host clears it to the background.
     pub(super) host_clears_frame: bool,
+    /// The first pass loads the depth (`--depth-load load`): the host clears it (there is no
+    /// other geometry in a replay).
+    pub(super) host_clears_depth: bool,
+    /// The motion vectors' texture and pass, for a variant that reads them.
+    pub(super) motion: Option<motion::MotionGpu>,
 }
 
 impl VariantGpu {

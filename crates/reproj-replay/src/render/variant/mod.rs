@@ -7,7 +7,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use reproj_front::Shader;
-use reproj_instance::CacheFormat;
+use reproj_instance::{CacheFormat, Reprojection};
 
 use crate::error::ReplayError;
 use crate::reduce::{FrameErrors, PixelsBack};
@@ -26,6 +26,7 @@ use super::*;
 
 mod frames;
 mod gpu;
+mod motion;
 mod plan;
 
 use gpu::VariantGpu;

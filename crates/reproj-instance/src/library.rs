@@ -1,0 +1,165 @@
+//! The lookup library's text: `lookup.wgsl` with its group, its input (the vertex stage's
+//! previous clip position or the engine's motion vectors), its reconstruction filter and its
+//! debug entry filled in, and the three-pass strategy's pass-1 entry. Parsed and imported by the
+//! passes that fetch (lib.rs); the names it declares are the [`crate::contract`]'s.
+
+use crate::contract;
+use crate::{InstanceError, PassKind, Reconstruct};
+
+/// The lookup library; `REPROJ_GROUP`, `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS`,
+/// `// REPROJ_INPUT` and `// REPROJ_CLASSIFY` are substituted.
+const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
+/// The three-pass strategy's pass-1 entry, appended to the library.
+const REPROJECT_ENTRY: &str = include_str!("reproject.wgsl");
+
+/// Where the entry points take a fragment's previous clip position from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PrevClip {
+    /// An extra vertex output at this `@location` (`reprojection: vertex`).
+    Location(u32),
+    /// [`contract::MOTION_CLIP`] of the fragment position: the engine's motion vectors
+    /// (`reprojection: motion_vectors`).
+    Motion,
+}
+
+/// `ReprojInput` as the vertex stage delivers it: an entry-point input.
+const VERTEX_INPUT: &str = "struct ReprojInput {
+    @builtin(position) position: vec4<f32>,
+    @location(REPROJ_PREV_CLIP) prev_clip: vec4<f32>,
+};
+";
+
+/// `ReprojInput` made from the engine's motion vectors: a plain struct, filled by
+/// `reproj_motion_clip`. The previous UV is the pixel's UV minus its motion; the depth is this
+/// fragment's, so the hit test compares the previous depth there with this one (relative
+/// tolerance `depth_epsilon`: a surface whose view depth changed more than that in a frame
+/// misses, and is recomputed).
+const MOTION_INPUT: &str = "struct ReprojInput {
+    position: vec4<f32>,
+    prev_clip: vec4<f32>,
+};
+
+// The engine's motion vectors: .xy = uv_current - uv_previous (texture UV, y down), one texel per
+// frame pixel.
+@group(REPROJ_GROUP) @binding(REPROJ_MOTION_BINDING) var reproj_motion: texture_2d<f32>;
+
+// The previous clip position (w = 1) of the fragment at `position`.
+fn reproj_motion_clip(position: vec4<f32>) -> vec4<f32> {
+    let dims = textureDimensions(reproj_motion);
+    let pixel = min(vec2<u32>(position.xy), dims - vec2<u32>(1u));
+    let motion = textureLoad(reproj_motion, pixel, 0).xy;
+    let uv = position.xy / vec2<f32>(dims) - motion;
+    return vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, position.z, 1.0);
+}
+";
+
+/// The debug entry point: the hit map (green hit, red miss, blue refresh), without discarding.
+const CLASSIFY: &str = "@fragment
+fn reproj_classify(REPROJ_ENTRY_INPUT) -> @location(0) vec4<f32> {
+    REPROJ_MAKE_INPUT
+    let r = reproj_lookup(in);
+    var c = vec4<f32>(1.0, 0.0, 0.0, 1.0);
+    if r.status == 0u {
+        c = vec4<f32>(0.0, 1.0, 0.0, 1.0);
+    } else if r.status == 2u {
+        c = vec4<f32>(0.0, 0.0, 1.0, 1.0);
+    }
+    return c;
+}
+";
+
+/// Catmull-Rom reconstruction for [`Reconstruct::CatmullRom`], inserted into the lookup library.
+const CATMULL_ROM: &str = r#"// Catmull-Rom at `uv` in five filtered fetches: the 4×4 kernel's inner 2×2 as one bilinear fetch
+// at the weighted offset, its four edge pairs as one fetch each, the corners (weights ≈ 0.01)
+// dropped and the rest renormalized. Then clamped to the range of the 2×2 texels around `uv`
+// (`p0`, `p1`, clamped to the edge, as the depth test reads them): a cubic overshoots at edges,
+// and a value carried over many frames would ring further each time.
+fn reproj_catmull_rom(uv: vec2<f32>, size: vec2<f32>, p0: vec2<i32>, p1: vec2<i32>) -> vec4<f32> {
+    let pos = uv * size;
+    let c1 = floor(pos - vec2<f32>(0.5)) + vec2<f32>(0.5);
+    let f = pos - c1;
+    let w0 = f * (vec2<f32>(-0.5) + f * (vec2<f32>(1.0) - 0.5 * f));
+    let w1 = vec2<f32>(1.0) + f * f * (vec2<f32>(-2.5) + 1.5 * f);
+    let w2 = f * (vec2<f32>(0.5) + f * (vec2<f32>(2.0) - 1.5 * f));
+    let w3 = f * f * (vec2<f32>(-0.5) + 0.5 * f);
+    let w12 = w1 + w2;
+    let t0 = (c1 - vec2<f32>(1.0)) / size;
+    let t3 = (c1 + vec2<f32>(2.0)) / size;
+    let t12 = (c1 + w2 / w12) / size;
+    let a = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t12.x, t0.y), 0.0) * (w12.x * w0.y);
+    let b = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t0.x, t12.y), 0.0) * (w0.x * w12.y);
+    let c = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, t12, 0.0) * (w12.x * w12.y);
+    let d = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t3.x, t12.y), 0.0) * (w3.x * w12.y);
+    let e = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, vec2<f32>(t12.x, t3.y), 0.0) * (w12.x * w3.y);
+    let total = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
+    let v = (a + b + c + d + e) / total;
+    let q00 = textureLoad(reproj_prev_payload, p0, 0);
+    let q10 = textureLoad(reproj_prev_payload, vec2<i32>(p1.x, p0.y), 0);
+    let q01 = textureLoad(reproj_prev_payload, vec2<i32>(p0.x, p1.y), 0);
+    let q11 = textureLoad(reproj_prev_payload, p1, 0);
+    return clamp(v, min(min(q00, q10), min(q01, q11)), max(max(q00, q10), max(q01, q11)));
+}
+"#;
+
+/// The lookup library's WGSL for this group, input and reconstruction.
+pub(crate) fn library_text(group: u32, prev_clip: PrevClip, reconstruct: Reconstruct) -> String {
+    let fetch = match reconstruct {
+        Reconstruct::Bilinear => {
+            "textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0.0)"
+        }
+        Reconstruct::Nearest => {
+            "textureLoad(reproj_prev_payload, vec2<i32>(min(uv * size, size - vec2<f32>(1.0))), 0)"
+        }
+        Reconstruct::CatmullRom => "reproj_catmull_rom(uv, size, p0, p1)",
+    };
+    let filters = match reconstruct {
+        Reconstruct::CatmullRom => CATMULL_ROM,
+        Reconstruct::Bilinear | Reconstruct::Nearest => "",
+    };
+    let input = match prev_clip {
+        PrevClip::Location(location) => {
+            VERTEX_INPUT.replace("REPROJ_PREV_CLIP", &location.to_string())
+        }
+        PrevClip::Motion => MOTION_INPUT.replace(
+            "REPROJ_MOTION_BINDING",
+            &contract::MOTION_BINDING.to_string(),
+        ),
+    };
+    LOOKUP_LIBRARY
+        .replace("// REPROJ_INPUT\n", &input)
+        .replace("// REPROJ_CLASSIFY\n", &entry_input(CLASSIFY, prev_clip))
+        .replace("REPROJ_GROUP", &group.to_string())
+        .replace("REPROJ_RECONSTRUCT", fetch)
+        .replace("// REPROJ_FILTERS\n", filters)
+}
+
+/// An entry point's text with its input filled in: `in: ReprojInput` from the vertex stage, or
+/// the fragment position, from which the motion vectors make `in`.
+fn entry_input(text: &str, prev_clip: PrevClip) -> String {
+    let (argument, make) = match prev_clip {
+        PrevClip::Location(_) => ("in: ReprojInput", ""),
+        PrevClip::Motion => (
+            "@builtin(position) position: vec4<f32>",
+            "let in = ReprojInput(position, reproj_motion_clip(position));",
+        ),
+    };
+    let text = text.replace("REPROJ_ENTRY_INPUT", argument);
+    if make.is_empty() {
+        text.replace("    REPROJ_MAKE_INPUT\n", "")
+    } else {
+        text.replace("REPROJ_MAKE_INPUT", make)
+    }
+}
+
+/// The three-pass strategy's pass 1: the library and its entry.
+pub(crate) fn reproject_text(library: &str, prev_clip: PrevClip) -> String {
+    format!("{library}{}", entry_input(REPROJECT_ENTRY, prev_clip))
+}
+
+/// Parse the library (or a pass made of it): a failure is a bug in reproj.
+pub(crate) fn parse_library(text: &str, pass: PassKind) -> Result<naga::Module, InstanceError> {
+    naga::front::wgsl::parse_str(text).map_err(|e| InstanceError::Internal {
+        pass,
+        what: e.emit_to_string(text),
+    })
+}
