@@ -303,7 +303,7 @@ fn host_notes(opts: &InstanceOptions, prev_clip_location: Option<u32>) -> Vec<St
         notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());
     }
     if opts.depth_load == DepthLoad::Load {
-        notes.push("The depth target is loaded, not cleared: clear it and draw the engine's opaque geometry into it before the first pass; the variant's fragments behind it are neither drawn nor cached.".into());
+        notes.push("The first pass keeps what the depth target holds: clear it and draw the engine's opaque geometry into it before the first pass; the variant's fragments behind it are neither drawn nor cached.".into());
     }
     notes
 }

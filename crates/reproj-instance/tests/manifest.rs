@@ -1,13 +1,14 @@
 //! The manifest as a contract: its published JSON Schema is current, every manifest the instancer
 //! writes validates against it and is self-consistent (every role, sampler and attachment it names
-//! is declared), and the integration options (`group`, `frame_load`) land in it.
+//! is declared), and the integration options (`group`, `frame_load`, `depth_load`,
+//! `reprojection`) land in it.
 
 use std::path::PathBuf;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{
-    BindingResource, FrameLoad, InstanceError, InstanceOptions, LayoutEntry, LoadOp, Manifest,
-    NodeSelector, Reconstruct, Strategy, instance, manifest_schema,
+    BindingResource, DepthLoad, FrameLoad, InstanceError, InstanceOptions, LayoutEntry, LoadOp,
+    Manifest, NodeSelector, Reconstruct, Reprojection, Strategy, instance, manifest_schema,
 };
 
 fn root() -> PathBuf {
@@ -35,16 +36,39 @@ fn manifests() -> Vec<Manifest> {
             .map(|n| n.id)
             .unwrap();
         for strategy in Strategy::ALL {
-            for (reconstruct, frame_load) in [
-                (Reconstruct::Bilinear, FrameLoad::Clear),
-                (Reconstruct::Nearest, FrameLoad::Load),
-                (Reconstruct::CatmullRom, FrameLoad::Clear),
+            for (reconstruct, frame_load, depth_load, reprojection) in [
+                (
+                    Reconstruct::Bilinear,
+                    FrameLoad::Clear,
+                    DepthLoad::Clear,
+                    Reprojection::Vertex,
+                ),
+                (
+                    Reconstruct::Nearest,
+                    FrameLoad::Load,
+                    DepthLoad::Load,
+                    Reprojection::MotionVectors,
+                ),
+                (
+                    Reconstruct::CatmullRom,
+                    FrameLoad::Clear,
+                    DepthLoad::Clear,
+                    Reprojection::MotionVectors,
+                ),
+                (
+                    Reconstruct::Bilinear,
+                    FrameLoad::Load,
+                    DepthLoad::Load,
+                    Reprojection::Vertex,
+                ),
             ] {
                 for sel in [NodeSelector::Root, NodeSelector::Id(node)] {
                     let opts = InstanceOptions {
                         strategy,
                         reconstruct,
                         frame_load,
+                        depth_load,
+                        reprojection,
                         ..Default::default()
                     };
                     out.push(
@@ -147,6 +171,10 @@ fn every_manifest_is_self_consistent() {
                     BindingResource::Sampler { name } => {
                         assert!(m.samplers.iter().any(|s| &s.name == name), "{what}: {name}");
                     }
+                    BindingResource::Motion => {
+                        assert_eq!(m.reprojection, Reprojection::MotionVectors, "{what}");
+                        assert_eq!(m.vertex.prev_clip_location, None, "{what}");
+                    }
                 }
             }
             for c in &p.colors {
@@ -170,6 +198,50 @@ fn every_manifest_is_self_consistent() {
         assert_eq!(
             first_load,
             m.notes.iter().any(|n| n.contains("loaded, not cleared")),
+            "{what}"
+        );
+        // The first pass starts the depth as asked (clear to 1, or the engine's); later ones load.
+        let depth_loads: Vec<&LoadOp> = m.passes.iter().map(|p| &p.depth.load).collect();
+        assert!(depth_loads[1..].iter().all(|l| l.is_load()), "{what}");
+        assert_eq!(
+            depth_loads[0].is_load(),
+            m.notes
+                .iter()
+                .any(|n| n.contains("keeps what the depth target holds")),
+            "{what}"
+        );
+        // The lookup reads its previous position from exactly one place.
+        let reads_motion = m.passes.iter().any(|p| {
+            p.bindings.iter().any(|b| {
+                b.resource == BindingResource::Motion
+                    && b.binding == reproj_instance::contract::MOTION_BINDING
+            })
+        });
+        assert_eq!(
+            reads_motion,
+            m.reprojection == Reprojection::MotionVectors,
+            "{what}"
+        );
+        assert_eq!(
+            m.vertex.prev_clip_location.is_some(),
+            !reads_motion,
+            "{what}"
+        );
+        assert_eq!(
+            m.bytes_per_pixel,
+            Some(
+                m.textures
+                    .iter()
+                    .filter(|t| t.name != "depth")
+                    .map(|t| match t.format.as_str() {
+                        "r16float" => 2,
+                        "rg16float" | "r32float" => 4,
+                        "rgba16float" | "rg32float" => 8,
+                        "rgba32float" => 16,
+                        other => panic!("{what}: format {other}"),
+                    })
+                    .sum::<u32>()
+            ),
             "{what}"
         );
     }

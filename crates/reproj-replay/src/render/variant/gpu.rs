@@ -27,7 +27,7 @@ impl Renderer {
         if let Some(c) = &classify_stage {
             input_sets.push(&c.inputs);
         }
-        let inputs = vertex::merge_inputs(&input_sets)?;
+        let mut inputs = vertex::merge_inputs(&input_sets)?;
         let mut ifaces: Vec<&Interface> = stages.iter().map(|s| &s.iface).collect();
         if let Some(c) = &classify_stage {
             ifaces.push(c);
@@ -35,10 +35,15 @@ impl Renderer {
         let scene = self.build_scene(session, &ifaces, Some(m.group))?;
         // With motion vectors the passes read no previous clip position; the replay's motion
         // pass (the engine's velocity pass) does, one location past the shader's inputs.
-        let prev_clip_location = m
-            .vertex
-            .prev_clip_location
-            .unwrap_or_else(|| motion::location_after(&inputs));
+        let prev_clip_location = match m.vertex.prev_clip_location {
+            Some(location) => location,
+            None => {
+                let input = motion::prev_clip_input(&inputs);
+                let location = input.location;
+                inputs.push(input);
+                location
+            }
+        };
         let vs_src = vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(prev_clip_location))?;
         let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
         let motion = match m.reprojection {

@@ -32,10 +32,16 @@ pub(super) struct MotionGpu {
     none: Bindings,
 }
 
-/// One location past the highest fragment input: where the motion pass reads the previous clip
-/// position when the variant's own passes read none.
-pub(super) fn location_after(inputs: &[reflect::FragInput]) -> u32 {
-    inputs.iter().map(|i| i.location + 1).max().unwrap_or(0)
+/// The vertex output the motion pass reads, when the variant's own passes read none: the
+/// previous clip position, one location past the highest fragment input.
+pub(super) fn prev_clip_input(inputs: &[reflect::FragInput]) -> reflect::FragInput {
+    reflect::FragInput {
+        location: inputs.iter().map(|i| i.location + 1).max().unwrap_or(0),
+        components: 4,
+        interpolation: None,
+        sampling: None,
+        name: "prev_clip".into(),
+    }
 }
 
 impl Renderer {
