@@ -19,10 +19,17 @@
 //!
 //! Memory: the textures it allocates take [`Variant::bytes_per_pixel`] bytes per frame pixel: two
 //! payloads (2 to 16 bytes each, `r16float` to `rgba32float` by the cached value's width and
-//! precision) and two `r32float` depth copies, 12 to 40 bytes in all. Depth: every pass draws into
-//! your depth target, which the first pass clears (every manifest reproj writes says so, with or
-//! without `--frame-load load`: what you drew into it before is not tested against) and which
-//! holds the scene's depth afterwards. Color: the first pass clears your color target to
+//! precision) and two `r32float` depth copies, 12 to 40 bytes in all (the manifest's
+//! `bytes_per_pixel`; about 166 MB at 3840×2160 for the widest). Depth: every pass draws into
+//! your depth target, which the first pass clears, or, for a variant written with `--depth-load
+//! load` ([`Variant::loads_depth_first`]), keeps: then the variant is depth-tested against what
+//! you drew before (clear it at the frame's start yourself); either way it holds the scene's
+//! depth afterwards. Motion: a variant written with `--reproject motion-vectors`
+//! ([`Variant::reads_motion_vectors`]) reads your motion-vector texture ([`Setup::motion`]:
+//! `.xy` = `uv_current - uv_previous`, texture UV, y down) instead of a previous clip position
+//! from your vertex stage. Sizes: [`VariantResources::resize`] reallocates for a new frame size;
+//! multisampled targets are not supported (every texture and pipeline has one sample: resolve
+//! first, or draw the variant into a single-sampled target). Color: the first pass clears your color target to
 //! [`FrameTargets::clear_color`], unless the variant was written with `--frame-load load`
 //! ([`Variant::loads_frame_first`]): then it draws over what the target holds. Each
 //! [`VariantResources::record`] writes the params through the queue: submit a frame's encoder

@@ -346,6 +346,14 @@ impl Manifest {
             .is_some_and(|c| matches!(c.load, LoadOp::Load))
     }
 
+    /// Whether the application's depth target must hold its own depth before the first pass: the
+    /// first pass loads it (written with `--depth-load load`).
+    pub fn loads_depth_first(&self) -> bool {
+        self.passes
+            .first()
+            .is_some_and(|p| matches!(p.depth.load, LoadOp::Load))
+    }
+
     /// The `value` of the `delta_n` parameter: the refresh period the variant was emitted with.
     pub fn delta_n(&self) -> Option<u32> {
         self.params

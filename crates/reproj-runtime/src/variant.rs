@@ -98,6 +98,14 @@ impl Variant {
         self.manifest.loads_frame_first()
     }
 
+    /// Whether the depth target must hold the application's depth before
+    /// [`VariantResources::record`]: the variant was written with `--depth-load load`, and its
+    /// first pass tests against what the target holds instead of clearing it (clear it at the
+    /// frame's start, then draw your opaque geometry: the variant is hidden behind it).
+    pub fn loads_depth_first(&self) -> bool {
+        self.manifest.loads_depth_first()
+    }
+
     /// The refresh period Δn the variant was emitted with (the `delta_n` parameter's value).
     pub fn delta_n(&self) -> Option<u32> {
         self.manifest.delta_n()

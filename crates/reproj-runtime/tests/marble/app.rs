@@ -421,6 +421,18 @@ impl App {
         gpu: &mut VariantResources,
         restart: bool,
     ) -> (Vec<Vec<f32>>, Vec<f32>) {
+        self.run_over(variant, gpu, restart, 1.0)
+    }
+
+    /// [`App::run`], the depth target cleared to `engine_depth` before each frame when the
+    /// variant loads it (what the app's own opaque geometry would leave: 1.0 for none).
+    pub fn run_over(
+        &self,
+        variant: &Variant,
+        gpu: &mut VariantResources,
+        restart: bool,
+        engine_depth: f32,
+    ) -> (Vec<Vec<f32>>, Vec<f32>) {
         let mut frames = Vec::new();
         for f in 0..FRAMES {
             if !(restart && f == 0) {
@@ -441,6 +453,22 @@ impl App {
                             store: wgpu::StoreOp::Store,
                         },
                     })],
+                    ..Default::default()
+                });
+            }
+            if variant.loads_depth_first() {
+                // The engine's depth, as its opaque geometry would leave it.
+                enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("engine depth"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &self.depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(engine_depth),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
                     ..Default::default()
                 });
             }

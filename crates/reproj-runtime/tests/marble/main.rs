@@ -51,11 +51,15 @@ fn render_reference(dir: &Path, out: &Path) -> Vec<Vec<f32>> {
 #[test]
 fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
     let tmp = tempfile::tempdir().unwrap();
-    let cases: [(&str, &[&str]); 2] = [
+    let cases: [(&str, &[&str]); 3] = [
         ("3pass", &[]),
         (
             "2pass-frame-load",
             &["--strategy", "2pass", "--frame-load", "load"],
+        ),
+        (
+            "fused-depth-load",
+            &["--strategy", "fused", "--depth-load", "load"],
         ),
     ];
     for (name, flags) in cases {
@@ -68,6 +72,8 @@ fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
             "{name}: the instancer's default Δn"
         );
         assert_eq!(variant.loads_frame_first(), name.ends_with("frame-load"));
+        assert_eq!(variant.loads_depth_first(), name.ends_with("depth-load"));
+        assert!(!variant.reads_motion_vectors());
         let app = App::new(variant.required_features());
         let vs = app.vertex_module(&variant);
         let stages = app.stages(&vs);
@@ -124,6 +130,40 @@ fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
     }
 }
 
+/// A variant written with `--depth-load load` is depth-tested against the app's own depth: behind
+/// an occluder that covers the frame (the depth cleared to 0, the near plane) nothing of it is
+/// drawn, nor does it write depth, frame after frame.
+#[test]
+fn a_variant_that_loads_the_engines_depth_hides_behind_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("v");
+    instance_marble(&dir, &["--strategy", "2pass", "--depth-load", "load"]);
+    let variant = Variant::load(&dir).unwrap();
+    assert!(variant.loads_depth_first());
+    let app = App::new(variant.required_features());
+    let vs = app.vertex_module(&variant);
+    let stages = app.stages(&vs);
+    let mut gpu = app.create(&variant, &stages);
+    let (frames, depth) = app.run_over(&variant, &mut gpu, false, 0.0);
+    let bg = app.session.background;
+    for (f, frame) in frames.iter().enumerate() {
+        assert!(
+            frame.chunks_exact(4).all(|px| px.iter().zip(&bg).all(|(a, b)| a == b)),
+            "frame {f}: the variant drew in front of the engine's depth"
+        );
+    }
+    assert!(depth.iter().all(|&z| z == 0.0), "the engine's depth was overwritten");
+    // With nothing in front, the same variant draws the torus.
+    let (frames, _) = app.run_over(&variant, &mut gpu, true, 1.0);
+    let last = frames.last().unwrap();
+    assert!(
+        last.chunks_exact(4)
+            .any(|px| px.iter().zip(&bg).any(|(a, b)| a != b))
+    );
+    let errors = std::mem::take(&mut *app.errors.lock().unwrap());
+    assert!(errors.is_empty(), "wgpu errors: {errors:#?}");
+}
+
 /// What the application gets wrong is an error naming the argument, never a panic or a wgpu
 /// validation error: a missing layout for the shader's own group, a layout in the variant's group,
 /// targets of another format or size, a frame size without pixels.
@@ -163,6 +203,46 @@ fn misuse_is_an_error_naming_the_argument() {
     );
     let mut gpu = setup(&[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)]).unwrap();
     usage(gpu.resize(&app.device, [0, 5]), "size", "no pixel");
+    // Motion vectors for a variant that reads none.
+    usage(
+        variant.create(
+            &app.device,
+            &Setup {
+                size: app.size,
+                color_format: COLOR,
+                vertex: &stages,
+                bind_group_layouts: &[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)],
+                motion: Some(&app.frame_view),
+            },
+        ),
+        "Setup::motion",
+        "reads no motion vectors",
+    );
+    usage(
+        gpu.set_motion(&app.device, &app.frame_view),
+        "set_motion",
+        "reads no motion vectors",
+    );
+    // No motion vectors for a variant that reads them.
+    let motion_dir = tmp.path().join("motion");
+    instance_marble(&motion_dir, &["--reproject", "motion-vectors"]);
+    let motion = Variant::load(&motion_dir).unwrap();
+    assert!(motion.reads_motion_vectors());
+    assert_eq!(motion.vertex().prev_clip_location, None);
+    usage(
+        motion.create(
+            &app.device,
+            &Setup {
+                size: app.size,
+                color_format: COLOR,
+                vertex: &stages,
+                bind_group_layouts: &[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)],
+                motion: None,
+            },
+        ),
+        "Setup::motion",
+        "give their texture",
+    );
     // The color target as the depth target: the wrong format.
     let mut enc = app.device.create_command_encoder(&Default::default());
     let wrong = FrameTargets {
