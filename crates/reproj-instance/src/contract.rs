@@ -16,8 +16,8 @@ pub const DEPTH_OUTPUT: &str = "reproj_depth";
 /// Bind groups a variant may use: indices `0..MAX_BIND_GROUPS` (WebGPU's default `maxBindGroups`).
 pub const MAX_BIND_GROUPS: u32 = 4;
 
-/// The debug entry point of the first pass's module: green hit, red miss, blue refresh
-/// (rgba8unorm target, no discard).
+/// The debug entry point a replay appends to the first pass's module ([`crate::classify_wgsl`]):
+/// green hit, red miss, blue refresh (rgba8unorm target, no discard).
 pub const CLASSIFY_ENTRY: &str = "reproj_classify";
 
 /// The `reproj_params` uniform buffer ([`ReprojParams`]).

@@ -297,7 +297,6 @@ fn host_notes(opts: &InstanceOptions, prev_clip_location: Option<u32>) -> Vec<St
         "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
         "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
         "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
-        "The first pass's module also has the debug entry point reproj_classify (rgba8unorm target, no discard, pass 1's depth state): green hit, red miss, blue refresh.".into(),
     ];
     if opts.frame_load == FrameLoad::Load {
         notes.push("The frame target is loaded, not cleared: clear it (or draw what lies behind) before the first pass.".into());

@@ -19,6 +19,7 @@ mod error;
 pub mod import;
 mod layout;
 mod library;
+pub use library::classify_wgsl;
 use library::{PrevClip, library_text, parse_library, reproject_text};
 pub mod manifest;
 mod simplify;

@@ -6,8 +6,9 @@
 use crate::contract;
 use crate::{InstanceError, PassKind, Reconstruct};
 
-/// The lookup library; `REPROJ_GROUP`, `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS`,
-/// `// REPROJ_INPUT` and `// REPROJ_CLASSIFY` are substituted.
+/// The lookup library; `REPROJ_GROUP`, `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS` and
+/// `// REPROJ_INPUT` are substituted. The debug entry [`classify_wgsl`] is not in what the
+/// passes ship: a replay that counts hits with it appends it to pass 1.
 const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
 /// The three-pass strategy's pass-1 entry, appended to the library.
 const REPROJECT_ENTRY: &str = include_str!("reproject.wgsl");
@@ -127,7 +128,6 @@ pub(crate) fn library_text(group: u32, prev_clip: PrevClip, reconstruct: Reconst
     };
     LOOKUP_LIBRARY
         .replace("// REPROJ_INPUT\n", &input)
-        .replace("// REPROJ_CLASSIFY\n", &entry_input(CLASSIFY, prev_clip))
         .replace("REPROJ_GROUP", &group.to_string())
         .replace("REPROJ_RECONSTRUCT", fetch)
         .replace("// REPROJ_FILTERS\n", filters)
@@ -149,6 +149,21 @@ fn entry_input(text: &str, prev_clip: PrevClip) -> String {
     } else {
         text.replace("REPROJ_MAKE_INPUT", make)
     }
+}
+
+/// The debug entry point [`contract::CLASSIFY_ENTRY`] for a variant's pass 1 (the hit map: green
+/// hit, red miss, blue refresh; an `rgba8unorm` target, no discard), WGSL to append to that pass's
+/// module as written: it calls the pass's `reproj_lookup` with a `ReprojInput` made as the
+/// variant's `reprojection` says. The passes reproj writes leave it out; `reproj render` appends
+/// it to count the fused strategy's hits (no occlusion query can tell them apart) and for
+/// `--classify`.
+pub fn classify_wgsl(reprojection: crate::Reprojection) -> String {
+    let prev_clip = match reprojection {
+        // The location is that of the pass's own `ReprojInput`; this text does not name it.
+        crate::Reprojection::Vertex => PrevClip::Location(0),
+        crate::Reprojection::MotionVectors => PrevClip::Motion,
+    };
+    format!("\n{}", entry_input(CLASSIFY, prev_clip))
 }
 
 /// The three-pass strategy's pass 1: the library and its entry.

@@ -102,6 +102,3 @@ fn reproj_fetch(position: vec4<f32>, prev_clip: vec4<f32>) -> ReprojLookup {
     }
     return reproj_lookup(ReprojInput(position, prev_clip));
 }
-
-// The debug entry point (library.rs fills it in).
-// REPROJ_CLASSIFY

@@ -37,9 +37,20 @@ impl Renderer {
                 ),
             });
         }
+        // The fused pass cannot count its hits with an occlusion query: classify every frame,
+        // with the debug entry appended to pass 1 where the variant does not ship it.
+        let classify = opts.classify || m.strategy == reproj_instance::Strategy::Fused;
         let mut stages = Vec::new();
-        for (p, src) in m.passes.iter().zip(&variant.sources) {
-            stages.push(self.make_stage(Path::new(&p.file), src.clone(), &p.entry)?);
+        for (i, (p, src)) in m.passes.iter().zip(&variant.sources).enumerate() {
+            let mut stage = self.make_stage(Path::new(&p.file), src.clone(), &p.entry)?;
+            if i == 0
+                && classify
+                && reflect::fragment_entry_index(&stage.shader.module, CLASSIFY_ENTRY).is_none()
+            {
+                let with = format!("{src}{}", reproj_instance::classify_wgsl(m.reprojection));
+                stage = self.make_stage(Path::new(&p.file), with, &p.entry)?;
+            }
+            stages.push(stage);
         }
         // naga's WGSL writer renames identifiers that end in a digit (`sh0` becomes `sh0_`): take
         // the shader's own names back from the original module, by group/binding and field order.
@@ -55,8 +66,7 @@ impl Renderer {
         for st in &mut stages {
             restore_names(&mut st.iface, &original);
         }
-        // The fused pass cannot count its hits with an occlusion query: classify every frame.
-        let classify_stage = if opts.classify || m.strategy == reproj_instance::Strategy::Fused {
+        let classify_stage = if classify {
             let s1 = &stages[0].shader;
             match reflect::fragment_entry_index(&s1.module, CLASSIFY_ENTRY) {
                 Some(ci) => Some(reflect::reflect(&s1.module, &s1.info, ci)?),
