@@ -1,6 +1,6 @@
 //! What an analysis works on ([`AnalyzeInput`]) and reports its progress to ([`Progress`]): the
 //! types the replayer and the set search share with [`crate::analyze()`], kept below all three so
-//! that neither reaches up into `analyze.rs`.
+//! that neither reaches up into `analyze/`.
 
 use std::path::Path;
 

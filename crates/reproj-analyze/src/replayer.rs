@@ -5,12 +5,12 @@
 use std::time::Instant;
 
 use reproj_instance::Strategy;
-use reproj_metrics::RenderReport;
+use reproj_metrics::{FrameValue, MetricSummary, RenderReport};
 use reproj_models::profile::{AnalysisTime, HoldoutCheck, Measurement, NodeStatus};
 use reproj_models::speedup::SpeedupEstimate;
 use reproj_models::{
-    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, FrameValue, MetricSummary, TimingFit,
-    TimingStatus, fit_error, fit_timing_with_holdout, predicted_frame_ms,
+    ErrorFit, ErrorFitOptions, ErrorFitStatus, FrameTiming, TimingFit, TimingStatus, fit_error,
+    fit_timing_with_holdout, predicted_frame_ms,
 };
 use reproj_replay::{RenderOptions, Renderer, VariantInput};
 
@@ -487,9 +487,9 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
     Measurement {
         delta_n,
         error: finite(report.error),
-        error_worst: report.error_worst.map(frame_value),
-        flip: report.flip.map(summary),
-        ssim: report.ssim.map(summary),
+        error_worst: report.error_worst.map(finite_frame),
+        flip: report.flip.map(finite_summary),
+        ssim: report.ssim.map(finite_summary),
         mse: report.mse.is_finite().then_some(report.mse),
         psnr: (report.psnr.is_finite() && report.psnr < reproj_metrics::PSNR_CAP)
             .then_some(report.psnr),
@@ -500,18 +500,20 @@ fn measurement(delta_n: u32, report: &RenderReport) -> Measurement {
     }
 }
 
-fn frame_value(v: reproj_metrics::FrameValue) -> FrameValue {
+/// The replay's worst frame as the profile keeps it: a value that is not finite becomes 0.
+fn finite_frame(v: FrameValue) -> FrameValue {
     FrameValue {
-        frame: v.frame,
         value: finite(v.value),
+        ..v
     }
 }
 
-fn summary(s: reproj_metrics::MetricSummary) -> MetricSummary {
+/// The replay's summary of a metric as the profile keeps it: no NaN or infinity.
+fn finite_summary(s: MetricSummary) -> MetricSummary {
     MetricSummary {
         mean: finite(s.mean),
-        worst: frame_value(s.worst),
-        frames: s.frames,
+        worst: finite_frame(s.worst),
+        ..s
     }
 }
 

@@ -1,7 +1,7 @@
 //! The corpus (`shaders/corpus/`, sessions in `sessions/corpus/`; the GLSL shaders of
 //! `shaders/corpus/glsl/` that have a session in `sessions/corpus/glsl/`): engine-style fragment shaders,
-//! each run through the real binary and compared with the committed table
-//! `shaders/corpus/expected.json`, so that a shader that stops parsing, loses cacheable nodes, stops
+//! each run through the real binary and compared with the committed snapshot
+//! `tests/snapshots/corpus__table.snap`, so that a shader that stops parsing, loses cacheable nodes, stops
 //! validating or rendering (or starts to) fails here. Per shader it records: whether `nodes` parses
 //! it, the cacheable node count, the outcome of `instance` for the root and the costliest other
 //! cacheable node in each strategy, the outcome of `render --node root --delta-n 4
@@ -9,8 +9,8 @@
 //! else (a panic, another exit code, a message over several lines, files left behind by a
 //! rejection) fails outright. Everything is written in temporary directories.
 //!
-//! After an intended change: `REPROJ_BLESS=1 cargo test -p reproj-cli --test corpus`, review the
-//! diff of `expected.json` and update `docs/CORPUS.md`.
+//! After an intended change: `cargo insta review` (or `INSTA_UPDATE=always cargo test -p reproj-cli
+//! --test corpus` and `git diff`), then update `docs/CORPUS.md`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -211,36 +211,6 @@ fn corpus_matches_its_table() {
     }
     let measured = Value::Object(measured);
 
-    let table = dir.join("expected.json");
-    if std::env::var_os("REPROJ_BLESS").is_some() {
-        let text = serde_json::to_string_pretty(&measured).unwrap() + "\n";
-        std::fs::write(&table, text).unwrap();
-        return;
-    }
-    let expected: Value =
-        serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).expect("expected.json");
-    let (Value::Object(exp), Value::Object(got)) = (&expected, &measured) else {
-        unreachable!()
-    };
-    let mut diffs = Vec::new();
-    for name in exp.keys().chain(got.keys()) {
-        let (e, g) = (exp.get(name), got.get(name));
-        if e != g
-            && !diffs
-                .iter()
-                .any(|d: &String| d.starts_with(&format!("{name}:")))
-        {
-            diffs.push(format!(
-                "{name}:\n  expected {}\n  measured {}",
-                e.map_or("(absent)".into(), Value::to_string),
-                g.map_or("(absent)".into(), Value::to_string)
-            ));
-        }
-    }
-    assert!(
-        diffs.is_empty(),
-        "the corpus differs from shaders/corpus/expected.json (after an intended change: \
-         REPROJ_BLESS=1 cargo test -p reproj-cli --test corpus):\n{}",
-        diffs.join("\n")
-    );
+    let table = serde_json::to_string_pretty(&measured).unwrap();
+    insta::assert_snapshot!("table", table);
 }

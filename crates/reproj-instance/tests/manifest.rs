@@ -83,19 +83,22 @@ fn manifests() -> Vec<Manifest> {
     out
 }
 
-/// `docs/manifest.schema.json` is what the types generate. After changing the manifest types, run
-/// `REPROJ_BLESS=1 cargo test -p reproj-instance --test manifest` and review the diff.
+/// `docs/manifest.schema.json` is what the types generate. It is published at that path (hosts and
+/// editors read it), so it is not an insta snapshot, but it is updated the way snapshots are:
+/// after changing the manifest types, `INSTA_UPDATE=always cargo test -p reproj-instance --test
+/// manifest` rewrites it, and `git diff` reviews it.
 #[test]
 fn published_schema_is_current() {
     let mut text = serde_json::to_string_pretty(&manifest_schema()).unwrap();
     text.push('\n');
-    if std::env::var_os("REPROJ_BLESS").is_some() {
+    if std::env::var("INSTA_UPDATE").as_deref() == Ok("always") {
         std::fs::write(schema_path(), &text).unwrap();
     }
     let published = std::fs::read_to_string(schema_path()).unwrap_or_default();
     assert!(
         published == text,
-        "docs/manifest.schema.json is out of date: run `REPROJ_BLESS=1 cargo test -p reproj-instance --test manifest`"
+        "docs/manifest.schema.json is out of date: run \
+         `INSTA_UPDATE=always cargo test -p reproj-instance --test manifest` and review the diff"
     );
 }
 

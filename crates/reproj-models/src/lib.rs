@@ -26,7 +26,7 @@ pub use error_model::{
     ErrorFit, ErrorFitFailure, ErrorFitOptions, ErrorFitStatus, LAMBDA_MAX, LAMBDA_MIN, fit_error,
 };
 pub use hit_rate::{HitRateFit, HitRateFitFailure, HitRateStatus, fit_hit_rate};
-pub use metric::{FrameValue, Metric, MetricSummary};
+pub use metric::Metric;
 pub use profile::{PROFILE_KIND, PROFILE_VERSION, Profile, content_hash};
 pub use timing::{
     FrameTiming, TimingFit, TimingFitFailure, TimingFitOptions, TimingParam, TimingStatus,

@@ -1,4 +1,5 @@
-//! Which error a budget bounds, and the per-replay summary of a metric the profile records.
+//! Which error a budget bounds. (The per-replay summary of a metric the profile records is
+//! `reproj_metrics::MetricSummary`, the type the replay reports.)
 //!
 //! `analyze` measures three metrics per replay (definitions in `docs/SCHEMAS.md`): the paper's
 //! mean per-pixel L2 distance over all pixels, and ꟻLIP and SSIM over the pixels the object
@@ -45,23 +46,6 @@ impl std::str::FromStr for Metric {
             .find(|m| m.name() == s)
             .ok_or_else(|| format!("unknown metric `{s}` (expected l2 or flip)"))
     }
-}
-
-/// One frame's value of a metric.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct FrameValue {
-    pub frame: u32,
-    pub value: f64,
-}
-
-/// A metric over the frames of one replay it was computed on: the mean and the worst frame (the
-/// largest error; for SSIM the smallest similarity).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct MetricSummary {
-    pub mean: f64,
-    pub worst: FrameValue,
-    /// How many frames it was computed on.
-    pub frames: u32,
 }
 
 #[cfg(test)]

@@ -5,9 +5,10 @@
 //! measurement (per node and Δn, with per-frame counts and times), every fit with its quality, and
 //! the status of each node: usable, or set aside with the reason.
 
+use reproj_metrics::{FrameValue, MetricSummary};
 use serde::{Deserialize, Serialize};
 
-use crate::{ErrorFit, FrameTiming, FrameValue, HitRateFit, Metric, MetricSummary, TimingFit};
+use crate::{ErrorFit, FrameTiming, HitRateFit, Metric, TimingFit};
 
 /// Version of the profile schema. Bump on any incompatible change.
 /// Version 2: per-node `strategy` and `block`, and `strategy_probes`. Version 1 files still load

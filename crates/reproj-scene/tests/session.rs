@@ -256,20 +256,23 @@ var<immediate> push: Push;
     );
 }
 
-/// `docs/session.schema.json` is what the session types generate. After changing them, run
-/// `REPROJ_BLESS=1 cargo test -p reproj-scene --test session` and review the diff.
+/// `docs/session.schema.json` is what the session types generate. It is published at that path
+/// (editors read it), so it is not an insta snapshot, but it is updated the way snapshots are:
+/// after changing the types, `INSTA_UPDATE=always cargo test -p reproj-scene --test session`
+/// rewrites it, and `git diff` reviews it.
 #[test]
 fn the_published_session_schema_is_current_and_every_session_validates() {
     let path = root().join("docs/session.schema.json");
     let mut text = serde_json::to_string_pretty(&reproj_scene::session::session_schema()).unwrap();
     text.push('\n');
-    if std::env::var_os("REPROJ_BLESS").is_some() {
+    if std::env::var("INSTA_UPDATE").as_deref() == Ok("always") {
         std::fs::write(&path, &text).unwrap();
     }
     let published = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         published == text,
-        "docs/session.schema.json is out of date: run `REPROJ_BLESS=1 cargo test -p reproj-scene --test session`"
+        "docs/session.schema.json is out of date: run \
+         `INSTA_UPDATE=always cargo test -p reproj-scene --test session` and review the diff"
     );
     let schema: serde_json::Value = serde_json::from_str(&published).unwrap();
     let validator = jsonschema::validator_for(&schema).unwrap();

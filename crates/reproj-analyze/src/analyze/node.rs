@@ -1,0 +1,397 @@
+//! One node's replays: each strategy still in the running instanced and raced against the
+//! original at the longest period ([`replay_node`]), the winner chosen only beyond doubt
+//! ([`race_winner`]) and replayed over the node's periods, with the filter race where asked
+//! ([`profile_winner`]).
+
+use std::time::Instant;
+
+use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, instance};
+use reproj_models::profile::{FilterProbe, Measurement, StrategyProbe};
+use reproj_models::speedup::{SpeedupEstimate, separates};
+
+use crate::AnalyzeError;
+use crate::replayer::{RaceEntry, Replayer, Subject, finite, too_slow};
+use crate::strategies::{StrategyPruner, Verdict};
+
+/// One node's replays: the strategy and filter it was profiled with, its measurements, and why
+/// it failed (when it did).
+pub(super) struct Raw {
+    pub(super) id: u32,
+    pub(super) strategy: Strategy,
+    pub(super) block: u32,
+    pub(super) reconstruct: Reconstruct,
+    pub(super) measurements: Vec<Measurement>,
+    pub(super) failure: Option<String>,
+}
+
+/// What the replay phase gathers: each node's replays and the probes of the strategy and filter
+/// races.
+#[derive(Default)]
+pub(super) struct Replays {
+    pub(super) raws: Vec<Raw>,
+    pub(super) probes: Vec<StrategyProbe>,
+    pub(super) filter_probes: Vec<FilterProbe>,
+}
+
+/// Replay the nodes one by one ([`replay_node`]), pruning the strategies that keep losing.
+pub(super) fn replay_nodes(
+    rp: &mut Replayer<'_, '_>,
+    ids: &[u32],
+    plan: &[(u32, bool)],
+) -> Result<Replays, AnalyzeError> {
+    let mut replays = Replays::default();
+    let mut pruner = StrategyPruner::new(rp.opts.strategies.len());
+    for &id in ids {
+        let raw = replay_node(rp, id, plan, &mut pruner, &mut replays)?;
+        replays.raws.push(raw);
+    }
+    Ok(replays)
+}
+
+/// One node: each strategy still in the running instanced, then all raced against the original
+/// at the longest period, interleaved (`reproj-bench`): the fastest wins only where its interval
+/// separates from the simplest's, and a node is set aside only when its winner's interval lies
+/// wholly below 1×. The winner is then replayed over the plan ([`profile_winner`]).
+fn replay_node(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    plan: &[(u32, bool)],
+    pruner: &mut StrategyPruner,
+    replays: &mut Replays,
+) -> Result<Raw, AnalyzeError> {
+    let (opts, progress, longest) = (rp.opts, rp.progress, rp.longest);
+    let to_try = strategies_to_try(rp, id, pruner);
+    let (mut built, instance_failure) = instance_strategies(rp, id, &to_try);
+    let race = if built.is_empty() {
+        None
+    } else {
+        let entries: Vec<RaceEntry> = built
+            .iter()
+            .map(|b| RaceEntry {
+                name: b.strategy.name().to_string(),
+                sources: &b.sources,
+                variant: &b.variant,
+                delta_n: longest,
+            })
+            .collect();
+        Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
+    };
+    progress.step(&format!("node {id} race at Δn={longest}"));
+    let estimates: Vec<Option<SpeedupEstimate>> = race
+        .as_ref()
+        .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
+        .unwrap_or_default();
+    let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
+    let winner = race_winner(&strategies, &estimates);
+    if let Some(w) = winner
+        && let Some(best) = estimates[w]
+    {
+        for (b, e) in built.iter().zip(&estimates) {
+            // A loss counts only where the intervals separate.
+            let ratio = match e {
+                Some(e) if separates(&best, e) => best.speedup / e.speedup,
+                Some(_) => 1.0,
+                None => f64::INFINITY,
+            };
+            pruner.record(b.si, ratio, best.surely_faster());
+        }
+    }
+    if let Some(r) = &race {
+        replays
+            .probes
+            .extend(strategy_probes(id, longest, &built, r, winner));
+    }
+    let Some(w) = winner else {
+        let why = instance_failure
+            .unwrap_or_else(|| "no strategy could be timed (no finite frame time)".into());
+        for _ in 0..1 + plan.len() {
+            progress.step(&format!("node {id}"));
+        }
+        return Ok(Raw {
+            id,
+            strategy: opts.strategies[0],
+            block: opts.block.unwrap_or(opts.strategies[0].default_block()),
+            reconstruct: opts.instance.reconstruct,
+            measurements: Vec::new(),
+            failure: Some(why),
+        });
+    };
+    let estimate = estimates[w].expect("the winner has an estimate");
+    let winner = built.swap_remove(w);
+    profile_winner(rp, id, winner, estimate, plan, &mut replays.filter_probes)
+}
+
+/// The strategies still in the running for node `id` (the others pruned, said once).
+fn strategies_to_try(
+    rp: &Replayer<'_, '_>,
+    id: u32,
+    pruner: &mut StrategyPruner,
+) -> Vec<(usize, Strategy)> {
+    let (progress, longest) = (rp.progress, rp.longest);
+    let mut to_try: Vec<(usize, Strategy)> = Vec::new();
+    for (si, &strategy) in rp.opts.strategies.iter().enumerate() {
+        match pruner.verdict(si) {
+            Verdict::Try => to_try.push((si, strategy)),
+            Verdict::PruneNow => {
+                progress.note(&format!(
+                    "{strategy}: at least {:.2}× slower than the fastest strategy at Δn = {longest} for {} nodes; not tried for the remaining nodes",
+                    StrategyPruner::MARGIN,
+                    StrategyPruner::LOSSES
+                ));
+                progress.step(&format!("node {id} {strategy} pruned"));
+            }
+            Verdict::Pruned => progress.step(&format!("node {id} {strategy} pruned")),
+        }
+    }
+    to_try
+}
+
+/// The node's selector: the root, or its id.
+fn selector(rp: &Replayer<'_, '_>, id: u32) -> NodeSelector {
+    let node = rp.input.table.get(id).expect("ids come from the table");
+    if node.root {
+        NodeSelector::Root
+    } else {
+        NodeSelector::Id(id)
+    }
+}
+
+/// Each strategy to try instanced for node `id`, and the first instancing failure.
+fn instance_strategies(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    to_try: &[(usize, Strategy)],
+) -> (Vec<Built>, Option<String>) {
+    let (input, opts, progress) = (rp.input, rp.opts, rp.progress);
+    let sel = selector(rp, id);
+    let mut built: Vec<Built> = Vec::new();
+    let mut instance_failure = None;
+    for &(si, strategy) in to_try {
+        let block = opts.block.unwrap_or(strategy.default_block());
+        let inst = InstanceOptions {
+            strategy,
+            block,
+            ..opts.instance
+        };
+        let t = Instant::now();
+        let variant = instance(input.shader, input.norm, input.table, sel, &inst);
+        rp.time.instancing_s += t.elapsed().as_secs_f64();
+        progress.step(&format!("node {id} {strategy} instanced"));
+        match variant {
+            Ok(variant) => built.push(Built {
+                si,
+                strategy,
+                block,
+                sources: variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                variant,
+            }),
+            Err(e) => {
+                progress.note(&format!("node {id} ({strategy}): cannot instance: {e}"));
+                instance_failure.get_or_insert(format!("cannot instance: {e}"));
+            }
+        }
+    }
+    (built, instance_failure)
+}
+
+/// The probes of node `id`'s strategy race at the longest period, the winner's kept.
+fn strategy_probes(
+    id: u32,
+    longest: u32,
+    built: &[Built],
+    r: &reproj_bench::BenchReport,
+    winner: Option<usize>,
+) -> Vec<StrategyProbe> {
+    built
+        .iter()
+        .zip(&r.candidates)
+        .enumerate()
+        .map(|(i, (b, c))| StrategyProbe {
+            node: id,
+            strategy: b.strategy.name().into(),
+            block: b.block,
+            delta_n: longest,
+            frame_ms: finite(c.median_ms.unwrap_or(0.0)),
+            error: None,
+            pass_ms: Vec::new(),
+            kept: Some(i) == winner,
+            frames: None,
+            original_ms: Some(finite(r.baseline.median_ms)),
+            speedup: c.speedup.map(finite),
+            speedup_ci95: c.speedup_ci95.map(|[lo, hi]| [finite(lo), finite(hi)]),
+            rounds: Some(c.rounds),
+        })
+        .collect()
+}
+
+/// The winning strategy replayed over the longest period and the plan, and, with
+/// `race_filters`, the challenger filter raced at equal error and, when kept, replayed instead.
+fn profile_winner(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    winner: Built,
+    estimate: SpeedupEstimate,
+    plan: &[(u32, bool)],
+    filter_probes: &mut Vec<FilterProbe>,
+) -> Result<Raw, AnalyzeError> {
+    let (input, opts, progress, longest) = (rp.input, rp.opts, rp.progress, rp.longest);
+    let node = input.table.get(id).expect("ids come from the table");
+    let sel = selector(rp, id);
+    let Built {
+        strategy,
+        block,
+        sources,
+        variant,
+        ..
+    } = winner;
+    let verdict = too_slow(&estimate, node.root, longest, strategy);
+    let mut failure = None;
+    let mut measurements = Vec::new();
+    let node_plan: Vec<(u32, bool)> = std::iter::once((longest, false))
+        .chain(plan.iter().copied())
+        .collect();
+    let subject = Subject {
+        node: id,
+        set: Vec::new(),
+        who: format!("node {id}"),
+        text: node.text.clone(),
+        root: node.root,
+        strategy,
+        block,
+        reconstruct: None,
+        raced: true,
+        verdict,
+    };
+    rp.replay_plan(
+        &subject,
+        &sources,
+        &variant,
+        &node_plan,
+        &mut measurements,
+        &mut failure,
+    )?;
+    let mut reconstruct = opts.instance.reconstruct;
+    if opts.race_filters && failure.is_none() {
+        let race = crate::filters::FilterRace {
+            id,
+            sel,
+            strategy,
+            block,
+            base_sources: &sources,
+            base_variant: &variant,
+            base_measurements: &measurements,
+            base_speedup: Some(estimate.speedup),
+        };
+        if let Some(kept) = crate::filters::race_filter(rp, &race, filter_probes)? {
+            // The node is profiled with the kept filter alone: its measurement at the longest
+            // period, then the rest of the plan.
+            reconstruct = crate::filters::CHALLENGER;
+            measurements = vec![kept.measurement];
+            progress.extend(plan.len() as u64);
+            let subject = Subject {
+                reconstruct: Some(reconstruct),
+                verdict: None,
+                ..subject
+            };
+            rp.replay_plan(
+                &subject,
+                &kept.sources,
+                &kept.variant,
+                plan,
+                &mut measurements,
+                &mut failure,
+            )?;
+        }
+    }
+    Ok(Raw {
+        id,
+        strategy,
+        block,
+        reconstruct,
+        measurements,
+        failure,
+    })
+}
+
+/// One strategy of one node in `analyze`, instanced: its index in the options' strategies and
+/// the variant (pass sources and the variant).
+struct Built {
+    si: usize,
+    strategy: Strategy,
+    block: u32,
+    sources: Vec<String>,
+    variant: reproj_instance::Variant,
+}
+
+/// The strategy that wins a node's race: among those faster than the simplest strategy (the
+/// fewest passes) beyond doubt — their intervals separate above its — the fastest by its
+/// estimate; otherwise the simplest: timing noise never decides. (The fastest estimate alone
+/// would let a strategy that does not separate hide one that does.) `None` when no strategy has
+/// an estimate.
+fn race_winner(strategies: &[Strategy], estimates: &[Option<SpeedupEstimate>]) -> Option<usize> {
+    let timed: Vec<(usize, SpeedupEstimate)> = estimates
+        .iter()
+        .enumerate()
+        .filter_map(|(i, e)| Some((i, (*e)?)))
+        .collect();
+    let simplest = *timed
+        .iter()
+        .min_by_key(|(i, _)| (passes(strategies[*i]), *i))?;
+    let winner = timed
+        .iter()
+        .filter(|(_, e)| e.speedup > simplest.1.speedup && separates(e, &simplest.1))
+        .max_by(|a, b| a.1.speedup.total_cmp(&b.1.speedup))
+        .map_or(simplest.0, |w| w.0);
+    Some(winner)
+}
+
+/// How many passes a strategy draws per frame: the measure of simplicity a tie falls back on.
+fn passes(s: Strategy) -> u32 {
+    match s {
+        Strategy::Fused => 1,
+        Strategy::TwoPass => 2,
+        Strategy::ThreePass => 3,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn e(speedup: f64, lo: f64, hi: f64) -> Option<SpeedupEstimate> {
+        Some(SpeedupEstimate {
+            speedup,
+            ci95: [lo, hi],
+            rounds: 8,
+            outliers: 0,
+            baseline_ms: 10.0,
+            candidate_ms: 10.0 / speedup,
+        })
+    }
+
+    #[test]
+    fn a_race_is_won_only_beyond_doubt_and_a_wide_fastest_does_not_hide_a_sure_one() {
+        let s = [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused];
+        // Nothing separates from fused (the simplest): fused wins.
+        assert_eq!(
+            race_winner(&s, &[e(2.0, 1.0, 3.0), e(1.9, 1.2, 2.6), e(1.5, 1.3, 1.7)]),
+            Some(2)
+        );
+        // 3pass has the best estimate but a wide interval; 2pass is surely faster than fused.
+        assert_eq!(
+            race_winner(&s, &[e(2.0, 1.5, 2.5), e(1.9, 1.8, 2.0), e(1.4, 1.2, 1.6)]),
+            Some(1)
+        );
+        // Both separate: the faster estimate.
+        assert_eq!(
+            race_winner(&s, &[e(2.2, 2.1, 2.3), e(1.9, 1.8, 2.0), e(1.4, 1.2, 1.6)]),
+            Some(0)
+        );
+        // Separated below the simplest: no win.
+        assert_eq!(
+            race_winner(&s[1..], &[e(1.0, 0.9, 1.1), e(1.5, 1.4, 1.6)]),
+            Some(1)
+        );
+        assert_eq!(race_winner(&s, &[None, None, None]), None);
+    }
+}

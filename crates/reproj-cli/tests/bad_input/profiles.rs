@@ -1,0 +1,147 @@
+//! Bad profiles (`emit`, `merge`): missing, not JSON, another schema or version, fields missing
+//! or of the wrong type, a changed or missing shader, a file that is no shader, and numbers that
+//! are not measurements (checked on read, naming the field).
+
+use super::{Case, Good, case, emit_with};
+
+pub(super) fn cases(good: &Good) -> Vec<Case> {
+    let profile = |edit: &dyn Fn(&mut serde_json::Value)| good.profile(edit);
+    let mut v = vec![
+        // Profiles.
+        case(
+            "missing profile",
+            &[],
+            &emit_with("missing.profile.json"),
+            "missing.profile.json",
+        ),
+        case(
+            "profile not JSON",
+            &[("p.json", "[1, 2")],
+            &emit_with("p.json"),
+            "p.json",
+        ),
+        case(
+            "profile of another schema",
+            &[(
+                "p.json",
+                &profile(&|v| v["schema"] = "reproj.session".into()),
+            )],
+            &emit_with("p.json"),
+            "schema",
+        ),
+        case(
+            "profile version 99",
+            &[("p.json", &profile(&|v| v["version"] = 99.into()))],
+            &emit_with("p.json"),
+            "version",
+        ),
+        case(
+            "profile without nodes",
+            &[(
+                "p.json",
+                &profile(&|v| {
+                    v.as_object_mut().unwrap().remove("nodes");
+                }),
+            )],
+            &emit_with("p.json"),
+            "nodes",
+        ),
+        case(
+            "profile with a text frame time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = "fast".into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile of a changed shader",
+            &[(
+                "p.json",
+                &profile(&|v| v["shader"]["ir_hash"] = "0123456789abcdef".into()),
+            )],
+            &emit_with("p.json"),
+            "changed since",
+        ),
+        case(
+            "profile's shader missing",
+            &[(
+                "p.json",
+                &profile(&|v| v["shader"]["path"] = "gone.wgsl".into()),
+            )],
+            &emit_with("p.json"),
+            "gone.wgsl",
+        ),
+        case(
+            "merge a whole profile",
+            &[],
+            &["merge", "good.profile.json", "--out", "m.json"],
+            "not a shard",
+        ),
+        case(
+            "merge a missing file",
+            &[],
+            &["merge", "nope.json", "--out", "m.json"],
+            "nope.json",
+        ),
+        case(
+            "profile names a file that is no shader",
+            &[(
+                "p.json",
+                &profile(&|v| v["shader"]["path"] = "/etc/passwd".into()),
+            )],
+            &emit_with("p.json"),
+            "not a shader file",
+        ),
+    ];
+    // A profile's numbers are data: checked on read, naming the field.
+    v.extend([
+        case(
+            "profile negative original time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = (-1.0).into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile zero original time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = 0.0.into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile absurd original time",
+            &[(
+                "p.json",
+                &profile(&|v| v["original"]["frame_ms"] = 1e308.into()),
+            )],
+            &emit_with("p.json"),
+            "original.frame_ms",
+        ),
+        case(
+            "profile negative error",
+            &[(
+                "p.json",
+                &profile(&|v| v["nodes"][0]["measurements"][0]["error"] = (-0.5).into()),
+            )],
+            &emit_with("p.json"),
+            "nodes[0].measurements[0].error",
+        ),
+        case(
+            "profile hit rate above 1",
+            &[(
+                "p.json",
+                &profile(&|v| v["nodes"][0]["measurements"][0]["hit_rate"] = 2.0.into()),
+            )],
+            &emit_with("p.json"),
+            "hit_rate",
+        ),
+    ]);
+    v
+}

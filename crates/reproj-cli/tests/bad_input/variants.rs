@@ -1,0 +1,98 @@
+//! Bad written variants (`render --variant`): missing, a manifest that is not JSON, of another
+//! version or without passes; and a variant run with a shader that is not its own.
+
+use super::{Case, case, shader};
+
+pub(super) fn cases() -> Vec<Case> {
+    vec![
+        // Written variants.
+        case(
+            "variant missing",
+            &[],
+            &[
+                "render",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--variant",
+                "nowhere",
+            ],
+            "nowhere",
+        ),
+        case(
+            "variant manifest not JSON",
+            &[("v/manifest.json", "{")],
+            &[
+                "render",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--variant",
+                "v",
+            ],
+            "manifest.json",
+        ),
+        case(
+            "variant manifest version 2",
+            &[(
+                "v/manifest.json",
+                "{\"schema\": \"reproj.manifest\", \"version\": 2}",
+            )],
+            &[
+                "render",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--variant",
+                "v",
+            ],
+            "version 2",
+        ),
+        case(
+            "variant manifest missing passes",
+            &[(
+                "v/manifest.json",
+                "{\"schema\": \"reproj.manifest\", \"version\": 3}",
+            )],
+            &[
+                "render",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--variant",
+                "v",
+            ],
+            "manifest.json",
+        ),
+        // A variant runs only with its own shader.
+        case(
+            "variant of another shader",
+            &[("other.wgsl", &shader("    return vec4<f32>(p, 1.0);"))],
+            &[
+                "render",
+                "other.wgsl",
+                "--session",
+                "good.json",
+                "--variant",
+                "variant",
+                "--max-frames",
+                "2",
+            ],
+            "is a variant of good.wgsl",
+        ),
+        case(
+            "bench a variant of another shader",
+            &[("other.wgsl", &shader("    return vec4<f32>(p, 1.0);"))],
+            &[
+                "bench",
+                "other.wgsl",
+                "--session",
+                "good.json",
+                "variant",
+                "--max-frames",
+                "2",
+            ],
+            "is a variant of good.wgsl",
+        ),
+    ]
+}

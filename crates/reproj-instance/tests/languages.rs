@@ -1,0 +1,183 @@
+//! `--lang`: the passes written in GLSL, HLSL, MSL and SPIR-V through naga's backends, beside the
+//! WGSL, with every resource bound where the manifest lists it.
+
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
+
+mod common;
+use common::load;
+
+/// `--lang`: every pass of marble's variants in GLSL, HLSL, MSL and SPIR-V, beside the WGSL.
+#[test]
+fn passes_are_written_in_every_output_language() {
+    use reproj_instance::backends::{OutputLang, Outputs, pass_file_in};
+    let (shader, norm, table) = load("marble.wgsl");
+    let langs = [
+        OutputLang::Glsl,
+        OutputLang::Hlsl,
+        OutputLang::Msl,
+        OutputLang::SpirV,
+    ];
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            ..Default::default()
+        };
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        reproj_instance::write_variant_in(&v, dir.path(), &Outputs::langs(&langs)).unwrap();
+        for p in &v.passes {
+            for lang in langs {
+                let bytes = std::fs::read(dir.path().join(pass_file_in(p, lang))).unwrap();
+                let entry = &p.module.entry_points[0].name;
+                match lang {
+                    OutputLang::SpirV => {
+                        // SPIR-V magic number, and naga reads it back as a valid module.
+                        assert_eq!(bytes[..4], 0x0723_0203u32.to_le_bytes());
+                        let m = naga::front::spv::parse_u8_slice(&bytes, &Default::default())
+                            .unwrap_or_else(|e| panic!("{strategy} {:?}: {e}", p.kind));
+                        reproj_front::validator().validate(&m).unwrap();
+                    }
+                    OutputLang::Glsl => {
+                        let text = String::from_utf8(bytes).unwrap();
+                        assert!(text.starts_with("#version 450"), "{text}");
+                        assert!(text.contains("void main()"), "{text}");
+                    }
+                    OutputLang::Hlsl | OutputLang::Msl => {
+                        let text = String::from_utf8(bytes).unwrap();
+                        assert!(text.contains(entry.as_str()), "{lang:?} lacks {entry}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// `--lang`: the manifest lists each language's files and every resource's binding there, the
+/// same slot in every pass; each text file writes the binding as listed (`layout(binding = N)`,
+/// `register(t3, space1)`, `[[texture(0)]]`: no `[[user(fake…)]]`); the SPIR-V keeps WebGPU's
+/// set and binding; and the GLSL compiles for Vulkan (`glslangValidator -V`, which refuses a
+/// resource without a binding), where glslang is installed — under CI it must be.
+#[test]
+fn every_language_binds_what_the_manifest_lists() {
+    use reproj_instance::backends::{OutputLang, Outputs};
+    let (shader, norm, table) = load("marble.wgsl");
+    let langs = [
+        OutputLang::Glsl,
+        OutputLang::Hlsl,
+        OutputLang::Msl,
+        OutputLang::SpirV,
+    ];
+    let glslang = std::process::Command::new("glslangValidator")
+        .arg("--version")
+        .output()
+        .is_ok();
+    assert!(
+        glslang || std::env::var_os("CI").is_none(),
+        "CI is set and glslangValidator is missing: scripts/ensure-tools.sh installs it"
+    );
+    for strategy in Strategy::ALL {
+        let opts = InstanceOptions {
+            strategy,
+            ..Default::default()
+        };
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        reproj_instance::write_variant_in(&v, dir.path(), &Outputs::langs(&langs)).unwrap();
+        let manifest: reproj_instance::Manifest =
+            serde_json::from_slice(&std::fs::read(dir.path().join("manifest.json")).unwrap())
+                .unwrap();
+        assert_eq!(
+            manifest
+                .languages
+                .iter()
+                .map(|l| l.lang.as_str())
+                .collect::<Vec<_>>(),
+            ["glsl", "hlsl", "msl", "spirv"]
+        );
+        // Every WGSL binding of every pass is in every table (GLSL folds samplers into textures).
+        let wgsl: std::collections::BTreeSet<(u32, u32, String)> = manifest
+            .passes
+            .iter()
+            .flat_map(|p| &p.bindings)
+            .map(|b| (b.group, b.binding, b.ty.clone()))
+            .collect();
+        for l in &manifest.languages {
+            assert_eq!(
+                l.files.len(),
+                manifest.passes.len(),
+                "{strategy} {}",
+                l.lang
+            );
+            for (g, b, ty) in &wgsl {
+                let listed = l.bindings.iter().any(|x| (x.group, x.binding) == (*g, *b));
+                let folded = l.lang == "glsl" && ty.starts_with("sampler");
+                assert!(listed != folded, "{strategy} {}: ({g}, {b}) {ty}", l.lang);
+            }
+            let mut slots: Vec<(&str, u32, Option<u32>)> = l
+                .bindings
+                .iter()
+                .map(|b| {
+                    (
+                        if l.lang == "msl" { b.kind.as_str() } else { "" },
+                        b.slot,
+                        b.space,
+                    )
+                })
+                .collect();
+            slots.sort();
+            let n = slots.len();
+            slots.dedup();
+            if l.lang != "hlsl" {
+                assert_eq!(
+                    slots.len(),
+                    n,
+                    "{strategy} {}: two resources share a slot",
+                    l.lang
+                );
+            }
+            for file in &l.files {
+                let bytes = std::fs::read(dir.path().join(file)).unwrap();
+                if l.lang == "spirv" {
+                    continue;
+                }
+                let text = String::from_utf8(bytes).unwrap();
+                assert!(!text.contains("fake"), "{file}: an unassigned binding");
+                // Each binding the file declares is written as the table says.
+                for b in &l.bindings {
+                    let target = match l.lang.as_str() {
+                        "hlsl" if b.kind == "sampler" => format!(
+                            "nagaGroup{}SamplerIndexArray : register(t{}, space255)",
+                            b.group, b.group
+                        ),
+                        // `layout(std140, binding = 1)` for a uniform block.
+                        "glsl" => format!("binding = {})", b.slot),
+                        _ => b.target.clone(),
+                    };
+                    let declared = text.contains(&b.name)
+                        || text.contains(&format!("_group_{}_binding_{}_", b.group, b.binding));
+                    if declared {
+                        assert!(text.contains(&target), "{file}: {} not at {target}", b.name);
+                    }
+                }
+            }
+            if l.lang == "glsl" && glslang {
+                for file in &l.files {
+                    let path = dir.path().join(file);
+                    let out = std::process::Command::new("glslangValidator")
+                        .args(["-V", "-S", "frag"])
+                        .arg(&path)
+                        .arg("-o")
+                        .arg(path.with_extension("vk.spv"))
+                        .output()
+                        .unwrap();
+                    assert!(
+                        out.status.success(),
+                        "{strategy} {file}: glslangValidator -V:\n{}",
+                        String::from_utf8_lossy(&out.stdout)
+                    );
+                }
+            }
+        }
+    }
+}
