@@ -151,7 +151,9 @@ mod tests {
                 );
             }
             assert_eq!(
-                m.functions.iter().any(|(_, f)| f.name.as_deref() == Some(MOTION_CLIP)),
+                m.functions
+                    .iter()
+                    .any(|(_, f)| f.name.as_deref() == Some(MOTION_CLIP)),
                 prev_clip == PrevClip::Motion
             );
         }

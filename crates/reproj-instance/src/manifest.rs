@@ -86,9 +86,7 @@ impl CacheFormat {
 
 /// Where the lookup finds a fragment's surface point in the previous frame (`docs/PASSES.md`,
 /// "Reprojection").
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema, Default,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Reprojection {
     /// The host's vertex stage writes the vertex's previous clip position

@@ -101,13 +101,18 @@ fn motion_vectors_are_as_good_as_the_vertex_path_on_marble() {
             reprojection,
             ..Default::default()
         };
-        render(&renderer, &shader, &session, &reference, options, 11, frames)
+        render(
+            &renderer, &shader, &session, &reference, options, 11, frames,
+        )
     };
     let vertex = at(Reprojection::Vertex);
     let motion = at(Reprojection::MotionVectors);
     let (pv, pm) = (vertex.psnr, motion.psnr);
     assert!(pv.is_finite() && pm.is_finite(), "{pv} {pm}");
-    assert!(pm >= pv - 0.5, "motion vectors {pm:.2} dB, vertex {pv:.2} dB");
+    assert!(
+        pm >= pv - 0.5,
+        "motion vectors {pm:.2} dB, vertex {pv:.2} dB"
+    );
     let (hv, hm) = (vertex.hit_rate, motion.hit_rate);
     assert!(hm > 0.8 && (hm - hv).abs() < 0.05, "hit rate {hm} vs {hv}");
 }

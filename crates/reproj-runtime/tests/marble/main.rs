@@ -148,11 +148,16 @@ fn a_variant_that_loads_the_engines_depth_hides_behind_it() {
     let bg = app.session.background;
     for (f, frame) in frames.iter().enumerate() {
         assert!(
-            frame.chunks_exact(4).all(|px| px.iter().zip(&bg).all(|(a, b)| a == b)),
+            frame
+                .chunks_exact(4)
+                .all(|px| px.iter().zip(&bg).all(|(a, b)| a == b)),
             "frame {f}: the variant drew in front of the engine's depth"
         );
     }
-    assert!(depth.iter().all(|&z| z == 0.0), "the engine's depth was overwritten");
+    assert!(
+        depth.iter().all(|&z| z == 0.0),
+        "the engine's depth was overwritten"
+    );
     // With nothing in front, the same variant draws the torus.
     let (frames, _) = app.run_over(&variant, &mut gpu, true, 1.0);
     let last = frames.last().unwrap();
