@@ -82,19 +82,7 @@ fn render_variant_matches_render_node() {
         a.extend(extra);
         let (code, _, err) = reproj(&a);
         assert_eq!(code, 0, "{err}");
-        let (code, out, err) = reproj(&[
-            "render",
-            TINY,
-            "--session",
-            SESSION,
-            "--variant",
-            v.to_str().unwrap(),
-            "--max-frames",
-            "6",
-            "--json",
-        ]);
-        assert_eq!(code, 0, "{err}");
-        let by_dir = json(&out);
+        let by_dir = render_variant(&v);
         assert_eq!(by_dir["delta_n"], 4, "the manifest's Δn");
         for key in ["error", "hit_rate", "psnr"] {
             let (a, b) = (
@@ -140,21 +128,26 @@ fn a_motion_vector_variant_renders_through_the_binary() {
             motion.then_some("motion_vectors")
         );
         assert_eq!(manifest["vertex"]["prev_clip_location"].is_null(), motion);
-        let (code, out, err) = reproj(&[
-            "render",
-            TINY,
-            "--session",
-            SESSION,
-            "--variant",
-            v.to_str().unwrap(),
-            "--max-frames",
-            "6",
-            "--json",
-        ]);
-        assert_eq!(code, 0, "{err}");
-        rates.push(json(&out)["hit_rate"].as_f64().unwrap());
+        rates.push(render_variant(&v)["hit_rate"].as_f64().unwrap());
     }
     assert!(rates[1] > 0.05 && rates[1] <= rates[0] + 0.01, "{rates:?}");
+}
+
+/// `render --variant DIR --json` over the first 6 frames of the tiny session: its report.
+fn render_variant(dir: &std::path::Path) -> serde_json::Value {
+    let (code, out, err) = reproj(&[
+        "render",
+        TINY,
+        "--session",
+        SESSION,
+        "--variant",
+        dir.to_str().unwrap(),
+        "--max-frames",
+        "6",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    json(&out)
 }
 
 #[test]
