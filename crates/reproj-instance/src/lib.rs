@@ -292,10 +292,7 @@ pub fn instance_nodes(
         opts,
         cache_format,
         group,
-        prev_clip_location: match prev_clip {
-            PrevClip::Location(l) => Some(l),
-            PrevClip::Motion => None,
-        },
+        prev_clip_location: prev_clip.location(),
         passes: &passes,
     });
     Ok(Variant { manifest, passes })

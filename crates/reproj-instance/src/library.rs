@@ -23,6 +23,16 @@ pub(crate) enum PrevClip {
     Motion,
 }
 
+impl PrevClip {
+    /// The vertex output's location, if the vertex stage delivers it.
+    pub(crate) fn location(self) -> Option<u32> {
+        match self {
+            PrevClip::Location(l) => Some(l),
+            PrevClip::Motion => None,
+        }
+    }
+}
+
 /// `ReprojInput` as the vertex stage delivers it: an entry-point input.
 const VERTEX_INPUT: &str = "struct ReprojInput {
     @builtin(position) position: vec4<f32>,

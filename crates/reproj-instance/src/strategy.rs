@@ -333,10 +333,7 @@ fn entry_arguments(
             (arguments.len() as u32 - 1, None)
         }
     };
-    let prev_clip_location = match prev_clip {
-        PrevClip::Location(l) if needs_fetch(kind) => Some(l),
-        _ => None,
-    };
+    let prev_clip_location = prev_clip.location().filter(|_| needs_fetch(kind));
     let mut prev_clip = None;
     if let Some(prev_clip_location) = prev_clip_location {
         arguments.push(naga::FunctionArgument {
