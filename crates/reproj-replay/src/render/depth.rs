@@ -26,7 +26,8 @@ pub(super) struct DepthPassGpu {
 }
 
 impl Renderer {
-    /// The GPU side of the session's depth pass filling depth texture `name`.
+    /// The GPU side of the session's depth pass filling depth texture `name`: the texture, the
+    /// per-object transforms, a depth-only pipeline per cull mode the objects use.
     pub(super) fn depth_pass(
         &self,
         session: &Session,
@@ -36,8 +37,7 @@ impl Renderer {
     ) -> Result<DepthPassGpu, ReplayError> {
         let spec = &session.depth_passes[name];
         let [w, h] = spec.size.unwrap_or(session.resolution);
-        let dev = &self.device;
-        let tex = dev.create_texture(&wgpu::TextureDescriptor {
+        let tex = self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(name),
             size: wgpu::Extent3d {
                 width: w,
@@ -52,10 +52,43 @@ impl Renderer {
             view_formats: &[],
         });
         let view = tex.create_view(&Default::default());
-        let transforms = objects
-            .iter()
-            .enumerate()
-            .map(|(i, _)| {
+        let transforms = self.depth_transforms(name, objects.len(), vertex_bgl);
+        let vs_src = vertex::vertex_wgsl(0, &[], &session.inputs, None)?;
+        let vs = self.shader_module("replay depth pass vertex stage", &vs_src)?;
+        let layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(name),
+                bind_group_layouts: &[Some(vertex_bgl)],
+                immediate_size: 0,
+            });
+        let mut pipelines = Vec::new();
+        for cull in [Cull::Back, Cull::None] {
+            if !objects.iter().any(|o| o.cull == cull) {
+                continue;
+            }
+            let p = self.scoped(&format!("depth pass `{name}`"), || {
+                self.depth_pipeline(name, &layout, &vs, cull)
+            })?;
+            pipelines.push((cull, p));
+        }
+        Ok(DepthPassGpu {
+            view,
+            transforms,
+            pipelines,
+        })
+    }
+
+    /// The pass's own transform buffer and bind group for each of `objects` objects.
+    fn depth_transforms(
+        &self,
+        name: &str,
+        objects: usize,
+        vertex_bgl: &wgpu::BindGroupLayout,
+    ) -> Vec<(wgpu::Buffer, wgpu::BindGroup)> {
+        let dev = &self.device;
+        (0..objects)
+            .map(|i| {
                 let buf = dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(&format!("{name}: object {i} transforms")),
                     size: std::mem::size_of::<TransformUniform>() as u64,
@@ -76,60 +109,50 @@ impl Renderer {
                 });
                 (buf, bg)
             })
-            .collect();
-        let vs_src = vertex::vertex_wgsl(0, &[], &session.inputs, None)?;
-        let vs = self.shader_module("replay depth pass vertex stage", &vs_src)?;
-        let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(name),
-            bind_group_layouts: &[Some(vertex_bgl)],
-            immediate_size: 0,
-        });
+            .collect()
+    }
+
+    /// The depth-only pipeline of the pass for objects of `cull`.
+    fn depth_pipeline(
+        &self,
+        name: &str,
+        layout: &wgpu::PipelineLayout,
+        vs: &wgpu::ShaderModule,
+        cull: Cull,
+    ) -> wgpu::RenderPipeline {
         let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
-        let mut pipelines = Vec::new();
-        for cull in [Cull::Back, Cull::None] {
-            if !objects.iter().any(|o| o.cull == cull) {
-                continue;
-            }
-            let p = self.scoped(&format!("depth pass `{name}`"), || {
-                dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(name),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &vs,
-                        entry_point: Some(VERTEX_ENTRY),
-                        compilation_options: Default::default(),
-                        buffers: &[Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<reproj_scene::mesh::Vertex>() as u64,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &attrs,
-                        })],
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        topology: wgpu::PrimitiveTopology::TriangleList,
-                        front_face: wgpu::FrontFace::Ccw,
-                        cull_mode: (cull == Cull::Back).then_some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Less),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: Default::default(),
-                    fragment: None,
-                    multiview_mask: None,
-                    cache: None,
-                })
-            })?;
-            pipelines.push((cull, p));
-        }
-        Ok(DepthPassGpu {
-            view,
-            transforms,
-            pipelines,
-        })
+        self.device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(name),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: vs,
+                    entry_point: Some(VERTEX_ENTRY),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<reproj_scene::mesh::Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attrs,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: (cull == Cull::Back).then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            })
     }
 
     /// Draw every depth pass of the frame `st` and submit them (ahead of the frame's own work).

@@ -10,7 +10,7 @@ use crate::vertex;
 use reproj_metrics::l2;
 use reproj_metrics::output;
 use reproj_metrics::{FrameRecord, RenderReport};
-use reproj_scene::reflect::{self};
+use reproj_scene::reflect::{self, Interface};
 use reproj_scene::session::Session;
 
 use super::*;
@@ -153,7 +153,9 @@ impl Renderer {
 
     /// The loop of [`Renderer::render_original_with`] and [`Renderer::render_scored`]: one pass
     /// of `shader` per frame; what comes back is `keep`'s. With [`Keep::Frames`], the frames,
-    /// their depth and the GPU copy of both.
+    /// their depth and the GPU copy of both. In phases: checks, the pass
+    /// ([`Renderer::plain_pass`]), its targets and readback ([`Renderer::plain_targets`]), the
+    /// frame loop ([`Renderer::plain_frames`]), then the sampled frames' perceptual metrics.
     fn render_plain(
         &self,
         shader: &Shader,
@@ -165,11 +167,50 @@ impl Renderer {
     ) -> Result<(RenderReport, Option<KeptFrames>), ReplayError> {
         session.validate()?;
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
-        let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
         let keeps = matches!(keep, Keep::Frames) && !opts.timing_only;
         self.check_size(session, frames, keeps)?;
         let first = Self::first_frame(session, opts)?;
+        let pass = self.plain_pass(shader, iface, session)?;
+        let targets = self.plain_targets(session, opts, keep, keeps, first, frames)?;
+        let run = PlainRun {
+            session,
+            opts,
+            first,
+            frames,
+            pass,
+            targets,
+        };
+        let mut out = PlainOut {
+            gpu: GpuReference::new(self),
+            report: self.new_report("original", shader, &run.pass.iface.entry, session),
+            to_score: Vec::new(),
+            frames: Vec::with_capacity(frames as usize),
+            depth: Vec::with_capacity(frames as usize),
+        };
+        self.plain_frames(&run, progress, &mut out)?;
+        if let Some((reference, _)) = &run.targets.errors {
+            super::variant::score_perceptual(
+                &mut out.to_score,
+                &mut out.report,
+                reference,
+                opts,
+                session.resolution,
+            )?;
+        }
+        out.report.summarize();
+        let kept = matches!(keep, Keep::Frames).then_some((out.frames, out.depth, out.gpu));
+        Ok((out.report, kept))
+    }
+
+    /// The shader's pass: the scene, the vertex and fragment stages, the bindings and the
+    /// pipeline, the vertex transforms in the first bind group `iface` leaves free.
+    fn plain_pass(
+        &self,
+        shader: &Shader,
+        iface: Interface,
+        session: &Session,
+    ) -> Result<PlainPass, ReplayError> {
         let used: BTreeSet<u32> = iface.groups().into_iter().collect();
         let vgroup = free_group(&used)?;
         let scene = self.build_scene(session, &[&iface], None)?;
@@ -178,19 +219,42 @@ impl Renderer {
         let fs = self.shader_module(&shader.path.display().to_string(), &shader.source)?;
         let bindings = self.bindings("original", &iface, &scene, None, None)?;
         let pipe = self.pipeline(
-            "original",
-            [&vs_src, &shader.source],
-            &vs,
-            &fs,
-            &iface.entry,
+            &PipelineSpec {
+                label: "original",
+                sources: [&vs_src, &shader.source],
+                vs: &vs,
+                fs: &fs,
+                entry: &iface.entry,
+                formats: &[Some(FRAME_FORMAT)],
+                compare: wgpu::CompareFunction::Less,
+                depth_write: true,
+            },
             &bindings,
             &scene,
             vgroup,
-            &[Some(FRAME_FORMAT)],
-            wgpu::CompareFunction::Less,
-            true,
         )?;
+        Ok(PlainPass {
+            iface,
+            scene,
+            vgroup,
+            bindings,
+            pipe,
+        })
+    }
 
+    /// The frame's targets, the queries, and what comes back: with `keeps`, the frames and
+    /// their depth (staged, and kept on the GPU); scored against a reference, its error
+    /// reduction (and the sampled frames' pixels).
+    fn plain_targets<'r>(
+        &self,
+        session: &Session,
+        opts: &RenderOptions,
+        keep: Keep<'r>,
+        keeps: bool,
+        first: u32,
+        frames: u32,
+    ) -> Result<PlainTargets<'r>, ReplayError> {
+        let [w, h] = session.resolution;
         let scoring = match keep {
             Keep::ScoreAgainst(_) => true,
             Keep::Frames => false,
@@ -202,15 +266,13 @@ impl Renderer {
         let depth_view = depth.create_view(&Default::default());
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
         let q = QueryKit::new(self, 1, slots);
-        let (frame_rb, depth_rb, keeper) = if keeps {
+        let kept = keeps.then(|| {
             (
-                Some(Staging::new(self, "frame readback", w, h, 16, slots)),
-                Some(Staging::new(self, "depth readback", w, h, 4, slots)),
-                Some(Keeper::new(self, w, h)),
+                Staging::new(self, "frame readback", w, h, 16, slots),
+                Staging::new(self, "depth readback", w, h, 4, slots),
+                Keeper::new(self, w, h),
             )
-        } else {
-            (None, None, None)
-        };
+        });
         let errors = match keep {
             Keep::ScoreAgainst(reference) => {
                 let back = match opts.perceptual_stride {
@@ -231,18 +293,6 @@ impl Renderer {
             }
             Keep::Frames => None,
         };
-        let perceptual = |f: u32| {
-            opts.perceptual_stride
-                .is_some_and(|k| f.is_multiple_of(k.max(1)))
-        };
-        let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
-        let mut gpu = GpuReference::new(self);
-        let mut rb_bufs = q.read_buffers();
-        rb_bufs.extend(frame_rb.iter().map(|s| &s.buf));
-        rb_bufs.extend(depth_rb.iter().map(|s| &s.buf));
-        if let Some((_, e)) = &errors {
-            rb_bufs.extend(e.read_buffers());
-        }
         let bg = session.background;
         let clear = wgpu::Color {
             r: bg[0] as f64,
@@ -250,125 +300,177 @@ impl Renderer {
             b: bg[2] as f64,
             a: bg[3] as f64,
         };
+        Ok(PlainTargets {
+            color,
+            color_view,
+            depth,
+            depth_view,
+            slots,
+            q,
+            kept,
+            errors,
+            clear,
+        })
+    }
 
-        let mut report = self.new_report("original", shader, &iface.entry, session);
-        let mut out_frames = Vec::with_capacity(frames as usize);
-        let mut out_depth = Vec::with_capacity(frames as usize);
-        let mut batch = FrameBatch::new("", slots, first + frames);
-        for f in first..first + frames {
+    /// The frame loop: each frame encoded and submitted into its slot of the batch, and the
+    /// batch read back with one wait when it is full.
+    fn plain_frames(
+        &self,
+        run: &PlainRun<'_>,
+        progress: &dyn FrameProgress,
+        out: &mut PlainOut,
+    ) -> Result<(), ReplayError> {
+        let t = &run.targets;
+        let mut rb_bufs = t.q.read_buffers();
+        if let Some((frame_rb, depth_rb, _)) = &t.kept {
+            rb_bufs.push(&frame_rb.buf);
+            rb_bufs.push(&depth_rb.buf);
+        }
+        if let Some((_, e)) = &t.errors {
+            rb_bufs.extend(e.read_buffers());
+        }
+        let end = run.first + run.frames;
+        let mut batch = FrameBatch::new("", t.slots, end);
+        for f in run.first..end {
             let slot = batch.slot();
-            self.write_frame_uniforms(session, &scene, f);
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("original"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &color_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(clear),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: q.writes(0),
-                    occlusion_query_set: Some(&q.occlusion),
-                    multiview_mask: None,
-                });
-                pass.begin_occlusion_query(0);
-                self.draw(&mut pass, &pipe, &bindings, &scene, vgroup);
-                pass.end_occlusion_query();
-            }
-            q.resolve(&mut enc, slot);
-            let mut rb = self.device.create_command_encoder(&Default::default());
-            if let (Some(frame_rb), Some(depth_rb), Some(keeper)) = (&frame_rb, &depth_rb, &keeper)
-            {
-                frame_rb.copy(&mut rb, &color, slot);
-                let at = slot as u64 * depth_rb.slot_bytes;
-                keeper.keep(self, &mut rb, &color, &depth, &depth_rb.buf, at, &mut gpu);
-            }
-            if let Some((_, e)) = &errors {
-                e.encode(self, &mut rb, &color, &color_view, f, slot)?;
-            }
+            let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
             if !batch.submit(self, enc, rb, f)? {
                 continue;
             }
-
             // Read the batch back with one wait.
             batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                let (pixels, depth): (Vec<f32>, Vec<f32>) = match (&frame_rb, &depth_rb) {
-                    (Some(frame_rb), Some(depth_rb)) => (
-                        bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?),
-                        bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?),
-                    ),
-                    _ => (Vec::new(), Vec::new()),
-                };
-                let mut covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
-                let mut nonfinite =
-                    pixels.chunks_exact(4).filter(|p| !l2::finite3(p)).count() as u64;
-                // Scored: the error against the reference (its covered pixels) and the sampled
-                // frames' pixels for the perceptual metrics.
-                let mut errs = l2::FrameError::default();
-                if let Some((reference, e)) = &errors {
-                    let (fe, px) = e.read(slot, reference, f)?;
-                    if let Some(px) = px.filter(|_| perceptual(f)) {
-                        to_score.push((f, px));
-                    }
-                    (covered, nonfinite) = (fe.covered, fe.nonfinite);
-                    errs = fe;
-                }
-                let (occ, pass_ms, span) = q.read(slot)?;
-                let frame_ms = span.unwrap_or(cpu_ms);
-                if let Some(dir) = &opts.png_dir {
-                    output::write_frame(dir, f, w, h, &pixels)?;
-                    if opts.raw_frames {
-                        output::write_frame_raw(dir, f, &pixels)?;
-                    }
-                }
-                report.frames.push(FrameRecord {
-                    frame: f,
-                    frame_ms,
-                    cpu_ms,
-                    pass_ms,
-                    shaded: occ[0],
-                    hits: 0,
-                    recomputes: occ[0],
-                    hit_px: None,
-                    miss_px: None,
-                    refresh_px: None,
-                    hit_rate: 0.0,
-                    error: errs.error(),
-                    mse: errs.mse(),
-                    covered,
-                    psnr: errs.psnr(),
-                    max_abs_diff: errs.max_abs_diff,
-                    nonfinite,
-                    nonfinite_reference: errs.nonfinite_reference,
-                    flip: None,
-                    ssim: None,
-                });
-                if keeps {
-                    out_frames.push(pixels);
-                    out_depth.push(depth);
-                }
-                progress.frame(f - first + 1, frames);
+                self.plain_frame_back(run, slot, f, cpu_ms, out)?;
+                progress.frame(f - run.first + 1, run.frames);
                 Ok(())
             })?;
         }
-        if let Some((reference, _)) = &errors {
-            super::variant::score_perceptual(&mut to_score, &mut report, reference, opts, [w, h])?;
+        Ok(())
+    }
+
+    /// Frame `f`'s commands: its uniforms written, then its pass (timed and counted into
+    /// `slot`); and the readback: the frame kept (into `gpu`) and staged, or its error reduced.
+    fn encode_plain_frame(
+        &self,
+        run: &PlainRun<'_>,
+        f: u32,
+        slot: u32,
+        gpu: &mut GpuReference,
+    ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
+        let (p, t) = (&run.pass, &run.targets);
+        self.write_frame_uniforms(run.session, &p.scene, f);
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("original"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &t.color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(t.clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: t.q.writes(0),
+                occlusion_query_set: Some(&t.q.occlusion),
+                multiview_mask: None,
+            });
+            pass.begin_occlusion_query(0);
+            self.draw(&mut pass, &p.pipe, &p.bindings, &p.scene, p.vgroup);
+            pass.end_occlusion_query();
         }
-        report.summarize();
-        let kept = matches!(keep, Keep::Frames).then_some((out_frames, out_depth, gpu));
-        Ok((report, kept))
+        t.q.resolve(&mut enc, slot);
+        let mut rb = self.device.create_command_encoder(&Default::default());
+        if let Some((frame_rb, depth_rb, keeper)) = &t.kept {
+            frame_rb.copy(&mut rb, &t.color, slot);
+            let at = slot as u64 * depth_rb.slot_bytes;
+            keeper.keep(self, &mut rb, &t.color, &t.depth, &depth_rb.buf, at, gpu);
+        }
+        if let Some((_, e)) = &t.errors {
+            e.encode(self, &mut rb, &t.color, &t.color_view, f, slot)?;
+        }
+        Ok((enc, rb))
+    }
+
+    /// Frame `f`, back in `slot` (`cpu_ms` its CPU time): its record, its PNGs, its pixels for
+    /// the perceptual metrics where sampled, and the frame and depth where kept.
+    fn plain_frame_back(
+        &self,
+        run: &PlainRun<'_>,
+        slot: u32,
+        f: u32,
+        cpu_ms: f64,
+        out: &mut PlainOut,
+    ) -> Result<(), ReplayError> {
+        let (t, opts) = (&run.targets, run.opts);
+        let [w, h] = run.session.resolution;
+        let (pixels, depth): (Vec<f32>, Vec<f32>) = match &t.kept {
+            Some((frame_rb, depth_rb, _)) => (
+                bytemuck::pod_collect_to_vec(&frame_rb.image(slot)?),
+                bytemuck::pod_collect_to_vec(&depth_rb.image(slot)?),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let mut covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
+        let mut nonfinite = pixels.chunks_exact(4).filter(|p| !l2::finite3(p)).count() as u64;
+        // Scored: the error against the reference (its covered pixels) and the sampled
+        // frames' pixels for the perceptual metrics.
+        let mut errs = l2::FrameError::default();
+        if let Some((reference, e)) = &t.errors {
+            let (fe, px) = e.read(slot, reference, f)?;
+            let perceptual = opts
+                .perceptual_stride
+                .is_some_and(|k| f.is_multiple_of(k.max(1)));
+            if let Some(px) = px.filter(|_| perceptual) {
+                out.to_score.push((f, px));
+            }
+            (covered, nonfinite) = (fe.covered, fe.nonfinite);
+            errs = fe;
+        }
+        let (occ, pass_ms, span) = t.q.read(slot)?;
+        let frame_ms = span.unwrap_or(cpu_ms);
+        if let Some(dir) = &opts.png_dir {
+            output::write_frame(dir, f, w, h, &pixels)?;
+            if opts.raw_frames {
+                output::write_frame_raw(dir, f, &pixels)?;
+            }
+        }
+        out.report.frames.push(FrameRecord {
+            frame: f,
+            frame_ms,
+            cpu_ms,
+            pass_ms,
+            shaded: occ[0],
+            hits: 0,
+            recomputes: occ[0],
+            hit_px: None,
+            miss_px: None,
+            refresh_px: None,
+            hit_rate: 0.0,
+            error: errs.error(),
+            mse: errs.mse(),
+            covered,
+            psnr: errs.psnr(),
+            max_abs_diff: errs.max_abs_diff,
+            nonfinite,
+            nonfinite_reference: errs.nonfinite_reference,
+            flip: None,
+            ssim: None,
+        });
+        if t.kept.is_some() {
+            out.frames.push(pixels);
+            out.depth.push(depth);
+        }
+        Ok(())
     }
 
     pub(super) fn new_report(
@@ -419,6 +521,55 @@ enum Keep<'r> {
 
 /// The frames, depths and GPU copy a [`Keep::Frames`] render keeps.
 type KeptFrames = (Vec<Vec<f32>>, Vec<Vec<f32>>, GpuReference);
+
+/// The original's pass ([`Renderer::plain_pass`]).
+struct PlainPass {
+    iface: Interface,
+    scene: Scene,
+    /// The bind group of the vertex transforms (one the shader leaves free).
+    vgroup: u32,
+    bindings: Bindings,
+    pipe: Pipe,
+}
+
+/// A plain render's targets, queries and readback ([`Renderer::plain_targets`]).
+struct PlainTargets<'r> {
+    color: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    depth: wgpu::Texture,
+    depth_view: wgpu::TextureView,
+    /// Frames per readback batch.
+    slots: u32,
+    q: QueryKit,
+    /// Frames kept ([`Keep::Frames`], not timing only): the frame and depth staging and the
+    /// keeper of their GPU copies.
+    kept: Option<(Staging, Staging, Keeper)>,
+    /// Frames scored ([`Keep::ScoreAgainst`]): the reference and the error reduction.
+    errors: Option<(&'r Reference, FrameErrors<'r>)>,
+    /// The session's background.
+    clear: wgpu::Color,
+}
+
+/// What the frame loop of a plain render reads.
+struct PlainRun<'a> {
+    session: &'a Session,
+    opts: &'a RenderOptions,
+    first: u32,
+    frames: u32,
+    pass: PlainPass,
+    targets: PlainTargets<'a>,
+}
+
+/// What a plain render gathers as its frames come back.
+struct PlainOut {
+    report: RenderReport,
+    /// Sampled frames for the perceptual metrics, scored at the end.
+    to_score: Vec<(u32, Vec<f32>)>,
+    /// Kept frames and depths, and their copies on the GPU.
+    frames: Vec<Vec<f32>>,
+    depth: Vec<Vec<f32>>,
+    gpu: GpuReference,
+}
 
 /// The memory the machine has available (`MemAvailable` in `/proc/meminfo`), in bytes; `None`
 /// where that cannot be read (not Linux).

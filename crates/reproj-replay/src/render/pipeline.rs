@@ -27,6 +27,66 @@ pub(super) struct Pipe {
     pub(super) by_cull: HashMap<Cull, wgpu::RenderPipeline>,
 }
 
+/// One pass's stages and fixed-function state: what [`Renderer::pipeline`] compiles (with the
+/// pass's bindings and the scene's vertex layout and cull modes).
+pub(super) struct PipelineSpec<'a> {
+    pub(super) label: &'a str,
+    /// The vertex and fragment stages' WGSL, for the cache key.
+    pub(super) sources: [&'a str; 2],
+    pub(super) vs: &'a wgpu::ShaderModule,
+    pub(super) fs: &'a wgpu::ShaderModule,
+    /// The fragment entry point.
+    pub(super) entry: &'a str,
+    /// By `@location`: the color targets' formats.
+    pub(super) formats: &'a [Option<wgpu::TextureFormat>],
+    pub(super) compare: wgpu::CompareFunction,
+    pub(super) depth_write: bool,
+}
+
+impl PipelineSpec<'_> {
+    /// The pipeline cache key: every piece of state and both whole sources.
+    fn key(&self, bindings: &Bindings, vertex_group: u32, culls: &BTreeSet<u8>) -> String {
+        let PipelineSpec {
+            label,
+            sources,
+            entry,
+            formats,
+            compare,
+            depth_write,
+            ..
+        } = self;
+        format!(
+            "{label}|{entry}|{:?}|{vertex_group}|{formats:?}|{compare:?}|{depth_write}|{culls:?}|{}|{}",
+            bindings.layout_keys, sources[0], sources[1],
+        )
+    }
+}
+
+/// The pipeline layout's bind group layouts, by group: the pass's, and the vertex transforms'
+/// at `vertex_group`.
+fn bind_group_layouts<'a>(
+    bindings: &'a Bindings,
+    scene: &'a Scene,
+    vertex_group: u32,
+) -> Vec<Option<&'a wgpu::BindGroupLayout>> {
+    let max_group = bindings
+        .layouts
+        .keys()
+        .copied()
+        .chain([vertex_group])
+        .max()
+        .unwrap_or(0);
+    (0..=max_group)
+        .map(|g| {
+            if g == vertex_group {
+                Some(&scene.vertex_bgl)
+            } else {
+                bindings.layouts.get(&g)
+            }
+        })
+        .collect()
+}
+
 /// Pipelines kept at most; the cache starts over beyond (an `analyze` keeps one node's few).
 pub(super) const PIPELINE_CACHE_LEN: usize = 64;
 
@@ -127,56 +187,19 @@ impl Renderer {
         Ok(Stage { shader, iface })
     }
 
-    #[allow(clippy::too_many_arguments)]
     /// The render pipelines of one pass, one per cull mode. Kept across replays (keyed by the
     /// stages' whole WGSL sources and every piece of state), so replaying a variant again at another Δn
     /// does not compile its shaders again: on a CPU rasterizer compilation is most of a replay's
     /// set-up time.
     pub(super) fn pipeline(
         &self,
-        label: &str,
-        sources: [&str; 2],
-        vs: &wgpu::ShaderModule,
-        fs: &wgpu::ShaderModule,
-        entry: &str,
+        spec: &PipelineSpec<'_>,
         bindings: &Bindings,
         scene: &Scene,
         vertex_group: u32,
-        formats: &[Option<wgpu::TextureFormat>],
-        compare: wgpu::CompareFunction,
-        depth_write: bool,
     ) -> Result<Pipe, ReplayError> {
-        let targets: Vec<Option<wgpu::ColorTargetState>> = formats
-            .iter()
-            .map(|f| {
-                f.map(|format| wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })
-            })
-            .collect();
-        let max_group = bindings
-            .layouts
-            .keys()
-            .copied()
-            .chain([vertex_group])
-            .max()
-            .unwrap_or(0);
-        let bgls: Vec<Option<&wgpu::BindGroupLayout>> = (0..=max_group)
-            .map(|g| {
-                if g == vertex_group {
-                    Some(&scene.vertex_bgl)
-                } else {
-                    bindings.layouts.get(&g)
-                }
-            })
-            .collect();
         let culls: BTreeSet<u8> = scene.objects.iter().map(|o| o.cull as u8).collect();
-        let key = format!(
-            "{label}|{entry}|{:?}|{vertex_group}|{formats:?}|{compare:?}|{depth_write}|{culls:?}|{}|{}",
-            bindings.layout_keys, sources[0], sources[1],
-        );
+        let key = spec.key(bindings, vertex_group, &culls);
         if let Some(p) = self
             .pipelines
             .lock()
@@ -186,21 +209,60 @@ impl Renderer {
             self.pipeline_hits.fetch_add(1, Ordering::Relaxed);
             return Ok(p.clone());
         }
+        let bgls = bind_group_layouts(bindings, scene, vertex_group);
+        let by_cull = self.scoped(&format!("render pipeline {}", spec.label), || {
+            self.create_pipelines(spec, &bgls, culls)
+        })?;
+        let pipe = Pipe { by_cull };
+        let mut cache = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
+        if cache.len() >= PIPELINE_CACHE_LEN {
+            cache.clear();
+        }
+        cache.insert(key, pipe.clone());
+        Ok(pipe)
+    }
+
+    /// Compile the pass's pipeline layout and one pipeline per cull mode in `culls`.
+    fn create_pipelines(
+        &self,
+        spec: &PipelineSpec<'_>,
+        bgls: &[Option<&wgpu::BindGroupLayout>],
+        culls: BTreeSet<u8>,
+    ) -> HashMap<Cull, wgpu::RenderPipeline> {
+        let label = spec.label;
+        let targets: Vec<Option<wgpu::ColorTargetState>> = spec
+            .formats
+            .iter()
+            .map(|f| {
+                f.map(|format| wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })
+            })
+            .collect();
         let mut by_cull = HashMap::new();
-        self.scoped(&format!("render pipeline {label}"), || {
-            let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        let layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(label),
-                bind_group_layouts: &bgls,
+                bind_group_layouts: bgls,
                 immediate_size: 0,
             });
-            let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
-            for c in culls {
-                let cull = if c == Cull::Back as u8 { Cull::Back } else { Cull::None };
-                let p = self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+        for c in culls {
+            let cull = if c == Cull::Back as u8 {
+                Cull::Back
+            } else {
+                Cull::None
+            };
+            let p = self
+                .device
+                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some(label),
                     layout: Some(&layout),
                     vertex: wgpu::VertexState {
-                        module: vs,
+                        module: spec.vs,
                         entry_point: Some(VERTEX_ENTRY),
                         compilation_options: Default::default(),
                         buffers: &[Some(wgpu::VertexBufferLayout {
@@ -212,36 +274,33 @@ impl Renderer {
                     primitive: wgpu::PrimitiveState {
                         topology: wgpu::PrimitiveTopology::TriangleList,
                         front_face: wgpu::FrontFace::Ccw,
-                        cull_mode: if cull == Cull::Back { Some(wgpu::Face::Back) } else { None },
+                        cull_mode: if cull == Cull::Back {
+                            Some(wgpu::Face::Back)
+                        } else {
+                            None
+                        },
                         ..Default::default()
                     },
                     depth_stencil: Some(wgpu::DepthStencilState {
                         format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(depth_write),
-                        depth_compare: Some(compare),
+                        depth_write_enabled: Some(spec.depth_write),
+                        depth_compare: Some(spec.compare),
                         stencil: Default::default(),
                         bias: Default::default(),
                     }),
                     multisample: Default::default(),
                     fragment: Some(wgpu::FragmentState {
-                        module: fs,
-                        entry_point: Some(entry),
+                        module: spec.fs,
+                        entry_point: Some(spec.entry),
                         compilation_options: Default::default(),
                         targets: &targets,
                     }),
                     multiview_mask: None,
                     cache: None,
                 });
-                by_cull.insert(cull, p);
-            }
-        })?;
-        let pipe = Pipe { by_cull };
-        let mut cache = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
-        if cache.len() >= PIPELINE_CACHE_LEN {
-            cache.clear();
+            by_cull.insert(cull, p);
         }
-        cache.insert(key, pipe.clone());
-        Ok(pipe)
+        by_cull
     }
 
     pub(super) fn draw(

@@ -36,120 +36,143 @@ pub(super) fn free_group(used: &BTreeSet<u32>) -> Result<u32, ReplayError> {
     Ok(g)
 }
 
-impl Renderer {
-    /// Build every session resource the interfaces use (except `skip_group`, the variant's own
-    /// group). Missing ones are reported together, by name.
-    pub(super) fn build_scene(
-        &self,
-        session: &Session,
-        ifaces: &[&Interface],
-        skip_group: Option<u32>,
-    ) -> Result<Scene, ReplayError> {
-        let mut missing_fields = Vec::new();
-        let mut missing_textures = Vec::new();
-        let mut unsupported = Vec::new();
-        let mut tex_needed: BTreeMap<String, TexDim> = BTreeMap::new();
-        let mut samp_needed: BTreeSet<(String, bool)> = BTreeSet::new();
-        let mut missing_buffers = Vec::new();
-        let mut missing_depth = Vec::new();
-        let mut uni_needed: BTreeMap<String, (u32, Vec<reflect::UniformField>)> = BTreeMap::new();
-        let mut storage_needed: BTreeMap<String, (u32, Vec<reflect::UniformField>)> =
-            BTreeMap::new();
-        let mut depth_needed: BTreeSet<String> = BTreeSet::new();
+/// A buffer's size in bytes and its reflected fields (or a storage buffer's leaves).
+type BufferNeed = (u32, Vec<reflect::UniformField>);
+
+/// What the interfaces need from the session, gathered before any GPU object, with what the
+/// session lacks or gives in a shape the shader cannot take ([`SceneNeeds::of`]).
+#[derive(Default)]
+struct SceneNeeds {
+    uniforms: BTreeMap<String, BufferNeed>,
+    storage: BTreeMap<String, BufferNeed>,
+    textures: BTreeMap<String, TexDim>,
+    /// Samplers by name, and whether the shader declares a comparison sampler.
+    samplers: BTreeSet<(String, bool)>,
+    depth: BTreeSet<String>,
+    missing_fields: Vec<String>,
+    missing_textures: Vec<String>,
+    missing_buffers: Vec<String>,
+    missing_depth: Vec<String>,
+    unsupported: Vec<String>,
+}
+
+impl SceneNeeds {
+    /// The resources of `ifaces` (except group `skip_group`, the variant's own) against `session`.
+    fn of(session: &Session, ifaces: &[&Interface], skip_group: Option<u32>) -> SceneNeeds {
+        let mut needs = SceneNeeds::default();
         for iface in ifaces {
             for r in &iface.resources {
-                if Some(r.group) == skip_group {
-                    continue;
-                }
-                match &r.kind {
-                    ResourceKind::Uniform { size, fields } => {
-                        for f in fields {
-                            if !reproj_scene::uniforms::session_must_provide(&f.name) {
-                                continue;
-                            }
-                            match session.uniform(&f.name) {
-                                None => missing_fields.push(format!("`{}` (field of uniform `{}`)", f.name, r.name)),
-                                Some(v) if !v.is_leaf() => unsupported.push(format!(
-                                    "uniform field `{}` is {} but the session gives it an object or a list of objects",
-                                    f.name, f.ty
-                                )),
-                                Some(v) if v.len() != f.len() => unsupported.push(format!(
-                                    "uniform field `{}` is {} ({} values) but the session gives {} values",
-                                    f.name,
-                                    f.ty,
-                                    f.len(),
-                                    v.len()
-                                )),
-                                Some(_) => {}
-                            }
-                        }
-                        uni_needed.insert(r.name.clone(), (*size, fields.clone()));
-                    }
-                    ResourceKind::Texture { dim } => {
-                        if !session.textures.contains_key(&r.name) {
-                            missing_textures.push(format!("`{}`", r.name));
-                        } else {
-                            tex_needed.insert(r.name.clone(), *dim);
-                        }
-                    }
-                    ResourceKind::Storage(layout) => {
-                        if !session.buffers.contains_key(&r.name) {
-                            missing_buffers.push(format!("`{}`", r.name));
-                            continue;
-                        }
-                        match reproj_scene::uniforms::storage_fields(session, &r.name, layout) {
-                            Ok(sf) => {
-                                storage_needed.insert(r.name.clone(), sf);
-                            }
-                            Err(e) => unsupported.push(e),
-                        }
-                    }
-                    ResourceKind::Sampler { comparison } => {
-                        let compare = session.samplers.get(&r.name).and_then(|s| s.compare);
-                        if !*comparison && compare.is_some() {
-                            unsupported.push(format!(
-                                "sampler `{}` is a plain `sampler`, but the session gives it a `compare` function",
-                                r.name
-                            ));
-                        }
-                        samp_needed.insert((r.name.clone(), *comparison));
-                    }
-                    ResourceKind::DepthTexture => {
-                        if session.depth_passes.contains_key(&r.name) {
-                            depth_needed.insert(r.name.clone());
-                        } else {
-                            missing_depth.push(format!("`{}`", r.name));
-                        }
-                    }
-                    ResourceKind::Unsupported(what) => unsupported.push(what.clone()),
+                if Some(r.group) != skip_group {
+                    needs.add(session, r);
                 }
             }
         }
-        missing_textures.sort();
-        missing_textures.dedup();
-        missing_fields.sort();
-        missing_fields.dedup();
-        missing_buffers.sort();
-        missing_buffers.dedup();
-        missing_depth.sort();
-        missing_depth.dedup();
-        if !missing_textures.is_empty()
-            || !missing_fields.is_empty()
-            || !missing_buffers.is_empty()
-            || !missing_depth.is_empty()
+        needs
+    }
+
+    /// Note resource `r`: what it needs, or what is missing or unsupported.
+    fn add(&mut self, session: &Session, r: &reflect::Resource) {
+        match &r.kind {
+            ResourceKind::Uniform { size, fields } => {
+                for f in fields {
+                    self.check_uniform_field(session, &r.name, f);
+                }
+                self.uniforms
+                    .insert(r.name.clone(), (*size, fields.clone()));
+            }
+            ResourceKind::Texture { dim } => {
+                if !session.textures.contains_key(&r.name) {
+                    self.missing_textures.push(format!("`{}`", r.name));
+                } else {
+                    self.textures.insert(r.name.clone(), *dim);
+                }
+            }
+            ResourceKind::Storage(layout) => {
+                if !session.buffers.contains_key(&r.name) {
+                    self.missing_buffers.push(format!("`{}`", r.name));
+                    return;
+                }
+                match reproj_scene::uniforms::storage_fields(session, &r.name, layout) {
+                    Ok(sf) => {
+                        self.storage.insert(r.name.clone(), sf);
+                    }
+                    Err(e) => self.unsupported.push(e),
+                }
+            }
+            ResourceKind::Sampler { comparison } => {
+                let compare = session.samplers.get(&r.name).and_then(|s| s.compare);
+                if !*comparison && compare.is_some() {
+                    self.unsupported.push(format!(
+                        "sampler `{}` is a plain `sampler`, but the session gives it a `compare` function",
+                        r.name
+                    ));
+                }
+                self.samplers.insert((r.name.clone(), *comparison));
+            }
+            ResourceKind::DepthTexture => {
+                if session.depth_passes.contains_key(&r.name) {
+                    self.depth.insert(r.name.clone());
+                } else {
+                    self.missing_depth.push(format!("`{}`", r.name));
+                }
+            }
+            ResourceKind::Unsupported(what) => self.unsupported.push(what.clone()),
+        }
+    }
+
+    /// Field `f` of uniform `uniform`: given by the session, as one value of the field's length.
+    fn check_uniform_field(&mut self, session: &Session, uniform: &str, f: &reflect::UniformField) {
+        if !reproj_scene::uniforms::session_must_provide(&f.name) {
+            return;
+        }
+        match session.uniform(&f.name) {
+            None => self
+                .missing_fields
+                .push(format!("`{}` (field of uniform `{}`)", f.name, uniform)),
+            Some(v) if !v.is_leaf() => self.unsupported.push(format!(
+                "uniform field `{}` is {} but the session gives it an object or a list of objects",
+                f.name, f.ty
+            )),
+            Some(v) if v.len() != f.len() => self.unsupported.push(format!(
+                "uniform field `{}` is {} ({} values) but the session gives {} values",
+                f.name,
+                f.ty,
+                f.len(),
+                v.len()
+            )),
+            Some(_) => {}
+        }
+    }
+
+    /// The missing resources together, by name, else the unsupported ones together.
+    fn check(&mut self) -> Result<(), ReplayError> {
+        for list in [
+            &mut self.missing_textures,
+            &mut self.missing_fields,
+            &mut self.missing_buffers,
+            &mut self.missing_depth,
+        ] {
+            list.sort();
+            list.dedup();
+        }
+        if !self.missing_textures.is_empty()
+            || !self.missing_fields.is_empty()
+            || !self.missing_buffers.is_empty()
+            || !self.missing_depth.is_empty()
         {
-            let mut names = missing_textures
+            let mut names = self
+                .missing_textures
                 .iter()
                 .map(|t| format!("texture {t}"))
                 .collect::<Vec<_>>();
-            names.extend(missing_fields.iter().map(|f| format!("uniform {f}")));
+            names.extend(self.missing_fields.iter().map(|f| format!("uniform {f}")));
             names.extend(
-                missing_buffers
+                self.missing_buffers
                     .iter()
                     .map(|b| format!("storage buffer {b} (in `buffers`)")),
             );
             names.extend(
-                missing_depth
+                self.missing_depth
                     .iter()
                     .map(|d| format!("depth texture {d} (in `depth_passes`)")),
             );
@@ -158,144 +181,110 @@ impl Renderer {
                 names,
             });
         }
-        if !unsupported.is_empty() {
-            unsupported.sort();
-            unsupported.dedup();
+        if !self.unsupported.is_empty() {
+            self.unsupported.sort();
+            self.unsupported.dedup();
             return Err(ReplayError::Unsupported {
-                what: unsupported.join("; "),
+                what: self.unsupported.join("; "),
             });
         }
+        Ok(())
+    }
+}
+
+/// The sampler the session specifies for `name` (a comparison sampler defaults to clamping), as
+/// wgpu takes it.
+fn sampler_descriptor<'a>(
+    session: &Session,
+    name: &'a str,
+    comparison: bool,
+) -> wgpu::SamplerDescriptor<'a> {
+    let spec = session
+        .samplers
+        .get(name)
+        .cloned()
+        .unwrap_or(if comparison {
+            SamplerSpec {
+                address: Address::Clamp,
+                ..Default::default()
+            }
+        } else {
+            SamplerSpec::default()
+        });
+    let compare = comparison.then(|| match spec.compare.unwrap_or_default() {
+        Compare::Never => wgpu::CompareFunction::Never,
+        Compare::Less => wgpu::CompareFunction::Less,
+        Compare::Equal => wgpu::CompareFunction::Equal,
+        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
+        Compare::Greater => wgpu::CompareFunction::Greater,
+        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
+        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
+        Compare::Always => wgpu::CompareFunction::Always,
+    });
+    let f = |x: Filter| match x {
+        Filter::Linear => wgpu::FilterMode::Linear,
+        Filter::Nearest => wgpu::FilterMode::Nearest,
+    };
+    let mf = match spec.mipmap_filter {
+        Filter::Linear => wgpu::MipmapFilterMode::Linear,
+        Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
+    };
+    let a = match spec.address {
+        Address::Repeat => wgpu::AddressMode::Repeat,
+        Address::Clamp => wgpu::AddressMode::ClampToEdge,
+        Address::Mirror => wgpu::AddressMode::MirrorRepeat,
+    };
+    let all_linear = spec.filter == Filter::Linear && spec.mipmap_filter == Filter::Linear;
+    wgpu::SamplerDescriptor {
+        label: Some(name),
+        address_mode_u: a,
+        address_mode_v: a,
+        address_mode_w: a,
+        mag_filter: f(spec.filter),
+        min_filter: f(spec.filter),
+        mipmap_filter: mf,
+        anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
+        compare,
+        ..Default::default()
+    }
+}
+
+impl Renderer {
+    /// Build every session resource the interfaces use (except `skip_group`, the variant's own
+    /// group). Missing ones are reported together, by name. In phases: what the interfaces need
+    /// (checked before any GPU object), then the objects, textures, samplers, uniform and storage
+    /// buffers and depth passes, in one error scope.
+    pub(super) fn build_scene(
+        &self,
+        session: &Session,
+        ifaces: &[&Interface],
+        skip_group: Option<u32>,
+    ) -> Result<Scene, ReplayError> {
+        let mut needs = SceneNeeds::of(session, ifaces, skip_group);
+        needs.check()?;
         self.scoped(
             "creating the session's resources",
             || -> Result<Scene, ReplayError> {
-                let dev = &self.device;
-                // Meshes and per-object transforms.
-                let vertex_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("replay vertex transforms"),
-                    entries: &[wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: NonZeroU64::new(
-                                std::mem::size_of::<TransformUniform>() as u64,
-                            ),
-                        },
-                        count: None,
-                    }],
-                });
-                let mut objects = Vec::new();
-                for (i, o) in session.geometry.objects.iter().enumerate() {
-                    let m = self.assets.mesh(self, session, &o.mesh)?;
-                    let xf_buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(&format!("object {i} transforms")),
-                        size: std::mem::size_of::<TransformUniform>() as u64,
-                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    });
-                    let xf_bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("object transforms"),
-                        layout: &vertex_bgl,
-                        entries: &[wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: xf_buf.as_entire_binding(),
-                        }],
-                    });
-                    objects.push(ObjectGpu {
-                        vbuf: m.vbuf,
-                        ibuf: m.ibuf,
-                        count: m.count,
-                        cull: o.cull,
-                        xf_buf,
-                        xf_bg,
-                    });
-                }
-                // Textures.
+                let vertex_bgl = self.vertex_layout();
+                let objects = self.scene_objects(session, &vertex_bgl)?;
                 let mut textures = HashMap::new();
-                for (name, dim) in &tex_needed {
+                for (name, dim) in &needs.textures {
                     let view =
                         self.assets
                             .texture(self, session, name, &session.textures[name], *dim)?;
                     textures.insert(name.clone(), view);
                 }
-                // Samplers.
                 let mut samplers = HashMap::new();
-                for (name, comparison) in &samp_needed {
-                    let spec = session
-                        .samplers
-                        .get(name)
-                        .cloned()
-                        .unwrap_or(if *comparison {
-                            SamplerSpec {
-                                address: Address::Clamp,
-                                ..Default::default()
-                            }
-                        } else {
-                            SamplerSpec::default()
-                        });
-                    let compare = comparison.then(|| match spec.compare.unwrap_or_default() {
-                        Compare::Never => wgpu::CompareFunction::Never,
-                        Compare::Less => wgpu::CompareFunction::Less,
-                        Compare::Equal => wgpu::CompareFunction::Equal,
-                        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
-                        Compare::Greater => wgpu::CompareFunction::Greater,
-                        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
-                        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
-                        Compare::Always => wgpu::CompareFunction::Always,
-                    });
-                    let f = |x: Filter| match x {
-                        Filter::Linear => wgpu::FilterMode::Linear,
-                        Filter::Nearest => wgpu::FilterMode::Nearest,
-                    };
-                    let mf = match spec.mipmap_filter {
-                        Filter::Linear => wgpu::MipmapFilterMode::Linear,
-                        Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
-                    };
-                    let a = match spec.address {
-                        Address::Repeat => wgpu::AddressMode::Repeat,
-                        Address::Clamp => wgpu::AddressMode::ClampToEdge,
-                        Address::Mirror => wgpu::AddressMode::MirrorRepeat,
-                    };
-                    let all_linear =
-                        spec.filter == Filter::Linear && spec.mipmap_filter == Filter::Linear;
-                    let s = dev.create_sampler(&wgpu::SamplerDescriptor {
-                        label: Some(name),
-                        address_mode_u: a,
-                        address_mode_v: a,
-                        address_mode_w: a,
-                        mag_filter: f(spec.filter),
-                        min_filter: f(spec.filter),
-                        mipmap_filter: mf,
-                        anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
-                        compare,
-                        ..Default::default()
-                    });
+                for (name, comparison) in &needs.samplers {
+                    let s =
+                        self.device
+                            .create_sampler(&sampler_descriptor(session, name, *comparison));
                     samplers.insert(name.clone(), s);
                 }
-                // Uniform buffers.
-                let mut uniforms = BTreeMap::new();
-                for (name, (size, fields)) in uni_needed {
-                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(&name),
-                        size: size.max(16) as u64,
-                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    });
-                    uniforms.insert(name, (buf, size, fields));
-                }
-                let mut storage = BTreeMap::new();
-                for (name, (size, fields)) in storage_needed {
-                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(&name),
-                        size: size.max(16) as u64,
-                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    });
-                    storage.insert(name, (buf, size, fields));
-                }
+                let uniforms = self.scene_buffers(needs.uniforms, wgpu::BufferUsages::UNIFORM);
+                let storage = self.scene_buffers(needs.storage, wgpu::BufferUsages::STORAGE);
                 let mut depth = BTreeMap::new();
-                for name in depth_needed {
+                for name in needs.depth {
                     let pass = self.depth_pass(session, &name, &objects, &vertex_bgl)?;
                     depth.insert(name, pass);
                 }
@@ -310,6 +299,81 @@ impl Renderer {
                 })
             },
         )?
+    }
+
+    /// The layout of the per-object transforms the generated vertex stage reads.
+    fn vertex_layout(&self) -> wgpu::BindGroupLayout {
+        self.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("replay vertex transforms"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: NonZeroU64::new(
+                            std::mem::size_of::<TransformUniform>() as u64
+                        ),
+                    },
+                    count: None,
+                }],
+            })
+    }
+
+    /// The session's objects: their meshes (kept across replays) and transform buffers.
+    fn scene_objects(
+        &self,
+        session: &Session,
+        vertex_bgl: &wgpu::BindGroupLayout,
+    ) -> Result<Vec<ObjectGpu>, ReplayError> {
+        let dev = &self.device;
+        let mut objects = Vec::new();
+        for (i, o) in session.geometry.objects.iter().enumerate() {
+            let m = self.assets.mesh(self, session, &o.mesh)?;
+            let xf_buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&format!("object {i} transforms")),
+                size: std::mem::size_of::<TransformUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let xf_bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("object transforms"),
+                layout: vertex_bgl,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: xf_buf.as_entire_binding(),
+                }],
+            });
+            objects.push(ObjectGpu {
+                vbuf: m.vbuf,
+                ibuf: m.ibuf,
+                count: m.count,
+                cull: o.cull,
+                xf_buf,
+                xf_bg,
+            });
+        }
+        Ok(objects)
+    }
+
+    /// One buffer of `usage` (and copy destination) per need, by name: at least 16 bytes.
+    fn scene_buffers(
+        &self,
+        needs: BTreeMap<String, BufferNeed>,
+        usage: wgpu::BufferUsages,
+    ) -> BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)> {
+        let mut buffers = BTreeMap::new();
+        for (name, (size, fields)) in needs {
+            let buf = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&name),
+                size: size.max(16) as u64,
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            buffers.insert(name, (buf, size, fields));
+        }
+        buffers
     }
 
     /// Write the frame's uniform values and transforms.

@@ -1,72 +1,60 @@
-//! Phase 3 of a variant render: the frame loop (passes, readback, records).
+//! Phase 3 of a variant render: the frame loop (per frame: encode, submit; per batch: read back,
+//! record).
 
 use super::*;
+
+/// What a variant render's frame loop reads: the render's inputs, its plan and its GPU objects.
+pub(super) struct FrameLoop<'a> {
+    pub(super) session: &'a Session,
+    pub(super) variant: &'a VariantInput,
+    pub(super) reference: &'a Reference,
+    pub(super) opts: &'a RenderOptions,
+    pub(super) progress: &'a dyn FrameProgress,
+    pub(super) plan: &'a VariantPlan,
+    pub(super) gpu: &'a VariantGpu,
+}
+
+/// The frame loop's queries and readback ([`Renderer::variant_readback`]).
+struct VariantReadback<'a> {
+    /// Frames per readback batch.
+    slots: u32,
+    /// One occlusion query (and timestamp pair) per pass.
+    q: QueryKit,
+    /// The error reduction against the reference (and the frames' pixels where they come
+    /// back); none when timing only.
+    errors: Option<FrameErrors<'a>>,
+    /// The classification maps, where the classification entry is rendered.
+    cls_rb: Option<Staging>,
+}
+
+impl VariantReadback<'_> {
+    /// The buffers mapped once per batch.
+    fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
+        let mut rb_bufs = self.q.read_buffers();
+        if let Some(errors) = &self.errors {
+            rb_bufs.extend(errors.read_buffers());
+        }
+        if let Some(c) = &self.cls_rb {
+            rb_bufs.push(&c.buf);
+        }
+        rb_bufs
+    }
+}
+
 impl Renderer {
     /// The frame loop: per frame the passes (timed, counted), then the error reduction, the
     /// sampled frames' pixels and the classification read back in batches into `report`.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn variant_frames(
         &self,
-        session: &Session,
-        variant: &VariantInput,
-        reference: &Reference,
-        opts: &RenderOptions,
-        progress: &dyn FrameProgress,
-        plan: &VariantPlan,
-        gpu: &VariantGpu,
+        run: &FrameLoop<'_>,
         report: &mut RenderReport,
     ) -> Result<(), ReplayError> {
-        let m = &variant.manifest;
-        let [w, h] = session.resolution;
-        let (frames, first, specs) = (plan.frames, plan.first, &plan.specs);
-        let VariantGpu {
-            scene,
-            vgroup,
-            color,
-            color_view,
-            cls,
-            cls_view,
-            cls_depth_view,
-            params,
-            binds,
-            pc,
-            ..
-        } = gpu;
-        let vgroup = *vgroup;
-        let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
-        let q = QueryKit::new(self, specs.len() as u32, slots);
-        let back = match (&opts.png_dir, opts.perceptual_stride) {
-            (Some(_), _) => PixelsBack::All,
-            (None, Some(k)) => PixelsBack::Every(k.max(1)),
-            (None, None) => PixelsBack::None,
-        };
-        let perceptual = |f: u32| {
-            opts.perceptual_stride
-                .is_some_and(|k| f.is_multiple_of(k.max(1)))
-        };
-        let errors = if opts.timing_only {
-            None
-        } else {
-            Some(FrameErrors::new(
-                self,
-                &self.reduce_kernel,
-                reference,
-                first + frames,
-                slots,
-                back,
-            )?)
-        };
-        let cls_rb = pc
-            .as_ref()
-            .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
-        let mut rb_bufs = q.read_buffers();
-        if let Some(errors) = &errors {
-            rb_bufs.extend(errors.read_buffers());
-        }
-        if let Some(c) = &cls_rb {
-            rb_bufs.push(&c.buf);
-        }
-        let mut batch = FrameBatch::new("variant ", slots, first + frames);
+        let (frames, first) = (run.plan.frames, run.plan.first);
+        let (reference, opts) = (run.reference, run.opts);
+        let size = run.session.resolution;
+        let rb = self.variant_readback(run)?;
+        let rb_bufs = rb.read_buffers();
+        let mut batch = FrameBatch::new("variant ", rb.slots, first + frames);
         // Frames read back for ꟻLIP and SSIM, scored between batches once there is one per core.
         // The metrics are the costliest CPU work of a replay (ꟻLIP: about 26 ms per 256×256
         // frame on one core): they run on every core, but never while a timed frame is in flight
@@ -74,147 +62,213 @@ impl Renderer {
         let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
         for f in first..first + frames {
             let slot = batch.slot();
-            let cur = (f % 2) as usize;
-            let b = &binds[cur];
-            self.write_frame_uniforms(session, scene, f);
-            let mut p = contract::ReprojParams::for_frame(
-                f,
-                variant.delta_n_at(f),
-                variant.block,
-                variant.depth_epsilon,
-            );
-            if f == first {
-                // The cache starts empty: the first frame refreshes everything.
-                p.delta_n = 1;
-            }
-            self.queue.write_buffer(params, 0, bytemuck::bytes_of(&p));
-
-            let enc = self.encode_variant_passes(gpu, specs, cur, &q, slot);
-
-            // Readback (and the untimed classification pass).
-            let render = enc;
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            if let Some(errors) = &errors {
-                errors.encode(self, &mut enc, color, color_view, f, slot)?;
-            }
-            if let (Some(pc), Some(cls_rb)) = (&pc, &cls_rb) {
-                {
-                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some(CLASSIFY_ENTRY),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: cls_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: cls_depth_view,
-                            depth_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(1.0),
-                                store: wgpu::StoreOp::Store,
-                            }),
-                            stencil_ops: None,
-                        }),
-                        ..Default::default()
-                    });
-                    self.draw(&mut pass, pc, &b.1, scene, vgroup);
-                }
-                cls_rb.copy(&mut enc, cls, slot);
-            }
-            if !batch.submit(self, render, enc, f)? {
+            let (render, readback) = self.encode_variant_frame(run, &rb, f, slot)?;
+            if !batch.submit(self, render, readback, f)? {
                 continue;
             }
-
             // Read the batch back with one wait.
             batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                let (errs, pixels) = match &errors {
-                    Some(errors) => errors.read(slot, reference, f)?,
-                    None => (Default::default(), None),
-                };
-                let cls_px = match &cls_rb {
-                    Some(c) => Some(c.image(slot)?),
-                    None => None,
-                };
-                let (occ, pass_ms, span) = q.read(slot)?;
-
-                let (mut hit_px, mut miss_px, mut refresh_px) = (None, None, None);
-                if let Some(c) = &cls_px {
-                    let (mut hi, mut mi, mut re) = (0u64, 0u64, 0u64);
-                    for p in c.chunks_exact(4) {
-                        if p[1] > 127 {
-                            hi += 1;
-                        } else if p[0] > 127 {
-                            mi += 1;
-                        } else if p[2] > 127 {
-                            re += 1;
-                        }
-                    }
-                    hit_px = Some(hi);
-                    miss_px = Some(mi);
-                    refresh_px = Some(re);
-                }
-                let counts = counts_of(m.strategy, &occ, hit_px);
-                let hit_rate = match (hit_px, miss_px, refresh_px) {
-                    (Some(hi), Some(mi), Some(re)) if hi + mi + re > 0 => {
-                        hi as f64 / (hi + mi + re) as f64
-                    }
-                    _ if counts.shaded > 0 => (counts.hits as f64 / counts.shaded as f64).min(1.0),
-                    _ => 0.0,
-                };
-                let frame_ms = span.unwrap_or(cpu_ms);
-                if let Some(pixels) = pixels.as_ref().filter(|_| perceptual(f)) {
-                    to_score.push((f, pixels.clone()));
-                }
-                if let (Some(dir), Some(pixels)) = (&opts.png_dir, &pixels) {
-                    let refr = &reference.frames[f as usize];
-                    output::write_frame(dir, f, w, h, pixels)?;
-                    if opts.raw_frames {
-                        output::write_frame_raw(dir, f, pixels)?;
-                    }
-                    output::write_errmap(dir, f, w, h, &l2::pixel_errors(pixels, refr))?;
-                    if let Some(c) = &cls_px {
-                        output::write_hitmap(dir, f, w, h, c)?;
-                    }
-                }
-                report.frames.push(FrameRecord {
-                    frame: f,
-                    frame_ms,
-                    cpu_ms,
-                    pass_ms,
-                    shaded: counts.shaded,
-                    hits: counts.hits,
-                    recomputes: counts.misses,
-                    hit_px,
-                    miss_px,
-                    refresh_px,
-                    hit_rate,
-                    error: errs.error(),
-                    mse: errs.mse(),
-                    covered: errs.covered,
-                    psnr: errs.psnr(),
-                    max_abs_diff: errs.max_abs_diff,
-                    nonfinite: errs.nonfinite,
-                    nonfinite_reference: errs.nonfinite_reference,
-                    flip: None,
-                    ssim: None,
-                });
-                progress.frame(f - first + 1, frames);
+                let (record, sampled) = self.variant_frame_back(run, &rb, slot, f, cpu_ms)?;
+                to_score.extend(sampled.map(|pixels| (f, pixels)));
+                report.frames.push(record);
+                run.progress.frame(f - first + 1, frames);
                 Ok(())
             })?;
             // Score once there is a frame for every core (at 1080p a batch holds one frame and
             // one ꟻLIP takes most of a second), and whatever is left at the end.
             if to_score.len() >= rayon::current_num_threads() {
-                score_perceptual(&mut to_score, report, reference, opts, [w, h])?;
+                score_perceptual(&mut to_score, report, reference, opts, size)?;
             }
             // Swap happens through the parity of the next frame.
         }
-        score_perceptual(&mut to_score, report, reference, opts, [w, h])
+        score_perceptual(&mut to_score, report, reference, opts, size)
     }
-    /// Record frame parity `cur`'s passes (the host's clear of the frame first where no pass
-    /// clears it), each timed and counted by `q` into `slot`.
+
+    /// The queries, the error reduction (unless timing only) and the classification staging,
+    /// with a slot per frame of a batch.
+    fn variant_readback<'a>(
+        &self,
+        run: &FrameLoop<'a>,
+    ) -> Result<VariantReadback<'a>, ReplayError> {
+        let (opts, plan) = (run.opts, run.plan);
+        let [w, h] = run.session.resolution;
+        let slots = self.batch_len(plan.frames, Staging::slot_bytes(w, h, 16));
+        let q = QueryKit::new(self, plan.specs.len() as u32, slots);
+        let back = match (&opts.png_dir, opts.perceptual_stride) {
+            (Some(_), _) => PixelsBack::All,
+            (None, Some(k)) => PixelsBack::Every(k.max(1)),
+            (None, None) => PixelsBack::None,
+        };
+        let errors = if opts.timing_only {
+            None
+        } else {
+            Some(FrameErrors::new(
+                self,
+                &self.reduce_kernel,
+                run.reference,
+                plan.first + plan.frames,
+                slots,
+                back,
+            )?)
+        };
+        let cls_rb = run
+            .gpu
+            .pc
+            .as_ref()
+            .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
+        Ok(VariantReadback {
+            slots,
+            q,
+            errors,
+            cls_rb,
+        })
+    }
+
+    /// Frame `f`'s commands, into `slot`: its uniforms and `reproj_params` written, its passes
+    /// (the render, timed), then the readback (and the untimed classification pass).
+    fn encode_variant_frame(
+        &self,
+        run: &FrameLoop<'_>,
+        rb: &VariantReadback<'_>,
+        f: u32,
+        slot: u32,
+    ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
+        let (variant, gpu) = (run.variant, run.gpu);
+        let cur = (f % 2) as usize;
+        self.write_frame_uniforms(run.session, &gpu.scene, f);
+        let mut p = contract::ReprojParams::for_frame(
+            f,
+            variant.delta_n_at(f),
+            variant.block,
+            variant.depth_epsilon,
+        );
+        if f == run.plan.first {
+            // The cache starts empty: the first frame refreshes everything.
+            p.delta_n = 1;
+        }
+        self.queue
+            .write_buffer(&gpu.params, 0, bytemuck::bytes_of(&p));
+        let render = self.encode_variant_passes(gpu, &run.plan.specs, cur, &rb.q, slot);
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        if let Some(errors) = &rb.errors {
+            errors.encode(self, &mut enc, &gpu.color, &gpu.color_view, f, slot)?;
+        }
+        if let (Some(pc), Some(cls_rb)) = (&gpu.pc, &rb.cls_rb) {
+            self.encode_classify(&mut enc, gpu, pc, &gpu.binds[cur].1);
+            cls_rb.copy(&mut enc, &gpu.cls, slot);
+        }
+        Ok((render, enc))
+    }
+
+    /// Record the classification pass into the classification map.
+    fn encode_classify(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        gpu: &VariantGpu,
+        pc: &Pipe,
+        bindings: &Bindings,
+    ) {
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(CLASSIFY_ENTRY),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &gpu.cls_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &gpu.cls_depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        self.draw(&mut pass, pc, bindings, &gpu.scene, gpu.vgroup);
+    }
+
+    /// Frame `f`, back in `slot` (`cpu_ms` its CPU time): its record, with its PNGs written, and
+    /// its pixels where it is sampled for the perceptual metrics.
+    fn variant_frame_back(
+        &self,
+        run: &FrameLoop<'_>,
+        rb: &VariantReadback<'_>,
+        slot: u32,
+        f: u32,
+        cpu_ms: f64,
+    ) -> Result<(FrameRecord, Option<Vec<f32>>), ReplayError> {
+        let opts = run.opts;
+        let (errs, pixels) = match &rb.errors {
+            Some(errors) => errors.read(slot, run.reference, f)?,
+            None => (Default::default(), None),
+        };
+        let cls_px = match &rb.cls_rb {
+            Some(c) => Some(c.image(slot)?),
+            None => None,
+        };
+        let (occ, pass_ms, span) = rb.q.read(slot)?;
+        let (hit_px, miss_px, refresh_px) = match &cls_px {
+            Some(c) => {
+                let (hi, mi, re) = classified(c);
+                (Some(hi), Some(mi), Some(re))
+            }
+            None => (None, None, None),
+        };
+        let counts = counts_of(run.variant.manifest.strategy, &occ, hit_px);
+        let hit_rate = match (hit_px, miss_px, refresh_px) {
+            (Some(hi), Some(mi), Some(re)) if hi + mi + re > 0 => hi as f64 / (hi + mi + re) as f64,
+            _ if counts.shaded > 0 => (counts.hits as f64 / counts.shaded as f64).min(1.0),
+            _ => 0.0,
+        };
+        let frame_ms = span.unwrap_or(cpu_ms);
+        let perceptual = opts
+            .perceptual_stride
+            .is_some_and(|k| f.is_multiple_of(k.max(1)));
+        let sampled = pixels.as_ref().filter(|_| perceptual).cloned();
+        if let (Some(dir), Some(pixels)) = (&opts.png_dir, &pixels) {
+            let [w, h] = run.session.resolution;
+            let refr = &run.reference.frames[f as usize];
+            output::write_frame(dir, f, w, h, pixels)?;
+            if opts.raw_frames {
+                output::write_frame_raw(dir, f, pixels)?;
+            }
+            output::write_errmap(dir, f, w, h, &l2::pixel_errors(pixels, refr))?;
+            if let Some(c) = &cls_px {
+                output::write_hitmap(dir, f, w, h, c)?;
+            }
+        }
+        let record = FrameRecord {
+            frame: f,
+            frame_ms,
+            cpu_ms,
+            pass_ms,
+            shaded: counts.shaded,
+            hits: counts.hits,
+            recomputes: counts.misses,
+            hit_px,
+            miss_px,
+            refresh_px,
+            hit_rate,
+            error: errs.error(),
+            mse: errs.mse(),
+            covered: errs.covered,
+            psnr: errs.psnr(),
+            max_abs_diff: errs.max_abs_diff,
+            nonfinite: errs.nonfinite,
+            nonfinite_reference: errs.nonfinite_reference,
+            flip: None,
+            ssim: None,
+        };
+        Ok((record, sampled))
+    }
+
+    /// Record frame parity `cur`'s passes (the host's clears first, where no pass clears the
+    /// frame or the first pass loads the depth), each timed and counted by `q` into `slot`.
     pub(super) fn encode_variant_passes(
         &self,
         gpu: &VariantGpu,
@@ -226,85 +280,20 @@ impl Renderer {
         let VariantGpu {
             scene,
             vgroup,
-            payload_v,
-            depth_copy_v,
-            color_view,
             binds,
             pipes,
-            clear,
-            host_clears_frame,
-            host_clears_depth,
             motion,
             ..
         } = gpu;
-        let (vgroup, clear) = (*vgroup, *clear);
+        let vgroup = *vgroup;
         let b = &binds[cur];
-        let clear_payload = wgpu::Color::TRANSPARENT;
         let mut enc = self.device.create_command_encoder(&Default::default());
         if let Some(mg) = motion {
             self.encode_motion(&mut enc, mg, scene, vgroup);
         }
-        if *host_clears_depth {
-            // `--depth-load load`: the passes test against the engine's depth, which starts the
-            // frame cleared; a replay draws nothing else into it.
-            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("host clears the depth"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: gpu.depth_at(cur),
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                ..Default::default()
-            });
-        }
-        if *host_clears_frame {
-            // `--frame-load load`: the passes keep what the engine drew; here that is the
-            // background, as the original shader's frame starts.
-            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("host clears the frame"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(clear),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                ..Default::default()
-            });
-        }
+        self.encode_host_clears(&mut enc, gpu, cur);
         for (i, spec) in specs.iter().enumerate() {
-            let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = spec
-                .colors
-                .iter()
-                .map(|c| {
-                    c.map(|(t, load)| {
-                        let (view, clear_to) = match t {
-                            Attachment::Frame => (color_view, clear),
-                            Attachment::Cache => (&payload_v[cur], clear_payload),
-                            Attachment::DepthCopy => (&depth_copy_v[cur], DEPTH_COPY_CLEAR),
-                        };
-                        wgpu::RenderPassColorAttachment {
-                            view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: if load {
-                                    wgpu::LoadOp::Load
-                                } else {
-                                    wgpu::LoadOp::Clear(clear_to)
-                                },
-                                store: wgpu::StoreOp::Store,
-                            },
-                        }
-                    })
-                })
-                .collect();
+            let colors = pass_colors(gpu, spec, cur);
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(&spec.label),
                 color_attachments: &colors,
@@ -331,4 +320,94 @@ impl Renderer {
         q.resolve(&mut enc, slot);
         enc
     }
+
+    /// The clears an engine's frame starts with, where the variant's passes load instead: the
+    /// depth (the first pass loads it) and the frame (no pass clears it).
+    fn encode_host_clears(&self, enc: &mut wgpu::CommandEncoder, gpu: &VariantGpu, cur: usize) {
+        if gpu.host_clears_depth {
+            // `--depth-load load`: the passes test against the engine's depth, which starts the
+            // frame cleared; a replay draws nothing else into it.
+            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("host clears the depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: gpu.depth_at(cur),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+        }
+        if gpu.host_clears_frame {
+            // `--frame-load load`: the passes keep what the engine drew; here that is the
+            // background, as the original shader's frame starts.
+            let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("host clears the frame"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &gpu.color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(gpu.clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                ..Default::default()
+            });
+        }
+    }
+}
+
+/// A pass's color attachments at frame parity `cur`, by `@location`: the frame, the current
+/// payload, the current depth copy, each loaded or cleared as `spec` lists.
+fn pass_colors<'a>(
+    gpu: &'a VariantGpu,
+    spec: &PassSpec,
+    cur: usize,
+) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
+    let clear_payload = wgpu::Color::TRANSPARENT;
+    spec.colors
+        .iter()
+        .map(|c| {
+            c.map(|(t, load)| {
+                let (view, clear_to) = match t {
+                    Attachment::Frame => (&gpu.color_view, gpu.clear),
+                    Attachment::Cache => (&gpu.payload_v[cur], clear_payload),
+                    Attachment::DepthCopy => (&gpu.depth_copy_v[cur], DEPTH_COPY_CLEAR),
+                };
+                wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: if load {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(clear_to)
+                        },
+                        store: wgpu::StoreOp::Store,
+                    },
+                }
+            })
+        })
+        .collect()
+}
+
+/// Hit, miss and refresh pixels of a classification map (rgba8: green hit, else red miss, else
+/// blue refresh).
+fn classified(map: &[u8]) -> (u64, u64, u64) {
+    let (mut hi, mut mi, mut re) = (0u64, 0u64, 0u64);
+    for p in map.chunks_exact(4) {
+        if p[1] > 127 {
+            hi += 1;
+        } else if p[0] > 127 {
+            mi += 1;
+        } else if p[2] > 127 {
+            re += 1;
+        }
+    }
+    (hi, mi, re)
 }

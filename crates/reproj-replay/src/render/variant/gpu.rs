@@ -4,7 +4,10 @@ use super::*;
 impl Renderer {
     /// The GPU objects of a variant render: the scene, the stages' modules, the payload and depth
     /// copy ping-pong, the frame and classification targets, the samplers, each parity's bind
-    /// groups and the passes' pipelines.
+    /// groups and the passes' pipelines. In phases: the interfaces and the vertex stage
+    /// ([`Renderer::variant_shaders`]), the targets ([`Renderer::variant_targets`]), each
+    /// parity's bindings ([`Renderer::parity_bindings`]), the pipelines
+    /// ([`Renderer::variant_pipelines`]).
     pub(super) fn variant_gpu(
         &self,
         session: &Session,
@@ -12,8 +15,80 @@ impl Renderer {
         plan: &VariantPlan,
     ) -> Result<VariantGpu, ReplayError> {
         let m = &variant.manifest;
+        let shaders = self.variant_shaders(session, m, plan)?;
+        let targets = self.variant_targets(session.resolution, m, &plan.specs);
+        // Bindings for each parity (cur = parity, prev = 1 − parity).
+        let binds = (0..2usize)
+            .map(|parity| self.parity_bindings(parity, m, plan, &shaders, &targets))
+            .collect::<Result<Vec<_>, _>>()?;
+        let (pipes, pc) = self.variant_pipelines(plan, &shaders, &binds, targets.cache_format)?;
+        let specs = &plan.specs;
+        let bg = session.background;
+        let clear = wgpu::Color {
+            r: bg[0] as f64,
+            g: bg[1] as f64,
+            b: bg[2] as f64,
+            a: bg[3] as f64,
+        };
+        let host_clears_depth = specs.first().is_some_and(|s| s.depth_load);
+        let host_clears_frame = !specs.iter().any(|s| {
+            s.colors
+                .iter()
+                .flatten()
+                .any(|(t, load)| *t == Attachment::Frame && !load)
+        });
+        let VariantShaders {
+            scene,
+            vgroup,
+            motion,
+            ..
+        } = shaders;
+        let VariantTargets {
+            payload_v,
+            depth_copy_v,
+            depth_v,
+            color,
+            color_view,
+            cls,
+            cls_view,
+            cls_depth_view,
+            params,
+            ..
+        } = targets;
+        Ok(VariantGpu {
+            scene,
+            vgroup,
+            payload_v,
+            depth_copy_v,
+            depth_v,
+            color,
+            color_view,
+            cls,
+            cls_view,
+            cls_depth_view,
+            params,
+            binds,
+            pipes,
+            pc,
+            clear,
+            host_clears_frame,
+            host_clears_depth,
+            motion,
+        })
+    }
+
+    /// The passes' interfaces and shared vertex stage: the vertex transforms' group (free in
+    /// every stage), the scene they use, the vertex stage writing every input they read (and the
+    /// previous clip position), the motion pass where the variant reads motion vectors, and the
+    /// passes' fragment modules.
+    fn variant_shaders(
+        &self,
+        session: &Session,
+        m: &reproj_instance::Manifest,
+        plan: &VariantPlan,
+    ) -> Result<VariantShaders, ReplayError> {
         let [w, h] = session.resolution;
-        let (specs, stages, classify_stage) = (&plan.specs, &plan.stages, &plan.classify_stage);
+        let (stages, classify_stage) = (&plan.stages, &plan.classify_stage);
         let mut used: BTreeSet<u32> = [m.group].into_iter().collect();
         for s in stages {
             used.extend(s.iface.groups());
@@ -44,32 +119,40 @@ impl Renderer {
                 location
             }
         };
-        let vs_src = vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(prev_clip_location))?;
+        let vs_src =
+            vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(prev_clip_location))?;
         let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
         let motion = match m.reprojection {
             Reprojection::Vertex => None,
-            Reprojection::MotionVectors => Some(self.motion_gpu(
-                [w, h],
-                &vs,
-                &vs_src,
-                &scene,
-                vgroup,
-                prev_clip_location,
-            )?),
+            Reprojection::MotionVectors => {
+                Some(self.motion_gpu([w, h], &vs, &vs_src, &scene, vgroup, prev_clip_location)?)
+            }
         };
         let fsm: Vec<wgpu::ShaderModule> = stages
             .iter()
             .map(|s| self.shader_module(&s.shader.path.display().to_string(), &s.shader.source))
             .collect::<Result<_, _>>()?;
+        Ok(VariantShaders {
+            scene,
+            vgroup,
+            vs_src,
+            vs,
+            fsm,
+            motion,
+        })
+    }
 
-        let cache_format = match m.cache_format {
-            CacheFormat::Rgba32float => wgpu::TextureFormat::Rgba32Float,
-            CacheFormat::Rg32float => wgpu::TextureFormat::Rg32Float,
-            CacheFormat::R32float => wgpu::TextureFormat::R32Float,
-            CacheFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
-            CacheFormat::Rg16float => wgpu::TextureFormat::Rg16Float,
-            CacheFormat::R16float => wgpu::TextureFormat::R16Float,
-        };
+    /// The targets of frames of `[w, h]`: the payload and depth copy of each parity, the depth
+    /// buffer (two, alternating, for a variant written before the depth copy: `specs` list no
+    /// depth copy target), the frame, the classification map and its depth; the parameters
+    /// buffer and the variant's two samplers.
+    fn variant_targets(
+        &self,
+        [w, h]: [u32; 2],
+        m: &reproj_instance::Manifest,
+        specs: &[PassSpec],
+    ) -> VariantTargets {
+        let cache_format = cache_texture_format(m.cache_format);
         let payload = [
             self.target("payload A", w, h, cache_format, true),
             self.target("payload B", w, h, cache_format, true),
@@ -102,8 +185,6 @@ impl Renderer {
         let payload_v = views(&payload);
         let depth_copy_v = views(&depth_copy);
         let depth_v = views(&depth);
-        // The depth buffer of the frame of parity `p`.
-        let depth_at = |p: usize| &depth_v[p % depth_v.len()];
         let color = self.target("frame color", w, h, FRAME_FORMAT, true);
         let color_view = color.create_view(&Default::default());
         let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
@@ -115,7 +196,6 @@ impl Renderer {
             u64::from(contract::PARAMS_SIZE),
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-
         let clamp = |filter: wgpu::FilterMode, label: &str| {
             self.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some(label),
@@ -129,43 +209,83 @@ impl Renderer {
         };
         let point_sampler = clamp(wgpu::FilterMode::Nearest, contract::POINT_SAMPLER);
         let linear_sampler = clamp(wgpu::FilterMode::Linear, contract::LINEAR_SAMPLER);
-        // Bindings for each parity (cur = parity, prev = 1 − parity).
-        let mut binds: Vec<(Vec<Bindings>, Bindings)> = Vec::new();
-        for parity in 0..2usize {
-            let added = AddedResources {
-                params: &params,
-                point_sampler: &point_sampler,
-                linear_sampler: &linear_sampler,
-                payload_half: m.cache_format.is_half(),
-                prev_payload: &payload_v[1 - parity],
-                prev_depth_copy: &depth_copy_v[1 - parity],
-                prev_depth_buffer: legacy_depth.then(|| depth_at(1 - parity)),
-                cur_payload: &payload_v[parity],
-                motion: motion.as_ref().map(|mg| &mg.view),
-            };
-            let mut per_pass = Vec::new();
-            for (st, spec) in stages.iter().zip(specs) {
-                per_pass.push(self.bindings(
-                    &spec.label,
-                    &st.iface,
-                    &scene,
-                    Some(m.group),
-                    Some(&added),
-                )?);
-            }
-            let bc = match &classify_stage {
-                Some(c) => self.bindings(CLASSIFY_ENTRY, c, &scene, Some(m.group), Some(&added))?,
-                None => Bindings {
-                    layouts: BTreeMap::new(),
-                    groups: BTreeMap::new(),
-                    layout_keys: BTreeMap::new(),
-                },
-            };
-            binds.push((per_pass, bc));
+        VariantTargets {
+            cache_format,
+            legacy_depth,
+            _textures: (payload, depth_copy, depth, cls_depth),
+            payload_v,
+            depth_copy_v,
+            depth_v,
+            color,
+            color_view,
+            cls,
+            cls_view,
+            cls_depth_view,
+            params,
+            point_sampler,
+            linear_sampler,
         }
-        use wgpu::CompareFunction as Cf;
+    }
+
+    /// The bindings of the frames of parity `parity` (cur = parity, prev = 1 − parity): each
+    /// pass's, and the classification entry's (none where it is not rendered).
+    fn parity_bindings(
+        &self,
+        parity: usize,
+        m: &reproj_instance::Manifest,
+        plan: &VariantPlan,
+        shaders: &VariantShaders,
+        t: &VariantTargets,
+    ) -> Result<(Vec<Bindings>, Bindings), ReplayError> {
+        let scene = &shaders.scene;
+        let added = AddedResources {
+            params: &t.params,
+            point_sampler: &t.point_sampler,
+            linear_sampler: &t.linear_sampler,
+            payload_half: m.cache_format.is_half(),
+            prev_payload: &t.payload_v[1 - parity],
+            prev_depth_copy: &t.depth_copy_v[1 - parity],
+            prev_depth_buffer: t.legacy_depth.then(|| t.depth_at(1 - parity)),
+            cur_payload: &t.payload_v[parity],
+            motion: shaders.motion.as_ref().map(|mg| &mg.view),
+        };
+        let mut per_pass = Vec::new();
+        for (st, spec) in plan.stages.iter().zip(&plan.specs) {
+            per_pass.push(self.bindings(
+                &spec.label,
+                &st.iface,
+                scene,
+                Some(m.group),
+                Some(&added),
+            )?);
+        }
+        let bc = match &plan.classify_stage {
+            Some(c) => self.bindings(CLASSIFY_ENTRY, c, scene, Some(m.group), Some(&added))?,
+            None => Bindings::empty(),
+        };
+        Ok((per_pass, bc))
+    }
+
+    /// Each pass's pipelines (with the bindings of parity 0: both parities' layouts are the
+    /// same), and the classification entry's where it is rendered.
+    fn variant_pipelines(
+        &self,
+        plan: &VariantPlan,
+        shaders: &VariantShaders,
+        binds: &[(Vec<Bindings>, Bindings)],
+        cache_format: wgpu::TextureFormat,
+    ) -> Result<(Vec<Pipe>, Option<Pipe>), ReplayError> {
+        let VariantShaders {
+            scene,
+            vgroup,
+            vs_src,
+            vs,
+            fsm,
+            ..
+        } = shaders;
+        let stages = &plan.stages;
         let mut pipes = Vec::new();
-        for (i, spec) in specs.iter().enumerate() {
+        for (i, spec) in plan.specs.iter().enumerate() {
             let formats: Vec<Option<wgpu::TextureFormat>> = spec
                 .colors
                 .iter()
@@ -178,72 +298,42 @@ impl Renderer {
                 })
                 .collect();
             pipes.push(self.pipeline(
-                &spec.label,
-                [&vs_src, &stages[i].shader.source],
-                &vs,
-                &fsm[i],
-                &stages[i].iface.entry,
+                &PipelineSpec {
+                    label: &spec.label,
+                    sources: [vs_src, &stages[i].shader.source],
+                    vs,
+                    fs: &fsm[i],
+                    entry: &stages[i].iface.entry,
+                    formats: &formats,
+                    compare: spec.compare,
+                    depth_write: spec.depth_write,
+                },
                 &binds[0].0[i],
-                &scene,
-                vgroup,
-                &formats,
-                spec.compare,
-                spec.depth_write,
+                scene,
+                *vgroup,
             )?);
         }
-        let pc = match &classify_stage {
+        let pc = match &plan.classify_stage {
             Some(_) => Some(self.pipeline(
-                CLASSIFY_ENTRY,
-                [&vs_src, &stages[0].shader.source],
-                &vs,
-                &fsm[0],
-                CLASSIFY_ENTRY,
+                &PipelineSpec {
+                    label: CLASSIFY_ENTRY,
+                    sources: [vs_src, &stages[0].shader.source],
+                    vs,
+                    fs: &fsm[0],
+                    entry: CLASSIFY_ENTRY,
+                    formats: &[Some(CLASSIFY_FORMAT)],
+                    compare: wgpu::CompareFunction::Less,
+                    depth_write: true,
+                },
                 &binds[0].1,
-                &scene,
-                vgroup,
-                &[Some(CLASSIFY_FORMAT)],
-                Cf::Less,
-                true,
+                scene,
+                *vgroup,
             )?),
             None => None,
         };
-
-        let bg = session.background;
-        let clear = wgpu::Color {
-            r: bg[0] as f64,
-            g: bg[1] as f64,
-            b: bg[2] as f64,
-            a: bg[3] as f64,
-        };
-
-        let host_clears_depth = specs.first().is_some_and(|s| s.depth_load);
-        let host_clears_frame = !specs.iter().any(|s| {
-            s.colors
-                .iter()
-                .flatten()
-                .any(|(t, load)| *t == Attachment::Frame && !load)
-        });
-        Ok(VariantGpu {
-            scene,
-            vgroup,
-            payload_v,
-            depth_copy_v,
-            depth_v,
-            color,
-            color_view,
-            cls,
-            cls_view,
-            cls_depth_view,
-            params,
-            binds,
-            pipes,
-            pc,
-            clear,
-            host_clears_frame,
-            host_clears_depth,
-            motion,
-        })
+        Ok((pipes, pc))
     }
+
     /// Clear both parities' payload, depth copy and depth: the "previous" cache before the first
     /// frame (payload 0, depth 1).
     pub(super) fn clear_variant_cache(&self, gpu: &VariantGpu) -> Result<(), ReplayError> {
@@ -290,6 +380,65 @@ impl Renderer {
         }
 
         Ok(())
+    }
+}
+
+/// The texture format of a cache format.
+fn cache_texture_format(format: CacheFormat) -> wgpu::TextureFormat {
+    match format {
+        CacheFormat::Rgba32float => wgpu::TextureFormat::Rgba32Float,
+        CacheFormat::Rg32float => wgpu::TextureFormat::Rg32Float,
+        CacheFormat::R32float => wgpu::TextureFormat::R32Float,
+        CacheFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
+        CacheFormat::Rg16float => wgpu::TextureFormat::Rg16Float,
+        CacheFormat::R16float => wgpu::TextureFormat::R16Float,
+    }
+}
+
+/// The interfaces' shared objects ([`Renderer::variant_shaders`]).
+struct VariantShaders {
+    scene: Scene,
+    /// The bind group the replay's vertex stage uses (free in every stage).
+    vgroup: u32,
+    /// The vertex stage, its WGSL (for the pipeline cache key) and module.
+    vs_src: String,
+    vs: wgpu::ShaderModule,
+    /// Each pass's fragment module.
+    fsm: Vec<wgpu::ShaderModule>,
+    motion: Option<motion::MotionGpu>,
+}
+
+/// The targets, parameters buffer and samplers of a variant render
+/// ([`Renderer::variant_targets`]).
+struct VariantTargets {
+    cache_format: wgpu::TextureFormat,
+    /// A variant written before the depth copy: it reads the previous depth buffer.
+    legacy_depth: bool,
+    /// The payloads, depth copies, depth buffers and classification depth, held while the
+    /// render's objects are made (their views are what is used).
+    _textures: (
+        [wgpu::Texture; 2],
+        [wgpu::Texture; 2],
+        Vec<wgpu::Texture>,
+        wgpu::Texture,
+    ),
+    payload_v: Vec<wgpu::TextureView>,
+    depth_copy_v: Vec<wgpu::TextureView>,
+    depth_v: Vec<wgpu::TextureView>,
+    color: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    cls: wgpu::Texture,
+    cls_view: wgpu::TextureView,
+    cls_depth_view: wgpu::TextureView,
+    params: wgpu::Buffer,
+    point_sampler: wgpu::Sampler,
+    linear_sampler: wgpu::Sampler,
+}
+
+impl VariantTargets {
+    /// The depth buffer of the frame of parity `p`.
+    fn depth_at(&self, p: usize) -> &wgpu::TextureView {
+        &self.depth_v[p % self.depth_v.len()]
     }
 }
 

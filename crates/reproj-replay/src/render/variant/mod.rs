@@ -3,7 +3,7 @@
 //! In phases, a file each: `plan.rs` (checks and the passes' stages, before any GPU object),
 //! `gpu.rs` (targets, bindings, pipelines, the empty cache), `frames.rs` (the frame loop).
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use reproj_front::Shader;
@@ -29,6 +29,7 @@ mod gpu;
 mod motion;
 mod plan;
 
+use frames::FrameLoop;
 use gpu::VariantGpu;
 use plan::VariantPlan;
 
@@ -111,16 +112,16 @@ impl Renderer {
         report.delta_n = Some(variant.delta_n);
         report.block = Some(variant.block);
         report.depth_epsilon = Some(variant.depth_epsilon);
-        self.variant_frames(
+        let run = FrameLoop {
             session,
             variant,
             reference,
             opts,
             progress,
-            &plan,
-            &gpu,
-            &mut report,
-        )?;
+            plan: &plan,
+            gpu: &gpu,
+        };
+        self.variant_frames(&run, &mut report)?;
         report.summarize();
         Ok(report)
     }

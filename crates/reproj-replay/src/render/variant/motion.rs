@@ -61,23 +61,21 @@ impl Renderer {
             .replace("WIDTH", &format!("{w}.0"))
             .replace("HEIGHT", &format!("{h}.0"));
         let fs = self.shader_module("replay motion vectors", &src)?;
-        let none = Bindings {
-            layouts: BTreeMap::new(),
-            groups: BTreeMap::new(),
-            layout_keys: BTreeMap::new(),
-        };
+        let none = Bindings::empty();
         let pipe = self.pipeline(
-            "motion vectors",
-            [vs_src, &src],
-            vs,
-            &fs,
-            "replay_motion",
+            &PipelineSpec {
+                label: "motion vectors",
+                sources: [vs_src, &src],
+                vs,
+                fs: &fs,
+                entry: "replay_motion",
+                formats: &[Some(MOTION_FORMAT)],
+                compare: wgpu::CompareFunction::Less,
+                depth_write: true,
+            },
             &none,
             scene,
             vgroup,
-            &[Some(MOTION_FORMAT)],
-            wgpu::CompareFunction::Less,
-            true,
         )?;
         let view = self
             .target("motion vectors", w, h, MOTION_FORMAT, true)
