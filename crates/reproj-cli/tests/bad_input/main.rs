@@ -207,11 +207,15 @@ fn every_bad_input_exits_2_with_one_clear_message_and_writes_nothing() {
         profile: read("good.profile.json"),
     });
     assert!(all.len() >= 50, "{} cases", all.len());
-    let on_disk: BTreeSet<PathBuf> = files(&bad_input_dir())
+    let inputs = bad_input_dir();
+    let on_disk: BTreeSet<PathBuf> = files(&inputs)
         .into_iter()
         .filter(|p| p.is_file() && p.file_name().is_some_and(|n| n != "README.md"))
         .collect();
-    let unread: Vec<_> = on_disk.difference(&READ.lock().unwrap()).cloned().collect();
+    let unread: Vec<_> = on_disk
+        .difference(&READ.lock().unwrap())
+        .map(|p| p.strip_prefix(&inputs).unwrap().display().to_string())
+        .collect();
     assert!(
         unread.is_empty(),
         "bad-input files no case reads: {unread:?}"
