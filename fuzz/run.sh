@@ -58,6 +58,7 @@ case "$target" in
         max_len=8192 ;;
     session)
         seed_schema "$root/sessions" reproj.session
+        seed_schema "$root/tests" reproj.session
         seed_schema "$root/crates" reproj.session
         seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.session.json
         features=(--features session)

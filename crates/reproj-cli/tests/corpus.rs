@@ -1,16 +1,18 @@
-//! The corpus (`shaders/corpus/`, sessions in `sessions/corpus/`; the GLSL shaders of
-//! `shaders/corpus/glsl/` that have a session in `sessions/corpus/glsl/`): engine-style fragment shaders,
-//! each run through the real binary and compared with the committed snapshot
-//! `tests/snapshots/corpus__table.snap`, so that a shader that stops parsing, loses cacheable nodes, stops
-//! validating or rendering (or starts to) fails here. Per shader it records: whether `nodes` parses
-//! it, the cacheable node count, the outcome of `instance` for the root and the costliest other
-//! cacheable node in each strategy, the outcome of `render --node root --delta-n 4
-//! --max-frames 4`, and that of a short `analyze` (12 frames, two nodes, 2pass). An outcome is `ok` or the one-line message of an exit-2 rejection; anything
-//! else (a panic, another exit code, a message over several lines, files left behind by a
-//! rejection) fails outright. Everything is written in temporary directories.
+//! The corpus (`tests/corpus/shaders/` at the top of the repository, sessions in
+//! `tests/corpus/sessions/`; the GLSL shaders of `tests/corpus/shaders/glsl/` that have a session
+//! in `tests/corpus/sessions/glsl/`): engine-style fragment shaders, each run through the real
+//! binary and compared with the committed snapshot `tests/corpus/snapshots/corpus__table.snap`, so
+//! that a shader that stops parsing, loses cacheable nodes, stops validating or rendering (or
+//! starts to) fails here. Per shader it records: whether `nodes` parses it, the cacheable node
+//! count, the outcome of `instance` for the root and the costliest other cacheable node in each
+//! strategy, the outcome of `render --node root --delta-n 4 --max-frames 4`, and that of a short
+//! `analyze` (12 frames, two nodes, 2pass). An outcome is `ok` or the one-line message of an exit-2
+//! rejection; anything else (a panic, another exit code, a message over several lines, files left
+//! behind by a rejection) fails outright. Everything is written in temporary directories.
 //!
-//! After an intended change: `cargo insta review` (or `INSTA_UPDATE=always cargo test -p reproj-cli
-//! --test corpus` and `git diff`), then update `docs/CORPUS.md`.
+//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-cli --test corpus` and
+//! `git diff tests/corpus` (`cargo insta review` does not look outside the crates), then update
+//! `docs/CORPUS.md` (`tests/README.md`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -162,7 +164,7 @@ fn measure(shader: &Path, session: &Path) -> Value {
 #[test]
 fn corpus_matches_its_table() {
     let root = root();
-    let dir = root.join("shaders/corpus");
+    let dir = root.join("tests/corpus/shaders");
     let mut shaders: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -179,7 +181,7 @@ fn corpus_matches_its_table() {
     let mut measured = serde_json::Map::new();
     for shader in &shaders {
         let name = shader.file_stem().unwrap().to_str().unwrap();
-        let session = root.join(format!("sessions/corpus/{name}.json"));
+        let session = root.join(format!("tests/corpus/sessions/{name}.json"));
         assert!(
             session.is_file(),
             "{name}: no session {}",
@@ -191,8 +193,8 @@ fn corpus_matches_its_table() {
         );
         measured.insert(name.to_owned(), measure(shader, &session));
     }
-    // The GLSL shaders that have a session (`sessions/corpus/glsl/NAME.json`) go the same way.
-    let mut glsl: Vec<_> = std::fs::read_dir(root.join("sessions/corpus/glsl"))
+    // The GLSL shaders that have a session (`tests/corpus/sessions/glsl/NAME.json`) go the same way.
+    let mut glsl: Vec<_> = std::fs::read_dir(root.join("tests/corpus/sessions/glsl"))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
@@ -212,5 +214,7 @@ fn corpus_matches_its_table() {
     let measured = Value::Object(measured);
 
     let table = serde_json::to_string_pretty(&measured).unwrap();
-    insta::assert_snapshot!("table", table);
+    insta::with_settings!({snapshot_path => root.join("tests/corpus/snapshots")}, {
+        insta::assert_snapshot!("table", table);
+    });
 }

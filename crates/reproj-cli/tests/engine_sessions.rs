@@ -10,7 +10,7 @@ mod common;
 use common::{root, run};
 
 fn session_json(name: &str) -> Value {
-    let p = root().join(format!("sessions/corpus/{name}.json"));
+    let p = root().join(format!("tests/corpus/sessions/{name}.json"));
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
 
@@ -20,7 +20,7 @@ fn frames(name: &str, session: &Value, tmp: &Path, tag: &str) -> Vec<Vec<u8>> {
     let file = tmp.join(format!("{name}-{tag}.json"));
     std::fs::write(&file, session.to_string()).unwrap();
     let out = tmp.join(format!("frames-{name}-{tag}"));
-    let shader = root().join(format!("shaders/corpus/{name}.wgsl"));
+    let shader = root().join(format!("tests/corpus/shaders/{name}.wgsl"));
     let (code, _, err) = run(
         tmp,
         &[
@@ -91,8 +91,8 @@ fn storage_buffer_lights_and_the_depth_pre_pass_reach_the_shader() {
 fn a_variant_renders_over_a_shadow_pass_and_a_storage_buffer() {
     let tmp = tempfile::tempdir().unwrap();
     for name in ["shadow_pcf", "deferred_lighting"] {
-        let shader = root().join(format!("shaders/corpus/{name}.wgsl"));
-        let session = root().join(format!("sessions/corpus/{name}.json"));
+        let shader = root().join(format!("tests/corpus/shaders/{name}.wgsl"));
+        let session = root().join(format!("tests/corpus/sessions/{name}.json"));
         let (code, out, err) = run(
             tmp.path(),
             &[
@@ -123,7 +123,7 @@ fn a_missing_depth_pass_is_named() {
     s.as_object_mut().unwrap().remove("depth_passes");
     let file = tmp.path().join("s.json");
     std::fs::write(&file, s.to_string()).unwrap();
-    let shader = root().join("shaders/corpus/shadow_pcf.wgsl");
+    let shader = root().join("tests/corpus/shaders/shadow_pcf.wgsl");
     let (code, _, err) = run(
         tmp.path(),
         &[

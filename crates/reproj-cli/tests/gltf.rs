@@ -10,7 +10,7 @@ use common::{root, run};
 #[test]
 fn a_gltf_session_renders_and_analyzes() {
     let tmp = tempfile::tempdir().unwrap();
-    let shader = root().join("shaders/corpus/toon.wgsl");
+    let shader = root().join("tests/corpus/shaders/toon.wgsl");
     let session = root().join("sessions/gltf_boxes.json");
     let frames = tmp.path().join("frames");
     let (code, out, err) = run(
@@ -74,7 +74,7 @@ fn a_missing_gltf_file_is_a_user_error_naming_the_field() {
     s["gltf"]["path"] = "missing/scene.gltf".into();
     let file = tmp.path().join("s.json");
     std::fs::write(&file, s.to_string()).unwrap();
-    let shader = root().join("shaders/corpus/toon.wgsl");
+    let shader = root().join("tests/corpus/shaders/toon.wgsl");
     let (code, _, err) = run(
         tmp.path(),
         &[

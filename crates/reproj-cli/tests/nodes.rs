@@ -408,7 +408,7 @@ fn instance_writes_other_languages() {
 /// nodes at their GLSL lines, and `nodes --json` names the image and sampler bindings it split.
 #[test]
 fn glsl_with_combined_samplers_nodes() {
-    let shader = "shaders/corpus/glsl/normal_map.frag";
+    let shader = "tests/corpus/shaders/glsl/normal_map.frag";
     let (code, out, err) = reproj(&["nodes", shader]);
     assert_eq!(code, 0, "{err}");
     // `vec3 color = texture(samplerColor, inUV).rgb` is line 31 of the file.
@@ -467,7 +467,7 @@ fn instance_resolves_override_constants_for_other_languages() {
 #[test]
 fn glsl_without_glslang_names_what_needs_it() {
     let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
-        .args(["nodes", "shaders/corpus/glsl/normal_map.frag"])
+        .args(["nodes", "tests/corpus/shaders/glsl/normal_map.frag"])
         .env("REPROJ_GLSLANG", "/nonexistent/glslangValidator")
         .current_dir(root())
         .output()

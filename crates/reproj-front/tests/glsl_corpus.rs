@@ -1,8 +1,9 @@
-//! The GLSL corpus (`shaders/corpus/glsl/`): Vulkan-style GLSL 450 fragment shaders (combined
+//! The GLSL corpus (`tests/corpus/shaders/glsl/`): Vulkan-style GLSL 450 fragment shaders (combined
 //! image samplers, push constants with `layout(offset = N)`, specialization constants, uniform
 //! blocks), read through glslang. Each must parse and yield nodes; the counts are compared with the
-//! committed snapshot `tests/snapshots/glsl_corpus__table.snap` (insta: `cargo insta review`, or
-//! `INSTA_UPDATE=always` to accept a change in place). Needs
+//! committed snapshot `tests/corpus/snapshots/glsl_corpus__table.snap` at the top of the repository
+//! (insta: `INSTA_UPDATE=always` accepts a change in place, to review with `git diff`;
+//! `tests/README.md`). Needs
 //! `glslangValidator` (`scripts/ensure-tools.sh`): without it these tests fail under `CI` and say
 //! they skipped otherwise.
 
@@ -13,7 +14,7 @@ use reproj_front::{Lang, LoadOptions, load};
 use serde_json::{Value, json};
 
 fn corpus() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shaders/corpus/glsl")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/corpus/shaders/glsl")
 }
 
 /// Whether glslang is here; fails under CI when it is not.
@@ -76,7 +77,10 @@ fn every_corpus_shader_parses_and_matches_the_table() {
     let parsed = measured.values().filter(|v| v["parses"] == true).count();
     eprintln!("{parsed} of {} GLSL corpus shaders parse", measured.len());
     let table = serde_json::to_string_pretty(&measured).unwrap();
-    insta::assert_snapshot!("table", table);
+    let snapshots = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/corpus/snapshots");
+    insta::with_settings!({snapshot_path => snapshots}, {
+        insta::assert_snapshot!("table", table);
+    });
     for (name, row) in &measured {
         assert_eq!(row["parses"], true, "{name}: {row}");
         assert!(row["nodes"].as_u64().unwrap() > 0, "{name}: no nodes");

@@ -271,10 +271,13 @@ void main() {
 fn real_style_shaders_of_each_shape_load() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     for (path, inside) in [
-        ("../../shaders/corpus/debug_views.wgsl", "n * 0.5 + 0.5"),
+        (
+            "../../tests/corpus/shaders/debug_views.wgsl",
+            "n * 0.5 + 0.5",
+        ),
         ("tests/fixtures/gbuffer.wgsl", "base * (0.6 + 0.4 * grime)"),
         (
-            "../../shaders/corpus/early_returns.wgsl",
+            "../../tests/corpus/shaders/early_returns.wgsl",
             "smoothstep(scene.spot_cos_outer, scene.spot_cos_inner, cos_angle)",
         ),
     ] {

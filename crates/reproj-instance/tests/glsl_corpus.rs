@@ -1,4 +1,4 @@
-//! Variants of Vulkan-style GLSL shaders (`shaders/corpus/glsl/`, read through glslang with their
+//! Variants of Vulkan-style GLSL shaders (`tests/corpus/shaders/glsl/`, read through glslang with their
 //! combined samplers split): every strategy's passes validate in naga and are written in every
 //! `--lang`; the SPIR-V passes pass `spirv-val` and the GLSL passes compile with
 //! `glslangValidator`. Needs glslang (and spirv-val): under `CI` a missing tool fails the test,
@@ -12,7 +12,7 @@ use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance, write_v
 
 fn corpus(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shaders/corpus/glsl")
+        .join("../../tests/corpus/shaders/glsl")
         .join(name)
 }
 

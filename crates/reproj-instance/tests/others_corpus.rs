@@ -1,7 +1,7 @@
 //! Shaders written by others (issue 27): fragment shaders from public, permissively licensed
 //! repositories, kept as found. They are a set *kept aside* for checking, not part of the
-//! repository: `shaders/corpus/others/SOURCES.md` names each file's repository, path, commit and
-//! license, so the set can be fetched again into `shaders/corpus/others/{glsl,wgsl}/` (ignored by
+//! repository: `tests/others/SOURCES.md` names each file's repository, path, commit and
+//! license, so the set can be fetched again into `tests/others/{glsl,wgsl}/` (ignored by
 //! git) or any folder `REPROJ_OTHERS_CORPUS` names. The test is ignored by default and run on
 //! purpose: `cargo test -p reproj-instance --test others_corpus -- --ignored` (it fails when the set
 //! is missing). Each file is loaded as `reproj nodes` loads it;
@@ -10,8 +10,9 @@
 //! the WGSL by `tint`, the SPIR-V by `spirv-val`, the GLSL by `glslangValidator` (the HLSL and MSL
 //! are written by naga's writers; no validator for them is installed here).
 //!
-//! The rows are compared with the committed snapshot `tests/snapshots/others_corpus__table.snap`
-//! (insta: `cargo insta review`, or `INSTA_UPDATE=always` to accept a change in place); no file may
+//! The rows are compared with the committed snapshot `tests/others/snapshots/others_corpus__table.snap`
+//! at the top of the repository (insta: `INSTA_UPDATE=always`
+//! accepts a change in place, to review with `git diff`; `tests/README.md`); no file may
 //! panic or report an internal error, and the parse
 //! rates must stay at issue 27's targets (GLSL ≥ 85 %, WGSL ≥ 95 %). Needs glslangValidator, tint
 //! and spirv-val (`scripts/ensure-tools.sh`): a missing one fails the test.
@@ -30,10 +31,10 @@ use serde_json::{Value, json};
 const GLSL_TARGET: f64 = 85.0;
 const WGSL_TARGET: f64 = 95.0;
 
-/// Where the shaders are: `REPROJ_OTHERS_CORPUS`, else `shaders/corpus/others`.
+/// Where the shaders are: `REPROJ_OTHERS_CORPUS`, else `tests/others`.
 fn others() -> PathBuf {
     std::env::var_os("REPROJ_OTHERS_CORPUS").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shaders/corpus/others"),
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/others"),
         PathBuf::from,
     )
 }
@@ -46,7 +47,7 @@ fn installed(tool: &str) -> bool {
 /// The corpus files of one language, sorted.
 fn files(lang: &str, ext: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(others().join(lang))
-        .unwrap_or_else(|e| panic!("shaders/corpus/others/{lang}: {e}"))
+        .unwrap_or_else(|e| panic!("tests/others/{lang}: {e}"))
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == ext))
         .collect();
@@ -209,7 +210,7 @@ fn rate(rows: &BTreeMap<String, Value>, prefix: &str) -> (usize, usize) {
 }
 
 #[test]
-#[ignore = "needs the kept-aside shaders of shaders/corpus/others/SOURCES.md: run with -- --ignored"]
+#[ignore = "needs the kept-aside shaders of tests/others/SOURCES.md: run with -- --ignored"]
 fn shaders_written_by_others_parse_instance_and_validate() {
     let tools = ["glslangValidator", "spirv-val", "tint"];
     for t in tools {
@@ -269,7 +270,11 @@ fn shaders_written_by_others_parse_instance_and_validate() {
     );
 
     let table = serde_json::to_string_pretty(&measured).unwrap();
-    insta::assert_snapshot!("table", table);
+    // The table stays beside SOURCES.md even when REPROJ_OTHERS_CORPUS points elsewhere.
+    let snapshots = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/others/snapshots");
+    insta::with_settings!({snapshot_path => snapshots}, {
+        insta::assert_snapshot!("table", table);
+    });
     assert!(
         pct(glsl_ok, glsl_n) >= GLSL_TARGET,
         "GLSL parse rate {glsl_ok}/{glsl_n}"

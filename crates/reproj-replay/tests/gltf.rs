@@ -27,7 +27,7 @@ fn the_animated_boxes_move_and_the_rest_holds_still() {
         Ok(r) => r,
         Err(e) => panic!("{e}"),
     };
-    let shader = reproj_front::load_file(&root().join("shaders/corpus/toon.wgsl")).unwrap();
+    let shader = reproj_front::load_file(&root().join("tests/corpus/shaders/toon.wgsl")).unwrap();
     let entry = shader.fragment_entry(None).unwrap();
     // A light that holds still, so only the glTF animation changes the frames.
     let mut s = edited(|v| {

@@ -1,5 +1,5 @@
 //! Engine-like sessions without a GPU: nested uniform structs, texture arrays, storage buffers
-//! and depth passes, on the corpus shaders that need them (`shaders/corpus/`).
+//! and depth passes, on the corpus shaders that need them (`tests/corpus/shaders/`).
 
 use std::path::{Path, PathBuf};
 
@@ -12,13 +12,14 @@ fn root() -> PathBuf {
 }
 
 fn interface(shader: &str) -> reflect::Interface {
-    let shader = reproj_front::load_file(&root().join("shaders/corpus").join(shader)).unwrap();
+    let shader =
+        reproj_front::load_file(&root().join("tests/corpus/shaders").join(shader)).unwrap();
     let entry = shader.fragment_entry(None).unwrap();
     reflect::reflect(&shader.module, &shader.info, entry).unwrap()
 }
 
 fn session(name: &str) -> Session {
-    Session::load(root().join("sessions/corpus").join(name)).unwrap()
+    Session::load(root().join("tests/corpus/sessions").join(name)).unwrap()
 }
 
 fn resource<'a>(iface: &'a reflect::Interface, name: &str) -> &'a ResourceKind {
@@ -118,7 +119,8 @@ fn arrays_of_structs_in_uniforms_are_indexed_leaves() {
 
 #[test]
 fn a_bad_uniform_value_names_the_field_and_what_was_expected() {
-    let text = std::fs::read_to_string(root().join("sessions/corpus/height_fog.json")).unwrap();
+    let text =
+        std::fs::read_to_string(root().join("tests/corpus/sessions/height_fog.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["uniforms"]["sun"]["intensity"] = serde_json::json!("bright");
     let e = Session::from_json(&v.to_string(), Path::new("fog.json"), Path::new("."))
@@ -172,7 +174,8 @@ fn texture_arrays_stack_their_layers() {
 
 #[test]
 fn a_layer_with_layers_is_refused() {
-    let text = std::fs::read_to_string(root().join("sessions/corpus/terrain_splat.json")).unwrap();
+    let text =
+        std::fs::read_to_string(root().join("tests/corpus/sessions/terrain_splat.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["textures"]["layer_albedo"]["layers"][0] = serde_json::json!({"layers": [{"kind": "solid"}]});
     match Session::from_json(&v.to_string(), Path::new("t.json"), Path::new(".")).unwrap_err() {
@@ -269,7 +272,8 @@ fn depth_passes_draw_with_the_uniform_or_the_camera() {
 
 #[test]
 fn a_depth_pass_needs_a_16_value_matrix() {
-    let text = std::fs::read_to_string(root().join("sessions/corpus/shadow_pcf.json")).unwrap();
+    let text =
+        std::fs::read_to_string(root().join("tests/corpus/sessions/shadow_pcf.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["depth_passes"]["shadow_map"]["view_proj"] = serde_json::json!({"uniform": "light_color"});
     match Session::from_json(&v.to_string(), Path::new("t.json"), Path::new(".")).unwrap_err() {

@@ -451,14 +451,14 @@ fn host_runs_depth_passes_storage_buffers_and_gltf_scenes() {
     let frames = FRAMES.to_string();
     let cases = [
         (
-            "shaders/corpus/shadow_pcf.wgsl",
-            "sessions/corpus/shadow_pcf.json",
+            "tests/corpus/shaders/shadow_pcf.wgsl",
+            "tests/corpus/sessions/shadow_pcf.json",
         ),
         (
-            "shaders/corpus/deferred_lighting.wgsl",
-            "sessions/corpus/deferred_lighting.json",
+            "tests/corpus/shaders/deferred_lighting.wgsl",
+            "tests/corpus/sessions/deferred_lighting.json",
         ),
-        ("shaders/corpus/toon.wgsl", "sessions/gltf_boxes.json"),
+        ("tests/corpus/shaders/toon.wgsl", "sessions/gltf_boxes.json"),
     ];
     for (shader, session) in cases {
         let name = Path::new(shader).file_stem().unwrap().to_str().unwrap();

@@ -4,7 +4,10 @@
 //!
 //! Each case runs in a fresh directory holding `good.wgsl` and `good.json` (a valid shader and
 //! session), `good.profile.json` (their profile), `variant/` (a written variant), plus the case's
-//! own files.
+//! own files. The files that are bad inputs in themselves (shaders, sessions, manifests, profiles
+//! that are not JSON) are in `tests/bad-input/` at the top of the repository (`tests/README.md`),
+//! each read by a case here; the sessions and profiles that are good ones with one field made bad
+//! are made here from the good ones, so that they follow the formats.
 //!
 //! The cases, by topic, a file each: `shaders.rs` (and what the instancer refuses),
 //! `sessions.rs`, `variants.rs` (written variants), `profiles.rs` and `arguments.rs` (flags and
@@ -12,6 +15,7 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -76,11 +80,25 @@ fn case(
     }
 }
 
-const FRAG_HEAD: &str =
-    "@fragment\nfn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {\n";
+/// The bad-input files: `tests/bad-input/` at the top of the repository.
+fn bad_input_dir() -> PathBuf {
+    root().join("tests/bad-input")
+}
 
-fn shader(body: &str) -> String {
-    format!("{FRAG_HEAD}{body}\n}}\n")
+/// The bad-input files the cases read, so that none is left unread.
+static READ: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
+
+/// The bytes of the bad-input file `path` (under `tests/bad-input/`).
+fn input_bytes(path: &str) -> Vec<u8> {
+    let p = bad_input_dir().join(path);
+    let bytes = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    READ.lock().unwrap().insert(p);
+    bytes
+}
+
+/// The text of the bad-input file `path` (under `tests/bad-input/`).
+fn input(path: &str) -> String {
+    String::from_utf8(input_bytes(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
 /// The good session and profile every case starts from, as JSON, to be edited into bad ones.
@@ -189,6 +207,19 @@ fn every_bad_input_exits_2_with_one_clear_message_and_writes_nothing() {
         profile: read("good.profile.json"),
     });
     assert!(all.len() >= 50, "{} cases", all.len());
+    let inputs = bad_input_dir();
+    let on_disk: BTreeSet<PathBuf> = files(&inputs)
+        .into_iter()
+        .filter(|p| p.is_file() && p.file_name().is_some_and(|n| n != "README.md"))
+        .collect();
+    let unread: Vec<_> = on_disk
+        .difference(&READ.lock().unwrap())
+        .map(|p| p.strip_prefix(&inputs).unwrap().display().to_string())
+        .collect();
+    assert!(
+        unread.is_empty(),
+        "bad-input files no case reads: {unread:?}"
+    );
     let mut failures = Vec::new();
     for (i, c) in all.iter().enumerate() {
         let dir = base.path().join(format!("case{i}"));

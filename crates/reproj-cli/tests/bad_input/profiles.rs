@@ -2,7 +2,7 @@
 //! or of the wrong type, a changed or missing shader, a file that is no shader, and numbers that
 //! are not measurements (checked on read, naming the field).
 
-use super::{Case, Good, case, emit_with};
+use super::{Case, Good, case, emit_with, input};
 
 pub(super) fn cases(good: &Good) -> Vec<Case> {
     let profile = |edit: &dyn Fn(&mut serde_json::Value)| good.profile(edit);
@@ -16,7 +16,7 @@ pub(super) fn cases(good: &Good) -> Vec<Case> {
         ),
         case(
             "profile not JSON",
-            &[("p.json", "[1, 2")],
+            &[("p.json", &input("profiles/not_json.json"))],
             &emit_with("p.json"),
             "p.json",
         ),

@@ -2,7 +2,7 @@
 //! unknown, the shader's resources left out; files outside the session's folder; work too large
 //! for the adapter or the machine; and scenes that would score nothing (no pixel covered).
 
-use super::{Case, Good, case, render_with};
+use super::{Case, Good, case, input, input_bytes, render_with};
 
 pub(super) fn cases(good: &Good) -> Vec<Case> {
     let session = |edit: &dyn Fn(&mut serde_json::Value)| good.session(edit);
@@ -16,13 +16,13 @@ pub(super) fn cases(good: &Good) -> Vec<Case> {
         ),
         case(
             "session not JSON",
-            &[("s.json", "{ not json")],
+            &[("s.json", &input("sessions/not_json.json"))],
             &render_with("s.json"),
             "s.json",
         ),
         case(
             "session empty",
-            &[("s.json", "")],
+            &[("s.json", &input("sessions/empty.json"))],
             &render_with("s.json"),
             "s.json",
         ),
@@ -202,7 +202,7 @@ pub(super) fn cases(good: &Good) -> Vec<Case> {
     ]);
     v.push(Case {
         name: "session not UTF-8",
-        files: vec![("s.json", vec![0xff, 0xfe, 0x00, 0x41])],
+        files: vec![("s.json", input_bytes("sessions/not_utf8.json"))],
         args: render_with("s.json"),
         expect: "s.json",
     });

@@ -2,50 +2,44 @@
 //! or ambiguous entry points, nodes and options `instance` cannot honour, what a writer cannot
 //! write (`--lang`), `--override` values, and bytes that are not text.
 
-use super::{Case, case, shader};
+use super::{Case, case, input, input_bytes};
 
 pub(super) fn cases() -> Vec<Case> {
     let mut v = vec![
         // Shaders.
         case(
             "syntax error",
-            &[("s.wgsl", &shader("    return vec4<f32>(1.0,;"))],
+            &[("s.wgsl", &input("shaders/syntax_error.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl:3",
         ),
         case(
             "type mismatch",
-            &[("s.wgsl", &shader("    return vec4<f32>(1.0, 2.0);"))],
+            &[("s.wgsl", &input("shaders/type_mismatch.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl:3",
         ),
         case(
             "unknown identifier",
-            &[("s.wgsl", &shader("    return vec4<f32>(q);"))],
+            &[("s.wgsl", &input("shaders/unknown_identifier.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl:3",
         ),
         case(
             "empty file",
-            &[("s.wgsl", "")],
+            &[("s.wgsl", &input("shaders/empty.wgsl"))],
             &["nodes", "s.wgsl"],
             "fragment",
         ),
         case(
             "vertex only",
-            &[(
-                "s.wgsl",
-                "@vertex fn vs() -> @builtin(position) vec4<f32> { return vec4<f32>(0.0); }\n",
-            )],
+            &[("s.wgsl", &input("shaders/vertex_only.wgsl"))],
             &["nodes", "s.wgsl"],
             "fragment",
         ),
         case(
             "two fragment entries",
-            &[(
-                "s.wgsl",
-                "@fragment fn a() -> @location(0) vec4<f32> { return vec4<f32>(1.0); }\n@fragment fn b() -> @location(0) vec4<f32> { return vec4<f32>(0.5); }\n",
-            )],
+            &[("s.wgsl", &input("shaders/two_fragment_entries.wgsl"))],
             &["nodes", "s.wgsl"],
             "--entry",
         ),
@@ -69,34 +63,25 @@ pub(super) fn cases() -> Vec<Case> {
         ),
         case(
             "entry point with no output",
-            &[(
-                "s.wgsl",
-                "@group(0) @binding(0) var<storage, read_write> o: array<f32>;\n@fragment fn fs(@location(0) p: vec3<f32>) { o[0] = p.x; }\n",
-            )],
+            &[("s.wgsl", &input("shaders/no_output.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl:2:14",
         ),
         case(
             "recursion",
-            &[(
-                "s.wgsl",
-                "fn f(x: f32) -> f32 { return f(x); }\n@fragment fn fs() -> @location(0) vec4<f32> { return vec4<f32>(f(1.0)); }\n",
-            )],
+            &[("s.wgsl", &input("shaders/recursion.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl",
         ),
         case(
             "unknown type",
-            &[(
-                "s.wgsl",
-                &shader("    let a: vec5<f32> = vec4<f32>(1.0);\n    return vec4<f32>(1.0);"),
-            )],
+            &[("s.wgsl", &input("shaders/unknown_type.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl:3",
         ),
         case(
             "missing return",
-            &[("s.wgsl", &shader("    let a = p;"))],
+            &[("s.wgsl", &input("shaders/missing_return.wgsl"))],
             &["nodes", "s.wgsl"],
             "s.wgsl:2:1",
         ),
@@ -219,7 +204,7 @@ pub(super) fn cases() -> Vec<Case> {
     ];
     // What a writer cannot write is refused before it is called: exit 2, one line naming the
     // variable, nothing written.
-    const EXTERNAL: &str = "@group(0) @binding(0) var ext: texture_external;\n@group(0) @binding(1) var smp: sampler;\n@fragment\nfn fs_main(@location(0) p: vec3<f32>, @location(2) uv: vec2<f32>) -> @location(0) vec4<f32> {\n    let c = textureSampleBaseClampToEdge(ext, smp, uv).rgb;\n    return vec4<f32>(c * (sin(p * 7.0) * 0.5 + 0.5), 1.0);\n}\n";
+    let external = input("shaders/texture_external.wgsl");
     for (name, lang, expect) in [
         (
             "texture_external to GLSL",
@@ -234,7 +219,7 @@ pub(super) fn cases() -> Vec<Case> {
     ] {
         v.push(case(
             name,
-            &[("ext.wgsl", EXTERNAL)],
+            &[("ext.wgsl", &external)],
             &[
                 "instance", "ext.wgsl", "--node", "root", "--out", "v3", "--lang", lang,
             ],
@@ -242,7 +227,7 @@ pub(super) fn cases() -> Vec<Case> {
         ));
     }
     // `--override` names an override constant the shader declares, with a number.
-    const OVERRIDE: &str = "override gain: f32 = 1.0;\n@fragment\nfn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {\n    return vec4<f32>(sin(p * 7.0) * gain, 1.0);\n}\n";
+    let overridden = input("shaders/override_gain.wgsl");
     for (name, value, expect) in [
         (
             "override the shader does not declare",
@@ -262,7 +247,7 @@ pub(super) fn cases() -> Vec<Case> {
     ] {
         v.push(case(
             name,
-            &[("o.wgsl", OVERRIDE)],
+            &[("o.wgsl", &overridden)],
             &[
                 "instance",
                 "o.wgsl",
@@ -281,7 +266,7 @@ pub(super) fn cases() -> Vec<Case> {
     // Unreadable bytes where text belongs.
     v.push(Case {
         name: "shader not UTF-8",
-        files: vec![("s.wgsl", vec![0xff, 0xfe, 0x00, 0x41])],
+        files: vec![("s.wgsl", input_bytes("shaders/not_utf8.wgsl"))],
         args: vec!["nodes", "s.wgsl"],
         expect: "s.wgsl",
     });

@@ -1,7 +1,7 @@
 //! Bad written variants (`render --variant`): missing, a manifest that is not JSON, of another
 //! version or without passes; and a variant run with a shader that is not its own.
 
-use super::{Case, case, shader};
+use super::{Case, case, input};
 
 pub(super) fn cases() -> Vec<Case> {
     vec![
@@ -21,7 +21,7 @@ pub(super) fn cases() -> Vec<Case> {
         ),
         case(
             "variant manifest not JSON",
-            &[("v/manifest.json", "{")],
+            &[("v/manifest.json", &input("manifests/not_json.json"))],
             &[
                 "render",
                 "good.wgsl",
@@ -34,10 +34,7 @@ pub(super) fn cases() -> Vec<Case> {
         ),
         case(
             "variant manifest version 2",
-            &[(
-                "v/manifest.json",
-                "{\"schema\": \"reproj.manifest\", \"version\": 2}",
-            )],
+            &[("v/manifest.json", &input("manifests/version_2.json"))],
             &[
                 "render",
                 "good.wgsl",
@@ -50,10 +47,7 @@ pub(super) fn cases() -> Vec<Case> {
         ),
         case(
             "variant manifest missing passes",
-            &[(
-                "v/manifest.json",
-                "{\"schema\": \"reproj.manifest\", \"version\": 3}",
-            )],
+            &[("v/manifest.json", &input("manifests/missing_passes.json"))],
             &[
                 "render",
                 "good.wgsl",
@@ -67,7 +61,7 @@ pub(super) fn cases() -> Vec<Case> {
         // A variant runs only with its own shader.
         case(
             "variant of another shader",
-            &[("other.wgsl", &shader("    return vec4<f32>(p, 1.0);"))],
+            &[("other.wgsl", &input("shaders/other_than_the_variants.wgsl"))],
             &[
                 "render",
                 "other.wgsl",
@@ -82,7 +76,7 @@ pub(super) fn cases() -> Vec<Case> {
         ),
         case(
             "bench a variant of another shader",
-            &[("other.wgsl", &shader("    return vec4<f32>(p, 1.0);"))],
+            &[("other.wgsl", &input("shaders/other_than_the_variants.wgsl"))],
             &[
                 "bench",
                 "other.wgsl",

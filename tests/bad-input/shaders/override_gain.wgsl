@@ -1,0 +1,5 @@
+override gain: f32 = 1.0;
+@fragment
+fn fs_main(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(sin(p * 7.0) * gain, 1.0);
+}
