@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The light build CI uses to run `emit` (docs/CI.md): reproj-cli without its default `gpu`
-# feature (nodes, instance, emit, completions; no wgpu, no nv-flip) must keep compiling.
-# What it depends on is checked by `the_light_build_has_no_gpu_crates`
-# (crates/reproj-cli/tests/layering.rs). Run by scripts/test.sh.
+# The light build CI uses to run `emit` (docs/CI.md): reproj-cli without its default features
+# (`gpu`, `gltf`, `compose`: nodes, instance, emit, session init, completions; no wgpu, nv-flip,
+# image codecs, glTF reader or naga_oil) must keep compiling, and what it refuses (a glTF session,
+# a shader with `#import`s) it refuses by name. What it depends on is checked by
+# `the_light_build_has_no_gpu_crates` (crates/reproj-cli/tests/layering.rs). Run by scripts/test.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo check --locked -p reproj-cli --no-default-features
+cargo test --locked -p reproj-scene --no-default-features --lib absent_
+cargo test --locked -p reproj-front --no-default-features --lib absent_

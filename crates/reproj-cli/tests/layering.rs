@@ -134,8 +134,9 @@ fn the_runtime_depends_on_no_reproj_crate() {
     assert!(ours.is_empty(), "reproj-runtime depends on {ours:?}");
 }
 
-/// The light build CI uses to run `emit` (`reproj-cli` without its default `gpu` feature:
-/// nodes, instance, emit) compiles neither wgpu nor nv-flip's C++ nor the charts: checked on the
+/// The light build CI uses to run `emit` (`reproj-cli` without its default features `gpu`, `gltf`
+/// and `compose`: nodes, instance, emit) compiles neither wgpu nor nv-flip's C++ nor the charts,
+/// nor the image codecs, the glTF reader or naga_oil and its regex engine: checked on the
 /// resolved graph of that feature set (`cargo tree`, offline: no download, no build). That it
 /// builds is `scripts/check-light.sh` (`cargo check -p reproj-cli --no-default-features`, run by
 /// `scripts/test.sh`); docs/CI.md has the timings.
@@ -182,10 +183,14 @@ fn the_light_build_has_no_gpu_crates() {
         "reproj-replay",
         "reproj-bench",
         "cc",
+        "image",
+        "gltf",
+        "naga_oil",
+        "regex",
     ] {
         assert!(
             !light.contains(heavy),
-            "the light build depends on {heavy}: keep it behind reproj-cli's `gpu` feature"
+            "the light build depends on {heavy}: keep it behind one of reproj-cli's default features"
         );
     }
     for needed in [

@@ -8,7 +8,8 @@
 //! needs in import order, and composes. The composed module is written back as WGSL and parsed
 //! again, as SPIR-V input is ([`crate::parse`]): spans and node lines then point into that text,
 //! whose imported names carry naga_oil's decoration. A module not found is refused at its
-//! `#import` line, naming the module and where it was looked for.
+//! `#import` line, naming the module and where it was looked for. Feature `compose` (default);
+//! without it such a shader is refused at its first `#` line ([`crate::parse::parse_composed`]).
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -27,11 +28,7 @@ pub const IMPORTS_VAR: &str = "REPROJ_WGSL_IMPORTS";
 /// Folders below a search root that are read, at most (a root is not meant to be a whole disk).
 const MAX_FILES: usize = 20_000;
 
-/// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
-/// `#define_import_path`, `#ifdef`...), which plain WGSL never does.
-pub fn needs_composing(source: &str) -> bool {
-    source.lines().any(|l| l.trim_start().starts_with('#'))
-}
+pub use crate::parse::needs_composing;
 
 /// A module file found in the search folders.
 #[derive(Debug)]

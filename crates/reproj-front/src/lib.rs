@@ -6,6 +6,7 @@
 //! each cacheable or culled with a reason. Results live in side tables keyed by naga
 //! `Handle<Expression>`; the IR is only rebuilt, never annotated.
 
+#[cfg(feature = "compose")]
 pub mod compose;
 pub mod cost;
 pub mod diagnostic;

@@ -138,7 +138,7 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
         Lang::Glsl => parse_glsl(path, std::fs::read_to_string(path).map_err(io)?),
         Lang::Wgsl => {
             let source = std::fs::read_to_string(path).map_err(io)?;
-            if crate::compose::needs_composing(&source) {
+            if needs_composing(&source) {
                 parse_composed(path, &source)
             } else {
                 parse_text(path, Lang::Wgsl, source)
@@ -147,11 +147,44 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
     }
 }
 
-/// WGSL with `#import`s ([`crate::compose`]): composed with naga_oil, validated, and its WGSL made
+/// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
+/// `#define_import_path`, `#ifdef`...), which plain WGSL never does.
+pub fn needs_composing(source: &str) -> bool {
+    source.lines().any(|l| l.trim_start().starts_with('#'))
+}
+
+/// WGSL with `#import`s (`crate::compose`, feature `compose`): composed with naga_oil, validated, and its WGSL made
 /// the source text, as for SPIR-V.
+#[cfg(feature = "compose")]
 pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
     let module = crate::compose::compose(path, source)?;
     reparse_as_wgsl(path, &module, "composed")
+}
+
+/// Without the `compose` feature (the light build): refused at the first preprocessor line.
+#[cfg(not(feature = "compose"))]
+pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
+    let mut m = crate::Message::new(
+        "the shader uses naga_oil's preprocessor (`#import`, `#define_import_path`, `#ifdef`...), \
+         and this reproj was built without it (the `compose` feature of reproj-cli, on by default; \
+         the light build leaves it out)",
+    );
+    let mut at = 0;
+    for line in source.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with('#') {
+            let start = at + (line.len() - trimmed.len());
+            m.labels
+                .push((start..start + trimmed.trim_end().len(), "preprocessor line".into()));
+            break;
+        }
+        at += line.len();
+    }
+    Err(FrontError::Unsupported(crate::SourceDiagnostic::new(
+        path.to_owned(),
+        source,
+        vec![m],
+    )))
 }
 
 /// A module read from another form (SPIR-V, composed WGSL), validated and written as WGSL, which
@@ -456,5 +489,23 @@ impl Shader {
         } else {
             self.path.display().to_string()
         }
+    }
+}
+
+#[cfg(all(test, not(feature = "compose")))]
+mod absent_compose_tests {
+    use std::path::Path;
+
+    use super::{FrontError, parse_composed};
+
+    #[test]
+    fn absent_compose_refuses_an_import_at_its_line() {
+        let source = "// a material\n  #import bevy_pbr::forward_io::VertexOutput\n@fragment\nfn main() {}\n";
+        let Err(FrontError::Unsupported(d)) = parse_composed(Path::new("m.wgsl"), source) else {
+            panic!("expected a refusal");
+        };
+        let text = d.render();
+        assert!(text.contains("`compose` feature"), "{text}");
+        assert!(d.location().starts_with("m.wgsl:2"), "{}", d.location());
     }
 }

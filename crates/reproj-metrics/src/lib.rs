@@ -11,13 +11,14 @@
 //!   perceptual metrics.
 //! - `perceptual` (feature `flip`, on by default): ꟻLIP (NVIDIA's C++ reference through
 //!   `nv-flip`) and SSIM over the covered pixels.
-//! - [`output`]: PNG frames, hit maps, error maps with a colour bar, ꟻLIP maps (feature `flip`),
-//!   raw f32 frames.
+//! - `output` (feature `png`, on by default): PNG frames, hit maps, error maps with a colour bar,
+//!   ꟻLIP maps (feature `flip`), raw f32 frames.
 //!
 //! Definitions of every metric: `docs/SCHEMAS.md`. The light build (`reproj-cli` without `gpu`)
-//! uses this crate without `flip`, so it compiles no C++.
+//! uses this crate without `flip` or `png`, so it compiles no C++ and no image codecs.
 
 pub mod l2;
+#[cfg(feature = "png")]
 pub mod output;
 #[cfg(feature = "flip")]
 pub mod perceptual;

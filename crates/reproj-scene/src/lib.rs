@@ -10,9 +10,11 @@
 //!   ([`Session::validate`] only checks) and animation (the scene at a frame).
 //! - [`geometry`]: the vertex layout every mesh source fills.
 //! - `gltf`: a session's glTF scene expanded into objects and keys; primitives and material
-//!   textures read from the file, one import per file per process.
+//!   textures read from the file, one import per file per process. Feature `gltf` (default);
+//!   without it (`gltf_absent.rs`) a session naming a glTF file is refused when loaded.
 //! - [`mesh`]: procedural shapes, OBJ files, glTF primitives ([`mesh::build`]).
-//! - [`textures`]: procedural, file, cube, array and glTF textures ([`textures::build`]).
+//! - [`textures`]: procedural, file, cube, array and glTF textures ([`textures::build`]); image
+//!   files through `image` with feature `images` (default), refused by name without it.
 //! - `load`: [`Session::load`] and [`Session::from_json`] (parse, expand the glTF scene, sort
 //!   keys, validate).
 //! - [`uniforms`]: the bytes of the shader's own uniform and storage buffers at a frame.
@@ -21,6 +23,10 @@
 mod load;
 
 pub mod geometry;
+#[cfg(feature = "gltf")]
+mod gltf;
+#[cfg(not(feature = "gltf"))]
+#[path = "gltf_absent.rs"]
 mod gltf;
 pub mod init;
 pub mod mesh;

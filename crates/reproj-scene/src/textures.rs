@@ -559,15 +559,13 @@ fn from_files(
         let full = session
             .resolve(f)
             .map_err(|e| format!("texture `{name}`: {e}"))?;
-        let img = image::open(&full)
+        let (d, pixels) = read_image(&full)
             .map_err(|e| format!("texture `{name}`: cannot read {}: {e}", full.display()))?;
-        let img = img.to_rgba32f();
-        let d = img.dimensions();
         if dims.is_some_and(|x| x != d) {
             return Err(format!("texture `{name}`: cube faces differ in size"));
         }
         dims = Some(d);
-        texels.extend(img.pixels().map(|p| p.0));
+        texels.extend(pixels);
     }
     let (w, h) = dims.unwrap_or((1, 1));
     Ok(TextureData {
@@ -578,6 +576,21 @@ fn from_files(
         format,
         levels: vec![texels],
     })
+}
+
+/// An image file's size and texels (RGBA, f32 of the stored values, top row first).
+#[cfg(feature = "images")]
+fn read_image(path: &std::path::Path) -> Result<((u32, u32), Vec<[f32; 4]>), String> {
+    let img = image::open(path).map_err(|e| e.to_string())?.to_rgba32f();
+    Ok((img.dimensions(), img.pixels().map(|p| p.0).collect()))
+}
+
+/// Without the `images` feature (the light build) no image file is read.
+#[cfg(not(feature = "images"))]
+fn read_image(_: &std::path::Path) -> Result<((u32, u32), Vec<[f32; 4]>), String> {
+    Err("this reproj was built without image files (the `images` feature of reproj-cli, on by \
+         default; the light build leaves it out)"
+        .into())
 }
 
 #[cfg(test)]

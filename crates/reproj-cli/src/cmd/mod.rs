@@ -242,8 +242,6 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
             || c.downcast_ref::<reproj_scene::SessionError>().is_some()
             || c.downcast_ref::<reproj_scene::reflect::Unsupported>()
                 .is_some()
-            || c.downcast_ref::<reproj_metrics::output::OutputError>()
-                .is_some()
         {
             return (2, None);
         }
@@ -270,6 +268,9 @@ fn classify_gpu<'e>(
     c: &'e (dyn std::error::Error + 'static),
 ) -> Option<(u8, Option<&'e reproj_front::SourceDiagnostic>)> {
     let user = |yes: bool| if yes { 2 } else { 1 };
+    if c.downcast_ref::<reproj_metrics::output::OutputError>().is_some() {
+        return Some((2, None));
+    }
     if let Some(r) = c.downcast_ref::<reproj_replay::ReplayError>() {
         return Some((user(r.is_user_error()), None));
     }
