@@ -11,7 +11,7 @@
 //! - [`geometry`]: the vertex layout every mesh source fills.
 //! - `gltf`: a session's glTF scene expanded into objects and keys; primitives and material
 //!   textures read from the file, one import per file per process. Feature `gltf` (default);
-//!   without it (`gltf_absent.rs`) a session naming a glTF file is refused when loaded.
+//!   without it (`gltf/absent.rs`; with it `gltf/present.rs`) a session naming a glTF file is refused when loaded.
 //! - [`mesh`]: procedural shapes, OBJ files, glTF primitives ([`mesh::build`]).
 //! - [`textures`]: procedural, file, cube, array and glTF textures ([`textures::build`]); image
 //!   files through `image` with feature `images` (default), refused by name without it.
@@ -23,10 +23,8 @@
 mod load;
 
 pub mod geometry;
-#[cfg(feature = "gltf")]
-mod gltf;
-#[cfg(not(feature = "gltf"))]
-#[path = "gltf_absent.rs"]
+#[cfg_attr(feature = "gltf", path = "gltf/present.rs")]
+#[cfg_attr(not(feature = "gltf"), path = "gltf/absent.rs")]
 mod gltf;
 pub mod init;
 pub mod mesh;
