@@ -117,6 +117,10 @@ pub struct CompareArgs {
     /// Resizing: most scales rendered in the search.
     #[arg(long, default_value_t = 4, value_parser = at_least_one)]
     pub resize_tries: usize,
+    /// reproj at a target speedup (`--speedup`): most points raced while steering to it; the
+    /// profile's models choose the first, the measured speedups the next.
+    #[arg(long, default_value_t = 4, value_parser = at_least_one)]
+    pub reproj_tries: usize,
     /// Longest refresh period reproj may choose.
     #[arg(long, default_value_t = *DELTA_N_RANGE.end(), value_parser = delta_n_limit)]
     pub max_delta_n: u32,

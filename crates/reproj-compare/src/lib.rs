@@ -36,7 +36,7 @@ pub use output::write_outputs;
 /// Schema name of a [`CompareReport`] (`compare.json`).
 pub const COMPARE_SCHEMA: &str = "reproj.compare";
 /// Version of the [`CompareReport`] schema. Bump on any incompatible change.
-pub const COMPARE_VERSION: u32 = 3;
+pub const COMPARE_VERSION: u32 = 4;
 
 /// What can go wrong in `compare`.
 #[derive(Debug, thiserror::Error)]
@@ -137,6 +137,8 @@ pub struct CompareOptions {
     pub simplify: simplify::SimplifyOptions,
     /// Longest refresh period reproj may choose.
     pub max_delta_n: u32,
+    /// reproj at a target speedup: most points raced while steering to it (`reproj::steer`).
+    pub reproj_tries: usize,
     /// ꟻLIP is computed on frames `f` with `f % stride == 0`.
     pub perceptual_stride: u32,
     /// How the methods' final speeds are timed against the original (interleaved,
@@ -156,6 +158,7 @@ impl Default for CompareOptions {
             resize: Default::default(),
             simplify: Default::default(),
             max_delta_n: reproj_select::DEFAULT_MAX_DELTA_N,
+            reproj_tries: 4,
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
             timing: reproj_bench::BenchOptions::default(),
             search_timing: reproj_analyze::DEFAULT_RACE,
@@ -288,7 +291,11 @@ pub fn compare(
     let progress = &counted;
     let steps = Steps {
         per_simplify_step: (opts.simplify.candidates + opts.simplify.candidates.div_ceil(2)) as u64,
-        reproj: u64::from(input.profile.is_some()),
+        reproj: match (input.profile, opts.target) {
+            (None, _) => 0,
+            (Some(_), Target::Speedup(_)) => 1 + opts.reproj_tries as u64,
+            (Some(_), Target::Budget(_)) => 1,
+        },
     };
     progress.remaining(2 + opts.resize.tries as u64 + 2 * steps.per_simplify_step + steps.reproj);
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
@@ -431,7 +438,22 @@ fn run_methods(
     let mut reproj_input = None;
     let reproj_detail = match (input.profile, planned) {
         (Some((profile, path)), Some(planned)) => {
-            let r = reproj::reproj(ctx, input.loaded, profile, path, planned, mid as u32)?;
+            // At a target speedup the models' point is steered by measurement, as resizing's
+            // scale is; under a budget it is `emit`'s choice as it stands.
+            let (planned, tries) = match opts.target {
+                Target::Speedup(_) => reproj::steer(
+                    ctx,
+                    input.loaded,
+                    profile,
+                    path,
+                    *planned,
+                    opts.max_delta_n,
+                    opts.reproj_tries,
+                    opts.resize.tolerance,
+                )?,
+                Target::Budget(_) => (*planned, Vec::new()),
+            };
+            let r = reproj::reproj(ctx, input.loaded, (profile, path), &planned, tries, mid as u32)?;
             results.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
             reproj_input = Some(r.input);

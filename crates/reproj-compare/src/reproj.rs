@@ -3,9 +3,11 @@
 //! measured node sets at every Δn, the point with the least predicted error whose predicted
 //! speedup reaches the target, or the fastest point when none does. With an error budget instead,
 //! the choice is `emit`'s (`reproj_select::select_with_sets`) and its predicted speedup becomes
-//! every method's target. It is instanced like `emit` does (several nodes in one payload for a
-//! set) and rendered with the replay, so its speedup and error are measured in the same run as
-//! the other methods'.
+//! every method's target. At a target speedup the point is then steered by measurement, as
+//! resizing's scale is ([`steer`]): the models' speed on this machine is checked against an
+//! interleaved race and the frontier asked again. It is instanced like `emit` does (several nodes
+//! in one payload for a set) and rendered with the replay, so its speedup and error are measured
+//! in the same run as the other methods'.
 
 use std::path::Path;
 
@@ -35,6 +37,24 @@ pub struct ReprojDetail {
     pub predicted_error: f64,
     /// Profile's original frame time / predicted frame time.
     pub predicted_speedup: f64,
+    /// At a target speedup, the points raced on the way ([`steer`]), the reported one among them;
+    /// empty with an error budget (compare.json version 4).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tries: Vec<ReprojTry>,
+}
+
+/// One point [`steer`] raced against the original.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReprojTry {
+    pub node: String,
+    pub strategy: String,
+    pub delta_n: u32,
+    pub predicted_error: f64,
+    pub predicted_speedup: f64,
+    /// Measured in the search's short interleaved race (0 when it gave no finite figure).
+    pub speedup: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
 }
 
 pub(crate) struct ReprojRun {
@@ -76,6 +96,7 @@ impl Pick<'_> {
 }
 
 /// reproj's choice before rendering: the profiled node or set and where on its models.
+#[derive(Clone, Copy)]
 pub(crate) struct Planned<'p> {
     pick: Pick<'p>,
     delta_n: u32,
@@ -275,15 +296,87 @@ fn under_budget<'p>(
     }
 }
 
-/// Instance and render the planned variant; `crop` is the frame kept for the crops.
-pub(crate) fn reproj(
+/// At a target speedup, reproj's point steered by measurement, as resizing's scale is: each try
+/// is raced against the original (interleaved, the searches' timing); when its measured speedup
+/// misses the target by more than `tolerance`, the frontier is asked again for the target scaled by
+/// the try's predicted over measured speedup (how far the models are off on this machine), until
+/// a try lands within the tolerance, a point comes back, or `tries` are spent. The try closest to
+/// the target (in log ratio, as for resizing) is kept; the tries are reported.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn steer<'p>(
     ctx: &Ctx,
+    loaded: &Loaded,
+    profile: &'p Profile,
+    profile_path: &Path,
+    first: Planned<'p>,
+    max_delta_n: u32,
+    tries: usize,
+    tolerance: f64,
+) -> Result<(Planned<'p>, Vec<ReprojTry>), CompareError> {
+    let c = Candidates::of(profile);
+    let miss = |s: f64| (s.max(1e-9) / ctx.target).ln().abs();
+    let key = |p: &Planned| (p.pick.name(), p.pick.strategy().to_owned(), p.delta_n);
+    let mut planned = first;
+    let mut raced: Vec<(Planned<'p>, ReprojTry)> = Vec::new();
+    for _ in 0..tries.max(1) {
+        let input = variant(loaded, profile, profile_path, &planned)?;
+        let timed = ctx.race(&[reproj_bench::Candidate {
+            name: "reproj".into(),
+            subject: reproj_bench::Subject::Variant(input),
+        }])?[0];
+        let speedup = timed.map_or(0.0, |e| e.speedup);
+        ctx.progress.step(&format!(
+            "reproj {} at Δn {}: {speedup:.2}× (predicted {:.2}×)",
+            planned.pick.name(),
+            planned.delta_n,
+            planned.predicted_speedup
+        ));
+        raced.push((
+            planned,
+            ReprojTry {
+                node: planned.pick.name(),
+                strategy: planned.pick.strategy().to_owned(),
+                delta_n: planned.delta_n,
+                predicted_error: planned.predicted_error,
+                predicted_speedup: planned.predicted_speedup,
+                speedup,
+                speedup_ci95: timed.map(|e| e.ci95),
+            },
+        ));
+        if speedup <= 0.0 || miss(speedup) <= (1.0 + tolerance).ln() {
+            break;
+        }
+        let ask = ctx.target * planned.predicted_speedup / speedup;
+        let Some((pick, delta_n, predicted_error, predicted_ms)) =
+            at_speedup(&c, profile, ask, max_delta_n)
+        else {
+            break;
+        };
+        let next = Planned {
+            pick,
+            delta_n,
+            predicted_error,
+            predicted_speedup: profile.original.frame_ms / predicted_ms,
+        };
+        if raced.iter().any(|(p, _)| key(p) == key(&next)) {
+            break;
+        }
+        planned = next;
+    }
+    let kept = (0..raced.len())
+        .min_by(|&a, &b| miss(raced[a].1.speedup).total_cmp(&miss(raced[b].1.speedup)))
+        .expect("at least one try");
+    let chosen = raced[kept].0;
+    Ok((chosen, raced.into_iter().map(|(_, t)| t).collect()))
+}
+
+/// The planned point instanced as `emit` would write it, ready to render.
+fn variant(
     loaded: &Loaded,
     profile: &Profile,
     profile_path: &Path,
     planned: &Planned<'_>,
-    crop: u32,
-) -> Result<ReprojRun, CompareError> {
+) -> Result<VariantInput, CompareError> {
     let shader = &loaded.shader;
     let pick = planned.pick;
     let node_name = pick.name();
@@ -327,11 +420,27 @@ pub(crate) fn reproj(
             ..Default::default()
         },
     )?;
-    let input = VariantInput::new(
+    Ok(VariantInput::new(
         variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
         variant.manifest.clone(),
         planned.delta_n,
-    );
+    ))
+}
+
+/// Instance and render the planned variant; `crop` is the frame kept for the crops, `tries` what
+/// [`steer`] raced on the way to it.
+pub(crate) fn reproj(
+    ctx: &Ctx,
+    loaded: &Loaded,
+    (profile, profile_path): (&Profile, &Path),
+    planned: &Planned<'_>,
+    tries: Vec<ReprojTry>,
+    crop: u32,
+) -> Result<ReprojRun, CompareError> {
+    let shader = &loaded.shader;
+    let pick = planned.pick;
+    let node_name = pick.name();
+    let input = variant(loaded, profile, profile_path, planned)?;
     let tmp = tempfile::tempdir().map_err(|e| CompareError::Internal {
         what: "cannot make a temporary directory".into(),
         message: e.to_string(),
@@ -366,6 +475,7 @@ pub(crate) fn reproj(
             delta_n: planned.delta_n,
             predicted_error: planned.predicted_error,
             predicted_speedup: planned.predicted_speedup,
+            tries,
         },
         result: MethodResult {
             speedup_ci95: None,

@@ -71,6 +71,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             max_steps: args.max_steps,
         },
         max_delta_n: args.max_delta_n,
+        reproj_tries: args.reproj_tries,
         ..Default::default()
     };
     let mut result = compare(&renderer, &input, &opts, &Bar(bar()))?;
