@@ -133,12 +133,21 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     let miss = |t: &serde_json::Value| (t["speedup"].as_f64().unwrap() / 1.5).ln().abs();
     for (i, t) in tries.iter().enumerate() {
         let s = t["speedup"].as_f64().unwrap();
-        let (lo, hi) = (t["speedup_ci95"][0].as_f64().unwrap(), t["speedup_ci95"][1].as_f64().unwrap());
+        let (lo, hi) = (
+            t["speedup_ci95"][0].as_f64().unwrap(),
+            t["speedup_ci95"][1].as_f64().unwrap(),
+        );
         assert!(lo <= s && s <= hi && s > 0.0, "{t}");
         assert!(tries[..i].iter().all(|u| key(u) != key(t)), "{tries:?}");
     }
-    let reported = (json["reproj"]["node"].to_string(), json["reproj"]["delta_n"].as_u64().unwrap());
-    let kept = tries.iter().find(|t| key(t) == reported).expect("the reported point was raced");
+    let reported = (
+        json["reproj"]["node"].to_string(),
+        json["reproj"]["delta_n"].as_u64().unwrap(),
+    );
+    let kept = tries
+        .iter()
+        .find(|t| key(t) == reported)
+        .expect("the reported point was raced");
     assert!(tries.iter().all(|t| miss(kept) <= miss(t)), "{tries:?}");
     assert!(json["measured_on"].as_str().is_some(), "{json}");
     // The simplified shader is valid WGSL.

@@ -453,7 +453,14 @@ fn run_methods(
                 )?,
                 Target::Budget(_) => (*planned, Vec::new()),
             };
-            let r = reproj::reproj(ctx, input.loaded, (profile, path), &planned, tries, mid as u32)?;
+            let r = reproj::reproj(
+                ctx,
+                input.loaded,
+                (profile, path),
+                &planned,
+                tries,
+                mid as u32,
+            )?;
             results.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
             reproj_input = Some(r.input);

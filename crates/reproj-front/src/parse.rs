@@ -174,8 +174,10 @@ pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
         let trimmed = line.trim_start();
         if trimmed.starts_with('#') {
             let start = at + (line.len() - trimmed.len());
-            m.labels
-                .push((start..start + trimmed.trim_end().len(), "preprocessor line".into()));
+            m.labels.push((
+                start..start + trimmed.trim_end().len(),
+                "preprocessor line".into(),
+            ));
             break;
         }
         at += line.len();

@@ -578,19 +578,24 @@ fn from_files(
     })
 }
 
-/// An image file's size and texels (RGBA, f32 of the stored values, top row first).
+/// An image's size and its texels (RGBA, f32 of the stored values, top row first).
+type Image = ((u32, u32), Vec<[f32; 4]>);
+
+/// An image file's size and texels.
 #[cfg(feature = "images")]
-fn read_image(path: &std::path::Path) -> Result<((u32, u32), Vec<[f32; 4]>), String> {
+fn read_image(path: &std::path::Path) -> Result<Image, String> {
     let img = image::open(path).map_err(|e| e.to_string())?.to_rgba32f();
     Ok((img.dimensions(), img.pixels().map(|p| p.0).collect()))
 }
 
 /// Without the `images` feature (the light build) no image file is read.
 #[cfg(not(feature = "images"))]
-fn read_image(_: &std::path::Path) -> Result<((u32, u32), Vec<[f32; 4]>), String> {
-    Err("this reproj was built without image files (the `images` feature of reproj-cli, on by \
+fn read_image(_: &std::path::Path) -> Result<Image, String> {
+    Err(
+        "this reproj was built without image files (the `images` feature of reproj-cli, on by \
          default; the light build leaves it out)"
-        .into())
+            .into(),
+    )
 }
 
 #[cfg(test)]

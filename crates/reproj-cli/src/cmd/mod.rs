@@ -268,7 +268,9 @@ fn classify_gpu<'e>(
     c: &'e (dyn std::error::Error + 'static),
 ) -> Option<(u8, Option<&'e reproj_front::SourceDiagnostic>)> {
     let user = |yes: bool| if yes { 2 } else { 1 };
-    if c.downcast_ref::<reproj_metrics::output::OutputError>().is_some() {
+    if c.downcast_ref::<reproj_metrics::output::OutputError>()
+        .is_some()
+    {
         return Some((2, None));
     }
     if let Some(r) = c.downcast_ref::<reproj_replay::ReplayError>() {

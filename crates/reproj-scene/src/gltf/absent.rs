@@ -20,7 +20,8 @@ pub(crate) fn expand(session: &mut Session) -> Result<(), SessionError> {
     if matches!(session.camera, CameraPath::Gltf) {
         return Err(session.invalid("camera", MISSING));
     }
-    if let Some(i) = (session.geometry.objects.iter()).position(|o| matches!(o.mesh, Mesh::Gltf { .. }))
+    if let Some(i) =
+        (session.geometry.objects.iter()).position(|o| matches!(o.mesh, Mesh::Gltf { .. }))
     {
         return Err(session.invalid(format!("geometry.objects[{i}].mesh"), MISSING));
     }
