@@ -7,5 +7,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo check --locked -p reproj-cli --no-default-features
-cargo test --locked -p reproj-scene --no-default-features --lib absent_
-cargo test --locked -p reproj-front --no-default-features --lib absent_
+cargo test --locked -p reproj-scene -p reproj-front --no-default-features --lib absent_

@@ -124,7 +124,7 @@ pub(crate) fn plan<'p>(
         .into());
     }
     let c = Candidates::of(profile);
-    let (pick, delta_n, predicted_error, predicted_ms) =
+    let point =
         match target {
             Target::Speedup(target) => {
                 at_speedup(&c, profile, target, max_delta_n).ok_or_else(|| {
@@ -140,12 +140,19 @@ pub(crate) fn plan<'p>(
                     reason,
                 })?,
         };
-    Ok(Planned {
-        pick,
-        delta_n,
-        predicted_error,
-        predicted_speedup: profile.original.frame_ms / predicted_ms,
-    })
+    Ok(Planned::at(point, profile))
+}
+
+impl<'p> Planned<'p> {
+    /// The point `(pick, Δn, predicted error, predicted ms)` of `profile`'s models.
+    fn at((pick, delta_n, predicted_error, predicted_ms): Point<'p>, profile: &Profile) -> Self {
+        Planned {
+            pick,
+            delta_n,
+            predicted_error,
+            predicted_speedup: profile.original.frame_ms / predicted_ms,
+        }
+    }
 }
 
 /// A planned point: (pick, Δn, predicted error, predicted ms).
@@ -347,17 +354,10 @@ pub(crate) fn steer<'p>(
             break;
         }
         let ask = ctx.target * planned.predicted_speedup / speedup;
-        let Some((pick, delta_n, predicted_error, predicted_ms)) =
-            at_speedup(&c, profile, ask, max_delta_n)
-        else {
+        let Some(point) = at_speedup(&c, profile, ask, max_delta_n) else {
             break;
         };
-        let next = Planned {
-            pick,
-            delta_n,
-            predicted_error,
-            predicted_speedup: profile.original.frame_ms / predicted_ms,
-        };
+        let next = Planned::at(point, profile);
         if raced.iter().any(|(p, _)| key(p) == key(&next)) {
             break;
         }
