@@ -6,6 +6,8 @@
 // merge's refit, verify). Without it the crate is `emit`, `motion` and `prune`: GPU-free.
 #[cfg(feature = "gpu")]
 pub mod analyze;
+#[cfg(feature = "gpu")]
+mod blocks;
 pub mod emit;
 #[cfg(feature = "gpu")]
 mod filters;

@@ -103,6 +103,11 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
         .flat_map(|p| p.filter_probes.iter().cloned())
         .collect();
     merged.filter_probes.sort_by_key(|p| p.node);
+    merged.block_probes = sorted
+        .iter()
+        .flat_map(|p| p.block_probes.iter().cloned())
+        .collect();
+    merged.block_probes.sort_by_key(|p| p.node);
     merged.time = sorted
         .iter()
         .fold(AnalysisTime::default(), |t, p| AnalysisTime {

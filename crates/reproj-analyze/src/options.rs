@@ -74,6 +74,11 @@ pub struct AnalyzeOptions {
     pub strategies: Vec<Strategy>,
     /// Refresh block size k for every strategy (`None`: each strategy's default).
     pub block: Option<u32>,
+    /// Per node, after its strategy is chosen, race a larger refresh block against the
+    /// strategy's default at the longest training Δn and keep it where it is more accurate and
+    /// not slower beyond doubt ([`crate::blocks`]; `--block auto`). Off by default (one replay
+    /// and one race per node); ignored where `block` is set.
+    pub race_blocks: bool,
     /// Replay only the first N frames of the session.
     pub max_frames: Option<u32>,
     /// Record every finished replay here and reuse what an interrupted run recorded
@@ -200,6 +205,7 @@ impl Default for AnalyzeOptions {
             race_filters: false,
             strategies: Strategy::ALL.to_vec(),
             block: None,
+            race_blocks: false,
             max_frames: None,
             journal: None,
             shard: None,

@@ -7,7 +7,7 @@ use clap::Args;
 use reproj_analyze::{Budget, DELTA_N_RANGE};
 
 use crate::values::{
-    at_least_one, backend_help, block_size, budget, delta_n_limit, depth_epsilon, output_path,
+    at_least_one, backend_help, block_choice, budget, delta_n_limit, depth_epsilon, output_path,
     override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period,
     unit_fraction,
 };
@@ -534,9 +534,11 @@ pub struct CacheArgs {
     #[arg(long, value_enum)]
     pub strategy: Option<StrategyArg>,
     /// Refresh block size k (1 or even, so blocks align with 2×2 quads; default 8 for fused, 4
-    /// otherwise).
-    #[arg(long, value_parser = block_size)]
-    pub block: Option<u32>,
+    /// otherwise). analyze also takes `auto`: per node, race a larger block (32, at most an
+    /// eighth of the frame) against the default at the longest Δn and keep it where it measures
+    /// more accurate and not slower (recorded per node in the profile).
+    #[arg(long, value_parser = block_choice)]
+    pub block: Option<crate::values::BlockArg>,
     /// Relative depth tolerance of the cache hit test.
     #[arg(long, default_value_t = 0.01, value_parser = depth_epsilon)]
     pub depth_epsilon: f32,

@@ -48,6 +48,25 @@ pub(crate) fn block_size(s: &str) -> Result<u32, String> {
     }
 }
 
+/// `--block`: a refresh block size, or `auto` (analyze races a larger block per node).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlockArg {
+    /// This block size k for every variant.
+    Size(u32),
+    /// `analyze` only: per node, race a larger block against the strategy's default.
+    Auto,
+}
+
+/// A `--block` value: `auto` or a [`block_size`].
+pub(crate) fn block_choice(s: &str) -> Result<BlockArg, String> {
+    if s == "auto" {
+        return Ok(BlockArg::Auto);
+    }
+    block_size(s)
+        .map(BlockArg::Size)
+        .map_err(|e| format!("{e}, or `auto` (analyze)"))
+}
+
 /// The relative depth tolerance of the hit test: a number in (0, 1].
 pub(crate) fn depth_epsilon(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {

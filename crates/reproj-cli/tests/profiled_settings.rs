@@ -90,7 +90,7 @@ fn analyze_auto_records_each_node_s_filter_and_emit_writes_it() {
         serde_json::from_str(&std::fs::read_to_string(dir.join(p)).unwrap()).unwrap()
     };
     let profile = read("t.profile.json");
-    assert_eq!(profile["version"], 9);
+    assert_eq!(profile["version"], 10);
     assert_eq!(profile["reconstruct"], "bilinear", "the base filter");
     let nodes = profile["nodes"].as_array().unwrap();
     let probes = profile["filter_probes"]
@@ -249,4 +249,109 @@ fn instance_refuses_reconstruct_auto() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--reconstruct auto"), "{err}");
     assert!(!dir.join("v").exists());
+}
+
+/// `analyze --block auto` races a larger refresh block per node (at 64×64, k=8: an eighth of the
+/// side) against the strategy's default and records the race; every node's block is one of the
+/// two, the larger kept exactly where its probe says so, and `emit` writes the chosen node's own
+/// block into the manifest.
+#[test]
+fn analyze_block_auto_records_each_node_s_block_and_emit_writes_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "t.wgsl", "t.json");
+    let (code, _, err) = common::analyze_short(
+        dir,
+        "t.wgsl",
+        &["t.json"],
+        "t.profile.json",
+        &["--strategy", "2pass", "--block", "auto"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let read = |p: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(p)).unwrap()).unwrap()
+    };
+    let profile = read("t.profile.json");
+    assert_eq!(profile["version"], 10);
+    let probes = profile["block_probes"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    assert!(!probes.is_empty(), "at least one node was raced: {profile}");
+    for n in profile["nodes"].as_array().unwrap() {
+        let block = n["block"].as_u64().expect("every node names its block");
+        let challenger = probes
+            .iter()
+            .find(|p| p["node"] == n["id"] && p["block"] == 8);
+        match challenger {
+            Some(p) => {
+                assert!(p["note"].is_string(), "{p}");
+                assert_eq!(p["kept"] == true, block == 8, "{p} {n}");
+                // Both replayed at the same (longest) period; the base's probe is there too.
+                let base = probes
+                    .iter()
+                    .find(|q| q["node"] == n["id"] && q["block"] == 4)
+                    .expect("the base's probe");
+                assert_eq!(base["delta_n"], p["delta_n"]);
+                assert_eq!(base["kept"] == true, block == 4, "{base} {n}");
+                if block == 8 {
+                    // Kept only when more accurate, and its periods are its own.
+                    assert!(p["error"].as_f64() < base["error"].as_f64(), "{p} {base}");
+                    assert!(p["speedup"].is_number(), "{p}");
+                }
+            }
+            None => assert_eq!(block, 4, "an unraced node keeps the default: {n}"),
+        }
+    }
+    let (code, _, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "t.profile.json",
+            "--max-error",
+            "0.5",
+            "--out",
+            "v",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let report = read("v/report.json");
+    if let Some(chosen) = report["node"].as_str() {
+        let node = profile["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|n| {
+                (chosen == "root" && n["root"] == true)
+                    || chosen.parse::<u64>().ok() == n["id"].as_u64()
+            })
+            .unwrap();
+        let manifest = read("v/manifest.json");
+        assert_eq!(manifest["params"]["block"], node["block"], "{manifest}");
+    }
+}
+
+/// One variant has one block size: `--block auto` is for `analyze` alone.
+#[test]
+fn instance_refuses_block_auto() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "t.wgsl", "t.json");
+    let (code, _, err) = run(
+        dir,
+        &[
+            "instance", "t.wgsl", "--node", "root", "--block", "auto", "--out", "v",
+        ],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--block auto"), "{err}");
+    assert!(!dir.join("v").exists());
+    // A bad size names both forms.
+    let (code, _, err) = run(
+        dir,
+        &["analyze", "t.wgsl", "--session", "t.json", "--block", "3"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("auto"), "{err}");
 }

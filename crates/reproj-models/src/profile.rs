@@ -31,7 +31,9 @@ use crate::{ErrorFit, FrameTiming, HitRateFit, Metric, TimingFit};
 /// The profile's `reconstruct` is the filter of its sets and of every node that names none (all
 /// nodes of older profiles). Per measurement `frame_errors`, the L2 error of every replayed
 /// frame, so that the motion exponent can be fitted across segments of one session.
-pub const PROFILE_VERSION: u32 = 9;
+/// Version 10: the refresh block size raced per node (`analyze --block auto`): `block_probes`,
+/// and `nodes[].block` the kept size. Older files still load without them.
+pub const PROFILE_VERSION: u32 = 10;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -92,6 +94,10 @@ pub struct Profile {
     /// --reconstruct auto`, version 9; empty without the race).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub filter_probes: Vec<FilterProbe>,
+    /// The refresh block sizes raced per node after its strategy was chosen (`analyze --block
+    /// auto`, version 10; empty without the race).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub block_probes: Vec<BlockProbe>,
     /// What the interleaved timing saw of the machine during the analysis (load, drift, wide
     /// intervals), once each; empty when it was quiet (version 7 on).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -478,6 +484,38 @@ pub struct FilterProbe {
     pub rounds: Option<u32>,
     pub kept: bool,
     /// Why the node kept the filter it kept, on the challenger's probe.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// One refresh block size raced for one node (`analyze --block auto`, version 10).
+///
+/// Per node, after its strategy was chosen, the base block (the strategy's default k) and a
+/// larger one are replayed at the longest training Δn — the same period, so the same share of
+/// pixels is refreshed per frame — and timed interleaved with the original in one race. The larger
+/// block is kept only when its measured error is lower and it is not slower beyond doubt;
+/// otherwise the base is (ties and noise included). Two probes per race, the base's first.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BlockProbe {
+    pub node: u32,
+    /// The strategy of the node's variant (its race's winner).
+    pub strategy: String,
+    /// The refresh block size k raced.
+    pub block: u32,
+    /// The period both were replayed and timed at (the longest training Δn).
+    pub delta_n: u32,
+    /// The error measured over the whole session at `delta_n`.
+    pub error: f64,
+    /// Speedup over the original, timed interleaved (`reproj-bench`), with its 95 % interval and
+    /// rounds (`None`: not raced, see `note`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speedup_ci95: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rounds: Option<u32>,
+    pub kept: bool,
+    /// Why the node kept the block it kept, on the larger block's probe.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
 }

@@ -439,6 +439,20 @@ fn fit_row(h: &mut String, profile: &Profile, n: &NodeProfile) {
         ),
         None => n.reconstruct_in(profile).to_string(),
     };
+    // The strategy with its refresh block, and what the block race measured where one was run.
+    let block = n.block.unwrap_or(profile.block);
+    let strategy = match profile
+        .block_probes
+        .iter()
+        .find(|p| p.node == n.id && p.note.is_some())
+    {
+        Some(p) => format!(
+            "{} k={block} ({})",
+            n.strategy,
+            p.note.as_deref().unwrap_or_default()
+        ),
+        None => format!("{} k={block}", n.strategy),
+    };
     let e = &n.error_fit;
     let t = &n.timing_fit;
     let holdout: Vec<String> = n
@@ -466,7 +480,7 @@ fn fit_row(h: &mut String, profile: &Profile, n: &NodeProfile) {
         id = n.id,
         root = if n.root { " (root)" } else { "" },
         text = esc(&n.text),
-        strategy = esc(&n.strategy),
+        strategy = esc(&strategy),
         filter = esc(&filter),
         status = esc(&status),
         alpha = num(e.alpha, 5),

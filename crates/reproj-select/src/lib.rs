@@ -216,7 +216,8 @@ impl NodeRecord {
 /// The calibration of `node`'s timing model in `profile` by its strategy's interleaved race
 /// against the original (`analyze`, profile version 7 on) — or, where the node kept a filter other
 /// than the profile's, by that filter's race (`filter_probes`, version 9), since the strategy race
-/// timed the profile's filter; `None` for older profiles or a node whose race gave no estimate.
+/// timed the profile's filter; likewise a block size kept by a block race (`block_probes`,
+/// version 10); `None` for older profiles or a node whose race gave no estimate.
 pub fn calibration(
     profile: &reproj_models::Profile,
     node: &reproj_models::profile::NodeProfile,
@@ -226,6 +227,12 @@ pub fn calibration(
         let probe = profile.filter_probes.iter().find(|p| {
             p.node == node.id && p.kept && p.strategy == node.strategy && p.reconstruct == filter
         })?;
+        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
+    } else if let Some(probe) = profile.block_probes.iter().find(|p| {
+        p.node == node.id && p.kept && p.strategy == node.strategy && Some(p.block) == node.block
+    }) {
+        // A block race's kept size (version 10): timed at the longest period as the strategy
+        // race was, but with the block the node was profiled with.
         (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
     } else {
         let probe = profile

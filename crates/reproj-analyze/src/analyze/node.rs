@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, instance};
-use reproj_models::profile::{FilterProbe, Measurement, StrategyProbe};
+use reproj_models::profile::{BlockProbe, FilterProbe, Measurement, StrategyProbe};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use crate::AnalyzeError;
@@ -31,6 +31,7 @@ pub(super) struct Replays {
     pub(super) raws: Vec<Raw>,
     pub(super) probes: Vec<StrategyProbe>,
     pub(super) filter_probes: Vec<FilterProbe>,
+    pub(super) block_probes: Vec<BlockProbe>,
 }
 
 /// Replay the nodes one by one ([`replay_node`]), pruning the strategies that keep losing.
@@ -118,7 +119,7 @@ fn replay_node(
     };
     let estimate = estimates[w].expect("the winner has an estimate");
     let winner = built.swap_remove(w);
-    profile_winner(rp, id, winner, estimate, plan, &mut replays.filter_probes)
+    profile_winner(rp, id, winner, estimate, plan, replays)
 }
 
 /// The strategies still in the running for node `id` (the others pruned, said once).
@@ -224,32 +225,31 @@ fn strategy_probes(
         .collect()
 }
 
-/// The winning strategy replayed over the longest period and the plan, and, with
-/// `race_filters`, the challenger filter raced at equal error and, when kept, replayed instead.
+/// The winning strategy replayed over the longest period and the plan; with `race_blocks`, a
+/// larger refresh block raced at the longest period and, when kept, replayed over the plan
+/// instead; with `race_filters`, the challenger filter raced at equal error and, when kept,
+/// replayed instead.
 fn profile_winner(
     rp: &mut Replayer<'_, '_>,
     id: u32,
     winner: Built,
     estimate: SpeedupEstimate,
     plan: &[(u32, bool)],
-    filter_probes: &mut Vec<FilterProbe>,
+    replays: &mut Replays,
 ) -> Result<Raw, AnalyzeError> {
     let (input, opts, progress, longest) = (rp.input, rp.opts, rp.progress, rp.longest);
     let node = input.table.get(id).expect("ids come from the table");
     let sel = selector(rp, id);
     let Built {
         strategy,
-        block,
-        sources,
-        variant,
+        mut block,
+        mut sources,
+        mut variant,
         ..
     } = winner;
     let verdict = too_slow(&estimate, node.root, longest, strategy);
     let mut failure = None;
     let mut measurements = Vec::new();
-    let node_plan: Vec<(u32, bool)> = std::iter::once((longest, false))
-        .chain(plan.iter().copied())
-        .collect();
     let subject = Subject {
         node: id,
         set: Vec::new(),
@@ -262,14 +262,50 @@ fn profile_winner(
         raced: true,
         verdict,
     };
+    // The longest period first: the block race starts from it.
     rp.replay_plan(
         &subject,
         &sources,
         &variant,
-        &node_plan,
+        &[(longest, false)],
         &mut measurements,
         &mut failure,
     )?;
+    if opts.race_blocks
+        && opts.block.is_none()
+        && failure.is_none()
+        && let Some(base) = measurements.first().cloned()
+    {
+        let race = crate::blocks::BlockRace {
+            id,
+            sel,
+            strategy,
+            block,
+            base_sources: &sources,
+            base_variant: &variant,
+            base: &base,
+        };
+        if let Some(kept) = crate::blocks::race_block(rp, &race, &mut replays.block_probes)? {
+            block = kept.block;
+            sources = kept.sources;
+            variant = kept.variant;
+            measurements = vec![kept.measurement];
+        }
+    }
+    let subject = Subject {
+        block,
+        verdict: None,
+        ..subject
+    };
+    rp.replay_plan(
+        &subject,
+        &sources,
+        &variant,
+        plan,
+        &mut measurements,
+        &mut failure,
+    )?;
+    let filter_probes = &mut replays.filter_probes;
     let mut reconstruct = opts.instance.reconstruct;
     if opts.race_filters && failure.is_none() {
         let race = crate::filters::FilterRace {

@@ -137,6 +137,7 @@ pub(super) fn profile(
         nodes: m.nodes,
         strategy_probes: m.replays.probes,
         filter_probes: m.replays.filter_probes,
+        block_probes: m.replays.block_probes,
         timing_warnings: m.timing_warnings,
         sets: m.sets,
         time: m.time,

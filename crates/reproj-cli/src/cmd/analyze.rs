@@ -260,6 +260,12 @@ fn analyze_session(
         backend: args.backend.clone(),
         cpu_timing: false,
     })?;
+    // `auto`: each strategy's default block is the base, and a larger one races it per node.
+    let (block, race_blocks) = match args.cache.block {
+        Some(crate::values::BlockArg::Size(k)) => (Some(k), false),
+        Some(crate::values::BlockArg::Auto) => (None, true),
+        None => (None, false),
+    };
     let opts = AnalyzeOptions {
         delta_n_train: args.delta_n.clone(),
         delta_n_holdout: args.holdout.clone(),
@@ -284,6 +290,7 @@ fn analyze_session(
                     crate::ReconstructArg::Auto => crate::ReconstructArg::Bilinear,
                     r => r,
                 },
+                block: block.map(crate::values::BlockArg::Size),
                 ..args.cache
             },
             8,
@@ -293,7 +300,8 @@ fn analyze_session(
             Some(s) => vec![super::strategy(s)],
             None => reproj_instance::Strategy::ALL.to_vec(),
         },
-        block: args.cache.block,
+        block,
+        race_blocks,
         max_frames: args.max_frames,
         probe_frames: (args.probe_frames > 0).then_some(args.probe_frames),
         race: reproj_analyze::DEFAULT_RACE,

@@ -289,7 +289,8 @@ fn classify_gpu<'e>(
 }
 
 /// Instancer options from the CLI's cache flags and a default Δn (3pass unless one is named).
-/// `--reconstruct auto` is refused: one variant has one filter (`analyze` handles `auto` itself).
+/// `--reconstruct auto` and `--block auto` are refused: one variant has one filter and one block
+/// size (`analyze` handles `auto` itself).
 pub fn instance_options(
     c: crate::CacheArgs,
     delta_n: u32,
@@ -302,12 +303,21 @@ pub fn instance_options(
             "--reconstruct auto is for `analyze`, which races the filters per node; name one filter (bilinear, nearest, catmull-rom)".into(),
         )
     })?;
+    let block = match c.block {
+        None => strategy.default_block(),
+        Some(crate::values::BlockArg::Size(k)) => k,
+        Some(crate::values::BlockArg::Auto) => {
+            return Err(UserError(
+                "--block auto is for `analyze`, which races the block sizes per node; name one size (1 or an even number in 2..=256)".into(),
+            ));
+        }
+    };
     Ok(reproj_instance::InstanceOptions {
         strategy,
         reconstruct,
         cache_format: cache_format(c.cache_format),
         delta_n,
-        block: c.block.unwrap_or(strategy.default_block()),
+        block,
         depth_epsilon: c.depth_epsilon,
         ..Default::default()
     })
