@@ -165,10 +165,23 @@ pub(crate) fn race_block(
         shown(challenger_estimate.as_ref()),
         race.block,
         shown(base_estimate.as_ref()),
-        if kept {
-            format!("more accurate and not slower, keeps k={k}")
-        } else {
-            format!("slower beyond doubt, keeps k={}", race.block)
+        match &challenger_estimate {
+            _ if kept => format!("more accurate and not slower, keeps k={k}"),
+            None => format!("untimed, keeps k={}", race.block),
+            Some(c) if c.surely_slower() => format!(
+                "slower than the original beyond doubt, keeps k={}",
+                race.block
+            ),
+            Some(_) if base_estimate.is_none() => {
+                format!(
+                    "not faster than the original beyond doubt, keeps k={}",
+                    race.block
+                )
+            }
+            Some(_) => format!(
+                "slower than k={} beyond doubt, keeps k={}",
+                race.block, race.block
+            ),
         }
     );
     rp.progress.note(&format!("{who}: {note}"));
