@@ -73,6 +73,14 @@ enum Pick<'p> {
 }
 
 impl Pick<'_> {
+    /// The refresh block size its measurements used (a node's own, else the profile's).
+    fn block(&self, profile: &Profile) -> u32 {
+        match self {
+            Pick::Node(n) => n.block.unwrap_or(profile.block),
+            Pick::Set(s) => s.block,
+        }
+    }
+
     /// The name reports use: the node id, `root`, or the set's `22+39`.
     fn name(&self) -> String {
         match self {
@@ -387,16 +395,11 @@ fn variant(
                 path: profile_path.to_owned(),
                 message: format!("node {node_name}: {e}"),
             })?;
-    let (selectors, block) = match pick {
-        Pick::Node(n) if n.root => (vec![NodeSelector::Root], n.block.unwrap_or(profile.block)),
-        Pick::Node(n) => (
-            vec![NodeSelector::Id(n.id)],
-            n.block.unwrap_or(profile.block),
-        ),
-        Pick::Set(s) => (
-            s.members.iter().map(|&id| NodeSelector::Id(id)).collect(),
-            s.block,
-        ),
+    let block = pick.block(profile);
+    let selectors = match pick {
+        Pick::Node(n) if n.root => vec![NodeSelector::Root],
+        Pick::Node(n) => vec![NodeSelector::Id(n.id)],
+        Pick::Set(s) => s.members.iter().map(|&id| NodeSelector::Id(id)).collect(),
     };
     // A node's own reconstruction filter; a set's is the profile's.
     let node = match pick {
@@ -493,14 +496,15 @@ pub(crate) fn reproj(
                 flip: r.flip.map(|f| f.mean),
             },
             setting: format!(
-                "{} {node_name} cached at Δn = {} ({})",
+                "{} {node_name} cached at Δn = {} ({}, k = {})",
                 if matches!(pick, Pick::Set(_)) {
                     "nodes"
                 } else {
                     "node"
                 },
                 planned.delta_n,
-                pick.strategy()
+                pick.strategy(),
+                pick.block(profile)
             ),
         },
         crop_frame,
