@@ -130,4 +130,38 @@ fn the_budget_holds_on_every_profiled_session() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("its shader differs"), "{err}");
     assert!(!dir.join("x").exists());
+
+    // A node measured as another variant on one session (another refresh block, as a per-node
+    // `--block auto` race may settle it) is another candidate: it is not chosen across both.
+    if let Some(chosen) = report["node"].as_str() {
+        let mut fast: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("fast.profile.json")).unwrap())
+                .unwrap();
+        for n in fast["nodes"].as_array_mut().unwrap() {
+            let is_chosen = (chosen == "root" && n["root"] == true)
+                || chosen.parse::<u64>().ok() == n["id"].as_u64();
+            if is_chosen {
+                n["block"] = serde_json::json!(8);
+            }
+        }
+        std::fs::write(dir.join("fast8.profile.json"), fast.to_string()).unwrap();
+        let (code, out, err) = run(
+            dir,
+            &[
+                "emit",
+                "--profile",
+                "slow.profile.json",
+                "--profile",
+                "fast8.profile.json",
+                "--max-error",
+                "0.01",
+                "--out",
+                "k8",
+                "--json",
+            ],
+        );
+        assert_eq!(code, 0, "{err}");
+        let k8: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_ne!(k8["node"].as_str(), Some(chosen), "{k8}");
+    }
 }

@@ -30,7 +30,7 @@ pub use profile::{
     is_profiled_shader, latest_profile, load_profile, load_profiled, profile_shader,
     profile_variant_settings, resolve, selector_records,
 };
-use profile::{records_of, same_shader};
+use profile::{records_of, same_shader, same_variant};
 use write::Writer;
 
 /// Options of [`emit`].
@@ -274,7 +274,10 @@ pub fn emit(
     let mut all: Vec<Records> = vec![(profile, records, set_records)];
     for (path, other) in &opts.also {
         same_shader(profile, profile_path, other, path)?;
-        let (_, nodes, sets) = records_of(other, path, opts)?;
+        let (_, mut nodes, sets) = records_of(other, path, opts)?;
+        // A node measured as another variant there (another refresh block or filter, kept by
+        // that session's race) is another candidate: it cannot hold the budget for this one.
+        nodes.retain(|n| same_variant(profile, other, n.id));
         all.push((other, nodes, sets));
     }
     let names: Vec<String> = all.iter().map(|(p, _, _)| p.session.path.clone()).collect();

@@ -198,6 +198,23 @@ pub(super) fn same_shader(
     }
 }
 
+/// Whether node `id` was measured as the same variant in `first` and `other` (two sessions'
+/// profiles of one shader): the same strategy, refresh block and reconstruction filter, which
+/// per-node races (`--block auto`, `--reconstruct auto`) may settle differently per session.
+/// A node `first` lacks is not compared (`false`).
+pub(super) fn same_variant(first: &Profile, other: &Profile, id: u32) -> bool {
+    let a = first.nodes.iter().find(|n| n.id == id);
+    let b = other.nodes.iter().find(|n| n.id == id);
+    match (a, b) {
+        (Some(a), Some(b)) => {
+            a.strategy == b.strategy
+                && a.block.unwrap_or(first.block) == b.block.unwrap_or(other.block)
+                && a.reconstruct_in(first) == b.reconstruct_in(other)
+        }
+        _ => false,
+    }
+}
+
 /// Whether `shader` — as WGSL, what `analyze` rendered and hashed — is the one `profile` was made
 /// of: the same IR written back by naga (comments and formatting aside), or for a profile before
 /// version 3 the same text.
