@@ -20,12 +20,11 @@
 //!
 //! The race costs one replay and one short race per node; `--block K` fixes the size instead.
 
-use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
+use reproj_instance::{InstanceOptions, NodeSelector, Strategy};
 use reproj_models::profile::{BlockProbe, Measurement};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use crate::AnalyzeError;
-use crate::journal::ReplayKey;
 use crate::replayer::{RaceEntry, Replayer, finite};
 
 /// The largest block raced.
@@ -208,70 +207,32 @@ pub(crate) fn race_block(
     Ok(kept.then_some(challenger))
 }
 
-/// The challenger block instanced and replayed at the longest period (two progress steps, and
-/// the third when it fails); `None` when it cannot be, said in a note.
+/// The challenger block instanced and replayed at the longest period
+/// ([`Replayer::challenger_at_longest`]).
 fn challenger_at_longest(
     rp: &mut Replayer<'_, '_>,
     race: &BlockRace<'_>,
     k: u32,
 ) -> Result<Option<Kept>, AnalyzeError> {
-    let (id, longest) = (race.id, rp.longest);
-    let who = format!("node {id}");
     let inst = InstanceOptions {
         strategy: race.strategy,
         block: k,
         ..rp.opts.instance
     };
-    let t = std::time::Instant::now();
-    let variant = instance(
-        rp.input.shader,
-        rp.input.norm,
-        rp.input.table,
+    let c = rp.challenger_at_longest(
+        race.id,
         race.sel,
         &inst,
-    );
-    rp.time.instancing_s += t.elapsed().as_secs_f64();
-    rp.progress.step(&format!("{who} k={k} instanced"));
-    let variant = match variant {
-        Ok(v) => v,
-        Err(e) => {
-            rp.progress.note(&format!(
-                "{who}: cannot instance k={k}: {e}; keeps k={}",
-                race.block
-            ));
-            rp.progress.step(&format!("{who} k={k}"));
-            rp.progress.step(&format!("{who} blocks"));
-            return Ok(None);
-        }
-    };
-    let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-    let key = ReplayKey {
-        node: id,
-        strategy: race.strategy.name().into(),
+        &format!("k={k}"),
+        &format!("k={}", race.block),
+        "blocks",
+    )?;
+    Ok(c.map(|c| Kept {
         block: k,
-        delta_n: longest,
-        frames: None,
-        set: Vec::new(),
-        reconstruct: None,
-    };
-    let replayed = rp.replay(key, &sources, &variant, longest, None)?;
-    rp.progress.step(&format!("{who} k={k} Δn={longest}"));
-    match replayed {
-        Ok((measurement, _)) => Ok(Some(Kept {
-            block: k,
-            sources,
-            variant,
-            measurement,
-        })),
-        Err(e) => {
-            rp.progress.note(&format!(
-                "{who}: k={k} replay failed at Δn={longest}: {e}; keeps k={}",
-                race.block
-            ));
-            rp.progress.step(&format!("{who} blocks"));
-            Ok(None)
-        }
-    }
+        sources: c.sources,
+        variant: c.variant,
+        measurement: c.measurement,
+    }))
 }
 
 #[cfg(test)]

@@ -27,14 +27,13 @@
 //! with the selector: on lavapipe, Catmull-Rom halves marble's error at equal Δn and still loses at
 //! equal error, because bilinear at half the Δn has nearly the same hit rate.
 
-use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, instance};
+use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy};
 use reproj_models::profile::{FilterProbe, Measurement};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 use reproj_models::{ErrorFit, ErrorFitOptions, fit_error};
 
 use crate::AnalyzeError;
-use crate::journal::ReplayKey;
-use crate::replayer::{RaceEntry, RaceLength, Replayer, finite};
+use crate::replayer::{Challenger, RaceEntry, RaceLength, Replayer, finite};
 
 /// The filter raced against the analysis's own (bilinear).
 pub(crate) const CHALLENGER: Reconstruct = Reconstruct::CatmullRom;
@@ -109,11 +108,7 @@ pub(crate) struct FilterRace<'a> {
 }
 
 /// The challenger, kept: its variant and its measurement at the longest period.
-pub(crate) struct Kept {
-    pub(crate) sources: Vec<String>,
-    pub(crate) variant: reproj_instance::Variant,
-    pub(crate) measurement: Measurement,
-}
+pub(crate) type Kept = Challenger;
 
 /// Race the challenger filter against the node's base filter (see the module docs), appending
 /// the probes to `probes`. `Some`: the challenger is kept and its remaining periods are the
@@ -203,69 +198,27 @@ fn base_model(rp: &Replayer<'_, '_>, race: &FilterRace<'_>) -> Option<(f64, Erro
     fit.is_ok().then_some((base_at_longest, fit))
 }
 
-/// The challenger instanced and replayed at the longest period (two progress steps, and the
-/// third when it fails); `None` when it cannot be, said in a note.
+/// The challenger filter instanced and replayed at the longest period
+/// ([`Replayer::challenger_at_longest`]).
 fn challenger_at_longest(
     rp: &mut Replayer<'_, '_>,
     race: &FilterRace<'_>,
 ) -> Result<Option<Kept>, AnalyzeError> {
-    let (id, longest) = (race.id, rp.longest);
     let base = rp.opts.instance.reconstruct;
-    let who = format!("node {id}");
     let inst = InstanceOptions {
         strategy: race.strategy,
         block: race.block,
         reconstruct: CHALLENGER,
         ..rp.opts.instance
     };
-    let t = std::time::Instant::now();
-    let variant = instance(
-        rp.input.shader,
-        rp.input.norm,
-        rp.input.table,
+    rp.challenger_at_longest(
+        race.id,
         race.sel,
         &inst,
-    );
-    rp.time.instancing_s += t.elapsed().as_secs_f64();
-    rp.progress.step(&format!("{who} {CHALLENGER} instanced"));
-    let variant = match variant {
-        Ok(v) => v,
-        Err(e) => {
-            rp.progress.note(&format!(
-                "{who}: cannot instance {CHALLENGER}: {e}; keeps {base}"
-            ));
-            rp.progress.step(&format!("{who} {CHALLENGER}"));
-            rp.progress.step(&format!("{who} {CHALLENGER}"));
-            return Ok(None);
-        }
-    };
-    let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
-    let key = ReplayKey {
-        node: id,
-        strategy: race.strategy.name().into(),
-        block: race.block,
-        delta_n: longest,
-        frames: None,
-        set: Vec::new(),
-        reconstruct: Some(CHALLENGER.name().into()),
-    };
-    let replayed = rp.replay(key, &sources, &variant, longest, None)?;
-    rp.progress
-        .step(&format!("{who} {CHALLENGER} Δn={longest}"));
-    match replayed {
-        Ok((measurement, _)) => Ok(Some(Kept {
-            sources,
-            variant,
-            measurement,
-        })),
-        Err(e) => {
-            rp.progress.note(&format!(
-                "{who}: {CHALLENGER} replay failed at Δn={longest}: {e}; keeps {base}"
-            ));
-            rp.progress.step(&format!("{who} filters"));
-            Ok(None)
-        }
-    }
+        CHALLENGER.name(),
+        base.name(),
+        "filters",
+    )
 }
 
 /// The race's report and its two estimates: the base at its equal-error period (when it has

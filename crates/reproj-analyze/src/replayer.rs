@@ -128,7 +128,81 @@ pub(crate) struct Subject {
     pub(crate) verdict: Option<String>,
 }
 
+/// A challenger variant of a node, instanced and replayed at the longest period for a race
+/// against the node's base ([`Replayer::challenger_at_longest`]).
+pub(crate) struct Challenger {
+    pub(crate) sources: Vec<String>,
+    pub(crate) variant: reproj_instance::Variant,
+    pub(crate) measurement: Measurement,
+}
+
 impl Replayer<'_, '_> {
+    /// Node `id` instanced with `inst` (a challenger to its base: another filter or block) and
+    /// replayed at the longest period: two progress steps, and a third when it fails (`done`, the
+    /// step that closes the race). `None` when it cannot be, said in a note naming `what` and the
+    /// base the node `keeps`.
+    pub(crate) fn challenger_at_longest(
+        &mut self,
+        id: u32,
+        sel: reproj_instance::NodeSelector,
+        inst: &reproj_instance::InstanceOptions,
+        what: &str,
+        keeps: &str,
+        done: &str,
+    ) -> Result<Option<Challenger>, AnalyzeError> {
+        let longest = self.longest;
+        let who = format!("node {id}");
+        let t = Instant::now();
+        let variant = reproj_instance::instance(
+            self.input.shader,
+            self.input.norm,
+            self.input.table,
+            sel,
+            inst,
+        );
+        self.time.instancing_s += t.elapsed().as_secs_f64();
+        self.progress.step(&format!("{who} {what} instanced"));
+        let variant = match variant {
+            Ok(v) => v,
+            Err(e) => {
+                self.progress.note(&format!(
+                    "{who}: cannot instance {what}: {e}; keeps {keeps}"
+                ));
+                self.progress.step(&format!("{who} {what}"));
+                self.progress.step(&format!("{who} {done}"));
+                return Ok(None);
+            }
+        };
+        let sources: Vec<String> = variant.passes.iter().map(|p| p.wgsl.clone()).collect();
+        let key = ReplayKey {
+            node: id,
+            strategy: inst.strategy.name().into(),
+            block: inst.block,
+            delta_n: longest,
+            frames: None,
+            set: Vec::new(),
+            // The journal keys a filter other than the analysis's own by its name.
+            reconstruct: (inst.reconstruct != self.opts.instance.reconstruct)
+                .then(|| inst.reconstruct.name().to_string()),
+        };
+        let replayed = self.replay(key, &sources, &variant, longest, None)?;
+        self.progress.step(&format!("{who} {what} Δn={longest}"));
+        match replayed {
+            Ok((measurement, _)) => Ok(Some(Challenger {
+                sources,
+                variant,
+                measurement,
+            })),
+            Err(e) => {
+                self.progress.note(&format!(
+                    "{who}: {what} replay failed at Δn={longest}: {e}; keeps {keeps}"
+                ));
+                self.progress.step(&format!("{who} {done}"));
+                Ok(None)
+            }
+        }
+    }
+
     /// Time `entries` (variants of `node`, or of the set `set`, each at its period: the longest
     /// one but in a filter race) against the original, interleaved (`reproj-bench`, under [`AnalyzeOptions::race`]): each one's
     /// speedup with its 95 % interval. Journaled: a resumed analysis reuses the report (its
