@@ -9,8 +9,9 @@
 //! device. Whether they pay is measured, per node, after its strategy was chosen:
 //!
 //! 1. the challenger block ([`challenger_block`]: 32, at most an eighth of the frame's shorter
-//!    side so that a frame has at least 64 blocks) is replayed at the longest training Δn, where
-//!    the base (the strategy's default k) was just replayed;
+//!    side so that a frame has at least 64 blocks) is replayed at the race's period
+//!    ([`race_period`]: the longest training Δn at most half the session, so the refresh shows),
+//!    where the base (the strategy's default k) was just replayed;
 //! 2. where its error is not lower, the base is kept at once (no race);
 //! 3. otherwise both are timed interleaved with the original in one race at that same Δn, and the
 //!    challenger is kept unless it is slower than the base beyond doubt (their 95 % intervals
@@ -37,6 +38,19 @@ pub(crate) fn challenger_block(resolution: [u32; 2], base: u32) -> Option<u32> {
     let side = resolution[0].min(resolution[1]) / 8;
     let k = LARGEST.min(side) & !1;
     (k > base).then_some(k)
+}
+
+/// The period the blocks are compared at: the longest training period at most half the frames
+/// replayed, so that every pixel is refreshed at least twice in the session and the refresh
+/// pattern shows in the error (at a period past the session most pixels are never refreshed);
+/// the shortest training period when none is that short.
+pub(crate) fn race_period(train: &[u32], frames: u32) -> u32 {
+    let fits = train
+        .iter()
+        .copied()
+        .filter(|&d| d.saturating_mul(2) <= frames)
+        .max();
+    fits.or_else(|| train.iter().copied().min()).unwrap_or(2)
 }
 
 /// Whether `challenger` is a lower error than `base` (both finite; a NaN is never lower).
@@ -68,7 +82,7 @@ pub(crate) fn challenger_kept(
     }
 }
 
-/// A node's variant as its strategy race left it, replayed at the longest period.
+/// A node's variant as its strategy race left it, replayed at the race's period.
 pub(crate) struct BlockRace<'a> {
     pub(crate) id: u32,
     pub(crate) sel: NodeSelector,
@@ -76,11 +90,13 @@ pub(crate) struct BlockRace<'a> {
     pub(crate) block: u32,
     pub(crate) base_sources: &'a [String],
     pub(crate) base_variant: &'a reproj_instance::Variant,
-    /// The base's measurement at the longest period.
+    /// The period both blocks are replayed and timed at ([`race_period`]).
+    pub(crate) delta_n: u32,
+    /// The base's measurement at `delta_n`.
     pub(crate) base: &'a Measurement,
 }
 
-/// The challenger, kept: its block, variant and measurement at the longest period.
+/// The challenger, kept: its block, variant and measurement at the race's period.
 pub(crate) struct Kept {
     pub(crate) block: u32,
     pub(crate) sources: Vec<String>,
@@ -96,13 +112,13 @@ pub(crate) fn race_block(
     race: &BlockRace<'_>,
     probes: &mut Vec<BlockProbe>,
 ) -> Result<Option<Kept>, AnalyzeError> {
-    let (id, longest) = (race.id, rp.longest);
+    let (id, dn) = (race.id, race.delta_n);
     let Some(k) = challenger_block(rp.input.session.resolution, race.block) else {
         return Ok(None);
     };
     rp.progress.extend(3);
     let who = format!("node {id}");
-    let Some(challenger) = challenger_at_longest(rp, race, k)? else {
+    let Some(challenger) = challenger_at(rp, race, k)? else {
         return Ok(None);
     };
     let (base_error, challenger_error) = (race.base.error, challenger.measurement.error);
@@ -110,7 +126,7 @@ pub(crate) fn race_block(
         node: id,
         strategy: race.strategy.name().into(),
         block,
-        delta_n: longest,
+        delta_n: dn,
         error: finite(error),
         speedup: None,
         speedup_ci95: None,
@@ -121,7 +137,7 @@ pub(crate) fn race_block(
     if !more_accurate(base_error, challenger_error) {
         rp.progress.step(&format!("{who} blocks"));
         let note = format!(
-            "k={k} is no more accurate than k={} at Δn {longest} ({challenger_error:.5} vs {base_error:.5}): not raced, keeps k={}",
+            "k={k} is no more accurate than k={} at Δn {dn} ({challenger_error:.5} vs {base_error:.5}): not raced, keeps k={}",
             race.block, race.block
         );
         rp.progress.note(&format!("{who}: {note}"));
@@ -140,13 +156,13 @@ pub(crate) fn race_block(
             name: format!("k{}", race.block),
             sources: race.base_sources,
             variant: race.base_variant,
-            delta_n: longest,
+            delta_n: dn,
         },
         RaceEntry {
             name: format!("k{k}"),
             sources: &challenger.sources,
             variant: &challenger.variant,
-            delta_n: longest,
+            delta_n: dn,
         },
     ];
     let report = rp.race(&format!("{who} blocks"), id, &[], &entries)?;
@@ -160,7 +176,7 @@ pub(crate) fn race_block(
     );
     let shown = |e: Option<&SpeedupEstimate>| e.map_or_else(|| "untimed".into(), |e| e.display());
     let note = format!(
-        "k={k} at Δn {longest}: error {challenger_error:.5}, {} against k={}: {base_error:.5}, {}: {}",
+        "k={k} at Δn {dn}: error {challenger_error:.5}, {} against k={}: {base_error:.5}, {}: {}",
         shown(challenger_estimate.as_ref()),
         race.block,
         shown(base_estimate.as_ref()),
@@ -207,9 +223,8 @@ pub(crate) fn race_block(
     Ok(kept.then_some(challenger))
 }
 
-/// The challenger block instanced and replayed at the longest period
-/// ([`Replayer::challenger_at_longest`]).
-fn challenger_at_longest(
+/// The challenger block instanced and replayed at the race's period ([`Replayer::challenger_at`]).
+fn challenger_at(
     rp: &mut Replayer<'_, '_>,
     race: &BlockRace<'_>,
     k: u32,
@@ -219,10 +234,11 @@ fn challenger_at_longest(
         block: k,
         ..rp.opts.instance
     };
-    let c = rp.challenger_at_longest(
+    let c = rp.challenger_at(
         race.id,
         race.sel,
         &inst,
+        race.delta_n,
         &format!("k={k}"),
         &format!("k={}", race.block),
         "blocks",
@@ -261,6 +277,19 @@ mod tests {
         assert_eq!(challenger_block([32, 32], 4), None);
         assert_eq!(challenger_block([64, 64], 8), None);
         assert_eq!(challenger_block([256, 256], 32), None);
+    }
+
+    #[test]
+    fn the_race_period_leaves_every_pixel_two_refreshes_in_the_session() {
+        let train = [2, 10, 18, 26, 34, 42, 50];
+        // marble: 150 frames, the longest training period.
+        assert_eq!(race_period(&train, 150), 50);
+        // The corpus sessions: 48 frames.
+        assert_eq!(race_period(&train, 48), 18);
+        assert_eq!(race_period(&train, 20), 10);
+        // Shorter than any: the shortest.
+        assert_eq!(race_period(&train, 3), 2);
+        assert_eq!(race_period(&[], 100), 2);
     }
 
     /// Marble's node 680, 2pass, Δn 18 on lavapipe (docs/results.md): k=4 2.06× [2.01, 2.11]

@@ -199,7 +199,7 @@ fn base_model(rp: &Replayer<'_, '_>, race: &FilterRace<'_>) -> Option<(f64, Erro
 }
 
 /// The challenger filter instanced and replayed at the longest period
-/// ([`Replayer::challenger_at_longest`]).
+/// ([`Replayer::challenger_at`]).
 fn challenger_at_longest(
     rp: &mut Replayer<'_, '_>,
     race: &FilterRace<'_>,
@@ -211,10 +211,12 @@ fn challenger_at_longest(
         reconstruct: CHALLENGER,
         ..rp.opts.instance
     };
-    rp.challenger_at_longest(
+    let longest = rp.longest;
+    rp.challenger_at(
         race.id,
         race.sel,
         &inst,
+        longest,
         CHALLENGER.name(),
         base.name(),
         "filters",

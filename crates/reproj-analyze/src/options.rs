@@ -75,9 +75,10 @@ pub struct AnalyzeOptions {
     /// Refresh block size k for every strategy (`None`: each strategy's default).
     pub block: Option<u32>,
     /// Per node, after its strategy is chosen, race a larger refresh block against the
-    /// strategy's default at the longest training Δn and keep it where it is more accurate and
-    /// not slower beyond doubt ([`crate::blocks`]; `--block auto`). Off by default (one replay
-    /// and one race per node); ignored where `block` is set.
+    /// strategy's default at one period (the longest training Δn at most half the frames
+    /// replayed) and keep it where it is more accurate and not slower beyond doubt
+    /// (`crate::blocks`; `--block auto`). Off by default (one replay and one race per node);
+    /// ignored where `block` is set.
     pub race_blocks: bool,
     /// Replay only the first N frames of the session.
     pub max_frames: Option<u32>,

@@ -129,7 +129,7 @@ pub(crate) struct Subject {
 }
 
 /// A challenger variant of a node, instanced and replayed at the longest period for a race
-/// against the node's base ([`Replayer::challenger_at_longest`]).
+/// against the node's base ([`Replayer::challenger_at`]).
 pub(crate) struct Challenger {
     pub(crate) sources: Vec<String>,
     pub(crate) variant: reproj_instance::Variant,
@@ -138,19 +138,21 @@ pub(crate) struct Challenger {
 
 impl Replayer<'_, '_> {
     /// Node `id` instanced with `inst` (a challenger to its base: another filter or block) and
-    /// replayed at the longest period: two progress steps, and a third when it fails (`done`, the
-    /// step that closes the race). `None` when it cannot be, said in a note naming `what` and the
-    /// base the node `keeps`.
-    pub(crate) fn challenger_at_longest(
+    /// replayed at period `longest` (the filter race's is the longest training period, the block
+    /// race's [`crate::blocks::race_period`]): two progress steps, and a third when it fails
+    /// (`done`, the step that closes the race). `None` when it cannot be, said in a note naming
+    /// `what` and the base the node `keeps`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn challenger_at(
         &mut self,
         id: u32,
         sel: reproj_instance::NodeSelector,
         inst: &reproj_instance::InstanceOptions,
+        longest: u32,
         what: &str,
         keeps: &str,
         done: &str,
     ) -> Result<Option<Challenger>, AnalyzeError> {
-        let longest = self.longest;
         let who = format!("node {id}");
         let t = Instant::now();
         let variant = reproj_instance::instance(

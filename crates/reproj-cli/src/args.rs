@@ -535,8 +535,8 @@ pub struct CacheArgs {
     pub strategy: Option<StrategyArg>,
     /// Refresh block size k (1 or even, so blocks align with 2×2 quads; default 8 for fused, 4
     /// otherwise). analyze also takes `auto`: per node, race a larger block (32, at most an
-    /// eighth of the frame) against the default at the longest Δn and keep it where it measures
-    /// more accurate and not slower (recorded per node in the profile).
+    /// eighth of the frame) against the default at one Δn (the longest at most half the session)
+    /// and keep it where it measures more accurate and not slower (recorded in the profile).
     #[arg(long, value_parser = block_choice)]
     pub block: Option<crate::values::BlockArg>,
     /// Relative depth tolerance of the cache hit test.

@@ -252,7 +252,8 @@ fn instance_refuses_reconstruct_auto() {
 }
 
 /// `analyze --block auto` races a larger refresh block per node (at 64×64, k=8: an eighth of the
-/// side) against the strategy's default and records the race; every node's block is one of the
+/// side) against the strategy's default at Δn 8 (the longest training period at most half the
+/// 24 frames) and records the race; every node's block is one of the
 /// two, the larger kept exactly where its probe says so, and `emit` writes the chosen node's own
 /// block into the manifest.
 #[test]
@@ -293,11 +294,21 @@ fn analyze_block_auto_records_each_node_s_block_and_emit_writes_it() {
                     .find(|q| q["node"] == n["id"] && q["block"] == 4)
                     .expect("the base's probe");
                 assert_eq!(base["delta_n"], p["delta_n"]);
+                // The 24-frame session: the longest training period at most half of it.
+                assert_eq!(p["delta_n"], 8, "{p}");
                 assert_eq!(base["kept"] == true, block == 4, "{base} {n}");
                 if block == 8 {
                     // Kept only when more accurate, and its periods are its own.
                     assert!(p["error"].as_f64() < base["error"].as_f64(), "{p} {base}");
                     assert!(p["speedup"].is_number(), "{p}");
+                    // Its own measurements at the race's period and at the longest one.
+                    let periods: Vec<u64> = n["measurements"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|m| m["delta_n"].as_u64().unwrap())
+                        .collect();
+                    assert!(periods.contains(&8) && periods.contains(&24), "{n}");
                 }
             }
             None => assert_eq!(block, 4, "an unraced node keeps the default: {n}"),

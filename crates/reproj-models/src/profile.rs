@@ -491,8 +491,9 @@ pub struct FilterProbe {
 /// One refresh block size raced for one node (`analyze --block auto`, version 10).
 ///
 /// Per node, after its strategy was chosen, the base block (the strategy's default k) and a
-/// larger one are replayed at the longest training Δn — the same period, so the same share of
-/// pixels is refreshed per frame — and timed interleaved with the original in one race. The larger
+/// larger one are replayed at one period — the longest training Δn at most half the frames
+/// replayed, so every pixel is refreshed at least twice; the same period for both, so the same
+/// share of pixels is refreshed per frame — and timed interleaved with the original in one race. The larger
 /// block is kept only when its measured error is lower and it is not slower beyond doubt;
 /// otherwise the base is (ties and noise included). Two probes per race, the base's first.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -502,7 +503,8 @@ pub struct BlockProbe {
     pub strategy: String,
     /// The refresh block size k raced.
     pub block: u32,
-    /// The period both were replayed and timed at (the longest training Δn).
+    /// The period both were replayed and timed at (the longest training Δn at most half the
+    /// frames replayed).
     pub delta_n: u32,
     /// The error measured over the whole session at `delta_n`.
     pub error: f64,

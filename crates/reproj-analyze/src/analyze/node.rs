@@ -262,19 +262,30 @@ fn profile_winner(
         raced: true,
         verdict,
     };
-    // The longest period first: the block race starts from it.
+    // The longest period first, and the block race's period with it: the race starts from them.
+    let race_dn = (opts.race_blocks && opts.block.is_none()).then(|| {
+        let frames = opts
+            .max_frames
+            .map_or(input.session.frames, |m| m.min(input.session.frames));
+        crate::blocks::race_period(&opts.delta_n_train, frames)
+    });
+    let mut first = vec![(longest, false)];
+    let mut rest: Vec<(u32, bool)> = plan.to_vec();
+    if let Some(dn) = race_dn.filter(|&dn| dn != longest) {
+        first.push((dn, false));
+        rest.retain(|&(d, _)| d != dn);
+    }
     rp.replay_plan(
         &subject,
         &sources,
         &variant,
-        &[(longest, false)],
+        &first,
         &mut measurements,
         &mut failure,
     )?;
-    if opts.race_blocks
-        && opts.block.is_none()
+    if let Some(dn) = race_dn
         && failure.is_none()
-        && let Some(base) = measurements.first().cloned()
+        && let Some(base) = measurements.iter().find(|m| m.delta_n == dn).cloned()
     {
         let race = crate::blocks::BlockRace {
             id,
@@ -283,6 +294,7 @@ fn profile_winner(
             block,
             base_sources: &sources,
             base_variant: &variant,
+            delta_n: dn,
             base: &base,
         };
         if let Some(kept) = crate::blocks::race_block(rp, &race, &mut replays.block_probes)? {
@@ -290,6 +302,11 @@ fn profile_winner(
             sources = kept.sources;
             variant = kept.variant;
             measurements = vec![kept.measurement];
+            if dn != longest {
+                // The kept block's own measurement at the longest period, before the rest.
+                progress.extend(1);
+                rest.insert(0, (longest, false));
+            }
         }
     }
     let subject = Subject {
@@ -301,7 +318,7 @@ fn profile_winner(
         &subject,
         &sources,
         &variant,
-        plan,
+        &rest,
         &mut measurements,
         &mut failure,
     )?;
