@@ -226,8 +226,8 @@ fn strategy_probes(
 }
 
 /// The winning strategy replayed over the longest period and the plan; with `race_blocks`, a
-/// larger refresh block raced at the longest period and, when kept, replayed over the plan
-/// instead; with `race_filters`, the challenger filter raced at equal error and, when kept,
+/// larger refresh block raced at its period ([`crate::blocks::race_period`]) and, when kept,
+/// replayed over the plan instead; with `race_filters`, the challenger filter raced at equal error and, when kept,
 /// replayed instead.
 fn profile_winner(
     rp: &mut Replayer<'_, '_>,
