@@ -21,7 +21,7 @@
 //! - `readback`: the batched readback (`Staging`, `QueryKit`, `FrameBatch`).
 //! - `assets`: the session's meshes and textures on the GPU, kept across replays.
 //! - `reduce`: the [`Reference`] frames (kept on the GPU too) and the per-frame error reduction
-//!   compute pass against them (one record per 64×64 tile comes back).
+//!   compute pass against them (one record per 8×8 block comes back).
 //! - [`Renderer`] (`render/`): [`Renderer::render_original`] renders the reference frames,
 //!   [`Renderer::render_variant`] runs a cached variant of any strategy (`docs/PASSES.md`) and
 //!   compares it with the reference. Uniform fields are filled by name (`reproj_scene::uniforms`);

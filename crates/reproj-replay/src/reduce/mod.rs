@@ -3,15 +3,21 @@
 //! A variant replay used to read every frame back (16 bytes per pixel) only to compute a few sums
 //! on the CPU. Here the reference frames stay on the GPU ([`GpuReference`], made by
 //! `render_original` with [`Keeper`]) and a compute pass ([`Reducer`]) compares each frame of the
-//! variant with its reference where it was rendered: each 64×64 tile of the frame becomes one
-//! [`Partial`] record (20 bytes), and only those come back, into one slot per frame of a readback
-//! batch. The host sums the tiles in f64 into a [`FrameError`], the same sums
-//! [`reproj_metrics::l2::compare`] makes on the CPU (which stays for replays that read the pixels back
-//! anyway, to write PNGs).
+//! variant with its reference where it was rendered: each 8×8 block of the frame becomes one
+//! [`Partial`] record (28 bytes; 1,024 for a 256×256 frame, 32,640 at 1920×1080), and only those
+//! come back, into one slot per frame of a readback batch. The host sums the blocks in f64 into a
+//! [`FrameError`], the same sums [`reproj_metrics::l2::compare`] makes on the CPU (which stays for
+//! replays that read the pixels back anyway, to write PNGs).
 //!
-//! Precision: a thread sums its 4×4 pixels in f32, the workgroup sums its 256 threads in a tree
-//! (8 levels), the host sums the tiles in f64; the relative error of a frame's sums is about
-//! 24 f32 roundings, ~1.5e-6 (the per-pixel terms are all non-negative, so nothing cancels).
+//! The kernel has no workgroup memory and no barrier: a thread writes its block's record. The first
+//! form (16×16 threads of 4×4 pixels, then a tree over the workgroup) cost 1.05–1.2 ms per 256×256
+//! frame on lavapipe, which runs barriers as coroutine switches (a third of a marble variant's own
+//! passes at Δn 50); this one 0.37–0.38 ms (`docs/results.md`, "Analysis time: the error
+//! reduction").
+//!
+//! Precision: a thread sums each row of its block in f32 (8 terms), then the rows (8), and the
+//! host sums the blocks in f64; the relative error of a frame's sums is about 16 f32 roundings,
+//! ~1e-6 (the per-pixel terms are all non-negative, so nothing cancels).
 
 use std::borrow::Cow;
 use std::num::NonZeroU64;
@@ -23,13 +29,16 @@ use crate::readback::{Staging, readback_row_bytes};
 use reproj_metrics::RenderReport;
 use reproj_metrics::l2::{self, FrameError};
 
-/// Pixels per side of the tile one workgroup reduces (16×16 threads, 4×4 pixels each).
+/// Pixels per side of the tile one workgroup covers (8×8 threads, 8×8 pixels each: `SIDE` and
+/// `BLOCK` in `reduce.wgsl`).
 const TILE: u32 = 64;
+/// Threads per workgroup, each writing one [`Partial`].
+const THREADS: u64 = 64;
 
 /// The reduction kernel (`reduce.wgsl`).
 const SHADER: &str = include_str!("reduce.wgsl");
 
-/// One tile's sums, as the shader writes them (`struct Partial` in `reduce.wgsl`).
+/// One block's sums, as the shader writes them (`struct Partial` in `reduce.wgsl`).
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 struct Partial {
@@ -378,7 +387,7 @@ impl Keeper {
 pub(crate) struct Reducer<'a> {
     kernel: Kernel,
     reference: Cow<'a, GpuReference>,
-    /// Per slot: one [`Partial`] per tile, at `slot * stride`.
+    /// Per slot: one [`Partial`] per block ([`THREADS`] per tile), at `slot * stride`.
     out: wgpu::Buffer,
     read: wgpu::Buffer,
     stride: u64,
@@ -398,7 +407,7 @@ impl<'a> Reducer<'a> {
         slots: u32,
     ) -> Result<Reducer<'a>, ReplayError> {
         let groups = [w.div_ceil(TILE), h.div_ceil(TILE)];
-        let bytes = (groups[0] * groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
+        let bytes = slot_bytes(groups);
         let align = u64::from(r.device.limits().min_storage_buffer_offset_alignment)
             .max(wgpu::COPY_BUFFER_ALIGNMENT);
         let stride = bytes.div_ceil(align) * align;
@@ -442,7 +451,7 @@ impl<'a> Reducer<'a> {
                 gpu_err("the error reduction", format!("no reference frame {frame}"))
             })?;
         let at = slot as u64 * self.stride;
-        let size = (self.groups[0] * self.groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
+        let size = slot_bytes(self.groups);
         let group = r.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("error reduction"),
             layout: &self.kernel.layout,
@@ -490,7 +499,7 @@ impl<'a> Reducer<'a> {
     /// The error sums of the frame in `slot` (the read buffer must be mapped).
     pub(crate) fn read(&self, slot: u32) -> Result<FrameError, ReplayError> {
         let at = slot as u64 * self.stride;
-        let size = (self.groups[0] * self.groups[1]) as u64 * std::mem::size_of::<Partial>() as u64;
+        let size = slot_bytes(self.groups);
         let view = self
             .read
             .get_mapped_range(at..at + size)
@@ -527,7 +536,7 @@ impl PixelsBack {
 /// How a variant replay gets each frame's error against the reference, and the pixels of the
 /// frames [`PixelsBack`] asks for.
 pub(crate) struct FrameErrors<'a> {
-    /// Reduced on the GPU: only the per-tile sums come back. `None` with [`PixelsBack::All`].
+    /// Reduced on the GPU: only the per-block sums come back. `None` with [`PixelsBack::All`].
     reducer: Option<Reducer<'a>>,
     /// One slot per frame of a batch for the frames whose pixels come back.
     pixels: Option<Staging>,
@@ -619,7 +628,12 @@ impl<'a> FrameErrors<'a> {
     }
 }
 
-/// A frame's error sums from its tiles' partial sums, in f64.
+/// The bytes of one frame's [`Partial`]s: [`THREADS`] per workgroup of `groups`.
+fn slot_bytes(groups: [u32; 2]) -> u64 {
+    u64::from(groups[0]) * u64::from(groups[1]) * THREADS * std::mem::size_of::<Partial>() as u64
+}
+
+/// A frame's error sums from its blocks' partial sums, in f64.
 fn sum(partials: &[Partial], pixels: u64) -> FrameError {
     let mut e = FrameError {
         pixels,

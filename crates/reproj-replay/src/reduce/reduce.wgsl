@@ -1,5 +1,7 @@
-// One workgroup reduces a 64×64 tile of the frame: 16×16 threads each sum a 4×4 block, then a
-// tree over the workgroup. Keep `Partial` in step with the Rust struct of the same name.
+// One workgroup covers a 64×64 tile of the frame: 8×8 threads, each sums an 8×8 block and writes
+// its own `Partial` (no workgroup memory, no barrier: a CPU adapter such as lavapipe runs
+// workgroup barriers as coroutine switches, which cost more than the sums). Keep `Partial` in step
+// with the Rust struct of the same name, and `SIDE`/`BLOCK` with `TILE`/`THREADS` there.
 struct Partial {
     l2: f32,        // sum of the per-pixel L2 RGB distance, channels clamped to [0, 1]
     sq: f32,        // sum over covered pixels of the squared (clamped) RGB differences
@@ -15,17 +17,9 @@ struct Partial {
 @group(0) @binding(2) var ref_depth: texture_2d<f32>;
 @group(0) @binding(3) var<storage, read_write> partials: array<Partial>;
 
-const SIDE: u32 = 16u;
-const BLOCK: u32 = 4u;
+const SIDE: u32 = 8u;
+const BLOCK: u32 = 8u;
 const INF_BITS: u32 = 0x7f800000u;
-
-var<workgroup> w_l2: array<f32, 256>;
-var<workgroup> w_sq: array<f32, 256>;
-var<workgroup> w_cov: array<u32, 256>;
-var<workgroup> w_max: array<u32, 256>;
-var<workgroup> w_flags: array<u32, 256>;
-var<workgroup> w_bad: array<u32, 256>;
-var<workgroup> w_bad_ref: array<u32, 256>;
 
 // NaN or ±inf in any of the three channels (by bits: a compiler may fold `x != x` away).
 fn nonfinite3(v: vec3<f32>) -> bool {
@@ -39,7 +33,7 @@ fn abs_bits(d: f32) -> u32 {
     return select(b, INF_BITS, b > INF_BITS);
 }
 
-@compute @workgroup_size(16, 16)
+@compute @workgroup_size(8, 8)
 fn reduce(
     @builtin(workgroup_id) wg: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
@@ -56,6 +50,9 @@ fn reduce(
     var bad = 0u;
     var bad_ref = 0u;
     for (var j = 0u; j < BLOCK; j++) {
+        // A row's sums first, then the block's: 16 f32 roundings at most on a term, not 64.
+        var row_l2 = 0.0;
+        var row_sq = 0.0;
         for (var i = 0u; i < BLOCK; i++) {
             let p = origin + vec2<u32>(i, j);
             if p.x < size.x && p.y < size.y {
@@ -75,9 +72,9 @@ fn reduce(
                     let d = clamp(a.rgb, vec3<f32>(0.0), vec3<f32>(1.0))
                           - clamp(b.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
                     let s = d.r * d.r + d.g * d.g + d.b * d.b;
-                    l2 += sqrt(s);
+                    row_l2 += sqrt(s);
                     if covered {
-                        sq += s;
+                        row_sq += s;
                     }
                 }
                 if covered {
@@ -85,29 +82,9 @@ fn reduce(
                 }
             }
         }
+        l2 += row_l2;
+        sq += row_sq;
     }
-    w_l2[li] = l2;
-    w_sq[li] = sq;
-    w_cov[li] = cov;
-    w_max[li] = mx;
-    w_flags[li] = flags;
-    w_bad[li] = bad;
-    w_bad_ref[li] = bad_ref;
-    workgroupBarrier();
-    for (var s = 128u; s > 0u; s >>= 1u) {
-        if li < s {
-            w_l2[li] += w_l2[li + s];
-            w_sq[li] += w_sq[li + s];
-            w_cov[li] += w_cov[li + s];
-            w_max[li] = max(w_max[li], w_max[li + s]);
-            w_flags[li] |= w_flags[li + s];
-            w_bad[li] += w_bad[li + s];
-            w_bad_ref[li] += w_bad_ref[li + s];
-        }
-        workgroupBarrier();
-    }
-    if li == 0u {
-        partials[wg.y * groups.x + wg.x] = Partial(w_l2[0], w_sq[0], w_cov[0], w_max[0], w_flags[0],
-                                                   w_bad[0], w_bad_ref[0]);
-    }
+    partials[(wg.y * groups.x + wg.x) * (SIDE * SIDE) + li] =
+        Partial(l2, sq, cov, mx, flags, bad, bad_ref);
 }
