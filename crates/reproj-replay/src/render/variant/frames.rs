@@ -55,33 +55,48 @@ impl Renderer {
         let rb = self.variant_readback(run)?;
         let rb_bufs = rb.read_buffers();
         let mut batch = FrameBatch::new("variant ", rb.slots, first + frames);
-        // Frames read back for ꟻLIP and SSIM, scored between batches once there is one per core.
-        // The metrics are the costliest CPU work of a replay (ꟻLIP: about 26 ms per 256×256
-        // frame on one core): they run on every core, but never while a timed frame is in flight
-        // (on a CPU adapter they would otherwise slow the frames being measured).
-        let mut to_score: Vec<(u32, Vec<f32>)> = Vec::new();
-        for f in first..first + frames {
-            let slot = batch.slot();
-            let (render, readback) = self.encode_variant_frame(run, &rb, f, slot)?;
-            if !batch.submit(self, render, readback, f)? {
-                continue;
+        // Frames read back for ꟻLIP and SSIM are scored as they come back, on the scoring pool's
+        // threads at the lowest CPU priority (`scoring_pool`): the metrics are the costliest CPU
+        // work of a replay (ꟻLIP: about 26 ms per 256×256 frame on one core), and on a CPU
+        // adapter they then take only the cycles the rasterizer leaves idle instead of holding
+        // up the frame loop. The scope waits for the last of them before the replay returns, so
+        // they never overlap another replay or a race.
+        let (tx, rx) = std::sync::mpsc::channel();
+        scoring_pool().in_place_scope(|scope| -> Result<(), ReplayError> {
+            for f in first..first + frames {
+                let slot = batch.slot();
+                let (render, readback) = self.encode_variant_frame(run, &rb, f, slot)?;
+                if !batch.submit(self, render, readback, f)? {
+                    continue;
+                }
+                // Read the batch back with one wait.
+                batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
+                    let (record, sampled) = self.variant_frame_back(run, &rb, slot, f, cpu_ms)?;
+                    if let Some(pixels) = sampled {
+                        let tx = tx.clone();
+                        scope.spawn(move |_| {
+                            let fi = f as usize;
+                            let scored = perceptual::compare_perceptual(
+                                &pixels,
+                                &reference.frames[fi],
+                                &reference.depth[fi],
+                                size[0],
+                                size[1],
+                            );
+                            // The receiver outlives the scope.
+                            let _ = tx.send((f, scored));
+                        });
+                    }
+                    report.frames.push(record);
+                    run.progress.frame(f - first + 1, frames);
+                    Ok(())
+                })?;
+                // Swap happens through the parity of the next frame.
             }
-            // Read the batch back with one wait.
-            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                let (record, sampled) = self.variant_frame_back(run, &rb, slot, f, cpu_ms)?;
-                to_score.extend(sampled.map(|pixels| (f, pixels)));
-                report.frames.push(record);
-                run.progress.frame(f - first + 1, frames);
-                Ok(())
-            })?;
-            // Score once there is a frame for every core (at 1080p a batch holds one frame and
-            // one ꟻLIP takes most of a second), and whatever is left at the end.
-            if to_score.len() >= rayon::current_num_threads() {
-                score_perceptual(&mut to_score, report, reference, opts, size)?;
-            }
-            // Swap happens through the parity of the next frame.
-        }
-        score_perceptual(&mut to_score, report, reference, opts, size)
+            Ok(())
+        })?;
+        drop(tx);
+        record_perceptual(rx, report, opts, size)
     }
 
     /// The queries, the error reduction (unless timing only) and the classification staging,
