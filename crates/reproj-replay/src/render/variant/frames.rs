@@ -60,8 +60,11 @@ impl Renderer {
         // work of a replay (ꟻLIP: about 26 ms per 256×256 frame on one core), and on a CPU
         // adapter they then take only the cycles the rasterizer leaves idle instead of holding
         // up the frame loop. The scope waits for the last of them before the replay returns, so
-        // they never overlap another replay or a race.
+        // they never overlap another replay or a race. At most two frames per scoring thread
+        // wait (a 1080p frame is 33 MB): past that the loop waits for one to be scored.
         let (tx, rx) = std::sync::mpsc::channel();
+        let mut scored = Vec::new();
+        let (mut waiting, most) = (0usize, 2 * scoring_pool().current_num_threads());
         scoring_pool().in_place_scope(|scope| -> Result<(), ReplayError> {
             for f in first..first + frames {
                 let slot = batch.slot();
@@ -76,7 +79,7 @@ impl Renderer {
                         let tx = tx.clone();
                         scope.spawn(move |_| {
                             let fi = f as usize;
-                            let scored = perceptual::compare_perceptual(
+                            let metrics = perceptual::compare_perceptual(
                                 &pixels,
                                 &reference.frames[fi],
                                 &reference.depth[fi],
@@ -84,8 +87,15 @@ impl Renderer {
                                 size[1],
                             );
                             // The receiver outlives the scope.
-                            let _ = tx.send((f, scored));
+                            let _ = tx.send((f, metrics));
                         });
+                        waiting += 1;
+                        while waiting > most
+                            && let Ok(done) = rx.recv()
+                        {
+                            scored.push(done);
+                            waiting -= 1;
+                        }
                     }
                     report.frames.push(record);
                     run.progress.frame(f - first + 1, frames);
@@ -96,7 +106,8 @@ impl Renderer {
             Ok(())
         })?;
         drop(tx);
-        record_perceptual(rx, report, opts, size)
+        scored.extend(rx);
+        record_perceptual(scored, report, opts, size)
     }
 
     /// The queries, the error reduction (unless timing only) and the classification staging,

@@ -193,15 +193,14 @@ fn lowest_priority() {
     }
 }
 
-/// The scored frames from `rx` into their records of `report`, and their ꟻLIP maps written where
-/// frames are.
+/// The scored frames into their records of `report`, and their ꟻLIP maps written where frames
+/// are.
 pub(super) fn record_perceptual(
-    rx: std::sync::mpsc::Receiver<(u32, (perceptual::PerceptualError, Vec<f32>))>,
+    mut scored: Vec<(u32, (perceptual::PerceptualError, Vec<f32>))>,
     report: &mut RenderReport,
     opts: &RenderOptions,
     [w, h]: [u32; 2],
 ) -> Result<(), ReplayError> {
-    let mut scored: Vec<_> = rx.into_iter().collect();
     scored.sort_by_key(|(f, _)| *f);
     for (f, (e, map)) in scored {
         if let Some(r) = report.frames.iter_mut().rev().find(|r| r.frame == f) {
