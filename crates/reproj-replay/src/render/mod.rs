@@ -35,12 +35,14 @@ mod object;
 mod original;
 mod pipeline;
 mod scene;
+mod score;
 mod variant;
 
 use bind::*;
 use object::ObjectGpu;
 use pipeline::*;
 use scene::*;
+use score::{Scorer, scoring_pool};
 
 pub use reproj_instance::contract::{CLASSIFY_ENTRY, MAX_BIND_GROUPS};
 

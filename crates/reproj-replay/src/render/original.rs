@@ -155,7 +155,8 @@ impl Renderer {
     /// of `shader` per frame; what comes back is `keep`'s. With [`Keep::Frames`], the frames,
     /// their depth and the GPU copy of both. In phases: checks, the pass
     /// ([`Renderer::plain_pass`]), its targets and readback ([`Renderer::plain_targets`]), the
-    /// frame loop ([`Renderer::plain_frames`]), then the sampled frames' perceptual metrics.
+    /// frame loop ([`Renderer::plain_frames`], the sampled frames' perceptual metrics scored
+    /// beside it), then their records.
     fn render_plain(
         &self,
         shader: &Shader,
@@ -188,15 +189,8 @@ impl Renderer {
             frames: Vec::with_capacity(frames as usize),
             depth: Vec::with_capacity(frames as usize),
         };
-        self.plain_frames(&run, progress, &mut out)?;
-        if let Some((reference, _)) = &run.targets.errors {
-            super::variant::score_perceptual(
-                &mut out.to_score,
-                &mut out.report,
-                reference,
-                opts,
-                session.resolution,
-            )?;
+        if let Some(scorer) = self.plain_frames(&run, progress, &mut out)? {
+            scorer.record(&mut out.report, opts)?;
         }
         out.report.summarize();
         let kept = matches!(keep, Keep::Frames).then_some((out.frames, out.depth, out.gpu));
@@ -315,12 +309,12 @@ impl Renderer {
 
     /// The frame loop: each frame encoded and submitted into its slot of the batch, and the
     /// batch read back with one wait when it is full.
-    fn plain_frames(
+    fn plain_frames<'r>(
         &self,
-        run: &PlainRun<'_>,
+        run: &PlainRun<'r>,
         progress: &dyn FrameProgress,
         out: &mut PlainOut,
-    ) -> Result<(), ReplayError> {
+    ) -> Result<Option<Scorer<'r>>, ReplayError> {
         let t = &run.targets;
         let mut rb_bufs = t.q.read_buffers();
         if let Some((frame_rb, depth_rb, _)) = &t.kept {
@@ -332,20 +326,33 @@ impl Renderer {
         }
         let end = run.first + run.frames;
         let mut batch = FrameBatch::new("", t.slots, end);
-        for f in run.first..end {
-            let slot = batch.slot();
-            let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
-            if !batch.submit(self, enc, rb, f)? {
-                continue;
+        // Scored renders: the sampled frames are scored beside the loop (`score.rs`).
+        let mut scorer = t
+            .errors
+            .as_ref()
+            .map(|(reference, _)| Scorer::new(reference, run.session.resolution));
+        scoring_pool().in_place_scope(|scope| -> Result<(), ReplayError> {
+            for f in run.first..end {
+                let slot = batch.slot();
+                let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
+                if !batch.submit(self, enc, rb, f)? {
+                    continue;
+                }
+                // Read the batch back with one wait.
+                batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
+                    self.plain_frame_back(run, slot, f, cpu_ms, out)?;
+                    progress.frame(f - run.first + 1, run.frames);
+                    Ok(())
+                })?;
+                if let Some(scorer) = &mut scorer {
+                    for (f, pixels) in out.to_score.drain(..) {
+                        scorer.spawn(scope, f, pixels);
+                    }
+                }
             }
-            // Read the batch back with one wait.
-            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                self.plain_frame_back(run, slot, f, cpu_ms, out)?;
-                progress.frame(f - run.first + 1, run.frames);
-                Ok(())
-            })?;
-        }
-        Ok(())
+            Ok(())
+        })?;
+        Ok(scorer)
     }
 
     /// Frame `f`'s commands: its uniforms written, then its pass (timed and counted into
@@ -563,7 +570,7 @@ struct PlainRun<'a> {
 /// What a plain render gathers as its frames come back.
 struct PlainOut {
     report: RenderReport,
-    /// Sampled frames for the perceptual metrics, scored at the end.
+    /// Sampled frames for the perceptual metrics, handed to the scorer after each batch.
     to_score: Vec<(u32, Vec<f32>)>,
     /// Kept frames and depths, and their copies on the GPU.
     frames: Vec<Vec<f32>>,

@@ -55,16 +55,9 @@ impl Renderer {
         let rb = self.variant_readback(run)?;
         let rb_bufs = rb.read_buffers();
         let mut batch = FrameBatch::new("variant ", rb.slots, first + frames);
-        // Frames read back for ꟻLIP and SSIM are scored as they come back, on the scoring pool's
-        // threads at the lowest CPU priority (`scoring_pool`): the metrics are the costliest CPU
-        // work of a replay (ꟻLIP: about 26 ms per 256×256 frame on one core), and on a CPU
-        // adapter they then take only the cycles the rasterizer leaves idle instead of holding
-        // up the frame loop. The scope waits for the last of them before the replay returns, so
-        // they never overlap another replay or a race. At most two frames per scoring thread
-        // wait (a 1080p frame is 33 MB): past that the loop waits for one to be scored.
-        let (tx, rx) = std::sync::mpsc::channel();
-        let mut scored = Vec::new();
-        let (mut waiting, most) = (0usize, 2 * scoring_pool().current_num_threads());
+        // Frames read back for ꟻLIP and SSIM are scored as they come back, beside the loop at
+        // the lowest CPU priority (`score.rs`).
+        let mut scorer = Scorer::new(reference, size);
         scoring_pool().in_place_scope(|scope| -> Result<(), ReplayError> {
             for f in first..first + frames {
                 let slot = batch.slot();
@@ -76,26 +69,7 @@ impl Renderer {
                 batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
                     let (record, sampled) = self.variant_frame_back(run, &rb, slot, f, cpu_ms)?;
                     if let Some(pixels) = sampled {
-                        let tx = tx.clone();
-                        scope.spawn(move |_| {
-                            let fi = f as usize;
-                            let metrics = perceptual::compare_perceptual(
-                                &pixels,
-                                &reference.frames[fi],
-                                &reference.depth[fi],
-                                size[0],
-                                size[1],
-                            );
-                            // The receiver outlives the scope.
-                            let _ = tx.send((f, metrics));
-                        });
-                        waiting += 1;
-                        while waiting > most
-                            && let Ok(done) = rx.recv()
-                        {
-                            scored.push(done);
-                            waiting -= 1;
-                        }
+                        scorer.spawn(scope, f, pixels);
                     }
                     report.frames.push(record);
                     run.progress.frame(f - first + 1, frames);
@@ -105,9 +79,7 @@ impl Renderer {
             }
             Ok(())
         })?;
-        drop(tx);
-        scored.extend(rx);
-        record_perceptual(scored, report, opts, size)
+        scorer.record(report, opts)
     }
 
     /// The queries, the error reduction (unless timing only) and the classification staging,

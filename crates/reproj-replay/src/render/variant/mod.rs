@@ -1,9 +1,8 @@
 //! The variant loop: render a cached variant of any strategy and compare it with the reference.
 //!
 //! In phases, a file each: `plan.rs` (checks and the passes' stages, before any GPU object),
-//! `gpu.rs` (targets, bindings, pipelines, the empty cache), `frames.rs` (the frame loop). The
-//! sampled frames' ꟻLIP and SSIM are scored during the loop on low-priority threads
-//! ([`scoring_pool`]).
+//! `gpu.rs` (targets, bindings, pipelines, the empty cache), `frames.rs` (the frame loop; the
+//! sampled frames' ꟻLIP and SSIM scored beside it, `../score.rs`).
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -14,10 +13,8 @@ use reproj_instance::{CacheFormat, Reprojection};
 use crate::error::ReplayError;
 use crate::reduce::{FrameErrors, PixelsBack};
 use crate::vertex;
-use rayon::prelude::*;
 use reproj_metrics::l2;
 use reproj_metrics::output;
-use reproj_metrics::perceptual;
 use reproj_metrics::{FrameRecord, RenderReport};
 use reproj_scene::reflect::{self, Interface};
 use reproj_scene::session::Session;
@@ -95,8 +92,7 @@ impl Renderer {
 
     /// [`Renderer::render_variant`], telling `progress` as frames come back. In phases: the plan
     /// (checks, the passes' stages; nothing allocated), the GPU objects, the empty cache, the
-    /// frame loop (the sampled frames' perceptual metrics scored beside it, on
-    /// [`scoring_pool`]).
+    /// frame loop (the sampled frames' perceptual metrics scored beside it, `score.rs`).
     pub fn render_variant_with(
         &self,
         shader: &Shader,
@@ -127,103 +123,5 @@ impl Renderer {
         self.variant_frames(&run, &mut report)?;
         report.summarize();
         Ok(report)
-    }
-}
-
-/// ꟻLIP and SSIM of the frames in `to_score` (drained), in parallel, into their records of
-/// `report`, and their ꟻLIP maps written where frames are.
-pub(super) fn score_perceptual(
-    to_score: &mut Vec<(u32, Vec<f32>)>,
-    report: &mut RenderReport,
-    reference: &Reference,
-    opts: &RenderOptions,
-    [w, h]: [u32; 2],
-) -> Result<(), ReplayError> {
-    let scored: Vec<_> = to_score
-        .par_drain(..)
-        .map(|(f, pixels)| {
-            let fi = f as usize;
-            let (e, map) = perceptual::compare_perceptual(
-                &pixels,
-                &reference.frames[fi],
-                &reference.depth[fi],
-                w,
-                h,
-            );
-            (f, e, map)
-        })
-        .collect();
-    for (f, e, map) in scored {
-        if let Some(r) = report.frames.iter_mut().rev().find(|r| r.frame == f) {
-            (r.flip, r.ssim) = (Some(e.flip), Some(e.ssim));
-        }
-        if let Some(dir) = &opts.png_dir {
-            output::write_flipmap(dir, f, w, h, &map)?;
-        }
-    }
-    Ok(())
-}
-
-/// The pool that scores sampled frames (ꟻLIP, SSIM) during a replay: one thread per core, each
-/// at the lowest CPU priority (Linux: nice 19 for the thread), so that on a CPU adapter the
-/// scoring takes the cycles the rasterizer leaves idle rather than the ones it needs. Made once.
-pub(super) fn scoring_pool() -> &'static rayon::ThreadPool {
-    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
-    POOL.get_or_init(|| {
-        rayon::ThreadPoolBuilder::new()
-            .thread_name(|i| format!("reproj-score-{i}"))
-            .start_handler(|_| lowest_priority())
-            .build()
-            // Building a pool fails only when no thread can be spawned at all.
-            .unwrap_or_else(|e| panic!("cannot start the scoring threads: {e}"))
-    })
-}
-
-/// Put the calling thread at the lowest CPU priority (on Linux `setpriority` with who = 0 applies
-/// to the calling thread only). Elsewhere, and where it fails, the thread keeps its priority.
-#[allow(unsafe_code)]
-fn lowest_priority() {
-    #[cfg(target_os = "linux")]
-    // SAFETY: setpriority takes no pointers; it changes this thread's nice value or fails.
-    unsafe {
-        let param = libc::sched_param { sched_priority: 0 };
-        if libc::sched_setscheduler(0, libc::SCHED_IDLE, &param) != 0 {
-            libc::setpriority(libc::PRIO_PROCESS, 0, 19);
-        }
-    }
-}
-
-/// The scored frames into their records of `report`, and their ꟻLIP maps written where frames
-/// are.
-pub(super) fn record_perceptual(
-    mut scored: Vec<(u32, (perceptual::PerceptualError, Vec<f32>))>,
-    report: &mut RenderReport,
-    opts: &RenderOptions,
-    [w, h]: [u32; 2],
-) -> Result<(), ReplayError> {
-    scored.sort_by_key(|(f, _)| *f);
-    for (f, (e, map)) in scored {
-        if let Some(r) = report.frames.iter_mut().rev().find(|r| r.frame == f) {
-            (r.flip, r.ssim) = (Some(e.flip), Some(e.ssim));
-        }
-        if let Some(dir) = &opts.png_dir {
-            output::write_flipmap(dir, f, w, h, &map)?;
-        }
-    }
-    Ok(())
-}
-
-#[cfg(all(test, target_os = "linux"))]
-mod tests {
-    /// The scoring threads run under `SCHED_IDLE` (the timed frames' threads keep the CPU).
-    #[test]
-    #[allow(unsafe_code)]
-    fn scoring_threads_run_at_the_lowest_priority() {
-        // SAFETY: sched_getscheduler takes no pointers; it reads the calling thread's policy.
-        let policy = super::scoring_pool().install(|| unsafe { libc::sched_getscheduler(0) });
-        assert_eq!(policy, libc::SCHED_IDLE);
-        // SAFETY: as above, for the calling (test) thread, which is left as it was.
-        let own = unsafe { libc::sched_getscheduler(0) };
-        assert_ne!(own, libc::SCHED_IDLE);
     }
 }
