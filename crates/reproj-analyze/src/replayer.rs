@@ -17,7 +17,7 @@ use reproj_replay::{RenderOptions, Renderer, VariantInput};
 use crate::AnalyzeError;
 use crate::input::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
-use crate::options::{AnalyzeOptions, model_holds};
+use crate::options::{AnalyzeOptions, HeldOut, held_out_check, next_period};
 
 /// How long a race runs: [`AnalyzeOptions::race`] (short: it decides where intervals separate,
 /// and a wide interval decides for the simpler candidate), or [`LONG_RACE`] for a race the short
@@ -26,6 +26,8 @@ use crate::options::{AnalyzeOptions, model_holds};
 pub(crate) enum RaceLength {
     Short,
     Long,
+    /// As short, run again on one entry to settle a doubt the first race left (journaled apart).
+    Again,
 }
 
 /// A longer race: 16 to 48 rounds of 8 frames, until ±2 % or 12 s. On the H200 at 1080p, marble's
@@ -245,7 +247,7 @@ impl Replayer<'_, '_> {
             .shader
             .fragment_entry(Some(&self.input.norm.entry))?;
         let mut race = match length {
-            RaceLength::Short => self.opts.race,
+            RaceLength::Short | RaceLength::Again => self.opts.race,
             RaceLength::Long => LONG_RACE,
         };
         race.max_frames = match (self.opts.probe_frames, self.opts.max_frames) {
@@ -253,9 +255,11 @@ impl Replayer<'_, '_> {
             (a, b) => a.or(b),
         };
         let mut names: Vec<&str> = entries.iter().map(|e| e.name.as_str()).collect();
-        if length == RaceLength::Long {
-            // Keyed apart from the short race of the same entries.
-            names.push("long");
+        // Keyed apart from the short race of the same entries.
+        match length {
+            RaceLength::Short => {}
+            RaceLength::Long => names.push("long"),
+            RaceLength::Again => names.push("again"),
         }
         let key = ReplayKey::race(node, set, &names, self.longest, race.max_frames);
         if let Some(report) = self
@@ -333,10 +337,11 @@ impl Replayer<'_, '_> {
         Ok(r)
     }
 
-    /// Replay `subject`'s variant over the whole session at the periods of `plan` in order
-    /// ((Δn, skippable): a skippable period is left out once the error model predicts the
-    /// held-out measurements, [`Sampling::Adaptive`]), appending to `measurements`. A replay that
-    /// fails, or one at the longest period no faster than the original (a non-root subject),
+    /// Replay `subject`'s variant over the whole session at the periods of `plan` ((Δn,
+    /// skippable)), appending to `measurements`: the fixed periods in order, then the skippable
+    /// ones one at a time while the error model misses a held-out measurement, the one nearest the
+    /// worst miss first ([`crate::options::Sampling::Adaptive`]: the rest are left out once it holds). A replay
+    /// that fails, or one at the longest period no faster than the original (a non-root subject),
     /// sets `failure`; the remaining periods are then only counted for the progress bar.
     pub(crate) fn replay_plan(
         &mut self,
@@ -347,74 +352,119 @@ impl Replayer<'_, '_> {
         measurements: &mut Vec<Measurement>,
         failure: &mut Option<String>,
     ) -> Result<(), AnalyzeError> {
+        let who = &subject.who;
+        let mut verdict = subject.verdict.clone();
+        let (fixed, mut pool): (Vec<_>, Vec<_>) = plan.iter().partition(|p| !p.1);
+        let mut run = PeriodRun {
+            subject,
+            sources,
+            variant,
+            measurements,
+            failure,
+            verdict: &mut verdict,
+        };
+        for &(dn, _) in &fixed {
+            self.replay_period(&mut run, dn)?;
+        }
+        let mut pool: Vec<u32> = pool.drain(..).map(|p| p.0).collect();
+        while !pool.is_empty() {
+            let next = if run.failure.is_some() {
+                None
+            } else {
+                match held_out_check(run.measurements, self.opts) {
+                    HeldOut::Holds => None,
+                    HeldOut::Misses { worst } => next_period(&pool, worst),
+                    HeldOut::Unchecked => pool.first().copied(),
+                }
+            };
+            let Some(dn) = next else {
+                for dn in pool.drain(..) {
+                    if run.failure.is_some() {
+                        self.progress.step(&format!("{who} Δn={dn}"));
+                    } else {
+                        self.progress.step(&format!(
+                            "{who} Δn={dn} skipped: the error model predicts the held-out periods"
+                        ));
+                    }
+                }
+                break;
+            };
+            pool.retain(|&d| d != dn);
+            self.replay_period(&mut run, dn)?;
+        }
+        Ok(())
+    }
+
+    /// One period of [`Replayer::replay_plan`]: the race at the longest period first (a non-root
+    /// subject not yet raced), the replay, its measurement or its failure.
+    fn replay_period(&mut self, run: &mut PeriodRun<'_, '_>, dn: u32) -> Result<(), AnalyzeError> {
+        let subject = run.subject;
         let Subject {
             who,
             text,
             strategy,
             ..
         } = subject;
-        let mut confirmed = None;
-        let mut verdict = subject.verdict.clone();
-        for &(dn, skippable) in plan {
-            if failure.is_some() {
-                self.progress.step(&format!("{who} Δn={dn}"));
-                continue;
-            }
-            if skippable {
-                let holds = *confirmed.get_or_insert_with(|| model_holds(measurements, self.opts));
-                if holds {
-                    self.progress.step(&format!(
-                        "{who} Δn={dn} skipped: the error model predicts the held-out periods"
-                    ));
-                    continue;
-                }
-            }
-            let key = ReplayKey {
-                node: subject.node,
-                strategy: strategy.name().into(),
-                block: subject.block,
-                delta_n: dn,
-                frames: None,
-                set: subject.set.clone(),
-                reconstruct: subject.reconstruct.map(|r| r.name().to_string()),
-            };
-            if dn == self.longest && !subject.raced && !subject.root {
-                let race = self.race(
-                    who,
-                    subject.node,
-                    &subject.set,
-                    &[RaceEntry {
-                        name: who.clone(),
-                        sources,
-                        variant,
-                        delta_n: self.longest,
-                    }],
-                )?;
-                if let Some(e) = race.estimate(0) {
-                    verdict = too_slow(&e, subject.root, self.longest, *strategy);
-                }
-            }
-            match self.replay(key, sources, variant, dn, None)? {
-                Ok((m, _)) => {
-                    measurements.push(m);
-                    if dn == self.longest
-                        && let Some(why) = verdict.take()
-                    {
-                        self.progress
-                            .note(&format!("{who} `{text}`: set aside: {why}"));
-                        *failure = Some(why);
-                    }
-                }
-                Err(e) => {
-                    self.progress
-                        .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));
-                    *failure = Some(format!("replay failed at Δn={dn}: {e}"));
-                }
-            }
-            self.progress.step(&format!("{who} {strategy} Δn={dn}"));
+        if run.failure.is_some() {
+            self.progress.step(&format!("{who} Δn={dn}"));
+            return Ok(());
         }
+        let key = ReplayKey {
+            node: subject.node,
+            strategy: strategy.name().into(),
+            block: subject.block,
+            delta_n: dn,
+            frames: None,
+            set: subject.set.clone(),
+            reconstruct: subject.reconstruct.map(|r| r.name().to_string()),
+        };
+        if dn == self.longest && !subject.raced && !subject.root {
+            let race = self.race(
+                who,
+                subject.node,
+                &subject.set,
+                &[RaceEntry {
+                    name: who.clone(),
+                    sources: run.sources,
+                    variant: run.variant,
+                    delta_n: self.longest,
+                }],
+            )?;
+            if let Some(e) = race.estimate(0) {
+                *run.verdict = too_slow(&e, subject.root, self.longest, *strategy);
+            }
+        }
+        match self.replay(key, run.sources, run.variant, dn, None)? {
+            Ok((m, _)) => {
+                run.measurements.push(m);
+                if dn == self.longest
+                    && let Some(why) = run.verdict.take()
+                {
+                    self.progress
+                        .note(&format!("{who} `{text}`: set aside: {why}"));
+                    *run.failure = Some(why);
+                }
+            }
+            Err(e) => {
+                self.progress
+                    .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));
+                *run.failure = Some(format!("replay failed at Δn={dn}: {e}"));
+            }
+        }
+        self.progress.step(&format!("{who} {strategy} Δn={dn}"));
         Ok(())
     }
+}
+
+/// What the periods of one [`Replayer::replay_plan`] share.
+struct PeriodRun<'r, 'v> {
+    subject: &'r Subject,
+    sources: &'r [String],
+    variant: &'r reproj_instance::Variant,
+    measurements: &'r mut Vec<Measurement>,
+    failure: &'r mut Option<String>,
+    /// Why the subject is set aside after its replay at the longest period, once its race says so.
+    verdict: &'v mut Option<String>,
 }
 
 /// The fits of one node's (or set's) replays and its status.

@@ -248,8 +248,9 @@ pub struct AnalyzeArgs {
     #[arg(long, default_value_t = 0.05, value_parser = unit_fraction)]
     pub min_saving: f64,
     /// `adaptive`: replay a node at the longest, shortest and middle training Δn and the
-    /// held-out ones, and at the other training Δn only when the error model fitted to the three
-    /// misses a held-out measurement; `every`: at every training Δn (the paper's way).
+    /// held-out ones, then, while the error model fitted so far misses a held-out measurement,
+    /// at the other training Δn one at a time (nearest the worst miss first); `every`: at every
+    /// training Δn (the paper's way).
     #[arg(long, value_enum, default_value = "adaptive")]
     pub sampling: SamplingArg,
     /// Replay only the first N frames of the session.

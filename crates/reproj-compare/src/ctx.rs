@@ -89,12 +89,13 @@ impl Ctx<'_> {
                 .into_par_iter()
                 .filter(|&f| (f as u32).is_multiple_of(stride))
                 .map(|f| {
-                    let (p, _) = reproj_metrics::perceptual::compare_perceptual(
+                    let (p, _) = reproj_metrics::perceptual::compare_perceptual_split(
                         &frames[f],
                         &r.frames[f],
                         &r.depth[f],
                         r.width,
                         r.height,
+                        reproj_metrics::perceptual::FrameSplit::Whole,
                     );
                     p.flip
                 })

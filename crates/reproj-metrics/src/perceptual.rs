@@ -218,9 +218,22 @@ pub fn ssim_map(a: &[f64], b: &[f64], width: usize, height: usize) -> Vec<Option
     out
 }
 
+/// How [`compare_perceptual_split`] spreads one frame's ꟻLIP over the threads of the current
+/// rayon pool.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrameSplit {
+    /// In strips, one per thread ([`flip_map`]): the fastest for one frame alone. Each strip
+    /// recomputes a margin of its neighbours' rows (about a quarter more work for two strips of a
+    /// 256×256 frame).
+    Strips,
+    /// In one piece: the least work, for callers that score several frames at once, one per
+    /// thread.
+    Whole,
+}
+
 /// The perceptual error of `frame` against `reference` (linear RGBA f32, `width`×`height`, top
 /// row first), pooled over the pixels where `reference_depth` < 1; with the ꟻLIP map (for
-/// `render --frames`).
+/// `render --frames`). One frame alone: its ꟻLIP in strips over the current pool's threads.
 pub fn compare_perceptual(
     frame: &[f32],
     reference: &[f32],
@@ -228,9 +241,33 @@ pub fn compare_perceptual(
     width: u32,
     height: u32,
 ) -> (PerceptualError, Vec<f32>) {
+    compare_perceptual_split(
+        frame,
+        reference,
+        reference_depth,
+        width,
+        height,
+        FrameSplit::Strips,
+    )
+}
+
+/// [`compare_perceptual`], the frame's ꟻLIP spread over threads as `split` says (the values do
+/// not depend on it).
+pub fn compare_perceptual_split(
+    frame: &[f32],
+    reference: &[f32],
+    reference_depth: &[f32],
+    width: u32,
+    height: u32,
+    split: FrameSplit,
+) -> (PerceptualError, Vec<f32>) {
     let (test, refr) = (to_srgb8(frame), to_srgb8(reference));
+    let strips = match split {
+        FrameSplit::Strips => rayon::current_num_threads(),
+        FrameSplit::Whole => 1,
+    };
     let (flip, ssim) = rayon::join(
-        || flip_map(&test, &refr, width, height),
+        || flip_map_in_strips(&test, &refr, width, height, strips),
         || ssim_map(&luma(&test), &luma(&refr), width as usize, height as usize),
     );
     let covered = || reference_depth.iter().map(|&d| d < 1.0);
@@ -274,6 +311,29 @@ mod tests {
 
     fn grey(w: usize, h: usize, v: f32) -> Vec<f32> {
         (0..w * h).flat_map(|_| [v, v, v, 1.0]).collect()
+    }
+
+    #[test]
+    fn a_frame_scored_whole_equals_the_frame_scored_in_strips() {
+        let mut rng = Rng(5);
+        let (w, h) = (96usize, 200usize);
+        let reference: Vec<f32> = (0..4 * w * h).map(|_| rng.next()).collect();
+        let frame: Vec<f32> = reference
+            .iter()
+            .map(|&v| (v + 0.1 * (rng.next() - 0.5)).clamp(0.0, 1.0))
+            .collect();
+        let depth = vec![0.5; w * h];
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let [strips, whole] = [FrameSplit::Strips, FrameSplit::Whole].map(|split| {
+            pool.install(|| {
+                compare_perceptual_split(&frame, &reference, &depth, w as u32, h as u32, split)
+            })
+        });
+        assert!(strips.0.flip > 0.0);
+        assert_eq!(strips, whole);
     }
 
     #[test]

@@ -10,7 +10,7 @@ use reproj_models::profile::{BlockProbe, FilterProbe, Measurement, StrategyProbe
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use crate::AnalyzeError;
-use crate::replayer::{RaceEntry, Replayer, Subject, finite, too_slow};
+use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, too_slow};
 use crate::strategies::{StrategyPruner, Verdict};
 
 /// One node's replays: the strategy and filter it was profiled with, its measurements, and why
@@ -78,12 +78,22 @@ fn replay_node(
         Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
     };
     progress.step(&format!("node {id} race at Δn={longest}"));
-    let estimates: Vec<Option<SpeedupEstimate>> = race
+    let mut estimates: Vec<Option<SpeedupEstimate>> = race
         .as_ref()
         .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
         .unwrap_or_default();
     let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
-    let winner = race_winner(&strategies, &estimates);
+    let mut winner = race_winner(&strategies, &estimates);
+    // A winner slower than the original by its estimate but not beyond doubt: race again.
+    let node = rp.input.table.get(id).expect("ids come from the table");
+    if let (Some(w), Some(r)) = (winner, &race)
+        && let Some(e) = estimates[w]
+        && !node.root
+        && in_doubt(&e)
+    {
+        settle_doubt(rp, id, &built, r, &mut estimates)?;
+        winner = race_winner(&strategies, &estimates);
+    }
     if let Some(w) = winner
         && let Some(best) = estimates[w]
     {
@@ -100,7 +110,7 @@ fn replay_node(
     if let Some(r) = &race {
         replays
             .probes
-            .extend(strategy_probes(id, longest, &built, r, winner));
+            .extend(strategy_probes(id, longest, &built, r, &estimates, winner));
     }
     let Some(w) = winner else {
         let why = instance_failure
@@ -120,6 +130,13 @@ fn replay_node(
     let estimate = estimates[w].expect("the winner has an estimate");
     let winner = built.swap_remove(w);
     profile_winner(rp, id, winner, estimate, plan, replays)
+}
+
+/// Whether a race leaves it in doubt that a variant is slower than the original: slower by its
+/// estimate, its interval reaching 1× or beyond ([`settle_doubt`]; where one more race does not
+/// settle it either, the node is profiled).
+pub(crate) fn in_doubt(e: &SpeedupEstimate) -> bool {
+    e.speedup < 1.0 && !e.surely_slower()
 }
 
 /// The strategies still in the running for node `id` (the others pruned, said once).
@@ -195,34 +212,96 @@ fn instance_strategies(
     (built, instance_failure)
 }
 
-/// The probes of node `id`'s strategy race at the longest period, the winner's kept.
+/// The probes of node `id`'s strategy race at the longest period, the winner's kept: each
+/// strategy's figures as decided on (`estimates`: the race's, or where a doubt was settled the
+/// rounds of both races, [`settle_doubt`]).
 fn strategy_probes(
     id: u32,
     longest: u32,
     built: &[Built],
     r: &reproj_bench::BenchReport,
+    estimates: &[Option<SpeedupEstimate>],
     winner: Option<usize>,
 ) -> Vec<StrategyProbe> {
     built
         .iter()
         .zip(&r.candidates)
         .enumerate()
-        .map(|(i, (b, c))| StrategyProbe {
-            node: id,
-            strategy: b.strategy.name().into(),
-            block: b.block,
-            delta_n: longest,
-            frame_ms: finite(c.median_ms.unwrap_or(0.0)),
-            error: None,
-            pass_ms: Vec::new(),
-            kept: Some(i) == winner,
-            frames: None,
-            original_ms: Some(finite(r.baseline.median_ms)),
-            speedup: c.speedup.map(finite),
-            speedup_ci95: c.speedup_ci95.map(|[lo, hi]| [finite(lo), finite(hi)]),
-            rounds: Some(c.rounds),
+        .map(|(i, (b, c))| {
+            let e = estimates.get(i).copied().flatten();
+            StrategyProbe {
+                node: id,
+                strategy: b.strategy.name().into(),
+                block: b.block,
+                delta_n: longest,
+                frame_ms: finite(e.map_or(c.median_ms.unwrap_or(0.0), |e| e.candidate_ms)),
+                error: None,
+                pass_ms: Vec::new(),
+                kept: Some(i) == winner,
+                frames: None,
+                original_ms: Some(finite(e.map_or(r.baseline.median_ms, |e| e.baseline_ms))),
+                speedup: e.map(|e| finite(e.speedup)),
+                speedup_ci95: e.map(|e| [finite(e.ci95[0]), finite(e.ci95[1])]),
+                rounds: e.map(|e| e.rounds),
+            }
         })
         .collect()
+}
+
+/// Settle a race that left its winner in doubt against the original ([`in_doubt`]): the winner
+/// and every strategy ahead of it by estimate are raced once more, and each one's estimate
+/// becomes that of the rounds of both races (the same subjects, windows and baseline), so that
+/// the winner is chosen again on them and the node is set aside only if it is then slower
+/// beyond doubt. A node that would otherwise be replayed over its periods (several replays of
+/// the whole session) though most likely it cannot pay off costs one short race instead.
+fn settle_doubt(
+    rp: &mut Replayer<'_, '_>,
+    id: u32,
+    built: &[Built],
+    race: &reproj_bench::BenchReport,
+    estimates: &mut [Option<SpeedupEstimate>],
+) -> Result<(), AnalyzeError> {
+    let (progress, longest) = (rp.progress, rp.longest);
+    let winner = race_winner(
+        &built.iter().map(|b| b.strategy).collect::<Vec<_>>(),
+        estimates,
+    );
+    let Some(floor) = winner.and_then(|w| estimates[w]).map(|e| e.speedup) else {
+        return Ok(());
+    };
+    let again: Vec<usize> = (0..built.len())
+        .filter(|&i| Some(i) == winner || estimates[i].is_some_and(|e| e.speedup > floor))
+        .collect();
+    let entries: Vec<RaceEntry> = again
+        .iter()
+        .map(|&i| RaceEntry {
+            name: built[i].strategy.name().to_string(),
+            sources: &built[i].sources,
+            variant: &built[i].variant,
+            delta_n: longest,
+        })
+        .collect();
+    progress.extend(1);
+    let report = rp.race_as(&format!("node {id}"), id, &[], &entries, RaceLength::Again)?;
+    progress.step(&format!("node {id} race again at Δn={longest}"));
+    let mut said = Vec::new();
+    for (j, &i) in again.iter().enumerate() {
+        let Some(pooled) = race.pooled_estimate(i, &report, j) else {
+            continue;
+        };
+        said.push(format!(
+            "{} {} → {}",
+            built[i].strategy,
+            estimates[i].map_or_else(|| "–".into(), |e| e.display()),
+            pooled.display()
+        ));
+        estimates[i] = Some(pooled);
+    }
+    progress.note(&format!(
+        "node {id}: in doubt against the original; raced again, both races' rounds: {}",
+        said.join(", ")
+    ));
+    Ok(())
 }
 
 /// The winning strategy replayed over the longest period and the plan; with `race_blocks`, a
@@ -446,5 +525,17 @@ mod tests {
             Some(1)
         );
         assert_eq!(race_winner(&s, &[None, None, None]), None);
+    }
+
+    #[test]
+    fn only_a_slower_estimate_whose_interval_reaches_one_is_in_doubt() {
+        let d = |speedup, lo, hi| in_doubt(&e(speedup, lo, hi).unwrap());
+        // Marble's node 152 in one run: fused 0.86× [0.67, 1.09].
+        assert!(d(0.86, 0.67, 1.09));
+        // Slower beyond doubt: set aside without another race.
+        assert!(!d(0.84, 0.75, 0.95));
+        // Faster by its estimate: profiled, whatever its interval.
+        assert!(!d(1.05, 0.9, 1.2));
+        assert!(!d(2.0, 1.9, 2.1));
     }
 }

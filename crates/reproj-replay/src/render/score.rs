@@ -86,12 +86,14 @@ impl<'r> Scorer<'r> {
         let (tx, reference, [w, h]) = (self.tx.clone(), self.reference, self.size);
         scope.spawn(move |_| {
             let fi = f as usize;
-            let metrics = perceptual::compare_perceptual(
+            // The pool scores frames side by side, one per thread: each frame in one piece.
+            let metrics = perceptual::compare_perceptual_split(
                 &pixels,
                 &reference.frames[fi],
                 &reference.depth[fi],
                 w,
                 h,
+                perceptual::FrameSplit::Whole,
             );
             // The receiver outlives the scope.
             let _ = tx.send((f, metrics));
