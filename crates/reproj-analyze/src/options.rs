@@ -376,27 +376,15 @@ mod tests {
         );
         // A held-out error 40 % off the curve: replay more periods, near that one first.
         ms[4] = m(30, model(30) * 1.4);
-        assert_eq!(
-            held_out_check(&ms, &o),
-            HeldOut::Misses { worst: Some(30) }
-        );
+        assert_eq!(held_out_check(&ms, &o), HeldOut::Misses { worst: Some(30) });
         // Both off: the worse miss (relative to its tolerance) names the period.
         ms[3] = m(6, model(6) * 1.2);
-        assert_eq!(
-            held_out_check(&ms, &o),
-            HeldOut::Misses { worst: Some(30) }
-        );
+        assert_eq!(held_out_check(&ms, &o), HeldOut::Misses { worst: Some(30) });
         ms[3] = m(6, model(6) * 3.0);
-        assert_eq!(
-            held_out_check(&ms, &o),
-            HeldOut::Misses { worst: Some(6) }
-        );
+        assert_eq!(held_out_check(&ms, &o), HeldOut::Misses { worst: Some(6) });
         // Two training periods cannot be fitted: a miss without a period.
         let two = [m(50, model(50)), m(2, model(2)), m(6, model(6))];
-        assert_eq!(
-            held_out_check(&two, &o),
-            HeldOut::Misses { worst: None }
-        );
+        assert_eq!(held_out_check(&two, &o), HeldOut::Misses { worst: None });
         // No held-out measurement, or `every`: no check.
         assert_eq!(held_out_check(&ms[..3], &o), HeldOut::Unchecked);
         ms[4] = m(30, model(30));

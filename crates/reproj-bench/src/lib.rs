@@ -215,7 +215,12 @@ impl BenchReport {
     /// second run of the same candidate against the same baseline over the same windows: the
     /// rounds of both, each in its window, in one estimate ([`speedup::estimate`]). `None` when
     /// no round has figures.
-    pub fn pooled_estimate(&self, i: usize, other: &BenchReport, j: usize) -> Option<SpeedupEstimate> {
+    pub fn pooled_estimate(
+        &self,
+        i: usize,
+        other: &BenchReport,
+        j: usize,
+    ) -> Option<SpeedupEstimate> {
         let (a, b) = (self.candidates.get(i)?, other.candidates.get(j)?);
         let strata: Vec<u32> = [&self.baseline.windows, &other.baseline.windows]
             .into_iter()
@@ -517,7 +522,7 @@ mod tests {
     /// candidate at `10 / speedup` with a spread of ±`spread` alternating between rounds.
     fn run(rounds: u32, speedup: f64, spread: f64) -> BenchReport {
         let windows: Vec<u32> = (0..rounds).map(speedup::stratum).collect();
-        let sign = |r: u32| if r % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = |r: u32| if r.is_multiple_of(2) { 1.0 } else { -1.0 };
         let cand: Vec<f64> = (0..rounds)
             .map(|r| 10.0 / speedup * (1.0 + sign(r / 4) * spread))
             .collect();
