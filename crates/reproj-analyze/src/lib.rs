@@ -20,6 +20,8 @@ pub mod merge;
 pub mod motion;
 #[cfg(feature = "gpu")]
 mod options;
+#[cfg(feature = "gpu")]
+mod periods;
 pub mod prune;
 #[cfg(feature = "gpu")]
 mod replayer;

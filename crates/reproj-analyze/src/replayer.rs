@@ -1,6 +1,7 @@
 //! The replay machinery `analyze` shares between single nodes and sets of nodes: a [`Replayer`]
-//! (renderer, reference, options, journal) that replays one subject at its periods, and
-//! [`fit_replays`], which turns the measurements into the profile's fitted models and status.
+//! (renderer, reference, options, journal) that replays and races one subject (over its periods:
+//! `crate::periods`), and [`fit_replays`], which turns the measurements into the profile's fitted
+//! models and status.
 
 use std::time::Instant;
 
@@ -17,7 +18,7 @@ use reproj_replay::{RenderOptions, Renderer, VariantInput};
 use crate::AnalyzeError;
 use crate::input::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
-use crate::options::{AnalyzeOptions, HeldOut, held_out_check, next_period};
+use crate::options::AnalyzeOptions;
 
 /// How long a race runs: [`AnalyzeOptions::race`] (short: it decides where intervals separate,
 /// and a wide interval decides for the simpler candidate), or [`LONG_RACE`] for a race the short
@@ -336,135 +337,6 @@ impl Replayer<'_, '_> {
         j.record(key, &r)?;
         Ok(r)
     }
-
-    /// Replay `subject`'s variant over the whole session at the periods of `plan` ((Δn,
-    /// skippable)), appending to `measurements`: the fixed periods in order, then the skippable
-    /// ones one at a time while the error model misses a held-out measurement, the one nearest the
-    /// worst miss first ([`crate::options::Sampling::Adaptive`]: the rest are left out once it holds). A replay
-    /// that fails, or one at the longest period no faster than the original (a non-root subject),
-    /// sets `failure`; the remaining periods are then only counted for the progress bar.
-    pub(crate) fn replay_plan(
-        &mut self,
-        subject: &Subject,
-        sources: &[String],
-        variant: &reproj_instance::Variant,
-        plan: &[(u32, bool)],
-        measurements: &mut Vec<Measurement>,
-        failure: &mut Option<String>,
-    ) -> Result<(), AnalyzeError> {
-        let who = &subject.who;
-        let mut verdict = subject.verdict.clone();
-        let (fixed, mut pool): (Vec<_>, Vec<_>) = plan.iter().partition(|p| !p.1);
-        let mut run = PeriodRun {
-            subject,
-            sources,
-            variant,
-            measurements,
-            failure,
-            verdict: &mut verdict,
-        };
-        for &(dn, _) in &fixed {
-            self.replay_period(&mut run, dn)?;
-        }
-        let mut pool: Vec<u32> = pool.drain(..).map(|p| p.0).collect();
-        while !pool.is_empty() {
-            let next = if run.failure.is_some() {
-                None
-            } else {
-                match held_out_check(run.measurements, self.opts) {
-                    HeldOut::Holds => None,
-                    HeldOut::Misses { worst } => next_period(&pool, worst),
-                    HeldOut::Unchecked => pool.first().copied(),
-                }
-            };
-            let Some(dn) = next else {
-                for dn in pool.drain(..) {
-                    if run.failure.is_some() {
-                        self.progress.step(&format!("{who} Δn={dn}"));
-                    } else {
-                        self.progress.step(&format!(
-                            "{who} Δn={dn} skipped: the error model predicts the held-out periods"
-                        ));
-                    }
-                }
-                break;
-            };
-            pool.retain(|&d| d != dn);
-            self.replay_period(&mut run, dn)?;
-        }
-        Ok(())
-    }
-
-    /// One period of [`Replayer::replay_plan`]: the race at the longest period first (a non-root
-    /// subject not yet raced), the replay, its measurement or its failure.
-    fn replay_period(&mut self, run: &mut PeriodRun<'_, '_>, dn: u32) -> Result<(), AnalyzeError> {
-        let subject = run.subject;
-        let Subject {
-            who,
-            text,
-            strategy,
-            ..
-        } = subject;
-        if run.failure.is_some() {
-            self.progress.step(&format!("{who} Δn={dn}"));
-            return Ok(());
-        }
-        let key = ReplayKey {
-            node: subject.node,
-            strategy: strategy.name().into(),
-            block: subject.block,
-            delta_n: dn,
-            frames: None,
-            set: subject.set.clone(),
-            reconstruct: subject.reconstruct.map(|r| r.name().to_string()),
-        };
-        if dn == self.longest && !subject.raced && !subject.root {
-            let race = self.race(
-                who,
-                subject.node,
-                &subject.set,
-                &[RaceEntry {
-                    name: who.clone(),
-                    sources: run.sources,
-                    variant: run.variant,
-                    delta_n: self.longest,
-                }],
-            )?;
-            if let Some(e) = race.estimate(0) {
-                *run.verdict = too_slow(&e, subject.root, self.longest, *strategy);
-            }
-        }
-        match self.replay(key, run.sources, run.variant, dn, None)? {
-            Ok((m, _)) => {
-                run.measurements.push(m);
-                if dn == self.longest
-                    && let Some(why) = run.verdict.take()
-                {
-                    self.progress
-                        .note(&format!("{who} `{text}`: set aside: {why}"));
-                    *run.failure = Some(why);
-                }
-            }
-            Err(e) => {
-                self.progress
-                    .note(&format!("{who}: set aside: replay failed at Δn={dn}: {e}"));
-                *run.failure = Some(format!("replay failed at Δn={dn}: {e}"));
-            }
-        }
-        self.progress.step(&format!("{who} {strategy} Δn={dn}"));
-        Ok(())
-    }
-}
-
-/// What the periods of one [`Replayer::replay_plan`] share.
-struct PeriodRun<'r, 'v> {
-    subject: &'r Subject,
-    sources: &'r [String],
-    variant: &'r reproj_instance::Variant,
-    measurements: &'r mut Vec<Measurement>,
-    failure: &'r mut Option<String>,
-    /// Why the subject is set aside after its replay at the longest period, once its race says so.
-    verdict: &'v mut Option<String>,
 }
 
 /// The fits of one node's (or set's) replays and its status.
