@@ -107,7 +107,7 @@ fn replay_node(
         && !node.root
         && in_doubt(&e)
     {
-        settle_doubt(rp, id, &built, r, &mut estimates)?;
+        settle_doubt(rp, id, &built, r, w, &mut estimates)?;
         winner = race_winner(&strategies, &estimates);
     }
     if let Some(w) = winner
@@ -151,7 +151,7 @@ fn replay_node(
 /// Whether a race leaves it in doubt that a variant is slower than the original: slower by its
 /// estimate, its interval reaching 1× or beyond ([`settle_doubt`]; where one more race does not
 /// settle it either, the node is profiled).
-pub(crate) fn in_doubt(e: &SpeedupEstimate) -> bool {
+fn in_doubt(e: &SpeedupEstimate) -> bool {
     e.speedup < 1.0 && !e.surely_slower()
 }
 
@@ -264,7 +264,7 @@ fn strategy_probes(
         .collect()
 }
 
-/// Settle a race that left its winner in doubt against the original ([`in_doubt`]): the winner
+/// Settle a race that left its winner (`winner`) in doubt against the original ([`in_doubt`]): the winner
 /// and every strategy ahead of it by estimate are raced once more, and each one's estimate
 /// becomes that of the rounds of both races (the same subjects, windows and baseline), so that
 /// the winner is chosen again on them and the node is set aside only if it is then slower
@@ -275,18 +275,15 @@ fn settle_doubt(
     id: u32,
     built: &[Built],
     race: &reproj_bench::BenchReport,
+    winner: usize,
     estimates: &mut [Option<SpeedupEstimate>],
 ) -> Result<(), AnalyzeError> {
     let (progress, longest) = (rp.progress, rp.longest);
-    let winner = race_winner(
-        &built.iter().map(|b| b.strategy).collect::<Vec<_>>(),
-        estimates,
-    );
-    let Some(floor) = winner.and_then(|w| estimates[w]).map(|e| e.speedup) else {
+    let Some(floor) = estimates[winner].map(|e| e.speedup) else {
         return Ok(());
     };
     let again: Vec<usize> = (0..built.len())
-        .filter(|&i| Some(i) == winner || estimates[i].is_some_and(|e| e.speedup > floor))
+        .filter(|&i| i == winner || estimates[i].is_some_and(|e| e.speedup > floor))
         .collect();
     let entries: Vec<RaceEntry> = again
         .iter()
