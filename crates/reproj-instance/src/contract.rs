@@ -115,7 +115,7 @@ mod tests {
     use crate::library::{PrevClip, library_text};
 
     fn library_with(prev_clip: PrevClip) -> naga::Module {
-        let text = library_text(1, prev_clip, Reconstruct::Bilinear);
+        let text = library_text(1, prev_clip, Reconstruct::Bilinear, None);
         naga::front::wgsl::parse_str(&text).expect("the lookup library parses")
     }
 

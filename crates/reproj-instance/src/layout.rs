@@ -197,6 +197,8 @@ pub(crate) struct ManifestInput<'a> {
     pub nodes: &'a [&'a Node],
     pub opts: &'a InstanceOptions,
     pub cache_format: CacheFormat,
+    /// The payload channel holding the depth, `None` for the depth copy.
+    pub depth_channel: Option<u32>,
     pub group: u32,
     /// `None` with the engine's motion vectors.
     pub prev_clip_location: Option<u32>,
@@ -212,11 +214,12 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         nodes,
         opts,
         cache_format,
+        depth_channel,
         group,
         prev_clip_location,
         passes,
     } = *input;
-    let mut notes = host_notes(opts, prev_clip_location);
+    let mut notes = host_notes(opts, prev_clip_location, depth_channel);
     let infos = node_infos(nodes);
     if nodes.len() > 1 {
         notes.push(format!(
@@ -243,6 +246,7 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         strategy: opts.strategy,
         reconstruct: opts.reconstruct,
         cache_format,
+        depth_channel,
         required_features: if !cache_format.is_half() && opts.reconstruct.filters() {
             vec!["float32-filterable".into()]
         } else {
@@ -253,8 +257,8 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         reprojection: opts.reprojection,
         vertex: vertex_contract(prev_clip_location),
         params: params(opts),
-        textures: textures(cache_format),
-        bytes_per_pixel: Some(bytes_per_pixel(cache_format)),
+        textures: textures(cache_format, depth_channel),
+        bytes_per_pixel: Some(bytes_per_pixel(cache_format, depth_channel)),
         samplers: vec![SamplerDesc {
             name: SAMPLER_LINEAR.into(),
             mag_filter: Filter::Linear,
@@ -263,11 +267,14 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
             address_mode: "clamp-to-edge".into(),
         }],
         frames: FramePlan {
-            ping_pong: vec![ping_pong("0", "1"), ping_pong("1", "0")],
+            ping_pong: vec![
+                ping_pong("0", "1", depth_channel),
+                ping_pong("1", "0", depth_channel),
+            ],
         },
         passes: passes
             .iter()
-            .map(|p| pass(p, opts, cache_format, group))
+            .map(|p| pass(p, opts, cache_format, depth_channel, group))
             .collect(),
         notes,
         languages: Vec::new(),
@@ -276,7 +283,11 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
 
 /// What a host must know beyond the data: how the passes draw, the vertex stage's extra output,
 /// the depth copy, the ping-pong, the first frame, the debug entry, the frame target's load.
-fn host_notes(opts: &InstanceOptions, prev_clip_location: Option<u32>) -> Vec<String> {
+fn host_notes(
+    opts: &InstanceOptions,
+    prev_clip_location: Option<u32>,
+    depth_channel: Option<u32>,
+) -> Vec<String> {
     let draw = match opts.strategy {
         Strategy::ThreePass => "All three passes draw",
         Strategy::TwoPass => "Both passes draw",
@@ -291,10 +302,14 @@ fn host_notes(opts: &InstanceOptions, prev_clip_location: Option<u32>) -> Vec<St
             contract::MOTION_BINDING
         ),
     };
+    let depth = match depth_channel {
+        None => "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".to_string(),
+        Some(c) => format!("The passes that write the cache also write the fragment's depth to its channel {c} (cleared to 1.0 there): the depth the next frame's lookup reads, in the same filtered fetch as the payload. The depth buffer itself is not read, nor kept from one frame to the next."),
+    };
     let mut notes = vec![
         format!("{draw} the scene's geometry with the same vertex stage, whose clip position is @invariant."),
         previous,
-        "The passes that write the frame color also write the fragment's depth to the \"current depth copy\" target (r32float, cleared to 1.0): the depth the next frame's lookup reads. The depth buffer itself is not read, nor kept from one frame to the next.".into(),
+        depth,
         "Frame i binds the textures of frames.ping_pong[i % 2]: what it writes as cur_* it reads as prev_* next frame.".into(),
         "On the first frame, or after a cut, set delta_n = 1: every pixel is recomputed.".into(),
     ];
@@ -330,8 +345,14 @@ fn node_infos(nodes: &[&Node]) -> Vec<NodeInfo> {
 
 /// One pass of the manifest: its file, entry point, bindings, and the targets and depth state of
 /// its kind.
-fn pass(p: &PassModule, opts: &InstanceOptions, cache_format: CacheFormat, group: u32) -> Pass {
-    let (colors, depth) = pass_targets(p, opts, cache_format);
+fn pass(
+    p: &PassModule,
+    opts: &InstanceOptions,
+    cache_format: CacheFormat,
+    depth_channel: Option<u32>,
+    group: u32,
+) -> Pass {
+    let (colors, depth) = pass_targets(p, opts, cache_format, depth_channel);
     Pass {
         kind: p.kind,
         file: pass_file(p.kind).into(),
@@ -348,14 +369,17 @@ fn pass(p: &PassModule, opts: &InstanceOptions, cache_format: CacheFormat, group
 }
 
 /// The color targets and the depth state of a pass, by its kind: which pass clears the cache,
-/// the frame, the depth and its copy, and which load what an earlier pass wrote.
+/// the frame, the depth and its copy, and which load what an earlier pass wrote. With the depth
+/// in the payload's `depth_channel` there is no depth copy target, and the cache clears to the far
+/// plane there.
 fn pass_targets(
     p: &PassModule,
     opts: &InstanceOptions,
     cache_format: CacheFormat,
+    depth_channel: Option<u32>,
 ) -> (Vec<ColorTarget>, DepthState) {
     let clear_cache = || LoadOp::Clear {
-        value: Some(vec![0.0; 4]),
+        value: Some(payload_clear(depth_channel).to_vec()),
     };
     let cache = |location: u32, load: LoadOp| ColorTarget {
         location,
@@ -422,22 +446,38 @@ fn pass_targets(
             depth("equal", false, LoadOp::Load),
         ),
         PassKind::Fused | PassKind::ShadeHits => (
-            vec![
-                frame(frame_first()),
-                cache(cache_at, clear_cache()),
-                depth_copy(depth_at, clear_depth_copy()),
-            ],
+            [frame(frame_first()), cache(cache_at, clear_cache())]
+                .into_iter()
+                .chain(
+                    depth_channel
+                        .is_none()
+                        .then(|| depth_copy(depth_at, clear_depth_copy())),
+                )
+                .collect(),
             depth("less", true, clear_depth()),
         ),
         PassKind::ShadeMisses => (
-            vec![
-                frame(LoadOp::Load),
-                cache(cache_at, LoadOp::Load),
-                depth_copy(depth_at, LoadOp::Load),
-            ],
+            [frame(LoadOp::Load), cache(cache_at, LoadOp::Load)]
+                .into_iter()
+                .chain(
+                    depth_channel
+                        .is_none()
+                        .then(|| depth_copy(depth_at, LoadOp::Load)),
+                )
+                .collect(),
             depth("less", true, LoadOp::Load),
         ),
     }
+}
+
+/// What the cache is cleared to: 0, and the far plane (1.0) in the depth channel if it has one,
+/// so that nothing matches it as the previous frame's surface.
+pub fn payload_clear(depth_channel: Option<u32>) -> [f64; 4] {
+    let mut v = [0.0; 4];
+    if let Some(c) = depth_channel {
+        v[c as usize] = 1.0;
+    }
+    v
 }
 
 /// The location of the pass's output struct member `name` (the cache and the depth copy follow
@@ -553,9 +593,9 @@ fn params(opts: &InstanceOptions) -> Params {
     }
 }
 
-/// The textures a host allocates: two payloads and two depth copies (ping-pong) and the depth
-/// attachment, all frame-sized.
-fn textures(cache_format: CacheFormat) -> Vec<TextureDesc> {
+/// The textures a host allocates: two payloads and two depth copies (ping-pong; no depth copies
+/// where the payload holds the depth) and the depth attachment, all frame-sized.
+fn textures(cache_format: CacheFormat, depth_channel: Option<u32>) -> Vec<TextureDesc> {
     let texture = |name: &str, format: &str| TextureDesc {
         name: name.into(),
         format: format.into(),
@@ -564,35 +604,44 @@ fn textures(cache_format: CacheFormat) -> Vec<TextureDesc> {
         mip_levels: 1,
         sample_count: 1,
     };
-    vec![
+    let mut t = vec![
         texture("payload_0", cache_format.name()),
         texture("payload_1", cache_format.name()),
-        texture("depth_copy_0", "r32float"),
-        texture("depth_copy_1", "r32float"),
-        TextureDesc {
-            usage: vec![TextureUsage::RenderAttachment],
-            ..texture("depth", "depth32float")
-        },
-    ]
+    ];
+    if depth_channel.is_none() {
+        t.push(texture("depth_copy_0", "r32float"));
+        t.push(texture("depth_copy_1", "r32float"));
+    }
+    t.push(TextureDesc {
+        usage: vec![TextureUsage::RenderAttachment],
+        ..texture("depth", "depth32float")
+    });
+    t
 }
 
 /// Bytes per frame pixel of [`textures`] apart from the depth attachment: two payloads and two
-/// depth copies.
-fn bytes_per_pixel(cache_format: CacheFormat) -> u32 {
+/// depth copies (none where the payload holds the depth).
+fn bytes_per_pixel(cache_format: CacheFormat, depth_channel: Option<u32>) -> u32 {
     let payload = cache_format.channels() * if cache_format.is_half() { 2 } else { 4 };
-    2 * payload + 2 * 4
+    let depth_copy = if depth_channel.is_none() { 4 } else { 0 };
+    2 * payload + 2 * depth_copy
 }
 
-/// One frame's roles: the current payload and depth copy are textures `a`, the previous `b`.
-fn ping_pong(a: &str, b: &str) -> std::collections::BTreeMap<String, String> {
-    [
+/// One frame's roles: the current payload and depth copy are textures `a`, the previous `b` (no
+/// depth copy roles where the payload holds the depth).
+fn ping_pong(
+    a: &str,
+    b: &str,
+    depth_channel: Option<u32>,
+) -> std::collections::BTreeMap<String, String> {
+    let mut roles = vec![
         (ROLE_CUR_PAYLOAD, format!("payload_{a}")),
         (ROLE_PREV_PAYLOAD, format!("payload_{b}")),
-        (ROLE_CUR_DEPTH_COPY, format!("depth_copy_{a}")),
-        (ROLE_PREV_DEPTH_COPY, format!("depth_copy_{b}")),
-        (ROLE_CUR_DEPTH, "depth".to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect()
+    ];
+    if depth_channel.is_none() {
+        roles.push((ROLE_CUR_DEPTH_COPY, format!("depth_copy_{a}")));
+        roles.push((ROLE_PREV_DEPTH_COPY, format!("depth_copy_{b}")));
+    }
+    roles.push((ROLE_CUR_DEPTH, "depth".to_string()));
+    roles.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
 }

@@ -32,7 +32,7 @@ pub mod contract;
 pub use error::InstanceError;
 pub use layout::{
     ATTACHMENT_FRAME, ROLE_CUR_DEPTH, ROLE_CUR_DEPTH_COPY, ROLE_CUR_PAYLOAD, ROLE_PREV_DEPTH_COPY,
-    ROLE_PREV_PAYLOAD, SAMPLER_LINEAR,
+    ROLE_PREV_PAYLOAD, SAMPLER_LINEAR, payload_clear,
 };
 use layout::{ManifestInput, build_manifest};
 pub use manifest::*;
@@ -261,7 +261,7 @@ pub fn instance_nodes(
         Reprojection::Vertex => PrevClip::Location(prev_clip_location(&norm.module)),
         Reprojection::MotionVectors => PrevClip::Motion,
     };
-    let cache_format = opts.cache_format.resolve(components);
+    let (cache_format, depth_channel) = payload_layout(opts, components);
     if cache_format.channels() < components {
         return Err(InstanceError::FormatTooNarrow {
             format: cache_format.name(),
@@ -274,16 +274,21 @@ pub fn instance_nodes(
             components,
         });
     }
-    let library = library_text(group, prev_clip, opts.reconstruct);
+    let library = library_text(group, prev_clip, opts.reconstruct, depth_channel);
     let passes = match opts.strategy {
         Strategy::ThreePass => vec![
             reproject_pass(&library, prev_clip)?,
             recompute_pass(norm, &slots)?,
             shade_pass(norm, &slots, group)?,
         ],
-        Strategy::Fused | Strategy::TwoPass => {
-            strategy_passes(norm, &slots, &library, opts.strategy, prev_clip)?
-        }
+        Strategy::Fused | Strategy::TwoPass => strategy_passes(
+            norm,
+            &slots,
+            &library,
+            opts.strategy,
+            prev_clip,
+            depth_channel,
+        )?,
     };
     let manifest = build_manifest(&ManifestInput {
         shader,
@@ -291,11 +296,34 @@ pub fn instance_nodes(
         nodes: &picked,
         opts,
         cache_format,
+        depth_channel,
         group,
         prev_clip_location: prev_clip.location(),
         passes: &passes,
     });
     Ok(Variant { manifest, passes })
+}
+
+/// The payload's format, and where the previous frame's depth is kept: in the payload's first
+/// free channel where the entries that write the cache also write the frame (fused, two-pass),
+/// the payload is a filtered 32-bit float format and has a channel to spare, so the lookup reads
+/// depth and payload in one filtered fetch and no depth copy target is written; else (`None`) in
+/// the depth copy, read with four loads. `f32` widens the payload by that channel; an exact
+/// format packs only where it has one free (`r32float` for a one-float node keeps the depth copy).
+/// Four loads cost a CPU rasterizer more than the shading they save (docs/results.md, "The depth
+/// in the payload").
+fn payload_layout(opts: &InstanceOptions, components: u32) -> (CacheFormat, Option<u32>) {
+    let packs = opts.strategy != Strategy::ThreePass && opts.reconstruct.filters();
+    match opts.cache_format {
+        CacheFormatChoice::Narrowest32 if packs && components < 4 => (
+            CacheFormat::narrowest(components + 1, false),
+            Some(components),
+        ),
+        CacheFormatChoice::Exact(f) if packs && !f.is_half() && f.channels() > components => {
+            (f, Some(components))
+        }
+        choice => (choice.resolve(components), None),
+    }
 }
 
 /// A node's id as the CLI and the manifest spell it.
@@ -383,6 +411,7 @@ fn strategy_passes(
     library: &str,
     which: Strategy,
     prev_clip: PrevClip,
+    depth_channel: Option<u32>,
 ) -> Result<Vec<PassModule>, InstanceError> {
     let kinds = strategy::entries(which);
     let first = strategy::pass_kind(kinds[0]);
@@ -420,7 +449,7 @@ fn strategy_passes(
         strategy::as_function(shade, "reproj_shade"),
         naga::Span::UNDEFINED,
     );
-    let output = strategy::output_struct(&mut base, &result, Some(vec4));
+    let output = strategy::output_struct(&mut base, &result, Some(vec4), depth_channel.is_none());
     let original_ep = base.entry_points[0].clone();
     let mut passes = Vec::new();
     for &kind in kinds {
@@ -445,6 +474,7 @@ fn strategy_passes(
             fetch,
             motion_clip,
             output,
+            depth_channel,
         };
         let function = strategy::build_entry(&module, &entry, &parts, kind, prev_clip)?;
         if kind == strategy::EntryKind::Fused {
@@ -577,7 +607,7 @@ fn shade_pass(norm: &Normalized, slots: &[Slot], group: u32) -> Result<PassModul
         strategy::as_function(entry.clone(), "reproj_shade"),
         naga::Span::UNDEFINED,
     );
-    let output = strategy::output_struct(&mut module, &result, None);
+    let output = strategy::output_struct(&mut module, &result, None, true);
     let parts = strategy::Parts {
         vec4: vec4f,
         recompute: None,
@@ -585,6 +615,7 @@ fn shade_pass(norm: &Normalized, slots: &[Slot], group: u32) -> Result<PassModul
         fetch: None,
         motion_clip: None,
         output,
+        depth_channel: None,
     };
     let function = strategy::build_entry(
         &module,

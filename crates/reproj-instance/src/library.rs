@@ -6,8 +6,8 @@
 use crate::contract;
 use crate::{InstanceError, PassKind, Reconstruct};
 
-/// The lookup library; `REPROJ_GROUP`, `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS` and
-/// `// REPROJ_INPUT` are substituted. The debug entry [`classify_wgsl`] is not in what the
+/// The lookup library; `REPROJ_GROUP`, `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS`,
+/// `// REPROJ_INPUT` and the depth's binding, texture and read are substituted. The debug entry [`classify_wgsl`] is not in what the
 /// passes ship: a replay that counts hits with it appends it to pass 1.
 const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
 /// The three-pass strategy's pass-1 entry, appended to the library.
@@ -112,16 +112,74 @@ fn reproj_catmull_rom(uv: vec2<f32>, size: vec2<f32>, p0: vec2<i32>, p1: vec2<i3
 }
 "#;
 
-/// The lookup library's WGSL for this group, input and reconstruction.
-pub(crate) fn library_text(group: u32, prev_clip: PrevClip, reconstruct: Reconstruct) -> String {
-    let fetch = match reconstruct {
-        Reconstruct::Bilinear => {
+/// The depth copy's binding: the previous frame's depth as a plain float texture (r32float, read
+/// with textureLoad): a depth texture would be a shadow sampler in GLSL, which compares instead of
+/// reading.
+const DEPTH_COPY_BINDING: &str =
+    "@group(REPROJ_GROUP) @binding(2) var reproj_prev_depth: texture_2d<f32>;\n";
+
+/// The frame size and the 2×2 texels of `REPROJ_DEPTH_TEXTURE` around uv, clamped to the edge
+/// (what a gather with a clamp-to-edge sampler reads): the depth copy's four loads, the nearest
+/// reconstruction and the Catmull-Rom clamp use them.
+const FOOTPRINT: &str = "    let dims = vec2<i32>(textureDimensions(REPROJ_DEPTH_TEXTURE));
+    let size = vec2<f32>(dims);
+    let t = uv * size - vec2<f32>(0.5);
+    let f = fract(t);
+    let last = dims - vec2<i32>(1);
+    let i = vec2<i32>(floor(t));
+    let p0 = clamp(i, vec2<i32>(0), last);
+    let p1 = clamp(i + vec2<i32>(1), vec2<i32>(0), last);
+";
+
+/// The previous depth from the depth copy: its 2×2 texels around uv blended bilinearly. Four
+/// loads rather than one gather: GLSL ES 3.0 has no gather.
+const DEPTH_COPY_READ: &str = "    let d00 = textureLoad(reproj_prev_depth, p0, 0).x;
+    let d10 = textureLoad(reproj_prev_depth, vec2<i32>(p1.x, p0.y), 0).x;
+    let d01 = textureLoad(reproj_prev_depth, vec2<i32>(p0.x, p1.y), 0).x;
+    let d11 = textureLoad(reproj_prev_depth, p1, 0).x;
+    let d = mix(mix(d00, d10, f.x), mix(d01, d11, f.x), f.y);
+";
+
+/// The previous depth from the payload's channel `REPROJ_DEPTH_CHANNEL`: the bilinear fetch
+/// (the same blend as the depth copy's four loads) that the bilinear reconstruction reuses.
+const PAYLOAD_DEPTH_READ: &str = "    let reproj_texel = textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0.0);
+    let d = reproj_texel[REPROJ_DEPTH_CHANNEL];
+";
+
+/// The lookup library's WGSL for this group, input and reconstruction; `depth_channel`: the
+/// payload channel that holds the previous depth, `None` to read the depth copy.
+pub(crate) fn library_text(
+    group: u32,
+    prev_clip: PrevClip,
+    reconstruct: Reconstruct,
+    depth_channel: Option<u32>,
+) -> String {
+    let fetch = match (reconstruct, depth_channel) {
+        (Reconstruct::Bilinear, Some(_)) => "reproj_texel",
+        (Reconstruct::Bilinear, None) => {
             "textureSampleLevel(reproj_prev_payload, reproj_linear_sampler, uv, 0.0)"
         }
-        Reconstruct::Nearest => {
+        (Reconstruct::Nearest, _) => {
             "textureLoad(reproj_prev_payload, vec2<i32>(min(uv * size, size - vec2<f32>(1.0))), 0)"
         }
-        Reconstruct::CatmullRom => "reproj_catmull_rom(uv, size, p0, p1)",
+        (Reconstruct::CatmullRom, _) => "reproj_catmull_rom(uv, size, p0, p1)",
+    };
+    let (binding, read) = match depth_channel {
+        None => (
+            DEPTH_COPY_BINDING,
+            FOOTPRINT.replace("REPROJ_DEPTH_TEXTURE", contract::PREV_DEPTH) + DEPTH_COPY_READ,
+        ),
+        Some(c) => {
+            // The bilinear reconstruction is the depth's own fetch: no footprint to compute.
+            let footprint = match reconstruct {
+                Reconstruct::Bilinear => String::new(),
+                Reconstruct::Nearest | Reconstruct::CatmullRom => {
+                    FOOTPRINT.replace("REPROJ_DEPTH_TEXTURE", contract::PREV_PAYLOAD)
+                }
+            };
+            let depth = PAYLOAD_DEPTH_READ.replace("REPROJ_DEPTH_CHANNEL", &c.to_string());
+            ("", footprint + &depth)
+        }
     };
     let filters = match reconstruct {
         Reconstruct::CatmullRom => CATMULL_ROM,
@@ -137,6 +195,8 @@ pub(crate) fn library_text(group: u32, prev_clip: PrevClip, reconstruct: Reconst
         ),
     };
     LOOKUP_LIBRARY
+        .replace("// REPROJ_DEPTH_BINDING\n", binding)
+        .replace("    // REPROJ_PREV_DEPTH\n", &read)
         .replace("// REPROJ_INPUT\n", &input)
         .replace("REPROJ_GROUP", &group.to_string())
         .replace("REPROJ_RECONSTRUCT", fetch)

@@ -19,9 +19,7 @@ struct ReprojParams {
 
 @group(REPROJ_GROUP) @binding(0) var<uniform> reproj_params: ReprojParams;
 @group(REPROJ_GROUP) @binding(1) var reproj_prev_payload: texture_2d<f32>;
-// The previous frame's depth as a plain float texture (r32float, read with textureLoad): a depth
-// texture would be a shadow sampler in GLSL, which compares instead of reading.
-@group(REPROJ_GROUP) @binding(2) var reproj_prev_depth: texture_2d<f32>;
+// REPROJ_DEPTH_BINDING
 // Linear, clamp-to-edge: bilinear reconstruction of the payload in one fetch.
 @group(REPROJ_GROUP) @binding(5) var reproj_linear_sampler: sampler;
 
@@ -67,21 +65,10 @@ fn reproj_lookup(in: ReprojInput) -> ReprojLookup {
         return r;
     }
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    let dims = vec2<i32>(textureDimensions(reproj_prev_depth));
-    let size = vec2<f32>(dims);
-    // The 2×2 depths around uv, clamped to the edge (what a gather with a clamp-to-edge sampler
-    // reads), blended bilinearly. Four loads rather than one gather: GLSL ES 3.0 has no gather.
-    let t = uv * size - vec2<f32>(0.5);
-    let f = fract(t);
-    let last = dims - vec2<i32>(1);
-    let i = vec2<i32>(floor(t));
-    let p0 = clamp(i, vec2<i32>(0), last);
-    let p1 = clamp(i + vec2<i32>(1), vec2<i32>(0), last);
-    let d00 = textureLoad(reproj_prev_depth, p0, 0).x;
-    let d10 = textureLoad(reproj_prev_depth, vec2<i32>(p1.x, p0.y), 0).x;
-    let d01 = textureLoad(reproj_prev_depth, vec2<i32>(p0.x, p1.y), 0).x;
-    let d11 = textureLoad(reproj_prev_depth, p1, 0).x;
-    let d = mix(mix(d00, d10, f.x), mix(d01, d11, f.x), f.y);
+    // The previous depth at uv, `d` (library.rs): the depth copy's 2×2 texels blended bilinearly,
+    // or the payload's depth channel from its filtered fetch; with the frame `size` and the 2×2
+    // footprint `p0`, `p1` where the reconstruction needs them.
+    // REPROJ_PREV_DEPTH
     // NDC depth: 1 - z is proportional to 1 / view depth, so this is a relative tolerance.
     let tolerance = reproj_params.depth_epsilon * max(1.0 - ndc.z, 1e-7);
     if abs(d - ndc.z) > tolerance {

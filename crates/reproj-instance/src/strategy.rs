@@ -19,6 +19,8 @@
 //! to one more color target, the *depth copy* (r32float): the next frame's lookup reads it as a
 //! plain float texture, which every shading language can load (a depth texture is a shadow sampler
 //! in GLSL). So the depth buffer never has to be sampled, nor kept from one frame to the next.
+//! Where the payload has a channel to spare (`Parts::depth_channel`), the depth goes there
+//! instead: one target fewer, and the lookup reads depth and payload in one filtered fetch.
 //!
 //! The functions are ordinary naga functions; the entry points are built directly in IR.
 
@@ -36,8 +38,11 @@ pub(crate) struct Parts {
     pub fetch: Option<Handle<Function>>,
     /// `reproj_motion_clip`, when the library imported reads the engine's motion vectors.
     pub motion_clip: Option<Handle<Function>>,
-    /// The output struct: the original outputs, the cache (when written) and the depth copy.
+    /// The output struct: the original outputs, the cache (when written) and the depth copy
+    /// (unless the depth is in the payload).
     pub output: Handle<Type>,
+    /// The payload channel that carries the fragment's depth, if any (then no depth copy).
+    pub depth_channel: Option<u32>,
 }
 
 /// How the new entry point's body is put together.
@@ -65,12 +70,13 @@ pub(crate) fn as_function(mut f: Function, name: &str) -> Function {
 }
 
 /// The output struct of an entry built here: the shader's outputs, then (with `cache`) the cache
-/// payload `reproj_cache: vec4<f32>`, then the depth copy `reproj_depth: f32`, at the next free
-/// locations.
+/// payload `reproj_cache: vec4<f32>`, then (with `depth_copy`) the depth copy `reproj_depth: f32`,
+/// at the next free locations.
 pub(crate) fn output_struct(
     module: &mut Module,
     result: &naga::FunctionResult,
     cache: Option<Handle<Type>>,
+    depth_copy: bool,
 ) -> Handle<Type> {
     let f32_ty = module.types.insert(
         Type {
@@ -100,7 +106,7 @@ pub(crate) fn output_struct(
     let extra = cache
         .map(|ty| (CACHE_MEMBER, ty))
         .into_iter()
-        .chain([(DEPTH_MEMBER, f32_ty)]);
+        .chain(depth_copy.then_some((DEPTH_MEMBER, f32_ty)));
     for (location, (name, ty)) in (first_free..).zip(extra) {
         members.push(naga::StructMember {
             name: Some(name.into()),
@@ -512,7 +518,6 @@ fn entry_output(
         }
         _ => components.push(color),
     }
-    components.extend(payload);
     let depth = match depth {
         Some(d) => d,
         None => b.expr(Expression::AccessIndex {
@@ -520,11 +525,47 @@ fn entry_output(
             index: 2,
         }),
     };
-    components.push(depth);
+    match (payload, s.parts.depth_channel) {
+        (Some(payload), Some(channel)) => {
+            let packed = with_depth(b, s.parts.vec4, payload, depth, channel);
+            components.push(packed);
+        }
+        (payload, _) => {
+            components.extend(payload);
+            components.push(depth);
+        }
+    }
     Ok(b.expr(Expression::Compose {
         ty: s.parts.output,
         components,
     }))
+}
+
+/// `payload` with its channel `channel` replaced by `depth`: the cache written where the payload
+/// carries the depth.
+fn with_depth(
+    b: &mut Body,
+    vec4: Handle<Type>,
+    payload: Handle<Expression>,
+    depth: Handle<Expression>,
+    channel: u32,
+) -> Handle<Expression> {
+    let components = (0..4)
+        .map(|i| {
+            if i == channel {
+                depth
+            } else {
+                b.expr(Expression::AccessIndex {
+                    base: payload,
+                    index: i,
+                })
+            }
+        })
+        .collect();
+    b.expr(Expression::Compose {
+        ty: vec4,
+        components,
+    })
 }
 
 /// Which entry points a strategy's modules have, in pass order.

@@ -154,6 +154,116 @@ fn color_passes_write_the_depth_copy() {
     }
 }
 
+/// Where the layout writes the cache and the frame in the same entries (two-pass, fused) and the
+/// 32-bit filtered payload has a channel to spare, the depth goes there: the payload widens by one
+/// channel (`f32`) or uses the spare one (an exact format), the cache clears to the far plane in
+/// that channel, no pass writes or reads a depth copy, and the lookup reads depth and payload in
+/// one filtered fetch. The three-pass layout, 16-bit payloads, nearest reconstruction and a full
+/// `r32float` keep the depth copy.
+#[test]
+fn the_depth_rides_in_a_spare_payload_channel() {
+    use reproj_instance::{CacheFormat, CacheFormatChoice, Reconstruct};
+    let (shader, norm, table) = load("marble.wgsl");
+    let id = node_by_text(&table, "s3 + n4");
+    let make = |strategy: Strategy, cache_format, reconstruct| {
+        let v = instance(
+            &shader,
+            &norm,
+            &table,
+            NodeSelector::Id(id),
+            &InstanceOptions {
+                strategy,
+                cache_format,
+                reconstruct,
+                block: strategy.default_block(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        check_round_trip(&v);
+        v
+    };
+    let f32s = CacheFormatChoice::Narrowest32;
+    for strategy in [Strategy::TwoPass, Strategy::Fused] {
+        for (choice, format, channel) in [
+            (f32s, CacheFormat::Rg32float, 1),
+            (
+                CacheFormatChoice::Exact(CacheFormat::Rgba32float),
+                CacheFormat::Rgba32float,
+                1,
+            ),
+        ] {
+            for reconstruct in [Reconstruct::Bilinear, Reconstruct::CatmullRom] {
+                let v = make(strategy, choice, reconstruct);
+                let m = &v.manifest;
+                let what = format!("{strategy} {choice:?} {reconstruct:?}");
+                assert_eq!(m.depth_channel, Some(channel), "{what}");
+                assert_eq!(m.cache_format, format, "{what}");
+                assert!(
+                    !m.textures.iter().any(|t| t.name.starts_with("depth_copy")),
+                    "{what}"
+                );
+                for (p, mp) in v.passes.iter().zip(&m.passes) {
+                    assert!(!p.wgsl.contains("reproj_prev_depth"), "{what}: {}", p.wgsl);
+                    assert!(!p.wgsl.contains("reproj_depth"), "{what}: {}", p.wgsl);
+                    assert!(
+                        mp.colors
+                            .iter()
+                            .all(|c| c.attachment != reproj_instance::ROLE_CUR_DEPTH_COPY),
+                        "{what}"
+                    );
+                    let cache = mp
+                        .colors
+                        .iter()
+                        .find(|c| c.attachment == reproj_instance::ROLE_CUR_PAYLOAD)
+                        .unwrap();
+                    if let reproj_instance::LoadOp::Clear { value: Some(v) } = &cache.load {
+                        assert_eq!(v, &[0.0, 1.0, 0.0, 0.0], "{what}");
+                    }
+                    // The cache written carries the fragment's depth in its channel 1.
+                    let ret = p
+                        .wgsl
+                        .lines()
+                        .find(|l| l.contains("return ReprojOutput("))
+                        .unwrap();
+                    assert!(ret.contains(".x, reproj_frag_coord.z, "), "{what}: {ret}");
+                }
+                let first = &v.passes[0].wgsl;
+                assert!(first.contains("reproj_texel.y"), "{what}: {first}");
+            }
+        }
+    }
+    // The depth copy stays where the payload has no spare filtered 32-bit channel, or the layout
+    // writes the cache and the frame in different passes.
+    for (strategy, choice, reconstruct) in [
+        (Strategy::ThreePass, f32s, Reconstruct::Bilinear),
+        (
+            Strategy::TwoPass,
+            CacheFormatChoice::Exact(CacheFormat::R32float),
+            Reconstruct::Bilinear,
+        ),
+        (
+            Strategy::TwoPass,
+            CacheFormatChoice::Narrowest16,
+            Reconstruct::Bilinear,
+        ),
+        (Strategy::Fused, f32s, Reconstruct::Nearest),
+    ] {
+        let v = make(strategy, choice, reconstruct);
+        let what = format!("{strategy} {choice:?} {reconstruct:?}");
+        assert_eq!(v.manifest.depth_channel, None, "{what}");
+        assert!(
+            v.manifest
+                .textures
+                .iter()
+                .any(|t| t.name.starts_with("depth_copy")),
+            "{what}"
+        );
+        let first = &v.passes[0].wgsl;
+        assert!(first.contains("reproj_prev_depth"), "{what}");
+    }
+}
+
 /// Two nodes cached together: their floats packed one after the other (the manifest says where),
 /// the recompute pass returns both, the shade pass reads both from the payload and no longer
 /// computes either; more than four floats, or a node twice, is refused.
@@ -179,7 +289,10 @@ fn two_nodes_share_one_payload() {
         assert_eq!((manifest.node.offset, manifest.also.len()), (0, 1));
         assert_eq!(manifest.also[0].id, m.to_string());
         assert_eq!(manifest.also[0].offset, 1);
-        assert_eq!(manifest.cache_format.channels(), 2);
+        // Two floats; where the layout packs the depth, a third channel holds it.
+        let packs = strategy != Strategy::ThreePass;
+        assert_eq!(manifest.cache_format.channels(), if packs { 4 } else { 2 });
+        assert_eq!(manifest.depth_channel, packs.then_some(2));
         if strategy == Strategy::ThreePass {
             // Pass 3 reads both from the cache: neither loop is left.
             assert!(!pass(&v, PassKind::Shade).contains("loop"));

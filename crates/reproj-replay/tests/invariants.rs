@@ -275,8 +275,8 @@ fn strategy_nodes(table: &reproj_front::NodeTable) -> Vec<NodeSelector> {
     sels
 }
 
-/// Every strategy, cache format family and reconstruction reproduces the original at Δn = 1,
-/// and reuses its cache exactly (error < 1e-4, hit rate about 7/8) in a static scene at Δn = 8.
+/// Every strategy, cache format family, reconstruction and place of the depth (its own copy, or a
+/// spare payload channel) reproduces the original at Δn = 1, and reuses its cache exactly (error < 1e-4, hit rate about 7/8) in a static scene at Δn = 8.
 #[test]
 fn every_strategy_reproduces_the_original_and_reuses_its_cache() {
     use reproj_instance::{CacheFormatChoice, Reconstruct, Strategy};
@@ -310,6 +310,13 @@ fn every_strategy_reproduces_the_original_and_reuses_its_cache() {
         (
             Strategy::ThreePass,
             CacheFormatChoice::Narrowest32,
+            Reconstruct::CatmullRom,
+        ),
+        // The depth in the payload's spare channel with the sharper filter (the rows above with
+        // `f32` and a filter pack it too, where the node leaves a channel free).
+        (
+            Strategy::TwoPass,
+            CacheFormatChoice::Exact(reproj_instance::CacheFormat::Rgba32float),
             Reconstruct::CatmullRom,
         ),
     ];

@@ -1,7 +1,7 @@
 //! `manifest.json`, read with this crate's own types.
 //!
 //! These structs mirror the published schema (`docs/manifest.schema.json`, schema
-//! `reproj.manifest`, versions 3 to 6) and nothing else: an engine in any language reads the same
+//! `reproj.manifest`, versions 3 to 7) and nothing else: an engine in any language reads the same
 //! JSON the same way. Only the fields the runtime uses are declared; serde ignores the others (the
 //! node, the notes, the WGSL types of bindings...). Enumerations are kept as the strings the schema
 //! uses (WebGPU names) and converted to wgpu values when the variant is loaded (`plan.rs`), so a
@@ -16,9 +16,11 @@ use crate::RuntimeError;
 
 /// The schema name and the versions this runtime reads (version 4 only added which nodes the
 /// payload holds, which a host need not know; version 5 the run-time Δn schedule,
-/// `params.schedule`; version 6 `reprojection`, the engine's motion vectors).
+/// `params.schedule`; version 6 `reprojection`, the engine's motion vectors; version 7
+/// `depth_channel`, the depth in the payload, which the textures, targets and clear values
+/// already say).
 pub const SCHEMA: &str = "reproj.manifest";
-pub const VERSION: u64 = 6;
+pub const VERSION: u64 = 7;
 pub const OLDEST_VERSION: u64 = 3;
 
 /// `reprojection` before it was written.

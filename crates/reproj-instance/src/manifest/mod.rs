@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 /// Version 5: `params.schedule`, the run-time Δn schedule by motion band.
 /// Version 6: `reprojection` (the engine's motion vectors instead of the vertex stage's previous
 /// clip position, which `vertex.prev_clip_location` then leaves out), `bytes_per_pixel`.
-pub const MANIFEST_VERSION: u32 = 6;
+pub const MANIFEST_VERSION: u32 = 7;
 
 /// What [`reproj_io::read_json`] expects of a `manifest.json`.
 pub const MANIFEST_KIND: reproj_io::Kind = reproj_io::Kind {
@@ -50,6 +50,12 @@ pub struct Manifest {
     /// How the first pass reconstructs the previous payload.
     pub reconstruct: Reconstruct,
     pub cache_format: CacheFormat,
+    /// The payload channel that holds the fragment's depth (version 7): the passes that write the
+    /// cache write `@builtin(position).z` there, its clear value there is 1.0, and the lookup reads
+    /// the previous depth from it in the payload's one filtered fetch. Absent: the depth copy
+    /// (`cur_depth_copy` / `prev_depth_copy`, r32float) holds it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_channel: Option<u32>,
     /// WebGPU device features the passes need (`float32-filterable` to filter a 32-bit float
     /// cache).
     pub required_features: Vec<String>,

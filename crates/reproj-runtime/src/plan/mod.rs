@@ -230,7 +230,7 @@ impl Plan {
 ///
 /// Every pass of every emitted variant draws into one depth texture that the first pass clears,
 /// no pass samples, and no frame keeps for the next (the lookup reads last frame's depth from the
-/// `r32float` depth copy). The runtime therefore draws into the application's depth target instead
+/// `r32float` depth copy, or from the payload's depth channel). The runtime therefore draws into the application's depth target instead
 /// of allocating that texture; a manifest where the depth attachment differs between passes or
 /// frames, is sampled or is drawn as a color is refused.
 fn depth_attachment(

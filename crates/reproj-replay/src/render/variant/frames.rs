@@ -366,7 +366,7 @@ fn pass_colors<'a>(
     spec: &PassSpec,
     cur: usize,
 ) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
-    let clear_payload = wgpu::Color::TRANSPARENT;
+    let clear_payload = gpu.payload_clear;
     spec.colors
         .iter()
         .map(|c| {

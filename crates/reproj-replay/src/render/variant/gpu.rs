@@ -30,6 +30,8 @@ impl Renderer {
             b: bg[2] as f64,
             a: bg[3] as f64,
         };
+        let [r, g, b, a] = reproj_instance::payload_clear(m.depth_channel);
+        let payload_clear = wgpu::Color { r, g, b, a };
         let host_clears_depth = specs.first().is_some_and(|s| s.depth_load);
         let host_clears_frame = !specs.iter().any(|s| {
             s.colors
@@ -71,6 +73,7 @@ impl Renderer {
             pipes,
             pc,
             clear,
+            payload_clear,
             host_clears_frame,
             host_clears_depth,
             motion,
@@ -161,14 +164,16 @@ impl Renderer {
             self.target("depth copy A", w, h, DEPTH_COPY_FORMAT, true),
             self.target("depth copy B", w, h, DEPTH_COPY_FORMAT, true),
         ];
-        // The lookup reads the depth copy; only a variant written before it (no depth copy target)
-        // reads the previous depth buffer, which must then alternate like the payload.
-        let legacy_depth = !specs.iter().any(|s| {
-            s.colors
-                .iter()
-                .flatten()
-                .any(|c| c.0 == Attachment::DepthCopy)
-        });
+        // The lookup reads the depth copy or the payload's depth channel; only a variant written
+        // before both (no depth copy target) reads the previous depth buffer, which must then
+        // alternate like the payload.
+        let legacy_depth = m.depth_channel.is_none()
+            && !specs.iter().any(|s| {
+                s.colors
+                    .iter()
+                    .flatten()
+                    .any(|c| c.0 == Attachment::DepthCopy)
+            });
         let depth: Vec<wgpu::Texture> = if legacy_depth {
             vec![
                 self.target("depth A", w, h, DEPTH_FORMAT, true),
@@ -360,7 +365,7 @@ impl Renderer {
                 let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("clear cache"),
                     color_attachments: &[
-                        clear_to(&payload_v[i], wgpu::Color::TRANSPARENT),
+                        clear_to(&payload_v[i], gpu.payload_clear),
                         clear_to(&depth_copy_v[i], DEPTH_COPY_CLEAR),
                     ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -447,7 +452,8 @@ pub(super) struct VariantGpu {
     pub(super) scene: Scene,
     /// The bind group the replay's vertex stage uses (free in every stage).
     pub(super) vgroup: u32,
-    /// The payload and the depth copy of each parity.
+    /// The payload and the depth copy of each parity (the depth copy unused where the payload
+    /// holds the depth).
     pub(super) payload_v: Vec<wgpu::TextureView>,
     pub(super) depth_copy_v: Vec<wgpu::TextureView>,
     /// One depth buffer, or two that alternate for a variant written before the depth copy.
@@ -465,6 +471,8 @@ pub(super) struct VariantGpu {
     pub(super) pc: Option<Pipe>,
     /// The session's background.
     pub(super) clear: wgpu::Color,
+    /// What the payload is cleared to: 0, and the far plane in the depth channel if it has one.
+    pub(super) payload_clear: wgpu::Color,
     /// No pass clears the frame (`--frame-load load`): the host clears it to the background.
     pub(super) host_clears_frame: bool,
     /// The first pass loads the depth (`--depth-load load`): the host clears it (there is no
