@@ -19,7 +19,7 @@ pub struct Variant {
 }
 
 impl Variant {
-    /// Read `dir/manifest.json` (schema `reproj.manifest`, versions 3 to 6) and the pass files it
+    /// Read `dir/manifest.json` (schema `reproj.manifest`, versions 3 to 7) and the pass files it
     /// names, and check every field the runtime uses: an error names the file and the field.
     pub fn load(dir: impl AsRef<Path>) -> Result<Variant, RuntimeError> {
         let dir = dir.as_ref();

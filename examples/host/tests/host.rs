@@ -426,10 +426,10 @@ fn host_refuses_what_it_cannot_run() {
         assert!(!out.status.success());
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let err = attempt(&good.replace("\"version\": 6", "\"version\": 2"));
+    let err = attempt(&good.replace("\"version\": 7", "\"version\": 2"));
     assert!(
         err.contains("manifest version 2 is not supported")
-            && err.contains("reads versions 3 to 6"),
+            && err.contains("reads versions 3 to 7"),
         "{err}"
     );
     let err = attempt(&good.replace("\"reproj.manifest\"", "\"something.else\""));
