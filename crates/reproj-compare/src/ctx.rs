@@ -38,6 +38,16 @@ impl Ctx<'_> {
         &self,
         candidates: &[reproj_bench::Candidate],
     ) -> Result<Vec<Option<SpeedupEstimate>>, CompareError> {
+        let report = self.race_report(candidates)?;
+        Ok((0..candidates.len()).map(|i| report.estimate(i)).collect())
+    }
+
+    /// [`Ctx::race`]'s run itself, whose rounds a second run of the same candidates can be
+    /// pooled with ([`reproj_bench::BenchReport::pooled_estimate`]).
+    pub(crate) fn race_report(
+        &self,
+        candidates: &[reproj_bench::Candidate],
+    ) -> Result<reproj_bench::BenchReport, CompareError> {
         let report = reproj_bench::bench(
             self.renderer,
             self.baseline,
@@ -50,7 +60,7 @@ impl Ctx<'_> {
         for w in &report.warnings {
             reproj_bench::add_warning_once(&mut seen, w);
         }
-        Ok((0..candidates.len()).map(|i| report.estimate(i)).collect())
+        Ok(report)
     }
 
     /// A candidate that renders `shader` (entry 0) like the original, over `session` when given.
