@@ -14,6 +14,21 @@ use reproj_scene::Session;
 
 use crate::{CompareError, Scores};
 
+/// Whether a try's race leaves it in doubt: its estimate misses the target by more than
+/// `tolerance` while its interval reaches into the band the tolerance allows, so the race cannot
+/// tell a try that is on target from one that is not (a search race of 8 rounds of 8 frames is
+/// ±6–8 % wide on lavapipe, the tolerance ±5 %).
+pub(crate) fn in_doubt(e: &SpeedupEstimate, target: f64, tolerance: f64) -> bool {
+    let (lo, hi) = (target / (1.0 + tolerance), target * (1.0 + tolerance));
+    let off = e.speedup < lo || e.speedup > hi;
+    off && e.ci95[0] <= hi && e.ci95[1] >= lo
+}
+
+/// A try's `races` in files written before it: one.
+pub(crate) fn one_race() -> u32 {
+    1
+}
+
 /// What every method's renders share.
 pub(crate) struct Ctx<'a> {
     pub(crate) renderer: &'a Renderer,
@@ -40,6 +55,26 @@ impl Ctx<'_> {
     ) -> Result<Vec<Option<SpeedupEstimate>>, CompareError> {
         let report = self.race_report(candidates)?;
         Ok((0..candidates.len()).map(|i| report.estimate(i)).collect())
+    }
+
+    /// A search try's race against the target: one short interleaved run, and a second whose
+    /// rounds are pooled with the first's where the first cannot place the try ([`in_doubt`]):
+    /// otherwise one race's noise moves the search (marble at 2×: reproj's Δn 12 measured 1.87×
+    /// [1.52, 2.32] once and 2.17× the next run, and the first run stepped to Δn 18). The estimate
+    /// (`None` without a finite figure) and how many races it pools.
+    pub(crate) fn race_try(
+        &self,
+        candidate: reproj_bench::Candidate,
+        tolerance: f64,
+    ) -> Result<(Option<SpeedupEstimate>, u32), CompareError> {
+        let candidates = [candidate];
+        let first = self.race_report(&candidates)?;
+        let timed = first.estimate(0);
+        if !timed.is_some_and(|e| in_doubt(&e, self.target, tolerance)) {
+            return Ok((timed, 1));
+        }
+        let again = self.race_report(&candidates)?;
+        Ok((first.pooled_estimate(0, &again, 0).or(timed), 2))
     }
 
     /// [`Ctx::race`]'s run itself, whose rounds a second run of the same candidates can be
@@ -164,5 +199,33 @@ impl Ctx<'_> {
             .renderer
             .render_original(shader, entry, session, self.render_opts)?;
         Ok(r.frames)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn estimate(speedup: f64, ci95: [f64; 2]) -> SpeedupEstimate {
+        SpeedupEstimate {
+            speedup,
+            ci95,
+            rounds: 8,
+            outliers: 0,
+            baseline_ms: 8.0,
+            candidate_ms: 8.0 / speedup,
+        }
+    }
+
+    /// Only a try off the target whose interval reaches into the tolerance band is raced again:
+    /// one on target needs nothing more, one off beyond doubt steers at once.
+    #[test]
+    fn a_try_is_raced_again_only_when_its_race_cannot_place_it() {
+        // Target 2×, ±5 %: the band is [1.905, 2.1].
+        assert!(in_doubt(&estimate(1.87, [1.52, 2.32]), 2.0, 0.05));
+        assert!(in_doubt(&estimate(2.2, [2.05, 2.35]), 2.0, 0.05));
+        assert!(!in_doubt(&estimate(1.97, [1.80, 2.15]), 2.0, 0.05));
+        assert!(!in_doubt(&estimate(1.6, [1.5, 1.7]), 2.0, 0.05));
+        assert!(!in_doubt(&estimate(2.5, [2.3, 2.7]), 2.0, 0.05));
     }
 }

@@ -15,7 +15,6 @@ use reproj_analyze::emit::resolve;
 use reproj_front::Loaded;
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance_nodes};
 use reproj_models::profile::{NodeProfile, NodeStatus, SetProfile};
-use reproj_models::speedup::SpeedupEstimate;
 use reproj_models::{Metric, Profile};
 use reproj_replay::{RenderOptions, VariantInput};
 use reproj_select::{
@@ -58,22 +57,8 @@ pub struct ReprojTry {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speedup_ci95: Option<[f64; 2]>,
     /// How many races the figures pool: 1, or 2 when the first was in doubt (absent before).
-    #[serde(default = "one_race")]
+    #[serde(default = "crate::ctx::one_race")]
     pub races: u32,
-}
-
-fn one_race() -> u32 {
-    1
-}
-
-/// Whether a try's first race leaves it in doubt: its estimate misses the target by more than
-/// `tolerance` while its interval reaches into the band the tolerance allows, so one short race
-/// cannot tell a point that is on target from one that is not (a race of 8 rounds of 8 frames is
-/// ±6–8 % wide on lavapipe, the tolerance ±5 %).
-pub(crate) fn in_doubt(e: &SpeedupEstimate, target: f64, tolerance: f64) -> bool {
-    let (lo, hi) = (target / (1.0 + tolerance), target * (1.0 + tolerance));
-    let off = e.speedup < lo || e.speedup > hi;
-    off && e.ci95[0] <= hi && e.ci95[1] >= lo
 }
 
 pub(crate) struct ReprojRun {
@@ -354,22 +339,13 @@ pub(crate) fn steer<'p>(
     let mut raced: Vec<(Planned<'p>, ReprojTry)> = Vec::new();
     for _ in 0..tries.max(1) {
         let input = variant(loaded, profile, profile_path, &planned)?;
-        let candidates = [reproj_bench::Candidate {
-            name: "reproj".into(),
-            subject: reproj_bench::Subject::Variant(input),
-        }];
-        let first = ctx.race_report(&candidates)?;
-        let mut timed = first.estimate(0);
-        let mut races = 1;
-        // A try the short race cannot place is raced again, its rounds pooled with the first's,
-        // before it steers anything: otherwise the race's noise moves the point (marble at 2×:
-        // Δn 12 measured 1.87× [1.52, 2.32] once and 2.17× the next run, and the first run
-        // stepped to Δn 18).
-        if timed.is_some_and(|e| in_doubt(&e, ctx.target, tolerance)) {
-            let again = ctx.race_report(&candidates)?;
-            timed = first.pooled_estimate(0, &again, 0).or(timed);
-            races = 2;
-        }
+        let (timed, races) = ctx.race_try(
+            reproj_bench::Candidate {
+                name: "reproj".into(),
+                subject: reproj_bench::Subject::Variant(input),
+            },
+            tolerance,
+        )?;
         let speedup = timed.map_or(0.0, |e| e.speedup);
         ctx.progress.step(&format!(
             "reproj {} at Δn {}: {speedup:.2}× (predicted {:.2}×)",
@@ -541,32 +517,4 @@ pub(crate) fn reproj(
         },
         crop_frame,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn estimate(speedup: f64, ci95: [f64; 2]) -> SpeedupEstimate {
-        SpeedupEstimate {
-            speedup,
-            ci95,
-            rounds: 8,
-            outliers: 0,
-            baseline_ms: 8.0,
-            candidate_ms: 8.0 / speedup,
-        }
-    }
-
-    /// Only a try off the target whose interval reaches into the tolerance band is raced again:
-    /// one on target needs nothing more, one off beyond doubt steers at once.
-    #[test]
-    fn a_try_is_raced_again_only_when_its_race_cannot_place_it() {
-        // Target 2×, ±5 %: the band is [1.905, 2.1].
-        assert!(in_doubt(&estimate(1.87, [1.52, 2.32]), 2.0, 0.05));
-        assert!(in_doubt(&estimate(2.2, [2.05, 2.35]), 2.0, 0.05));
-        assert!(!in_doubt(&estimate(1.97, [1.80, 2.15]), 2.0, 0.05));
-        assert!(!in_doubt(&estimate(1.6, [1.5, 1.7]), 2.0, 0.05));
-        assert!(!in_doubt(&estimate(2.5, [2.3, 2.7]), 2.0, 0.05));
-    }
 }

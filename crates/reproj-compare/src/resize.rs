@@ -1,6 +1,7 @@
 //! Reduced-resolution rendering (dynamic resizing, Montrym et al. 1997): the original rendered at
 //! `scale` × the session's resolution and upsampled bilinearly to full size. The scale is searched
-//! by measurement: each try is timed against the original, interleaved (`reproj-bench`); frame
+//! by measurement: each try is timed against the original, interleaved (`reproj-bench`; raced
+//! twice, pooled, where one race cannot place it against the target); frame
 //! time is taken to follow the pixel count, so each try moves the scale by the square root of the
 //! missed speedup ratio; the try closest to the target (in log ratio) is kept. The upsampling runs on the CPU and is not in the measured time (on a GPU it is one
 //! full-screen bilinear pass).
@@ -43,6 +44,10 @@ pub struct ResizeTry {
     pub speedup: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speedup_ci95: Option<[f64; 2]>,
+    /// How many races the figures pool: 1, or 2 when the first could not place the try against
+    /// the target ([`crate::ctx::in_doubt`]; absent before: 1).
+    #[serde(default = "crate::ctx::one_race")]
+    pub races: u32,
     /// Mean per-pixel L2 error of the upsampled frames.
     pub error: f64,
 }
@@ -84,12 +89,10 @@ pub(crate) fn resize(
             .iter()
             .map(|f| upsample_bilinear(f, size, [w, h]))
             .collect();
-        let timed = ctx.race(&[Ctx::shader_candidate(
-            "resize",
-            shader.clone(),
-            entry,
-            Some(session),
-        )])?[0];
+        let (timed, races) = ctx.race_try(
+            Ctx::shader_candidate("resize", shader.clone(), entry, Some(session)),
+            opts.tolerance,
+        )?;
         let speedup = timed.map_or(0.0, |e| e.speedup);
         let error = ctx.score(&up, false).error;
         ctx.progress
@@ -100,6 +103,7 @@ pub(crate) fn resize(
             frame_ms: timed.map_or(0.0, |e| e.candidate_ms),
             speedup,
             speedup_ci95: timed.map(|e| e.ci95),
+            races,
             error,
         });
         let i = tries.len() - 1;
