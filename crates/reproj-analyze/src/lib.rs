@@ -40,8 +40,8 @@ pub use analyze::{
     Silent, analyze,
 };
 pub use emit::{
-    EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, emit, latest_profile,
-    load_profile,
+    Contender, EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, Runoff,
+    RunoffEntry, contenders, emit, latest_profile, load_profile,
 };
 #[cfg(feature = "gpu")]
 pub use journal::JournalOptions;
@@ -53,7 +53,7 @@ pub use reproj_select::{Budget, DELTA_N_RANGE};
 #[cfg(feature = "gpu")]
 pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
 #[cfg(feature = "gpu")]
-pub use verify::verify;
+pub use verify::{runoff, verify};
 
 /// What can go wrong in `analyze` or `emit`.
 #[derive(Debug, thiserror::Error)]

@@ -117,3 +117,92 @@ pub fn verify(
     }
     write_report(report, out)
 }
+
+/// The runoff (`emit --verify`, [`crate::emit::contenders`]): every contender timed against the
+/// original in one interleaved run (`reproj-bench`, under `timing`), over `session` with the
+/// profiled shader. Returns what the report keeps and the index of the contender to write: the
+/// highest measured speedup — one run on this machine, the contenders side by side, is better
+/// evidence than predictions each scaled to its own short race at another moment — or the
+/// prediction's choice where no contender has a figure.
+pub fn runoff(
+    contenders: &[crate::emit::Contender],
+    report: &EmitReport,
+    profile: &Profile,
+    session: &Session,
+    renderer: &Renderer,
+    timing: &reproj_bench::BenchOptions,
+    progress: &mut dyn FnMut(&reproj_bench::Progress<'_>),
+) -> Result<(crate::emit::Runoff, usize), AnalyzeError> {
+    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
+    let entry = shader.fragment_entry(Some(&profile.entry))?;
+    let opts = RenderOptions {
+        png_dir: None,
+        max_frames: None,
+        first_frame: 0,
+        // The reference frames: the bench's variants replay against them.
+        timing_only: false,
+        classify: false,
+        raw_frames: false,
+        perceptual_stride: None,
+    };
+    let reference = renderer.render_original(&shader, entry, session, &opts)?;
+    let candidates: Vec<reproj_bench::Candidate> = contenders
+        .iter()
+        .map(|c| reproj_bench::Candidate {
+            name: format!("node {} at Δn {}", c.node, c.selection.delta_n),
+            subject: reproj_bench::Subject::Variant(VariantInput::new(
+                c.variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                c.variant.manifest.clone(),
+                c.selection.delta_n,
+            )),
+        })
+        .collect();
+    let timed = reproj_bench::bench(
+        renderer,
+        reproj_bench::Baseline {
+            shader: &shader,
+            entry,
+            reference: &reference,
+        },
+        session,
+        &candidates,
+        timing,
+        progress,
+    )?;
+    let predicted = contenders
+        .iter()
+        .position(|c| c.chosen_by_prediction)
+        .unwrap_or(0);
+    let winner = timed
+        .candidates
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| Some((i, c.speedup?)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(predicted, |(i, _)| i);
+    let entries = contenders
+        .iter()
+        .zip(&timed.candidates)
+        .enumerate()
+        .map(|(i, (c, t))| crate::emit::RunoffEntry {
+            node: c.node.clone(),
+            strategy: c.selection.strategy.clone(),
+            delta_n: c.selection.delta_n,
+            predicted_error: c.selection.predicted_error,
+            predicted_speedup: c.selection.predicted_speedup,
+            predicted_speedup_ci95: c.selection.predicted_speedup_ci95,
+            measured_speedup: t.speedup,
+            measured_speedup_ci95: t.speedup_ci95,
+            predicted_choice: c.chosen_by_prediction,
+            written: i == winner,
+        })
+        .collect();
+    Ok((
+        crate::emit::Runoff {
+            rounds: timed.rounds,
+            entries,
+            changed: winner != predicted,
+        },
+        winner,
+    ))
+}

@@ -337,3 +337,60 @@ fn bad_profile_names_the_field() {
     let e = load_profile(&path).unwrap_err().to_string();
     assert!(e.contains("original.frame_ms"), "{e}");
 }
+
+/// The runoff's contenders (`emit --verify`): the choice and every node whose own best choice
+/// under the budget is predicted too close to tell apart — each with the variant `emit --node`
+/// would write — and none where the choice stands alone, `--runoff 1` or `--node` is given.
+#[test]
+fn the_runoff_races_the_nodes_predicted_too_close_to_tell_apart() {
+    let shader = root().join("shaders/marble.wgsl");
+    let (sum, _) = ids(&shader);
+    let mut p = profile(&shader);
+    // The sum, nearly as fast as the root at its own best period: 5 % apart in prediction.
+    p.nodes[0] = node(sum, false, "s3 + n4", 0.02, 0.00006, 0.0011);
+    let dir = tempfile::tempdir().unwrap();
+    let pp = dir.path().join("marble.profile.json");
+    let o = opts(0.5, &dir.path().join("loose"));
+    let (r, _) = emit(&p, &pp, &o).unwrap();
+    assert_eq!(r.node.as_deref(), Some("root"), "{r:?}");
+    let c = reproj_analyze::contenders(&p, &pp, &o, &r, 3).unwrap();
+    let names: Vec<&str> = c.iter().map(|c| c.node.as_str()).collect();
+    assert_eq!(names, ["root", &sum.to_string()], "fastest predicted first");
+    assert!(c[0].chosen_by_prediction && !c[1].chosen_by_prediction);
+    assert!(c[1].selection.predicted_speedup >= 0.9 * r.predicted_speedup.unwrap());
+    for k in &c {
+        assert_eq!(k.variant.manifest.params.delta_n, k.selection.delta_n);
+        assert!(k.selection.predicted_error <= 0.5);
+    }
+    // The sum's contender is what `emit --node` writes for it.
+    let forced = EmitOptions {
+        node: Some(reproj_analyze::emit::NodeChoice::Id(sum)),
+        ..opts(0.5, &dir.path().join("forced"))
+    };
+    let (f, fv) = emit(&p, &pp, &forced).unwrap();
+    assert_eq!(f.delta_n, Some(c[1].selection.delta_n));
+    let wgsl = |v: &reproj_instance::Variant| -> Vec<String> {
+        v.passes.iter().map(|p| p.wgsl.clone()).collect()
+    };
+    assert_eq!(wgsl(&fv.unwrap()), wgsl(&c[1].variant));
+
+    // No runoff: one contender allowed, a forced node, or a node far slower than the choice.
+    assert!(
+        reproj_analyze::contenders(&p, &pp, &o, &r, 1)
+            .unwrap()
+            .is_empty()
+    );
+    assert!(
+        reproj_analyze::contenders(&p, &pp, &forced, &f, 3)
+            .unwrap()
+            .is_empty()
+    );
+    p.nodes[0] = node(sum, false, "s3 + n4", 0.02, 0.0002, 0.0012);
+    let (r, _) = emit(&p, &pp, &o).unwrap();
+    assert_eq!(r.node.as_deref(), Some("root"));
+    assert!(
+        reproj_analyze::contenders(&p, &pp, &o, &r, 3)
+            .unwrap()
+            .is_empty()
+    );
+}

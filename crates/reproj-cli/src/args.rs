@@ -354,6 +354,12 @@ pub struct EmitArgs {
     /// Re-render the selection (needs --session) and report measured error and speedup.
     #[arg(long, requires = "session")]
     pub verify: bool,
+    /// With --verify: before writing, time together (interleaved with the original, one run) up
+    /// to this many nodes whose own best choice under the budget is predicted too close to the
+    /// selection's to tell apart, and write the fastest measured (the report's `runoff`). 1: write
+    /// the prediction's choice without racing.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=8), requires = "verify")]
+    pub runoff: u32,
     /// Session to verify on (or, without --verify, the session the variant is for). When it is
     /// none of the profiled sessions, its motion is measured and the nearest profile is carried
     /// to it: the budget must hold there too, and a motion outside the profiled ones is a

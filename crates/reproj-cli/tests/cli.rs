@@ -201,7 +201,7 @@ fn json_reports_carry_schema_and_version() {
             .unwrap();
     for v in [&printed, &file] {
         assert_eq!(v["schema"], "reproj.report", "{v}");
-        assert_eq!(v["version"], 5, "{v}");
+        assert_eq!(v["version"], 6, "{v}");
     }
     assert_eq!(printed, file);
 

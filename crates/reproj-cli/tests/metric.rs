@@ -92,10 +92,18 @@ fn emit_metric_flip_picks_a_variant_measured_under_the_budget() {
         args.extend(extra);
         run(&root(), &args)
     };
-    let (code, stdout, err) = emit(&["--verify", "--session", session_arg, "--json"]);
+    // The prediction's choice (`--runoff 1`): this test is about the metric, not the runoff.
+    let (code, stdout, err) = emit(&[
+        "--verify",
+        "--session",
+        session_arg,
+        "--runoff",
+        "1",
+        "--json",
+    ]);
     assert_eq!(code, 0, "{err}");
     let r: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert_eq!(r["version"], 5);
+    assert_eq!(r["version"], 6);
     assert_eq!(r["metric"], "flip");
     assert_eq!(r["node"], "root", "the cached root pays off at Δn ≤ 8: {r}");
     assert!(r["predicted_error"].as_f64().unwrap() <= budget, "{r}");

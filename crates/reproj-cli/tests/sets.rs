@@ -78,7 +78,7 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
     );
     assert_eq!(code, 0, "{stdout}\n{err}");
     let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert_eq!(report["version"], 5);
+    assert_eq!(report["version"], 6);
     let node = report["node"]
         .as_str()
         .expect("a variant, not the original");

@@ -45,6 +45,9 @@ fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
                 "fast.json",
                 "--motion",
                 motion,
+                // The choice as predicted: this test is about motion, not the runoff.
+                "--runoff",
+                "1",
                 "--json",
             ],
         );
@@ -69,7 +72,7 @@ fn emit_carries_the_profile_to_the_motion_of_the_session_it_is_for() {
     // Carried to the fast session's motion (the default), the choice holds there.
     let (code, carried, err) = emit("carry", "carried");
     let m = &carried["motion"];
-    assert_eq!(carried["version"], 5);
+    assert_eq!(carried["version"], 6);
     let target = m["target"]["pixels_per_frame"].as_f64().unwrap();
     assert!(target > 1.5 * profiled_motion, "{m}");
     assert_eq!(m["exponent"]["source"], "assumed", "{m}");
@@ -133,7 +136,7 @@ fn emit_adaptive_chooses_for_the_schedule_and_verifies_every_band() {
         ],
     );
     let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
-    assert_eq!(report["version"], 5);
+    assert_eq!(report["version"], 6);
     let a = &report["adaptive"];
     assert_eq!(a["frames"], 96, "{a}");
     assert!(a["delta_n_min"].as_u64() < a["delta_n_max"].as_u64(), "{a}");
@@ -153,4 +156,113 @@ fn emit_adaptive_chooses_for_the_schedule_and_verifies_every_band() {
         && report["measured_error"].as_f64().unwrap() <= 0.01;
     assert_eq!(code, if holds { 0 } else { 4 }, "{err}");
     assert!(holds, "{report}");
+}
+
+/// `emit --verify`'s runoff: nodes predicted alike (here two nodes given one timing model and no
+/// race, under a budget both hold at the longest period) are timed together, interleaved with the
+/// original, and the fastest measured is the one written and verified.
+#[test]
+fn the_runoff_writes_the_fastest_measured_of_the_nodes_predicted_alike() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
+    let (code, _, err) = common::analyze_short(
+        dir,
+        "two_terms.wgsl",
+        &["two_terms.json"],
+        "t.profile.json",
+        &["--strategy", "2pass"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let mut profile: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap())
+            .unwrap();
+    // Every node timed as the first one is, and no interleaved race to scale them apart: their
+    // predictions differ only by their periods under the budget.
+    let timing = profile["nodes"][0]["timing_fit"].clone();
+    let nodes = profile["nodes"].as_array_mut().unwrap();
+    assert!(nodes.len() >= 2, "{nodes:?}");
+    for n in nodes.iter_mut() {
+        n["timing_fit"] = timing.clone();
+    }
+    for probes in ["strategy_probes", "filter_probes", "block_probes"] {
+        profile[probes] = serde_json::json!([]);
+    }
+    std::fs::write(dir.join("alike.profile.json"), profile.to_string()).unwrap();
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "alike.profile.json",
+            "--max-error",
+            "1.0",
+            "--out",
+            "alike",
+            "--verify",
+            "--session",
+            "two_terms.json",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+    let r = &report["runoff"];
+    let entries = r["entries"].as_array().expect("a runoff ran");
+    assert!(entries.len() >= 2, "{r}");
+    assert!(r["rounds"].as_u64().unwrap() >= 8, "{r}");
+    let written: Vec<&serde_json::Value> =
+        entries.iter().filter(|e| e["written"] == true).collect();
+    assert_eq!(written.len(), 1, "{r}");
+    let w = written[0];
+    // The written one is the fastest measured, and it is what the report and manifest name.
+    let fastest = entries
+        .iter()
+        .map(|e| e["measured_speedup"].as_f64().unwrap())
+        .fold(f64::MIN, f64::max);
+    assert_eq!(w["measured_speedup"].as_f64().unwrap(), fastest, "{r}");
+    assert_eq!(report["node"], w["node"], "{report}");
+    assert_eq!(report["delta_n"], w["delta_n"], "{report}");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("alike/manifest.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        manifest["node"]["id"].as_str(),
+        w["node"].as_str(),
+        "{manifest}"
+    );
+    assert_eq!(manifest["params"]["delta_n"], w["delta_n"], "{manifest}");
+    // Whether the written one is the prediction's choice, the report says.
+    let predicted: Vec<&serde_json::Value> = entries
+        .iter()
+        .filter(|e| e["predicted_choice"] == true)
+        .collect();
+    assert_eq!(predicted.len(), 1, "{r}");
+    assert_eq!(r["changed"], predicted[0]["written"] == false, "{r}");
+    // Verified: the written variant's own error and speed.
+    assert!(
+        report["measured_error"].as_f64().unwrap() <= 1.0,
+        "{report}"
+    );
+    assert!(report["measured_speedup"].as_f64().is_some(), "{report}");
+
+    // The text output lists the contenders, the written one marked.
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "alike.profile.json",
+            "--max-error",
+            "1.0",
+            "--out",
+            "alike_text",
+            "--verify",
+            "--session",
+            "two_terms.json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("runoff "), "{out}");
+    assert!(out.contains("→ node"), "{out}");
 }

@@ -23,6 +23,7 @@ use crate::AnalyzeError;
 
 mod choose;
 mod profile;
+mod runoff;
 mod write;
 
 use choose::{Records, choose};
@@ -31,7 +32,8 @@ pub use profile::{
     profile_variant_settings, resolve, selector_records,
 };
 use profile::{records_of, same_shader, same_variant};
-use write::Writer;
+pub use runoff::{Contender, Runoff, RunoffEntry, contenders};
+use write::{Writer, node_variant};
 
 /// Options of [`emit`].
 #[derive(Debug, Clone)]
@@ -100,7 +102,9 @@ pub const EMIT_REPORT_SCHEMA: &str = "reproj.report";
 /// Version 5: `adaptive`, what `emit --adaptive` predicted over the frames' motion (`delta_n` is
 /// then the schedule's Δn at the median motion, `predicted_error` the worst frame's), and
 /// `reconstruct`, the written variant's reconstruction filter (the node's own, profile version 9).
-pub const EMIT_REPORT_VERSION: u32 = 5;
+/// Version 6: `runoff`, the contenders `emit --verify` timed together before writing the fastest
+/// measured (absent when nothing raced).
+pub const EMIT_REPORT_VERSION: u32 = 6;
 
 fn emit_report_schema() -> String {
     EMIT_REPORT_SCHEMA.into()
@@ -199,6 +203,10 @@ pub struct EmitReport {
     /// fastest fixed choice beside it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub adaptive: Option<crate::motion::AdaptiveReport>,
+    /// With `--verify` (version 6): the nodes predicted too close to the choice to tell apart,
+    /// timed together interleaved with the original; the written variant is the fastest measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub runoff: Option<Runoff>,
 }
 
 impl EmitReport {
@@ -248,6 +256,7 @@ impl EmitReport {
             sessions: Vec::new(),
             motion: None,
             adaptive: None,
+            runoff: None,
         }
     }
 }
@@ -261,25 +270,11 @@ pub fn emit(
 ) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
     let (shader_path, loaded, shader) =
         load_profiled(profile, profile_path, opts.shader.as_deref())?;
-    let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
+    let (usable_sets, all) = gather(profile, profile_path, opts)?;
     // The sets' reconstruction and the cache format (each node's own filter is read below).
     let (set_reconstruct, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
     let cache_format = opts.cache_format.unwrap_or(profiled_format);
-    let select_opts = SelectOptions {
-        max_error: opts.max_error,
-        min_delta_n: opts.min_delta_n,
-        max_delta_n: opts.max_delta_n,
-    };
-    // Other sessions' profiles of the same shader: the budget must hold on each (worst case).
-    let mut all: Vec<Records> = vec![(profile, records, set_records)];
-    for (path, other) in &opts.also {
-        same_shader(profile, profile_path, other, path)?;
-        let (_, mut nodes, sets) = records_of(other, path, opts)?;
-        // A node measured as another variant there (another refresh block or filter, kept by
-        // that session's race) is another candidate: it cannot hold the budget for this one.
-        nodes.retain(|n| same_variant(profile, other, n.id));
-        all.push((other, nodes, sets));
-    }
+    let select_opts = select_options(opts);
     let names: Vec<String> = all.iter().map(|(p, _, _)| p.session.path.clone()).collect();
     let chosen = choose(&all, &names, opts, &select_opts);
     // The run-time Δn schedule of the choice (manifest `params.schedule`): at bands of motion
@@ -349,6 +344,43 @@ pub fn emit(
 }
 
 pub use reproj_instance::ir_hash;
+
+/// The selector's options of `opts`.
+fn select_options(opts: &EmitOptions) -> SelectOptions {
+    SelectOptions {
+        max_error: opts.max_error,
+        min_delta_n: opts.min_delta_n,
+        max_delta_n: opts.max_delta_n,
+    }
+}
+
+/// The usable sets of `profile` and the selector's records of it and of every `--also` profile
+/// (checked to be the same shader), under `opts`' filters: what [`emit`] chooses across.
+#[allow(clippy::type_complexity)]
+fn gather<'p>(
+    profile: &'p Profile,
+    profile_path: &Path,
+    opts: &'p EmitOptions,
+) -> Result<
+    (
+        Vec<&'p reproj_models::profile::SetProfile>,
+        Vec<Records<'p>>,
+    ),
+    AnalyzeError,
+> {
+    let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
+    // Other sessions' profiles of the same shader: the budget must hold on each (worst case).
+    let mut all: Vec<Records> = vec![(profile, records, set_records)];
+    for (path, other) in &opts.also {
+        same_shader(profile, profile_path, other, path)?;
+        let (_, mut nodes, sets) = records_of(other, path, opts)?;
+        // A node measured as another variant there (another refresh block or filter, kept by
+        // that session's race) is another candidate: it cannot hold the budget for this one.
+        nodes.retain(|n| same_variant(profile, other, n.id));
+        all.push((other, nodes, sets));
+    }
+    Ok((usable_sets, all))
+}
 
 /// Write `out/report.json`.
 pub(crate) fn write_report(report: &EmitReport, out: &Path) -> Result<(), AnalyzeError> {

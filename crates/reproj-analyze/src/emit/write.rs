@@ -80,31 +80,14 @@ impl Writer<'_> {
         schedule: Vec<DeltaNBand>,
         report: &mut EmitReport,
     ) -> Result<Variant, AnalyzeError> {
-        let strategy = self.strategy(&node.strategy, &format!("node {}", node.id))?;
-        let sel = if node.root {
-            NodeSelector::Root
-        } else {
-            NodeSelector::Id(node.id)
-        };
-        let (reconstruct, _) =
-            profile_variant_settings(self.profile, Some(node), self.profile_path)?;
-        let mut variant = instance(
-            self.shader,
-            &self.loaded.norm,
-            &self.loaded.table,
-            sel,
-            &InstanceOptions {
-                strategy,
-                reconstruct,
-                cache_format: self.cache_format,
-                delta_n: choice.delta_n,
-                block: node.block.unwrap_or(self.profile.block),
-                depth_epsilon: self.profile.depth_epsilon,
-                group: self.opts.integration.group,
-                frame_load: self.opts.integration.frame_load,
-                depth_load: self.opts.integration.depth_load,
-                reprojection: self.opts.integration.reprojection,
-            },
+        let (mut variant, reconstruct) = node_variant(
+            self.profile,
+            self.profile_path,
+            self.opts,
+            (self.shader, self.loaded),
+            self.cache_format,
+            choice.delta_n,
+            node,
         )?;
         variant.manifest.params.schedule = schedule;
         self.write_variant(&variant, report)?;
@@ -149,10 +132,7 @@ impl Writer<'_> {
 
     /// The profile's strategy name of `what`, parsed.
     fn strategy(&self, name: &str, what: &str) -> Result<Strategy, AnalyzeError> {
-        name.parse().map_err(|e: String| AnalyzeError::BadProfile {
-            path: self.profile_path.to_owned(),
-            message: format!("{what}: {e}"),
-        })
+        parse_strategy(self.profile_path, name, what)
     }
 
     /// Stage the variant's files (passes in every language, manifest) and list them in the report.
@@ -173,6 +153,55 @@ impl Writer<'_> {
             .push(out.join("manifest.json").display().to_string());
         Ok(())
     }
+}
+
+/// The profile's strategy name of `what`, parsed (a bad name is a bad profile at `profile_path`).
+fn parse_strategy(profile_path: &Path, name: &str, what: &str) -> Result<Strategy, AnalyzeError> {
+    name.parse().map_err(|e: String| AnalyzeError::BadProfile {
+        path: profile_path.to_owned(),
+        message: format!("{what}: {e}"),
+    })
+}
+
+/// The variant of `node` at `delta_n` as `emit` writes it, in memory: the node's profiled
+/// strategy, filter and block, the profile's ε, `opts`' cache format and host integration;
+/// with its filter. `shader` is the profiled WGSL and its loaded IR and node table.
+pub(super) fn node_variant(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+    shader: (&Shader, &Loaded),
+    cache_format: CacheFormatChoice,
+    delta_n: u32,
+    node: &NodeProfile,
+) -> Result<(Variant, Reconstruct), AnalyzeError> {
+    let strategy = parse_strategy(profile_path, &node.strategy, &format!("node {}", node.id))?;
+    let sel = if node.root {
+        NodeSelector::Root
+    } else {
+        NodeSelector::Id(node.id)
+    };
+    let (reconstruct, _) = profile_variant_settings(profile, Some(node), profile_path)?;
+    let (shader, loaded) = shader;
+    let variant = instance(
+        shader,
+        &loaded.norm,
+        &loaded.table,
+        sel,
+        &InstanceOptions {
+            strategy,
+            reconstruct,
+            cache_format,
+            delta_n,
+            block: node.block.unwrap_or(profile.block),
+            depth_epsilon: profile.depth_epsilon,
+            group: opts.integration.group,
+            frame_load: opts.integration.frame_load,
+            depth_load: opts.integration.depth_load,
+            reprojection: opts.integration.reprojection,
+        },
+    )?;
+    Ok((variant, reconstruct))
 }
 
 /// The choice's own figures into the report (a node's or a set's alike).

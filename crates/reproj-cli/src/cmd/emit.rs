@@ -19,7 +19,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         session,
         opts,
     } = inputs(args)?;
-    let (mut report, variant) = emit(&profile, &profile_path, &opts)?;
+    let (mut report, mut variant) = emit(&profile, &profile_path, &opts)?;
     for w in report.motion.iter().flat_map(|m| &m.warnings) {
         crate::ui::warn(w);
     }
@@ -29,9 +29,9 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
             .expect("clap requires --session with --verify");
         verify_selection(
             &mut report,
-            &opts.out,
-            variant.as_ref(),
-            &profile,
+            &mut variant,
+            (&profile, &profile_path),
+            &opts,
             session,
             args,
         )?;
@@ -45,6 +45,7 @@ pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
         return unmet.map_or(Ok(()), Err);
     }
     print_choice(&mut stdout, &report, &profile)?;
+    print_runoff(&mut stdout, &report)?;
     print_measured(&mut stdout, &report)?;
     writeln!(stdout, "wrote    {}", report.files.join(", "))?;
     unmet.map_or(Ok(()), Err)
@@ -232,6 +233,45 @@ fn print_choice(
     Ok(())
 }
 
+/// The runoff, where one ran: each contender's predicted and measured speedup, the written one
+/// marked.
+fn print_runoff(stdout: &mut impl Write, report: &EmitReport) -> std::io::Result<()> {
+    let Some(r) = &report.runoff else {
+        return Ok(());
+    };
+    writeln!(
+        stdout,
+        "runoff    {} nodes predicted too close to tell apart, timed together ({} rounds){}:",
+        r.entries.len(),
+        r.rounds,
+        if r.changed {
+            "; the fastest measured replaces the prediction's choice"
+        } else {
+            ""
+        }
+    )?;
+    for e in &r.entries {
+        let ci = |c: Option<[f64; 2]>| {
+            c.map_or_else(String::new, |[lo, hi]| format!(" [{lo:.2}, {hi:.2}]"))
+        };
+        writeln!(
+            stdout,
+            "  {} node {} ({}, Δn {}, predicted error {:.5}): predicted {:.2}x{}, measured {}{}",
+            if e.written { "→" } else { " " },
+            e.node,
+            e.strategy,
+            e.delta_n,
+            e.predicted_error,
+            e.predicted_speedup,
+            ci(e.predicted_speedup_ci95),
+            e.measured_speedup
+                .map_or_else(|| "nothing".to_string(), |s| format!("{s:.2}x")),
+            ci(e.measured_speedup_ci95),
+        )?;
+    }
+    Ok(())
+}
+
 /// The table's second part, after `--verify`: the measured error and speedup, the worst band of
 /// an adaptive schedule, the motion carried to the session, and the perceptual metrics.
 fn print_measured(stdout: &mut impl Write, report: &EmitReport) -> std::io::Result<()> {
@@ -314,13 +354,15 @@ fn print_motion(stdout: &mut impl Write, report: &EmitReport, e: f64) -> std::io
     Ok(())
 }
 
-/// `--verify`: re-render the selection and time it against the original (the timing engine).
+/// `--verify`: the runoff first (the nodes predicted too close to the choice, timed together;
+/// the fastest measured is written in its place), then re-render the written selection and time
+/// it against the original (the timing engine).
 #[cfg(feature = "gpu")]
 fn verify_selection(
     report: &mut reproj_analyze::EmitReport,
-    out: &std::path::Path,
-    variant: Option<&reproj_instance::Variant>,
-    profile: &reproj_models::Profile,
+    variant: &mut Option<reproj_instance::Variant>,
+    (profile, profile_path): (&reproj_models::Profile, &std::path::Path),
+    opts: &EmitOptions,
     session: &Session,
     args: &EmitArgs,
 ) -> anyhow::Result<()> {
@@ -329,14 +371,58 @@ fn verify_selection(
         backend: args.backend.clone(),
         cpu_timing: false,
     })?;
+    let timing = reproj_bench::BenchOptions::default();
+    let contenders =
+        reproj_analyze::contenders(profile, profile_path, opts, report, args.runoff as usize)?;
+    if !contenders.is_empty() {
+        let bar = if args.json || crate::ui::quiet() {
+            indicatif::ProgressBar::hidden()
+        } else {
+            indicatif::ProgressBar::new_spinner().with_style(
+                indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
+                    .expect("valid template"),
+            )
+        };
+        bar.enable_steady_tick(std::time::Duration::from_millis(250));
+        let what = format!(
+            "runoff: {} nodes predicted too close to tell apart, timed together",
+            contenders.len()
+        );
+        bar.set_message(what.clone());
+        let (runoff, winner) = reproj_analyze::runoff(
+            &contenders,
+            report,
+            profile,
+            session,
+            &renderer,
+            &timing,
+            &mut |p| bar.set_message(format!("{what}: round {}", p.rounds)),
+        )?;
+        bar.finish_and_clear();
+        if runoff.changed {
+            let w = &contenders[winner];
+            let forced = EmitOptions {
+                node: Some(w.choice),
+                strategy: Some(
+                    w.selection
+                        .strategy
+                        .parse()
+                        .map_err(|e: String| anyhow::anyhow!("runoff winner's strategy: {e}"))?,
+                ),
+                ..opts.clone()
+            };
+            (*report, *variant) = emit(profile, profile_path, &forced)?;
+        }
+        report.runoff = Some(runoff);
+    }
     reproj_analyze::verify(
         report,
-        out,
-        variant,
+        &opts.out,
+        variant.as_ref(),
         profile,
         session,
         &renderer,
-        &reproj_bench::BenchOptions::default(),
+        &timing,
     )?;
     Ok(())
 }
@@ -345,9 +431,9 @@ fn verify_selection(
 #[cfg(not(feature = "gpu"))]
 fn verify_selection(
     _: &mut reproj_analyze::EmitReport,
-    _: &std::path::Path,
-    _: Option<&reproj_instance::Variant>,
-    _: &reproj_models::Profile,
+    _: &mut Option<reproj_instance::Variant>,
+    _: (&reproj_models::Profile, &std::path::Path),
+    _: &EmitOptions,
     _: &Session,
     _: &EmitArgs,
 ) -> anyhow::Result<()> {
