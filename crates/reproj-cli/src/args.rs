@@ -206,6 +206,11 @@ pub struct RenderArgs {
     /// in one run with its 95 % interval (as `reproj bench`, up to 30 s), and report the speedup.
     #[arg(long)]
     pub speedup: bool,
+    /// With a variant: draw and time every pass in its own render pass (the JSON records'
+    /// `pass_ms`). By default passes that write the same targets share one render pass, as a
+    /// host draws them, and only the frame is timed.
+    #[arg(long)]
+    pub pass_times: bool,
     /// Print the report as JSON (`reproj.render`, docs/SCHEMAS.md).
     #[arg(long)]
     pub json: bool,

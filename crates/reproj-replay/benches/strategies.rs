@@ -191,11 +191,15 @@ fn main() {
                     };
                     let v = instance(&shader, &norm, &table, *sel, &options)
                         .unwrap_or_else(|e| panic!("{e}"));
-                    let input = VariantInput::new(
-                        v.passes.iter().map(|p| p.wgsl.clone()).collect(),
-                        v.manifest.clone(),
-                        args.delta_n,
-                    );
+                    let input = VariantInput {
+                        // The per-pass columns: every pass in its own render pass.
+                        pass_times: true,
+                        ..VariantInput::new(
+                            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+                            v.manifest.clone(),
+                            args.delta_n,
+                        )
+                    };
                     let r = renderer
                         .render_variant(&shader, &session, &input, &reference, &opts)
                         .unwrap_or_else(|e| panic!("{e}"));

@@ -90,7 +90,10 @@ impl Staging {
 /// `slots` frames: the query sets are reused every frame, and each frame of a readback batch
 /// resolves its results into its own slot.
 pub(crate) struct QueryKit {
+    /// Occlusion queries: one per pass.
     pub(crate) passes: u32,
+    /// Timestamp pairs: one per render pass (several passes may share one).
+    pub(crate) render_passes: u32,
     pub(crate) occlusion: wgpu::QuerySet,
     pub(crate) occ_resolve: wgpu::Buffer,
     pub(crate) occ_read: wgpu::Buffer,
@@ -103,12 +106,14 @@ pub(crate) struct QueryKit {
 }
 
 impl QueryKit {
-    pub(crate) fn new(r: &Gpu, passes: u32, slots: u32) -> QueryKit {
+    /// Queries for `passes` passes drawn in `render_passes` render passes, `slots` frames in
+    /// flight.
+    pub(crate) fn new(r: &Gpu, passes: u32, render_passes: u32, slots: u32) -> QueryKit {
         let align = |n: u64| {
             n.div_ceil(wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT) * wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT
         };
         let occ_stride = align(8 * passes as u64);
-        let ts_stride = align(16 * passes as u64);
+        let ts_stride = align(16 * render_passes as u64);
         let occlusion = r.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("occlusion"),
             ty: wgpu::QueryType::Occlusion,
@@ -128,7 +133,7 @@ impl QueryKit {
             let qs = r.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("timestamps"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 2 * passes,
+                count: 2 * render_passes,
             });
             let res = r.buffer(
                 "timestamp resolve",
@@ -144,6 +149,7 @@ impl QueryKit {
         });
         QueryKit {
             passes,
+            render_passes,
             occlusion,
             occ_resolve,
             occ_read,
@@ -154,13 +160,14 @@ impl QueryKit {
         }
     }
 
-    pub(crate) fn writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    /// The timestamps of render pass `render_pass`: its beginning and its end.
+    pub(crate) fn writes(&self, render_pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         self.ts
             .as_ref()
             .map(|(qs, _, _)| wgpu::RenderPassTimestampWrites {
                 query_set: qs,
-                beginning_of_pass_write_index: Some(2 * pass),
-                end_of_pass_write_index: Some(2 * pass + 1),
+                beginning_of_pass_write_index: Some(2 * render_pass),
+                end_of_pass_write_index: Some(2 * render_pass + 1),
             })
     }
 
@@ -177,8 +184,8 @@ impl QueryKit {
         );
         if let Some((qs, res, read)) = &self.ts {
             let at = self.ts_stride * slot as u64;
-            enc.resolve_query_set(qs, 0..2 * self.passes, res, at);
-            enc.copy_buffer_to_buffer(res, at, read, at, Some(16 * self.passes as u64));
+            enc.resolve_query_set(qs, 0..2 * self.render_passes, res, at);
+            enc.copy_buffer_to_buffer(res, at, read, at, Some(16 * self.render_passes as u64));
         }
     }
 
@@ -191,8 +198,8 @@ impl QueryKit {
         v
     }
 
-    /// (occlusion counts per pass, per-pass ms, first-begin-to-last-end ms) of the frame in
-    /// `slot` (the read buffers must be mapped); times empty / None without timestamps.
+    /// (occlusion counts per pass, ms per render pass, first-begin-to-last-end ms) of the frame
+    /// in `slot` (the read buffers must be mapped); times empty / None without timestamps.
     pub(crate) fn read(&self, slot: u32) -> Result<QueryResults, ReplayError> {
         let mapped = |buf: &wgpu::Buffer, at: u64, len: u64| -> Result<Vec<u64>, ReplayError> {
             let view = buf
@@ -208,14 +215,12 @@ impl QueryKit {
         let mut ms = Vec::new();
         let mut span = None;
         if let Some((_, _, read)) = &self.ts {
-            let t = mapped(read, self.ts_stride * slot as u64, 16 * self.passes as u64)?;
-            for p in 0..self.passes as usize {
+            let n = self.render_passes as usize;
+            let t = mapped(read, self.ts_stride * slot as u64, 16 * n as u64)?;
+            for p in 0..n {
                 ms.push(t[2 * p + 1].saturating_sub(t[2 * p]) as f64 * self.period_ns as f64 / 1e6);
             }
-            span = Some(
-                t[2 * self.passes as usize - 1].saturating_sub(t[0]) as f64 * self.period_ns as f64
-                    / 1e6,
-            );
+            span = Some(t[2 * n - 1].saturating_sub(t[0]) as f64 * self.period_ns as f64 / 1e6);
         }
         Ok((occ, ms, span))
     }

@@ -556,3 +556,71 @@ fn two_node_variant_reproduces_the_original_at_delta_n_1() {
         }
     }
 }
+
+/// Passes that write the same targets share one render pass by default, as a host draws them
+/// (`2pass`'s two, `3pass`'s first two): the frames are exactly those of one render pass per
+/// pass (`VariantInput::pass_times`), with the same hit and miss counts; only the separate
+/// render passes time each pass.
+#[test]
+fn one_render_pass_for_passes_sharing_their_targets_renders_the_same_frames() {
+    use reproj_instance::Strategy;
+    let renderer =
+        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    let session = Session::load(root().join("sessions/marble.json")).unwrap();
+    let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
+    let norm = normalize(&shader, &Default::default()).unwrap();
+    let table = enumerate(&shader, &norm);
+    let entry = shader.fragment_entry(None).unwrap();
+    let reference = renderer
+        .render_original(&shader, entry, &session, &opts(12))
+        .unwrap();
+    let node = table.cacheable().find(|n| n.text == "s3 + n4").unwrap().id;
+    for strategy in [Strategy::ThreePass, Strategy::TwoPass] {
+        let options = InstanceOptions {
+            strategy,
+            block: strategy.default_block(),
+            delta_n: 4,
+            ..InstanceOptions::default()
+        };
+        let v = instance(&shader, &norm, &table, NodeSelector::Id(node), &options).unwrap();
+        let input = VariantInput::new(
+            v.passes.iter().map(|p| p.wgsl.clone()).collect(),
+            v.manifest.clone(),
+            4,
+        );
+        let mut o = opts(12);
+        o.raw_frames = false;
+        let shared = renderer
+            .render_variant(&shader, &session, &input, &reference, &o)
+            .unwrap();
+        let separate = renderer
+            .render_variant(
+                &shader,
+                &session,
+                &VariantInput {
+                    pass_times: true,
+                    ..input.clone()
+                },
+                &reference,
+                &o,
+            )
+            .unwrap();
+        assert!(shared.hit_rate > 0.5, "{strategy}: {}", shared.hit_rate);
+        for (a, b) in shared.frames.iter().zip(&separate.frames) {
+            assert_eq!(a.error, b.error, "{strategy} frame {}", a.frame);
+            assert_eq!(
+                a.max_abs_diff, b.max_abs_diff,
+                "{strategy} frame {}",
+                a.frame
+            );
+            assert_eq!((a.hits, a.recomputes), (b.hits, b.recomputes), "{strategy}");
+            assert!(
+                a.pass_ms.is_empty(),
+                "{strategy}: passes share a render pass"
+            );
+            if renderer.timing_method() == reproj_metrics::TimingMethod::GpuTimestamps {
+                assert_eq!(b.pass_ms.len(), v.passes.len(), "{strategy}");
+            }
+        }
+    }
+}

@@ -69,8 +69,9 @@ pub struct FrameInputs<'a> {
     /// The application's frame-wide bind groups, by group index, set before the draw callback
     /// runs (the original shader's resources). Per-object groups are set in the callback.
     pub bind_groups: &'a [(u32, &'a wgpu::BindGroup)],
-    /// Timestamp queries (at least 2 × [`crate::Variant::pass_count`] of them): pass `i` writes
-    /// `2i` at its beginning and `2i + 1` at its end.
+    /// Timestamp queries (at least 2 × [`crate::Variant::render_pass_count`] of them): render
+    /// pass `r` writes `2r` at its beginning and `2r + 1` at its end (passes that share their
+    /// targets share a render pass, [`crate::Variant::render_passes`]).
     pub timestamps: Option<&'a wgpu::QuerySet>,
 }
 
@@ -86,6 +87,8 @@ pub struct VariantResources {
     samplers: Vec<wgpu::Sampler>,
     params: wgpu::Buffer,
     passes: Vec<PassGpu>,
+    /// The render passes a frame records, as ranges of `passes` ([`Plan::render_passes`]).
+    render_passes: Vec<std::ops::Range<usize>>,
     /// The application's motion vectors ([`Setup::motion`]).
     motion: Option<wgpu::TextureView>,
     /// The index of the next frame (0: nothing to reuse).
@@ -154,6 +157,7 @@ impl VariantResources {
             passes.push(build_pass(device, &plan, p, setup, &user)?);
         }
         let mut r = VariantResources {
+            render_passes: plan.render_passes(),
             plan,
             size: setup.size,
             color_format: setup.color_format,
@@ -272,7 +276,9 @@ impl VariantResources {
     /// encoder before recording the next frame), then each pass in order with its attachments and
     /// load/store operations, the application's `bind_groups` and the runtime's, calling `draw`
     /// to draw the application's geometry with the pass's pipelines (one per [`Setup::vertex`]
-    /// stage, in that order). Advances the frame clock and so the ping-pong.
+    /// stage, in that order). Passes that draw into the same targets, the later loading them all,
+    /// share one render pass ([`crate::Variant::render_passes`]): `draw` is then called once per
+    /// pass within it. Advances the frame clock and so the ping-pong.
     pub fn record<F>(
         &mut self,
         queue: &wgpu::Queue,
@@ -313,37 +319,51 @@ impl VariantResources {
             &self.plan.params_bytes(frame, inputs.delta_n),
         );
         let k = frame as usize % self.plan.ping_pong;
-        for (i, (p, gp)) in self.plan.passes.iter().zip(&self.passes).enumerate() {
-            let colors = self.color_attachments(p, k, targets);
-            let d = &p.depth;
+        for (r, passes) in self.render_passes.iter().enumerate() {
+            // Loaded as the first pass loads, stored as the last stores.
+            let (first, last) = (
+                &self.plan.passes[passes.start],
+                &self.plan.passes[passes.end - 1],
+            );
+            let mut colors = self.color_attachments(first, k, targets);
+            for c in &last.colors {
+                if let Some(Some(a)) = colors.get_mut(c.location as usize) {
+                    a.ops.store = store(c.store);
+                }
+            }
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(&p.label),
+                label: Some(&first.label),
                 color_attachments: &colors,
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: targets.depth,
                     depth_ops: Some(wgpu::Operations {
-                        load: d.clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                        store: store(d.store),
+                        load: first
+                            .depth
+                            .clear
+                            .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                        store: store(last.depth.store),
                     }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: inputs.timestamps.map(|query_set| {
                     wgpu::RenderPassTimestampWrites {
                         query_set,
-                        beginning_of_pass_write_index: Some(2 * i as u32),
-                        end_of_pass_write_index: Some(2 * i as u32 + 1),
+                        beginning_of_pass_write_index: Some(2 * r as u32),
+                        end_of_pass_write_index: Some(2 * r as u32 + 1),
                     }
                 }),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            for (g, bg) in inputs.bind_groups {
-                pass.set_bind_group(*g, *bg, &[]);
+            for gp in &self.passes[passes.clone()] {
+                for (g, bg) in inputs.bind_groups {
+                    pass.set_bind_group(*g, *bg, &[]);
+                }
+                for (g, bg) in &gp.groups[k] {
+                    pass.set_bind_group(*g, bg, &[]);
+                }
+                draw(&mut pass, &gp.pipelines);
             }
-            for (g, bg) in &gp.groups[k] {
-                pass.set_bind_group(*g, bg, &[]);
-            }
-            draw(&mut pass, &gp.pipelines);
         }
         // Past u32::MAX the clock goes on at the same ping-pong entry without meaning frame 0.
         let next = u64::from(frame) + 1;

@@ -86,9 +86,22 @@ impl Variant {
         g
     }
 
-    /// Number of render passes a frame records (1 to 3).
+    /// Number of passes (shaders) a frame draws, in the manifest's order (1 to 3).
     pub fn pass_count(&self) -> usize {
         self.plan.passes.len()
+    }
+
+    /// The render passes a frame records, as ranges of the passes: consecutive passes that draw
+    /// into the same targets, the later loading every one of them and the depth, share one (a
+    /// `2pass` variant records one render pass, a `3pass` two; `docs/PASSES.md`, "One render
+    /// pass"). [`crate::FrameInputs::timestamps`] are written per render pass.
+    pub fn render_passes(&self) -> Vec<std::ops::Range<usize>> {
+        self.plan.render_passes()
+    }
+
+    /// Number of render passes a frame records ([`Variant::render_passes`]).
+    pub fn render_pass_count(&self) -> usize {
+        self.plan.render_passes().len()
     }
 
     /// Whether the frame must hold what lies behind the variant before [`VariantResources::record`]:

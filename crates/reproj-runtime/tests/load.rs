@@ -30,6 +30,14 @@ fn an_emitted_variant_loads_with_its_contract() {
     instance_marble(&dir, &["--strategy", "3pass", "--group", "2"]);
     let v = Variant::load(&dir).unwrap();
     assert_eq!(v.pass_count(), 3);
+    // Reproject and recompute draw into the cache and share a render pass; shade draws the frame.
+    assert_eq!(v.render_passes(), [0..2, 2..3]);
+    assert_eq!(v.render_pass_count(), 2);
+    // Both passes of 2pass draw the frame and the cache: one render pass.
+    let two = tmp.path().join("v2");
+    instance_marble(&two, &["--strategy", "2pass"]);
+    let v2 = Variant::load(&two).unwrap();
+    assert_eq!((v2.pass_count(), v2.render_passes()), (2, vec![0..2]));
     assert_eq!(v.group(), 2);
     // marble's `scene` uniform is the application's, in group 0.
     assert_eq!(v.own_groups().into_iter().collect::<Vec<_>>(), [0]);

@@ -169,8 +169,9 @@ impl Gpu {
     }
 }
 
-/// Timestamp queries around each render pass of a frame: pass `i` writes queries `2i` (begin)
-/// and `2i + 1` (end).
+/// Timestamp queries around each render pass of a frame: render pass `i` writes queries `2i`
+/// (begin) and `2i + 1` (end). A variant's passes that share their targets share a render pass
+/// (`reproj_runtime::Variant::render_passes`).
 pub struct Timer {
     set: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
     passes: u32,
@@ -180,7 +181,7 @@ pub struct Timer {
 /// One frame's GPU times in milliseconds.
 #[derive(Debug, Clone, Default)]
 pub struct FrameTimes {
-    /// Per pass, begin to end.
+    /// Per render pass, begin to end.
     pub pass_ms: Vec<f64>,
     /// First pass's begin to last pass's end.
     pub span_ms: Option<f64>,

@@ -118,7 +118,8 @@ struct FrameRecord {
     ms: f64,
     /// Wall time of submit + wait for the frame's commands.
     cpu_ms: f64,
-    /// GPU time per pass (empty without timestamps).
+    /// GPU time per render pass (empty without timestamps; a variant's passes that share their
+    /// targets share one).
     pass_ms: Vec<f64>,
     /// With `--adaptive`: the frame's measured motion (pixels per frame) and the Δn it set.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -186,7 +187,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     let timer = Timer::new(
         &gpu,
         match &mode {
-            Mode::Variant(v) => v.variant.pass_count() as u32,
+            Mode::Variant(v) => v.variant.render_pass_count() as u32,
             Mode::Original(_) => 1,
         },
     );

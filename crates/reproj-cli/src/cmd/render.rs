@@ -149,6 +149,19 @@ fn variant_input(
     input: reproj_front::Shader,
     session: &Session,
 ) -> anyhow::Result<Option<VariantInput>> {
+    let mut variant = variant_of(args, input, session)?;
+    if let Some(v) = &mut variant {
+        v.pass_times = args.pass_times;
+    }
+    Ok(variant)
+}
+
+/// The variant `--node` instances or `--variant` names, if any.
+fn variant_of(
+    args: &RenderArgs,
+    input: reproj_front::Shader,
+    session: &Session,
+) -> anyhow::Result<Option<VariantInput>> {
     Ok(match (&args.node, &args.variant) {
         (None, None) => None,
         (Some(node), _) => {

@@ -141,6 +141,10 @@ pub struct VariantInput {
     pub depth_epsilon: f32,
     /// Label used in messages (directory or node name).
     pub label: String,
+    /// Draw every pass in its own render pass and time each (the records' `pass_ms`). By default
+    /// (`false`) consecutive passes that write the same targets share one render pass, as a host
+    /// draws them, and only the frame is timed (`pass_ms` empty where passes share one).
+    pub pass_times: bool,
 }
 
 impl VariantInput {
@@ -155,6 +159,7 @@ impl VariantInput {
             delta_n,
             delta_n_per_frame: None,
             label,
+            pass_times: false,
         }
     }
 

@@ -259,7 +259,7 @@ impl Renderer {
         let depth = self.target("depth", w, h, DEPTH_FORMAT, false);
         let depth_view = depth.create_view(&Default::default());
         let slots = self.batch_len(frames, Staging::slot_bytes(w, h, 16));
-        let q = QueryKit::new(self, 1, slots);
+        let q = QueryKit::new(self, 1, 1, slots);
         let kept = keeps.then(|| {
             (
                 Staging::new(self, "frame readback", w, h, 16, slots),

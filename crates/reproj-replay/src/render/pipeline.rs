@@ -99,6 +99,32 @@ pub(super) enum Attachment {
     DepthCopy,
 }
 
+/// The render passes a variant's passes are drawn in, as ranges of pass indices: consecutive
+/// passes that write the same targets (the same attachment at every location) share one where the
+/// later loads every target and the depth — a host draws them so (`docs/PASSES.md`, "One render
+/// pass"), and on a tiler or a CPU rasterizer a render pass boundary stores and reloads every
+/// target. No pass of a shared render pass reads what it writes: a pass never binds its own
+/// targets, and they are the same. With `separate`, one render pass per pass (per-pass timing).
+pub(super) fn render_passes(specs: &[PassSpec], separate: bool) -> Vec<std::ops::Range<usize>> {
+    let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
+    for (i, spec) in specs.iter().enumerate() {
+        let joins = !separate
+            && i > 0
+            && spec.depth_load
+            && spec.colors.iter().all(|c| c.is_none_or(|(_, load)| load))
+            && spec
+                .colors
+                .iter()
+                .map(|c| c.map(|(t, _)| t))
+                .eq(specs[i - 1].colors.iter().map(|c| c.map(|(t, _)| t)));
+        match groups.last_mut() {
+            Some(g) if joins => g.end = i + 1,
+            _ => groups.push(i..i + 1),
+        }
+    }
+    groups
+}
+
 /// One variant pass as the manifest describes it.
 #[derive(Debug)]
 pub(super) struct PassSpec {
@@ -351,5 +377,54 @@ impl Renderer {
             usage,
             view_formats: &[],
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(colors: &[(Attachment, bool)], depth_load: bool) -> PassSpec {
+        PassSpec {
+            label: String::new(),
+            colors: colors.iter().copied().map(Some).collect(),
+            compare: wgpu::CompareFunction::Less,
+            depth_write: true,
+            depth_load,
+        }
+    }
+
+    #[test]
+    fn passes_that_load_the_same_targets_share_a_render_pass() {
+        use Attachment::*;
+        // 2pass: shade hits (clears), shade misses (loads the same two targets).
+        let two = [
+            spec(&[(Frame, false), (Cache, false)], false),
+            spec(&[(Frame, true), (Cache, true)], true),
+        ];
+        assert_eq!(render_passes(&two, false), [0..2]);
+        assert_eq!(render_passes(&two, true), [0..1, 1..2]);
+        // 3pass: reproject and recompute share the cache; shade writes other targets.
+        let three = [
+            spec(&[(Cache, false)], false),
+            spec(&[(Cache, true)], true),
+            spec(&[(Frame, false), (DepthCopy, false)], true),
+        ];
+        assert_eq!(render_passes(&three, false), [0..2, 2..3]);
+        // A pass that clears a target, or clears the depth, starts its own.
+        let clears = [
+            spec(&[(Frame, false), (Cache, false)], false),
+            spec(&[(Frame, true), (Cache, false)], true),
+            spec(&[(Frame, true), (Cache, true)], false),
+        ];
+        assert_eq!(render_passes(&clears, false), [0..1, 1..2, 2..3]);
+        // The same targets at other locations are other targets.
+        let swapped = [
+            spec(&[(Frame, false), (Cache, false)], false),
+            spec(&[(Cache, true), (Frame, true)], true),
+        ];
+        assert_eq!(render_passes(&swapped, false), [0..1, 1..2]);
+        assert_eq!(render_passes(&two[..1], false), [0..1]);
+        assert!(render_passes(&[], false).is_empty());
     }
 }

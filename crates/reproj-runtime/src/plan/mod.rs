@@ -33,7 +33,7 @@ pub(crate) struct SamplerPlan {
 
 /// A color attachment: the application's frame, or a texture (an index into `textures`) per
 /// ping-pong entry.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) enum Attachment {
     Frame,
     Texture(Vec<usize>),
@@ -223,6 +223,36 @@ impl Plan {
             depth_clear: m.conventions.depth_clear as f32,
             motion,
         })
+    }
+
+    /// The render passes a frame records, as ranges of `passes`: a pass joins the one before it
+    /// where it draws into the same attachments at the same locations, loads every one of them
+    /// and the depth, and the pass before stores them all — the two then share one render pass
+    /// (no store and reload of every target in between: `docs/PASSES.md`, "One render pass"),
+    /// which loads as the first and stores as the last.
+    pub(crate) fn render_passes(&self) -> Vec<std::ops::Range<usize>> {
+        let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
+        for (i, p) in self.passes.iter().enumerate() {
+            let joins = i > 0 && {
+                let before = &self.passes[i - 1];
+                let targets = |p: &PassPlan| -> Vec<(u32, Attachment)> {
+                    p.colors
+                        .iter()
+                        .map(|c| (c.location, c.attachment.clone()))
+                        .collect()
+                };
+                targets(p) == targets(before)
+                    && p.depth.clear.is_none()
+                    && p.colors.iter().all(|c| matches!(c.load, ColorLoad::Load))
+                    && before.depth.store
+                    && before.colors.iter().all(|c| c.store)
+            };
+            match groups.last_mut() {
+                Some(g) if joins => g.end = i + 1,
+                _ => groups.push(i..i + 1),
+            }
+        }
+        groups
     }
 }
 

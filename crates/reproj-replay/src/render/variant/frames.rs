@@ -91,7 +91,12 @@ impl Renderer {
         let (opts, plan) = (run.opts, run.plan);
         let [w, h] = run.session.resolution;
         let slots = self.batch_len(plan.frames, Staging::slot_bytes(w, h, 16));
-        let q = QueryKit::new(self, plan.specs.len() as u32, slots);
+        let q = QueryKit::new(
+            self,
+            plan.specs.len() as u32,
+            plan.render_passes.len() as u32,
+            slots,
+        );
         let back = match (&opts.png_dir, opts.perceptual_stride) {
             (Some(_), _) => PixelsBack::All,
             (None, Some(k)) => PixelsBack::Every(k.max(1)),
@@ -146,7 +151,7 @@ impl Renderer {
         }
         self.queue
             .write_buffer(&gpu.params, 0, bytemuck::bytes_of(&p));
-        let render = self.encode_variant_passes(gpu, &run.plan.specs, cur, &rb.q, slot);
+        let render = self.encode_variant_passes(gpu, run.plan, cur, &rb.q, slot);
         let mut enc = self.device.create_command_encoder(&Default::default());
         if let Some(errors) = &rb.errors {
             errors.encode(self, &mut enc, &gpu.color, &gpu.color_view, f, slot)?;
@@ -209,7 +214,13 @@ impl Renderer {
             Some(c) => Some(c.image(slot)?),
             None => None,
         };
-        let (occ, pass_ms, span) = rb.q.read(slot)?;
+        let (occ, render_pass_ms, span) = rb.q.read(slot)?;
+        // Per pass only where each pass has its own render pass (`VariantInput::pass_times`).
+        let pass_ms = if run.plan.render_passes.len() == run.plan.specs.len() {
+            render_pass_ms
+        } else {
+            Vec::new()
+        };
         let (hit_px, miss_px, refresh_px) = match &cls_px {
             Some(c) => {
                 let (hi, mi, re) = classified(c);
@@ -266,15 +277,17 @@ impl Renderer {
     }
 
     /// Record frame parity `cur`'s passes (the host's clears first, where no pass clears the
-    /// frame or the first pass loads the depth), each timed and counted by `q` into `slot`.
+    /// frame or the first pass loads the depth) in their render passes ([`render_passes`]), each
+    /// pass counted and each render pass timed by `q` into `slot`.
     pub(super) fn encode_variant_passes(
         &self,
         gpu: &VariantGpu,
-        specs: &[PassSpec],
+        plan: &VariantPlan,
         cur: usize,
         q: &QueryKit,
         slot: u32,
     ) -> wgpu::CommandEncoder {
+        let specs = &plan.specs;
         let VariantGpu {
             scene,
             vgroup,
@@ -290,7 +303,9 @@ impl Renderer {
             self.encode_motion(&mut enc, mg, scene, vgroup);
         }
         self.encode_host_clears(&mut enc, gpu, cur);
-        for (i, spec) in specs.iter().enumerate() {
+        for (r, passes) in plan.render_passes.iter().enumerate() {
+            // The first pass's targets and load operations; the others load them all.
+            let spec = &specs[passes.start];
             let colors = pass_colors(gpu, spec, cur);
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(&spec.label),
@@ -307,13 +322,15 @@ impl Renderer {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: q.writes(i as u32),
+                timestamp_writes: q.writes(r as u32),
                 occlusion_query_set: Some(&q.occlusion),
                 multiview_mask: None,
             });
-            pass.begin_occlusion_query(i as u32);
-            self.draw(&mut pass, &pipes[i], &b.0[i], scene, vgroup);
-            pass.end_occlusion_query();
+            for i in passes.clone() {
+                pass.begin_occlusion_query(i as u32);
+                self.draw(&mut pass, &pipes[i], &b.0[i], scene, vgroup);
+                pass.end_occlusion_query();
+            }
         }
         q.resolve(&mut enc, slot);
         enc

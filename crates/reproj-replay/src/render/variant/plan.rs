@@ -90,10 +90,12 @@ impl Renderer {
                 ),
             });
         }
+        let render_passes = render_passes(&specs, variant.pass_times);
         Ok(VariantPlan {
             frames,
             first,
             specs,
+            render_passes,
             stages,
             classify_stage,
         })
@@ -106,6 +108,8 @@ pub(super) struct VariantPlan {
     pub(super) first: u32,
     /// Each pass's targets and depth state, in the manifest's order.
     pub(super) specs: Vec<PassSpec>,
+    /// The render passes they are drawn in ([`render_passes`]): ranges of `specs`.
+    pub(super) render_passes: Vec<std::ops::Range<usize>>,
     /// Each pass's module and interface, in the same order.
     pub(super) stages: Vec<Stage>,
     /// The first pass's classification entry point, when it is rendered each frame.
