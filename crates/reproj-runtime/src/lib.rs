@@ -6,7 +6,9 @@
 //! (errors name the file and the field), [`Variant::create`] builds the textures (payload and
 //! depth-copy ping-pong), samplers, params buffer, bind groups and one pipeline per pass, and
 //! [`VariantResources::record`] records a frame's passes into your command encoder, against your
-//! color target and your depth target, with your geometry drawn by your callback.
+//! color target and your depth target, with your geometry drawn by your callback — passes that
+//! draw into the same targets in one render pass ([`Variant::render_passes`]: a `2pass` variant
+//! is one render pass of two draws), which saves a store and reload of every target.
 //!
 //! What stays yours: the device (with [`Variant::required_features`]), the vertex stage (which
 //! adds the manifest's previous-clip-position output, [`Variant::vertex`]), the bind groups of the
