@@ -26,22 +26,12 @@ pub fn verify(
     renderer: &Renderer,
     timing: &reproj_bench::BenchOptions,
 ) -> Result<(), AnalyzeError> {
-    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
-    let entry = shader.fragment_entry(Some(&profile.entry))?;
-    let opts = RenderOptions {
-        png_dir: None,
-        max_frames: None,
-        first_frame: 0,
-        timing_only: false,
-        classify: false,
-        raw_frames: false,
-        perceptual_stride: Some(
-            profile
-                .perceptual_stride
-                .unwrap_or(crate::options::DEFAULT_PERCEPTUAL_STRIDE),
-        ),
-    };
-    let reference = renderer.render_original(&shader, entry, session, &opts)?;
+    let opts = render_options(Some(
+        profile
+            .perceptual_stride
+            .unwrap_or(crate::options::DEFAULT_PERCEPTUAL_STRIDE),
+    ));
+    let (shader, entry, reference) = original(report, profile, session, renderer, &opts)?;
     report.measured_original_ms = Some(reference.report.frame_ms);
     report.measured_on = Some(reproj_bench::Machine::of(renderer).describe());
     match variant {
@@ -133,19 +123,8 @@ pub fn runoff(
     timing: &reproj_bench::BenchOptions,
     progress: &mut dyn FnMut(&reproj_bench::Progress<'_>),
 ) -> Result<(crate::emit::Runoff, usize), AnalyzeError> {
-    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
-    let entry = shader.fragment_entry(Some(&profile.entry))?;
-    let opts = RenderOptions {
-        png_dir: None,
-        max_frames: None,
-        first_frame: 0,
-        // The reference frames: the bench's variants replay against them.
-        timing_only: false,
-        classify: false,
-        raw_frames: false,
-        perceptual_stride: None,
-    };
-    let reference = renderer.render_original(&shader, entry, session, &opts)?;
+    let (shader, entry, reference) =
+        original(report, profile, session, renderer, &render_options(None))?;
     let candidates: Vec<reproj_bench::Candidate> = contenders
         .iter()
         .map(|c| reproj_bench::Candidate {
@@ -205,4 +184,33 @@ pub fn runoff(
         },
         winner,
     ))
+}
+
+/// A whole-session replay that keeps its frames (the reference variants replay against), with the
+/// perceptual metrics on every `perceptual_stride`-th frame where given.
+fn render_options(perceptual_stride: Option<u32>) -> RenderOptions {
+    RenderOptions {
+        png_dir: None,
+        max_frames: None,
+        first_frame: 0,
+        timing_only: false,
+        classify: false,
+        raw_frames: false,
+        perceptual_stride,
+    }
+}
+
+/// The shader `report` names (the profiled one) as WGSL, its profiled entry point, and its
+/// reference replay over `session`.
+fn original(
+    report: &EmitReport,
+    profile: &Profile,
+    session: &Session,
+    renderer: &Renderer,
+    opts: &RenderOptions,
+) -> Result<(reproj_front::Shader, usize, reproj_replay::Reference), AnalyzeError> {
+    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
+    let entry = shader.fragment_entry(Some(&profile.entry))?;
+    let reference = renderer.render_original(&shader, entry, session, opts)?;
+    Ok((shader, entry, reference))
 }

@@ -189,22 +189,23 @@ fn the_runoff_writes_the_fastest_measured_of_the_nodes_predicted_alike() {
         profile[probes] = serde_json::json!([]);
     }
     std::fs::write(dir.join("alike.profile.json"), profile.to_string()).unwrap();
-    let (code, out, err) = run(
-        dir,
-        &[
+    let emit = |out: &str, extra: &[&str]| {
+        let mut args = vec![
             "emit",
             "--profile",
             "alike.profile.json",
             "--max-error",
             "1.0",
             "--out",
-            "alike",
+            out,
             "--verify",
             "--session",
             "two_terms.json",
-            "--json",
-        ],
-    );
+        ];
+        args.extend(extra);
+        run(dir, &args)
+    };
+    let (code, out, err) = emit("alike", &["--json"]);
     assert_eq!(code, 0, "{err}");
     let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
     let r = &report["runoff"];
@@ -247,21 +248,7 @@ fn the_runoff_writes_the_fastest_measured_of_the_nodes_predicted_alike() {
     assert!(report["measured_speedup"].as_f64().is_some(), "{report}");
 
     // The text output lists the contenders, the written one marked.
-    let (code, out, err) = run(
-        dir,
-        &[
-            "emit",
-            "--profile",
-            "alike.profile.json",
-            "--max-error",
-            "1.0",
-            "--out",
-            "alike_text",
-            "--verify",
-            "--session",
-            "two_terms.json",
-        ],
-    );
+    let (code, out, err) = emit("alike_text", &[]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("runoff "), "{out}");
     assert!(out.contains("→ node"), "{out}");
