@@ -87,8 +87,6 @@ pub struct VariantResources {
     samplers: Vec<wgpu::Sampler>,
     params: wgpu::Buffer,
     passes: Vec<PassGpu>,
-    /// The render passes a frame records, as ranges of `passes` ([`Plan::render_passes`]).
-    render_passes: Vec<std::ops::Range<usize>>,
     /// The application's motion vectors ([`Setup::motion`]).
     motion: Option<wgpu::TextureView>,
     /// The index of the next frame (0: nothing to reuse).
@@ -157,7 +155,6 @@ impl VariantResources {
             passes.push(build_pass(device, &plan, p, setup, &user)?);
         }
         let mut r = VariantResources {
-            render_passes: plan.render_passes(),
             plan,
             size: setup.size,
             color_format: setup.color_format,
@@ -319,7 +316,7 @@ impl VariantResources {
             &self.plan.params_bytes(frame, inputs.delta_n),
         );
         let k = frame as usize % self.plan.ping_pong;
-        for (r, passes) in self.render_passes.iter().enumerate() {
+        for (r, passes) in self.plan.render_passes.iter().enumerate() {
             // Loaded as the first pass loads, stored as the last stores.
             let (first, last) = (
                 &self.plan.passes[passes.start],

@@ -96,12 +96,12 @@ impl Variant {
     /// `2pass` variant records one render pass, a `3pass` two; `docs/PASSES.md`, "One render
     /// pass"). [`crate::FrameInputs::timestamps`] are written per render pass.
     pub fn render_passes(&self) -> Vec<std::ops::Range<usize>> {
-        self.plan.render_passes()
+        self.plan.render_passes.clone()
     }
 
     /// Number of render passes a frame records ([`Variant::render_passes`]).
     pub fn render_pass_count(&self) -> usize {
-        self.plan.render_passes().len()
+        self.plan.render_passes.len()
     }
 
     /// Whether the frame must hold what lies behind the variant before [`VariantResources::record`]:

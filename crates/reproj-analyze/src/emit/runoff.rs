@@ -36,6 +36,18 @@ pub struct Contender {
     pub variant: Variant,
 }
 
+impl Contender {
+    /// `opts` restricted to this contender (`--node` and `--strategy`): what [`super::emit`]
+    /// writes when the runoff chooses it.
+    pub fn emit_options(&self, opts: &EmitOptions) -> EmitOptions {
+        EmitOptions {
+            node: Some(self.choice),
+            strategy: Some(self.variant.manifest.strategy),
+            ..opts.clone()
+        }
+    }
+}
+
 /// What the runoff measured (`report.json` `runoff`, report version 6).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Runoff {

@@ -400,17 +400,7 @@ fn verify_selection(
         )?;
         bar.finish_and_clear();
         if runoff.changed {
-            let w = &contenders[winner];
-            let forced = EmitOptions {
-                node: Some(w.choice),
-                strategy: Some(
-                    w.selection
-                        .strategy
-                        .parse()
-                        .map_err(|e: String| anyhow::anyhow!("runoff winner's strategy: {e}"))?,
-                ),
-                ..opts.clone()
-            };
+            let forced = contenders[winner].emit_options(opts);
             (*report, *variant) = emit(profile, profile_path, &forced)?;
         }
         report.runoff = Some(runoff);

@@ -128,6 +128,8 @@ pub(crate) struct Plan {
     pub params_size: usize,
     pub params: Vec<ParamPlan>,
     pub passes: Vec<PassPlan>,
+    /// The render passes a frame records, as ranges of `passes` ([`render_passes`]).
+    pub render_passes: Vec<std::ops::Range<usize>>,
     /// The variant's own group (`group`): the application must leave it free.
     pub group: u32,
     /// What a depth texture the runtime owns is cleared to before the first frame.
@@ -218,42 +220,43 @@ impl Plan {
             ping_pong: m.frames.ping_pong.len(),
             params_size,
             params,
+            render_passes: render_passes(&passes),
             passes,
             group: m.group,
             depth_clear: m.conventions.depth_clear as f32,
             motion,
         })
     }
+}
 
-    /// The render passes a frame records, as ranges of `passes`: a pass joins the one before it
-    /// where it draws into the same attachments at the same locations, loads every one of them
-    /// and the depth, and the pass before stores them all — the two then share one render pass
-    /// (no store and reload of every target in between: `docs/PASSES.md`, "One render pass"),
-    /// which loads as the first and stores as the last.
-    pub(crate) fn render_passes(&self) -> Vec<std::ops::Range<usize>> {
-        let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
-        for (i, p) in self.passes.iter().enumerate() {
-            let joins = i > 0 && {
-                let before = &self.passes[i - 1];
-                let targets = |p: &PassPlan| -> Vec<(u32, Attachment)> {
-                    p.colors
-                        .iter()
-                        .map(|c| (c.location, c.attachment.clone()))
-                        .collect()
-                };
-                targets(p) == targets(before)
-                    && p.depth.clear.is_none()
-                    && p.colors.iter().all(|c| matches!(c.load, ColorLoad::Load))
-                    && before.depth.store
-                    && before.colors.iter().all(|c| c.store)
+/// The render passes a frame records, as ranges of `passes`: a pass joins the one before it
+/// where it draws into the same attachments at the same locations, loads every one of them
+/// and the depth, and the pass before stores them all — the two then share one render pass
+/// (no store and reload of every target in between: `docs/PASSES.md`, "One render pass"),
+/// which loads as the first and stores as the last.
+fn render_passes(passes: &[PassPlan]) -> Vec<std::ops::Range<usize>> {
+    let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
+    for (i, p) in passes.iter().enumerate() {
+        let joins = i > 0 && {
+            let before = &passes[i - 1];
+            let targets = |p: &PassPlan| -> Vec<(u32, Attachment)> {
+                p.colors
+                    .iter()
+                    .map(|c| (c.location, c.attachment.clone()))
+                    .collect()
             };
-            match groups.last_mut() {
-                Some(g) if joins => g.end = i + 1,
-                _ => groups.push(i..i + 1),
-            }
+            targets(p) == targets(before)
+                && p.depth.clear.is_none()
+                && p.colors.iter().all(|c| matches!(c.load, ColorLoad::Load))
+                && before.depth.store
+                && before.colors.iter().all(|c| c.store)
+        };
+        match groups.last_mut() {
+            Some(g) if joins => g.end = i + 1,
+            _ => groups.push(i..i + 1),
         }
-        groups
     }
+    groups
 }
 
 /// The texture every pass draws its depth into, which the application's depth target replaces.
@@ -481,6 +484,7 @@ mod tests {
                 ),
             ],
             passes: Vec::new(),
+            render_passes: Vec::new(),
             group: 1,
             depth_clear: 1.0,
             motion: false,
