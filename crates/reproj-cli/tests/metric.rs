@@ -38,8 +38,11 @@ fn emit_metric_flip_picks_a_variant_measured_under_the_budget() {
             "2,8,16",
             "--holdout",
             "4",
+            // Two passes: the root's race then stands clear of the original on lavapipe
+            // (1.7–2.0× at Δn 16, 128×128), where three passes measure 1.2–1.5× with intervals
+            // reaching 1.0 and a busy machine can leave nothing predicted faster at Δn ≤ 8.
             "--strategy",
-            "3pass",
+            "2pass",
             "--metric-stride",
             "1",
             "--no-charts",
