@@ -11,7 +11,7 @@ use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use crate::AnalyzeError;
 use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, too_slow};
-use crate::strategies::{StrategyPruner, Verdict};
+use crate::strategies::{Outcome, StrategyPruner, Verdict};
 
 /// One node's replays: the strategy and filter it was profiled with, its measurements, and why
 /// it failed (when it did).
@@ -113,14 +113,17 @@ fn replay_node(
     if let Some(w) = winner
         && let Some(best) = estimates[w]
     {
-        for (b, e) in built.iter().zip(&estimates) {
-            // A loss counts only where the intervals separate.
-            let ratio = match e {
-                Some(e) if separates(&best, e) => best.speedup / e.speedup,
-                Some(_) => 1.0,
-                None => f64::INFINITY,
+        for (i, (b, e)) in built.iter().zip(&estimates).enumerate() {
+            // A loss counts only where the intervals separate, a win only for the winner.
+            let outcome = match e {
+                _ if i == w => Outcome::Won {
+                    beat_original: best.surely_faster(),
+                },
+                Some(e) if separates(&best, e) => Outcome::Slower(best.speedup / e.speedup),
+                Some(_) => Outcome::Level,
+                None => Outcome::Slower(f64::INFINITY),
             };
-            pruner.record(b.si, ratio, best.surely_faster());
+            pruner.record(b.si, outcome);
         }
     }
     if let Some(r) = &race {
@@ -168,7 +171,7 @@ fn strategies_to_try(
             Verdict::Try => to_try.push((si, strategy)),
             Verdict::PruneNow => {
                 progress.note(&format!(
-                    "{strategy}: at least {:.2}× slower than the fastest strategy at Δn = {longest} for {} nodes; not tried for the remaining nodes",
+                    "{strategy}: at least {:.2}× slower than the winner at Δn = {longest}, beyond doubt, for {} nodes; not tried for the remaining nodes",
                     StrategyPruner::MARGIN,
                     StrategyPruner::LOSSES
                 ));
