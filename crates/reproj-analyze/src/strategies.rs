@@ -7,7 +7,10 @@
 /// (fused on a CPU rasterizer, which runs both sides of its branch; 3pass beside 2pass on
 /// lavapipe, 1.2–1.6× slower on marble's nodes); it is not tried for the remaining nodes. The
 /// intervals apart already say it is slower; the margin asks that it be slower by enough to
-/// matter. A
+/// matter. One loss by [`StrategyPruner::DECISIVE`] or more counts as [`StrategyPruner::LOSSES`]:
+/// fused on lavapipe runs 2.8–5.9× slower than 2pass on the node saving the most (marble, ambient
+/// occlusion, environment map), and compiling and racing it on a second node cost marble's
+/// analysis about 4 s. A
 /// strategy level with the winner (intervals overlapping) neither wins nor loses: the race could
 /// not tell them apart, and the winner is then the simplest.
 #[derive(Debug, Clone)]
@@ -42,6 +45,8 @@ pub(crate) enum Verdict {
 impl StrategyPruner {
     pub(crate) const LOSSES: usize = 2;
     pub(crate) const MARGIN: f64 = 1.1;
+    /// A loss at least this many times slower than the winner, beyond doubt, is decisive.
+    pub(crate) const DECISIVE: f64 = 2.0;
 
     pub(crate) fn new(strategies: usize) -> Self {
         StrategyPruner {
@@ -57,7 +62,9 @@ impl StrategyPruner {
             Outcome::Won { beat_original } => self.wins[i] += usize::from(beat_original),
             Outcome::Level => {}
             Outcome::Slower(ratio) => {
-                if ratio >= Self::MARGIN || !ratio.is_finite() {
+                if ratio >= Self::DECISIVE || !ratio.is_finite() {
+                    self.losses[i] += Self::LOSSES;
+                } else if ratio >= Self::MARGIN {
                     self.losses[i] += 1;
                 }
             }
@@ -88,16 +95,16 @@ mod tests {
     #[test]
     fn a_strategy_clearly_slower_twice_is_pruned() {
         let mut p = StrategyPruner::new(3);
-        // Node 1: 0 won, 1 slower within the margin, 2 twice as slow.
+        // Node 1: 0 won, 1 slower within the margin, 2 half as fast again.
         p.record(0, WON);
-        p.record(1, Outcome::Slower(1.1));
-        p.record(2, Outcome::Slower(2.0));
+        p.record(1, Outcome::Slower(1.05));
+        p.record(2, Outcome::Slower(1.5));
         // One loss is not enough.
         assert_eq!(p.verdict(2), Verdict::Try);
         // Node 2: 1 won this time.
         p.record(0, Outcome::Slower(1.05));
         p.record(1, WON);
-        p.record(2, Outcome::Slower(1.9));
+        p.record(2, Outcome::Slower(1.4));
         assert_eq!(p.verdict(0), Verdict::Try);
         assert_eq!(p.verdict(1), Verdict::Try);
         assert_eq!(p.verdict(2), Verdict::PruneNow);
@@ -137,6 +144,18 @@ mod tests {
             p.record(1, WON);
         }
         assert_eq!(p.verdict(0), Verdict::PruneNow);
+        assert_eq!(p.verdict(1), Verdict::Try);
+    }
+
+    /// fused on lavapipe at marble's node 730: 0.86× against 2pass's 2.41×.
+    #[test]
+    fn one_decisive_loss_prunes() {
+        let mut p = StrategyPruner::new(2);
+        p.record(0, WON);
+        p.record(1, Outcome::Slower(2.41 / 0.86));
+        assert_eq!(p.verdict(1), Verdict::PruneNow);
+        let mut p = StrategyPruner::new(2);
+        p.record(1, Outcome::Slower(1.99));
         assert_eq!(p.verdict(1), Verdict::Try);
     }
 

@@ -171,9 +171,10 @@ fn strategies_to_try(
             Verdict::Try => to_try.push((si, strategy)),
             Verdict::PruneNow => {
                 progress.note(&format!(
-                    "{strategy}: at least {:.2}× slower than the winner at Δn = {longest}, beyond doubt, for {} nodes; not tried for the remaining nodes",
+                    "{strategy}: slower than the winner at Δn = {longest} beyond doubt, by {:.2}× or more on {} nodes or {:.0}× on one; not tried for the remaining nodes",
                     StrategyPruner::MARGIN,
-                    StrategyPruner::LOSSES
+                    StrategyPruner::LOSSES,
+                    StrategyPruner::DECISIVE
                 ));
                 progress.step(&format!("node {id} {strategy} pruned"));
             }
