@@ -35,6 +35,7 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             ("unroll", p.unroll.to_string()),
             ("session.hash", p.session.hash.clone()),
             ("machine.adapter", p.machine.adapter.clone()),
+            ("machine.driver", format!("{:?}", p.machine.driver)),
             ("machine.timing_method", p.machine.timing_method.clone()),
             ("resolution", format!("{:?}", p.resolution)),
             ("frames", p.frames.to_string()),

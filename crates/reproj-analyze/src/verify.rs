@@ -105,7 +105,36 @@ pub fn verify(
             report.timing_warnings = timed.warnings;
         }
     }
+    if let Some(w) = other_machine(&profile.machine, &reproj_bench::Machine::of(renderer)) {
+        report.timing_warnings.insert(0, w);
+    }
     write_report(report, out)
+}
+
+/// A warning where the profile was measured on another adapter or driver than `here`: the
+/// strategies and filters it raced and the speeds it predicts come from there (lavapipe keeps
+/// `2pass` in Mesa 22.3 and `fused` in Mesa 25 for marble, one adapter name for both). A profile
+/// that names no driver (before version 11) is compared by its adapter alone.
+pub(crate) fn other_machine(
+    there: &reproj_models::profile::Machine,
+    here: &reproj_bench::Machine,
+) -> Option<String> {
+    let same_driver = there.driver.as_deref().is_none_or(|d| d == here.driver);
+    if there.adapter == here.adapter && same_driver {
+        return None;
+    }
+    let named = |adapter: &str, driver: &str| {
+        if driver.is_empty() {
+            adapter.to_string()
+        } else {
+            format!("{adapter}, {driver}")
+        }
+    };
+    Some(format!(
+        "the profile was measured on {}, this run on {}: the strategies and filters it raced and the speeds it predicts come from there; re-run `reproj analyze` on this machine to choose for it",
+        named(&there.adapter, there.driver.as_deref().unwrap_or("")),
+        named(&here.adapter, &here.driver)
+    ))
 }
 
 /// The runoff (`emit --verify`, [`crate::emit::contenders`]): every contender timed against the
@@ -213,4 +242,50 @@ fn original(
     let entry = shader.fragment_entry(Some(&profile.entry))?;
     let reference = renderer.render_original(&shader, entry, session, opts)?;
     Ok((shader, entry, reference))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn here(driver: &str) -> reproj_bench::Machine {
+        reproj_bench::Machine {
+            adapter: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            device_type: "Cpu".into(),
+            cpu_rasterizer: true,
+            lp_num_threads: Some("2".into()),
+            cpus: 2,
+            driver: driver.into(),
+        }
+    }
+
+    fn there(adapter: &str, driver: Option<&str>) -> reproj_models::profile::Machine {
+        reproj_models::profile::Machine {
+            adapter: adapter.into(),
+            backend: "Vulkan".into(),
+            timing_method: "timestamp-queries".into(),
+            cpu_cores: 2,
+            lp_num_threads: Some("2".into()),
+            cpu_rasterizer: true,
+            driver: driver.map(Into::into),
+        }
+    }
+
+    /// One adapter name, two drivers that choose differently: the driver tells them apart.
+    #[test]
+    fn a_profile_from_another_driver_is_named() {
+        let llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
+        let mesa22 = "Mesa 22.3.6 (LLVM 15.0.6)";
+        assert_eq!(other_machine(&there(llvmpipe, Some(mesa22)), &here(mesa22)), None);
+        // Before version 11 a profile names no driver: the adapter alone decides.
+        assert_eq!(other_machine(&there(llvmpipe, None), &here(mesa22)), None);
+        let w = other_machine(
+            &there(llvmpipe, Some("Mesa 25.0.7 (LLVM 15.0.6)")),
+            &here(mesa22),
+        )
+        .unwrap();
+        assert!(w.contains("Mesa 25.0.7") && w.contains(mesa22), "{w}");
+        let w = other_machine(&there("NVIDIA H200", Some("570.0")), &here(mesa22)).unwrap();
+        assert!(w.contains("NVIDIA H200, 570.0") && w.contains("reproj analyze"), "{w}");
+    }
 }

@@ -96,6 +96,7 @@ fn profile(shader: &Path) -> Profile {
             cpu_cores: 1,
             lp_num_threads: None,
             cpu_rasterizer: false,
+            driver: None,
         },
         resolution: [256, 256],
         frames: 40,

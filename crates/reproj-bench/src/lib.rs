@@ -105,6 +105,10 @@ pub struct Machine {
     pub lp_num_threads: Option<String>,
     /// Cores the process may use.
     pub cpus: u32,
+    /// The driver and its version as the adapter reports them (`Mesa 22.3.6 (LLVM 15.0.6)`);
+    /// empty where it reports none (and in reports written before it was recorded).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub driver: String,
 }
 
 impl Machine {
@@ -120,22 +124,38 @@ impl Machine {
             cpu_rasterizer: cpu,
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
             cpus: std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
+            driver: driver_of(a),
         }
     }
 
     /// One line for the reader: `llvmpipe (LLVM 15), LP_NUM_THREADS=2, 2 cores — a CPU
     /// rasterizer: GPU figures differ`.
     pub fn describe(&self) -> String {
-        let mut s = format!(
-            "{}, LP_NUM_THREADS={}, {} cores",
-            self.adapter,
+        let mut s = self.adapter.clone();
+        if !self.driver.is_empty() {
+            s.push_str(&format!(", {}", self.driver));
+        }
+        s.push_str(&format!(
+            ", LP_NUM_THREADS={}, {} cores",
             self.lp_num_threads.as_deref().unwrap_or("unset"),
             self.cpus
-        );
+        ));
         if self.cpu_rasterizer {
             s.push_str(" — measured on a CPU rasterizer: GPU figures differ");
         }
         s
+    }
+}
+
+/// The driver and its version as `adapter` reports them: its `driver_info` (`Mesa 22.3.6 (LLVM
+/// 15.0.6)`), else its driver's name, else empty. An adapter's name alone does not tell drivers
+/// apart (lavapipe is `llvmpipe (LLVM 15.0.6, 256 bits)` in Mesa 22.3 and in Mesa 25, which differ
+/// in what they skip).
+pub fn driver_of(adapter: &reproj_metrics::AdapterReport) -> String {
+    if adapter.driver_info.trim().is_empty() {
+        adapter.driver.trim().to_string()
+    } else {
+        adapter.driver_info.trim().to_string()
     }
 }
 

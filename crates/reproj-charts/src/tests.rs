@@ -188,6 +188,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
             cpu_cores: 2,
             lp_num_threads: None,
             cpu_rasterizer: false,
+            driver: None,
         },
         resolution: [640, 480],
         frames: 150,

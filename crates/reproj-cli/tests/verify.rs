@@ -253,3 +253,78 @@ fn the_runoff_writes_the_fastest_measured_of_the_nodes_predicted_alike() {
     assert!(out.contains("runoff "), "{out}");
     assert!(out.contains("→ node"), "{out}");
 }
+
+/// A profile records the driver beside the adapter (one adapter name covers lavapipe in Mesa 22.3
+/// and in Mesa 25, which keep different strategies), and `emit --verify` on another driver says
+/// that the profile's choices were measured elsewhere.
+#[test]
+fn verify_names_a_profile_measured_on_another_driver() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
+    let (code, _, err) = common::analyze_short(
+        dir,
+        "two_terms.wgsl",
+        &["two_terms.json"],
+        "t.profile.json",
+        &["--strategy", "2pass"],
+    );
+    assert_eq!(code, 0, "{err}");
+    let read = || -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap())
+            .unwrap()
+    };
+    let mut profile = read();
+    assert_eq!(profile["version"], 11);
+    let driver = profile["machine"]["driver"]
+        .as_str()
+        .unwrap_or_else(|| panic!("the adapter names its driver: {}", profile["machine"]))
+        .to_owned();
+    assert!(err.contains(&driver), "analyze names the driver: {err}");
+    let emit = |profile: &str, out: &str| {
+        run(
+            dir,
+            &[
+                "emit",
+                "--profile",
+                profile,
+                "--max-error",
+                "0.05",
+                "--out",
+                out,
+                "--verify",
+                "--session",
+                "two_terms.json",
+                "--runoff",
+                "1",
+                "--json",
+            ],
+        )
+    };
+    let (code, out, err) = emit("t.profile.json", "same");
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("the profile was measured on"), "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        report["measured_on"].as_str().unwrap().contains(&driver),
+        "{report}"
+    );
+    profile["machine"]["driver"] = "Mesa 0.0 (another driver)".into();
+    std::fs::write(dir.join("other.profile.json"), profile.to_string()).unwrap();
+    let (code, out, err) = emit("other.profile.json", "other");
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("the profile was measured on")
+            && err.contains("Mesa 0.0 (another driver)")
+            && err.contains(&driver),
+        "{err}"
+    );
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        report["timing_warnings"][0]
+            .as_str()
+            .unwrap()
+            .contains("re-run `reproj analyze`"),
+        "{report}"
+    );
+}

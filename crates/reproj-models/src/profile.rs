@@ -36,7 +36,11 @@ pub use probes::{BlockProbe, FilterProbe, StrategyProbe};
 /// frame, so that the motion exponent can be fitted across segments of one session.
 /// Version 10: the refresh block size raced per node (`analyze --block auto`): `block_probes`,
 /// and `nodes[].block` the kept size. Older files still load without them.
-pub const PROFILE_VERSION: u32 = 10;
+/// Version 11: `machine.driver`, the driver and its version (one adapter name covers drivers that
+/// choose differently: lavapipe in Mesa 22.3 runs both sides of a branch, in Mesa 25 it skips the
+/// side no lane takes, and `analyze` keeps `2pass` on the one and `fused` on the other). Older
+/// files still load without it.
+pub const PROFILE_VERSION: u32 = 11;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -172,6 +176,10 @@ pub struct Machine {
     /// (version 7 on).
     #[serde(default)]
     pub cpu_rasterizer: bool,
+    /// The driver and its version as the adapter reports them (`Mesa 22.3.6 (LLVM 15.0.6)` for
+    /// lavapipe; version 11 on, absent before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub driver: Option<String>,
 }
 
 /// The original shader's measurements.

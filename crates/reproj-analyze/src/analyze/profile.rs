@@ -122,6 +122,7 @@ pub(super) fn profile(
             cpu_cores: std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
             cpu_rasterizer: reproj_bench::Machine::of(renderer).cpu_rasterizer,
+            driver: Some(reproj_bench::driver_of(adapter)).filter(|d| !d.is_empty()),
         },
         resolution: input.session.resolution,
         frames: m.frames,
