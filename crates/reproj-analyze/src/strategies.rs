@@ -10,9 +10,8 @@
 /// matter. One loss by [`StrategyPruner::DECISIVE`] or more counts as [`StrategyPruner::LOSSES`]:
 /// fused on lavapipe runs 2.8–5.9× slower than 2pass on the node saving the most (marble, ambient
 /// occlusion, environment map), and compiling and racing it on a second node cost marble's
-/// analysis about 4 s. A
-/// strategy level with the winner (intervals overlapping) neither wins nor loses: the race could
-/// not tell them apart, and the winner is then the simplest.
+/// analysis about 4 s. A strategy level with the winner (intervals overlapping) neither wins nor
+/// loses: the race could not tell them apart, and the winner is then the simplest.
 #[derive(Debug, Clone)]
 pub(crate) struct StrategyPruner {
     losses: Vec<usize>,
@@ -164,9 +163,12 @@ mod tests {
         let mut p = StrategyPruner::new(2);
         // A tiny node: every strategy is slower than the original, 1 the least slow.
         p.record(0, Outcome::Slower(1.3));
-        p.record(1, Outcome::Won {
-            beat_original: false,
-        });
+        p.record(
+            1,
+            Outcome::Won {
+                beat_original: false,
+            },
+        );
         // Then 1 is clearly slower twice.
         for _ in 0..2 {
             p.record(0, WON);

@@ -123,17 +123,10 @@ pub(crate) fn other_machine(
     if there.adapter == here.adapter && same_driver {
         return None;
     }
-    let named = |adapter: &str, driver: &str| {
-        if driver.is_empty() {
-            adapter.to_string()
-        } else {
-            format!("{adapter}, {driver}")
-        }
-    };
     Some(format!(
         "the profile was measured on {}, this run on {}: the strategies and filters it raced and the speeds it predicts come from there; re-run `reproj analyze` on this machine to choose for it",
-        named(&there.adapter, there.driver.as_deref().unwrap_or("")),
-        named(&here.adapter, &here.driver)
+        there.device(),
+        reproj_models::profile::device_name(&here.adapter, Some(&here.driver))
     ))
 }
 
@@ -276,7 +269,10 @@ mod tests {
     fn a_profile_from_another_driver_is_named() {
         let llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)";
         let mesa22 = "Mesa 22.3.6 (LLVM 15.0.6)";
-        assert_eq!(other_machine(&there(llvmpipe, Some(mesa22)), &here(mesa22)), None);
+        assert_eq!(
+            other_machine(&there(llvmpipe, Some(mesa22)), &here(mesa22)),
+            None
+        );
         // Before version 11 a profile names no driver: the adapter alone decides.
         assert_eq!(other_machine(&there(llvmpipe, None), &here(mesa22)), None);
         let w = other_machine(
@@ -286,6 +282,9 @@ mod tests {
         .unwrap();
         assert!(w.contains("Mesa 25.0.7") && w.contains(mesa22), "{w}");
         let w = other_machine(&there("NVIDIA H200", Some("570.0")), &here(mesa22)).unwrap();
-        assert!(w.contains("NVIDIA H200, 570.0") && w.contains("reproj analyze"), "{w}");
+        assert!(
+            w.contains("NVIDIA H200, 570.0") && w.contains("reproj analyze"),
+            "{w}"
+        );
     }
 }

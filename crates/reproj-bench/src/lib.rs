@@ -128,18 +128,15 @@ impl Machine {
         }
     }
 
-    /// One line for the reader: `llvmpipe (LLVM 15), LP_NUM_THREADS=2, 2 cores — a CPU
-    /// rasterizer: GPU figures differ`.
+    /// One line for the reader: `llvmpipe (LLVM 15), Mesa 22.3.6 (LLVM 15), LP_NUM_THREADS=2, 2
+    /// cores — a CPU rasterizer: GPU figures differ`.
     pub fn describe(&self) -> String {
-        let mut s = self.adapter.clone();
-        if !self.driver.is_empty() {
-            s.push_str(&format!(", {}", self.driver));
-        }
-        s.push_str(&format!(
-            ", LP_NUM_THREADS={}, {} cores",
+        let mut s = format!(
+            "{}, LP_NUM_THREADS={}, {} cores",
+            reproj_models::profile::device_name(&self.adapter, Some(&self.driver)),
             self.lp_num_threads.as_deref().unwrap_or("unset"),
             self.cpus
-        ));
+        );
         if self.cpu_rasterizer {
             s.push_str(" — measured on a CPU rasterizer: GPU figures differ");
         }

@@ -271,8 +271,7 @@ fn verify_names_a_profile_measured_on_another_driver() {
     );
     assert_eq!(code, 0, "{err}");
     let read = || -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap())
-            .unwrap()
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap()).unwrap()
     };
     let mut profile = read();
     assert_eq!(profile["version"], 11);

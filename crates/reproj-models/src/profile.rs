@@ -182,6 +182,23 @@ pub struct Machine {
     pub driver: Option<String>,
 }
 
+impl Machine {
+    /// How reports name the device: `adapter, driver` ([`device_name`]).
+    pub fn device(&self) -> String {
+        device_name(&self.adapter, self.driver.as_deref())
+    }
+}
+
+/// `adapter, driver`, or the adapter alone where no driver is named (`llvmpipe (LLVM 15.0.6, 256
+/// bits), Mesa 22.3.6 (LLVM 15.0.6)`): the adapter's name alone does not tell lavapipe in Mesa 22.3
+/// from lavapipe in Mesa 25.
+pub fn device_name(adapter: &str, driver: Option<&str>) -> String {
+    match driver.map(str::trim).filter(|d| !d.is_empty()) {
+        Some(d) => format!("{adapter}, {d}"),
+        None => adapter.to_string(),
+    }
+}
+
 /// The original shader's measurements.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OriginalRecord {

@@ -293,10 +293,7 @@ pub(crate) fn html(p: &Page<'_>) -> String {
         w = profile.resolution[0],
         hgt = profile.resolution[1],
         frames = profile.frames,
-        adapter = esc(&match &profile.machine.driver {
-            Some(d) => format!("{}, {d}", profile.machine.adapter),
-            None => profile.machine.adapter.clone(),
-        }),
+        adapter = esc(&profile.machine.device()),
         orig = profile.original.frame_ms,
         nodes = profile.nodes.len(),
     );

@@ -323,11 +323,13 @@ fn analyze_session(
         },
     };
     crate::ui::note(format_args!(
-        "analyzing {} over {} on {}, {} ({} cores, LP_NUM_THREADS={})",
+        "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
         args.shader.display(),
         session_path.display(),
-        renderer.adapter().name,
-        reproj_bench::driver_of(renderer.adapter()),
+        reproj_models::profile::device_name(
+            &renderer.adapter().name,
+            Some(&reproj_bench::driver_of(renderer.adapter()))
+        ),
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         std::env::var("LP_NUM_THREADS").unwrap_or_else(|_| "unset".into())
     ));
