@@ -37,9 +37,25 @@ pub struct ReprojDetail {
     pub predicted_error: f64,
     /// Profile's original frame time / predicted frame time.
     pub predicted_speedup: f64,
-    /// At a target speedup, the points raced on the way ([`steer`]), the reported one among them;
-    /// empty with an error budget (compare.json version 4).
+    /// At a target speedup, the points raced on the way ([`steer`]), the reported one among them
+    /// unless a rematch replaced it; empty with an error budget (compare.json version 4).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tries: Vec<ReprojTry>,
+    /// At a target speedup, where the final interleaved run put reproj and resizing further apart
+    /// than the tolerance: reproj steered once more, to resizing's speed in that run, and every
+    /// method timed again (compare.json version 5; absent where they were level).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rematch: Option<Rematch>,
+}
+
+/// reproj steered to resizing's speed after the final run put them apart ([`ReprojDetail::rematch`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Rematch {
+    /// Resizing's speedup in that run: what reproj was steered to.
+    pub to_speedup: f64,
+    /// reproj's speedup in that run, at the point first reported (the one `tries` kept).
+    pub from_speedup: f64,
+    /// The points raced on the way ([`steer`] at `to_speedup`), the reported one among them.
     pub tries: Vec<ReprojTry>,
 }
 
@@ -487,6 +503,7 @@ pub(crate) fn reproj(
             predicted_error: planned.predicted_error,
             predicted_speedup: planned.predicted_speedup,
             tries,
+            rematch: None,
         },
         result: MethodResult {
             speedup_ci95: None,

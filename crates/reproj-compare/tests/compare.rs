@@ -85,3 +85,108 @@ fn simplification_removes_the_least_error_node_first() {
     assert!(c.report.methods[0].scores.error > 0.0);
     assert_eq!(c.crop_frames.len(), 3);
 }
+
+/// Where the final run puts reproj and resizing further apart than the tolerance, reproj is
+/// steered once more, to resizing's speed in that run, and every method is timed again. With no
+/// tolerance at all the two are always apart: the first steering's tries stay, the rematch records
+/// its own, the reported point is among them and the table's reproj row is that point. With a
+/// tolerance wider than any gap nothing is steered again.
+#[test]
+fn reproj_is_steered_again_to_resizings_speed_where_the_final_run_puts_them_apart() {
+    use reproj_analyze::{AnalyzeInput, AnalyzeOptions, analyze};
+    let loaded = load(
+        &root().join("shaders/marble.wgsl"),
+        None,
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let session_path = root().join("sessions/marble.json");
+    let session_bytes = std::fs::read(&session_path).unwrap();
+    let mut session = Session::load(&session_path).unwrap();
+    session.resolution = [64, 64];
+    let renderer = Renderer::new(&RendererOptions::default()).unwrap();
+    let sum = loaded
+        .table
+        .cacheable()
+        .find(|n| n.text == "s3 + n4")
+        .unwrap()
+        .id;
+    let profile = analyze(
+        &AnalyzeInput {
+            shader: &loaded.shader,
+            norm: &loaded.norm,
+            table: &loaded.table,
+            session_path: &session_path,
+            session_bytes: &session_bytes,
+            session: &session,
+        },
+        &renderer,
+        &AnalyzeOptions {
+            delta_n_train: vec![2, 6, 10],
+            delta_n_holdout: vec![4],
+            nodes: Some(vec![sum]),
+            max_frames: Some(8),
+            probe_frames: Some(4),
+            ..AnalyzeOptions::default()
+        },
+        &Silent,
+    )
+    .unwrap();
+    // Not written: it names the profile in messages.
+    let profile_path = root().join("marble.profile.json");
+    let input = CompareInput {
+        loaded: &loaded,
+        entry: None,
+        session: &session,
+        profile: Some((&profile, &profile_path)),
+    };
+    let at = |tolerance: f64| CompareOptions {
+        target: reproj_compare::Target::Speedup(1.5),
+        max_frames: Some(8),
+        resize: reproj_compare::resize::ResizeOptions {
+            tries: 2,
+            tolerance,
+            ..Default::default()
+        },
+        simplify: SimplifyOptions {
+            candidates: 2,
+            max_steps: 1,
+        },
+        reproj_tries: 2,
+        perceptual_stride: 4,
+        ..Default::default()
+    };
+    let c = compare(&renderer, &input, &at(1e-9), &Silent).unwrap();
+    let r = c.report.reproj.as_ref().unwrap();
+    let m = r
+        .rematch
+        .as_ref()
+        .expect("with no tolerance the two are apart");
+    assert!((1..=2).contains(&r.tries.len()), "{r:?}");
+    assert!((1..=2).contains(&m.tries.len()), "{r:?}");
+    assert!(m.to_speedup > 0.0 && m.from_speedup > 0.0, "{m:?}");
+    assert!(
+        m.tries
+            .iter()
+            .any(|t| t.node == r.node && t.delta_n == r.delta_n),
+        "the reported point is the rematch's: {r:?}"
+    );
+    let row = c
+        .report
+        .methods
+        .iter()
+        .find(|x| x.method == "reproj")
+        .unwrap();
+    assert!(
+        row.setting.contains(&format!("Δn = {}", r.delta_n)),
+        "{row:?} {r:?}"
+    );
+    let [lo, hi] = row.speedup_ci95.expect("timed again, interleaved");
+    assert!(
+        lo <= row.speedup && row.speedup <= hi && lo > 0.0,
+        "{row:?}"
+    );
+    assert!(row.scores.error.is_finite(), "{row:?}");
+    let c = compare(&renderer, &input, &at(10.0), &Silent).unwrap();
+    assert!(c.report.reproj.unwrap().rematch.is_none());
+}

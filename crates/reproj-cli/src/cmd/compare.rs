@@ -144,6 +144,16 @@ fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> 
     if r.reproj.is_none() {
         writeln!(stdout, "(no --profile: reproj's own choice not compared)")?;
     }
+    if let Some(m) = r.reproj.as_ref().and_then(|d| d.rematch.as_ref()) {
+        writeln!(
+            stdout,
+            "reproj steered again: the first timing put it at {:.2}× against resizing's {:.2}×; steered to {:.2}× ({} tries) and every method timed again",
+            m.from_speedup,
+            m.to_speedup,
+            m.to_speedup,
+            m.tries.len()
+        )?;
+    }
     writeln!(
         stdout,
         "! = target speedup not reached; files in {}",
