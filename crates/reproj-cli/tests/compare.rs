@@ -126,8 +126,8 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     assert!(json["reproj"]["delta_n"].as_u64().unwrap() >= 2);
     // At a target speedup reproj's point is steered by measurement: each try raced with its
     // interval, distinct, at most --reproj-tries, the reported point among them and the closest
-    // to what it was steered to — the target, or, where the final run put reproj and resizing
-    // more than the tolerance apart, resizing's speed in that run (a rematch, its own tries).
+    // to the target — unless the final run put reproj and resizing more than 3 % apart and the
+    // profile's point for resizing's speed there is another one (a rematch that moved).
     let key = |t: &serde_json::Value| (t["node"].to_string(), t["delta_n"].as_u64().unwrap());
     let check = |tries: &[serde_json::Value]| {
         assert!((1..=4).contains(&tries.len()), "{tries:?}");
@@ -145,29 +145,31 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     };
     let tries = json["reproj"]["tries"].as_array().expect("reproj's tries");
     check(tries);
-    let rematch = &json["reproj"]["rematch"];
-    let (steered, to) = if rematch.is_null() {
-        (tries, 1.5)
-    } else {
-        let (to, from) = (
-            rematch["to_speedup"].as_f64().unwrap(),
-            rematch["from_speedup"].as_f64().unwrap(),
-        );
-        assert!((from / to).ln().abs() > 1.05f64.ln(), "{rematch}");
-        let again = rematch["tries"].as_array().expect("the rematch's tries");
-        check(again);
-        (again, to)
-    };
-    let miss = |t: &serde_json::Value| (t["speedup"].as_f64().unwrap() / to).ln().abs();
     let reported = (
         json["reproj"]["node"].to_string(),
         json["reproj"]["delta_n"].as_u64().unwrap(),
     );
-    let kept = steered
+    let miss = |t: &serde_json::Value| (t["speedup"].as_f64().unwrap() / 1.5).ln().abs();
+    // The try closest to the target: what the first steering kept.
+    let closest = tries
         .iter()
-        .find(|t| key(t) == reported)
-        .expect("the reported point was raced");
-    assert!(steered.iter().all(|t| miss(kept) <= miss(t)), "{steered:?}");
+        .min_by(|a, b| miss(a).total_cmp(&miss(b)))
+        .unwrap();
+    let rematch = &json["reproj"]["rematch"];
+    if !rematch.is_null() {
+        let (to, from) = (
+            rematch["to_speedup"].as_f64().unwrap(),
+            rematch["from_speedup"].as_f64().unwrap(),
+        );
+        assert!((from / to).ln().abs() > 1.03f64.ln(), "{rematch}");
+        assert!(rematch["asked"].as_f64().unwrap() > 0.0, "{rematch}");
+        // Moved: the reported point is the one for resizing's speed, not the tries' pick.
+        assert_eq!(rematch["moved"] == true, key(closest) != reported, "{json}");
+    }
+    if rematch.is_null() || rematch["moved"] == false {
+        // The reported point was raced, and is the closest to the target.
+        assert_eq!(key(closest), reported, "{tries:?}");
+    }
     assert!(json["measured_on"].as_str().is_some(), "{json}");
     // The simplified shader is valid WGSL.
     let wgsl = std::fs::read_to_string(dir.join("cmp/simplified.wgsl")).unwrap();

@@ -42,21 +42,26 @@ pub struct ReprojDetail {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tries: Vec<ReprojTry>,
     /// At a target speedup, where the final interleaved run put reproj and resizing further apart
-    /// than the tolerance: reproj steered once more, to resizing's speed in that run, and every
+    /// than `CompareOptions::equal_time`: reproj moved to resizing's speed in that run, and every
     /// method timed again (compare.json version 5; absent where they were level).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rematch: Option<Rematch>,
 }
 
-/// reproj steered to resizing's speed after the final run put them apart ([`ReprojDetail::rematch`]).
+/// reproj moved to resizing's speed after the final run put them apart
+/// ([`ReprojDetail::rematch`]); the point reported is the new one.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Rematch {
-    /// Resizing's speedup in that run: what reproj was steered to.
+    /// Resizing's speedup in that run: the speed reproj was moved to.
     pub to_speedup: f64,
-    /// reproj's speedup in that run, at the point first reported (the one `tries` kept).
+    /// reproj's speedup in that run, at the point `tries` kept.
     pub from_speedup: f64,
-    /// The points raced on the way ([`steer`] at `to_speedup`), the reported one among them.
-    pub tries: Vec<ReprojTry>,
+    /// The speedup asked of the profile's models for it: `to_speedup` scaled by that point's
+    /// predicted over measured speedup.
+    pub asked: f64,
+    /// Whether that is another point (rendered, scored and timed again with every method); where
+    /// it is the reported point itself, nothing changed.
+    pub moved: bool,
 }
 
 /// One point [`steer`] raced against the original.
@@ -172,6 +177,13 @@ pub(crate) fn plan<'p>(
 }
 
 impl<'p> Planned<'p> {
+    /// Whether this is the point `detail` reports (same node or set, strategy and Δn).
+    pub(crate) fn same_point(&self, detail: &ReprojDetail) -> bool {
+        self.pick.name() == detail.node
+            && self.pick.strategy() == detail.strategy
+            && self.delta_n == detail.delta_n
+    }
+
     /// The point `(pick, Δn, predicted error, predicted ms)` of `profile`'s models.
     fn at((pick, delta_n, predicted_error, predicted_ms): Point<'p>, profile: &Profile) -> Self {
         Planned {

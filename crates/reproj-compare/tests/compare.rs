@@ -86,13 +86,13 @@ fn simplification_removes_the_least_error_node_first() {
     assert_eq!(c.crop_frames.len(), 3);
 }
 
-/// Where the final run puts reproj and resizing further apart than the tolerance, reproj is
-/// steered once more, to resizing's speed in that run, and every method is timed again. With no
-/// tolerance at all the two are always apart: the first steering's tries stay, the rematch records
-/// its own, the reported point is among them and the table's reproj row is that point. With a
-/// tolerance wider than any gap nothing is steered again.
+/// Where the final run puts reproj and resizing further apart than `equal_time`, reproj is
+/// moved to the profile's point for resizing's speed in that run, and every method is timed again
+/// where that is another point. With no margin at all the two are always apart: the rematch is
+/// recorded, and where it moved, the table's reproj row is the new point, timed and scored; with
+/// a margin wider than any gap nothing is recorded.
 #[test]
-fn reproj_is_steered_again_to_resizings_speed_where_the_final_run_puts_them_apart() {
+fn reproj_moves_to_resizings_speed_where_the_final_run_puts_them_apart() {
     use reproj_analyze::{AnalyzeInput, AnalyzeOptions, analyze};
     let loaded = load(
         &root().join("shaders/marble.wgsl"),
@@ -140,12 +140,11 @@ fn reproj_is_steered_again_to_resizings_speed_where_the_final_run_puts_them_apar
         session: &session,
         profile: Some((&profile, &profile_path)),
     };
-    let at = |tolerance: f64| CompareOptions {
+    let at = |equal_time: f64| CompareOptions {
         target: reproj_compare::Target::Speedup(1.5),
         max_frames: Some(8),
         resize: reproj_compare::resize::ResizeOptions {
             tries: 2,
-            tolerance,
             ..Default::default()
         },
         simplify: SimplifyOptions {
@@ -153,24 +152,30 @@ fn reproj_is_steered_again_to_resizings_speed_where_the_final_run_puts_them_apar
             max_steps: 1,
         },
         reproj_tries: 2,
+        equal_time,
         perceptual_stride: 4,
         ..Default::default()
     };
-    let c = compare(&renderer, &input, &at(1e-9), &Silent).unwrap();
+    let c = compare(&renderer, &input, &at(0.0), &Silent).unwrap();
     let r = c.report.reproj.as_ref().unwrap();
     let m = r
         .rematch
         .as_ref()
-        .expect("with no tolerance the two are apart");
+        .expect("with no margin the two are apart");
     assert!((1..=2).contains(&r.tries.len()), "{r:?}");
-    assert!((1..=2).contains(&m.tries.len()), "{r:?}");
-    assert!(m.to_speedup > 0.0 && m.from_speedup > 0.0, "{m:?}");
     assert!(
-        m.tries
-            .iter()
-            .any(|t| t.node == r.node && t.delta_n == r.delta_n),
-        "the reported point is the rematch's: {r:?}"
+        m.to_speedup > 0.0 && m.from_speedup > 0.0 && m.asked > 0.0,
+        "{m:?}"
     );
+    // The first steering kept the try closest to the target; moved, another point is reported.
+    let miss = |s: f64| (s / 1.5).ln().abs();
+    let kept = r
+        .tries
+        .iter()
+        .min_by(|a, b| miss(a.speedup).total_cmp(&miss(b.speedup)))
+        .unwrap();
+    let reported_kept = kept.node == r.node && kept.delta_n == r.delta_n;
+    assert_eq!(m.moved, !reported_kept, "{r:?}");
     let row = c
         .report
         .methods
@@ -181,7 +186,7 @@ fn reproj_is_steered_again_to_resizings_speed_where_the_final_run_puts_them_apar
         row.setting.contains(&format!("Δn = {}", r.delta_n)),
         "{row:?} {r:?}"
     );
-    let [lo, hi] = row.speedup_ci95.expect("timed again, interleaved");
+    let [lo, hi] = row.speedup_ci95.expect("timed interleaved");
     assert!(
         lo <= row.speedup && row.speedup <= hi && lo > 0.0,
         "{row:?}"

@@ -145,13 +145,15 @@ fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> 
         writeln!(stdout, "(no --profile: reproj's own choice not compared)")?;
     }
     if let Some(m) = r.reproj.as_ref().and_then(|d| d.rematch.as_ref()) {
+        let what = if m.moved {
+            "its point for that speed written above, every method timed again"
+        } else {
+            "that is the point written above"
+        };
         writeln!(
             stdout,
-            "reproj steered again: the first timing put it at {:.2}× against resizing's {:.2}×; steered to {:.2}× ({} tries) and every method timed again",
-            m.from_speedup,
-            m.to_speedup,
-            m.to_speedup,
-            m.tries.len()
+            "equal time: the first timing put reproj at {:.2}× against resizing's {:.2}×; the profile's point for {:.2}× (its models scaled by that timing): {what}",
+            m.from_speedup, m.to_speedup, m.to_speedup
         )?;
     }
     writeln!(
