@@ -254,6 +254,52 @@ impl<'p> Candidates<'p> {
     }
 }
 
+/// The reported point's own pick (node or set, in its strategy) at the least Δn whose predicted
+/// speedup reaches `target` (the fastest of its periods where none does): where `compare` moves
+/// reproj to resizing's speed, along the one curve its calibration was measured on (another
+/// node's models may be off by another factor: the environment map's node 658 measured 1.73×
+/// against 2.02× predicted, the root 2.61× against 2.35×). `None` where the pick is not in the
+/// profile's usable nodes and sets.
+pub(crate) fn along<'p>(
+    profile: &'p Profile,
+    reported: &ReprojDetail,
+    target: f64,
+    max_delta_n: u32,
+) -> Option<Planned<'p>> {
+    let c = Candidates::of(profile);
+    let same = |pick: &Pick| pick.name() == reported.node && pick.strategy() == reported.strategy;
+    let curve: Vec<(Pick<'p>, NodeRecord)> = c
+        .records
+        .iter()
+        .map(|r| (c.node(r.id, &r.strategy), r.clone()))
+        .chain(
+            c.sets
+                .iter()
+                .zip(&c.set_records)
+                .map(|(s, r)| (Pick::Set(s), r.as_node())),
+        )
+        .filter(|(pick, _)| same(pick))
+        .collect();
+    let (pick, record) = curve.into_iter().next()?;
+    let points: Vec<Point<'p>> = (DEFAULT_MIN_DELTA_N..=max_delta_n)
+        .filter_map(|dn| {
+            let p = predict(&record, &profile.hit_rate, dn)?;
+            Some((pick, dn, p.predicted_error, p.predicted_ms))
+        })
+        .collect();
+    let speedup = |ms: f64| profile.original.frame_ms / ms;
+    points
+        .iter()
+        .filter(|p| speedup(p.3) >= target)
+        .min_by_key(|p| p.1)
+        .or_else(|| {
+            points
+                .iter()
+                .max_by(|a, b| speedup(a.3).total_cmp(&speedup(b.3)))
+        })
+        .map(|&p| Planned::at(p, profile))
+}
+
 /// For a target speedup: among the single nodes' frontier and every set's points, the least
 /// predicted error that reaches it, else the fastest; `None` when there is no point.
 fn at_speedup<'p>(
@@ -546,4 +592,63 @@ pub(crate) fn reproj(
         },
         crop_frame,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reported(node: &str, strategy: &str) -> ReprojDetail {
+        ReprojDetail {
+            profile: "marble_small.profile.json".into(),
+            node: node.into(),
+            text: String::new(),
+            strategy: strategy.into(),
+            delta_n: 4,
+            predicted_error: 0.0,
+            predicted_speedup: 0.0,
+            tries: Vec::new(),
+            rematch: None,
+        }
+    }
+
+    /// `along` stays on the reported node's curve: the least period whose predicted speedup
+    /// reaches the speed asked (a faster ask never a shorter period), the fastest period where
+    /// none does, and nothing for a node or strategy the profile does not hold.
+    #[test]
+    fn along_takes_the_least_period_of_the_reported_node_that_reaches_the_speed() {
+        let profile: Profile = serde_json::from_str(include_str!(
+            "../../reproj-report/tests/data/marble_small.profile.json"
+        ))
+        .unwrap();
+        let node = reported("697", "2pass");
+        let at = |target: f64| along(&profile, &node, target, 50).unwrap();
+        let slowest = at(0.0);
+        let fastest = at(1e9);
+        assert!(
+            slowest.delta_n < fastest.delta_n,
+            "{} {}",
+            slowest.delta_n,
+            fastest.delta_n
+        );
+        let mut last = slowest.delta_n;
+        for i in 0..=20 {
+            let target = slowest.predicted_speedup
+                + (fastest.predicted_speedup - slowest.predicted_speedup) * f64::from(i) / 20.0;
+            let p = at(target);
+            assert_eq!((p.pick.name(), p.pick.strategy()), ("697".into(), "2pass"));
+            assert!(
+                p.predicted_speedup >= target - 1e-12,
+                "Δn {}: {} for {target}",
+                p.delta_n,
+                p.predicted_speedup
+            );
+            assert!(p.delta_n >= last, "Δn {} after {last}", p.delta_n);
+            // The least such period: asking for its own speed gives it back.
+            assert_eq!(at(p.predicted_speedup).delta_n, p.delta_n);
+            last = p.delta_n;
+        }
+        assert!(along(&profile, &reported("697", "fused"), 2.0, 50).is_none());
+        assert!(along(&profile, &reported("1", "2pass"), 2.0, 50).is_none());
+    }
 }

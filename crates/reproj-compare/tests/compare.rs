@@ -86,11 +86,12 @@ fn simplification_removes_the_least_error_node_first() {
     assert_eq!(c.crop_frames.len(), 3);
 }
 
-/// Where the final run puts reproj and resizing further apart than `equal_time`, reproj is
-/// moved to the profile's point for resizing's speed in that run, and every method is timed again
-/// where that is another point. With no margin at all the two are always apart: the rematch is
-/// recorded, and where it moved, the table's reproj row is the new point, timed and scored; with
-/// a margin wider than any gap nothing is recorded.
+/// Where the final run leaves reproj against resizing undecided (more than `equal_time` apart,
+/// the faster one with the larger error), reproj moves along its node's curve to resizing's speed
+/// in that run, and every method is timed again where that is another period. With no margin at
+/// all any gap counts: where a rematch is recorded, its figures are consistent and, where it
+/// moved, the table's reproj row is the new period, timed and scored; with a margin wider than any
+/// gap nothing is recorded. (Which period `reproj::along` takes is tested on a fixed profile.)
 #[test]
 fn reproj_moves_to_resizings_speed_where_the_final_run_puts_them_apart() {
     use reproj_analyze::{AnalyzeInput, AnalyzeOptions, analyze};
@@ -158,24 +159,23 @@ fn reproj_moves_to_resizings_speed_where_the_final_run_puts_them_apart() {
     };
     let c = compare(&renderer, &input, &at(0.0), &Silent).unwrap();
     let r = c.report.reproj.as_ref().unwrap();
-    let m = r
-        .rematch
-        .as_ref()
-        .expect("with no margin the two are apart");
     assert!((1..=2).contains(&r.tries.len()), "{r:?}");
-    assert!(
-        m.to_speedup > 0.0 && m.from_speedup > 0.0 && m.asked > 0.0,
-        "{m:?}"
-    );
-    // The first steering kept the try closest to the target; moved, another point is reported.
-    let miss = |s: f64| (s / 1.5).ln().abs();
-    let kept = r
-        .tries
-        .iter()
-        .min_by(|a, b| miss(a.speedup).total_cmp(&miss(b.speedup)))
-        .unwrap();
-    let reported_kept = kept.node == r.node && kept.delta_n == r.delta_n;
-    assert_eq!(m.moved, !reported_kept, "{r:?}");
+    if let Some(m) = r.rematch.as_ref() {
+        assert!(
+            m.to_speedup > 0.0 && m.from_speedup > 0.0 && m.asked > 0.0,
+            "{m:?}"
+        );
+        // The first steering kept the try closest to the target; moved, another period of the
+        // same node is reported.
+        let miss = |s: f64| (s / 1.5).ln().abs();
+        let kept = r
+            .tries
+            .iter()
+            .min_by(|a, b| miss(a.speedup).total_cmp(&miss(b.speedup)))
+            .unwrap();
+        assert_eq!(kept.node, r.node, "{r:?}");
+        assert_eq!(m.moved, kept.delta_n != r.delta_n, "{r:?}");
+    }
     let row = c
         .report
         .methods

@@ -146,13 +146,13 @@ fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> 
     }
     if let Some(m) = r.reproj.as_ref().and_then(|d| d.rematch.as_ref()) {
         let what = if m.moved {
-            "its point for that speed written above, every method timed again"
+            "written above, every method timed again"
         } else {
-            "that is the point written above"
+            "the period written above already"
         };
         writeln!(
             stdout,
-            "equal time: the first timing put reproj at {:.2}× against resizing's {:.2}×; the profile's point for {:.2}× (its models scaled by that timing): {what}",
+            "equal time: the first timing put reproj at {:.2}× against resizing's {:.2}×; its node's period for {:.2}× (its models scaled by that timing): {what}",
             m.from_speedup, m.to_speedup, m.to_speedup
         )?;
     }
