@@ -165,18 +165,8 @@ fn emit_adaptive_chooses_for_the_schedule_and_verifies_every_band() {
 fn the_runoff_writes_the_fastest_measured_of_the_nodes_predicted_alike() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
-    let (code, _, err) = common::analyze_short(
-        dir,
-        "two_terms.wgsl",
-        &["two_terms.json"],
-        "t.profile.json",
-        &["--strategy", "2pass"],
-    );
-    assert_eq!(code, 0, "{err}");
-    let mut profile: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap())
-            .unwrap();
+    two_terms_profiled_in_2pass(dir);
+    let mut profile = two_terms_profile(dir);
     // Every node timed as the first one is, and no interleaved race to scale them apart: their
     // predictions differ only by their periods under the budget.
     let timing = profile["nodes"][0]["timing_fit"].clone();
@@ -261,25 +251,17 @@ fn the_runoff_writes_the_fastest_measured_of_the_nodes_predicted_alike() {
 fn verify_names_a_profile_measured_on_another_driver() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
-    let (code, _, err) = common::analyze_short(
-        dir,
-        "two_terms.wgsl",
-        &["two_terms.json"],
-        "t.profile.json",
-        &["--strategy", "2pass"],
-    );
-    assert_eq!(code, 0, "{err}");
-    let read = || -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap()).unwrap()
-    };
-    let mut profile = read();
+    let analyzed = two_terms_profiled_in_2pass(dir);
+    let mut profile = two_terms_profile(dir);
     assert_eq!(profile["version"], 11);
     let driver = profile["machine"]["driver"]
         .as_str()
         .unwrap_or_else(|| panic!("the adapter names its driver: {}", profile["machine"]))
         .to_owned();
-    assert!(err.contains(&driver), "analyze names the driver: {err}");
+    assert!(
+        analyzed.contains(&driver),
+        "analyze names the driver: {analyzed}"
+    );
     let emit = |profile: &str, out: &str| {
         run(
             dir,
@@ -326,4 +308,24 @@ fn verify_names_a_profile_measured_on_another_driver() {
             .contains("re-run `reproj analyze`"),
         "{report}"
     );
+}
+
+/// `two_terms.wgsl` over `two_terms.json` in `dir`, profiled short in `2pass` into
+/// `t.profile.json`: what `analyze` said on stderr.
+fn two_terms_profiled_in_2pass(dir: &std::path::Path) -> String {
+    common::two_terms(dir, "two_terms.wgsl", "two_terms.json");
+    let (code, _, err) = common::analyze_short(
+        dir,
+        "two_terms.wgsl",
+        &["two_terms.json"],
+        "t.profile.json",
+        &["--strategy", "2pass"],
+    );
+    assert_eq!(code, 0, "{err}");
+    err
+}
+
+/// `t.profile.json` in `dir`, as JSON.
+fn two_terms_profile(dir: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap()).unwrap()
 }
