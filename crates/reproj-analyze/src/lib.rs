@@ -36,7 +36,7 @@ use std::path::PathBuf;
 
 #[cfg(feature = "gpu")]
 pub use analyze::{
-    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, DEFAULT_RACE, Progress, Sampling,
+    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, Extension, ExtensionStop, next_extension, DEFAULT_RACE, Progress, Sampling,
     Silent, analyze,
 };
 pub use emit::{
@@ -49,7 +49,7 @@ pub use journal::JournalOptions;
 pub use merge::merge;
 pub use prune::{PruneOptions, profile_candidates};
 /// The error budget and the default refresh periods, as the CLI checks them at its edge.
-pub use reproj_select::{Budget, DELTA_N_RANGE};
+pub use reproj_select::{Budget, DELTA_N_RANGE, EXTENDED_MAX_DELTA_N};
 #[cfg(feature = "gpu")]
 pub use sets::{SetCandidate, SetContext, SetSearchOptions, search_sets};
 #[cfg(feature = "gpu")]

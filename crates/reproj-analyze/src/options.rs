@@ -103,6 +103,121 @@ pub struct AnalyzeOptions {
     /// After the single nodes, search sets of nodes cached together ([`crate::sets`]). `None`:
     /// no set is formed (`--no-sets`).
     pub sets: Option<SetSearchOptions>,
+    /// How far past the longest training period a node's replays may go ([`next_extension`]).
+    pub extension: Extension,
+    /// Before any node, race the root cached and never refreshed against the original: the most
+    /// caching can give here, recorded in the profile; where even that cannot reach a useful
+    /// speedup no node is replayed (`crate::analyze`'s ceiling).
+    pub ceiling: bool,
+}
+
+/// Periods past the longest training one, replayed where they can still matter: the training
+/// periods stop at a fixed Δn, but where the error there is still far under any budget a user
+/// asks for and refreshing is still a large part of the variant's cost, a longer period is
+/// faster at an error users accept (at 1920×1080 marble's error at Δn 50 was 0.003, so budgets
+/// 0.01 to 0.1 all chose Δn 50). A node's period is doubled while [`next_extension`] says so.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extension {
+    /// The longest period replayed (at most the replayed frames; at or below the longest
+    /// training period: no extension).
+    pub max_delta_n: u32,
+    /// Stop once the measured error reaches this: the loosest budget a user is expected to ask
+    /// `emit` for (no budget would choose a longer period).
+    pub max_error: f64,
+    /// Stop once doubling the period can save less than this share of the variant's frame
+    /// time, at most (the refreshes it drops, each costing at most an original pixel).
+    pub min_gain: f64,
+}
+
+impl Extension {
+    /// No period past the training ones.
+    pub const OFF: Extension = Extension {
+        max_delta_n: 0,
+        max_error: 0.0,
+        min_gain: f64::INFINITY,
+    };
+    /// The default longest period (emit's default `--max-delta-n` is the same).
+    pub const DEFAULT_MAX_DELTA_N: u32 = reproj_select::EXTENDED_MAX_DELTA_N;
+    /// The default loosest budget.
+    pub const DEFAULT_MAX_ERROR: f64 = 0.1;
+    /// The default smallest gain worth a replay: 5 % (a variant's draws and lookup dominate its
+    /// time where it runs 2-3× faster than the original: doubling marble's Δn 50 gains at most
+    /// 2.9 % on lavapipe at 256×256 and 2.2 % on an H200 at 1080p; a node whose variant runs 10×
+    /// faster gains up to 10 %).
+    pub const DEFAULT_MIN_GAIN: f64 = 0.05;
+}
+
+impl Default for Extension {
+    fn default() -> Self {
+        Extension {
+            max_delta_n: Extension::DEFAULT_MAX_DELTA_N,
+            max_error: Extension::DEFAULT_MAX_ERROR,
+            min_gain: Extension::DEFAULT_MIN_GAIN,
+        }
+    }
+}
+
+/// Why a node's periods stop where they do ([`next_extension`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ExtensionStop {
+    /// The error reached the loosest budget.
+    Error { error: f64 },
+    /// Doubling the period would save at most `gain` of the frame time.
+    Gain { gain: f64 },
+    /// The next period would pass the longest allowed (or the replayed frames).
+    Limit { limit: u32 },
+}
+
+impl std::fmt::Display for ExtensionStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExtensionStop::Error { error } => write!(f, "its error {error:.5} reaches the loosest budget"),
+            ExtensionStop::Gain { gain } => write!(
+                f,
+                "doubling Δn would save at most {:.1} % of its frame time",
+                gain * 100.0
+            ),
+            ExtensionStop::Limit { limit } => write!(f, "the next period would pass Δn {limit}"),
+        }
+    }
+}
+
+/// The next period past the training ones for a node whose longest replay so far is `last`, or
+/// why there is none. Doubling Δn drops half of the refreshes: under the hit-rate model
+/// `γ = µ (1 − 1/Δn)` the refreshed share of the shaded pixels at Δn is `µ/Δn = γ/(Δn − 1)`, and
+/// each refreshed pixel costs at most what the original shader costs per shaded pixel, so the
+/// share of the variant's frame time saved is at most `γ/(2 (Δn − 1)) · speedup`, `speedup` being
+/// the variant's at `last` (original / variant frame time, from the node's interleaved race).
+/// `frames`: the replayed frames (a longer period is measured only in part).
+pub fn next_extension(
+    last: &Measurement,
+    speedup: f64,
+    frames: u32,
+    ext: &Extension,
+) -> Result<u32, ExtensionStop> {
+    let limit = ext.max_delta_n.min(frames);
+    let next = last.delta_n.saturating_mul(2);
+    if next > limit {
+        return Err(ExtensionStop::Limit { limit });
+    }
+    if !(last.error < ext.max_error) {
+        return Err(ExtensionStop::Error { error: last.error });
+    }
+    let refreshed = last.hit_rate / f64::from(last.delta_n.saturating_sub(1).max(1));
+    let gain = 0.5 * refreshed * speedup;
+    if !(gain >= ext.min_gain && gain.is_finite()) {
+        return Err(ExtensionStop::Gain {
+            gain: if gain.is_finite() { gain } else { 0.0 },
+        });
+    }
+    Ok(next)
+}
+
+/// Whether a measurement at `delta_n` belongs to the fits' training data: a training period, or
+/// one past the longest of them ([`next_extension`]); the others are held out.
+pub(crate) fn is_training(opts: &AnalyzeOptions, delta_n: u32) -> bool {
+    opts.delta_n_train.contains(&delta_n)
+        || opts.delta_n_train.iter().max().is_some_and(|&l| delta_n > l)
 }
 
 /// At how many of the training periods `analyze` replays each node.
@@ -193,14 +308,14 @@ pub(crate) fn held_out_check(measurements: &[Measurement], opts: &AnalyzeOptions
     };
     let held: Vec<&Measurement> = measurements
         .iter()
-        .filter(|m| !opts.delta_n_train.contains(&m.delta_n))
+        .filter(|m| !is_training(opts, m.delta_n))
         .collect();
     if held.is_empty() {
         return HeldOut::Unchecked;
     }
     let samples: Vec<(f64, f64)> = measurements
         .iter()
-        .filter(|m| opts.delta_n_train.contains(&m.delta_n))
+        .filter(|m| is_training(opts, m.delta_n))
         .map(|m| (m.delta_n as f64, m.error))
         .collect();
     let fit = fit_error(&samples, &ErrorFitOptions::default());
@@ -257,6 +372,8 @@ impl Default for AnalyzeOptions {
             race: DEFAULT_RACE,
             perceptual_stride: None,
             sets: Some(SetSearchOptions::default()),
+            extension: Extension::default(),
+            ceiling: true,
         }
     }
 }
@@ -362,6 +479,72 @@ mod tests {
             "delta_n": dn, "error": e, "psnr": null, "hit_rate": 0.9, "frame_ms": 1.0, "frames": []
         }))
         .unwrap()
+    }
+
+    /// A replay at `dn` with error `e`, hit rate `hit` and frame time `ms`.
+    fn replay(dn: u32, e: f64, hit: f64, ms: f64) -> Measurement {
+        serde_json::from_value(serde_json::json!({
+            "delta_n": dn, "error": e, "psnr": null, "hit_rate": hit, "frame_ms": ms, "frames": []
+        }))
+        .unwrap()
+    }
+
+    #[test]
+    fn periods_extend_only_while_a_longer_one_can_pay_under_the_loosest_budget() {
+        let ext = Extension::default();
+        // Marble on lavapipe at 256×256, Δn 50, 2.89× raced: 2.9 % at most to gain (the
+        // variant's own passes dominate).
+        let lavapipe = replay(50, 0.019, 0.969, 2.6);
+        match next_extension(&lavapipe, 2.89, 150, &ext) {
+            Err(ExtensionStop::Gain { gain }) => assert!((gain - 0.0286).abs() < 0.001, "{gain}"),
+            other => panic!("{other:?}"),
+        }
+        // An expensive original over a cheap variant: refreshing is a real part of the frame.
+        let expensive = replay(50, 0.003, 0.98, 2.0);
+        assert_eq!(next_extension(&expensive, 10.0, 150, &ext), Ok(100));
+        // Never past the replayed frames, nor past the longest allowed.
+        let at_100 = replay(100, 0.004, 0.99, 1.9);
+        assert_eq!(
+            next_extension(&at_100, 10.0, 150, &ext),
+            Err(ExtensionStop::Limit { limit: 150 })
+        );
+        let short = Extension {
+            max_delta_n: 50,
+            ..ext
+        };
+        assert_eq!(
+            next_extension(&expensive, 10.0, 150, &short),
+            Err(ExtensionStop::Limit { limit: 50 })
+        );
+        // An error already at the loosest budget (or not a number) stops it.
+        let coarse = replay(50, 0.12, 0.98, 2.0);
+        assert_eq!(
+            next_extension(&coarse, 10.0, 150, &ext),
+            Err(ExtensionStop::Error { error: 0.12 })
+        );
+        let nan = replay(50, f64::NAN, 0.98, 2.0);
+        assert!(matches!(
+            next_extension(&nan, 10.0, 150, &ext),
+            Err(ExtensionStop::Error { .. })
+        ));
+        // A frame time of zero or a hit rate of zero gives no gain to speak of.
+        let nothing = replay(50, 0.003, 0.0, 2.0);
+        assert_eq!(
+            next_extension(&nothing, 10.0, 150, &ext),
+            Err(ExtensionStop::Gain { gain: 0.0 })
+        );
+        assert_eq!(
+            next_extension(&expensive, f64::NAN, 150, &ext),
+            Err(ExtensionStop::Gain { gain: 0.0 })
+        );
+        assert_eq!(next_extension(&expensive, 10.0, 150, &Extension::OFF).ok(), None);
+    }
+
+    #[test]
+    fn periods_past_the_training_ones_train_the_fits() {
+        let o = opts(Sampling::default());
+        assert!(is_training(&o, 50) && is_training(&o, 100) && is_training(&o, 2));
+        assert!(!is_training(&o, 30) && !is_training(&o, 6));
     }
 
     #[test]

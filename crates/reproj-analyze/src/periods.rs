@@ -7,7 +7,7 @@ use reproj_models::profile::Measurement;
 
 use crate::AnalyzeError;
 use crate::journal::ReplayKey;
-use crate::options::{HeldOut, held_out_check, next_period};
+use crate::options::{HeldOut, held_out_check, next_extension, next_period};
 use crate::replayer::{RaceEntry, Replayer, Subject, too_slow};
 
 impl Replayer<'_, '_> {
@@ -65,6 +65,73 @@ impl Replayer<'_, '_> {
             };
             pool.retain(|&d| d != dn);
             self.replay_period(&mut run, dn)?;
+        }
+        Ok(())
+    }
+
+    /// Replay `subject` past the longest training period, doubling Δn while
+    /// [`next_extension`] says a longer period can still pay (its error under the loosest
+    /// budget, refreshing still a real part of its frame time), after [`Replayer::replay_plan`].
+    /// Says where and why the periods stop once they went past the training ones.
+    ///
+    /// `raced`: the subject's speedup raced interleaved at the longest training period; a
+    /// longer period's is that scaled by the replays' frame times (the original's replay
+    /// where it was not raced).
+    pub(crate) fn extend_periods(
+        &mut self,
+        raced: Option<f64>,
+        subject: &Subject,
+        sources: &[String],
+        variant: &reproj_instance::Variant,
+        measurements: &mut Vec<Measurement>,
+        failure: &mut Option<String>,
+    ) -> Result<(), AnalyzeError> {
+        let frames = self
+            .opts
+            .max_frames
+            .map_or(self.input.session.frames, |m| m.min(self.input.session.frames));
+        let mut verdict = None;
+        let mut run = PeriodRun {
+            subject,
+            sources,
+            variant,
+            measurements,
+            failure,
+            verdict: &mut verdict,
+        };
+        while run.failure.is_none() {
+            let Some(last) = run
+                .measurements
+                .iter()
+                .filter(|m| m.frame_ms.is_finite() && m.frame_ms > 0.0)
+                .max_by_key(|m| m.delta_n)
+            else {
+                break;
+            };
+            let at_longest = run
+                .measurements
+                .iter()
+                .find(|m| m.delta_n == self.longest)
+                .map(|m| m.frame_ms);
+            let speedup = match (raced, at_longest) {
+                (Some(s), Some(ms)) => s * ms / last.frame_ms,
+                _ => self.original_ms / last.frame_ms,
+            };
+            match next_extension(last, speedup, frames, &self.opts.extension) {
+                Ok(dn) => {
+                    self.progress.extend(1);
+                    self.replay_period(&mut run, dn)?;
+                }
+                Err(stop) => {
+                    if last.delta_n > self.longest {
+                        self.progress.note(&format!(
+                            "{}: periods extended to Δn = {}; stopped: {stop}",
+                            subject.who, last.delta_n
+                        ));
+                    }
+                    break;
+                }
+            }
         }
         Ok(())
     }

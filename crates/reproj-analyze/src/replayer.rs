@@ -359,7 +359,7 @@ pub(crate) fn fit_replays(
     hit_rate: &reproj_models::HitRateFit,
     mean_pixels: f64,
 ) -> Fitted {
-    let is_train = |m: &Measurement| opts.delta_n_train.contains(&m.delta_n);
+    let is_train = |m: &Measurement| crate::options::is_training(opts, m.delta_n);
     let train: Vec<&Measurement> = measurements.iter().filter(|m| is_train(m)).collect();
     let held: Vec<&Measurement> = measurements.iter().filter(|m| !is_train(m)).collect();
     let error_fit = fit_error(

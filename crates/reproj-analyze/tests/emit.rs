@@ -129,6 +129,7 @@ fn profile(shader: &Path) -> Profile {
         time: AnalysisTime::default(),
         shard: None,
         motion: None,
+        ceiling: None,
     }
 }
 

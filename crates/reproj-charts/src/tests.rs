@@ -214,6 +214,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         time: AnalysisTime::default(),
         shard: None,
         motion: None,
+        ceiling: None,
     }
 }
 

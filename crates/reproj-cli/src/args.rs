@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use reproj_analyze::{Budget, DELTA_N_RANGE};
+use reproj_analyze::{Budget, EXTENDED_MAX_DELTA_N};
 
 use crate::values::{
     at_least_one, backend_help, block_choice, budget, delta_n_limit, depth_epsilon, output_path,
@@ -122,7 +122,7 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 4, value_parser = at_least_one)]
     pub reproj_tries: usize,
     /// Longest refresh period reproj may choose.
-    #[arg(long, default_value_t = *DELTA_N_RANGE.end(), value_parser = delta_n_limit)]
+    #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Print compare.json instead of the table.
     #[arg(long)]
@@ -240,6 +240,11 @@ pub struct AnalyzeArgs {
     /// Refresh periods used only to check the models.
     #[arg(long, value_delimiter = ',', default_value = "6,30", value_parser = delta_n_limit)]
     pub holdout: Vec<u32>,
+    /// Longest refresh period a node is replayed at: past the longest of --delta-n, a node's
+    /// period is doubled while its error is under 0.1 and a longer period can still save 3 % of
+    /// its frame time (at most the session's frames; 50: never past --delta-n).
+    #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
+    pub max_delta_n: u32,
     /// Profile these node ids only (the root is always added). Default: pruned by saving.
     #[arg(long, value_delimiter = ',')]
     pub nodes: Option<Vec<u32>>,
@@ -341,7 +346,7 @@ pub struct EmitArgs {
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Largest refresh period to consider.
-    #[arg(long, default_value_t = *DELTA_N_RANGE.end(), value_parser = delta_n_limit)]
+    #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Cache texel format of the written passes (default: the profile's).
     #[arg(long, value_enum)]

@@ -162,7 +162,7 @@ impl Default for CompareOptions {
             max_frames: None,
             resize: Default::default(),
             simplify: Default::default(),
-            max_delta_n: reproj_select::DEFAULT_MAX_DELTA_N,
+            max_delta_n: reproj_select::EXTENDED_MAX_DELTA_N,
             reproj_tries: 4,
             equal_time: 0.03,
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,

@@ -24,6 +24,11 @@ use serde::{Deserialize, Serialize};
 
 /// Default largest refresh period considered (the paper's clip): [`DELTA_N_RANGE`]'s end.
 pub const DEFAULT_MAX_DELTA_N: u32 = *DELTA_N_RANGE.end();
+/// Default largest refresh period `emit` considers: `analyze` replays a node past
+/// [`DEFAULT_MAX_DELTA_N`] only where that can still pay (its `Extension`), and no period past a
+/// node's longest measured one is ever predicted ([`respect_measurements`]), so a profile
+/// measured up to Δn 50 is chosen from as before.
+pub const EXTENDED_MAX_DELTA_N: u32 = 400;
 /// Default smallest refresh period considered (Δn = 1 recomputes every frame: never faster):
 /// [`DELTA_N_RANGE`]'s start.
 pub const DEFAULT_MIN_DELTA_N: u32 = *DELTA_N_RANGE.start();

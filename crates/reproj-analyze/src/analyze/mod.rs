@@ -2,9 +2,11 @@
 //! at every training and held-out Δn, fit the models, and gather everything into a [`Profile`].
 //!
 //! This file holds the orchestration and the set-up phases (the nodes, the journal, the
-//! reference); `node.rs` replays one node (its strategy race, then the winner's periods);
+//! reference); `ceiling.rs` measures the most caching can give here (and stops where it cannot
+//! pay); `node.rs` replays one node (its strategy race, then the winner's periods);
 //! `profile.rs` fits the models and fills the profile.
 
+mod ceiling;
 mod node;
 mod profile;
 
@@ -18,7 +20,7 @@ use crate::AnalyzeError;
 pub use crate::input::{AnalyzeInput, Progress, Silent};
 use crate::journal::Journal;
 pub use crate::options::{
-    AnalyzeOptions, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
+    AnalyzeOptions, Extension, ExtensionStop, next_extension, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
     DEFAULT_RACE, DEFAULT_TRAIN, Sampling,
 };
 use crate::options::{check_periods, period_plan};
@@ -27,8 +29,9 @@ use crate::replayer::{Replayer, finite, mean};
 use node::replay_nodes;
 use profile::{Measured, fit_nodes, profile};
 
-/// Profile the shader over the session. Phases: the nodes and the journal, the reference,
-/// the replays node by node ([`replay_nodes`]), the fits ([`fit_nodes`]), the sets, then the
+/// Profile the shader over the session. Phases: the nodes and the journal, the reference, the
+/// ceiling ([`ceiling::measure_ceiling`]: where even that cannot pay, no node is replayed), the
+/// replays node by node ([`replay_nodes`]), the fits ([`fit_nodes`]), the sets, then the
 /// profile ([`profile`]).
 pub fn analyze(
     input: &AnalyzeInput,
@@ -63,7 +66,7 @@ pub fn analyze(
         .unwrap_or(session_frames.div_ceil(DEFAULT_PERCEPTUAL_FRAMES));
     let journal = open_journal(input, renderer, opts, &ids, stride, progress)?;
     // Per node: each strategy instanced (or pruned), the race, the longest period and the plan.
-    progress.start(1 + (ids.len() * (3 + plan.len() + extra)) as u64);
+    progress.start(3 + (ids.len() * (3 + plan.len() + extra)) as u64);
     let (reference, render_opts, time) = render_reference(input, renderer, opts, stride)?;
     progress.step("original");
     let (mut original, mean_pixels) = original_record(&reference, progress);
@@ -85,13 +88,27 @@ pub fn analyze(
         longest,
         timing_warnings: Vec::new(),
     };
-    let replays = replay_nodes(&mut rp, &ids, &plan)?;
+    let ceiling = if opts.ceiling {
+        ceiling::measure_ceiling(&mut rp)?
+    } else {
+        None
+    };
+    // Where it pays, said before the long part (where it does not, the summary says why).
+    if let Some(c) = ceiling.as_ref().filter(|c| c.pays) {
+        progress.note(&c.to_string());
+    }
+    let pays = ceiling.as_ref().is_none_or(|c| c.pays);
+    let replays = if pays {
+        replay_nodes(&mut rp, &ids, &plan)?
+    } else {
+        node::Replays::default()
+    };
     let t = Instant::now();
     let (hit_rate, nodes) = fit_nodes(&rp, &replays.raws, mean_pixels);
     rp.time.fitting_s += t.elapsed().as_secs_f64();
     let sets = match &opts.sets {
         // A shard sees only its part of the nodes: sets are searched over whole analyses.
-        Some(set_opts) if ids.len() > 1 && opts.shard.is_none() => {
+        Some(set_opts) if pays && ids.len() > 1 && opts.shard.is_none() => {
             crate::sets::analyze_sets(&mut rp, &nodes, &hit_rate, mean_pixels, set_opts)?
         }
         _ => Vec::new(),
@@ -119,6 +136,7 @@ pub fn analyze(
             sets,
             time,
             timing_warnings: rp.timing_warnings,
+            ceiling,
         },
     ))
 }

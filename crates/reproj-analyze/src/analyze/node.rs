@@ -450,8 +450,32 @@ fn profile_winner(
                 &mut measurements,
                 &mut failure,
             )?;
+            rp.extend_periods(
+                None,
+                &subject,
+                &kept.sources,
+                &kept.variant,
+                &mut measurements,
+                &mut failure,
+            )?;
+            return Ok(Raw {
+                id,
+                strategy,
+                block,
+                reconstruct,
+                measurements,
+                failure,
+            });
         }
     }
+    rp.extend_periods(
+        Some(estimate.speedup),
+        &subject,
+        &sources,
+        &variant,
+        &mut measurements,
+        &mut failure,
+    )?;
     Ok(Raw {
         id,
         strategy,
@@ -475,8 +499,10 @@ struct Built {
 /// The strategy that wins a node's race: among those faster than the simplest strategy (the
 /// fewest passes) beyond doubt — their intervals separate above its — the fastest by its
 /// estimate; otherwise the simplest: timing noise never decides. (The fastest estimate alone
-/// would let a strategy that does not separate hide one that does.) `None` when no strategy has
-/// an estimate.
+/// would let a strategy that does not separate hide one that does.) A winner slower than the
+/// original beyond doubt gives way to the fastest strategy whose interval still reaches 1×: a
+/// node is never set aside while one of its strategies may pay. `None` when no strategy has an
+/// estimate.
 fn race_winner(strategies: &[Strategy], estimates: &[Option<SpeedupEstimate>]) -> Option<usize> {
     let timed: Vec<(usize, SpeedupEstimate)> = estimates
         .iter()
@@ -491,6 +517,15 @@ fn race_winner(strategies: &[Strategy], estimates: &[Option<SpeedupEstimate>]) -
         .filter(|(_, e)| e.speedup > simplest.1.speedup && separates(e, &simplest.1))
         .max_by(|a, b| a.1.speedup.total_cmp(&b.1.speedup))
         .map_or(simplest.0, |w| w.0);
+    let surely_slower = |i: usize| timed.iter().any(|(j, e)| *j == i && e.surely_slower());
+    if surely_slower(winner)
+        && let Some(may_pay) = timed
+            .iter()
+            .filter(|(_, e)| !e.surely_slower())
+            .max_by(|a, b| a.1.speedup.total_cmp(&b.1.speedup))
+    {
+        return Some(may_pay.0);
+    }
     Some(winner)
 }
 
@@ -542,6 +577,17 @@ mod tests {
             Some(1)
         );
         assert_eq!(race_winner(&s, &[None, None, None]), None);
+        // The simplest is slower than the original beyond doubt, another may still pay: that
+        // one (a normal-mapped Blinn-Phong: fused 0.73× [0.55, 0.97], 2pass 0.93× [0.75, 1.16]).
+        assert_eq!(
+            race_winner(&s, &[e(0.6, 0.5, 0.7), e(0.93, 0.75, 1.16), e(0.73, 0.55, 0.97)]),
+            Some(1)
+        );
+        // All slower beyond doubt: the simplest, as before (the node is then set aside).
+        assert_eq!(
+            race_winner(&s, &[e(0.6, 0.5, 0.7), e(0.9, 0.85, 0.95), e(0.73, 0.55, 0.97)]),
+            Some(2)
+        );
     }
 
     #[test]

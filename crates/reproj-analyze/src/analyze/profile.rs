@@ -87,6 +87,7 @@ pub(super) struct Measured {
     pub(super) sets: Vec<SetProfile>,
     pub(super) time: AnalysisTime,
     pub(super) timing_warnings: Vec<String>,
+    pub(super) ceiling: Option<reproj_models::profile::Ceiling>,
 }
 
 /// The profile: the sources and their hashes, the machine, the settings, and what was measured.
@@ -144,5 +145,6 @@ pub(super) fn profile(
         time: m.time,
         shard: opts.shard,
         motion: crate::motion::measure(input.session, Some(m.frames)),
+        ceiling: m.ceiling,
     }
 }

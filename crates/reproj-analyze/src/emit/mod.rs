@@ -331,7 +331,12 @@ pub fn emit(
             Some(w.node(&choice, node, schedule, &mut report)?)
         }
         Selection::Original { reason } => {
-            w.original(&reason.to_string(), &mut report)?;
+            // A profile that stopped at its ceiling says why better than "no usable node".
+            let why = match &profile.ceiling {
+                Some(c) if !c.pays && profile.nodes.is_empty() => c.to_string(),
+                _ => reason.to_string(),
+            };
+            w.original(&why, &mut report)?;
             None
         }
     };

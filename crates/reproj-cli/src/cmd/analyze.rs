@@ -187,12 +187,28 @@ struct Written {
     hit_rate_mu: Option<f64>,
     seconds: f64,
     charts: Vec<String>,
+    /// The most caching can give on this device (profile `ceiling`); where `pays` is false no
+    /// node was profiled.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ceiling: Option<reproj_models::profile::Ceiling>,
     #[serde(skip)]
     time: reproj_models::profile::AnalysisTime,
 }
 
 /// The text summary of one profile written.
 fn print_summary(stdout: &mut impl Write, w: &Written) -> anyhow::Result<()> {
+    if let Some(c) = &w.ceiling {
+        writeln!(stdout, "ceiling  {c}")?;
+        if !c.pays {
+            writeln!(
+                stdout,
+                "no node profiled: `reproj emit` keeps the original shader, with this reason (time {:.1} s)",
+                w.seconds
+            )?;
+            writeln!(stdout, "wrote {}", w.profile)?;
+            return Ok(());
+        }
+    }
     writeln!(
         stdout,
         "profiled {} nodes ({} usable) at Δn {:?} (+ held out {:?}) over {} frames at {}x{}",
@@ -321,6 +337,11 @@ fn analyze_session(
             crate::SamplingArg::Adaptive => reproj_analyze::Sampling::default(),
             crate::SamplingArg::Every => reproj_analyze::Sampling::Every,
         },
+        extension: reproj_analyze::Extension {
+            max_delta_n: args.max_delta_n,
+            ..reproj_analyze::Extension::default()
+        },
+        ceiling: true,
     };
     crate::ui::note(format_args!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",
@@ -378,6 +399,7 @@ fn analyze_session(
         hit_rate_mu: profile.hit_rate.mu,
         seconds: profile.time.total_s,
         charts,
+        ceiling: profile.ceiling.clone(),
         time: profile.time.clone(),
     })
 }

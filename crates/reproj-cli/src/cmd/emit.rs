@@ -275,6 +275,17 @@ fn print_runoff(stdout: &mut impl Write, report: &EmitReport) -> std::io::Result
 /// The table's second part, after `--verify`: the measured error and speedup, the worst band of
 /// an adaptive schedule, the motion carried to the session, and the perceptual metrics.
 fn print_measured(stdout: &mut impl Write, report: &EmitReport) -> std::io::Result<()> {
+    if report.node.is_none() && report.measured_error.is_some() {
+        writeln!(
+            stdout,
+            "measured  the original shader is kept: nothing to time against it ({:.3} ms/frame on this session, one render)",
+            report.measured_original_ms.unwrap_or(0.0),
+        )?;
+        if let Some(on) = &report.measured_on {
+            writeln!(stdout, "measured on {on}")?;
+        }
+        return Ok(());
+    }
     if let (Some(e), Some(s)) = (report.measured_error, report.measured_speedup) {
         let ci = report
             .measured_speedup_ci95

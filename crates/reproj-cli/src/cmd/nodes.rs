@@ -44,9 +44,13 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
     };
     writeln!(
         out,
-        "{:>5} {:<11}{reason_col} {:>8} {:>8}  {:<9} text",
-        "id", "type", "cost", "overlap", "line:col"
+        "{:>5} {:<11}{reason_col} {:>8} {:>8} {:>6}  {:<9} text",
+        "id", "type", "cost", "overlap", "saves", "line:col"
     )?;
+    // What caching a node can save at most: its cost less what it shares with the rest, as a
+    // share of the whole shader's (the root's is 100 %). A variant's own passes cost about as
+    // much as a cheap shader does, so a node that saves a small share cannot pay.
+    let total_cost = table.total_cost.max(1e-9);
     for n in &table.nodes {
         let reason = if args.all {
             format!(" {:<18}", n.reason.map_or("", |r| r.as_str()))
@@ -65,11 +69,12 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
         }
         writeln!(
             out,
-            "{:>5} {:<11}{reason} {:>8.0} {:>8.0}  {:<9} {text}",
+            "{:>5} {:<11}{reason} {:>8.0} {:>8.0} {:>5.0}%  {:<9} {text}",
             n.id,
             n.ty,
             n.cost,
             n.overlap,
+            100.0 * (n.cost - n.overlap).max(0.0) / total_cost,
             format!("{}:{}", n.line, n.col),
         )?;
     }
