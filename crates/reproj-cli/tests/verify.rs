@@ -253,7 +253,7 @@ fn verify_names_a_profile_measured_on_another_driver() {
     let dir = tmp.path();
     let analyzed = two_terms_profiled_in_2pass(dir);
     let mut profile = two_terms_profile(dir);
-    assert_eq!(profile["version"], 11);
+    assert_eq!(profile["version"], 12);
     let driver = profile["machine"]["driver"]
         .as_str()
         .unwrap_or_else(|| panic!("the adapter names its driver: {}", profile["machine"]))
@@ -328,4 +328,73 @@ fn two_terms_profiled_in_2pass(dir: &std::path::Path) -> String {
 /// `t.profile.json` in `dir`, as JSON.
 fn two_terms_profile(dir: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap()).unwrap()
+}
+
+/// A shader whose shading costs less than a variant's own passes: `analyze` races the root cached
+/// and never refreshed against the original first, finds even that slower, profiles no node and
+/// says why with the figures, in seconds; `emit` keeps the original with that reason, and
+/// `--verify` then reports no speedup and no interval (nothing was raced), only the frame time.
+#[test]
+fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "unused.wgsl", "s.json");
+    std::fs::write(
+        dir.join("cheap.wgsl"),
+        "struct In {\n    @location(0) world_pos: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n};\n\
+         struct Scene { camera_pos: vec3<f32>, time: f32, light_pos: vec3<f32>, gain: f32, tint: vec3<f32> };\n\
+         @group(0) @binding(0) var<uniform> scene: Scene;\n\
+         @fragment\nfn fs_main(in: In) -> @location(0) vec4<f32> {\n    \
+         let l = normalize(scene.light_pos - in.world_pos);\n    \
+         let d = max(dot(normalize(in.normal), l), 0.0);\n    \
+         return vec4<f32>(scene.tint * d * scene.gain, 1.0);\n}\n",
+    )
+    .unwrap();
+    let started = std::time::Instant::now();
+    let (code, out, err) = common::analyze_short(dir, "cheap.wgsl", &["s.json"], "c.profile.json", &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("caching cannot pay on this device"), "{out}");
+    assert!(out.contains("no node profiled"), "{out}");
+    assert!(
+        started.elapsed().as_secs() < 60,
+        "the answer took {:?}",
+        started.elapsed()
+    );
+    let profile: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("c.profile.json")).unwrap())
+            .unwrap();
+    let ceiling = &profile["ceiling"];
+    assert_eq!(ceiling["pays"], false, "{ceiling}");
+    assert!(ceiling["ci95"][1].as_f64().unwrap() < 1.1, "{ceiling}");
+    assert!(ceiling["original_ms"].as_f64().unwrap() > 0.0, "{ceiling}");
+    assert_eq!(profile["nodes"].as_array().map(Vec::len), Some(0), "{profile}");
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit", "--profile", "c.profile.json", "--max-error", "0.01", "--out", "e", "--verify",
+            "--session", "s.json", "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+    assert!(report["node"].is_null(), "{report}");
+    assert!(
+        report["reason"]
+            .as_str()
+            .is_some_and(|r| r.contains("caching cannot pay")),
+        "{report}"
+    );
+    assert!(report["measured_speedup"].is_null(), "{report}");
+    assert!(report["measured_speedup_ci95"].is_null(), "{report}");
+    assert!(report["measured_original_ms"].as_f64().unwrap() > 0.0, "{report}");
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit", "--profile", "c.profile.json", "--max-error", "0.01", "--out", "e2",
+            "--verify", "--session", "s.json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("the original shader is kept: nothing to time"), "{out}");
+    assert!(!out.contains("1.00x [1.00, 1.00]"), "{out}");
 }
