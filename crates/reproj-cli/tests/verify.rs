@@ -398,3 +398,42 @@ fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
     assert!(out.contains("the original shader is kept: nothing to time"), "{out}");
     assert!(!out.contains("1.00x [1.00, 1.00]"), "{out}");
 }
+
+/// A shader that uses three bind groups, as engines do (view, material, mesh): the variant takes
+/// the fourth and the replay's own vertex transforms a fifth, so it analyzes, emits and verifies
+/// like any other (it used to be refused: "every bind group 0..4").
+#[test]
+fn a_shader_with_three_bind_groups_is_analyzed_and_verified() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "unused.wgsl", "s.json");
+    std::fs::copy(
+        common::root().join("crates/reproj-cli/tests/data/three_groups.wgsl"),
+        dir.join("three.wgsl"),
+    )
+    .unwrap();
+    let (code, out, err) = common::analyze_short(
+        dir,
+        "three.wgsl",
+        &["s.json"],
+        "g.profile.json",
+        &["--strategy", "2pass"],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("usable"), "{out}");
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit", "--profile", "g.profile.json", "--max-error", "0.02", "--out", "e", "--verify",
+            "--session", "s.json", "--runoff", "1", "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+    assert!(report["node"].is_string(), "{report}");
+    assert!(report["measured_error"].as_f64().unwrap() <= 0.02, "{report}");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("e/manifest.json")).unwrap())
+            .unwrap();
+    assert_eq!(manifest["group"], 3, "{manifest}");
+}

@@ -44,7 +44,7 @@ use pipeline::*;
 use scene::*;
 use score::{Scorer, scoring_pool};
 
-pub use reproj_instance::contract::{CLASSIFY_ENTRY, MAX_BIND_GROUPS};
+pub use reproj_instance::contract::CLASSIFY_ENTRY;
 
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

@@ -206,7 +206,7 @@ impl Renderer {
         session: &Session,
     ) -> Result<PlainPass, ReplayError> {
         let used: BTreeSet<u32> = iface.groups().into_iter().collect();
-        let vgroup = free_group(&used)?;
+        let vgroup = free_group(&used, self.device.limits().max_bind_groups)?;
         let scene = self.build_scene(session, &[&iface], None)?;
         let vs_src = vertex::vertex_wgsl(vgroup, &iface.inputs, &session.inputs, None)?;
         let vs = self.shader_module("replay vertex stage", &vs_src)?;

@@ -26,11 +26,14 @@ pub(super) struct Scene {
     pub(super) vertex_bgl: wgpu::BindGroupLayout,
 }
 
-/// Lowest group index not in `used`.
-pub(super) fn free_group(used: &BTreeSet<u32>) -> Result<u32, ReplayError> {
-    let g = (0..MAX_BIND_GROUPS).find(|g| !used.contains(g)).ok_or_else(|| ReplayError::Unsupported {
+/// The group of the replay's own vertex transforms: the lowest index not in `used`, below the
+/// device's `max_bind_groups` (`limit`). The replay asks for the adapter's limits (8 on lavapipe
+/// and on desktop GPUs), so a shader that uses groups 0–2 and a variant that adds group 3 still
+/// leave it one: this group is the replay's, never part of what a host binds.
+pub(super) fn free_group(used: &BTreeSet<u32>, limit: u32) -> Result<u32, ReplayError> {
+    let g = (0..limit).find(|g| !used.contains(g)).ok_or_else(|| ReplayError::Unsupported {
         what: format!(
-            "the fragment modules use every bind group 0..{MAX_BIND_GROUPS}; the replay needs a free one for the vertex transforms"
+            "the fragment modules use bind groups {used:?}, every one this device has (0..{limit}); the replay needs a free one for the vertex transforms"
         ),
     })?;
     Ok(g)

@@ -99,7 +99,7 @@ impl Renderer {
         if let Some(c) = &classify_stage {
             used.extend(c.groups());
         }
-        let vgroup = free_group(&used)?;
+        let vgroup = free_group(&used, self.device.limits().max_bind_groups)?;
         let mut input_sets: Vec<&[reflect::FragInput]> =
             stages.iter().map(|s| s.iface.inputs.as_slice()).collect();
         if let Some(c) = &classify_stage {
