@@ -78,10 +78,22 @@ pub fn starter_session(iface: &Interface, opts: &StarterOptions) -> Result<Start
     for r in &iface.resources {
         match &r.kind {
             ResourceKind::Uniform { fields, .. } => {
-                for f in fields.iter().filter(|f| session_must_provide(&f.name)) {
-                    let (value, why) = guess(f);
-                    notes.push(format!("uniforms.{} = {value}: {why}", f.name));
-                    insert(&mut uniforms, &path_steps(&f.name), value);
+                for f in fields {
+                    if session_must_provide(&f.name) {
+                        let (value, why) = guess(f);
+                        notes.push(format!("uniforms.{} = {value}: {why}", f.name));
+                        insert(&mut uniforms, &path_steps(&f.name), value);
+                    } else if let Some(a) = f
+                        .name
+                        .rsplit('.')
+                        .next()
+                        .and_then(|m| crate::uniforms::automatic_name(m.split('[').next()?))
+                    {
+                        notes.push(format!(
+                            "uniforms.{}: filled by the replay every frame as `{a}` (a name it knows)",
+                            f.name
+                        ));
+                    }
                 }
             }
             ResourceKind::Storage(layout) => {
@@ -289,7 +301,57 @@ fn texture(name: &str, dim: TexDim) -> (Value, &'static str) {
     }
 }
 
-/// The `inputs` table: the convention for locations 0–4, a guess by name past them.
+/// The vertex attribute an input's name says, when it says one (`world_position`, `tex_coords`,
+/// `v_normal`, `obj_pos`, …), checked against its width: a two-wide input is only texture
+/// coordinates, a position or normal is three or four wide.
+fn attribute_by_name(name: &str, components: u32) -> Option<&'static str> {
+    let n = name.to_ascii_lowercase();
+    let has = |words: &[&str]| words.iter().any(|w| n.contains(w));
+    let object = has(&["obj", "local", "model_pos", "model_norm"]);
+    let attribute = if has(&["uv", "texcoord", "tex_coord", "texcoords", "st0", "tc"]) {
+        "uv"
+    } else if has(&["tangent"]) {
+        "tangent"
+    } else if has(&["normal", "nrm", "norm"]) {
+        if object { "object_normal" } else { "normal" }
+    } else if has(&["pos", "world", "frag_p", "vertex_p"]) {
+        if object { "object_position" } else { "position" }
+    } else {
+        return None;
+    };
+    let fits = match attribute {
+        "uv" => components == 2,
+        "tangent" => components >= 3,
+        _ => components >= 3,
+    };
+    fits.then_some(attribute)
+}
+
+/// The attribute for an input the name says nothing of: the shaders/README.md convention by
+/// location where its width fits, else by its width alone.
+fn attribute_by_location(location: u32, components: u32) -> Option<&'static str> {
+    let convention = match location {
+        0 => Some("position"),
+        1 => Some("normal"),
+        2 => Some("uv"),
+        3 => Some("tangent"),
+        4 => Some("object_position"),
+        _ => None,
+    };
+    let width = |a: &str| if a == "uv" { 2 } else { 3 };
+    match convention {
+        Some(a) if (width(a) == 2) == (components == 2) => Some(a),
+        _ if location <= 4 => Some(match components {
+            2 => "uv",
+            4 => "tangent",
+            _ => "position",
+        }),
+        _ => None,
+    }
+}
+
+/// The `inputs` table: each input by its name where the name says an attribute of its width,
+/// else by the convention for locations 0–4 (or its width); every choice in the notes.
 fn inputs(used: &[FragInput], notes: &mut Vec<String>) -> Result<Value, StarterError> {
     let mut map: BTreeMap<String, &str> = [
         (0, "position"),
@@ -301,33 +363,25 @@ fn inputs(used: &[FragInput], notes: &mut Vec<String>) -> Result<Value, StarterE
     .into_iter()
     .map(|(l, a)| (l.to_string(), a))
     .collect();
-    for i in used.iter().filter(|i| i.location > 4) {
-        let n = i.name.to_ascii_lowercase();
-        let attribute = if n.contains("uv") || n.contains("tex") {
-            "uv"
-        } else if n.contains("tangent") {
-            "tangent"
-        } else if n.contains("normal") {
-            if n.contains("obj") {
-                "object_normal"
-            } else {
-                "normal"
-            }
-        } else if n.contains("pos") {
-            if n.contains("obj") || n.contains("local") {
-                "object_position"
-            } else {
-                "position"
-            }
-        } else {
-            return Err(StarterError::Input {
-                name: i.name.clone(),
-                location: i.location,
-            });
+    for i in used {
+        let (attribute, why) = match attribute_by_name(&i.name, i.components) {
+            Some(a) => (a, "from its name"),
+            None => match attribute_by_location(i.location, i.components) {
+                Some(a) if i.location <= 4 && map.get(&i.location.to_string()) == Some(&a) => {
+                    (a, "by its location (the shaders/README.md convention)")
+                }
+                Some(a) => (a, "by its width (its name and location say nothing)"),
+                None => {
+                    return Err(StarterError::Input {
+                        name: i.name.clone(),
+                        location: i.location,
+                    });
+                }
+            },
         };
         notes.push(format!(
-            "inputs.{} = {attribute}: `{}`, from its name",
-            i.location, i.name
+            "inputs.{} = {attribute}: `{}` ({} wide), {why}",
+            i.location, i.name, i.components
         ));
         map.insert(i.location.to_string(), attribute);
     }
@@ -376,6 +430,45 @@ mod tests {
             g(field("weights", ScalarTy::F32, 1, 1, 3)),
             json!([1.0, 1.0, 1.0])
         );
+    }
+
+    fn input(location: u32, components: u32, name: &str) -> FragInput {
+        FragInput {
+            location,
+            components,
+            interpolation: None,
+            sampling: None,
+            name: name.into(),
+        }
+    }
+
+    #[test]
+    fn inputs_go_by_name_before_location() {
+        let mut notes = Vec::new();
+        // Texture coordinates first and the world position second: by name, not by location.
+        let used = [
+            input(0, 2, "tex_coords"),
+            input(1, 3, "world_position"),
+            input(2, 3, "world_normal"),
+            input(3, 4, "v_tangent"),
+            input(5, 3, "obj_pos"),
+        ];
+        let map = inputs(&used, &mut notes).unwrap();
+        assert_eq!(map["0"], "uv");
+        assert_eq!(map["1"], "position");
+        assert_eq!(map["2"], "normal");
+        assert_eq!(map["3"], "tangent");
+        assert_eq!(map["5"], "object_position");
+        assert_eq!(notes.len(), 5, "{notes:?}");
+        assert!(notes.iter().all(|n| n.contains("from its name")), "{notes:?}");
+        // A name that says nothing: the convention where the width fits, else the width.
+        let mut notes = Vec::new();
+        let map = inputs(&[input(0, 3, "a"), input(2, 3, "b")], &mut notes).unwrap();
+        assert_eq!(map["0"], "position");
+        assert_eq!(map["2"], "position");
+        assert!(notes[0].contains("convention") && notes[1].contains("width"), "{notes:?}");
+        // Past the convention with no name to go by: refused, naming it.
+        assert!(inputs(&[input(7, 1, "q")], &mut Vec::new()).is_err());
     }
 
     #[test]

@@ -29,6 +29,42 @@ pub const AUTOMATIC_FIELDS: [&str; 7] = [
     "inv_view_proj",
 ];
 
+/// Other names engines give the eye and the light's position, filled as `camera_pos` and
+/// `light_pos` are (engine shaders as they sit in their repositories say `view_pos`,
+/// `eye_position`, `world_camera_position`, `light_position`…).
+pub const FIELD_ALIASES: [(&str, &str); 14] = [
+    ("view_pos", "camera_pos"),
+    ("view_position", "camera_pos"),
+    ("eye_pos", "camera_pos"),
+    ("eye_position", "camera_pos"),
+    ("eye", "camera_pos"),
+    ("camera_position", "camera_pos"),
+    ("cam_pos", "camera_pos"),
+    ("world_camera_pos", "camera_pos"),
+    ("world_camera_position", "camera_pos"),
+    ("view_world_position", "camera_pos"),
+    ("light_position", "light_pos"),
+    ("world_light_pos", "light_pos"),
+    ("light_world_pos", "light_pos"),
+    ("light_pos_ws", "light_pos"),
+];
+
+/// The automatic field a member name stands for: itself, or what [`FIELD_ALIASES`] maps it to
+/// (case-insensitive), when it is one.
+pub fn automatic_name(member: &str) -> Option<&'static str> {
+    let lower = member.to_ascii_lowercase();
+    AUTOMATIC_FIELDS
+        .iter()
+        .copied()
+        .find(|a| *a == lower)
+        .or_else(|| {
+            FIELD_ALIASES
+                .iter()
+                .find(|(alias, _)| *alias == lower)
+                .map(|(_, a)| *a)
+        })
+}
+
 /// The last member name of a leaf path (`color` of `sun.color`, `position` of
 /// `lights[2].position`): what padding and the [`AUTOMATIC_FIELDS`] are recognized by.
 fn member_name(path: &str) -> &str {
@@ -38,10 +74,10 @@ fn member_name(path: &str) -> &str {
 
 /// Whether the session must provide field `name` (a leaf path, see
 /// [`crate::reflect::UniformField::name`]) in its `uniforms`: its member name is neither padding
-/// nor one of the [`AUTOMATIC_FIELDS`].
+/// nor one of the [`AUTOMATIC_FIELDS`] or their [`FIELD_ALIASES`].
 pub fn session_must_provide(name: &str) -> bool {
     let m = member_name(name);
-    !m.starts_with('_') && !AUTOMATIC_FIELDS.contains(&m)
+    !m.starts_with('_') && automatic_name(m).is_none()
 }
 
 /// The values (column-major, arrays flattened) of uniform field `field` on the frame `state`.
@@ -55,7 +91,7 @@ pub fn field_values(session: &Session, state: &FrameState, field: &UniformField)
         }
         v
     };
-    match member_name(&field.name) {
+    match automatic_name(member_name(&field.name)).unwrap_or_default() {
         "camera_pos" => pad(state.camera.eye.to_array().map(f64::from).to_vec(), 1.0),
         "light_pos" => pad(state.light_pos.to_array().map(f64::from).to_vec(), 1.0),
         "time" => pad(vec![f64::from(state.time)], 0.0),
