@@ -3,18 +3,21 @@
 
 use std::path::Path;
 
+use crate::input::ShaderInput;
 use crate::nodes::{CullReason, NodeTable, enumerate};
 use crate::normalize::{NormalizeOptions, Normalized, normalize};
-use crate::parse::{FrontError, Lang, Shader, load_file_as};
+use crate::parse::{FrontError, Lang, Shader, load_file_with};
 use crate::unroll::UnrollOptions;
 
 /// Options of [`load`].
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct LoadOptions {
     /// The input language; `None` chooses by the file's extension (WGSL for an unknown one).
     pub lang: Option<Lang>,
     /// Loops to unroll before the nodes are enumerated.
     pub unroll: UnrollOptions,
+    /// Shader defs, import paths and include folders ([`ShaderInput`]).
+    pub input: ShaderInput,
 }
 
 /// A loaded shader: the parsed module, its normalized fragment entry point and its node table.
@@ -28,7 +31,7 @@ pub struct Loaded {
 /// Read `path`, normalize the fragment entry point `entry` (`None`: the only one) and enumerate
 /// its nodes.
 pub fn load(path: &Path, entry: Option<&str>, options: &LoadOptions) -> Result<Loaded, FrontError> {
-    let shader = load_file_as(path, options.lang)?;
+    let shader = load_file_with(path, options.lang, &options.input)?;
     Loaded::with_unroll(shader, entry, options.unroll)
 }
 
