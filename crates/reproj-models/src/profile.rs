@@ -40,7 +40,10 @@ pub use probes::{BlockProbe, FilterProbe, StrategyProbe};
 /// choose differently: lavapipe in Mesa 22.3 runs both sides of a branch, in Mesa 25 it skips the
 /// side no lane takes, and `analyze` keeps `2pass` on the one and `fused` on the other). Older
 /// files still load without it.
-pub const PROFILE_VERSION: u32 = 11;
+/// Version 12: `shader_input`, how the shader file was read (shader defs, a defs preset, import
+/// paths, GLSL include folders), so that `emit`, `report` and `compare --profile` read the same
+/// shader. Older files still load without it (read as by default).
+pub const PROFILE_VERSION: u32 = 12;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -62,6 +65,10 @@ pub struct Profile {
     /// version 5, 0 before). Node ids depend on it: `emit` normalizes the shader the same way.
     #[serde(default)]
     pub unroll: u32,
+    /// How the shader file was read beyond its language (version 12; absent: as by default).
+    /// Node ids and the IR hash depend on it: `emit` reads the shader the same way.
+    #[serde(default, skip_serializing_if = "ShaderInputRecord::is_empty")]
+    pub shader_input: ShaderInputRecord,
     pub session: Source,
     /// Where it was measured.
     pub machine: Machine,
@@ -123,6 +130,33 @@ pub struct Profile {
     /// measured).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<crate::motion::Motion>,
+}
+
+/// How `analyze` read the shader file (`reproj_front::ShaderInput`): what `--def`,
+/// `--defs-preset`, `--import-path` and `--include-dir` gave.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShaderInputRecord {
+    /// Shader defs given one by one, each value spelled as `--def` takes it (`true`, `false`, an
+    /// integer).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub defs: std::collections::BTreeMap<String, String>,
+    /// The defs preset under them (`bevy`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub defs_preset: Option<String>,
+    /// Folders searched for `#import`ed WGSL modules, relative to the profile's directory as
+    /// `shader.path` is.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub import_paths: Vec<String>,
+    /// Folders searched for GLSL `#include`s, relative to the profile's directory.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub include_dirs: Vec<String>,
+}
+
+impl ShaderInputRecord {
+    /// Whether the shader was read as by default (then the field is left out of the file).
+    pub fn is_empty(&self) -> bool {
+        *self == ShaderInputRecord::default()
+    }
 }
 
 /// Which part of the work a shard did: the candidate nodes at positions `p` with
