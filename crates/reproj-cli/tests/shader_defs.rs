@@ -37,13 +37,23 @@ fn node_texts(out: &str) -> Vec<String> {
 #[test]
 fn nodes_takes_defs_and_warns_of_one_nobody_reads() {
     let shader = format!("{DEFS}/choice.wgsl");
-    let (code, out, err) = reproj(&["nodes", &shader, "--def", "FOO", "--def=LEVELS=3", "--json"]);
+    let (code, out, err) = reproj(&[
+        "nodes",
+        &shader,
+        "--def",
+        "FOO",
+        "--def=LEVELS=3",
+        "--json",
+        "--all",
+    ]);
     assert_eq!(code, 0, "{err}");
     let texts = node_texts(&out);
     assert!(texts.iter().any(|t| t.starts_with("sin(")), "{texts:?}");
     assert!(!err.contains("warning"), "{err}");
 
-    let (code, out, err) = reproj(&["nodes", &shader, "--def", "FOOO", "--def", "LEVELS=3", "--json"]);
+    let (code, out, err) = reproj(&[
+        "nodes", &shader, "--def", "FOOO", "--def", "LEVELS=3", "--json", "--all",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(node_texts(&out).iter().any(|t| t.starts_with("cos(")));
     assert!(err.contains("`FOOO`") && err.contains("warning"), "{err}");

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::diagnostic::{self, Message, SourceDiagnostic};
 use crate::directives::{HiddenEntries, HiddenEntry};
 use crate::input::{InputWarning, ShaderInput};
+pub use crate::load::{load_file, load_file_as, load_file_with};
 
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
@@ -131,54 +132,6 @@ impl FrontError {
 /// Validator used everywhere in reproj: every check on, every capability allowed.
 pub fn validator() -> Validator {
     Validator::new(ValidationFlags::all(), Capabilities::all())
-}
-
-/// Read a shader file from disk in the language its extension names (WGSL for any other
-/// extension), then parse and validate it.
-pub fn load_file(path: &Path) -> Result<Shader, FrontError> {
-    load_file_as(path, None)
-}
-
-/// Read a shader file in `lang`, or in the language its extension names when `None` (WGSL for any
-/// other extension), then parse and validate it.
-pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontError> {
-    load_file_with(path, lang, &ShaderInput::default())
-}
-
-/// [`load_file_as`], read as `input` says: shader defs, import paths, include folders. A def
-/// that the shader never reads is a warning in [`Shader::warnings`].
-pub fn load_file_with(
-    path: &Path,
-    lang: Option<Lang>,
-    input: &ShaderInput,
-) -> Result<Shader, FrontError> {
-    let io = |source| FrontError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
-    let no_reader = std::collections::BTreeSet::new();
-    match lang {
-        Lang::SpirV => {
-            let mut shader = parse_spirv(path, &std::fs::read(path).map_err(io)?)?;
-            shader.warnings = crate::input::unread_defs(path, input, &no_reader);
-            Ok(shader)
-        }
-        Lang::Glsl => {
-            let source = std::fs::read_to_string(path).map_err(io)?;
-            parse_glsl_with(path, source, input)
-        }
-        Lang::Wgsl => {
-            let source = std::fs::read_to_string(path).map_err(io)?;
-            if needs_composing(&source) {
-                parse_composed_with(path, &source, input)
-            } else {
-                let mut shader = parse_text(path, Lang::Wgsl, source)?;
-                shader.warnings = crate::input::unread_defs(path, input, &no_reader);
-                Ok(shader)
-            }
-        }
-    }
 }
 
 /// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
@@ -376,7 +329,7 @@ fn write_wgsl(module: &naga::Module, info: &ModuleInfo) -> Result<String, String
         .map_err(|e| format!("naga cannot write this module as WGSL ({e})"))
 }
 
-fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontError> {
+pub(crate) fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontError> {
     parse_text_defined(path, lang, source, &[])
 }
 

@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::{ErrorFit, FrameTiming, HitRateFit, Metric, TimingFit};
 
+mod input;
 mod probes;
+pub use input::ShaderInputRecord;
 pub use probes::{BlockProbe, FilterProbe, StrategyProbe};
 
 /// Version of the profile schema. Bump on any incompatible change.
@@ -130,33 +132,6 @@ pub struct Profile {
     /// measured).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<crate::motion::Motion>,
-}
-
-/// How `analyze` read the shader file (`reproj_front::ShaderInput`): what `--def`,
-/// `--defs-preset`, `--import-path` and `--include-dir` gave.
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct ShaderInputRecord {
-    /// Shader defs given one by one, each value spelled as `--def` takes it (`true`, `false`, an
-    /// integer).
-    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
-    pub defs: std::collections::BTreeMap<String, String>,
-    /// The defs preset under them (`bevy`), if any.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub defs_preset: Option<String>,
-    /// Folders searched for `#import`ed WGSL modules, relative to the profile's directory as
-    /// `shader.path` is.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub import_paths: Vec<String>,
-    /// Folders searched for GLSL `#include`s, relative to the profile's directory.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub include_dirs: Vec<String>,
-}
-
-impl ShaderInputRecord {
-    /// Whether the shader was read as by default (then the field is left out of the file).
-    pub fn is_empty(&self) -> bool {
-        *self == ShaderInputRecord::default()
-    }
 }
 
 /// Which part of the work a shard did: the candidate nodes at positions `p` with

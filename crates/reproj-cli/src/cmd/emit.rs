@@ -392,7 +392,7 @@ fn verify_selection(
         let (runoff, winner) = reproj_analyze::runoff(
             &contenders,
             report,
-            profile,
+            (profile, profile_path),
             session,
             &renderer,
             &timing,
@@ -409,7 +409,7 @@ fn verify_selection(
         report,
         &opts.out,
         variant.as_ref(),
-        profile,
+        (profile, profile_path),
         session,
         &renderer,
         &timing,
