@@ -325,6 +325,21 @@ fn composer_error(
             ));
             m
         }
+        ComposerErrorInner::UnknownShaderDef {
+            shader_def_name: name,
+            ..
+        } => {
+            let mut m = Message::new(format!(
+                "`#if {name} …` compares shader def `{name}`, which is not defined: define it (`--def {name}=VALUE`)"
+            ));
+            // The comparison's line in the shader itself, where it is there (naga_oil's rendering
+            // below says where it is in a module).
+            if let Some(range) = crate::directives::comparison_of(source, name) {
+                m.labels.push((range, "compared here".into()));
+            }
+            m.notes.push(e.emit_to_string(composer));
+            m
+        }
         _ => {
             let mut m = Message::new(format!(
                 "composing the shader's imports failed: {}",

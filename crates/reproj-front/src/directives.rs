@@ -95,6 +95,26 @@ pub fn read_defs(source: &str) -> BTreeSet<String> {
     read
 }
 
+/// The byte range of the first `#if NAME op VALUE` line (trimmed) of `source` that compares
+/// `name`.
+pub fn comparison_of(source: &str, name: &str) -> Option<std::ops::Range<usize>> {
+    let mut at = 0;
+    for raw in source.split_inclusive('\n') {
+        let line = code(raw);
+        if let Some(Directive::Branch {
+            cond: Some(Cond::Cmp { name: n, .. }),
+            ..
+        }) = directive(line)
+            && n == name
+        {
+            let start = at + (raw.len() - raw.trim_start().len());
+            return Some(start..start + line.len());
+        }
+        at += raw.len();
+    }
+    None
+}
+
 impl Cond {
     /// Whether the condition holds under `defs` (a comparison with a def not given: no).
     fn holds(&self, defs: &BTreeMap<String, DefValue>) -> bool {
@@ -288,6 +308,9 @@ fn prepass() -> @location(0) vec4<f32> { return vec4(#{ALPHA}); }
     fn the_defs_read_are_those_of_directives_and_substitutions() {
         let read: Vec<String> = read_defs(SHADER).into_iter().collect();
         assert_eq!(read, ["ALPHA", "DEFERRED", "N", "PREPASS_FRAGMENT"]);
+        let range = comparison_of(SHADER, "N").unwrap();
+        assert_eq!(&SHADER[range], "#if N >= 3");
+        assert_eq!(comparison_of(SHADER, "DEFERRED"), None);
     }
 
     #[test]

@@ -51,6 +51,18 @@ fn defs_choose_the_branches_of_ifdef_and_if() {
         "{without}"
     );
 
+    // A comparison with a def not given is refused at its line, naming the def.
+    let e = load_file_with(&fixtures().join("choice.wgsl"), None, &defs(&[])).unwrap_err();
+    let FrontError::Parse(d) = &e else {
+        panic!("expected a parse error, got {e}")
+    };
+    let text = d.render();
+    assert!(
+        text.contains("shader def `LEVELS`, which is not defined"),
+        "{text}"
+    );
+    assert!(text.contains("choice.wgsl:12:1"), "{text}");
+
     // A negative value compares as an integer too.
     let negative = composed("choice.wgsl", &defs(&[("LEVELS", DefValue::Int(-1))]));
     assert!(negative.contains("sqrt("), "{negative}");
