@@ -83,3 +83,29 @@ fn an_import_path_finds_an_asset_import_and_a_hidden_entry_is_named() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("\"tint\""), "{out}");
 }
+
+/// Every command that reads a shader takes the same input options (one flattened set: clap's
+/// checks of each command run on its `--help`).
+#[test]
+fn every_command_that_reads_a_shader_takes_the_input_options() {
+    for command in [
+        &["nodes"][..],
+        &["instance"],
+        &["analyze"],
+        &["render"],
+        &["bench"],
+        &["session", "init"],
+        &["compare"],
+    ] {
+        let mut args = command.to_vec();
+        args.push("--help");
+        let (code, out, err) = reproj(&args);
+        if code == 2 && err.contains("gpu") {
+            continue; // a build without the command
+        }
+        assert_eq!(code, 0, "{command:?}: {err}");
+        for flag in ["--def", "--defs-preset", "--import-path", "--include-dir"] {
+            assert!(out.contains(flag), "{command:?} has no {flag}: {out}");
+        }
+    }
+}
