@@ -1,6 +1,8 @@
 //! Engine shaders through the real binary: `--def`, `--import-path` and their messages, on the
 //! front end's fixtures (`crates/reproj-front/tests/fixtures/defs/`).
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -108,4 +110,41 @@ fn every_command_that_reads_a_shader_takes_the_input_options() {
             assert!(out.contains(flag), "{command:?} has no {flag}: {out}");
         }
     }
+}
+
+/// `analyze --def … --import-path …` records them in the profile (`shader_input`, the folder
+/// relative to the profile's), and `emit` reads the shader with them: its entry point is behind
+/// `#ifdef PREPASS_FRAGMENT`, so `emit` fails without the profile's defs.
+#[test]
+fn analyze_records_the_input_options_and_emit_reads_the_shader_with_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "plain.wgsl", "t.json");
+    let plain = std::fs::read_to_string(dir.join("plain.wgsl")).unwrap();
+    let guarded = plain.replace("@fragment", "#ifdef PREPASS_FRAGMENT\n@fragment") + "#endif\n";
+    std::fs::write(dir.join("t.wgsl"), guarded).unwrap();
+    std::fs::create_dir(dir.join("modules")).unwrap();
+    let input = ["--def", "PREPASS_FRAGMENT", "--import-path", "modules"];
+    let (code, _, err) =
+        common::analyze_short(dir, "t.wgsl", &["t.json"], "t.profile.json", &input);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(dir.join("t.profile.json")).unwrap();
+    let profile: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(profile["version"], 12);
+    assert_eq!(
+        profile["shader_input"],
+        serde_json::json!({"defs": {"PREPASS_FRAGMENT": "true"}, "import_paths": ["modules"]})
+    );
+    let emit = [
+        "emit",
+        "--profile",
+        "t.profile.json",
+        "--max-error",
+        "0.05",
+        "--out",
+        "v",
+    ];
+    let (code, _, err) = common::run(dir, &emit);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("v/manifest.json").exists());
 }
