@@ -180,3 +180,30 @@ fn a_def_nobody_reads_is_a_warning() {
     let shader = load_file_with(&plain, None, &defs(&[("FOO", DefValue::Bool(true))])).unwrap();
     assert_eq!(shader.warnings.len(), 1, "{:?}", shader.warnings);
 }
+
+/// GLSL takes the defs as macros (glslang's `-D`, or naga's GLSL front end where glslang is
+/// missing), and a def no word of the shader names is a warning too.
+#[test]
+fn glsl_takes_the_defs_as_macros() {
+    let path = fixtures().join("choice.frag");
+    let wgsl = |input: &ShaderInput| {
+        let shader = load_file_with(&path, None, input).unwrap_or_else(|e| panic!("{e}"));
+        (shader.to_wgsl().unwrap().source, shader.warnings)
+    };
+    let (with, warnings) = wgsl(&defs(&[
+        ("FOO", DefValue::Bool(true)),
+        ("BAR", DefValue::UInt(2)),
+    ]));
+    assert!(with.contains("sin(") && !with.contains("cos("), "{with}");
+    let names: Vec<String> = warnings
+        .iter()
+        .map(|InputWarning::UnreadDef { name, .. }| name.clone())
+        .collect();
+    assert_eq!(names, ["BAR"]);
+    let (without, warnings) = wgsl(&ShaderInput::default());
+    assert!(
+        without.contains("cos(") && !without.contains("sin("),
+        "{without}"
+    );
+    assert_eq!(warnings, []);
+}
