@@ -41,7 +41,7 @@ pub use analyze::{
 };
 pub use emit::{
     Contender, EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, Runoff,
-    RunoffEntry, contenders, emit, latest_profile, load_profile,
+    RunoffEntry, contenders, emit, latest_profile, load_profile, profile_shader_input,
 };
 #[cfg(feature = "gpu")]
 pub use journal::JournalOptions;

@@ -33,6 +33,7 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             ("shader.hash", p.shader.hash.clone()),
             ("entry", p.entry.clone()),
             ("unroll", p.unroll.to_string()),
+            ("shader_input", format!("{:?}", p.shader_input)),
             ("session.hash", p.session.hash.clone()),
             ("machine.adapter", p.machine.adapter.clone()),
             ("machine.driver", format!("{:?}", p.machine.driver)),

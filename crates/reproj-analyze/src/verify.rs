@@ -21,7 +21,7 @@ pub fn verify(
     report: &mut EmitReport,
     out: &Path,
     variant: Option<&Variant>,
-    profile: &Profile,
+    (profile, profile_path): (&Profile, &Path),
     session: &Session,
     renderer: &Renderer,
     timing: &reproj_bench::BenchOptions,
@@ -31,7 +31,8 @@ pub fn verify(
             .perceptual_stride
             .unwrap_or(crate::options::DEFAULT_PERCEPTUAL_STRIDE),
     ));
-    let (shader, entry, reference) = original(report, profile, session, renderer, &opts)?;
+    let (shader, entry, reference) =
+        original(report, (profile, profile_path), session, renderer, &opts)?;
     report.measured_original_ms = Some(reference.report.frame_ms);
     report.measured_on = Some(reproj_bench::Machine::of(renderer).describe());
     match variant {
@@ -141,14 +142,19 @@ pub(crate) fn other_machine(
 pub fn runoff(
     contenders: &[crate::emit::Contender],
     report: &EmitReport,
-    profile: &Profile,
+    (profile, profile_path): (&Profile, &Path),
     session: &Session,
     renderer: &Renderer,
     timing: &reproj_bench::BenchOptions,
     progress: &mut dyn FnMut(&reproj_bench::Progress<'_>),
 ) -> Result<(crate::emit::Runoff, usize), AnalyzeError> {
-    let (shader, entry, reference) =
-        original(report, profile, session, renderer, &render_options(None))?;
+    let (shader, entry, reference) = original(
+        report,
+        (profile, profile_path),
+        session,
+        renderer,
+        &render_options(None),
+    )?;
     let candidates: Vec<reproj_bench::Candidate> = contenders
         .iter()
         .map(|c| reproj_bench::Candidate {
@@ -224,16 +230,18 @@ fn render_options(perceptual_stride: Option<u32>) -> RenderOptions {
     }
 }
 
-/// The shader `report` names (the profiled one) as WGSL, its profiled entry point, and its
-/// reference replay over `session`.
+/// The shader `report` names (the profiled one, read as the profile says) as WGSL, its profiled
+/// entry point, and its reference replay over `session`.
 fn original(
     report: &EmitReport,
-    profile: &Profile,
+    (profile, profile_path): (&Profile, &Path),
     session: &Session,
     renderer: &Renderer,
     opts: &RenderOptions,
 ) -> Result<(reproj_front::Shader, usize, reproj_replay::Reference), AnalyzeError> {
-    let shader = reproj_front::load_file(Path::new(&report.shader))?.to_wgsl()?;
+    let input = crate::emit::profile_shader_input(profile, profile_path)?;
+    let shader =
+        reproj_front::load_file_with(Path::new(&report.shader), None, &input)?.to_wgsl()?;
     let entry = shader.fragment_entry(Some(&profile.entry))?;
     let reference = renderer.render_original(&shader, entry, session, opts)?;
     Ok((shader, entry, reference))

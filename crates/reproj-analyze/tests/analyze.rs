@@ -204,7 +204,7 @@ fn static_session_profiles_without_nan_and_emits() {
         &mut report,
         &out,
         variant.as_ref(),
-        &back,
+        (&back, &path),
         &moving,
         &renderer,
         &reproj_bench::BenchOptions {

@@ -104,6 +104,7 @@ fn profile(shader: &Path) -> Profile {
         delta_n_holdout: vec![],
         perceptual_stride: None,
         unroll: 0,
+        shader_input: Default::default(),
         block: 4,
         depth_epsilon: 0.01,
         reconstruct: "bilinear".into(),

@@ -168,6 +168,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
     Profile {
         perceptual_stride: None,
         unroll: 0,
+        shader_input: Default::default(),
         schema: "reproj.profile".to_string(),
         version: PROFILE_VERSION,
         shader: Source {

@@ -30,6 +30,8 @@ pub struct BenchArgs {
     /// candidates).
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     /// The session file.
     #[arg(long)]
     pub session: PathBuf,
@@ -79,6 +81,9 @@ pub struct CompareArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    /// How the shader is read (with --profile: the profile's, unless given here).
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     /// Fragment entry point (default: the only one).
     #[arg(long)]
     pub entry: Option<String>,
@@ -163,6 +168,8 @@ pub struct RenderArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     /// The session file.
     #[arg(long)]
     pub session: PathBuf,
@@ -224,6 +231,8 @@ pub struct AnalyzeArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     #[command(flatten)]
     pub unroll: UnrollArg,
     /// The session file. Repeat it to profile several sessions (other motion) one after the
@@ -408,6 +417,46 @@ pub struct EmitArgs {
     pub min_speedup: Option<f64>,
 }
 
+/// How the shader file is read beyond its language (`reproj_front::ShaderInput`): shared by every
+/// command that reads a shader; `analyze` records it in the profile, so `emit`, `report` and
+/// `compare --profile` read the shader as it did.
+#[derive(Debug, Clone, Default, Args)]
+pub struct ShaderInputArgs {
+    /// A shader def, NAME or NAME=VALUE (VALUE: true, false or an integer; no value: true), for
+    /// naga_oil's `#ifdef`/`#if` in WGSL and as a macro in GLSL (a bool is 1 or 0). Repeatable; a
+    /// def the shader never reads is a warning.
+    #[arg(long = "def", value_name = "NAME[=VALUE]", value_parser = crate::values::shader_def)]
+    pub defs: Vec<(String, reproj_front::DefValue)>,
+    /// An engine's usual defs, under the --def ones: `bevy` (docs/USAGE.md lists them).
+    #[arg(long, value_name = "ENGINE", value_parser = crate::values::defs_preset)]
+    pub defs_preset: Option<reproj_front::DefsPreset>,
+    /// A folder searched (with its subfolders) for `#import`ed WGSL modules, and against which
+    /// asset-path imports (`#import "shaders/x.wgsl"`) are resolved; repeatable, searched after
+    /// the shader's folder and before REPROJ_WGSL_IMPORTS.
+    #[arg(long = "import-path", value_name = "DIR")]
+    pub import_paths: Vec<PathBuf>,
+    /// A folder searched for GLSL `#include "x"` after the shader's own; repeatable.
+    #[arg(short = 'I', long = "include-dir", value_name = "DIR")]
+    pub include_dirs: Vec<PathBuf>,
+}
+
+impl ShaderInputArgs {
+    /// The front end's value.
+    pub fn to_input(&self) -> reproj_front::ShaderInput {
+        reproj_front::ShaderInput {
+            defs: self.defs.iter().cloned().collect(),
+            preset: self.defs_preset,
+            import_paths: self.import_paths.clone(),
+            include_dirs: self.include_dirs.clone(),
+        }
+    }
+
+    /// Whether nothing was given (the shader read as by default).
+    pub fn is_empty(&self) -> bool {
+        self.to_input().is_default()
+    }
+}
+
 /// Loop unrolling before the nodes are listed (`nodes`, `instance`, `analyze`; `emit` takes it
 /// from the profile).
 #[derive(Debug, Args)]
@@ -446,6 +495,8 @@ pub struct SessionInitArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     /// Fragment entry point (needed when the module has several).
     #[arg(long)]
     pub entry: Option<String>,
@@ -472,6 +523,8 @@ pub struct NodesArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     /// Fragment entry point (needed when the module has several).
     #[arg(long)]
     pub entry: Option<String>,
@@ -636,6 +689,8 @@ pub struct InstanceArgs {
     /// The shader's language, when its extension does not say.
     #[arg(long, value_enum)]
     pub lang_in: Option<LangInArg>,
+    #[command(flatten)]
+    pub input: ShaderInputArgs,
     /// Node id from `reproj nodes`, or `root` for the final color; several ids separated by
     /// commas (`3,7`) cache those nodes together, packed in one payload of at most 4 floats.
     #[arg(long)]

@@ -187,3 +187,13 @@ pub(crate) fn parse_backend(s: &str) -> Result<String, String> {
 pub(crate) fn parse_backend(s: &str) -> Result<String, String> {
     Ok(s.to_string())
 }
+
+/// `--def NAME[=VALUE]`: a shader def (`reproj_front::parse_def`).
+pub(crate) fn shader_def(s: &str) -> Result<(String, reproj_front::DefValue), String> {
+    reproj_front::parse_def(s)
+}
+
+/// `--defs-preset ENGINE`.
+pub(crate) fn defs_preset(s: &str) -> Result<reproj_front::DefsPreset, String> {
+    s.parse()
+}

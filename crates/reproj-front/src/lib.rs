@@ -10,9 +10,11 @@
 pub mod compose;
 pub mod cost;
 pub mod diagnostic;
+pub mod directives;
 mod exits;
 pub mod glslang;
 mod graph;
+pub mod input;
 pub mod ir;
 pub mod liveness;
 pub mod load;
@@ -24,12 +26,14 @@ pub mod unroll;
 pub mod wgsl;
 
 pub use diagnostic::{Message, SourceDiagnostic};
+pub use directives::{HiddenEntries, HiddenEntry};
+pub use input::{DefValue, DefsPreset, InputWarning, ShaderInput, parse_def};
 pub use load::{CullSummary, LoadOptions, Loaded, load};
 pub use nodes::{CullReason, Node, NodeTable, enumerate};
 pub use normalize::{NormalizeOptions, Normalized, normalize};
 pub use parse::{
-    FrontError, Lang, Shader, load_file, load_file_as, parse_glsl, parse_shader, parse_spirv,
-    validator,
+    FrontError, Lang, Shader, load_file, load_file_as, load_file_with, parse_glsl, parse_glsl_with,
+    parse_shader, parse_spirv, validator,
 };
 pub use unroll::{UnrollOptions, Unrolled, unroll};
 pub use wgsl::write_wgsl;

@@ -1,20 +1,72 @@
 //! The front end in one call: read a shader file, normalize its fragment entry point, list its
-//! nodes. Every command and stage that starts from a shader file goes through [`load`].
+//! nodes. Every command and stage that starts from a shader file goes through [`load`], or
+//! through [`load_file_with`] where it needs the parsed shader only.
 
 use std::path::Path;
 
+use crate::input::ShaderInput;
 use crate::nodes::{CullReason, NodeTable, enumerate};
 use crate::normalize::{NormalizeOptions, Normalized, normalize};
-use crate::parse::{FrontError, Lang, Shader, load_file_as};
+use crate::parse::{FrontError, Lang, Shader};
 use crate::unroll::UnrollOptions;
 
 /// Options of [`load`].
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct LoadOptions {
     /// The input language; `None` chooses by the file's extension (WGSL for an unknown one).
     pub lang: Option<Lang>,
     /// Loops to unroll before the nodes are enumerated.
     pub unroll: UnrollOptions,
+    /// Shader defs, import paths and include folders ([`ShaderInput`]).
+    pub input: ShaderInput,
+}
+
+/// Read a shader file from disk in the language its extension names (WGSL for any other
+/// extension), then parse and validate it.
+pub fn load_file(path: &Path) -> Result<Shader, FrontError> {
+    load_file_as(path, None)
+}
+
+/// Read a shader file in `lang`, or in the language its extension names when `None` (WGSL for any
+/// other extension), then parse and validate it.
+pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontError> {
+    load_file_with(path, lang, &ShaderInput::default())
+}
+
+/// [`load_file_as`], read as `input` says: shader defs, import paths, include folders. A def
+/// that the shader never reads is a warning in [`Shader::warnings`].
+pub fn load_file_with(
+    path: &Path,
+    lang: Option<Lang>,
+    input: &ShaderInput,
+) -> Result<Shader, FrontError> {
+    let io = |source| FrontError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
+    let no_reader = std::collections::BTreeSet::new();
+    match lang {
+        Lang::SpirV => {
+            let mut shader = crate::parse::parse_spirv(path, &std::fs::read(path).map_err(io)?)?;
+            shader.warnings = crate::input::unread_defs(path, input, &no_reader);
+            Ok(shader)
+        }
+        Lang::Glsl => {
+            let source = std::fs::read_to_string(path).map_err(io)?;
+            crate::parse::parse_glsl_with(path, source, input)
+        }
+        Lang::Wgsl => {
+            let source = std::fs::read_to_string(path).map_err(io)?;
+            if crate::parse::needs_composing(&source) {
+                crate::parse::parse_composed_with(path, &source, input)
+            } else {
+                let mut shader = crate::parse::parse_text(path, Lang::Wgsl, source)?;
+                shader.warnings = crate::input::unread_defs(path, input, &no_reader);
+                Ok(shader)
+            }
+        }
+    }
 }
 
 /// A loaded shader: the parsed module, its normalized fragment entry point and its node table.
@@ -28,7 +80,7 @@ pub struct Loaded {
 /// Read `path`, normalize the fragment entry point `entry` (`None`: the only one) and enumerate
 /// its nodes.
 pub fn load(path: &Path, entry: Option<&str>, options: &LoadOptions) -> Result<Loaded, FrontError> {
-    let shader = load_file_as(path, options.lang)?;
+    let shader = load_file_with(path, options.lang, &options.input)?;
     Loaded::with_unroll(shader, entry, options.unroll)
 }
 

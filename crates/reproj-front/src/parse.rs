@@ -8,6 +8,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::diagnostic::{self, Message, SourceDiagnostic};
+use crate::directives::{HiddenEntries, HiddenEntry};
+use crate::input::{InputWarning, ShaderInput};
+pub use crate::load::{load_file, load_file_as, load_file_with};
 
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
@@ -58,6 +61,11 @@ pub struct Shader {
     /// The GLSL combined image samplers split into an image and a sampler, with the binding each
     /// half has in `module` (empty for other languages).
     pub split_samplers: Vec<crate::glslang::SplitSampler>,
+    /// What reading it warned of (a shader def nobody reads), for the CLI to print.
+    pub warnings: Vec<InputWarning>,
+    /// The `@fragment` entry points of the file that its preprocessor left out under the defs
+    /// given, named when the entry point asked for is missing.
+    pub hidden_entries: Vec<HiddenEntry>,
 }
 
 /// Everything that can go wrong in the front end. Each variant renders as one clear message; the
@@ -76,15 +84,22 @@ pub enum FrontError {
     /// The module parses but naga's validator rejects it.
     #[error("{0}")]
     Validation(SourceDiagnostic),
-    #[error("{path}: the module has no @fragment entry point")]
-    NoFragmentEntry { path: PathBuf },
+    #[error("{path}: the module has no @fragment entry point{hidden}")]
+    NoFragmentEntry {
+        path: PathBuf,
+        /// The ones the preprocessor left out, and the defs that would let them in.
+        hidden: HiddenEntries,
+    },
     #[error("{path}: the module has several @fragment entry points ({}); choose one with --entry", names.join(", "))]
     AmbiguousEntry { path: PathBuf, names: Vec<String> },
-    #[error("{path}: no @fragment entry point named `{name}` (fragment entry points: {})", available.join(", "))]
+    #[error("{path}: no @fragment entry point named `{name}` (fragment entry points: {}){hidden}", available.join(", "))]
     UnknownEntry {
         path: PathBuf,
         name: String,
         available: Vec<String>,
+        /// The ones the preprocessor left out (`name` among them when it is), and the defs that
+        /// would let them in.
+        hidden: HiddenEntries,
     },
     /// A construct reproj does not handle, at its place in the source ([`Shader::unsupported`]).
     #[error("{0}")]
@@ -119,36 +134,9 @@ pub fn validator() -> Validator {
     Validator::new(ValidationFlags::all(), Capabilities::all())
 }
 
-/// Read a shader file from disk in the language its extension names (WGSL for any other
-/// extension), then parse and validate it.
-pub fn load_file(path: &Path) -> Result<Shader, FrontError> {
-    load_file_as(path, None)
-}
-
-/// Read a shader file in `lang`, or in the language its extension names when `None` (WGSL for any
-/// other extension), then parse and validate it.
-pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontError> {
-    let io = |source| FrontError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
-    match lang {
-        Lang::SpirV => parse_spirv(path, &std::fs::read(path).map_err(io)?),
-        Lang::Glsl => parse_glsl(path, std::fs::read_to_string(path).map_err(io)?),
-        Lang::Wgsl => {
-            let source = std::fs::read_to_string(path).map_err(io)?;
-            if needs_composing(&source) {
-                parse_composed(path, &source)
-            } else {
-                parse_text(path, Lang::Wgsl, source)
-            }
-        }
-    }
-}
-
 /// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
-/// `#define_import_path`, `#ifdef`...), which plain WGSL never does.
+/// `#define_import_path`, `#ifdef`, `#if`...), which plain WGSL never does. Such a shader is
+/// composed even without an import: its `#ifdef`s are naga_oil's to resolve.
 pub fn needs_composing(source: &str) -> bool {
     source.lines().any(|l| l.trim_start().starts_with('#'))
 }
@@ -157,8 +145,34 @@ pub fn needs_composing(source: &str) -> bool {
 /// the source text, as for SPIR-V.
 #[cfg(feature = "compose")]
 pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
-    let module = crate::compose::compose(path, source)?;
-    reparse_as_wgsl(path, &module, "composed")
+    parse_composed_with(path, source, &ShaderInput::default())
+}
+
+/// [`parse_composed`] with `input`'s defs and import paths; what composing found (defs nobody
+/// reads, entry points the defs leave out) kept with the shader.
+#[cfg(feature = "compose")]
+pub fn parse_composed_with(
+    path: &Path,
+    source: &str,
+    input: &ShaderInput,
+) -> Result<Shader, FrontError> {
+    let composed = crate::compose::compose_with(path, source, input)?;
+    let shader = reparse_as_wgsl(path, &composed.module, "composed")?;
+    Ok(Shader {
+        warnings: composed.warnings,
+        hidden_entries: composed.hidden,
+        ..shader
+    })
+}
+
+/// Without the `compose` feature: refused at the first preprocessor line ([`parse_composed`]).
+#[cfg(not(feature = "compose"))]
+pub fn parse_composed_with(
+    path: &Path,
+    source: &str,
+    _input: &ShaderInput,
+) -> Result<Shader, FrontError> {
+    parse_composed(path, source)
 }
 
 /// Without the `compose` feature (the light build): refused at the first preprocessor line.
@@ -226,21 +240,38 @@ pub fn parse_shader(path: &Path, source: String) -> Result<Shader, FrontError> {
 /// Compile GLSL fragment-shader text with glslang ([`crate::glslang`]) and validate the module;
 /// where glslang is not installed, naga's GLSL front end reads it.
 pub fn parse_glsl(path: &Path, source: String) -> Result<Shader, FrontError> {
-    match crate::glslang::parse(path, source.clone()) {
-        Ok(shader) => Ok(shader),
-        Err(crate::glslang::GlslangError::Front(e)) => Err(e),
-        Err(crate::glslang::GlslangError::Missing) => {
-            parse_text(path, Lang::Glsl, source).map_err(|e| match e {
-                FrontError::Parse(mut d) => {
-                    for m in &mut d.messages {
-                        m.notes.push(missing_glslang_note(&m.text));
-                    }
-                    FrontError::Parse(d)
-                }
-                e => e,
-            })
+    parse_glsl_with(path, source, &ShaderInput::default())
+}
+
+/// [`parse_glsl`] with `input`'s defs as macros and its include folders searched; a def that no
+/// word of the shader or of the files it includes names is a warning.
+pub fn parse_glsl_with(
+    path: &Path,
+    source: String,
+    input: &ShaderInput,
+) -> Result<Shader, FrontError> {
+    let read = crate::glslang::words_read(path, &source, &input.include_dirs);
+    let warnings = crate::input::unread_defs(path, input, &read);
+    let shader = match crate::glslang::parse(path, source.clone(), input) {
+        Ok(shader) => shader,
+        Err(crate::glslang::GlslangError::Front(e)) => return Err(e),
+        Err(crate::glslang::GlslangError::Missing) => parse_naga_glsl(path, source, input)?,
+    };
+    Ok(Shader { warnings, ..shader })
+}
+
+/// naga's GLSL front end, where glslang is missing: `input`'s defs as its macros, no includes.
+fn parse_naga_glsl(path: &Path, source: String, input: &ShaderInput) -> Result<Shader, FrontError> {
+    let macros = crate::glslang::macros(input);
+    parse_text_defined(path, Lang::Glsl, source, &macros).map_err(|e| match e {
+        FrontError::Parse(mut d) => {
+            for m in &mut d.messages {
+                m.notes.push(missing_glslang_note(&m.text));
+            }
+            FrontError::Parse(d)
         }
-    }
+        e => e,
+    })
 }
 
 /// What a naga GLSL parse error needs, said when glslang is missing.
@@ -298,14 +329,23 @@ fn write_wgsl(module: &naga::Module, info: &ModuleInfo) -> Result<String, String
         .map_err(|e| format!("naga cannot write this module as WGSL ({e})"))
 }
 
-fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontError> {
+pub(crate) fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontError> {
+    parse_text_defined(path, lang, source, &[])
+}
+
+/// [`parse_text`], GLSL with these macros defined.
+fn parse_text_defined(
+    path: &Path,
+    lang: Lang,
+    source: String,
+    macros: &[(String, String)],
+) -> Result<Shader, FrontError> {
     let path_str = path.display().to_string();
+    let mut glsl_options = naga::front::glsl::Options::from(naga::ShaderStage::Fragment);
+    glsl_options.defines.extend(macros.iter().cloned());
     let module = match lang {
         Lang::Glsl => naga::front::glsl::Frontend::default()
-            .parse(
-                &naga::front::glsl::Options::from(naga::ShaderStage::Fragment),
-                &source,
-            )
+            .parse(&glsl_options, &source)
             .map_err(|e| {
                 FrontError::Parse(SourceDiagnostic::new(
                     path.to_owned(),
@@ -338,6 +378,8 @@ fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontEr
         module,
         info,
         split_samplers: Vec::new(),
+        warnings: Vec::new(),
+        hidden_entries: Vec::new(),
     })
 }
 
@@ -393,6 +435,8 @@ impl Shader {
         Ok(Shader {
             lang: self.lang,
             split_samplers: self.split_samplers.clone(),
+            warnings: self.warnings.clone(),
+            hidden_entries: self.hidden_entries.clone(),
             ..shader
         })
     }
@@ -417,14 +461,28 @@ impl Shader {
                 .iter()
                 .find(|(_, ep)| ep.name == n)
                 .map(|(i, _)| *i)
-                .ok_or_else(|| FrontError::UnknownEntry {
-                    path: self.path.clone(),
-                    name: n.to_owned(),
-                    available: names(),
+                .ok_or_else(|| {
+                    let named: Vec<HiddenEntry> = self
+                        .hidden_entries
+                        .iter()
+                        .filter(|h| h.name == n)
+                        .cloned()
+                        .collect();
+                    FrontError::UnknownEntry {
+                        path: self.path.clone(),
+                        name: n.to_owned(),
+                        available: names(),
+                        hidden: HiddenEntries(if named.is_empty() {
+                            self.hidden_entries.clone()
+                        } else {
+                            named
+                        }),
+                    }
                 }),
             None => match frags.as_slice() {
                 [] => Err(FrontError::NoFragmentEntry {
                     path: self.path.clone(),
+                    hidden: HiddenEntries(self.hidden_entries.clone()),
                 }),
                 [(i, _)] => Ok(*i),
                 _ => Err(FrontError::AmbiguousEntry {

@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::{ErrorFit, FrameTiming, HitRateFit, Metric, TimingFit};
 
+mod input;
 mod probes;
+pub use input::ShaderInputRecord;
 pub use probes::{BlockProbe, FilterProbe, StrategyProbe};
 
 /// Version of the profile schema. Bump on any incompatible change.
@@ -43,7 +45,9 @@ pub use probes::{BlockProbe, FilterProbe, StrategyProbe};
 /// Version 12: `ceiling`, the most caching can give on the device (the root cached and never
 /// refreshed, timed against the original before any node), and `analyze` stops there with no
 /// node where even that cannot pay. Nodes may be measured past the longest training period
-/// (`analyze --max-delta-n`). Older files still load without them.
+/// (`analyze --max-delta-n`). And `shader_input`, how the shader file was read (shader defs, a defs preset, import
+/// paths, GLSL include folders), so that `emit`, `report` and `compare --profile` read the same
+/// shader. Older files still load without any of them (read as by default).
 pub const PROFILE_VERSION: u32 = 12;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
@@ -66,6 +70,10 @@ pub struct Profile {
     /// version 5, 0 before). Node ids depend on it: `emit` normalizes the shader the same way.
     #[serde(default)]
     pub unroll: u32,
+    /// How the shader file was read beyond its language (version 12; absent: as by default).
+    /// Node ids and the IR hash depend on it: `emit` reads the shader the same way.
+    #[serde(default, skip_serializing_if = "ShaderInputRecord::is_empty")]
+    pub shader_input: ShaderInputRecord,
     pub session: Source,
     /// Where it was measured.
     pub machine: Machine,

@@ -108,6 +108,8 @@ pub(super) fn profile(
         },
         entry: input.norm.entry.clone(),
         unroll: input.norm.unroll.max_trip,
+        // Recorded by the caller, who knows the paths relative to the profile's directory.
+        shader_input: Default::default(),
         session: Source {
             path: input.session_path.display().to_string(),
             hash: content_hash(input.session_bytes),

@@ -29,7 +29,7 @@ mod write;
 use choose::{Records, choose};
 pub use profile::{
     is_profiled_shader, latest_profile, load_profile, load_profiled, profile_shader,
-    profile_variant_settings, resolve, selector_records,
+    profile_shader_input, profile_variant_settings, resolve, selector_records,
 };
 use profile::{records_of, same_shader, same_variant};
 pub use runoff::{Contender, Runoff, RunoffEntry, contenders};

@@ -75,6 +75,38 @@ pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf,
     }
 }
 
+/// How `analyze` read the profile's shader ([`reproj_models::profile::ShaderInputRecord`]): its
+/// defs parsed as `--def` parses them, its folders resolved against the profile's directory.
+pub fn profile_shader_input(
+    profile: &Profile,
+    profile_path: &Path,
+) -> Result<reproj_front::ShaderInput, AnalyzeError> {
+    let record = &profile.shader_input;
+    let bad = |field: &str, message: String| AnalyzeError::BadProfile {
+        path: profile_path.to_owned(),
+        message: format!("field `shader_input.{field}`: {message}"),
+    };
+    let mut defs = std::collections::BTreeMap::new();
+    for (name, value) in &record.defs {
+        let (name, value) =
+            reproj_front::parse_def(&format!("{name}={value}")).map_err(|m| bad("defs", m))?;
+        defs.insert(name, value);
+    }
+    let preset = record
+        .defs_preset
+        .as_deref()
+        .map(str::parse)
+        .transpose()
+        .map_err(|m| bad("defs_preset", m))?;
+    let dirs = |list: &[String]| list.iter().map(|d| resolve(d, profile_path)).collect();
+    Ok(reproj_front::ShaderInput {
+        defs,
+        preset,
+        import_paths: dirs(&record.import_paths),
+        include_dirs: dirs(&record.include_dirs),
+    })
+}
+
 /// How the profile's variant of `node` was made (`None`: of its sets): its reconstruction (the
 /// node's own, else the profile's) and the cache format, which the written and rendered variants
 /// must share to run what was measured.
@@ -242,6 +274,7 @@ pub fn load_profiled(
         unroll: UnrollOptions {
             max_trip: profile.unroll,
         },
+        input: profile_shader_input(profile, profile_path)?,
         ..Default::default()
     };
     let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;

@@ -71,6 +71,7 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         args.entry.as_deref(),
         args.lang_in,
         &args.unroll,
+        &args.input.to_input(),
     )?;
     if let Some(lines) = super::no_cacheable_lines(&loaded.table) {
         // Nothing to profile: an honest answer, exit 0 without a profile.
@@ -369,6 +370,7 @@ fn analyze_session(
     let dir = out.parent().unwrap_or(std::path::Path::new(""));
     profile.shader.path = super::relative_to(dir, &args.shader);
     profile.session.path = super::relative_to(dir, session_path);
+    profile.shader_input = input_record(&args.input, dir);
     let mut json = serde_json::to_vec_pretty(&profile)?;
     json.push(b'\n');
     reproj_io::write_owned_file(out, &json, super::PROFILE_FILE)?;
@@ -402,6 +404,27 @@ fn analyze_session(
         ceiling: profile.ceiling.clone(),
         time: profile.time.clone(),
     })
+}
+
+/// The profile's record of how the shader was read, its folders relative to `dir` (the
+/// profile's) as the shader's path is.
+fn input_record(
+    input: &crate::ShaderInputArgs,
+    dir: &std::path::Path,
+) -> reproj_models::profile::ShaderInputRecord {
+    let input = input.to_input();
+    let dirs =
+        |list: &[std::path::PathBuf]| list.iter().map(|d| super::relative_to(dir, d)).collect();
+    reproj_models::profile::ShaderInputRecord {
+        defs: input
+            .defs
+            .iter()
+            .map(|(n, v)| (n.clone(), v.to_string()))
+            .collect(),
+        defs_preset: input.preset.map(|p| p.as_str().to_owned()),
+        import_paths: dirs(&input.import_paths),
+        include_dirs: dirs(&input.include_dirs),
+    }
 }
 
 #[cfg(test)]

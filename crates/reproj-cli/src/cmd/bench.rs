@@ -7,7 +7,6 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use reproj_bench::{Baseline, BenchOptions, BenchReport, Candidate, Subject, bench};
-use reproj_front::load_file_as;
 use reproj_models::speedup::StopRule;
 use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
 use reproj_scene::Session;
@@ -23,7 +22,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let input = load_file_as(&args.shader, super::lang_in(args.lang_in))?;
+    let input = super::read_shader(&args.shader, args.lang_in, &args.input)?;
     let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     let session = Session::load(&args.session)?;
@@ -135,7 +134,7 @@ fn candidate(
     if !path.exists() {
         return Err(UserError(format!("{name}: no such file or directory")).into());
     }
-    let shader = load_file_as(path, super::lang_in(args.lang_in))?.to_wgsl()?;
+    let shader = super::read_shader(path, args.lang_in, &args.input)?.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     Ok(Candidate {
         name,

@@ -24,8 +24,18 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let unroll = crate::UnrollArg {
         unroll: profile.as_ref().map_or(0, |(p, _)| p.unroll),
     };
-    let mut loaded =
-        super::load_shader(&args.shader, args.entry.as_deref(), args.lang_in, &unroll)?;
+    // And the shader is read as the profile's was, unless told otherwise here.
+    let input = match &profile {
+        Some((p, path)) if args.input.is_empty() => reproj_analyze::profile_shader_input(p, path)?,
+        _ => args.input.to_input(),
+    };
+    let mut loaded = super::load_shader(
+        &args.shader,
+        args.entry.as_deref(),
+        args.lang_in,
+        &unroll,
+        &input,
+    )?;
     // The replay renders WGSL: a GLSL or SPIR-V shader is compared as naga's WGSL of it.
     loaded.shader = loaded.shader.to_wgsl()?;
     let session = Session::load(&args.session)?;

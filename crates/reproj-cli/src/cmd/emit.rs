@@ -403,7 +403,7 @@ fn verify_selection(
         let (runoff, winner) = reproj_analyze::runoff(
             &contenders,
             report,
-            profile,
+            (profile, profile_path),
             session,
             &renderer,
             &timing,
@@ -420,7 +420,7 @@ fn verify_selection(
         report,
         &opts.out,
         variant.as_ref(),
-        profile,
+        (profile, profile_path),
         session,
         &renderer,
         &timing,

@@ -20,6 +20,7 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
         args.entry.as_deref(),
         args.lang_in,
         &args.unroll,
+        &args.input.to_input(),
     )?;
     let (shader, norm, table) = (&loaded.shader, &loaded.norm, &loaded.table);
     let opts = super::integrate(

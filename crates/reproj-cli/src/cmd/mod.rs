@@ -148,21 +148,25 @@ pub fn lang_in(l: Option<crate::LangInArg>) -> Option<reproj_front::Lang> {
     })
 }
 
-/// Load, normalize and enumerate a shader file (see [`reproj_front::load`]).
+/// Load, normalize and enumerate a shader file (see [`reproj_front::load`]), read as `input`
+/// says; its warnings printed.
 pub fn load_shader(
     path: &std::path::Path,
     entry: Option<&str>,
     lang: Option<crate::LangInArg>,
     unroll: &crate::UnrollArg,
+    input: &reproj_front::ShaderInput,
 ) -> anyhow::Result<reproj_front::Loaded> {
     let options = reproj_front::LoadOptions {
         lang: lang_in(lang),
         unroll: reproj_front::UnrollOptions {
             max_trip: unroll.unroll,
         },
+        input: input.clone(),
     };
     let start = std::time::Instant::now();
     let loaded = reproj_front::load(path, entry, &options)?;
+    warn_input(&loaded.shader);
     crate::ui::detail(format_args!(
         "{}: entry `{}`, {} nodes ({} cacheable), read and normalized in {:.1} ms",
         path.display(),
@@ -172,6 +176,25 @@ pub fn load_shader(
         start.elapsed().as_secs_f64() * 1e3
     ));
     Ok(loaded)
+}
+
+/// Read a shader file as `input` says (no normalization: `render`, `bench`, `session init`);
+/// its warnings printed.
+pub fn read_shader(
+    path: &std::path::Path,
+    lang: Option<crate::LangInArg>,
+    input: &crate::ShaderInputArgs,
+) -> anyhow::Result<reproj_front::Shader> {
+    let shader = reproj_front::load_file_with(path, lang_in(lang), &input.to_input())?;
+    warn_input(&shader);
+    Ok(shader)
+}
+
+/// The warnings of reading a shader (a def nobody reads) on stderr.
+pub fn warn_input(shader: &reproj_front::Shader) {
+    for w in &shader.warnings {
+        crate::ui::warn(w);
+    }
 }
 
 /// What `--lang` and `--override` ask for (WGSL is always written).

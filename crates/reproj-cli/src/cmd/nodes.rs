@@ -10,6 +10,7 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
         args.entry.as_deref(),
         args.lang_in,
         &args.unroll,
+        &args.input.to_input(),
     )?;
     let mut table = loaded.table;
     let total = table.nodes.len();

@@ -8,7 +8,7 @@ use std::io::Write;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use reproj_front::{Loaded, load_file_as};
+use reproj_front::Loaded;
 use reproj_instance::{NodeSelector, instance};
 use reproj_replay::{FrameProgress, RenderOptions, Renderer, RendererOptions, VariantInput};
 use reproj_scene::Session;
@@ -23,7 +23,7 @@ const FRAME_FILES: &[&str] = &["png", "f32"];
 /// its timing on request, the frames committed, the warnings, then the report.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut stdout = std::io::stdout().lock();
-    let input = load_file_as(&args.shader, super::lang_in(args.lang_in))?;
+    let input = super::read_shader(&args.shader, args.lang_in, &args.input)?;
     // The replay renders WGSL: a GLSL shader is rendered as naga's WGSL of it.
     let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;

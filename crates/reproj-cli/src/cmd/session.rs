@@ -25,7 +25,7 @@ fn init(args: &SessionInitArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let input = reproj_front::load_file_as(&args.shader, super::lang_in(args.lang_in))?;
+    let input = super::read_shader(&args.shader, args.lang_in, &args.input)?;
     let shader = input.to_wgsl()?;
     let entry = shader.fragment_entry(args.entry.as_deref())?;
     let iface = reproj_scene::reflect::reflect(&shader.module, &shader.info, entry)?;

@@ -16,11 +16,13 @@
 mod matrix_inputs;
 pub mod split;
 
+use std::collections::BTreeSet;
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use crate::diagnostic::{Message, SourceDiagnostic};
+use crate::input::{DefValue, ShaderInput};
 use crate::parse::{FrontError, Lang, Shader, validator};
 
 pub use split::SplitSampler;
@@ -50,9 +52,14 @@ pub(crate) enum GlslangError {
 }
 
 /// Compile fragment-shader GLSL with glslang and read it as a [`Shader`] whose spans point into
-/// `source`.
-pub(crate) fn parse(path: &Path, source: String) -> Result<Shader, GlslangError> {
-    let mut words = compile(path, &source)?;
+/// `source`; `input`'s defs are macros (`-DNAME=VALUE`, a bool 1 or 0) and its include folders
+/// are searched after the shader's.
+pub(crate) fn parse(
+    path: &Path,
+    source: String,
+    input: &ShaderInput,
+) -> Result<Shader, GlslangError> {
+    let mut words = compile(path, &source, input)?;
     if split::has_spec_constant_op(&words) {
         words = freeze_spec_constants(path, &source, &words)?;
     }
@@ -104,11 +111,13 @@ pub(crate) fn parse(path: &Path, source: String) -> Result<Shader, GlslangError>
         module,
         info,
         split_samplers: samplers,
+        warnings: Vec::new(),
+        hidden_entries: Vec::new(),
     })
 }
 
 /// glslang's SPIR-V of `source` (fragment stage, Vulkan rules, with `OpLine`).
-fn compile(path: &Path, source: &str) -> Result<Vec<u32>, GlslangError> {
+fn compile(path: &Path, source: &str, input: &ShaderInput) -> Result<Vec<u32>, GlslangError> {
     static COUNTER: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let out = std::env::temp_dir().join(format!("reproj-glslang-{}-{n}.spv", std::process::id()));
@@ -118,11 +127,20 @@ fn compile(path: &Path, source: &str) -> Result<Vec<u32>, GlslangError> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut include = std::ffi::OsString::from("-I");
-    include.push(dir);
+    let includes = std::iter::once(dir)
+        .chain(input.include_dirs.iter().map(PathBuf::as_path))
+        .map(|d| {
+            let mut include = std::ffi::OsString::from("-I");
+            include.push(d);
+            include
+        });
+    let defines = macros(input)
+        .into_iter()
+        .map(|(name, value)| format!("-D{name}={value}"));
     let mut child = Command::new(glslang_program())
         .args(["--stdin", "-S", "frag", "-V", "-g"])
-        .arg(include)
+        .args(includes)
+        .args(defines)
         .arg("-o")
         .arg(&out)
         .stdin(Stdio::piped())
@@ -162,6 +180,53 @@ fn compile(path: &Path, source: &str) -> Result<Vec<u32>, GlslangError> {
         .chunks(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect())
+}
+
+/// `input`'s defs as GLSL macros, name and value (a bool is 1 or 0).
+pub(crate) fn macros(input: &ShaderInput) -> Vec<(String, String)> {
+    input
+        .all_defs()
+        .into_iter()
+        .map(|(name, v)| {
+            let value = match v {
+                DefValue::Bool(b) => u8::from(b).to_string(),
+                v => v.to_string(),
+            };
+            (name, value)
+        })
+        .collect()
+}
+
+/// Every identifier of `source` and of the files it `#include`s (found beside `path` or in
+/// `include_dirs`, followed a few levels down): the words a GLSL macro can be read by.
+pub(crate) fn words_read(path: &Path, source: &str, include_dirs: &[PathBuf]) -> BTreeSet<String> {
+    let dir = path.parent().unwrap_or(Path::new(".")).to_owned();
+    let dirs: Vec<PathBuf> = std::iter::once(dir)
+        .chain(include_dirs.iter().cloned())
+        .collect();
+    let mut words = BTreeSet::new();
+    let mut texts = vec![(source.to_owned(), 0)];
+    let mut seen = BTreeSet::new();
+    while let Some((text, depth)) = texts.pop() {
+        for line in text.lines() {
+            let included = line.trim_start().strip_prefix("#include").map(|r| r.trim());
+            if let Some(name) = included.and_then(|r| r.strip_prefix('"')?.split('"').next())
+                && depth < 8
+                && seen.insert(name.to_owned())
+                && let Some(t) = dirs
+                    .iter()
+                    .find_map(|d| std::fs::read_to_string(d.join(name)).ok())
+            {
+                texts.push((t, depth + 1));
+            }
+        }
+        words.extend(
+            text.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .filter(|w| !w.is_empty())
+                .map(str::to_owned),
+        );
+    }
+    words
 }
 
 /// The module with every specialization constant at its default value, and the constant
