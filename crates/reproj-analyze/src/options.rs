@@ -522,7 +522,8 @@ mod tests {
             next_extension(&coarse, 10.0, 150, &ext),
             Err(ExtensionStop::Error { error: 0.12 })
         );
-        let nan = replay(50, f64::NAN, 0.98, 2.0);
+        let mut nan = replay(50, 0.0, 0.98, 2.0);
+        nan.error = f64::NAN;
         assert!(matches!(
             next_extension(&nan, 10.0, 150, &ext),
             Err(ExtensionStop::Error { .. })
