@@ -181,3 +181,95 @@ fn every_language_binds_what_the_manifest_lists() {
         }
     }
 }
+
+/// A runtime-sized texture array (WGSL `binding_array<texture_2d<f32>>`, GLSL `sampler2D t[]`):
+/// its SPIR-V declares `RuntimeDescriptorArray` and `SPV_EXT_descriptor_indexing`, and spirv-val
+/// accepts it for Vulkan 1.2 where SPIRV-Tools is installed (under CI it must be).
+#[test]
+fn a_runtime_sized_texture_array_declares_its_capability_in_spirv() {
+    use reproj_instance::backends::{OutputLang, Outputs, pass_file_in};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("layers.wgsl");
+    std::fs::write(
+        &path,
+        "struct In { @location(0) world_pos: vec3<f32>, @location(2) uv: vec2<f32> };\n\
+         struct Params { layer: u32, gain: f32 };\n\
+         @group(0) @binding(0) var<uniform> params: Params;\n\
+         @group(0) @binding(1) var layers: binding_array<texture_2d<f32>>;\n\
+         @group(0) @binding(2) var samp: sampler;\n\
+         @fragment\nfn fs_main(in: In) -> @location(0) vec4<f32> {\n    \
+         let c = textureSample(layers[params.layer], samp, in.uv).rgb;\n    \
+         let w = sin(in.world_pos.x * 7.0) * cos(in.world_pos.y * 5.0);\n    \
+         return vec4<f32>(c * params.gain + vec3<f32>(w * 0.1), 1.0);\n}\n",
+    )
+    .unwrap();
+    let shader = reproj_front::load_file(&path).unwrap();
+    let norm = reproj_front::normalize(&shader, &Default::default()).unwrap();
+    let table = reproj_front::enumerate(&shader, &norm);
+    let opts = InstanceOptions {
+        strategy: Strategy::TwoPass,
+        ..Default::default()
+    };
+    let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+    let out = dir.path().join("v");
+    reproj_instance::write_variant_in(&v, &out, &Outputs::langs(&[OutputLang::SpirV])).unwrap();
+    let spirv_val = std::process::Command::new("spirv-val")
+        .arg("--version")
+        .output()
+        .is_ok();
+    assert!(
+        spirv_val || std::env::var_os("CI").is_none(),
+        "CI is set and spirv-val is missing: scripts/ensure-tools.sh installs it"
+    );
+    let mut checked = 0;
+    for p in &v.passes {
+        let file = out.join(pass_file_in(p, OutputLang::SpirV));
+        let bytes = std::fs::read(&file).unwrap();
+        let words: Vec<u32> = bytes
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        let uses_array = p
+            .module
+            .global_variables
+            .iter()
+            .any(|(_, g)| matches!(p.module.types[g.ty].inner, naga::TypeInner::BindingArray { .. }));
+        if !uses_array {
+            continue;
+        }
+        // OpCapability (17) RuntimeDescriptorArray (5302); OpExtension (10) naming the extension.
+        let mut at = 5;
+        let (mut capability, mut extension) = (false, false);
+        while at < words.len() {
+            let (count, op) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+            if op == 17 && words.get(at + 1) == Some(&5302) {
+                capability = true;
+            }
+            if op == 10 {
+                let text: Vec<u8> = words[at + 1..at + count]
+                    .iter()
+                    .flat_map(|w| w.to_le_bytes())
+                    .take_while(|&b| b != 0)
+                    .collect();
+                extension |= text == b"SPV_EXT_descriptor_indexing";
+            }
+            at += count.max(1);
+        }
+        assert!(capability && extension, "{:?}: {capability} {extension}", p.kind);
+        if spirv_val {
+            let r = std::process::Command::new("spirv-val")
+                .args(["--target-env", "vulkan1.2"])
+                .arg(&file)
+                .output()
+                .unwrap();
+            assert!(
+                r.status.success(),
+                "{:?}: {}",
+                p.kind,
+                String::from_utf8_lossy(&r.stderr)
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 0, "no pass reads the texture array");
+}

@@ -2056,6 +2056,19 @@ impl Writer {
             crate::TypeInner::RayQuery { .. } => {
                 self.require_any("Ray Query", &[spirv::Capability::RayQueryKHR])?;
             }
+            // reproj patch: a runtime-sized binding array (`binding_array<T>`, GLSL `sampler2D
+            // t[]`) is an OpTypeRuntimeArray of descriptors, which needs RuntimeDescriptorArray
+            // and SPV_EXT_descriptor_indexing (spirv-val refuses the module without them).
+            crate::TypeInner::BindingArray {
+                size: crate::ArraySize::Dynamic,
+                ..
+            } => {
+                self.require_any(
+                    "runtime-sized binding arrays",
+                    &[spirv::Capability::RuntimeDescriptorArray],
+                )?;
+                self.use_extension("SPV_EXT_descriptor_indexing");
+            }
             crate::TypeInner::Atomic(crate::Scalar { width: 8, kind: _ }) => {
                 self.require_any("64 bit integer atomics", &[spirv::Capability::Int64Atomics])?;
             }
