@@ -70,6 +70,18 @@ pub enum FrontError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a regular file, too large or not text ([`reproj_io::read_input`]).
+    #[error(transparent)]
+    Input(#[from] reproj_io::InputError),
+    /// A GLSL file whose extension names another stage than the fragment one (`.vert`, `.comp`...).
+    #[error(
+        "{path}: a `.{ext}` file is a GLSL {stage} shader; reproj optimizes fragment shaders (`.frag`, `.glsl`, `.wgsl`, `.spv`)"
+    )]
+    NotFragmentStage {
+        path: PathBuf,
+        ext: String,
+        stage: &'static str,
+    },
     /// The text does not parse. Kept as data: the CLI renders it with the source line and a caret.
     #[error("{0}")]
     Parse(SourceDiagnostic),
@@ -128,16 +140,15 @@ pub fn load_file(path: &Path) -> Result<Shader, FrontError> {
 /// Read a shader file in `lang`, or in the language its extension names when `None` (WGSL for any
 /// other extension), then parse and validate it.
 pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontError> {
-    let io = |source| FrontError::Io {
-        path: path.to_owned(),
-        source,
-    };
+    use reproj_io::{InputKind, read_input, read_input_string};
+    refuse_other_stage(path)?;
     let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
     match lang {
-        Lang::SpirV => parse_spirv(path, &std::fs::read(path).map_err(io)?),
-        Lang::Glsl => parse_glsl(path, std::fs::read_to_string(path).map_err(io)?),
+        Lang::SpirV => parse_spirv(path, &read_input(path, InputKind::Shader)?),
+        Lang::Glsl => parse_glsl(path, read_input_string(path, InputKind::Shader)?),
         Lang::Wgsl => {
-            let source = std::fs::read_to_string(path).map_err(io)?;
+            let source = read_input_string(path, InputKind::Shader)?;
+            crate::depth::check_chains(path, &source)?;
             if needs_composing(&source) {
                 parse_composed(path, &source)
             } else {
@@ -145,6 +156,29 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
             }
         }
     }
+}
+
+/// Refuse a file whose extension names a GLSL stage other than the fragment one: read as WGSL
+/// it would fail with a syntax error that never says why.
+fn refuse_other_stage(path: &Path) -> Result<(), FrontError> {
+    let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
+        return Ok(());
+    };
+    let stage = match ext.to_ascii_lowercase().as_str() {
+        "vert" => "vertex",
+        "comp" => "compute",
+        "geom" => "geometry",
+        "tesc" => "tessellation control",
+        "tese" => "tessellation evaluation",
+        "mesh" => "mesh",
+        "task" => "task",
+        _ => return Ok(()),
+    };
+    Err(FrontError::NotFragmentStage {
+        path: path.to_owned(),
+        ext: ext.to_owned(),
+        stage,
+    })
 }
 
 /// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
@@ -193,6 +227,7 @@ pub fn parse_composed(path: &Path, source: &str) -> Result<Shader, FrontError> {
 /// is then parsed as the shader's source text (its spans point there). `what` names the form in
 /// messages. Its spans are not into any text the user has: errors are reported without them.
 fn reparse_as_wgsl(path: &Path, module: &naga::Module, what: &str) -> Result<Shader, FrontError> {
+    crate::depth::check_module(path, module, what)?;
     let info = validator().validate(module).map_err(|e| {
         FrontError::Validation(SourceDiagnostic::new(
             path.to_owned(),
@@ -299,6 +334,8 @@ fn write_wgsl(module: &naga::Module, info: &ModuleInfo) -> Result<String, String
 }
 
 fn parse_text(path: &Path, lang: Lang, source: String) -> Result<Shader, FrontError> {
+    // naga lowers expressions recursively: a chain too long for the stack is refused first.
+    crate::depth::check_chains(path, &source)?;
     let path_str = path.display().to_string();
     let module = match lang {
         Lang::Glsl => naga::front::glsl::Frontend::default()
