@@ -18,7 +18,7 @@ fn check_f32(value: &Value, field: &str) -> Result<(), (String, String)> {
         Some(x) => Err((
             field.to_owned(),
             format!(
-                "{x} is out of range: uniform and buffer values are 32-bit floats (at most about ±3.4e38)"
+                "{x:e} is out of range: uniform and buffer values are 32-bit floats (at most about ±3.4e38)"
             ),
         )),
         None => Ok(()),
