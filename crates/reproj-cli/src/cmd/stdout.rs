@@ -70,7 +70,8 @@ impl Write for Out {
 
 /// True when stdout was closed when the process started. Rust's runtime then opens `/dev/null`
 /// read-write in its place (a shell's `> /dev/null` opens it write-only), which Linux's
-/// `/proc/self/fdinfo` shows. Elsewhere, false.
+/// `/proc/self/fdinfo` shows. Elsewhere, false. A caller's own read-write `/dev/null` (Python's
+/// `subprocess.DEVNULL`) cannot be told apart from it: docs/USAGE.md says so.
 fn closed_at_start() -> bool {
     let Ok(target) = std::fs::read_link("/proc/self/fd/1") else {
         return false;
