@@ -1,97 +1,23 @@
-//! A limit on how deep an expression tree may be, measured before any recursive walk.
+//! A limit on how long a chain of operations one statement may hold, measured on the text before
+//! naga reads it.
 //!
-//! Why: normalization, node enumeration, costs and the rebuild walk expression trees recursively
-//! (one stack frame per level). naga's WGSL parser caps *nesting* (brackets, calls: see
+//! Why: naga's WGSL (and GLSL) front end lowers an expression recursively, one stack frame per
+//! level. Its parser caps *nesting* (brackets, calls: see
 //! [`crate::diagnostic::WGSL_NESTING_LIMIT`]) but not a long flat chain: `1.0 + 1.0 + … + 1.0`
-//! with 20,000 terms parses into a left-leaning tree 20,000 levels deep, which overflowed the
-//! stack. The depth is measured here without recursion (naga's arenas list an expression's
-//! operands before it, so one pass in arena order finds every depth), and a tree deeper than
-//! [`MAX_EXPRESSION_DEPTH`] is refused at its place in the source.
-//!
-//! naga's own WGSL and GLSL front ends lower such a chain recursively too, so the source text is
-//! measured first ([`check_chains`]): a statement with more than [`MAX_EXPRESSION_DEPTH`]
-//! binary operators is refused before naga reads it.
+//! with 20,000 terms is a left-leaning tree 20,000 levels deep, which overflowed the stack. A
+//! chain is as deep as it has operators, so the binary operators of each statement are counted
+//! ([`check_chains`]) and a statement with more than [`MAX_EXPRESSION_DEPTH`] is refused at the
+//! operator past the limit. Long code made of many statements is not limited: a chain of `let`s
+//! (each naming the one before) is read and walked whole (`tests/scale.rs`, 20,000 lines).
 
 use std::path::Path;
 
-use naga::{Function, Span};
-
 use crate::diagnostic::{Message, SourceDiagnostic};
-use crate::parse::{FrontError, Shader};
+use crate::parse::FrontError;
 
-/// The deepest expression tree reproj walks. Far past real shaders (a few hundred levels at
-/// most); far below what overflows the main thread's stack in any command's walks.
+/// The most binary operators one statement may hold. Far past real shaders (a few hundred at
+/// most); far below what overflows naga's lowering on the main thread's stack (10,000 did not).
 pub const MAX_EXPRESSION_DEPTH: usize = 4096;
-
-/// The depth of the deepest expression of `fun` and its span (a leaf is depth 1), measured in one
-/// pass in arena order.
-pub fn deepest(fun: &Function) -> (usize, Span) {
-    let mut depth = vec![0usize; fun.expressions.len()];
-    let mut best = (0, Span::UNDEFINED);
-    for (h, e) in fun.expressions.iter() {
-        let i = h.index();
-        let below = crate::ir::operands(e)
-            .into_iter()
-            // An operand listed later than its user cannot happen in a valid module; it counts 0.
-            .filter_map(|o| depth.get(o.index()).copied().filter(|_| o.index() < i))
-            .max()
-            .unwrap_or(0);
-        depth[i] = below + 1;
-        if depth[i] > best.0 {
-            best = (depth[i], fun.expressions.get_span(h));
-        }
-    }
-    best
-}
-
-/// Refuse `shader` when one of its functions holds an expression tree deeper than
-/// [`MAX_EXPRESSION_DEPTH`], labelled at the deepest expression.
-pub fn check_depth(shader: &Shader) -> Result<(), FrontError> {
-    let module = &shader.module;
-    let functions = module
-        .functions
-        .iter()
-        .map(|(_, f)| f)
-        .chain(module.entry_points.iter().map(|ep| &ep.function));
-    for fun in functions {
-        let (depth, span) = deepest(fun);
-        if depth > MAX_EXPRESSION_DEPTH {
-            return Err(shader.unsupported(
-                span,
-                format!(
-                    "an expression {depth} levels deep (reproj reads at most {MAX_EXPRESSION_DEPTH}): \
-                     split the long chain of operations with `let`s into shorter ones"
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// Refuse a module read from another form (SPIR-V, composed WGSL) whose expressions nest past
-/// [`MAX_EXPRESSION_DEPTH`], before it is written as WGSL and read again (naga's writer and
-/// parser recurse too). It has no text of the user's to point into: the message says how deep.
-pub fn check_module(path: &Path, module: &naga::Module, what: &str) -> Result<(), FrontError> {
-    let functions = module
-        .functions
-        .iter()
-        .map(|(_, f)| f)
-        .chain(module.entry_points.iter().map(|ep| &ep.function));
-    for fun in functions {
-        let (depth, _) = deepest(fun);
-        if depth > MAX_EXPRESSION_DEPTH {
-            let name = fun.name.as_deref().unwrap_or("a function");
-            return Err(FrontError::Unsupported(SourceDiagnostic::new(
-                path.to_owned(),
-                "",
-                vec![Message::new(format!(
-                    "unsupported: in the {what} module, `{name}` has an expression {depth} levels deep (reproj reads at most {MAX_EXPRESSION_DEPTH}): split the long chain of operations into shorter ones"
-                ))],
-            )));
-        }
-    }
-    Ok(())
-}
 
 /// Refuse shader text (WGSL or GLSL) with a statement holding more than
 /// [`MAX_EXPRESSION_DEPTH`] binary operators, labelled at the operator past the limit. A flat
@@ -154,7 +80,7 @@ pub fn check_chains(path: &Path, source: &str) -> Result<(), FrontError> {
 mod tests {
     use super::*;
 
-    /// `let x = u.x + u.x + ...;` with `terms` terms (a uniform: literals would be folded).
+    /// `let x = u.x + u.x + ...;` with `terms` terms.
     fn chain(terms: usize) -> String {
         let sum = vec!["u.x"; terms].join(" + ");
         format!(
@@ -163,26 +89,20 @@ mod tests {
         )
     }
 
-    fn shader(src: String) -> Shader {
-        crate::parse::parse_shader(std::path::Path::new("chain.wgsl"), src).unwrap()
-    }
-
-    #[test]
-    fn a_flat_chain_is_measured_without_recursion() {
-        let s = shader(chain(100));
-        let (depth, _) = deepest(&s.module.entry_points[0].function);
-        assert!((100..110).contains(&depth), "{depth}");
-        assert!(check_depth(&s).is_ok());
-    }
-
-    /// Issue 45: 20,000 terms overflowed the stack (in naga's WGSL lowering, then in reproj's
-    /// walks); now refused from the text, before naga reads it.
+    /// Issue 45: 20,000 terms overflowed the stack in naga's WGSL lowering; now refused from
+    /// the text, before naga reads it.
     #[test]
     fn a_chain_past_the_limit_is_refused_from_the_text() {
         let e = crate::parse::parse_shader(Path::new("chain.wgsl"), chain(20_000)).unwrap_err();
         let text = e.to_string();
         assert!(text.contains("levels deep"), "{text}");
         assert!(text.contains("chain.wgsl:2"), "{text}");
+    }
+
+    /// A chain under the limit parses.
+    #[test]
+    fn a_chain_under_the_limit_parses() {
+        assert!(crate::parse::parse_shader(Path::new("chain.wgsl"), chain(3_000)).is_ok());
     }
 
     /// Long lists of negative constants and comments full of operators are not chains.
@@ -194,14 +114,5 @@ mod tests {
         assert!(check_chains(Path::new("k.wgsl"), &src).is_ok());
         let src = format!("const K = {};", vec!["1.0"; 5_000].join(" * "));
         assert!(check_chains(Path::new("k.wgsl"), &src).is_err());
-    }
-
-    /// The IR measure agrees with the text on a chain under the limit.
-    #[test]
-    fn a_chain_under_the_limit_passes_both_measures() {
-        let s = shader(chain(3_000));
-        let (depth, _) = deepest(&s.module.entry_points[0].function);
-        assert!(depth >= 3_000, "{depth}");
-        assert!(check_depth(&s).is_ok());
     }
 }

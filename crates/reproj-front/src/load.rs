@@ -51,17 +51,6 @@ impl Loaded {
                 unroll,
             },
         )?;
-        // Inlining and unrolling can deepen the trees the enumeration walks: measured again.
-        let (depth, span) = crate::depth::deepest(&norm.module.entry_points[0].function);
-        if depth > crate::depth::MAX_EXPRESSION_DEPTH {
-            return Err(shader.unsupported(
-                span,
-                format!(
-                    "once helpers are inlined and loops unrolled, an expression is {depth} levels deep (reproj reads at most {}): split long chains of operations with `let`s",
-                    crate::depth::MAX_EXPRESSION_DEPTH
-                ),
-            ));
-        }
         let table = enumerate(&shader, &norm);
         Ok(Loaded {
             shader,

@@ -55,8 +55,6 @@ pub struct NormalizeOptions {
 /// Normalize the chosen fragment entry point of `shader`.
 pub fn normalize(shader: &Shader, opts: &NormalizeOptions) -> Result<Normalized, FrontError> {
     let index = shader.fragment_entry(opts.entry.as_deref())?;
-    // Every walk below recurses over expression trees: too deep a tree is refused first.
-    crate::depth::check_depth(shader)?;
     // Early returns (in the entry point or a helper) rewritten to one exit per function. Should
     // the rewrite not validate (a bug), the shader is read as written, and an early return in a
     // helper is refused with its place as before.
