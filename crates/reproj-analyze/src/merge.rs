@@ -64,6 +64,13 @@ pub fn merge(shards: &[(PathBuf, Profile)]) -> Result<Profile, AnalyzeError> {
             }
         }
         let index = p.shard.expect("shard.count agreed").index as usize;
+        // A hand-edited or corrupt profile may name a shard past the count: refused, not indexed.
+        if index >= seen.len() {
+            return refuse(format!(
+                "{}: field `shard.index`: {index} is not below `shard.count` {count} (shards are numbered 0 to count - 1)",
+                path.display()
+            ));
+        }
         if let Some(other) = seen[index] {
             return refuse(format!(
                 "{} and {} are both shard {index}/{count}",

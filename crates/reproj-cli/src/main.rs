@@ -81,10 +81,19 @@ pub struct CompletionsArgs {
 /// The whole command line, as clap builds it: every subcommand's help ends with the exit codes,
 /// and clap's own help and errors are coloured as `--color` says.
 pub(crate) fn command(color: ui::ColorChoice) -> clap::Command {
-    Cli::command()
-        .color(color.clap())
-        .after_help(ui::EXIT_CODES)
-        .mut_subcommands(|s| s.after_help(ui::EXIT_CODES))
+    negative_numbers(
+        Cli::command()
+            .color(color.clap())
+            .after_help(ui::EXIT_CODES)
+            .mut_subcommands(|s| s.after_help(ui::EXIT_CODES)),
+    )
+}
+
+/// `--delta-n -1` is a value for the flag, refused by its parser with the valid range, not
+/// clap's "unexpected argument '-1'" with a tip to write `-- -1` (no flag of reproj is a number).
+fn negative_numbers(c: clap::Command) -> clap::Command {
+    c.allow_negative_numbers(true)
+        .mut_subcommands(negative_numbers)
 }
 
 /// Headless machines have no display: Mesa's Vulkan device-select layer would try to reach one and

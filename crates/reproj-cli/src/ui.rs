@@ -150,6 +150,7 @@ Exit codes:
        not write, or another reproj writing it; a command this build does not have
   3    `emit --min-speedup` not met
   4    `emit --verify` measured an error over the budget, or non-finite (NaN/∞) pixels
+  5    the output could not be written to stdout (a full disk, a closed stdout)
   130  interrupted (SIGINT/SIGTERM): what was being written is removed, previous outputs kept";
 
 #[cfg(test)]

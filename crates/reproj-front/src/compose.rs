@@ -89,7 +89,9 @@ fn find_modules(roots: &[PathBuf], shader: &Path) -> BTreeMap<String, Found> {
                 if path.extension().is_none_or(|x| x != "wgsl") || path == shader {
                     continue;
                 }
-                let Ok(source) = std::fs::read_to_string(&path) else {
+                // Only regular files within the limit: a pipe named `x.wgsl` must not block.
+                let Ok(source) = reproj_io::read_input_string(&path, reproj_io::InputKind::Shader)
+                else {
                     continue;
                 };
                 if !source.contains("#define_import_path") {
@@ -132,7 +134,7 @@ fn find_asset_modules(
         let rel = name.trim_matches('"');
         let Some((path, source)) = roots.iter().find_map(|root| {
             let path = root.join(rel);
-            std::fs::read_to_string(&path).ok().map(|s| (path, s))
+            reproj_io::read_input_string(&path, reproj_io::InputKind::Shader).ok().map(|s| (path, s))
         }) else {
             continue;
         };
@@ -166,25 +168,40 @@ fn module_of<'a>(import: &str, modules: &'a BTreeMap<String, Found>) -> Option<&
         .map(String::as_str)
 }
 
-/// Add `name` and, first, everything it imports. Its defs are not fixed here: naga_oil builds
-/// each module with the defs of the shader that imports it ([`NagaModuleDescriptor`]).
+/// Why a module could not be added.
+enum AddError {
+    /// naga_oil refused it.
+    Composer(Box<ComposerError>),
+    /// The modules import each other: the chain, from the first module to the one it came back to.
+    Cycle(Vec<String>),
+}
+
+/// Add `name` and, first, everything it imports. `chain` is the modules being added around it:
+/// meeting one of them again is an import cycle, refused as such (naga_oil would report the
+/// module half-added as "not found"). Its defs are not fixed here: naga_oil builds each module
+/// with the defs of the shader that imports it ([`NagaModuleDescriptor`]).
 fn add_module(
     composer: &mut Composer,
     modules: &BTreeMap<String, Found>,
     name: &str,
-    depth: usize,
-) -> Result<(), Box<ComposerError>> {
-    if composer.contains_module(name) || depth > 64 {
+    chain: &mut Vec<String>,
+) -> Result<(), AddError> {
+    if composer.contains_module(name) {
         return Ok(());
     }
+    if let Some(at) = chain.iter().position(|m| m == name) {
+        let mut cycle = chain[at..].to_vec();
+        cycle.push(name.to_owned());
+        return Err(AddError::Cycle(cycle));
+    }
+    chain.push(name.to_owned());
     let found = &modules[name];
     for import in &found.imports {
-        if let Some(dep) = module_of(import, modules)
-            && dep != name
-        {
-            add_module(composer, modules, dep, depth + 1)?;
+        if let Some(dep) = module_of(import, modules) {
+            add_module(composer, modules, dep, chain)?;
         }
     }
+    chain.pop();
     composer
         .add_composable_module(ComposableModuleDescriptor {
             source: &found.source,
@@ -193,8 +210,23 @@ fn add_module(
             as_name: found.asset.then(|| name.to_owned()),
             ..Default::default()
         })
-        .map_err(Box::new)?;
+        .map_err(|e| AddError::Composer(Box::new(e)))?;
     Ok(())
+}
+
+/// An import cycle as a diagnostic at the shader's `#import` of its first module.
+fn cycle_error(path: &Path, source: &str, cycle: &[String]) -> FrontError {
+    let mut m = Message::new(format!(
+        "`#import` cycle: {} (modules that import each other cannot be composed)",
+        cycle.join(" imports ")
+    ));
+    if let Some(first) = cycle.first()
+        && let Some(at) = source.find(first.as_str())
+    {
+        m.labels
+            .push((at..at + first.len(), "imported here".into()));
+    }
+    FrontError::Parse(SourceDiagnostic::new(path.to_owned(), source, vec![m]))
 }
 
 /// A composed shader and what composing it found out.
@@ -252,8 +284,12 @@ fn compose_in(
         let Some(module) = module_of(import, &modules) else {
             continue;
         };
-        if let Err(e) = add_module(&mut composer, &modules, module, 0) {
-            return Err(composer_error(path, source, roots, &composer, &e));
+        match add_module(&mut composer, &modules, module, &mut Vec::new()) {
+            Ok(()) => {}
+            Err(AddError::Composer(e)) => {
+                return Err(composer_error(path, source, roots, &composer, &e));
+            }
+            Err(AddError::Cycle(cycle)) => return Err(cycle_error(path, source, &cycle)),
         }
     }
     let defs = input.all_defs();

@@ -9,6 +9,7 @@
 #[cfg(feature = "compose")]
 pub mod compose;
 pub mod cost;
+pub mod depth;
 pub mod diagnostic;
 pub mod directives;
 mod exits;

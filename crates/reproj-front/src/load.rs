@@ -40,24 +40,24 @@ pub fn load_file_with(
     lang: Option<Lang>,
     input: &ShaderInput,
 ) -> Result<Shader, FrontError> {
-    let io = |source| FrontError::Io {
-        path: path.to_owned(),
-        source,
-    };
+    use reproj_io::{InputKind, read_input, read_input_string};
+    crate::parse::refuse_other_stage(path)?;
     let lang = lang.or_else(|| Lang::from_path(path)).unwrap_or(Lang::Wgsl);
     let no_reader = std::collections::BTreeSet::new();
     match lang {
         Lang::SpirV => {
-            let mut shader = crate::parse::parse_spirv(path, &std::fs::read(path).map_err(io)?)?;
+            let mut shader =
+                crate::parse::parse_spirv(path, &read_input(path, InputKind::Shader)?)?;
             shader.warnings = crate::input::unread_defs(path, input, &no_reader);
             Ok(shader)
         }
         Lang::Glsl => {
-            let source = std::fs::read_to_string(path).map_err(io)?;
+            let source = read_input_string(path, InputKind::Shader)?;
             crate::parse::parse_glsl_with(path, source, input)
         }
         Lang::Wgsl => {
-            let source = std::fs::read_to_string(path).map_err(io)?;
+            let source = read_input_string(path, InputKind::Shader)?;
+            crate::depth::check_chains(path, &source)?;
             if crate::parse::needs_composing(&source) {
                 crate::parse::parse_composed_with(path, &source, input)
             } else {

@@ -78,6 +78,18 @@ pub enum FrontError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a regular file, too large or not text ([`reproj_io::read_input`]).
+    #[error(transparent)]
+    Input(#[from] reproj_io::InputError),
+    /// A GLSL file whose extension names another stage than the fragment one (`.vert`, `.comp`...).
+    #[error(
+        "{path}: a `.{ext}` file is a GLSL {stage} shader; reproj optimizes fragment shaders (`.frag`, `.glsl`, `.wgsl`, `.spv`)"
+    )]
+    NotFragmentStage {
+        path: PathBuf,
+        ext: String,
+        stage: &'static str,
+    },
     /// The text does not parse. Kept as data: the CLI renders it with the source line and a caret.
     #[error("{0}")]
     Parse(SourceDiagnostic),
@@ -132,6 +144,29 @@ impl FrontError {
 /// Validator used everywhere in reproj: every check on, every capability allowed.
 pub fn validator() -> Validator {
     Validator::new(ValidationFlags::all(), Capabilities::all())
+}
+
+/// Refuse a file whose extension names a GLSL stage other than the fragment one: read as WGSL
+/// it would fail with a syntax error that never says why.
+pub(crate) fn refuse_other_stage(path: &Path) -> Result<(), FrontError> {
+    let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
+        return Ok(());
+    };
+    let stage = match ext.to_ascii_lowercase().as_str() {
+        "vert" => "vertex",
+        "comp" => "compute",
+        "geom" => "geometry",
+        "tesc" => "tessellation control",
+        "tese" => "tessellation evaluation",
+        "mesh" => "mesh",
+        "task" => "task",
+        _ => return Ok(()),
+    };
+    Err(FrontError::NotFragmentStage {
+        path: path.to_owned(),
+        ext: ext.to_owned(),
+        stage,
+    })
 }
 
 /// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
@@ -224,6 +259,17 @@ fn reparse_as_wgsl(path: &Path, module: &naga::Module, what: &str) -> Result<Sha
             vec![Message::new(format!("unsupported: {why}"))],
         ))
     })?;
+    // A chain too long to read again is the module's, not a bug: said without the written text.
+    if crate::depth::check_chains(path, &wgsl).is_err() {
+        return Err(FrontError::Unsupported(SourceDiagnostic::new(
+            path.to_owned(),
+            "",
+            vec![Message::new(format!(
+                "unsupported: the {what} module holds a chain of more than {} operations in one expression: split it into shorter ones",
+                crate::depth::MAX_EXPRESSION_DEPTH
+            ))],
+        )));
+    }
     parse_text(path, Lang::Wgsl, wgsl).map_err(|e| FrontError::Internal {
         what: format!(
             "naga's WGSL of the {what} module {} does not parse again: {e}",
@@ -340,6 +386,8 @@ fn parse_text_defined(
     source: String,
     macros: &[(String, String)],
 ) -> Result<Shader, FrontError> {
+    // naga lowers expressions recursively: a chain too long for the stack is refused first.
+    crate::depth::check_chains(path, &source)?;
     let path_str = path.display().to_string();
     let mut glsl_options = naga::front::glsl::Options::from(naga::ShaderStage::Fragment);
     glsl_options.defines.extend(macros.iter().cloned());

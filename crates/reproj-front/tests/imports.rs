@@ -66,3 +66,31 @@ fn a_missing_module_is_named_at_its_import() {
         compose_searching(&material, &source, &[dir.path().to_owned(), fixtures()]).unwrap();
     assert!(module.entry_points.iter().any(|e| e.name == "fragment"));
 }
+
+/// Modules that import each other are refused as a cycle, naming the chain, not as a module
+/// that was not found (issue 45).
+#[test]
+fn an_import_cycle_is_named_as_a_cycle() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("a.wgsl"),
+        "#define_import_path cyc_a\n#import cyc_b::g\nfn f() -> f32 { return g(); }\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("b.wgsl"),
+        "#define_import_path cyc_b\n#import cyc_a::f\nfn g() -> f32 { return f(); }\n",
+    )
+    .unwrap();
+    let shader = dir.path().join("s.wgsl");
+    let source = "#import cyc_a::f\n@fragment fn main() -> @location(0) vec4<f32> { return vec4<f32>(f()); }\n";
+    std::fs::write(&shader, source).unwrap();
+    let e = load_file(&shader).unwrap_err();
+    let text = match &e {
+        FrontError::Parse(d) => d.render(),
+        other => other.to_string(),
+    };
+    assert!(text.contains("cycle"), "{text}");
+    assert!(text.contains("cyc_a imports cyc_b imports cyc_a"), "{text}");
+    assert!(!text.contains("was found"), "{text}");
+}

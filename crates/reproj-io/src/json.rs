@@ -29,6 +29,9 @@ pub enum ReadError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a regular file, too large, or not text ([`crate::read_input`]).
+    #[error(transparent)]
+    Input(#[from] crate::InputError),
     /// Not JSON at all.
     #[error("{path}:{line}:{column}: not valid JSON: {message}")]
     Syntax {
@@ -80,10 +83,7 @@ fn versions(r: &RangeInclusive<u32>) -> String {
 
 /// Read and parse the versioned JSON document at `path`.
 pub fn read_json<T: DeserializeOwned>(path: &Path, kind: &Kind) -> Result<T, ReadError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ReadError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = crate::read_input_string(path, crate::InputKind::Json)?;
     parse_json(&text, path, kind)
 }
 

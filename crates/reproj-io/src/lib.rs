@@ -11,6 +11,8 @@
 //!   removes itself, so a failure anywhere leaves the previous directory exactly as it was.
 //! - [`read_json`] / [`parse_json`] read a versioned JSON document (`"schema"` + `"version"`) into
 //!   a typed value with one error format ([`ReadError`]): the file, and the field or line and column.
+//! - [`read_input`] reads any user file (shader, session, mesh, image): only a regular file, within
+//!   a size limit per [`InputKind`], so a pipe, a device or a huge file is refused, not waited on.
 //!
 //! - [`remove_registered`] removes every temporary file, staged directory and lock of the process
 //!   (for a signal handler); [`sweep_stale`] removes those of processes that are gone;
@@ -21,11 +23,13 @@
 //! real binary.
 
 mod cleanup;
+mod input;
 mod json;
 mod owner;
 mod write;
 
 pub use cleanup::{OutputLock, remove_registered, sweep_stale};
+pub use input::{InputError, InputKind, MAX_INPUT_ENV, check_input, read_input, read_input_string};
 pub use json::{Kind, ReadError, parse_json, read_json};
 pub use owner::{Owner, check_target, write_owned_file};
 pub use write::{FAIL_ENV, Replace, StagedDir, WriteError, write_file, write_files};

@@ -12,10 +12,8 @@ impl Session {
     /// directory.
     pub fn load(path: impl AsRef<Path>) -> Result<Session, SessionError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| reproj_io::ReadError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
+        let text = reproj_io::read_input_string(path, reproj_io::InputKind::Json)
+            .map_err(reproj_io::ReadError::from)?;
         let base = path.parent().map(Path::to_owned).unwrap_or_default();
         Self::from_json(&text, path, &base)
     }

@@ -167,6 +167,8 @@ fn lathe(profile: &[[f32; 2]], segments: u32) -> MeshData {
 
 fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData, String> {
     let full = session.resolve(path)?;
+    // Only a regular file within the size limit: `/dev/zero` or a pipe would never end.
+    reproj_io::check_input(&full, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
     let (models, _) = tobj::load_obj(
         &full,
         &tobj::LoadOptions {

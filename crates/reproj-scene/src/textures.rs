@@ -584,7 +584,15 @@ type Image = ((u32, u32), Vec<[f32; 4]>);
 /// An image file's size and texels.
 #[cfg(feature = "images")]
 fn read_image(path: &std::path::Path) -> Result<Image, String> {
-    let img = image::open(path).map_err(|e| e.to_string())?.to_rgba32f();
+    // Through the one reader: a regular file within the size limit (a pipe would block).
+    let bytes =
+        reproj_io::read_input(path, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
+    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .decode()
+        .map_err(|e| e.to_string())?
+        .to_rgba32f();
     Ok((img.dimensions(), img.pixels().map(|p| p.0).collect()))
 }
 

@@ -270,6 +270,19 @@ pub fn emit(
 ) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
     let (shader_path, loaded, shader) =
         load_profiled(profile, profile_path, opts.shader.as_deref())?;
+    // `--node N` for a node the shader does not have: the same answer as `instance` and `render`.
+    if let Some(NodeChoice::Id(id)) = opts.node
+        && loaded.table.get(id).is_none()
+    {
+        let table = &loaded.table;
+        return Err(reproj_instance::InstanceError::UnknownNode {
+            id,
+            shader: table.shader.clone(),
+            min: table.nodes.first().map_or(0, |n| n.id),
+            max: table.nodes.last().map_or(0, |n| n.id),
+        }
+        .into());
+    }
     let (usable_sets, all) = gather(profile, profile_path, opts)?;
     // The sets' reconstruction and the cache format (each node's own filter is read below).
     let (set_reconstruct, profiled_format) = profile_variant_settings(profile, None, profile_path)?;

@@ -36,22 +36,14 @@ pub fn latest_profile(dir: &Path) -> Result<PathBuf, AnalyzeError> {
         )))
 }
 
-/// Find a file a profile refers to: relative to the profile's directory (profiles from version 3
-/// on record it so), else as recorded (relative to the working directory), else beside the
-/// profile.
+/// Find a file a profile refers to: an absolute path as recorded, a relative one against the
+/// profile's directory (profiles record it so). Nothing else is tried: a file of the same name in
+/// the working directory is another file, and using it silently would profile or emit the wrong
+/// shader; a missing file is reported with this path.
 pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
     let p = PathBuf::from(recorded);
-    if p.is_relative()
-        && let Some(dir) = profile_path.parent().filter(|d| !d.as_os_str().is_empty())
-        && dir.join(&p).exists()
-    {
-        return dir.join(&p);
-    }
-    if p.exists() {
-        return p;
-    }
-    match (profile_path.parent(), p.file_name()) {
-        (Some(dir), Some(name)) if dir.join(name).exists() => dir.join(name),
+    match profile_path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) if p.is_relative() => dir.join(&p),
         _ => p,
     }
 }
@@ -62,17 +54,26 @@ pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
 /// it).
 pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf, AnalyzeError> {
     let path = resolve(&profile.shader.path, profile_path);
-    if reproj_front::Lang::from_path(&path).is_some() {
-        Ok(path)
-    } else {
-        Err(AnalyzeError::BadProfile {
+    if reproj_front::Lang::from_path(&path).is_none() {
+        return Err(AnalyzeError::BadProfile {
             path: profile_path.to_owned(),
             message: format!(
                 "field `shader.path`: `{}` is not a shader file (.wgsl, .glsl, .frag or .spv)",
                 profile.shader.path
             ),
-        })
+        });
     }
+    if !path.exists() {
+        return Err(AnalyzeError::BadProfile {
+            path: profile_path.to_owned(),
+            message: format!(
+                "field `shader.path`: the shader `{}` is not at {} (looked for relative to the profile's folder); restore it, or re-run `reproj analyze`",
+                profile.shader.path,
+                path.display()
+            ),
+        });
+    }
+    Ok(path)
 }
 
 /// How `analyze` read the profile's shader ([`reproj_models::profile::ShaderInputRecord`]): its

@@ -65,7 +65,7 @@ pub(crate) fn bar() -> ProgressBar {
 }
 
 pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     let loaded = super::load_shader(
         &args.shader,
         args.entry.as_deref(),
@@ -270,8 +270,7 @@ fn analyze_session(
     out: &std::path::Path,
 ) -> anyhow::Result<Written> {
     let (norm, table) = (&loaded.norm, &loaded.table);
-    let session_bytes = std::fs::read(session_path)
-        .map_err(|e| super::UserError(format!("cannot read {}: {e}", session_path.display())))?;
+    let session_bytes = reproj_io::read_input(session_path, reproj_io::InputKind::Json)?;
     let session = Session::load(session_path)?;
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
@@ -342,7 +341,7 @@ fn analyze_session(
             max_delta_n: args.max_delta_n,
             ..reproj_analyze::Extension::default()
         },
-        ceiling: true,
+        ceiling: !args.no_ceiling,
     };
     crate::ui::note(format_args!(
         "analyzing {} over {} on {} ({} cores, LP_NUM_THREADS={})",

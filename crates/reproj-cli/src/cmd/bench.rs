@@ -84,7 +84,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         },
     )?;
     bar.finish_and_clear();
-    let mut out = std::io::stdout().lock();
+    let mut out = super::stdout::stdout();
     if args.json {
         writeln!(out, "{}", serde_json::to_string_pretty(&report)?)?;
     } else {
@@ -148,7 +148,8 @@ fn candidate(
 
 /// The Δn `emit` chose for the variant in `dir`, from its report.json.
 fn emitted_delta_n(dir: &Path) -> Option<u32> {
-    let text = std::fs::read_to_string(dir.join("report.json")).ok()?;
+    let text =
+        reproj_io::read_input_string(&dir.join("report.json"), reproj_io::InputKind::Json).ok()?;
     let v: serde_json::Value = serde_json::from_str(&text).ok()?;
     u32::try_from(v.get("delta_n")?.as_u64()?).ok()
 }

@@ -109,7 +109,7 @@ fn target(args: &CompareArgs) -> Result<Target, UserError> {
 
 /// The comparison on stdout: `compare.json` with `--json`, else the table of methods.
 fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     if json {
         writeln!(stdout, "{}", serde_json::to_string_pretty(r)?)?;
         return Ok(());

@@ -13,6 +13,6 @@ pub fn run(args: &CompletionsArgs) -> anyhow::Result<()> {
         "reproj",
         &mut out,
     );
-    std::io::stdout().lock().write_all(&out)?;
+    super::stdout::stdout().write_all(&out)?;
     Ok(())
 }

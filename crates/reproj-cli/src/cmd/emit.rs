@@ -12,7 +12,7 @@ use crate::EmitArgs;
 
 /// `reproj emit`: the inputs, the selection and its passes, `--verify`, the bars, the report.
 pub fn run(args: &EmitArgs) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     let Inputs {
         profile_path,
         profile,
@@ -90,8 +90,7 @@ fn inputs(args: &EmitArgs) -> anyhow::Result<Inputs> {
     let session = match &args.session {
         Some(path) => {
             let session = Session::load(path)?;
-            let bytes = std::fs::read(path)
-                .map_err(|e| UserError(format!("cannot read {}: {e}", path.display())))?;
+            let bytes = reproj_io::read_input(path, reproj_io::InputKind::Json)?;
             let motion = reproj_analyze::motion::measure(&session, None);
             Some((session, motion, reproj_models::content_hash(&bytes)))
         }

@@ -8,7 +8,7 @@ use super::UserError;
 use crate::InstanceArgs;
 
 pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     let selectors = args
         .node
         .split(',')

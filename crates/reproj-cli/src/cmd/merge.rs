@@ -29,7 +29,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|n| n.status == reproj_models::profile::NodeStatus::Ok)
         .count();
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     if args.json {
         let out = serde_json::json!({
             "schema": "reproj.merge",

@@ -23,6 +23,7 @@ pub mod render;
 #[cfg(feature = "gpu")]
 pub mod report;
 pub mod session;
+pub mod stdout;
 
 /// The error of a command (or option) this build was made without: exit 2, saying how to get it.
 #[cfg(not(feature = "gpu"))]
@@ -261,6 +262,7 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
         }
         if c.downcast_ref::<UserError>().is_some()
             || c.downcast_ref::<reproj_io::ReadError>().is_some()
+            || c.downcast_ref::<reproj_io::InputError>().is_some()
             || c.downcast_ref::<reproj_io::WriteError>().is_some()
             || c.downcast_ref::<reproj_scene::SessionError>().is_some()
             || c.downcast_ref::<reproj_scene::reflect::Unsupported>()
@@ -433,12 +435,23 @@ pub fn relative_to(dir: &std::path::Path, path: &std::path::Path) -> String {
 
 /// Print the error (if any) and choose the exit code.
 pub fn finish(result: anyhow::Result<()>) -> ExitCode {
-    let Err(e) = result else {
-        return ExitCode::SUCCESS;
+    use std::io::Write as _;
+    // Output still buffered is written now, so that its failure is seen.
+    let flushed = stdout::stdout().flush();
+    let e = match (result, flushed) {
+        (Err(e), _) => e,
+        (Ok(()), Err(e)) => e.into(),
+        (Ok(()), Ok(())) => return ExitCode::SUCCESS,
     };
     // `reproj nodes x.wgsl | head` closes the pipe early: not an error.
     if is_broken_pipe(&e) {
         return ExitCode::SUCCESS;
+    }
+    // Our own output could not be written (a full disk, a closed stdout): its own exit code.
+    if let Some(why) = stdout::failure() {
+        crate::ui::error(format!("could not write the output to stdout: {why}"));
+        crate::ui::detail(format!("exit code {}", stdout::EXIT_STDOUT));
+        return ExitCode::from(stdout::EXIT_STDOUT);
     }
     let (code, diagnostic) = classify(&e);
     match (code, diagnostic) {

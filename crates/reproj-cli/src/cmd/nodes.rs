@@ -19,7 +19,7 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
     if !args.all {
         table.nodes.retain(|n| n.cacheable);
     }
-    let mut out = std::io::stdout().lock();
+    let mut out = super::stdout::stdout();
     // No cacheable node is an honest answer, not an error: say why (after the table with
     // `--all`) and exit 0.
     if let (Some(lines), false, false) = (&why, args.json, args.all) {

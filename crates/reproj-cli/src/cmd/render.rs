@@ -22,7 +22,7 @@ const FRAME_FILES: &[&str] = &["png", "f32"];
 /// `reproj render`: the shader and the variant, the reference replay, the variant's replay and
 /// its timing on request, the frames committed, the warnings, then the report.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     let input = super::read_shader(&args.shader, args.lang_in, &args.input)?;
     // The replay renders WGSL: a GLSL shader is rendered as naga's WGSL of it.
     let shader = input.to_wgsl()?;

@@ -12,7 +12,7 @@ use crate::ReportArgs;
 const REPORT_PAGE: reproj_io::Owner = reproj_io::Owner::Marker("<title>reproj report");
 
 pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = super::stdout::stdout();
     // Check where the page goes before rendering anything: only a page reproj wrote is replaced.
     reproj_io::check_target(&args.out, REPORT_PAGE)?;
     let profile = load_profile(&args.profile)?;

@@ -52,7 +52,7 @@ fn init(args: &SessionInitArgs) -> anyhow::Result<()> {
             reproj_io::write_file(out, &json)?;
             crate::ui::note(format_args!("wrote {}", out.display()));
         }
-        None => std::io::stdout().lock().write_all(&json)?,
+        None => super::stdout::stdout().write_all(&json)?,
     }
     for line in &starter.notes {
         crate::ui::note(format_args!("{line}"));

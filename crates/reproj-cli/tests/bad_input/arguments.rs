@@ -6,6 +6,58 @@ use super::{Case, case};
 
 pub(super) fn cases() -> Vec<Case> {
     let mut v = vec![
+        // A negative number is a value, refused with the valid range (not clap's `-- -1` tip).
+        case(
+            "render negative refresh period",
+            &[],
+            &[
+                "render",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--node",
+                "root",
+                "--delta-n",
+                "-1",
+            ],
+            "`-1` is not a refresh period in 1..=",
+        ),
+        case(
+            "analyze negative refresh period",
+            &[],
+            &[
+                "analyze",
+                "good.wgsl",
+                "--session",
+                "good.json",
+                "--delta-n",
+                "-1",
+            ],
+            "`-1` is not a refresh period in 2..=",
+        ),
+        // `emit --node` of a node the shader lacks: the answer `instance` and `render` give.
+        case(
+            "emit an unknown node",
+            &[],
+            &[
+                "emit",
+                "--max-error",
+                "0.01",
+                "--profile",
+                "good.profile.json",
+                "--out",
+                "out",
+                "--node",
+                "99999",
+            ],
+            "no node 99999",
+        ),
+        case(
+            "instance an unknown node",
+            &[],
+            &["instance", "good.wgsl", "--node", "99999", "--out", "o"],
+            "no node 99999",
+        ),
         // Arguments.
         case(
             "render zero refresh period",

@@ -22,6 +22,7 @@ mod common;
 use common::{root, run};
 
 mod arguments;
+mod hostile;
 mod profiles;
 mod sessions;
 mod shaders;
@@ -105,12 +106,21 @@ fn input(path: &str) -> String {
 struct Good {
     session: serde_json::Value,
     profile: serde_json::Value,
+    /// The written variant's `manifest.json`.
+    manifest: serde_json::Value,
 }
 
 impl Good {
     /// The good session with `edit` applied, as text.
     fn session(&self, edit: &dyn Fn(&mut serde_json::Value)) -> String {
         let mut v = self.session.clone();
+        edit(&mut v);
+        serde_json::to_string(&v).unwrap()
+    }
+
+    /// The written variant's manifest with `edit` applied, as text.
+    fn manifest(&self, edit: &dyn Fn(&mut serde_json::Value)) -> String {
+        let mut v = self.manifest.clone();
         edit(&mut v);
         serde_json::to_string(&v).unwrap()
     }
@@ -152,7 +162,7 @@ fn emit_with(file: &'static str) -> Vec<&'static str> {
 fn cases(good: &Good) -> Vec<Case> {
     let mut v = shaders::cases();
     v.extend(sessions::cases(good));
-    v.extend(variants::cases());
+    v.extend(variants::cases(good));
     v.extend(arguments::cases());
     v.extend(profiles::cases(good));
     v
@@ -205,6 +215,7 @@ fn every_bad_input_exits_2_with_one_clear_message_and_writes_nothing() {
     let all = cases(&Good {
         session: read("good.json"),
         profile: read("good.profile.json"),
+        manifest: read("variant/manifest.json"),
     });
     assert!(all.len() >= 50, "{} cases", all.len());
     let inputs = bad_input_dir();

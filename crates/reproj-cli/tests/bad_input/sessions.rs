@@ -200,6 +200,41 @@ pub(super) fn cases(good: &Good) -> Vec<Case> {
             "covers no pixel",
         ),
     ]);
+    // Values a session cannot mean: refused naming the field, not silently changed.
+    v.extend([
+        case(
+            "uniform past the largest f32",
+            &[("s.json", &session(&|v| v["uniforms"]["gain"] = 1e39.into()))],
+            &render_with("s.json"),
+            "uniforms.gain",
+        ),
+        case(
+            "uniform key past the largest f32",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["uniforms"]["tint"] = serde_json::json!({"keys": [
+                        {"frame": 0, "value": [1, 1, 1]},
+                        {"frame": 3, "value": [1, -1e39, 1]}
+                    ]})
+                }),
+            )],
+            &render_with("s.json"),
+            "uniforms.tint.keys[1].value",
+        ),
+        case(
+            "rotation about a zero axis",
+            &[(
+                "s.json",
+                &session(&|v| {
+                    v["geometry"]["objects"][0]["transform"]["keys"][1]["rotation"]["axis_angle"]
+                        ["axis"] = serde_json::json!([0, 0, 0])
+                }),
+            )],
+            &render_with("s.json"),
+            "geometry.objects[0].transform.keys[1].rotation.axis_angle.axis",
+        ),
+    ]);
     v.push(Case {
         name: "session not UTF-8",
         files: vec![("s.json", input_bytes("sessions/not_utf8.json"))],

@@ -1,10 +1,42 @@
 //! Bad written variants (`render --variant`): missing, a manifest that is not JSON, of another
-//! version or without passes; and a variant run with a shader that is not its own.
+//! version or without passes; a manifest naming a pass outside its folder; and a variant run
+//! with a shader that is not its own.
 
-use super::{Case, case, input};
+use super::{Case, Good, case, input};
 
-pub(super) fn cases() -> Vec<Case> {
+/// `render good.wgsl` with the variant in `v/`.
+const RENDER_V: [&str; 6] = [
+    "render",
+    "good.wgsl",
+    "--session",
+    "good.json",
+    "--variant",
+    "v",
+];
+
+pub(super) fn cases(good: &Good) -> Vec<Case> {
+    let manifest = |edit: &dyn Fn(&mut serde_json::Value)| good.manifest(edit);
     vec![
+        // A manifest names its passes beside it: never a file elsewhere, whose text a parse
+        // error would show.
+        case(
+            "variant pass at an absolute path",
+            &[(
+                "v/manifest.json",
+                &manifest(&|v| v["passes"][0]["file"] = "/etc/passwd".into()),
+            )],
+            &RENDER_V,
+            "passes[0].file`: `/etc/passwd` is outside the manifest's folder",
+        ),
+        case(
+            "variant pass above its folder",
+            &[(
+                "v/manifest.json",
+                &manifest(&|v| v["passes"][0]["file"] = "../good.wgsl".into()),
+            )],
+            &RENDER_V,
+            "outside the manifest's folder",
+        ),
         // Written variants.
         case(
             "variant missing",

@@ -176,12 +176,16 @@ impl VariantInput {
         let mpath = dir.join("manifest.json");
         let manifest: Manifest = reproj_io::read_json(&mpath, &MANIFEST_KIND)?;
         let mut sources = Vec::new();
-        for p in &manifest.passes {
-            let f = dir.join(&p.file);
+        for (i, p) in manifest.passes.iter().enumerate() {
+            // A manifest names its passes beside it: never another file of the machine, whose
+            // text a parse error would then show.
+            let f = reproj_scene::session::resolve_inside(dir, Path::new(&p.file), "manifest")
+                .map_err(|why| ReplayError::Variant {
+                    message: format!("{}: field `passes[{i}].file`: {why}", mpath.display()),
+                })?;
             sources.push(
-                std::fs::read_to_string(&f).map_err(|e| ReplayError::Variant {
-                    message: format!("cannot read {}: {e}", f.display()),
-                })?,
+                reproj_io::read_input_string(&f, reproj_io::InputKind::Shader)
+                    .map_err(reproj_io::ReadError::from)?,
             );
         }
         let mut v = Self::new(sources, manifest, delta_n);

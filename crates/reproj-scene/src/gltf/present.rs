@@ -37,6 +37,8 @@ pub(crate) fn import(session: &Session, path: &Path) -> Result<Arc<Imported>, St
     if let Some(i) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&full) {
         return Ok(i.clone());
     }
+    // Only a regular file within the size limit: a pipe or a device would block or never end.
+    reproj_io::check_input(&full, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
     // The glTF's own files (buffers, images) obey the session's folder rule too.
     let gltf =
         gltf::Gltf::open(&full).map_err(|e| format!("cannot import {}: {e}", full.display()))?;
@@ -52,8 +54,10 @@ pub(crate) fn import(session: &Session, path: &Path) -> Result<Arc<Imported>, St
             gltf::image::Source::View { .. } => None,
         }));
     for uri in uris.filter(|u| !u.starts_with("data:")) {
-        session
+        let file = session
             .resolve(&dir.join(&uri))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        reproj_io::check_input(&file, reproj_io::InputKind::Asset)
             .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     let (doc, buffers, images) =

@@ -72,51 +72,63 @@ pub fn allow_outside_paths() {
     OUTSIDE_PATHS_ALLOWED.store(true, std::sync::atomic::Ordering::Relaxed);
 }
 
+/// True when [`allow_outside_paths`] was called (`--allow-outside-paths`).
+pub fn outside_paths_allowed() -> bool {
+    OUTSIDE_PATHS_ALLOWED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Resolve `p`, named by a document in `base_dir` (a session, a variant's manifest), against that
+/// folder. A path that leaves it (absolute, `..` above it, or a link out of it) is refused unless
+/// [`allow_outside_paths`] was called: a document names files beside it, and one from elsewhere
+/// must not read `/etc/passwd` or a user's keys. `document` names the document in the message
+/// ("session", "manifest").
+pub fn resolve_inside(base_dir: &Path, p: &Path, document: &str) -> Result<PathBuf, String> {
+    let full = if p.is_absolute() {
+        p.to_owned()
+    } else {
+        base_dir.join(p)
+    };
+    if outside_paths_allowed() {
+        return Ok(full);
+    }
+    let lexically_inside = !p.is_absolute() && {
+        let mut depth = 0i32;
+        p.components().all(|c| {
+            match c {
+                std::path::Component::ParentDir => depth -= 1,
+                std::path::Component::Normal(_) => depth += 1,
+                _ => {}
+            }
+            depth >= 0
+        })
+    };
+    let base = if base_dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        base_dir
+    };
+    // Through links: both canonical, when the file exists (a missing file fails later, with
+    // its own message).
+    let linked_inside = match (std::fs::canonicalize(&full), std::fs::canonicalize(base)) {
+        (Ok(f), Ok(b)) => f.starts_with(b),
+        _ => true,
+    };
+    if lexically_inside && linked_inside {
+        Ok(full)
+    } else {
+        Err(format!(
+            "`{}` is outside the {document}'s folder {}: a {document} names files beside it (copy the file there, or pass --allow-outside-paths)",
+            p.display(),
+            base.display()
+        ))
+    }
+}
+
 impl Session {
-    /// Resolve a path from the session file against its directory. A path that leaves that
-    /// directory (absolute, `..` above it, or a link out of it) is refused unless
-    /// [`allow_outside_paths`] was called: a session, like a document, names files beside it, and
-    /// a session from elsewhere must not read `/etc/passwd` or a user's keys.
+    /// Resolve a path from the session file against its directory ([`resolve_inside`]: a path
+    /// leaving it is refused unless [`allow_outside_paths`] was called).
     pub fn resolve(&self, p: &Path) -> Result<PathBuf, String> {
-        let full = if p.is_absolute() {
-            p.to_owned()
-        } else {
-            self.base_dir.join(p)
-        };
-        if OUTSIDE_PATHS_ALLOWED.load(std::sync::atomic::Ordering::Relaxed) {
-            return Ok(full);
-        }
-        let lexically_inside = !p.is_absolute() && {
-            let mut depth = 0i32;
-            p.components().all(|c| {
-                match c {
-                    std::path::Component::ParentDir => depth -= 1,
-                    std::path::Component::Normal(_) => depth += 1,
-                    _ => {}
-                }
-                depth >= 0
-            })
-        };
-        let base = if self.base_dir.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            &self.base_dir
-        };
-        // Through links: both canonical, when the file exists (a missing file fails later, with
-        // its own message).
-        let linked_inside = match (std::fs::canonicalize(&full), std::fs::canonicalize(base)) {
-            (Ok(f), Ok(b)) => f.starts_with(b),
-            _ => true,
-        };
-        if lexically_inside && linked_inside {
-            Ok(full)
-        } else {
-            Err(format!(
-                "`{}` is outside the session's folder {}: a session names files beside it (copy the file there, or pass --allow-outside-paths)",
-                p.display(),
-                base.display()
-            ))
-        }
+        resolve_inside(&self.base_dir, p, "session")
     }
 
     /// A short name for reports: the file name, else the description.

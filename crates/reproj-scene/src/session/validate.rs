@@ -7,6 +7,24 @@ use glam::Vec3;
 
 use super::*;
 
+/// Every number of `value` fits an `f32`: the GPU reads 32-bit values, and a larger one (1e39)
+/// would silently become infinity. The error is (JSON path, message).
+fn check_f32(value: &Value, field: &str) -> Result<(), (String, String)> {
+    match value
+        .flatten()
+        .into_iter()
+        .find(|x| x.abs() > f64::from(f32::MAX))
+    {
+        Some(x) => Err((
+            field.to_owned(),
+            format!(
+                "{x:e} is out of range: uniform and buffer values are 32-bit floats (at most about ±3.4e38)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// True for finite numbers > 0 (false for NaN).
 fn positive(x: f32) -> bool {
     x.is_finite() && x > 0.0
@@ -40,7 +58,7 @@ impl UniformValue {
     /// The error is (JSON path, message).
     pub(crate) fn check_keys(&self, field: &str) -> Result<(), (String, String)> {
         match self {
-            UniformValue::Const(_) => Ok(()),
+            UniformValue::Const(v) => check_f32(v, field),
             UniformValue::Struct(m) => m
                 .iter()
                 .try_for_each(|(k, v)| v.check_keys(&format!("{field}.{k}"))),
@@ -66,7 +84,9 @@ impl UniformValue {
                         "every key needs the same number of components".into(),
                     ));
                 }
-                Ok(())
+                keys.iter()
+                    .enumerate()
+                    .try_for_each(|(i, k)| check_f32(&k.value, &format!("{field}[{i}].value")))
             }
         }
     }
@@ -213,6 +233,18 @@ impl Session {
                         path: self.path.clone(),
                         field: format!("{f}.transform.keys[{k}].matrix"),
                         message,
+                    });
+                }
+                // A zero axis has no direction: the rotation would silently be none at all.
+                if let Some(Rotation::AxisAngle { axis, .. }) = &key.rotation
+                    && !(axis.iter().all(|x| x.is_finite()) && Vec3::from(*axis).length() > 0.0)
+                {
+                    return Err(SessionError::Invalid {
+                        path: self.path.clone(),
+                        field: format!("{f}.transform.keys[{k}].rotation.axis_angle.axis"),
+                        message: format!(
+                            "{axis:?} is not a direction: a rotation axis needs a finite, non-zero length"
+                        ),
                     });
                 }
             }
