@@ -36,8 +36,8 @@ use std::path::PathBuf;
 
 #[cfg(feature = "gpu")]
 pub use analyze::{
-    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, Extension, ExtensionStop, next_extension, DEFAULT_RACE, Progress, Sampling,
-    Silent, analyze,
+    AnalyzeInput, AnalyzeOptions, DEFAULT_PERCEPTUAL_STRIDE, DEFAULT_RACE, Extension,
+    ExtensionStop, Progress, Sampling, Silent, analyze, next_extension,
 };
 pub use emit::{
     Contender, EMIT_REPORT_SCHEMA, EMIT_REPORT_VERSION, EmitOptions, EmitReport, Runoff,

@@ -171,7 +171,9 @@ pub enum ExtensionStop {
 impl std::fmt::Display for ExtensionStop {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ExtensionStop::Error { error } => write!(f, "its error {error:.5} reaches the loosest budget"),
+            ExtensionStop::Error { error } => {
+                write!(f, "its error {error:.5} reaches the loosest budget")
+            }
             ExtensionStop::Gain { gain } => write!(
                 f,
                 "doubling Δn would save at most {:.1} % of its frame time",
@@ -217,7 +219,11 @@ pub fn next_extension(
 /// one past the longest of them ([`next_extension`]); the others are held out.
 pub(crate) fn is_training(opts: &AnalyzeOptions, delta_n: u32) -> bool {
     opts.delta_n_train.contains(&delta_n)
-        || opts.delta_n_train.iter().max().is_some_and(|&l| delta_n > l)
+        || opts
+            .delta_n_train
+            .iter()
+            .max()
+            .is_some_and(|&l| delta_n > l)
 }
 
 /// At how many of the training periods `analyze` replays each node.
@@ -538,7 +544,10 @@ mod tests {
             next_extension(&expensive, f64::NAN, 150, &ext),
             Err(ExtensionStop::Gain { gain: 0.0 })
         );
-        assert_eq!(next_extension(&expensive, 10.0, 150, &Extension::OFF).ok(), None);
+        assert_eq!(
+            next_extension(&expensive, 10.0, 150, &Extension::OFF).ok(),
+            None
+        );
     }
 
     #[test]

@@ -86,10 +86,9 @@ impl Replayer<'_, '_> {
         measurements: &mut Vec<Measurement>,
         failure: &mut Option<String>,
     ) -> Result<(), AnalyzeError> {
-        let frames = self
-            .opts
-            .max_frames
-            .map_or(self.input.session.frames, |m| m.min(self.input.session.frames));
+        let frames = self.opts.max_frames.map_or(self.input.session.frames, |m| {
+            m.min(self.input.session.frames)
+        });
         let mut verdict = None;
         let mut run = PeriodRun {
             subject,

@@ -13,6 +13,7 @@ fn root() -> PathBuf {
 fn reproj_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
         .args(args)
+        .env("REPROJ_NO_CEILING", "1")
         .envs(env.iter().copied())
         .current_dir(root())
         .output()
@@ -36,6 +37,7 @@ const TINY_SESSION: &str = "crates/reproj-replay/tests/data/tiny_static_plane.js
 fn with_closed_stdout(args: &[&str]) -> (i32, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_reproj"))
         .args(args)
+        .env("REPROJ_NO_CEILING", "1")
         .current_dir(root())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -18,6 +18,7 @@ fn spawn(cwd: &Path, args: &[&str]) -> Child {
         .args(args)
         .current_dir(cwd)
         .env("NODEVICE_SELECT", "1")
+        .env("REPROJ_NO_CEILING", "1")
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

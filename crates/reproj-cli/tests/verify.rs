@@ -351,7 +351,23 @@ fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
     )
     .unwrap();
     let started = std::time::Instant::now();
-    let (code, out, err) = common::analyze_short(dir, "cheap.wgsl", &["s.json"], "c.profile.json", &[]);
+    let (code, out, err) = common::run_with_ceiling(
+        dir,
+        &[
+            "analyze",
+            "cheap.wgsl",
+            "--session",
+            "s.json",
+            "--out",
+            "c.profile.json",
+            "--delta-n",
+            "2,8,16,24",
+            "--holdout",
+            "4",
+            "--no-sets",
+            "--no-charts",
+        ],
+    );
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("caching cannot pay on this device"), "{out}");
     assert!(out.contains("no node profiled"), "{out}");
@@ -367,12 +383,25 @@ fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
     assert_eq!(ceiling["pays"], false, "{ceiling}");
     assert!(ceiling["ci95"][1].as_f64().unwrap() < 1.1, "{ceiling}");
     assert!(ceiling["original_ms"].as_f64().unwrap() > 0.0, "{ceiling}");
-    assert_eq!(profile["nodes"].as_array().map(Vec::len), Some(0), "{profile}");
+    assert_eq!(
+        profile["nodes"].as_array().map(Vec::len),
+        Some(0),
+        "{profile}"
+    );
     let (code, out, err) = run(
         dir,
         &[
-            "emit", "--profile", "c.profile.json", "--max-error", "0.01", "--out", "e", "--verify",
-            "--session", "s.json", "--json",
+            "emit",
+            "--profile",
+            "c.profile.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "e",
+            "--verify",
+            "--session",
+            "s.json",
+            "--json",
         ],
     );
     assert_eq!(code, 0, "{err}");
@@ -386,16 +415,30 @@ fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
     );
     assert!(report["measured_speedup"].is_null(), "{report}");
     assert!(report["measured_speedup_ci95"].is_null(), "{report}");
-    assert!(report["measured_original_ms"].as_f64().unwrap() > 0.0, "{report}");
+    assert!(
+        report["measured_original_ms"].as_f64().unwrap() > 0.0,
+        "{report}"
+    );
     let (code, out, err) = run(
         dir,
         &[
-            "emit", "--profile", "c.profile.json", "--max-error", "0.01", "--out", "e2",
-            "--verify", "--session", "s.json",
+            "emit",
+            "--profile",
+            "c.profile.json",
+            "--max-error",
+            "0.01",
+            "--out",
+            "e2",
+            "--verify",
+            "--session",
+            "s.json",
         ],
     );
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("the original shader is kept: nothing to time"), "{out}");
+    assert!(
+        out.contains("the original shader is kept: nothing to time"),
+        "{out}"
+    );
     assert!(!out.contains("1.00x [1.00, 1.00]"), "{out}");
 }
 
@@ -424,14 +467,28 @@ fn a_shader_with_three_bind_groups_is_analyzed_and_verified() {
     let (code, out, err) = run(
         dir,
         &[
-            "emit", "--profile", "g.profile.json", "--max-error", "0.02", "--out", "e", "--verify",
-            "--session", "s.json", "--runoff", "1", "--json",
+            "emit",
+            "--profile",
+            "g.profile.json",
+            "--max-error",
+            "0.02",
+            "--out",
+            "e",
+            "--verify",
+            "--session",
+            "s.json",
+            "--runoff",
+            "1",
+            "--json",
         ],
     );
     assert_eq!(code, 0, "{err}");
     let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
     assert!(report["node"].is_string(), "{report}");
-    assert!(report["measured_error"].as_f64().unwrap() <= 0.02, "{report}");
+    assert!(
+        report["measured_error"].as_f64().unwrap() <= 0.02,
+        "{report}"
+    );
     let manifest: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("e/manifest.json")).unwrap())
             .unwrap();

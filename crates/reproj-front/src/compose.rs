@@ -134,7 +134,9 @@ fn find_asset_modules(
         let rel = name.trim_matches('"');
         let Some((path, source)) = roots.iter().find_map(|root| {
             let path = root.join(rel);
-            reproj_io::read_input_string(&path, reproj_io::InputKind::Shader).ok().map(|s| (path, s))
+            reproj_io::read_input_string(&path, reproj_io::InputKind::Shader)
+                .ok()
+                .map(|s| (path, s))
         }) else {
             continue;
         };

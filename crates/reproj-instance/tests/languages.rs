@@ -229,11 +229,12 @@ fn a_runtime_sized_texture_array_declares_its_capability_in_spirv() {
             .chunks_exact(4)
             .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
-        let uses_array = p
-            .module
-            .global_variables
-            .iter()
-            .any(|(_, g)| matches!(p.module.types[g.ty].inner, naga::TypeInner::BindingArray { .. }));
+        let uses_array = p.module.global_variables.iter().any(|(_, g)| {
+            matches!(
+                p.module.types[g.ty].inner,
+                naga::TypeInner::BindingArray { .. }
+            )
+        });
         if !uses_array {
             continue;
         }
@@ -255,7 +256,11 @@ fn a_runtime_sized_texture_array_declares_its_capability_in_spirv() {
             }
             at += count.max(1);
         }
-        assert!(capability && extension, "{:?}: {capability} {extension}", p.kind);
+        assert!(
+            capability && extension,
+            "{:?}: {capability} {extension}",
+            p.kind
+        );
         if spirv_val {
             let r = std::process::Command::new("spirv-val")
                 .args(["--target-env", "vulkan1.2"])

@@ -172,7 +172,12 @@ impl std::fmt::Display for Ceiling {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let at = format!(
             "{:.2}x [{:.2}, {:.2}] ({}; original {:.3} ms/frame, variant {:.3} ms with nothing recomputed)",
-            self.speedup, self.ci95[0], self.ci95[1], self.strategy, self.original_ms, self.variant_ms
+            self.speedup,
+            self.ci95[0],
+            self.ci95[1],
+            self.strategy,
+            self.original_ms,
+            self.variant_ms
         );
         if self.pays {
             write!(f, "caching can reach at most {at}")

@@ -315,7 +315,11 @@ fn attribute_by_name(name: &str, components: u32) -> Option<&'static str> {
     } else if has(&["normal", "nrm", "norm"]) {
         if object { "object_normal" } else { "normal" }
     } else if has(&["pos", "world", "frag_p", "vertex_p"]) {
-        if object { "object_position" } else { "position" }
+        if object {
+            "object_position"
+        } else {
+            "position"
+        }
     } else {
         return None;
     };
@@ -460,13 +464,19 @@ mod tests {
         assert_eq!(map["3"], "tangent");
         assert_eq!(map["5"], "object_position");
         assert_eq!(notes.len(), 5, "{notes:?}");
-        assert!(notes.iter().all(|n| n.contains("from its name")), "{notes:?}");
+        assert!(
+            notes.iter().all(|n| n.contains("from its name")),
+            "{notes:?}"
+        );
         // A name that says nothing: the convention where the width fits, else the width.
         let mut notes = Vec::new();
         let map = inputs(&[input(0, 3, "a"), input(2, 3, "b")], &mut notes).unwrap();
         assert_eq!(map["0"], "position");
         assert_eq!(map["2"], "position");
-        assert!(notes[0].contains("convention") && notes[1].contains("width"), "{notes:?}");
+        assert!(
+            notes[0].contains("convention") && notes[1].contains("width"),
+            "{notes:?}"
+        );
         // Past the convention with no name to go by: refused, naming it.
         assert!(inputs(&[input(7, 1, "q")], &mut Vec::new()).is_err());
     }

@@ -20,8 +20,8 @@ use crate::AnalyzeError;
 pub use crate::input::{AnalyzeInput, Progress, Silent};
 use crate::journal::Journal;
 pub use crate::options::{
-    AnalyzeOptions, Extension, ExtensionStop, next_extension, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
-    DEFAULT_RACE, DEFAULT_TRAIN, Sampling,
+    AnalyzeOptions, DEFAULT_HOLDOUT, DEFAULT_PERCEPTUAL_FRAMES, DEFAULT_PERCEPTUAL_STRIDE,
+    DEFAULT_RACE, DEFAULT_TRAIN, Extension, ExtensionStop, Sampling, next_extension,
 };
 use crate::options::{check_periods, period_plan};
 use crate::prune::profile_candidates;

@@ -580,12 +580,18 @@ mod tests {
         // The simplest is slower than the original beyond doubt, another may still pay: that
         // one (a normal-mapped Blinn-Phong: fused 0.73× [0.55, 0.97], 2pass 0.93× [0.75, 1.16]).
         assert_eq!(
-            race_winner(&s, &[e(0.6, 0.5, 0.7), e(0.93, 0.75, 1.16), e(0.73, 0.55, 0.97)]),
+            race_winner(
+                &s,
+                &[e(0.6, 0.5, 0.7), e(0.93, 0.75, 1.16), e(0.73, 0.55, 0.97)]
+            ),
             Some(1)
         );
         // All slower beyond doubt: the simplest, as before (the node is then set aside).
         assert_eq!(
-            race_winner(&s, &[e(0.6, 0.5, 0.7), e(0.9, 0.85, 0.95), e(0.73, 0.55, 0.97)]),
+            race_winner(
+                &s,
+                &[e(0.6, 0.5, 0.7), e(0.9, 0.85, 0.95), e(0.73, 0.55, 0.97)]
+            ),
             Some(2)
         );
     }

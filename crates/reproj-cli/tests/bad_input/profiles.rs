@@ -161,11 +161,13 @@ pub(super) fn cases(good: &Good) -> Vec<Case> {
             "original.frame_ms",
         ),
     ]);
-    // A node's measurements: only where the good profile has a node. Where the ceiling race
-    // finds that caching cannot pay on the device (lavapipe on a loaded machine), it has none.
-    if good.profile["nodes"]
-        .as_array()
-        .is_some_and(|n| !n.is_empty())
+    // A node's measurements (the good profile is analyzed with `--no-ceiling`: it has nodes).
+    assert!(
+        good.profile["nodes"]
+            .as_array()
+            .is_some_and(|n| !n.is_empty()),
+        "the good profile has no node"
+    );
     {
         v.extend([
             case(

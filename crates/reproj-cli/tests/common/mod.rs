@@ -15,6 +15,24 @@ pub fn run(cwd: &Path, args: &[&str]) -> (i32, String, String) {
         .args(args)
         .current_dir(cwd)
         .env("NODEVICE_SELECT", "1")
+        .env("REPROJ_NO_CEILING", "1")
+        .output()
+        .expect("run reproj");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// [`run`] with `analyze`'s ceiling race on (the other runs set `REPROJ_NO_CEILING`: the tests'
+/// tiny shaders cost less than a variant's own passes, and their profiles need nodes).
+pub fn run_with_ceiling(cwd: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+        .args(args)
+        .current_dir(cwd)
+        .env("NODEVICE_SELECT", "1")
+        .env_remove("REPROJ_NO_CEILING")
         .output()
         .expect("run reproj");
     (
@@ -30,6 +48,7 @@ pub fn run_env(cwd: &Path, args: &[&str], env: &[(&str, &str)]) -> (i32, String,
         .args(args)
         .current_dir(cwd)
         .env("NODEVICE_SELECT", "1")
+        .env("REPROJ_NO_CEILING", "1")
         .envs(env.iter().copied())
         .output()
         .expect("run reproj");
