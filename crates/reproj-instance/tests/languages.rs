@@ -192,7 +192,8 @@ fn a_runtime_sized_texture_array_declares_its_capability_in_spirv() {
     let path = dir.path().join("layers.wgsl");
     std::fs::write(
         &path,
-        "struct In { @location(0) world_pos: vec3<f32>, @location(2) uv: vec2<f32> };\n\
+        "enable wgpu_binding_array;\n\
+         struct In { @location(0) world_pos: vec3<f32>, @location(2) uv: vec2<f32> };\n\
          struct Params { layer: u32, gain: f32 };\n\
          @group(0) @binding(0) var<uniform> params: Params;\n\
          @group(0) @binding(1) var layers: binding_array<texture_2d<f32>>;\n\
