@@ -1,4 +1,4 @@
-//! `reproj session init` (issue 24 item 3): a starting session for a shader that `reproj render`
+//! `reproj session init`: a starting session for a shader that `reproj render`
 //! runs at once, for every shader of the test bed; an existing file is not replaced without
 //! `--force`; what the replay cannot provide is refused with exit 2 and nothing written.
 

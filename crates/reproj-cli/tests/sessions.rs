@@ -1,4 +1,4 @@
-//! Several sessions (issue 26): `analyze --session A --session B` writes a profile per session,
+//! Several sessions: `analyze --session A --session B` writes a profile per session,
 //! and `emit --profile A --profile B`, one profile per session of the same shader, selects so that the budget holds on every session — the worst case — and reports
 //! each session's prediction; verified on the faster session, it holds where the single-session
 //! choice (`verify.rs`) broke it. Profiles of another shader are refused.

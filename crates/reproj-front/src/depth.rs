@@ -89,7 +89,7 @@ mod tests {
         )
     }
 
-    /// Issue 45: 20,000 terms overflowed the stack in naga's WGSL lowering; now refused from
+    /// 20,000 terms overflowed the stack in naga's WGSL lowering; now refused from
     /// the text, before naga reads it.
     #[test]
     fn a_chain_past_the_limit_is_refused_from_the_text() {

@@ -1,4 +1,4 @@
-//! What Vulkan-style GLSL written by others does and the front end now reads (issue 27,
+//! What Vulkan-style GLSL written by others does and the front end now reads (
 //! `tests/others/`): `#include` beside the shader, matrix fragment inputs, texture reads
 //! in non-uniform control flow; and what naga 30 cannot read, refused by name at its place. Needs
 //! `glslangValidator`: without it these tests fail under `CI` and say they skipped otherwise.

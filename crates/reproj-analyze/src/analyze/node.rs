@@ -405,7 +405,7 @@ fn profile_winner(
             }
         }
     }
-    let subject = Subject {
+    let mut subject = Subject {
         block,
         verdict: None,
         ..subject
@@ -420,6 +420,9 @@ fn profile_winner(
     )?;
     let filter_probes = &mut replays.filter_probes;
     let mut reconstruct = opts.instance.reconstruct;
+    // The speed the periods past the training ones are judged from: the strategy race's, or,
+    // where a filter was kept after another race, the replays' own.
+    let mut raced = Some(estimate.speedup);
     if opts.race_filters && failure.is_none() {
         let race = crate::filters::FilterRace {
             id,
@@ -436,40 +439,25 @@ fn profile_winner(
             // period, then the rest of the plan.
             reconstruct = crate::filters::CHALLENGER;
             measurements = vec![kept.measurement];
+            (sources, variant, raced) = (kept.sources, kept.variant, None);
             progress.extend(plan.len() as u64);
-            let subject = Subject {
+            subject = Subject {
                 reconstruct: Some(reconstruct),
                 verdict: None,
                 ..subject
             };
             rp.replay_plan(
                 &subject,
-                &kept.sources,
-                &kept.variant,
+                &sources,
+                &variant,
                 plan,
                 &mut measurements,
                 &mut failure,
             )?;
-            rp.extend_periods(
-                None,
-                &subject,
-                &kept.sources,
-                &kept.variant,
-                &mut measurements,
-                &mut failure,
-            )?;
-            return Ok(Raw {
-                id,
-                strategy,
-                block,
-                reconstruct,
-                measurements,
-                failure,
-            });
         }
     }
     rp.extend_periods(
-        Some(estimate.speedup),
+        raced,
         &subject,
         &sources,
         &variant,

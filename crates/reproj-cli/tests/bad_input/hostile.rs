@@ -1,4 +1,4 @@
-//! Hostile inputs (issue 45) that the case table cannot hold: named pipes, devices, files past the
+//! Hostile inputs that the case table cannot hold: named pipes, devices, files past the
 //! size limits, an expression chain that overflowed the stack, and stdout that cannot be
 //! written. Each runs the real binary under a time limit (a hang fails the test rather than
 //! blocking it), and must end with its exit code and a message naming the file.
@@ -172,7 +172,7 @@ fn files_past_the_size_limit_are_refused_naming_size_and_limit() {
     );
 }
 
-/// A flat chain of 20,000 additions overflowed the stack in `reproj nodes` (issue 45).
+/// A flat chain of 20,000 additions overflowed the stack in `reproj nodes`.
 #[test]
 fn a_long_flat_expression_chain_is_refused_not_a_stack_overflow() {
     let dir = good_dir();
