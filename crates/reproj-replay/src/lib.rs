@@ -12,6 +12,8 @@
 //! renderer's own submodules from their parent):
 //!
 //! - [`backend`]: the wgpu backends this build has ([`compiled_backends`]) and `--backend` names.
+//! - [`jitter`]: sub-pixel offsets of the projection (Halton, fixed) for temporal upsampling and
+//!   supersampled references.
 //! - [`vertex`]: the generated vertex stage (invariant clip position, one output per fragment input,
 //!   optionally the previous frame's clip position), with its transform uniforms in its own bind
 //!   group: the lowest group index the fragment modules do not use.
@@ -60,6 +62,7 @@
 mod error;
 
 pub mod backend;
+pub mod jitter;
 pub mod vertex;
 
 mod assets;
@@ -69,7 +72,10 @@ mod reduce;
 mod render;
 
 pub use backend::{compiled_backends, parse_backends};
+pub use jitter::Jitter;
 pub use reduce::Reference;
-pub use render::{FrameProgress, RenderOptions, Renderer, RendererOptions, VariantInput};
+pub use render::{
+    FrameProgress, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled, VariantInput,
+};
 
 pub use error::ReplayError;

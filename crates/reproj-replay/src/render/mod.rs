@@ -36,6 +36,7 @@ mod original;
 mod pipeline;
 mod scene;
 mod score;
+mod upsample;
 mod variant;
 
 use bind::*;
@@ -45,6 +46,7 @@ use scene::*;
 use score::{Scorer, scoring_pool};
 
 pub use reproj_instance::contract::CLASSIFY_ENTRY;
+pub use upsample::{UpsampleSpec, Upsampled};
 
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

@@ -5,6 +5,7 @@ use std::collections::BTreeSet;
 use reproj_front::Shader;
 
 use crate::error::ReplayError;
+use crate::jitter::Jitter;
 use crate::reduce::{FrameErrors, GpuReference, Keeper, PixelsBack};
 use crate::vertex;
 use reproj_metrics::l2;
@@ -89,6 +90,37 @@ impl Renderer {
         self.render_original_with(shader, entry_index, session, opts, &())
     }
 
+    /// [`Renderer::render_original`] with the projection moved by `jitter` each frame (one
+    /// sample of a supersampled reference: [`Jitter::Fixed`]).
+    pub fn render_original_jittered(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        opts: &RenderOptions,
+        jitter: Jitter,
+    ) -> Result<Reference, ReplayError> {
+        let (report, kept) = self.render_plain(
+            shader,
+            entry_index,
+            session,
+            opts,
+            &(),
+            Keep::Frames,
+            jitter,
+        )?;
+        let kept = kept.expect("Keep::Frames keeps the frames");
+        let [w, h] = session.resolution;
+        Ok(Reference {
+            width: w,
+            height: h,
+            frames: kept.0,
+            depth: kept.1,
+            report,
+            gpu: kept.2,
+        })
+    }
+
     /// [`Renderer::render_original`], telling `progress` as frames come back.
     pub fn render_original_with(
         &self,
@@ -98,8 +130,15 @@ impl Renderer {
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
     ) -> Result<Reference, ReplayError> {
-        let (report, kept) =
-            self.render_plain(shader, entry_index, session, opts, progress, Keep::Frames)?;
+        let (report, kept) = self.render_plain(
+            shader,
+            entry_index,
+            session,
+            opts,
+            progress,
+            Keep::Frames,
+            Jitter::None,
+        )?;
         let kept = kept.expect("Keep::Frames keeps the frames");
         if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
             return Err(ReplayError::NothingCovered {
@@ -147,6 +186,7 @@ impl Renderer {
             &opts,
             &(),
             Keep::ScoreAgainst(reference),
+            Jitter::None,
         )?;
         Ok(report)
     }
@@ -165,6 +205,7 @@ impl Renderer {
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
         keep: Keep<'_>,
+        jitter: Jitter,
     ) -> Result<(RenderReport, Option<KeptFrames>), ReplayError> {
         session.validate()?;
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
@@ -172,9 +213,10 @@ impl Renderer {
         let keeps = matches!(keep, Keep::Frames) && !opts.timing_only;
         self.check_size(session, frames, keeps)?;
         let first = Self::first_frame(session, opts)?;
-        let pass = self.plain_pass(shader, iface, session)?;
+        let pass = self.plain_pass(shader, iface, session, None)?;
         let targets = self.plain_targets(session, opts, keep, keeps, first, frames)?;
         let run = PlainRun {
+            jitter,
             session,
             opts,
             first,
@@ -198,17 +240,26 @@ impl Renderer {
     }
 
     /// The shader's pass: the scene, the vertex and fragment stages, the bindings and the
-    /// pipeline, the vertex transforms in the first bind group `iface` leaves free.
-    fn plain_pass(
+    /// pipeline, the vertex transforms in the first bind group `iface` leaves free; with
+    /// `prev_clip`, the vertex stage also writes the previous clip position as that output (for a
+    /// motion pass).
+    pub(super) fn plain_pass(
         &self,
         shader: &Shader,
         iface: Interface,
         session: &Session,
+        prev_clip: Option<reflect::FragInput>,
     ) -> Result<PlainPass, ReplayError> {
         let used: BTreeSet<u32> = iface.groups().into_iter().collect();
         let vgroup = free_group(&used, self.device.limits().max_bind_groups)?;
         let scene = self.build_scene(session, &[&iface], None)?;
-        let vs_src = vertex::vertex_wgsl(vgroup, &iface.inputs, &session.inputs, None)?;
+        let mut inputs = iface.inputs.clone();
+        let prev_clip = prev_clip.map(|input| {
+            let location = input.location;
+            inputs.push(input);
+            location
+        });
+        let vs_src = vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, prev_clip)?;
         let vs = self.shader_module("replay vertex stage", &vs_src)?;
         let fs = self.shader_module(&shader.path.display().to_string(), &shader.source)?;
         let bindings = self.bindings("original", &iface, &scene, None, None)?;
@@ -233,6 +284,8 @@ impl Renderer {
             vgroup,
             bindings,
             pipe,
+            vs,
+            vs_src,
         })
     }
 
@@ -365,7 +418,7 @@ impl Renderer {
         gpu: &mut GpuReference,
     ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
         let (p, t) = (&run.pass, &run.targets);
-        self.write_frame_uniforms(run.session, &p.scene, f);
+        self.write_frame_uniforms(run.session, &p.scene, f, run.jitter.offset(f));
         let mut enc = self.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -530,13 +583,16 @@ enum Keep<'r> {
 type KeptFrames = (Vec<Vec<f32>>, Vec<Vec<f32>>, GpuReference);
 
 /// The original's pass ([`Renderer::plain_pass`]).
-struct PlainPass {
-    iface: Interface,
-    scene: Scene,
+pub(super) struct PlainPass {
+    pub(super) iface: Interface,
+    pub(super) scene: Scene,
     /// The bind group of the vertex transforms (one the shader leaves free).
-    vgroup: u32,
-    bindings: Bindings,
-    pipe: Pipe,
+    pub(super) vgroup: u32,
+    pub(super) bindings: Bindings,
+    pub(super) pipe: Pipe,
+    /// The vertex stage and its source (a motion pass draws with it).
+    pub(super) vs: wgpu::ShaderModule,
+    pub(super) vs_src: String,
 }
 
 /// A plain render's targets, queries and readback ([`Renderer::plain_targets`]).
@@ -559,6 +615,8 @@ struct PlainTargets<'r> {
 
 /// What the frame loop of a plain render reads.
 struct PlainRun<'a> {
+    /// Where each frame's samples sit in their pixels.
+    jitter: Jitter,
     session: &'a Session,
     opts: &'a RenderOptions,
     first: u32,

@@ -380,12 +380,19 @@ impl Renderer {
     }
 
     /// Write the frame's uniform values and transforms.
-    pub(super) fn write_frame_uniforms(&self, session: &Session, scene: &Scene, frame: u32) {
+    pub(super) fn write_frame_uniforms(
+        &self,
+        session: &Session,
+        scene: &Scene,
+        frame: u32,
+        jitter: [f32; 2],
+    ) {
         let st = session.frame_state(frame);
         let prev = session.frame_state(frame.saturating_sub(1));
+        let view_proj = crate::jitter::jittered(st.camera.view_proj, jitter, session.resolution);
         for (i, o) in scene.objects.iter().enumerate() {
             let u = TransformUniform::new(
-                st.camera.view_proj,
+                view_proj,
                 prev.camera.view_proj,
                 st.models[i],
                 prev.models[i],

@@ -138,7 +138,7 @@ impl Renderer {
     ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
         let (variant, gpu) = (run.variant, run.gpu);
         let cur = (f % 2) as usize;
-        self.write_frame_uniforms(run.session, &gpu.scene, f);
+        self.write_frame_uniforms(run.session, &gpu.scene, f, [0.0, 0.0]);
         let mut p = contract::ReprojParams::for_frame(
             f,
             variant.delta_n_at(f),

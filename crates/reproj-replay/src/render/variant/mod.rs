@@ -25,7 +25,7 @@ use super::*;
 
 mod frames;
 mod gpu;
-mod motion;
+pub(super) mod motion;
 mod plan;
 
 use frames::FrameLoop;

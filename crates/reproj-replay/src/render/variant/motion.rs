@@ -25,8 +25,8 @@ fn replay_motion(@builtin(position) position: vec4<f32>, @location(PREV_CLIP) pr
 ";
 
 /// The motion-vector texture, its depth buffer and the pass's pipeline.
-pub(super) struct MotionGpu {
-    pub(super) view: wgpu::TextureView,
+pub(in crate::render) struct MotionGpu {
+    pub(in crate::render) view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
     pipe: Pipe,
     none: Bindings,
@@ -34,7 +34,7 @@ pub(super) struct MotionGpu {
 
 /// The vertex output the motion pass reads, when the variant's own passes read none: the
 /// previous clip position, one location past the highest fragment input.
-pub(super) fn prev_clip_input(inputs: &[reflect::FragInput]) -> reflect::FragInput {
+pub(in crate::render) fn prev_clip_input(inputs: &[reflect::FragInput]) -> reflect::FragInput {
     reflect::FragInput {
         location: inputs.iter().map(|i| i.location + 1).max().unwrap_or(0),
         components: 4,
@@ -46,7 +46,7 @@ pub(super) fn prev_clip_input(inputs: &[reflect::FragInput]) -> reflect::FragInp
 
 impl Renderer {
     /// The motion pass's texture, depth and pipeline, for frames of `size`.
-    pub(super) fn motion_gpu(
+    pub(in crate::render) fn motion_gpu(
         &self,
         size: [u32; 2],
         vs: &wgpu::ShaderModule,
@@ -92,7 +92,7 @@ impl Renderer {
     }
 
     /// Record the motion pass: the texture cleared to no motion, then the scene's surfaces.
-    pub(super) fn encode_motion(
+    pub(in crate::render) fn encode_motion(
         &self,
         enc: &mut wgpu::CommandEncoder,
         mg: &MotionGpu,
