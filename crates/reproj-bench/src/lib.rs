@@ -46,6 +46,9 @@ pub enum Subject {
         entry: usize,
         session: Option<Box<Session>>,
     },
+    /// The baseline shader's temporal upsampling ([`Renderer::render_upsampled`]): drawn at a
+    /// lower resolution with a jitter and resolved to the session's, both passes timed.
+    Upsampled(reproj_replay::UpsampleSpec),
 }
 
 /// One candidate, named as the report will name it.
@@ -375,6 +378,11 @@ impl Scene<'_> {
                     session: own,
                 } => {
                     r.render_original(shader, *entry, own.as_deref().unwrap_or(session), &o)?
+                        .report
+                        .frames
+                }
+                Subject::Upsampled(spec) => {
+                    r.render_upsampled(b.shader, b.entry, session, spec, &o)?
                         .report
                         .frames
                 }

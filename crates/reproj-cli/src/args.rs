@@ -9,7 +9,7 @@ use reproj_analyze::{Budget, EXTENDED_MAX_DELTA_N};
 use crate::values::{
     at_least_one, backend_help, block_choice, budget, delta_n_limit, depth_epsilon, output_path,
     override_value, parse_backend, positive, positive_fraction, positive_seconds, refresh_period,
-    unit_fraction,
+    supersample_count, unit_fraction,
 };
 
 mod input;
@@ -132,6 +132,13 @@ pub struct CompareArgs {
     /// Longest refresh period reproj may choose.
     #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
+    /// Jittered samples per pixel of the supersampled reference every method is also scored
+    /// against (0: none). Costs that many renders of the original.
+    #[arg(long, default_value_t = 16, value_parser = supersample_count)]
+    pub supersample: u32,
+    /// Leave temporal upsampling out of the comparison.
+    #[arg(long)]
+    pub no_temporal: bool,
     /// Print compare.json instead of the table.
     #[arg(long)]
     pub json: bool,

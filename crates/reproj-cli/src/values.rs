@@ -90,6 +90,16 @@ pub(crate) fn at_least_one(s: &str) -> Result<usize, String> {
     }
 }
 
+/// Samples per pixel of a supersampled reference: 0 (none) or 2 to 256.
+pub(crate) fn supersample_count(s: &str) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(v) if v == 0 || (2..=256).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not 0 (no supersampled reference) or a whole number from 2 to 256"
+        )),
+    }
+}
+
 /// A finite number > 0.
 pub(crate) fn positive(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {

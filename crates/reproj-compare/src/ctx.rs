@@ -12,7 +12,7 @@ use reproj_models::speedup::SpeedupEstimate;
 use reproj_replay::{Reference, RenderOptions, Renderer};
 use reproj_scene::Session;
 
-use crate::{CompareError, Scores};
+use crate::{Against, CompareError, Scores, Split};
 
 /// Whether a try's race leaves it in doubt: its estimate misses the target by more than
 /// `tolerance` while its interval reaches into the band the tolerance allows, so the race cannot
@@ -39,6 +39,10 @@ pub(crate) struct Ctx<'a> {
     pub(crate) timing_warnings: RefCell<Vec<String>>,
     pub(crate) session: &'a Session,
     pub(crate) reference: &'a Reference,
+    /// The supersampled reference's frames ([`crate::supersample::reference`]), when made.
+    pub(crate) supersampled: Option<&'a [Vec<f32>]>,
+    /// Which frames move ([`crate::supersample::moving_frames`]).
+    pub(crate) moving: &'a [bool],
     pub(crate) render_opts: &'a RenderOptions,
     pub(crate) stride: u32,
     pub(crate) target: f64,
@@ -115,29 +119,77 @@ impl Ctx<'_> {
         }
     }
 
-    /// L2 error and PSNR of `frames` (full resolution) against the reference; ꟻLIP too when
-    /// `perceptual`.
+    /// L2 error and PSNR of `frames` (full resolution) against the reference; ꟻLIP, the
+    /// still/moving split and the same against the supersampled reference too when
+    /// `perceptual` (a method's final frames).
     pub(crate) fn score(&self, frames: &[Vec<f32>], perceptual: bool) -> Scores {
         let r = self.reference;
-        let (mut sum_error, mut sum_sq, mut covered) = (0.0, 0.0, 0u64);
-        for (f, frame) in frames.iter().enumerate() {
-            let e = l2::compare(frame, &r.frames[f], &r.depth[f]);
-            sum_error += e.error();
-            sum_sq += e.sum_sq;
-            covered += e.covered;
+        let error = frames
+            .iter()
+            .enumerate()
+            .map(|(f, frame)| l2::compare(frame, &r.frames[f], &r.depth[f]).error())
+            .sum::<f64>()
+            / frames.len().max(1) as f64;
+        let one = self.against(frames, &r.frames, perceptual);
+        Scores {
+            error,
+            psnr: one.psnr,
+            flip: one.flip,
+            split: one.split,
+            supersampled: match (perceptual, self.supersampled) {
+                (true, Some(ss)) => Some(self.against(frames, ss, true)),
+                _ => None,
+            },
         }
+    }
+
+    /// The one-sample original against the supersampled reference, when there is one.
+    pub(crate) fn original_vs_supersampled(&self) -> Option<Against> {
+        let ss = self.supersampled?;
+        Some(self.against(&self.reference.frames, ss, true))
+    }
+
+    /// PSNR of `frames` against `refs` over the reference's covered pixels, pooled over every
+    /// frame and (where the session has both) over the still and the moving frames; ꟻLIP on the
+    /// perceptual stride when `perceptual`.
+    fn against(&self, frames: &[Vec<f32>], refs: &[Vec<f32>], perceptual: bool) -> Against {
+        let depth = &self.reference.depth;
+        // [all, still, moving]: (sum of squares, covered pixels).
+        let mut pools = [(0.0, 0u64); 3];
+        for (f, frame) in frames.iter().enumerate() {
+            let e = l2::compare(frame, &refs[f], &depth[f]);
+            let side = if self.moving.get(f).copied().unwrap_or(false) {
+                2
+            } else {
+                1
+            };
+            for i in [0, side] {
+                pools[i].0 += e.sum_sq;
+                pools[i].1 += e.covered;
+            }
+        }
+        let psnr = |(sum_sq, covered): (f64, u64)| {
+            let p = l2::psnr(l2::mse(sum_sq, covered));
+            if p.is_finite() { p } else { PSNR_CAP }
+        };
+        let still = self.moving.iter().filter(|&&m| !m).count();
+        let moving = self.moving.len() - still;
+        let split = (perceptual && still >= 2 && moving >= 1).then(|| Split {
+            still_psnr: psnr(pools[1]),
+            moving_psnr: psnr(pools[2]),
+        });
         // ꟻLIP on every stride-th frame, the frames in parallel.
         let flips: Vec<f64> = if perceptual {
             use rayon::prelude::*;
-            let stride = self.stride;
+            let (stride, r) = (self.stride, self.reference);
             (0..frames.len())
                 .into_par_iter()
                 .filter(|&f| (f as u32).is_multiple_of(stride))
                 .map(|f| {
                     let (p, _) = reproj_metrics::perceptual::compare_perceptual_split(
                         &frames[f],
-                        &r.frames[f],
-                        &r.depth[f],
+                        &refs[f],
+                        &depth[f],
                         r.width,
                         r.height,
                         reproj_metrics::perceptual::FrameSplit::Whole,
@@ -148,12 +200,10 @@ impl Ctx<'_> {
         } else {
             Vec::new()
         };
-        let n = frames.len().max(1) as f64;
-        let psnr = l2::psnr(l2::mse(sum_sq, covered));
-        Scores {
-            error: sum_error / n,
-            psnr: if psnr.is_finite() { psnr } else { PSNR_CAP },
+        Against {
+            psnr: psnr(pools[0]),
             flip: (!flips.is_empty()).then(|| flips.iter().sum::<f64>() / flips.len() as f64),
+            split,
         }
     }
 

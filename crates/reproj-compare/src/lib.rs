@@ -3,12 +3,18 @@
 //!
 //! - **resize** ([`resize`]): the original rendered at a reduced resolution, upsampled bilinearly
 //!   to full size; the scale is searched by measurement until the frame time meets the target;
+//! - **temporal** ([`temporal`]): what engines ship, temporal upsampling — the original at a
+//!   reduced resolution with a sub-pixel jitter, resolved each frame into a reprojected
+//!   full-resolution history; its scale searched like resize's;
 //! - **simplify** ([`simplify`]): Pellacini-style code simplification — greedily replace the node
 //!   whose removal costs the least error per saved time by its session mean, until the target;
 //! - **reproj** ([`reproj`]): reproj's own choice from a profile at the target speedup, rendered.
 //!
 //! Each is rendered with the replay (one renderer, no second one) and scored against the
-//! full-resolution original with the replay's metrics (L2, PSNR, ꟻLIP). Every speed — the
+//! full-resolution original with the replay's metrics (L2, PSNR, ꟻLIP), and against a
+//! supersampled reference (the original at `CompareOptions::supersample` jittered samples per
+//! pixel, averaged: what a temporal method converges toward; [`supersample`]), each split into
+//! still and moving frames where the session has both. Every speed — the
 //! searches' tries as well as the table's — is timed against the original interleaved
 //! ([`Ctx::race`], `reproj-bench`), never read off a replay's own mean. [`write_outputs`] writes
 //! the JSON report (schema `reproj.compare`, `docs/SCHEMAS.md`), the chart and side-by-side crops.
@@ -20,6 +26,8 @@ mod output;
 pub mod reproj;
 pub mod resize;
 pub mod simplify;
+pub mod supersample;
+pub mod temporal;
 
 use std::cell::{Cell, RefCell};
 use std::path::{Path, PathBuf};
@@ -37,7 +45,7 @@ pub use output::write_outputs;
 /// Schema name of a [`CompareReport`] (`compare.json`).
 pub const COMPARE_SCHEMA: &str = "reproj.compare";
 /// Version of the [`CompareReport`] schema. Bump on any incompatible change.
-pub const COMPARE_VERSION: u32 = 5;
+pub const COMPARE_VERSION: u32 = 6;
 
 /// What can go wrong in `compare`.
 #[derive(Debug, thiserror::Error)]
@@ -153,6 +161,10 @@ pub struct CompareOptions {
     /// simplification step's candidates together): interleaved too, shorter
     /// ([`reproj_analyze::DEFAULT_RACE`] by default).
     pub search_timing: reproj_bench::BenchOptions,
+    /// Compare temporal upsampling too ([`temporal`]).
+    pub temporal: bool,
+    /// Jittered samples per pixel of the supersampled reference (0: none; 1 is refused).
+    pub supersample: u32,
 }
 
 impl Default for CompareOptions {
@@ -168,6 +180,8 @@ impl Default for CompareOptions {
             perceptual_stride: reproj_analyze::DEFAULT_PERCEPTUAL_STRIDE,
             timing: reproj_bench::BenchOptions::default(),
             search_timing: reproj_analyze::DEFAULT_RACE,
+            temporal: true,
+            supersample: 16,
         }
     }
 }
@@ -181,6 +195,31 @@ pub struct Scores {
     pub psnr: f64,
     /// Mean ꟻLIP over the covered pixels of the frames on the perceptual stride.
     pub flip: Option<f64>,
+    /// PSNR over the still and over the moving frames alone, where the session has both
+    /// ([`supersample::moving_frames`]; version 6 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<Split>,
+    /// The same figures against the supersampled reference (version 6 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub supersampled: Option<Against>,
+}
+
+/// PSNR over the still frames and over the moving frames (dB).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Split {
+    pub still_psnr: f64,
+    pub moving_psnr: f64,
+}
+
+/// A method's frames against the supersampled reference.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Against {
+    /// PSNR over the covered pixels of every frame (dB).
+    pub psnr: f64,
+    /// Mean ꟻLIP on the perceptual stride.
+    pub flip: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<Split>,
 }
 
 /// One method's result at (or as near as it got to) the target speedup.
@@ -240,7 +279,24 @@ pub struct CompareReport {
     pub timing_warnings: Vec<String>,
     /// One entry per method that ran: resize, simplify, then reproj.
     pub methods: Vec<MethodResult>,
+    /// Samples per pixel of the supersampled reference (0: none; version 6 on).
+    #[serde(default)]
+    pub supersample: u32,
+    /// The one-sample original against the supersampled reference: the floor every one-sample
+    /// method starts from (version 6 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub original_vs_supersampled: Option<Against>,
+    /// Frames where the camera or an object moved since the frame before, of `frames`
+    /// (version 6 on).
+    #[serde(default)]
+    pub moving_frames: u32,
+    /// What the reader should know of this comparison (a session without motion, …).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
     pub resize: resize::ResizeDetail,
+    /// The temporal upsampler's scale search (version 6 on; `None` when not compared).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temporal: Option<resize::ResizeDetail>,
     pub simplify: simplify::SimplifyDetail,
     /// `None` without a profile.
     pub reproj: Option<reproj::ReprojDetail>,
@@ -303,11 +359,30 @@ pub fn compare(
             (Some(_), Target::Budget(_)) => 1,
         },
     };
-    progress.remaining(2 + opts.resize.tries as u64 + 2 * steps.per_simplify_step + steps.reproj);
+    let temporal_tries = if opts.temporal {
+        opts.resize.tries as u64
+    } else {
+        0
+    };
+    progress.remaining(
+        3 + opts.resize.tries as u64 + temporal_tries + 2 * steps.per_simplify_step + steps.reproj,
+    );
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
     progress.step("original");
     let frames = reference.frames.len() as u32;
     let mid = (frames / 2) as usize;
+    let moving = supersample::moving_frames(input.session, frames);
+    let supersampled = supersample::reference(
+        renderer,
+        shader,
+        entry,
+        input.session,
+        &render_opts,
+        opts.supersample,
+    )?;
+    if opts.supersample > 1 {
+        progress.step("supersampled reference");
+    }
     let ctx = Ctx {
         renderer,
         baseline: reproj_bench::Baseline {
@@ -319,6 +394,8 @@ pub fn compare(
         timing_warnings: RefCell::new(Vec::new()),
         session: input.session,
         reference: &reference,
+        supersampled: supersampled.as_deref(),
+        moving: &moving,
         render_opts: &render_opts,
         stride: opts.perceptual_stride,
         target,
@@ -358,7 +435,16 @@ pub fn compare(
         measured_on: Some(reproj_bench::Machine::of(renderer).describe()),
         timing_warnings: merged_warnings(timed.warnings, ctx.timing_warnings.take()),
         methods: m.results,
+        supersample: if supersampled.is_some() {
+            opts.supersample
+        } else {
+            0
+        },
+        original_vs_supersampled: ctx.original_vs_supersampled(),
+        moving_frames: moving.iter().filter(|&&m| m).count() as u32,
+        notes: supersample::notes(&moving, opts.temporal),
         resize: m.resize,
+        temporal: m.temporal,
         simplify: m.simplified.detail,
         reproj: m.reproj,
         crops: region,
@@ -419,6 +505,7 @@ struct Methods {
     results: Vec<MethodResult>,
     crop_frames: Vec<(String, Vec<f32>)>,
     resize: resize::ResizeDetail,
+    temporal: Option<resize::ResizeDetail>,
     simplified: simplify::Simplification,
     reproj: Option<reproj::ReprojDetail>,
     /// reproj's variant, for the final timing.
@@ -445,6 +532,14 @@ fn run_methods(
     results.push(resize_result);
     crop_frames.push(("resize".into(), resize_frames[mid].clone()));
     drop(resize_frames);
+    let temporal = if opts.temporal {
+        let (detail, frames, result) = temporal::temporal(ctx, shader, entry, &opts.resize)?;
+        results.push(result);
+        crop_frames.push(("temporal".into(), frames[mid].clone()));
+        Some(detail)
+    } else {
+        None
+    };
     progress.remaining(1 + 2 * steps.per_simplify_step + steps.reproj);
     let simplified = simplify::simplify(ctx, input.loaded, &opts.simplify)?;
     progress.remaining(1 + steps.reproj);
@@ -487,6 +582,7 @@ fn run_methods(
         results,
         crop_frames,
         resize: resize_detail,
+        temporal,
         simplified,
         reproj: reproj_detail,
         reproj_input,
@@ -507,21 +603,29 @@ fn time_final(
         small.resolution = m.resize.tries[m.resize.chosen].resolution;
         small
     };
+    let temporal = m
+        .temporal
+        .as_ref()
+        .map(|t| reproj_replay::UpsampleSpec::at(t.tries[t.chosen].resolution));
     time_methods(
         ctx.renderer,
         ctx.baseline,
         input.session,
-        small,
-        &m.simplified.wgsl,
-        m.reproj_input.take(),
+        Finals {
+            small,
+            temporal,
+            simplified_wgsl: &m.simplified.wgsl,
+            reproj: m.reproj_input.take(),
+        },
         &opts.timing,
     )
 }
 
 /// Each method's speed from the final interleaved run (where it gave an estimate).
 fn apply_timing(methods: &mut [MethodResult], timed: &reproj_bench::BenchReport, target: f64) {
-    for (i, m) in methods.iter_mut().enumerate() {
-        if let Some(e) = timed.estimate(i) {
+    for m in methods.iter_mut() {
+        let at = timed.candidates.iter().position(|c| c.name == m.method);
+        if let Some(e) = at.and_then(|i| timed.estimate(i)) {
             m.speedup = e.speedup;
             m.speedup_ci95 = Some(e.ci95);
             m.frame_ms = e.candidate_ms;
@@ -570,27 +674,48 @@ impl Progress for Counted<'_> {
     }
 }
 
-/// Time the methods' final candidates — the original at the resized resolution (`small`), the
-/// simplified shader, reproj's variant — against the original in one interleaved run.
+/// The methods' final candidates, in the table's order.
+struct Finals<'a> {
+    /// The session at the resized resolution.
+    small: Session,
+    /// The temporal upsampler at its chosen resolution, when compared.
+    temporal: Option<reproj_replay::UpsampleSpec>,
+    simplified_wgsl: &'a str,
+    reproj: Option<reproj_replay::VariantInput>,
+}
+
+/// Time the methods' final candidates — the original at the resized resolution, the temporal
+/// upsampler, the simplified shader, reproj's variant — against the original in one interleaved
+/// run, in the order of the table (each estimate is read by its index).
 fn time_methods(
     renderer: &Renderer,
     baseline: reproj_bench::Baseline<'_>,
     session: &Session,
-    small: Session,
-    simplified_wgsl: &str,
-    reproj: Option<reproj_replay::VariantInput>,
+    finals: Finals<'_>,
     timing: &reproj_bench::BenchOptions,
 ) -> Result<reproj_bench::BenchReport, CompareError> {
     use reproj_bench::{Candidate, Subject};
-    let mut candidates = vec![
-        Candidate {
-            name: "resize".into(),
-            subject: Subject::Shader {
-                shader: Box::new(baseline.shader.clone()),
-                entry: baseline.entry,
-                session: Some(Box::new(small)),
-            },
+    let Finals {
+        small,
+        temporal,
+        simplified_wgsl,
+        reproj,
+    } = finals;
+    let mut candidates = vec![Candidate {
+        name: "resize".into(),
+        subject: Subject::Shader {
+            shader: Box::new(baseline.shader.clone()),
+            entry: baseline.entry,
+            session: Some(Box::new(small)),
         },
+    }];
+    if let Some(spec) = temporal {
+        candidates.push(Candidate {
+            name: "temporal".into(),
+            subject: Subject::Upsampled(spec),
+        });
+    }
+    candidates.extend([
         Candidate {
             name: "simplify".into(),
             subject: Subject::Shader {
@@ -602,7 +727,7 @@ fn time_methods(
                 session: None,
             },
         },
-    ];
+    ]);
     if let Some(v) = reproj {
         candidates.push(Candidate {
             name: "reproj".into(),

@@ -540,15 +540,25 @@ pub(crate) fn reproj(
         .renderer
         .render_variant(shader, ctx.session, &input, ctx.reference, &render)?;
     ctx.progress.step("reproj");
-    let raw = tmp.path().join(format!("frame_{crop:03}.f32"));
-    let bytes = std::fs::read(&raw).map_err(|e| CompareError::Internal {
-        what: format!("cannot read {}", raw.display()),
-        message: e.to_string(),
-    })?;
-    let crop_frame: Vec<f32> = bytes
-        .chunks_exact(4)
-        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
+    // Every frame came back raw: the crop, and the figures the GPU reduction does not make
+    // (the still/moving split, the supersampled reference).
+    let read_raw = |f: usize| -> Result<Vec<f32>, CompareError> {
+        let raw = tmp.path().join(format!("frame_{f:03}.f32"));
+        let bytes = std::fs::read(&raw).map_err(|e| CompareError::Internal {
+            what: format!("cannot read {}", raw.display()),
+            message: e.to_string(),
+        })?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect())
+    };
+    let frames = (0..r.frames.len())
+        .map(read_raw)
+        .collect::<Result<Vec<_>, _>>()?;
+    let crop_frame = frames[(crop as usize).min(frames.len() - 1)].clone();
+    let cpu = ctx.score(&frames, true);
+    drop(frames);
     // Its speed comes from the comparison's final interleaved run (`time_methods`): none here.
     Ok(ReprojRun {
         input,
@@ -577,6 +587,8 @@ pub(crate) fn reproj(
                     reproj_metrics::PSNR_CAP
                 },
                 flip: r.flip.map(|f| f.mean),
+                split: cpu.split,
+                supersampled: cpu.supersampled,
             },
             setting: format!(
                 "{} {node_name} cached at Δn = {} ({}, k = {})",

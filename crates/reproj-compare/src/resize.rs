@@ -70,6 +70,38 @@ pub(crate) fn resize(
     opts: &ResizeOptions,
 ) -> Result<(ResizeDetail, Vec<Vec<f32>>, MethodResult), CompareError> {
     let [w, h] = ctx.session.resolution;
+    search_scale(
+        ctx,
+        opts,
+        "resize",
+        |size| {
+            let mut session = ctx.session.clone();
+            session.resolution = size;
+            let frames = ctx.render_shader(shader, entry, &session)?;
+            let up = frames
+                .iter()
+                .map(|f| upsample_bilinear(f, size, [w, h]))
+                .collect();
+            let candidate = Ctx::shader_candidate("resize", shader.clone(), entry, Some(session));
+            Ok((up, candidate))
+        },
+        "bilinear upsampling",
+    )
+}
+
+/// The scale search every reduced-resolution method shares: from the scale the pixel count
+/// predicts, each try rendered by `render` (its frames at full resolution and the candidate that
+/// times it) and raced against the original, the next scale moved by √(measured / target), until a
+/// try lands within the tolerance. The try closest to the target (in log ratio) is reported as
+/// method `name`, its setting ending in `upsampling`'s words.
+pub(crate) fn search_scale(
+    ctx: &Ctx,
+    opts: &ResizeOptions,
+    name: &str,
+    mut render: impl FnMut([u32; 2]) -> Result<(Vec<Vec<f32>>, reproj_bench::Candidate), CompareError>,
+    upsampling: &str,
+) -> Result<(ResizeDetail, Vec<Vec<f32>>, MethodResult), CompareError> {
+    let [w, h] = ctx.session.resolution;
     let mut scale = (1.0 / ctx.target).sqrt();
     let mut tries: Vec<ResizeTry> = Vec::new();
     let mut best: Option<(usize, Vec<Vec<f32>>)> = None;
@@ -82,21 +114,12 @@ pub(crate) fn resize(
         if tries.iter().any(|t| t.resolution == size) {
             break;
         }
-        let mut session = ctx.session.clone();
-        session.resolution = size;
-        let frames = ctx.render_shader(shader, entry, &session)?;
-        let up: Vec<Vec<f32>> = frames
-            .iter()
-            .map(|f| upsample_bilinear(f, size, [w, h]))
-            .collect();
-        let (timed, races) = ctx.race_try(
-            Ctx::shader_candidate("resize", shader.clone(), entry, Some(session)),
-            opts.tolerance,
-        )?;
+        let (up, candidate) = render(size)?;
+        let (timed, races) = ctx.race_try(candidate, opts.tolerance)?;
         let speedup = timed.map_or(0.0, |e| e.speedup);
         let error = ctx.score(&up, false).error;
         ctx.progress
-            .step(&format!("resize {}×{}: {speedup:.2}×", size[0], size[1]));
+            .step(&format!("{name} {}×{}: {speedup:.2}×", size[0], size[1]));
         tries.push(ResizeTry {
             scale,
             resolution: size,
@@ -128,13 +151,13 @@ pub(crate) fn resize(
     let scores = ctx.score(&frames, true);
     let result = MethodResult {
         speedup_ci95: t.speedup_ci95,
-        method: "resize".into(),
+        method: name.into(),
         frame_ms: t.frame_ms,
         speedup: t.speedup,
         reached_target: t.speedup >= ctx.target,
         scores,
         setting: format!(
-            "{}×{} ({:.0} % of each side), bilinear upsampling",
+            "{}×{} ({:.0} % of each side), {upsampling}",
             t.resolution[0],
             t.resolution[1],
             t.scale * 100.0

@@ -58,8 +58,12 @@ fn simplification_removes_the_least_error_node_first() {
     assert!(steps[1].error >= first.error);
 
     let methods: Vec<&str> = c.report.methods.iter().map(|m| m.method.as_str()).collect();
-    assert_eq!(methods, ["resize", "simplify"]);
+    assert_eq!(methods, ["resize", "temporal", "simplify"]);
+    let floor = c.report.original_vs_supersampled.expect("16 samples by default");
+    assert!(floor.psnr.is_finite() && floor.flip.is_some_and(f64::is_finite));
     for m in &c.report.methods {
+        let ss = m.scores.supersampled.unwrap_or_else(|| panic!("{m:?}"));
+        assert!(ss.psnr.is_finite() && ss.flip.is_some_and(f64::is_finite), "{m:?}");
         assert!(m.speedup.is_finite() && m.speedup > 0.0, "{m:?}");
         assert!(
             m.scores.error.is_finite() && m.scores.psnr.is_finite(),
@@ -83,7 +87,9 @@ fn simplification_removes_the_least_error_node_first() {
     }
     // Resized frames lose detail: some error.
     assert!(c.report.methods[0].scores.error > 0.0);
-    assert_eq!(c.crop_frames.len(), 3);
+    assert_eq!(c.crop_frames.len(), 4);
+    let temporal = c.report.temporal.as_ref().expect("compared by default");
+    assert!(!temporal.tries.is_empty() && temporal.chosen < temporal.tries.len());
 }
 
 /// Where the final run leaves reproj against resizing undecided (more than `equal_time` apart,
@@ -155,6 +161,9 @@ fn reproj_moves_to_resizings_speed_where_the_final_run_puts_them_apart() {
         reproj_tries: 2,
         equal_time,
         perceptual_stride: 4,
+        // What this test is about does not need them.
+        temporal: false,
+        supersample: 0,
         ..Default::default()
     };
     let c = compare(&renderer, &input, &at(0.0), &Silent).unwrap();
@@ -194,4 +203,57 @@ fn reproj_moves_to_resizings_speed_where_the_final_run_puts_them_apart() {
     assert!(row.scores.error.is_finite(), "{row:?}");
     let c = compare(&renderer, &input, &at(10.0), &Silent).unwrap();
     assert!(c.report.reproj.unwrap().rematch.is_none());
+}
+
+/// On a session without motion the temporal upsampler still runs (its best case) and the report
+/// says so; nothing is split into still and moving frames. At scale ½ it beats bilinear resizing
+/// against the supersampled reference (its history fills in what a still frame's jitter shows).
+#[test]
+fn a_still_session_gets_a_note_and_the_upsampler_its_best_case() {
+    let loaded = load(
+        &root().join("shaders/marble.wgsl"),
+        None,
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let mut session = Session::load(root().join("sessions/test_static.json")).unwrap();
+    session.frames = 16;
+    let renderer = Renderer::new(&RendererOptions::default()).unwrap();
+    let input = CompareInput {
+        loaded: &loaded,
+        entry: None,
+        session: &session,
+        profile: None,
+    };
+    let opts = CompareOptions {
+        target: reproj_compare::Target::Speedup(3.0),
+        simplify: SimplifyOptions {
+            candidates: 2,
+            max_steps: 1,
+        },
+        supersample: 8,
+        perceptual_stride: 4,
+        ..Default::default()
+    };
+    let c = compare(&renderer, &input, &opts, &Silent).unwrap();
+    let r = &c.report;
+    assert_eq!(r.moving_frames, 0);
+    assert!(r.notes.iter().any(|n| n.contains("no motion")), "{:?}", r.notes);
+    let by = |name: &str| r.methods.iter().find(|m| m.method == name).unwrap();
+    for m in &r.methods {
+        assert!(m.scores.split.is_none(), "{m:?}");
+    }
+    let (t, z) = (by("temporal"), by("resize"));
+    let ss = |m: &reproj_compare::MethodResult| m.scores.supersampled.unwrap().psnr;
+    eprintln!(
+        "still marble at 3×: temporal {:.2}× {:.2} dB, resize {:.2}× {:.2} dB (vs 8 spp)",
+        t.speedup,
+        ss(t),
+        z.speedup,
+        ss(z)
+    );
+    let detail = |d: &reproj_compare::resize::ResizeDetail| d.tries[d.chosen].resolution;
+    if detail(r.temporal.as_ref().unwrap()) == detail(&r.resize) {
+        assert!(ss(t) > ss(z), "{t:?} {z:?}");
+    }
 }

@@ -82,6 +82,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         },
         max_delta_n: args.max_delta_n,
         reproj_tries: args.reproj_tries,
+        supersample: args.supersample,
+        temporal: !args.no_temporal,
         ..Default::default()
     };
     let mut result = compare(&renderer, &input, &opts, &Bar(bar()))?;
@@ -131,15 +133,41 @@ fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> 
     if let Some(on) = &r.measured_on {
         writeln!(stdout, "speeds timed interleaved on {on}")?;
     }
+    let ss = if r.supersample > 0 {
+        format!("vs {} spp", r.supersample)
+    } else {
+        String::new()
+    };
     writeln!(
         stdout,
-        "{:<9} {:>8} {:<14} {:>10} {:>9} {:>7}  setting",
-        "method", "speedup", "[95 % CI]", "L2", "PSNR dB", "ꟻLIP"
+        "{:<9} {:>8} {:<14} {:>10} {:>9} {:>7} {:>13} {:>13}  setting",
+        "method", "speedup", "[95 % CI]", "L2", "PSNR dB", "ꟻLIP", "still/moving", ss
     )?;
+    let split = |s: Option<reproj_compare::Split>| {
+        s.map_or("-".into(), |s| {
+            format!("{:.1}/{:.1}", s.still_psnr, s.moving_psnr)
+        })
+    };
+    let against = |a: Option<&reproj_compare::Against>| {
+        a.map_or(String::new(), |a| {
+            format!(
+                "{:.1} dB {}",
+                a.psnr,
+                a.flip.map_or("-".into(), |f| format!("{f:.3}"))
+            )
+        })
+    };
+    if let Some(o) = &r.original_vs_supersampled {
+        writeln!(
+            stdout,
+            "{:<9} {:>8} {:<14} {:>10} {:>9} {:>7} {:>13} {:>13}  the one-sample original: every method's floor against the supersampled reference",
+            "original", "1.00×", "", "", "", "", "", against(Some(o))
+        )?;
+    }
     for m in &r.methods {
         writeln!(
             stdout,
-            "{:<9} {:>7.2}{} {:<14} {:>10.5} {:>9.2} {:>7}  {}",
+            "{:<9} {:>7.2}{} {:<14} {:>10.5} {:>9.2} {:>7} {:>13} {:>13}  {}",
             m.method,
             m.speedup,
             if m.reached_target { "×" } else { "!" },
@@ -148,8 +176,13 @@ fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> 
             m.scores.error,
             m.scores.psnr,
             m.scores.flip.map_or("-".into(), |f| format!("{f:.4}")),
+            split(m.scores.split),
+            against(m.scores.supersampled.as_ref()),
             m.setting
         )?;
+    }
+    for n in &r.notes {
+        writeln!(stdout, "note: {n}")?;
     }
     if r.reproj.is_none() {
         writeln!(stdout, "(no --profile: reproj's own choice not compared)")?;

@@ -216,9 +216,9 @@ impl Renderer {
             .target("upsampler input", size[0], size[1], FRAME_FORMAT, true)
             .create_view(&Default::default());
         let depth_view = self
-            .target("upsampler depth", size[0], size[1], DEPTH_FORMAT, true)
+            .target("upsampler depth", size[0], size[1], DEPTH_FORMAT, false)
             .create_view(&Default::default());
-        let resolve = self.resolve_pass(full, &color_view, &depth_view, &motion.view)?;
+        let resolve = self.resolve_pass(full, &color_view, &motion.view)?;
         let bg = small.background;
         Ok(UpsampleGpu {
             low,
@@ -240,9 +240,20 @@ impl Renderer {
         &self,
         full: [u32; 2],
         color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
         motion: &wgpu::TextureView,
     ) -> Result<Resolve, ReplayError> {
+        if !self
+            .device
+            .features()
+            .contains(wgpu::Features::FLOAT32_FILTERABLE)
+        {
+            return Err(ReplayError::Unsupported {
+                what: format!(
+                    "the temporal upsampler filters its 32-bit float history, which {} cannot (wgpu feature FLOAT32_FILTERABLE)",
+                    self.adapter_info.name
+                ),
+            });
+        }
         let module = self.shader_module("reproj temporal upsampler", RESOLVE_WGSL)?;
         let texture =
             |binding: u32, sample_type: wgpu::TextureSampleType| wgpu::BindGroupLayoutEntry {
@@ -262,9 +273,14 @@ impl Renderer {
                 label: Some("upsampler"),
                 entries: &[
                     texture(0, float),
-                    texture(1, wgpu::TextureSampleType::Depth),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                        count: None,
+                    },
                     texture(2, float),
-                    texture(3, float),
+                    texture(3, wgpu::TextureSampleType::Float { filterable: true }),
                     wgpu::BindGroupLayoutEntry {
                         binding: 4,
                         visibility: wgpu::ShaderStages::FRAGMENT,
@@ -323,6 +339,12 @@ impl Renderer {
             )
         });
         let views = [0, 1].map(|i| outs[i].create_view(&Default::default()));
+        let sampler = self.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("upsampler history"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
         let groups = [0, 1].map(|i| {
             self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("upsampler"),
@@ -334,7 +356,7 @@ impl Renderer {
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,
-                        resource: wgpu::BindingResource::TextureView(depth),
+                        resource: wgpu::BindingResource::Sampler(&sampler),
                     },
                     wgpu::BindGroupEntry {
                         binding: 2,

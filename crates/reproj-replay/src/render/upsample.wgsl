@@ -7,8 +7,8 @@
 //             first frame, and wherever the history is off screen);
 //   sharp     a Gaussian of output-pixel width `sigma_out` (what the samples say of this very
 //             pixel), with its weight sum as the sample's confidence;
-//   temporal  the history (last frame's output, reprojected with the motion of the closest
-//             sample in the 3x3 and read with a Catmull-Rom filter) clipped in YCoCg to the
+//   temporal  the history (last frame's output, reprojected with the motion at the nearest
+//             sample and read with a 5-tap Catmull-Rom filter) clipped in YCoCg to the
 //             samples' mean +- gamma standard deviations (`clip_still` for a still pixel,
 //             `clip_moving` from a quarter output pixel of motion on), then the sharp estimate
 //             accumulated into it by weight; the history's weight rides in alpha, capped at
@@ -31,7 +31,7 @@ struct Params {
 }
 
 @group(0) @binding(0) var color_low: texture_2d<f32>;
-@group(0) @binding(1) var depth_low: texture_depth_2d;
+@group(0) @binding(1) var history_sampler: sampler;
 @group(0) @binding(2) var motion_low: texture_2d<f32>;
 @group(0) @binding(3) var history: texture_2d<f32>;
 @group(0) @binding(4) var<uniform> params: Params;
@@ -65,34 +65,27 @@ fn clip_to_box(c: vec3<f32>, center: vec3<f32>, extent: vec3<f32>) -> vec3<f32> 
     return c;
 }
 
-fn catmull_rom(t: f32) -> vec4<f32> {
-    let t2 = t * t;
-    let t3 = t2 * t;
-    return vec4<f32>(
-        -0.5 * t3 + t2 - 0.5 * t,
-        1.5 * t3 - 2.5 * t2 + 1.0,
-        -1.5 * t3 + 2.0 * t2 + 0.5 * t,
-        0.5 * t3 - 0.5 * t2,
-    );
-}
-
-// The history at `uv`, Catmull-Rom filtered (16 texels, edges clamped).
+// The history at `uv`, Catmull-Rom filtered with 5 bilinear taps (the 16-tap filter less its
+// four corners, whose weights are the smallest; renormalized).
 fn sample_history(uv: vec2<f32>) -> vec4<f32> {
-    let pos = uv * params.full - 0.5;
-    let base = floor(pos);
-    let f = pos - base;
-    let wx = catmull_rom(f.x);
-    let wy = catmull_rom(f.y);
-    let last = vec2<i32>(params.full) - 1;
-    let b = vec2<i32>(base);
-    var sum = vec4<f32>(0.0);
-    for (var j = 0; j < 4; j++) {
-        for (var i = 0; i < 4; i++) {
-            let p = clamp(b + vec2<i32>(i - 1, j - 1), vec2<i32>(0), last);
-            sum += textureLoad(history, p, 0) * (wx[i] * wy[j]);
-        }
-    }
-    return sum;
+    let at = uv * params.full;
+    let center = floor(at - 0.5) + 0.5;
+    let f = at - center;
+    let w0 = f * (-0.5 + f * (1.0 - 0.5 * f));
+    let w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
+    let w2 = f * (0.5 + f * (2.0 - 1.5 * f));
+    let w3 = f * f * (-0.5 + 0.5 * f);
+    let w12 = w1 + w2;
+    let p0 = (center - 1.0) / params.full;
+    let p3 = (center + 2.0) / params.full;
+    let p12 = (center + w2 / w12) / params.full;
+    var sum = textureSampleLevel(history, history_sampler, vec2<f32>(p12.x, p0.y), 0.0) * (w12.x * w0.y);
+    sum += textureSampleLevel(history, history_sampler, vec2<f32>(p0.x, p12.y), 0.0) * (w0.x * w12.y);
+    sum += textureSampleLevel(history, history_sampler, p12, 0.0) * (w12.x * w12.y);
+    sum += textureSampleLevel(history, history_sampler, vec2<f32>(p3.x, p12.y), 0.0) * (w3.x * w12.y);
+    sum += textureSampleLevel(history, history_sampler, vec2<f32>(p12.x, p3.y), 0.0) * (w12.x * w3.y);
+    let w = w12.x * w0.y + w0.x * w12.y + w12.x * w12.y + w3.x * w12.y + w12.x * w3.y;
+    return sum / w;
 }
 
 @fragment
@@ -108,8 +101,6 @@ fn upsample_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var soft_w = 0.0;
     var m1 = vec3<f32>(0.0);
     var m2 = vec3<f32>(0.0);
-    var closest = 2.0;
-    var closest_at = nearest;
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
             let p = clamp(nearest + vec2<i32>(dx, dy), vec2<i32>(0), last);
@@ -125,11 +116,6 @@ fn upsample_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             let y = to_ycocg(c);
             m1 += y;
             m2 += y * y;
-            let d = textureLoad(depth_low, p, 0);
-            if d < closest {
-                closest = d;
-                closest_at = p;
-            }
         }
     }
     let spatial = soft_sum / max(soft_w, 1e-6);
@@ -139,7 +125,7 @@ fn upsample_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     // The motion pass wrote uv_now - uv_before at the jittered pixel: the surface's own motion
     // plus this frame's offset.
-    let motion = textureLoad(motion_low, closest_at, 0).xy - params.jitter / params.low;
+    let motion = textureLoad(motion_low, nearest, 0).xy - params.jitter / params.low;
     let before = uv - motion;
     if any(before < vec2<f32>(0.0)) || any(before > vec2<f32>(1.0)) {
         return vec4<f32>(spatial, w_new);

@@ -1,0 +1,38 @@
+//! Temporal upsampling, what engines ship (FSR 2, TSR, Bevy's TAA): the original rendered at a
+//! reduced resolution with a sub-pixel jitter, and one resolve pass at full resolution that
+//! reprojects the history with the session's motion and accumulates the jittered samples into it
+//! (`Renderer::render_upsampled`, docs/UPSAMPLING.md). Both passes are timed, against the original,
+//! interleaved; the scale is searched by measurement as resize's is
+//! ([`crate::resize::search_scale`]).
+
+use reproj_front::Shader;
+use reproj_replay::UpsampleSpec;
+
+use crate::resize::{ResizeDetail, ResizeOptions, search_scale};
+use crate::{CompareError, Ctx, MethodResult};
+
+/// Search the scale, render and score: the detail, the chosen try's frames and its result.
+pub(crate) fn temporal(
+    ctx: &Ctx,
+    shader: &Shader,
+    entry: usize,
+    opts: &ResizeOptions,
+) -> Result<(ResizeDetail, Vec<Vec<f32>>, MethodResult), CompareError> {
+    search_scale(
+        ctx,
+        opts,
+        "temporal",
+        |size| {
+            let spec = UpsampleSpec::at(size);
+            let up = ctx
+                .renderer
+                .render_upsampled(shader, entry, ctx.session, &spec, ctx.render_opts)?;
+            let candidate = reproj_bench::Candidate {
+                name: "temporal".into(),
+                subject: reproj_bench::Subject::Upsampled(spec),
+            };
+            Ok((up.frames, candidate))
+        },
+        "temporal upsampling (Halton jitter, reprojected and clipped history)",
+    )
+}
