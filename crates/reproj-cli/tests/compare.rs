@@ -76,7 +76,9 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     ];
     let (code, out, err) = reproj(dir, &args);
     assert_eq!(code, 0, "{err}");
-    for method in ["original", "resize", "temporal", "simplify", "reproj"] {
+    for method in [
+        "original", "resize", "easu", "temporal", "simplify", "reproj",
+    ] {
         assert!(out.lines().any(|l| l.starts_with(method)), "{out}");
     }
     assert!(out.contains("vs 16 spp"), "{out}");
@@ -101,7 +103,10 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     assert_eq!(json["schema"], "reproj.compare");
     assert_eq!(json["version"], 6);
     assert_eq!(json["supersample"], 16);
-    assert!(json["original_vs_supersampled"]["psnr"].is_number(), "{json}");
+    assert!(
+        json["original_vs_supersampled"]["psnr"].is_number(),
+        "{json}"
+    );
     assert_eq!(json["frames"], 4, "--max-frames 6 of a 4-frame session");
     let methods: Vec<&str> = json["methods"]
         .as_array()
@@ -109,7 +114,10 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         .iter()
         .map(|m| m["method"].as_str().unwrap())
         .collect();
-    assert_eq!(methods, ["resize", "temporal", "simplify", "reproj"]);
+    assert_eq!(
+        methods,
+        ["resize", "easu", "temporal", "simplify", "reproj"]
+    );
     for m in json["methods"].as_array().unwrap() {
         // serde_json writes NaN as null: a missing number is a failure here.
         for key in ["speedup", "frame_ms", "error", "psnr", "flip"] {
@@ -117,7 +125,10 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         }
         // And against the supersampled reference, every method (reproj's frames read back raw).
         for key in ["psnr", "flip"] {
-            assert!(m["supersampled"][key].is_number(), "supersampled {key} of {m}");
+            assert!(
+                m["supersampled"][key].is_number(),
+                "supersampled {key} of {m}"
+            );
         }
         // The speeds come from one interleaved run, each with its interval.
         let s = m["speedup"].as_f64().unwrap();

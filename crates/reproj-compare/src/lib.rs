@@ -3,6 +3,8 @@
 //!
 //! - **resize** ([`resize`]): the original rendered at a reduced resolution, upsampled bilinearly
 //!   to full size; the scale is searched by measurement until the frame time meets the target;
+//! - **easu** ([`easu`]): resize's frames upsampled edge-adaptively (FSR 1 EASU's way) instead
+//!   of bilinearly, at resize's speed;
 //! - **temporal** ([`temporal`]): what engines ship, temporal upsampling — the original at a
 //!   reduced resolution with a sub-pixel jitter, resolved each frame into a reprojected
 //!   full-resolution history; its scale searched like resize's;
@@ -21,6 +23,7 @@
 
 pub mod crops;
 mod ctx;
+pub mod easu;
 mod equal_time;
 mod output;
 pub mod reproj;
@@ -365,7 +368,7 @@ pub fn compare(
         0
     };
     progress.remaining(
-        3 + opts.resize.tries as u64 + temporal_tries + 2 * steps.per_simplify_step + steps.reproj,
+        4 + opts.resize.tries as u64 + temporal_tries + 2 * steps.per_simplify_step + steps.reproj,
     );
     let reference = renderer.render_original(shader, entry, input.session, &render_opts)?;
     progress.step("original");
@@ -532,6 +535,11 @@ fn run_methods(
     results.push(resize_result);
     crop_frames.push(("resize".into(), resize_frames[mid].clone()));
     drop(resize_frames);
+    let (easu_frames, easu) =
+        resize::edge_adaptive(ctx, shader, entry, &resize_detail, &results[0])?;
+    results.push(easu);
+    crop_frames.push(("easu".into(), easu_frames[mid].clone()));
+    drop(easu_frames);
     let temporal = if opts.temporal {
         let (detail, frames, result) = temporal::temporal(ctx, shader, entry, &opts.resize)?;
         results.push(result);
@@ -624,7 +632,13 @@ fn time_final(
 /// Each method's speed from the final interleaved run (where it gave an estimate).
 fn apply_timing(methods: &mut [MethodResult], timed: &reproj_bench::BenchReport, target: f64) {
     for m in methods.iter_mut() {
-        let at = timed.candidates.iter().position(|c| c.name == m.method);
+        // The edge-adaptive upscale is resize's render: its speed.
+        let name = if m.method == "easu" {
+            "resize"
+        } else {
+            &m.method
+        };
+        let at = timed.candidates.iter().position(|c| c.name == name);
         if let Some(e) = at.and_then(|i| timed.estimate(i)) {
             m.speedup = e.speedup;
             m.speedup_ci95 = Some(e.ci95);
@@ -715,19 +729,17 @@ fn time_methods(
             subject: Subject::Upsampled(spec),
         });
     }
-    candidates.extend([
-        Candidate {
-            name: "simplify".into(),
-            subject: Subject::Shader {
-                shader: Box::new(reproj_front::parse_shader(
-                    Path::new("simplified.wgsl"),
-                    simplified_wgsl.to_string(),
-                )?),
-                entry: 0,
-                session: None,
-            },
+    candidates.extend([Candidate {
+        name: "simplify".into(),
+        subject: Subject::Shader {
+            shader: Box::new(reproj_front::parse_shader(
+                Path::new("simplified.wgsl"),
+                simplified_wgsl.to_string(),
+            )?),
+            entry: 0,
+            session: None,
         },
-    ]);
+    }]);
     if let Some(v) = reproj {
         candidates.push(Candidate {
             name: "reproj".into(),

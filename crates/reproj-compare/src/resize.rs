@@ -89,6 +89,37 @@ pub(crate) fn resize(
     )
 }
 
+/// The same speed as `resize`'s chosen try (the same low-resolution frames, rendered again), its
+/// frames upsampled edge-adaptively ([`crate::easu`]) instead of bilinearly: the frames and the
+/// result, whose speed the final timing copies from resize's.
+pub(crate) fn edge_adaptive(
+    ctx: &Ctx,
+    shader: &Shader,
+    entry: usize,
+    detail: &ResizeDetail,
+    resize: &MethodResult,
+) -> Result<(Vec<Vec<f32>>, MethodResult), CompareError> {
+    let t = &detail.tries[detail.chosen];
+    let mut session = ctx.session.clone();
+    session.resolution = t.resolution;
+    let up: Vec<Vec<f32>> = ctx
+        .render_shader(shader, entry, &session)?
+        .iter()
+        .map(|f| crate::easu::upsample_edge_adaptive(f, t.resolution, ctx.session.resolution))
+        .collect();
+    ctx.progress.step("edge-adaptive upsampling");
+    let result = MethodResult {
+        method: "easu".into(),
+        scores: ctx.score(&up, true),
+        setting: resize.setting.replace(
+            "bilinear upsampling",
+            "edge-adaptive upsampling (EASU-like)",
+        ),
+        ..resize.clone()
+    };
+    Ok((up, result))
+}
+
 /// The scale search every reduced-resolution method shares: from the scale the pixel count
 /// predicts, each try rendered by `render` (its frames at full resolution and the candidate that
 /// times it) and raced against the original, the next scale moved by √(measured / target), until a

@@ -67,8 +67,8 @@ pub fn moving_frames(session: &Session, frames: u32) -> Vec<bool> {
     let mut moving = vec![false];
     for f in 1..frames {
         let state = session.frame_state(f);
-        let moved = state.camera.view_proj != previous.camera.view_proj
-            || state.models != previous.models;
+        let moved =
+            state.camera.view_proj != previous.camera.view_proj || state.models != previous.models;
         moving.push(moved);
         previous = state;
     }
@@ -85,9 +85,7 @@ pub fn notes(moving: &[bool], temporal: bool) -> Vec<String> {
             "the session has no motion: the temporal upsampler's history never moves (its best case), and no figure is split into still and moving frames".into(),
         );
     } else if n == moving.len().saturating_sub(1) || n == moving.len() {
-        notes.push(
-            "every frame moves: no figure is split into still and moving frames".into(),
-        );
+        notes.push("every frame moves: no figure is split into still and moving frames".into());
     }
     notes
 }

@@ -24,9 +24,13 @@ pub(crate) fn temporal(
         "temporal",
         |size| {
             let spec = UpsampleSpec::at(size);
-            let up = ctx
-                .renderer
-                .render_upsampled(shader, entry, ctx.session, &spec, ctx.render_opts)?;
+            let up = ctx.renderer.render_upsampled(
+                shader,
+                entry,
+                ctx.session,
+                &spec,
+                ctx.render_opts,
+            )?;
             let candidate = reproj_bench::Candidate {
                 name: "temporal".into(),
                 subject: reproj_bench::Subject::Upsampled(spec),

@@ -58,12 +58,18 @@ fn simplification_removes_the_least_error_node_first() {
     assert!(steps[1].error >= first.error);
 
     let methods: Vec<&str> = c.report.methods.iter().map(|m| m.method.as_str()).collect();
-    assert_eq!(methods, ["resize", "temporal", "simplify"]);
-    let floor = c.report.original_vs_supersampled.expect("16 samples by default");
+    assert_eq!(methods, ["resize", "easu", "temporal", "simplify"]);
+    let floor = c
+        .report
+        .original_vs_supersampled
+        .expect("16 samples by default");
     assert!(floor.psnr.is_finite() && floor.flip.is_some_and(f64::is_finite));
     for m in &c.report.methods {
         let ss = m.scores.supersampled.unwrap_or_else(|| panic!("{m:?}"));
-        assert!(ss.psnr.is_finite() && ss.flip.is_some_and(f64::is_finite), "{m:?}");
+        assert!(
+            ss.psnr.is_finite() && ss.flip.is_some_and(f64::is_finite),
+            "{m:?}"
+        );
         assert!(m.speedup.is_finite() && m.speedup > 0.0, "{m:?}");
         assert!(
             m.scores.error.is_finite() && m.scores.psnr.is_finite(),
@@ -87,7 +93,7 @@ fn simplification_removes_the_least_error_node_first() {
     }
     // Resized frames lose detail: some error.
     assert!(c.report.methods[0].scores.error > 0.0);
-    assert_eq!(c.crop_frames.len(), 4);
+    assert_eq!(c.crop_frames.len(), 5);
     let temporal = c.report.temporal.as_ref().expect("compared by default");
     assert!(!temporal.tries.is_empty() && temporal.chosen < temporal.tries.len());
 }
@@ -238,7 +244,11 @@ fn a_still_session_gets_a_note_and_the_upsampler_its_best_case() {
     let c = compare(&renderer, &input, &opts, &Silent).unwrap();
     let r = &c.report;
     assert_eq!(r.moving_frames, 0);
-    assert!(r.notes.iter().any(|n| n.contains("no motion")), "{:?}", r.notes);
+    assert!(
+        r.notes.iter().any(|n| n.contains("no motion")),
+        "{:?}",
+        r.notes
+    );
     let by = |name: &str| r.methods.iter().find(|m| m.method == name).unwrap();
     for m in &r.methods {
         assert!(m.scores.split.is_none(), "{m:?}");

@@ -161,7 +161,14 @@ fn print_table(r: &CompareReport, out: &Path, json: bool) -> anyhow::Result<()> 
         writeln!(
             stdout,
             "{:<9} {:>8} {:<14} {:>10} {:>9} {:>7} {:>13} {:>13}  the one-sample original: every method's floor against the supersampled reference",
-            "original", "1.00×", "", "", "", "", "", against(Some(o))
+            "original",
+            "1.00×",
+            "",
+            "",
+            "",
+            "",
+            "",
+            against(Some(o))
         )?;
     }
     for m in &r.methods {
