@@ -375,13 +375,15 @@ pub fn compare(
     let frames = reference.frames.len() as u32;
     let mid = (frames / 2) as usize;
     let moving = supersample::moving_frames(input.session, frames);
+    let mut notes = Vec::new();
     let supersampled = supersample::reference(
         renderer,
         shader,
         entry,
         input.session,
-        &render_opts,
+        (&render_opts, frames),
         opts.supersample,
+        &mut notes,
     )?;
     if opts.supersample > 1 {
         progress.step("supersampled reference");
@@ -445,7 +447,10 @@ pub fn compare(
         },
         original_vs_supersampled: ctx.original_vs_supersampled(),
         moving_frames: moving.iter().filter(|&&m| m).count() as u32,
-        notes: supersample::notes(&moving, opts.temporal),
+        notes: {
+            notes.extend(supersample::notes(&moving, opts.temporal));
+            notes
+        },
         resize: m.resize,
         temporal: m.temporal,
         simplify: m.simplified.detail,

@@ -12,16 +12,32 @@ use reproj_scene::Session;
 use crate::CompareError;
 
 /// The supersampled frames (RGBA f32, full resolution): the mean of `samples` jittered renders
-/// of the original over the frames `opts` selects; `None` for `samples` 0. One sample would be
-/// the original moved by a Halton offset, not a reference: refused.
+/// of the original over `frames` frames; `None` for `samples` 0, or where the machine has not
+/// the memory for them (each sample's frames and the sum: 32 bytes a pixel a frame, beside the
+/// reference's) — then `skipped` says why. One sample would be the original moved by a Halton
+/// offset, not a reference: refused.
 pub fn reference(
     renderer: &Renderer,
     shader: &Shader,
     entry: usize,
     session: &Session,
-    opts: &RenderOptions,
+    (opts, frames): (&RenderOptions, u32),
     samples: u32,
+    skipped: &mut Vec<String>,
 ) -> Result<Option<Vec<Vec<f32>>>, CompareError> {
+    let [w, h] = session.resolution;
+    let need = 32 * u64::from(w) * u64::from(h) * u64::from(frames);
+    if samples > 1
+        && let Some(available) = reproj_replay::available_memory()
+        && need > available
+    {
+        skipped.push(format!(
+            "no supersampled reference: {frames} frames at {w}×{h} need {:.1} GiB more and {:.1} GiB are available (--max-frames fewer, or --supersample 0)",
+            need as f64 / (1u64 << 30) as f64,
+            available as f64 / (1u64 << 30) as f64
+        ));
+        return Ok(None);
+    }
     match samples {
         0 => return Ok(None),
         1 => {

@@ -75,7 +75,7 @@ pub use backend::{compiled_backends, parse_backends};
 pub use jitter::Jitter;
 pub use reduce::Reference;
 pub use render::{
-    FrameProgress, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled, VariantInput,
+    FrameProgress, available_memory, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled, VariantInput,
 };
 
 pub use error::ReplayError;

@@ -46,6 +46,7 @@ use scene::*;
 use score::{Scorer, scoring_pool};
 
 pub use reproj_instance::contract::CLASSIFY_ENTRY;
+pub use original::available_memory;
 pub use upsample::{UpsampleSpec, Upsampled};
 
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;

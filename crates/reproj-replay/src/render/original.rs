@@ -638,7 +638,7 @@ struct PlainOut {
 
 /// The memory the machine has available (`MemAvailable` in `/proc/meminfo`), in bytes; `None`
 /// where that cannot be read (not Linux).
-fn available_memory() -> Option<u64> {
+pub fn available_memory() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
