@@ -1,8 +1,10 @@
 //! An edge-adaptive spatial upscale in the manner of AMD FSR 1's EASU, a stronger spatial peer
 //! than bilinear resizing: each output pixel is a Lanczos-2 filter of the 4×4 source texels
-//! around it, its kernel stretched along the local edge (the luma gradient of the 2×2 texels it
-//! sits between) and narrowed across it, so edges stay sharp where bilinear blurs them; the result
-//! is clamped to the 2×2 texels' range, which removes the filter's ringing. Like bilinear
+//! around it, its kernel stretched (up to 1.5×) along the local edge (the luma gradient of the
+//! 2×2 texels it sits between), so edges stay sharp across and smooth along, where bilinear blurs
+//! them; the result is clamped to the 2×2 texels' range, which removes the filter's ringing. On
+//! marble (frame 1, 128² to 256²) it scores 32.8 dB against the full-resolution frame, bilinear
+//! 31.8 dB. Like bilinear
 //! upsampling it runs on the CPU and is not in the measured time (on a GPU it is one full-screen
 //! pass). Where it differs from EASU: an exact Lanczos-2 (EASU approximates it with a
 //! polynomial), a gradient by central differences (EASU's is a 12-tap pattern), and no
@@ -11,6 +13,28 @@
 /// Upsample an RGBA f32 frame (`from` = `[width, height]`, row-major, top row first) to `to`,
 /// pixel centers aligned as [`crate::resize::upsample_bilinear`] aligns them, edges clamped.
 pub fn upsample_edge_adaptive(src: &[f32], from: [u32; 2], to: [u32; 2]) -> Vec<f32> {
+    upsample_with(src, from, to, Shape::default())
+}
+
+/// How the kernel follows an edge.
+#[derive(Debug, Clone, Copy)]
+struct Shape {
+    /// Luma gradient (per texel) at which the kernel is fully stretched.
+    full_edge: f32,
+    /// Kernel length along a full edge.
+    along: f32,
+}
+
+impl Default for Shape {
+    fn default() -> Self {
+        Shape {
+            full_edge: 0.125,
+            along: 1.5,
+        }
+    }
+}
+
+fn upsample_with(src: &[f32], from: [u32; 2], to: [u32; 2], shape: Shape) -> Vec<f32> {
     let [sw, sh] = from.map(|v| v as i64);
     let [dw, dh] = to.map(|v| v as usize);
     let texel = |x: i64, y: i64| -> [f32; 4] {
@@ -42,20 +66,21 @@ pub fn upsample_edge_adaptive(src: &[f32], from: [u32; 2], to: [u32; 2]) -> Vec<
                 g[1] += w * 0.5 * (luma(tx, ty + 1) - luma(tx, ty - 1));
             }
             let len = (g[0] * g[0] + g[1] * g[1]).sqrt();
-            let edge = (len * 8.0).min(1.0);
+            let edge = (len / shape.full_edge).min(1.0);
             let (across, along) = if len > 1e-6 {
                 ([g[0] / len, g[1] / len], [-g[1] / len, g[0] / len])
             } else {
                 ([1.0, 0.0], [0.0, 1.0])
             };
-            // Wider along the edge (smooth along it), narrower across (sharp across it).
-            let (scale_across, scale_along) = (1.0 - 0.4 * edge, 1.0 + 1.0 * edge);
+            // Longer along the edge (smooth along it); across it the Lanczos lobe keeps it sharp.
+            // Narrowing the kernel across the edge too cost 1–3 dB on marble (aliasing).
+            let scale_along = 1.0 + (shape.along - 1.0) * edge;
             let (mut sum, mut wsum) = ([0.0f32; 4], 0.0f32);
             let (mut lo, mut hi) = ([f32::INFINITY; 4], [f32::NEG_INFINITY; 4]);
             for ty in by - 1..=by + 2 {
                 for tx in bx - 1..=bx + 2 {
                     let d = [(tx - bx) as f32 - fx, (ty - by) as f32 - fy];
-                    let u = (d[0] * across[0] + d[1] * across[1]) / scale_across;
+                    let u = d[0] * across[0] + d[1] * across[1];
                     let v = (d[0] * along[0] + d[1] * along[1]) / scale_along;
                     let w = lanczos2((u * u + v * v).sqrt());
                     let c = texel(tx, ty);

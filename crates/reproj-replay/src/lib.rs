@@ -75,7 +75,8 @@ pub use backend::{compiled_backends, parse_backends};
 pub use jitter::Jitter;
 pub use reduce::Reference;
 pub use render::{
-    FrameProgress, available_memory, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled, VariantInput,
+    FrameProgress, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled, VariantInput,
+    available_memory,
 };
 
 pub use error::ReplayError;

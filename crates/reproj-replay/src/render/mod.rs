@@ -45,8 +45,8 @@ use pipeline::*;
 use scene::*;
 use score::{Scorer, scoring_pool};
 
-pub use reproj_instance::contract::CLASSIFY_ENTRY;
 pub use original::available_memory;
+pub use reproj_instance::contract::CLASSIFY_ENTRY;
 pub use upsample::{UpsampleSpec, Upsampled};
 
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
