@@ -202,7 +202,8 @@ pub fn next_extension(
     if next > limit {
         return Err(ExtensionStop::Limit { limit });
     }
-    if !(last.error < ext.max_error) {
+    // A NaN error stops it too.
+    if last.error.partial_cmp(&ext.max_error) != Some(std::cmp::Ordering::Less) {
         return Err(ExtensionStop::Error { error: last.error });
     }
     let refreshed = last.hit_rate / f64::from(last.delta_n.saturating_sub(1).max(1));

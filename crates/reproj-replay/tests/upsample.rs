@@ -154,10 +154,16 @@ fn in_motion_at_half_resolution_it_beats_bilinear_upsampling() {
         .render_upsampled(&shader, 0, &session, &UpsampleSpec::at(half), &opts(frames))
         .unwrap();
     let (mut taa, mut bil) = (0.0, 0.0);
-    for f in 8..frames as usize {
-        let b = bilinear(&low.frames[f], half, full);
-        taa += psnr(&up.frames[f], &ss[f], &one.depth[f]);
-        bil += psnr(&b, &ss[f], &one.depth[f]);
+    for (((low, up), ss), depth) in low
+        .frames
+        .iter()
+        .zip(&up.frames)
+        .zip(&ss)
+        .zip(&one.depth)
+        .skip(8)
+    {
+        taa += psnr(up, ss, depth);
+        bil += psnr(&bilinear(low, half, full), ss, depth);
     }
     let n = (frames - 8) as f64;
     let (taa, bil) = (taa / n, bil / n);

@@ -106,8 +106,10 @@ impl Renderer {
             session,
             opts,
             &(),
-            Keep::Frames,
-            jitter,
+            Plain {
+                keep: Keep::Frames,
+                jitter,
+            },
         )?;
         let kept = kept.expect("Keep::Frames keeps the frames");
         let [w, h] = session.resolution;
@@ -136,8 +138,10 @@ impl Renderer {
             session,
             opts,
             progress,
-            Keep::Frames,
-            Jitter::None,
+            Plain {
+                keep: Keep::Frames,
+                jitter: Jitter::None,
+            },
         )?;
         let kept = kept.expect("Keep::Frames keeps the frames");
         if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
@@ -185,8 +189,10 @@ impl Renderer {
             session,
             &opts,
             &(),
-            Keep::ScoreAgainst(reference),
-            Jitter::None,
+            Plain {
+                keep: Keep::ScoreAgainst(reference),
+                jitter: Jitter::None,
+            },
         )?;
         Ok(report)
     }
@@ -204,8 +210,7 @@ impl Renderer {
         session: &Session,
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
-        keep: Keep<'_>,
-        jitter: Jitter,
+        Plain { keep, jitter }: Plain<'_>,
     ) -> Result<(RenderReport, Option<KeptFrames>), ReplayError> {
         session.validate()?;
         let iface = reflect::reflect(&shader.module, &shader.info, entry_index)?;
@@ -577,6 +582,12 @@ enum Keep<'r> {
     Frames,
     /// Nothing: each frame is scored against this reference instead.
     ScoreAgainst(&'r Reference),
+}
+
+/// What a plain render keeps, and where its samples sit in their pixels.
+struct Plain<'r> {
+    keep: Keep<'r>,
+    jitter: Jitter,
 }
 
 /// The frames, depths and GPU copy a [`Keep::Frames`] render keeps.
