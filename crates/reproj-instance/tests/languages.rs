@@ -415,24 +415,3 @@ fn push_constants_are_listed_and_valid_in_every_language() {
         }
     }
 }
-
-/// Push constants at an offset WGSL cannot state (`layout(offset = 64)`, a range shared with the
-/// vertex stage) are refused when the shader is read, naming the member and its offset, with a
-/// caret at the block: the WGSL every pass is written from would read them elsewhere.
-#[test]
-fn push_constants_at_an_offset_wgsl_cannot_state_are_refused_at_the_block() {
-    if !tool("glslangValidator") {
-        eprintln!("skipped: glslangValidator is not installed");
-        return;
-    }
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/push_constants/offsets.frag");
-    let e = reproj_front::load_file(&path).unwrap_err();
-    assert!(
-        matches!(e, reproj_front::FrontError::Unsupported(_)),
-        "{e:?}"
-    );
-    let text = e.to_string();
-    assert!(text.contains("`tint` is at offset 64"), "{text}");
-    assert!(text.contains("offsets.frag:7"), "{text}");
-}

@@ -93,16 +93,6 @@ pub(crate) fn parse(
             None => parse_error(reason),
         }
     })?;
-    if let Some(what) = push_constants_out_of_place(&module) {
-        let mut m = Message::new(format!("unsupported: {what}"));
-        if let Some(at) = source.find("push_constant") {
-            m.labels
-                .push((at..at + "push_constant".len(), String::new()));
-        }
-        return Err(GlslangError::Front(FrontError::Unsupported(
-            SourceDiagnostic::new(path.to_owned(), &source, vec![m]),
-        )));
-    }
     let lines = line_spans(&source, &split::line_table(&words));
     remap_spans(&mut module, &|span| lines.map(span));
     allow_nonuniform_derivatives(&mut module);
@@ -123,7 +113,6 @@ pub(crate) fn parse(
         split_samplers: samplers,
         warnings: Vec::new(),
         hidden_entries: Vec::new(),
-        wgsl_form: false,
     })
 }
 
@@ -470,36 +459,6 @@ const NAGA_GAPS: &[(&str, &str)] = &[
          SPIR-V reader does not take the SPV_KHR_fragment_shading_rate extension",
     ),
 ];
-
-/// A push constant of `module` at an offset WGSL's layout would not give it (`layout(offset =
-/// 64)`: a range shared with another stage), in words. naga's WGSL writer states no offsets (no
-/// `@size` or `@align`), so the WGSL the replay renders and every pass is written from would read
-/// it elsewhere, and a host would set the wrong bytes.
-fn push_constants_out_of_place(module: &naga::Module) -> Option<String> {
-    let (_, var) = module
-        .global_variables
-        .iter()
-        .find(|(_, g)| g.space == naga::AddressSpace::Immediate)?;
-    let naga::TypeInner::Struct { members, .. } = &module.types[var.ty].inner else {
-        return None;
-    };
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).ok()?;
-    let mut end = 0;
-    for m in members {
-        let layout = &layouter[m.ty];
-        let natural = layout.alignment.round_up(end);
-        if m.offset != natural {
-            return Some(format!(
-                "the push constant `{}` is at offset {}, where WGSL's layout puts it at {natural}: reproj writes its passes in WGSL, which cannot state the offset; declare the members from offset 0 without gaps",
-                m.name.as_deref().unwrap_or("a member"),
-                m.offset
-            ));
-        }
-        end = m.offset + layout.size;
-    }
-    None
-}
 
 /// The first construct of [`NAGA_GAPS`] in `source` (a whole word, or its prefix: `subpassInputMS`),
 /// with its byte range, when naga has refused glslang's SPIR-V.
