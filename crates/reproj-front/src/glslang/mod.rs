@@ -113,6 +113,7 @@ pub(crate) fn parse(
         split_samplers: samplers,
         warnings: Vec::new(),
         hidden_entries: Vec::new(),
+        wgsl_form: false,
     })
 }
 
