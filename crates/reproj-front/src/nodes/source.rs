@@ -42,7 +42,10 @@ fn position_within(
                 if declared.is_defined() {
                     let (l, c, _) = span_text(shader, lines, declared);
                     (l, c, name())
-                } else if let Some(stored) = last_store_span(fun, &fun.body, v) {
+                } else if let Some(stored) = read_through_glslang(shader)
+                    .then(|| last_store_span(fun, &fun.body, v))
+                    .flatten()
+                {
                     span_text(shader, lines, stored)
                 } else {
                     (0, 0, name())
@@ -54,7 +57,7 @@ fn position_within(
             Some(s) => span_text(shader, lines, s),
             // No operand spanned either (glslang's SPIR-V gives some values no line): the
             // nearest operand below that has a place.
-            None if depth > 0 => ir::operands(e)
+            None if depth > 0 && read_through_glslang(shader) => ir::operands(e)
                 .into_iter()
                 .map(|o| position_within(shader, lines, fun, o, &fun.expressions[o], depth - 1))
                 .find(|p| p.0 > 0)
@@ -63,6 +66,12 @@ fn position_within(
         },
         _ => span_text(shader, lines, span),
     }
+}
+
+/// Whether `shader` is GLSL as glslang's SPIR-V gave it, whose values have lines only where an
+/// `OpLine` names one (WGSL, and the WGSL naga writes of SPIR-V or GLSL, spans every value).
+fn read_through_glslang(shader: &Shader) -> bool {
+    shader.lang == crate::parse::Lang::Glsl && !shader.wgsl_form
 }
 
 /// The span of the last store to `v` in `block`, in program order, that has one: the stored
@@ -120,6 +129,9 @@ pub(super) fn place_leaves(
         .filter(|(_, n)| n.line > 0)
         .filter_map(|(i, n)| Some((n.handle?, i)))
         .collect();
+    if !read_through_glslang(shader) {
+        return;
+    }
     let unplaced: std::collections::HashSet<Handle<Expression>> = nodes
         .iter()
         .filter(|n| n.line == 0)
