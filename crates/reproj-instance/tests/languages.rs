@@ -336,6 +336,8 @@ fn push_constants_are_listed_and_valid_in_every_language() {
         ("tinted.frag", 32, true),
         ("tinted.wgsl", 32, true),
         ("weights.frag", 32, false),
+        // tint at 64, gain at 96: padding members keep them there in every language.
+        ("offsets.frag", 112, false),
     ];
     for (file, size, gl) in cases {
         let shader = reproj_front::load_file(&dir.join(file)).unwrap();
@@ -357,6 +359,20 @@ fn push_constants_are_listed_and_valid_in_every_language() {
                 .as_ref()
                 .unwrap_or_else(|| panic!("{file} {strategy}: no immediates in the manifest"));
             assert_eq!((push.name.as_str(), push.size), ("pc", size), "{file}");
+            if file == "offsets.frag" {
+                // The Vulkan GLSL block states each member's offset as the GLSL input did.
+                let reads = |p: &&reproj_instance::PassModule| {
+                    p.module
+                        .global_variables
+                        .iter()
+                        .any(|(_, g)| g.space == naga::AddressSpace::Immediate)
+                };
+                let pass = v.passes.iter().find(reads).unwrap();
+                let frag = out.path().join(pass_file_in(pass, OutputLang::Glsl));
+                let text = std::fs::read_to_string(frag).unwrap();
+                assert!(text.contains("layout(offset = 64) vec4 tint;"), "{text}");
+                assert!(text.contains("layout(offset = 96) float gain;"), "{text}");
+            }
             for l in &manifest.languages {
                 let at = l
                     .immediates
