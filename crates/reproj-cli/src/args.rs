@@ -620,7 +620,8 @@ pub enum ReprojectArg {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum LangInArg {
     Wgsl,
-    /// GLSL fragment shader (naga's GLSL front end: 4.50).
+    /// GLSL fragment shader, compiled by glslang (glslangValidator; naga's GLSL front end where
+    /// glslang is not installed).
     Glsl,
     /// SPIR-V binary.
     Spv,

@@ -66,6 +66,10 @@ pub struct Shader {
     /// The `@fragment` entry points of the file that its preprocessor left out under the defs
     /// given, named when the entry point asked for is missing.
     pub hidden_entries: Vec<HiddenEntry>,
+    /// For a GLSL shader, whether `source` and `module` are already its WGSL form
+    /// ([`Shader::to_wgsl`]): spans then point into that WGSL, `to_wgsl` returns it as it is, and
+    /// its IR hash is that of the GLSL shader it came from (`source` is the WGSL written of it).
+    pub wgsl_form: bool,
 }
 
 /// Everything that can go wrong in the front end. Each variant renders as one clear message; the
@@ -428,6 +432,7 @@ fn parse_text_defined(
         split_samplers: Vec::new(),
         warnings: Vec::new(),
         hidden_entries: Vec::new(),
+        wgsl_form: false,
     })
 }
 
@@ -466,10 +471,10 @@ fn unspanned_location(
 
 impl Shader {
     /// The same shader with WGSL source text, as the replay renders it: itself for WGSL (and
-    /// SPIR-V, whose source is already WGSL), naga's WGSL of the module for GLSL. Spans of the
-    /// result point into the WGSL.
+    /// SPIR-V, whose source is already WGSL, and a GLSL shader's WGSL form), naga's WGSL of the
+    /// module for GLSL. Spans of the result point into the WGSL.
     pub fn to_wgsl(&self) -> Result<Shader, FrontError> {
-        if self.lang != Lang::Glsl {
+        if self.lang != Lang::Glsl || self.wgsl_form {
             return Ok(self.clone());
         }
         let path = self.path.display();
@@ -485,6 +490,7 @@ impl Shader {
             split_samplers: self.split_samplers.clone(),
             warnings: self.warnings.clone(),
             hidden_entries: self.hidden_entries.clone(),
+            wgsl_form: true,
             ..shader
         })
     }

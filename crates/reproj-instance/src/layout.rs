@@ -277,8 +277,22 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
             .map(|p| pass(p, opts, cache_format, depth_channel, group))
             .collect(),
         notes,
+        immediates: immediates(passes),
         languages: Vec::new(),
     }
+}
+
+/// The shader's push constants, as the first pass that reads them declares them.
+fn immediates(passes: &[PassModule]) -> Option<crate::manifest::Immediates> {
+    passes.iter().find_map(|p| {
+        let var = crate::backends::immediates::global(&p.module)?;
+        let global = &p.module.global_variables[var];
+        Some(crate::manifest::Immediates {
+            name: global.name.clone().unwrap_or_default(),
+            ty: type_name(&p.module, global.ty),
+            size: crate::backends::immediates::size(&p.module, var),
+        })
+    })
 }
 
 /// What a host must know beyond the data: how the passes draw, the vertex stage's extra output,

@@ -279,3 +279,155 @@ fn a_runtime_sized_texture_array_declares_its_capability_in_spirv() {
     }
     assert!(checked > 0, "no pass reads the texture array");
 }
+
+/// Whether `program` runs; under CI it must (`scripts/ensure-tools.sh` installs it).
+fn tool(program: &str) -> bool {
+    let found = std::process::Command::new(program)
+        .arg("--version")
+        .output()
+        .is_ok();
+    assert!(
+        found || std::env::var_os("CI").is_none(),
+        "CI is set and {program} is missing: scripts/ensure-tools.sh installs it"
+    );
+    found
+}
+
+/// Run `program args… file`; its status and its output (stdout then stderr).
+fn run_on(program: &str, args: &[&str], file: &std::path::Path) -> (bool, String) {
+    let out = std::process::Command::new(program)
+        .args(args)
+        .arg(file)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (out.status.success(), text)
+}
+
+/// Push constants (GLSL `layout(push_constant)`, WGSL `var<immediate>`; `fixtures/push_constants/`)
+/// in every language, in every strategy: the manifest lists them (name, type, size) and where
+/// each language reads them; the SPIR-V passes spirv-val for Vulkan 1.0 and 1.2; the GLSL compiles
+/// for Vulkan (`glslangValidator -V`: a `layout(push_constant)` block) and for OpenGL
+/// (`glslangValidator -G`: a std140 uniform block at the binding the manifest lists), or, where
+/// std140 cannot hold the bytes (an array of scalars), refuses OpenGL by its `#error`. Each
+/// check runs where its tool is installed; under CI every tool must be.
+#[test]
+fn push_constants_are_listed_and_valid_in_every_language() {
+    use reproj_instance::backends::{OutputLang, Outputs, pass_file_in};
+    let langs = [
+        OutputLang::Glsl,
+        OutputLang::Hlsl,
+        OutputLang::Msl,
+        OutputLang::SpirV,
+    ];
+    let (glslang, spirv_val) = (tool("glslangValidator"), tool("spirv-val"));
+    if !glslang {
+        eprintln!("skipped: glslangValidator is not installed (GLSL inputs, GLSL outputs)");
+        return;
+    }
+    let dir =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/push_constants");
+    // (fixture, its push constants' size, whether std140 holds them)
+    let cases = [
+        ("tinted.frag", 32, true),
+        ("tinted.wgsl", 32, true),
+        ("weights.frag", 32, false),
+        // tint at 64, gain at 96: padding members keep them there in every language.
+        ("offsets.frag", 112, false),
+    ];
+    for (file, size, gl) in cases {
+        let shader = reproj_front::load_file(&dir.join(file)).unwrap();
+        let norm = reproj_front::normalize(&shader, &Default::default()).unwrap();
+        let table = reproj_front::enumerate(&shader, &norm);
+        for strategy in Strategy::ALL {
+            let opts = InstanceOptions {
+                strategy,
+                ..Default::default()
+            };
+            let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+            let out = tempfile::tempdir().unwrap();
+            reproj_instance::write_variant_in(&v, out.path(), &Outputs::langs(&langs)).unwrap();
+            let manifest: reproj_instance::Manifest =
+                serde_json::from_slice(&std::fs::read(out.path().join("manifest.json")).unwrap())
+                    .unwrap();
+            let push = manifest
+                .immediates
+                .as_ref()
+                .unwrap_or_else(|| panic!("{file} {strategy}: no immediates in the manifest"));
+            assert_eq!((push.name.as_str(), push.size), ("pc", size), "{file}");
+            if file == "offsets.frag" {
+                // The Vulkan GLSL block states each member's offset as the GLSL input did.
+                let reads = |p: &&reproj_instance::PassModule| {
+                    p.module
+                        .global_variables
+                        .iter()
+                        .any(|(_, g)| g.space == naga::AddressSpace::Immediate)
+                };
+                let pass = v.passes.iter().find(reads).unwrap();
+                let frag = out.path().join(pass_file_in(pass, OutputLang::Glsl));
+                let text = std::fs::read_to_string(frag).unwrap();
+                assert!(text.contains("layout(offset = 64) vec4 tint;"), "{text}");
+                assert!(text.contains("layout(offset = 96) float gain;"), "{text}");
+            }
+            for l in &manifest.languages {
+                let at = l
+                    .immediates
+                    .as_ref()
+                    .unwrap_or_else(|| panic!("{file} {strategy}: {} does not say where", l.lang));
+                if l.lang == "glsl" {
+                    assert_eq!(at.slot.is_some(), gl, "{file}: {at:?}");
+                    // The OpenGL block's binding is nobody else's.
+                    assert!(l.bindings.iter().all(|b| Some(b.slot) != at.slot));
+                }
+            }
+            for p in &v.passes {
+                let reads = p
+                    .module
+                    .global_variables
+                    .iter()
+                    .any(|(_, g)| g.space == naga::AddressSpace::Immediate);
+                let spv = out.path().join(pass_file_in(p, OutputLang::SpirV));
+                for env in ["vulkan1.0", "vulkan1.2"] {
+                    if spirv_val {
+                        let (ok, text) = run_on("spirv-val", &["--target-env", env], &spv);
+                        assert!(ok, "{file} {strategy} {:?} {env}: {text}", p.kind);
+                    }
+                }
+                let frag = out.path().join(pass_file_in(p, OutputLang::Glsl));
+                let text = std::fs::read_to_string(&frag).unwrap();
+                assert_eq!(
+                    text.contains("layout(push_constant) uniform"),
+                    reads,
+                    "{file} {strategy} {:?}:\n{text}",
+                    p.kind
+                );
+                let vk = frag.with_extension("vk.spv");
+                let (ok, log) = run_on(
+                    "glslangValidator",
+                    &["-V", "-S", "frag", "-o", vk.to_str().unwrap()],
+                    &frag,
+                );
+                assert!(ok, "{file} {strategy} {:?} -V:\n{log}\n{text}", p.kind);
+                if spirv_val {
+                    let (ok, log) = run_on("spirv-val", &["--target-env", "vulkan1.0"], &vk);
+                    assert!(ok, "{file} {strategy} {:?}: {log}", p.kind);
+                }
+                let glsp = frag.with_extension("gl.spv");
+                let (ok, log) = run_on(
+                    "glslangValidator",
+                    &["-G", "-S", "frag", "-o", glsp.to_str().unwrap()],
+                    &frag,
+                );
+                if gl || !reads {
+                    assert!(ok, "{file} {strategy} {:?} -G:\n{log}\n{text}", p.kind);
+                } else {
+                    assert!(!ok && log.contains("no OpenGL form"), "{file} -G:\n{log}");
+                }
+            }
+        }
+    }
+}

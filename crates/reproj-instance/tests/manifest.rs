@@ -330,3 +330,61 @@ fn whole_number_params_are_written_as_integers() {
     let back: Manifest = serde_json::from_str(&text).unwrap();
     assert_eq!(&back, m);
 }
+
+/// A shader has one IR hash however it was read: a GLSL shader read from its file (`instance`,
+/// `render --variant`, `bench`) and its WGSL form (`Shader::to_wgsl`: what `analyze` profiles
+/// and `emit` instances) hash alike, so the variant `emit` writes from a GLSL shader is accepted
+/// with that shader; its manifest names the hash. Over the GLSL corpus and marble's GLSL twin,
+/// where glslang is installed (under CI it must be).
+#[test]
+fn a_glsl_shader_has_one_ir_hash_however_it_was_read() {
+    let found = std::process::Command::new("glslangValidator")
+        .arg("--version")
+        .output()
+        .is_ok();
+    assert!(
+        found || std::env::var_os("CI").is_none(),
+        "CI is set and glslangValidator is missing: scripts/ensure-tools.sh installs it"
+    );
+    if !found {
+        eprintln!("skipped: glslangValidator is not installed");
+        return;
+    }
+    let dir = root().join("tests/corpus/shaders/glsl");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "frag"))
+        .collect();
+    files.push(root().join("shaders/glsl/marble.frag"));
+    files.sort();
+    let (mut checked, mut renamed) = (0, 0);
+    for file in &files {
+        let Ok(shader) = load_file(file) else {
+            continue;
+        };
+        let wgsl = shader.to_wgsl().unwrap();
+        let hash = reproj_instance::ir_hash(&shader);
+        // Hashing the WGSL form's IR written again, as before, differs where naga renames.
+        let rewritten = reproj_instance::write_wgsl(&wgsl.module, &wgsl.info).unwrap();
+        renamed += usize::from(reproj_io::content_hash(rewritten.as_bytes()) != hash);
+        assert_eq!(reproj_instance::ir_hash(&wgsl), hash, "{}", file.display());
+        assert_eq!(
+            reproj_instance::ir_hash(&wgsl.to_wgsl().unwrap()),
+            hash,
+            "{}",
+            file.display()
+        );
+        // `emit` instances the WGSL form with the GLSL shader's nodes.
+        let norm = normalize(&shader, &Default::default()).unwrap();
+        let table = enumerate(&shader, &norm);
+        if table.cacheable().next().is_some() {
+            let opts = InstanceOptions::default();
+            let v = instance(&wgsl, &norm, &table, NodeSelector::Root, &opts).unwrap();
+            assert_eq!(v.manifest.shader_ir_hash.as_deref(), Some(hash.as_str()));
+        }
+        checked += 1;
+    }
+    assert!(checked >= 10, "{checked} GLSL shaders loaded");
+    eprintln!("{renamed} of {checked} would hash apart if the WGSL form's IR were written again");
+}

@@ -14,6 +14,7 @@
 //! does not read) has its specialization constants frozen at their defaults by `spirv-opt`.
 
 mod matrix_inputs;
+mod push_constants;
 pub mod split;
 
 use std::collections::BTreeSet;
@@ -97,6 +98,7 @@ pub(crate) fn parse(
     remap_spans(&mut module, &|span| lines.map(span));
     allow_nonuniform_derivatives(&mut module);
     matrix_inputs::split_matrix_inputs(&mut module);
+    push_constants::pad_push_constants(&mut module);
     let info = validator().validate(&module).map_err(|e| {
         GlslangError::Front(FrontError::Validation(SourceDiagnostic::new(
             path.to_owned(),
@@ -113,6 +115,7 @@ pub(crate) fn parse(
         split_samplers: samplers,
         warnings: Vec::new(),
         hidden_entries: Vec::new(),
+        wgsl_form: false,
     })
 }
 

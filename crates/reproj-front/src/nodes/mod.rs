@@ -32,7 +32,7 @@ use crate::normalize::Normalized;
 use crate::parse::Shader;
 use costs::Costs;
 use cull::{Flags, continuous_from, cull_reason, feeds_derivatives, payload_components};
-use source::{LineIndex, node_type, source_position, span_text};
+use source::{LineIndex, node_type, place_leaves, source_position, span_text};
 use walk::{Walk, dependencies};
 
 /// Why a node cannot be cached. Serialized in kebab-case (`in-loop`, ...).
@@ -227,6 +227,7 @@ pub fn enumerate(shader: &Shader, norm: &Normalized) -> NodeTable {
             handle: Some(h),
         });
     }
+    place_leaves(shader, &lines, &mut nodes, &norm.module, fun);
     NodeTable {
         schema: NODES_SCHEMA.into(),
         version: NODES_VERSION,

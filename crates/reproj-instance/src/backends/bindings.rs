@@ -4,7 +4,8 @@
 //! into the manifest ([`LanguageOutput`]), so a host binds by the table instead of guessing what
 //! naga chose (`layout(binding)` missing in GLSL, `[[user(fake0)]]` in MSL).
 
-use crate::manifest::{LanguageBinding, LanguageOutput};
+use crate::backends::immediates::{self, Rule};
+use crate::manifest::{LanguageBinding, LanguageImmediates, LanguageOutput};
 use crate::{PassModule, backends::OutputLang, backends::pass_file_in};
 
 /// The HLSL register space of each bind group's sampler index buffer (naga's sampler heap model,
@@ -168,9 +169,10 @@ pub fn language_output(passes: &[PassModule], lang: OutputLang) -> LanguageOutpu
             target,
         });
     }
+    let push = language_immediates(passes, lang, &mut glsl, msl_buffer);
     let notes = match lang {
         OutputLang::Glsl => vec![
-            "GLSL 4.50 for Vulkan (glslangValidator -V) and OpenGL: every resource in one binding space (Vulkan descriptor set 0); each texture is combined with the sampler it is sampled with into one sampler at the texture's binding, so samplers are not listed.".into(),
+            "GLSL 4.50 for Vulkan (glslangValidator -V) and OpenGL: every resource in one binding space (Vulkan descriptor set 0); each texture is combined with the sampler it is sampled with into one sampler at the texture's binding, so samplers are not listed. Push constants: a `layout(push_constant)` block where `VULKAN` is defined (glslang -V, shaderc), else a std140 uniform block at the binding `immediates.slot` gives (in OpenGL's uniform-buffer binding points), or an `#error` where std140 cannot hold their bytes (no `slot`).".into(),
         ],
         OutputLang::Hlsl => vec![
             format!("Shader model 5.1. Buffers and textures at register(<b|t|u>binding, space<group>). Samplers through naga's sampler heap (as wgpu's DX12 backend): SamplerState heap at register(s0, space0), SamplerComparisonState heap at register(s0, space1), and per group G a StructuredBuffer<uint> of heap indices at register(tG, space{SAMPLER_INDEX_SPACE}), read at the sampler's slot. Push constants (a GLSL input's) at register(b0, space{}).", super::IMMEDIATES_SPACE),
@@ -188,15 +190,65 @@ pub fn language_output(passes: &[PassModule], lang: OutputLang) -> LanguageOutpu
         files: passes.iter().map(|p| pass_file_in(p, lang)).collect(),
         bindings,
         notes,
+        immediates: push,
     }
+}
+
+/// Where `lang` reads the push constants of `passes`, if they have any: GLSL's OpenGL block takes
+/// the binding after the resources' (`glsl`, the running counter) where std140 holds the bytes;
+/// MSL's the buffer after the resources' (`msl_buffer`, as naga's `immediates_buffer`).
+fn language_immediates(
+    passes: &[PassModule],
+    lang: OutputLang,
+    glsl: &mut u32,
+    msl_buffer: u32,
+) -> Option<LanguageImmediates> {
+    let (module, var) = passes
+        .iter()
+        .find_map(|p| Some((&p.module, immediates::global(&p.module)?)))?;
+    Some(match lang {
+        OutputLang::Glsl => {
+            let gl = immediates::block_agrees(module, var, Rule::Std140).then(|| {
+                *glsl += 1;
+                *glsl - 1
+            });
+            LanguageImmediates {
+                slot: gl,
+                space: None,
+                target: match gl {
+                    Some(n) => format!(
+                        "layout(push_constant) uniform (Vulkan); layout(std140, binding = {n}) uniform (OpenGL)"
+                    ),
+                    None => "layout(push_constant) uniform (Vulkan; no OpenGL form)".into(),
+                },
+            }
+        }
+        OutputLang::Hlsl => LanguageImmediates {
+            slot: Some(0),
+            space: Some(u32::from(super::IMMEDIATES_SPACE)),
+            target: format!("register(b0, space{})", super::IMMEDIATES_SPACE),
+        },
+        OutputLang::Msl => LanguageImmediates {
+            slot: Some(msl_buffer),
+            space: None,
+            target: format!("[[buffer({msl_buffer})]]"),
+        },
+        OutputLang::SpirV => LanguageImmediates {
+            slot: None,
+            space: None,
+            target: "PushConstant".into(),
+        },
+    })
 }
 
 /// naga's GLSL binding map for `table`.
 pub(super) fn glsl_map(table: &LanguageOutput) -> naga::back::glsl::BindingMap {
+    let push = table.immediates.as_ref().and_then(|i| i.slot);
     table
         .bindings
         .iter()
         .map(|b| (resource_binding(b), b.slot as u8))
+        .chain(push.map(|n| (naga::back::glsl::IMMEDIATES_BINDING, n as u8)))
         .collect()
 }
 

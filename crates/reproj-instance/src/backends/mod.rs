@@ -10,8 +10,11 @@
 //! naga's writers take no `override` constants: each module's overrides are first replaced by
 //! their values ([`Outputs::overrides`], else their defaults) with naga's `process_overrides`.
 //! What a writer cannot write (`texture_external` in GLSL and SPIR-V, binding arrays in GLSL) is
-//! refused before it is called, with the variable's name. In HLSL, push constants (a GLSL input's
-//! `layout(push_constant)` block) are the constant buffer `b0` of space [`IMMEDIATES_SPACE`].
+//! refused before it is called, with the variable's name. Push constants (naga's immediates: a
+//! GLSL input's `layout(push_constant)` block, WGSL's `var<immediate>`) are listed in the manifest
+//! ([`immediates`]): in HLSL the constant buffer `b0` of space [`IMMEDIATES_SPACE`]; in GLSL a
+//! `layout(push_constant)` block for Vulkan and, in the same file, a std140 uniform block for
+//! OpenGL (naga's writer patched for it: `vendor/naga/REPROJ-PATCH.md`).
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -19,6 +22,7 @@ use std::path::PathBuf;
 use crate::{InstanceError, LanguageOutput, PassModule, pass_file};
 
 pub mod bindings;
+pub mod immediates;
 
 pub use bindings::language_output;
 
@@ -139,6 +143,10 @@ pub fn unsupported_in(module: &naga::Module, lang: OutputLang) -> Option<String>
             _ => None,
         }
     })
+    .or_else(|| match lang {
+        OutputLang::Glsl => immediates::glsl_refusal(module),
+        _ => None,
+    })
 }
 
 /// File name of `pass` in `lang`: the WGSL file's name with the language's extension.
@@ -224,7 +232,8 @@ fn write_pass_unguarded(
             let mut text = String::new();
             let options = glsl::Options {
                 version: glsl::Version::Desktop(450),
-                writer_flags: glsl::WriterFlags::empty(),
+                // Push constants as a block Vulkan GLSL accepts (a reproj patch of naga).
+                writer_flags: glsl::WriterFlags::IMMEDIATES_AS_BLOCK,
                 binding_map: bindings::glsl_map(table),
                 ..Default::default()
             };

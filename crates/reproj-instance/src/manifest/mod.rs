@@ -84,6 +84,11 @@ pub struct Manifest {
     pub passes: Vec<Pass>,
     /// Plain-language notes for a reader; everything in them is also in the fields above.
     pub notes: Vec<String>,
+    /// The push constants the passes read (the shader's own: WGSL `var<immediate>`, GLSL
+    /// `layout(push_constant)`), which a host sets before each draw; each language says where in
+    /// `languages[].immediates`. Absent when the shader has none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub immediates: Option<Immediates>,
     /// The passes in other languages (`--lang`), each with its files and how it binds every
     /// resource. Absent when only WGSL was written.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -101,6 +106,42 @@ pub struct LanguageOutput {
     pub bindings: Vec<LanguageBinding>,
     /// The language's binding model in words (heaps, combined samplers, extra buffers).
     pub notes: Vec<String>,
+    /// Where this language's passes read the push constants (`immediates`); absent when the
+    /// shader has none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub immediates: Option<LanguageImmediates>,
+}
+
+/// The shader's push constants (naga's immediates), which every pass that reads them reads at
+/// the same offsets.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct Immediates {
+    /// The variable's name in the shader (`var<immediate> NAME`, or the GLSL block's instance).
+    pub name: String,
+    /// Its WGSL type (`Locals`, `vec4<f32>`).
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// Bytes a host sets, at offset 0, laid out as the WGSL type is (wgpu: `immediate_size` of
+    /// the pipeline layout at least this, `set_immediates(0, bytes)`; Vulkan: a push-constant
+    /// range of the fragment stage).
+    pub size: u32,
+}
+
+/// Where one language reads the push constants.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct LanguageImmediates {
+    /// The number the language binds them by where it binds them like a resource: OpenGL's
+    /// uniform block binding (GLSL; absent where the block has no OpenGL form), the HLSL
+    /// register number, MSL's buffer index; absent for SPIR-V (a push-constant range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slot: Option<u32>,
+    /// HLSL's register space.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub space: Option<u32>,
+    /// As the file writes it: `layout(push_constant) uniform` (Vulkan GLSL) and `layout(std140,
+    /// binding = 3) uniform` (OpenGL), `register(b0, space254)`, `[[buffer(2)]]`,
+    /// `PushConstant`.
+    pub target: String,
 }
 
 /// One resource in one language.
@@ -514,8 +555,15 @@ pub fn manifest_schema() -> serde_json::Value {
 }
 
 /// FNV-1a 64 of the shader's IR written back as WGSL by naga: the same for two sources that differ
-/// only in comments and formatting.
+/// only in comments and formatting, and one hash for a shader however it was read: a GLSL
+/// shader's WGSL form ([`reproj_front::Shader::to_wgsl`], what `analyze` and `emit` use) hashes
+/// its source, which is the WGSL written of the GLSL shader's IR, so it and the shader `instance`,
+/// `render` and `bench` read from the file hash alike (writing that WGSL's IR again could differ
+/// by naga's renamings).
 pub fn ir_hash(shader: &reproj_front::Shader) -> String {
+    if shader.wgsl_form {
+        return reproj_io::content_hash(shader.source.as_bytes());
+    }
     let text = reproj_front::validator()
         .validate(&shader.module)
         .ok()

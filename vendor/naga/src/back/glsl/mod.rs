@@ -169,8 +169,25 @@ bitflags::bitflags! {
         /// The variable gl_PointSize is intended for a shader to write the size of the point to be rasterized. It is measured in pixels.
         /// If gl_PointSize is not written to, its value is undefined in subsequent pipe stages.
         const FORCE_POINT_SIZE = 0x20;
+        /// (reproj patch) Write the immediates (push constants) as an interface block that both
+        /// Vulkan GLSL and OpenGL accept, instead of the loose `uniform` OpenGL alone accepts
+        /// (which Vulkan GLSL refuses: "non-opaque uniforms outside a block"): under the
+        /// `VULKAN` macro (defined by `glslangValidator -V` and shaderc) the block is
+        /// `layout(push_constant) uniform`; otherwise a `std140` uniform block at the binding
+        /// [`Options::binding_map`] gives [`IMMEDIATES_BINDING`], or, where it gives none, an
+        /// `#error` saying that this shader's push constants have no OpenGL form.
+        /// [`ReflectionInfo::immediates_items`] still names the loose uniform's members, which
+        /// this form does not have.
+        const IMMEDIATES_AS_BLOCK = 0x40;
     }
 }
+
+/// (reproj patch) The key of [`Options::binding_map`] that gives the OpenGL binding of the
+/// immediates' uniform block under [`WriterFlags::IMMEDIATES_AS_BLOCK`]; no resource has it.
+pub const IMMEDIATES_BINDING: crate::ResourceBinding = crate::ResourceBinding {
+    group: u32::MAX,
+    binding: u32::MAX,
+};
 
 /// Configuration used in the [`Writer`].
 #[derive(Debug, Clone)]

@@ -696,6 +696,16 @@ impl<'a, W: Write> Writer<'a, W> {
         handle: Handle<crate::GlobalVariable>,
         global: &crate::GlobalVariable,
     ) -> BackendResult {
+        // reproj patch: immediates as a block both Vulkan GLSL and OpenGL accept.
+        if global.space == crate::AddressSpace::Immediate
+            && self
+                .options
+                .writer_flags
+                .contains(WriterFlags::IMMEDIATES_AS_BLOCK)
+        {
+            return self.write_immediates_block(handle, global);
+        }
+
         self.write_global_layout(global)?;
 
         if let crate::AddressSpace::Storage { access } = global.space {
@@ -780,6 +790,82 @@ impl<'a, W: Write> Writer<'a, W> {
             self.reflection_names_globals.insert(handle, global_name);
         }
 
+        Ok(())
+    }
+
+    /// (reproj patch) The immediates under [`WriterFlags::IMMEDIATES_AS_BLOCK`]: the block's
+    /// qualifiers for Vulkan and for OpenGL, chosen by the preprocessor, then the block: a
+    /// struct's members lifted into it at their offsets, any other type as its one member.
+    fn write_immediates_block(
+        &mut self,
+        handle: Handle<crate::GlobalVariable>,
+        global: &crate::GlobalVariable,
+    ) -> BackendResult {
+        writeln!(self.out, "#ifdef VULKAN")?;
+        writeln!(self.out, "layout(push_constant) uniform")?;
+        writeln!(self.out, "#else")?;
+        match self.options.binding_map.get(&IMMEDIATES_BINDING) {
+            Some(binding) if self.options.version.supports_explicit_locations() => {
+                writeln!(self.out, "layout(std140, binding = {binding}) uniform")?
+            }
+            Some(_) => writeln!(self.out, "layout(std140) uniform")?,
+            None => writeln!(
+                self.out,
+                "#error \"push constants: this shader's have no OpenGL form (compile it for Vulkan)\""
+            )?,
+        }
+        writeln!(self.out, "#endif")?;
+        let ty_name = &self.names[&NameKey::Type(global.ty)];
+        let block_name = format!(
+            "{}_block_{}{:?}",
+            ty_name.trim_end_matches('_'),
+            self.block_id.generate(),
+            self.entry_point.stage,
+        );
+        write!(self.out, "{block_name} ")?;
+        self.reflection_names_globals.insert(handle, block_name);
+        match self.module.types[global.ty].inner {
+            // A struct's members are the block's, each at its offset (a GLSL input's
+            // `layout(offset = 64)` stays where it was), so the block is named after the global
+            // and read as the struct was. The whole block cannot be loaded as one value.
+            TypeInner::Struct { ref members, .. } => {
+                writeln!(self.out, "{{")?;
+                for (index, member) in members.iter().enumerate() {
+                    write!(
+                        self.out,
+                        "{}layout(offset = {}) ",
+                        back::INDENT,
+                        member.offset
+                    )?;
+                    let name = self.names[&NameKey::StructMember(global.ty, index as u32)].clone();
+                    match self.module.types[member.ty].inner {
+                        TypeInner::Array { base, size, .. } => {
+                            self.write_type(base)?;
+                            write!(self.out, " {name}")?;
+                            self.write_array_size(base, size)?;
+                        }
+                        _ => {
+                            self.write_type(member.ty)?;
+                            write!(self.out, " {name}")?;
+                        }
+                    }
+                    writeln!(self.out, ";")?;
+                }
+                write!(self.out, "}} ")?;
+                self.write_global_name(handle, global)?;
+            }
+            _ => {
+                write!(self.out, "{{ ")?;
+                self.write_type(global.ty)?;
+                write!(self.out, " ")?;
+                self.write_global_name(handle, global)?;
+                if let TypeInner::Array { base, size, .. } = self.module.types[global.ty].inner {
+                    self.write_array_size(base, size)?;
+                }
+                write!(self.out, "; }}")?;
+            }
+        }
+        writeln!(self.out, ";")?;
         Ok(())
     }
 
