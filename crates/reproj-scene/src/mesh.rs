@@ -168,14 +168,25 @@ fn lathe(profile: &[[f32; 2]], segments: u32) -> MeshData {
 fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData, String> {
     let full = session.resolve(path)?;
     // Only a regular file within the size limit: `/dev/zero` or a pipe would never end.
-    reproj_io::check_input(&full, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
-    let (models, _) = tobj::load_obj(
-        &full,
+    let text =
+        reproj_io::read_input(&full, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
+    obj_mesh(&full, &text, scale)
+}
+
+/// The mesh of OBJ text `text` (read from `full`, which messages name), its positions times
+/// `scale`: triangulated, one index per vertex, smooth normals where the file has none. A NaN or
+/// infinite number, which would only show as a mesh that covers no pixel, is refused by name.
+/// Materials are not read: an `mtllib` line opens no other file.
+pub fn obj_mesh(full: &std::path::Path, text: &[u8], scale: f32) -> Result<MeshData, String> {
+    check_obj_numbers(full, text)?;
+    let (models, _) = tobj::load_obj_buf(
+        &mut std::io::Cursor::new(text),
         &tobj::LoadOptions {
             triangulate: true,
             single_index: true,
             ..Default::default()
         },
+        |_| Err(tobj::LoadError::OpenFileFailed),
     )
     .map_err(|e| format!("cannot load OBJ {}: {e}", full.display()))?;
     let mut m = MeshData::default();
@@ -189,6 +200,13 @@ fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData
         }
         for i in 0..nv {
             let p = Vec3::from_slice(&mesh.positions[i * 3..i * 3 + 3]) * scale;
+            if !p.is_finite() {
+                return Err(format!(
+                    "OBJ {}: vertex {i} of `{}` scaled by {scale} is {p}, past the f32 range",
+                    full.display(),
+                    model.name
+                ));
+            }
             let n = if mesh.normals.len() == nv * 3 {
                 Vec3::from_slice(&mesh.normals[i * 3..i * 3 + 3]).normalize_or_zero()
             } else {
@@ -214,6 +232,32 @@ fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData
     }
     compute_tangents(&mut m);
     Ok(m)
+}
+
+/// Refuse an OBJ whose vertex data (`v`, `vn`, `vt`) holds a number that is not finite as an
+/// f32 (`nan`, `inf`, or past ±3.4e38), naming the file, the line and the number.
+pub fn check_obj_numbers(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+    for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut words = line.split_whitespace();
+        let what = match words.next() {
+            Some("v") => "vertex position",
+            Some("vn") => "normal",
+            Some("vt") => "texture coordinate",
+            _ => continue,
+        };
+        for w in words {
+            if w.parse::<f32>().is_ok_and(|x| !x.is_finite()) {
+                let w: String = w.chars().take(40).collect();
+                return Err(format!(
+                    "OBJ {}:{}: {what} `{w}` is not a finite number (NaN, infinite, or past the f32 range ±3.4e38)",
+                    path.display(),
+                    i + 1
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Build the mesh of a session object. Errors are one-line messages (file problems).
