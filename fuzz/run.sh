@@ -84,7 +84,7 @@ case "$target" in
         [ -e "$corpus/tri.obj" ] || printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$corpus/tri.obj"
         [ -e "$corpus/quad.obj" ] || printf 'o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\ng two\nv 0 0 1\nf -1 -2 -3\n' > "$corpus/quad.obj"
         seed $(find "$root/tests" "$root/crates" -name '*.obj' -not -path '*/target/*' 2>/dev/null)
-        seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.obj
+        seed "$root"/crates/reproj-scene/tests/fuzz_regressions/*.obj
         dict="$here/obj.dict"; max_len=8192 ;;
     manifest)
         seed_schema "$root/crates" reproj.manifest

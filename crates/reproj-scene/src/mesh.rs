@@ -175,10 +175,11 @@ fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData
 
 /// The mesh of OBJ text `text` (read from `full`, which messages name), its positions times
 /// `scale`: triangulated, one index per vertex, smooth normals where the file has none. A NaN or
-/// infinite number, which would only show as a mesh that covers no pixel, is refused by name.
+/// infinite number, which would only show as a mesh that covers no pixel, and an index past the
+/// data are refused by name ([`check_obj_text`]).
 /// Materials are not read: an `mtllib` line opens no other file.
 pub fn obj_mesh(full: &std::path::Path, text: &[u8], scale: f32) -> Result<MeshData, String> {
-    check_obj_numbers(full, text)?;
+    check_obj_text(full, text)?;
     let (models, _) = tobj::load_obj_buf(
         &mut std::io::Cursor::new(text),
         &tobj::LoadOptions {
@@ -235,24 +236,48 @@ pub fn obj_mesh(full: &std::path::Path, text: &[u8], scale: f32) -> Result<MeshD
 }
 
 /// Refuse an OBJ whose vertex data (`v`, `vn`, `vt`) holds a number that is not finite as an
-/// f32 (`nan`, `inf`, or past ±3.4e38), naming the file, the line and the number.
-pub fn check_obj_numbers(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+/// f32 (`nan`, `inf`, or past ±3.4e38), or whose face or line (`f`, `l`) names a vertex, texture
+/// coordinate or normal that no line before it defines, naming the file, the line and the number.
+/// tobj computes with such an index unchecked (`-11` counts back past the start and wraps): an
+/// overflow, or another vertex's data.
+pub fn check_obj_text(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+    // Lines seen so far of each kind: positions, texture coordinates, normals.
+    let mut counts = [0u64; 3];
+    const KINDS: [&str; 3] = ["vertex position", "texture coordinate", "normal"];
     for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let at = || format!("OBJ {}:{}", path.display(), i + 1);
         let line = String::from_utf8_lossy(line);
         let mut words = line.split_whitespace();
-        let what = match words.next() {
-            Some("v") => "vertex position",
-            Some("vn") => "normal",
-            Some("vt") => "texture coordinate",
+        let kind = match words.next() {
+            Some("v") => 0,
+            Some("vt") => 1,
+            Some("vn") => 2,
+            Some("f" | "l") => {
+                for word in words {
+                    for (k, part) in word.split('/').take(3).enumerate() {
+                        let Ok(x) = part.parse::<i64>() else { continue };
+                        if x.unsigned_abs() > counts[k] {
+                            return Err(format!(
+                                "{}: `{x}` names no {} ({} defined before this line; OBJ indices count from 1, or back from -1)",
+                                at(),
+                                KINDS[k],
+                                counts[k]
+                            ));
+                        }
+                    }
+                }
+                continue;
+            }
             _ => continue,
         };
+        counts[kind] += 1;
         for w in words {
             if w.parse::<f32>().is_ok_and(|x| !x.is_finite()) {
                 let w: String = w.chars().take(40).collect();
                 return Err(format!(
-                    "OBJ {}:{}: {what} `{w}` is not a finite number (NaN, infinite, or past the f32 range ±3.4e38)",
-                    path.display(),
-                    i + 1
+                    "{}: {} `{w}` is not a finite number (NaN, infinite, or past the f32 range ±3.4e38)",
+                    at(),
+                    KINDS[kind]
                 ));
             }
         }
