@@ -69,7 +69,7 @@ pub fn check_memory(
     module: &Module,
     info: &naga::valid::ModuleInfo,
     budget_mib: u64,
-) -> Result<(), OverBudget> {
+) -> Result<(), Box<OverBudget>> {
     let budget = budget_mib.saturating_mul(1 << 20);
     for (i, ep) in module.entry_points.iter().enumerate() {
         let uses = info.get_entry_point(i);
@@ -120,7 +120,7 @@ pub fn check_memory(
         let Some((variable, space, variable_bytes)) = vars.into_iter().max_by_key(|v| v.2) else {
             continue;
         };
-        return Err(OverBudget {
+        return Err(Box::new(OverBudget {
             path: path.to_owned(),
             entry: ep.name.clone(),
             variable,
@@ -130,7 +130,7 @@ pub fn check_memory(
             per_workgroup,
             total_mib: total.div_ceil(1 << 20),
             budget_mib,
-        });
+        }));
     }
     Ok(())
 }
@@ -167,11 +167,9 @@ fn called(module: &Module, f: &naga::Function) -> Vec<Handle<naga::Function>> {
         while let Some(block) = blocks.pop() {
             for s in block.iter() {
                 match s {
-                    Statement::Call { function, .. } => {
-                        if !seen.contains(function) {
-                            seen.push(*function);
-                            functions.push(&module.functions[*function]);
-                        }
+                    Statement::Call { function, .. } if !seen.contains(function) => {
+                        seen.push(*function);
+                        functions.push(&module.functions[*function]);
                     }
                     Statement::Block(b) => blocks.push(b),
                     Statement::If { accept, reject, .. } => blocks.extend([accept, reject]),
@@ -191,7 +189,7 @@ fn called(module: &Module, f: &naga::Function) -> Vec<Handle<naga::Function>> {
 mod tests {
     use super::*;
 
-    fn check(wgsl: &str, budget_mib: u64) -> Result<(), OverBudget> {
+    fn check(wgsl: &str, budget_mib: u64) -> Result<(), Box<OverBudget>> {
         let module = naga::front::wgsl::parse_str(wgsl).unwrap();
         let info = crate::parse::validator().validate(&module).unwrap();
         check_memory(Path::new("a.wgsl"), &module, &info, budget_mib)

@@ -115,7 +115,7 @@ pub enum FrontError {
     },
     /// Private, function or workgroup arrays over the GPU memory budget ([`crate::memory`]).
     #[error(transparent)]
-    Memory(#[from] crate::memory::OverBudget),
+    Memory(#[from] Box<crate::memory::OverBudget>),
     /// A construct reproj does not handle, at its place in the source ([`Shader::unsupported`]).
     #[error("{0}")]
     Unsupported(SourceDiagnostic),
