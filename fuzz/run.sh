@@ -3,7 +3,8 @@
 #
 #   fuzz/run.sh [TARGET] [SECONDS] [extra libFuzzer args...]
 #
-# TARGET: front_end (the default), profile, journal or session; SECONDS: 600 by default. For
+# TARGET: front_end (the default), profile, journal, session, glsl, spirv, obj or manifest;
+# SECONDS: 600 by default. For
 # compatibility, a first argument that is a number is SECONDS for front_end (`fuzz/run.sh 1200`).
 #
 # Needs cargo-fuzz (`cargo install cargo-fuzz`). Works on a stable toolchain: RUSTC_BOOTSTRAP=1
@@ -16,9 +17,9 @@ root="$(dirname "$here")"
 
 target=front_end
 case "${1:-}" in
-    front_end|profile|journal|session) target="$1"; shift ;;
+    front_end|profile|journal|session|glsl|spirv|obj|manifest) target="$1"; shift ;;
     ''|[0-9]*) ;;
-    *) echo "fuzz/run.sh: unknown target '$1' (front_end, profile, journal, session)" >&2; exit 2 ;;
+    *) echo "fuzz/run.sh: unknown target '$1' (front_end, profile, journal, session, glsl, spirv, obj, manifest)" >&2; exit 2 ;;
 esac
 secs="${1:-600}"
 shift || true
@@ -62,6 +63,33 @@ case "$target" in
         seed_schema "$root/crates" reproj.session
         seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.session.json
         features=(--features session)
+        max_len=65536 ;;
+    glsl)
+        seed $(find "$root/shaders" "$root/tests/corpus/shaders" "$root/crates/reproj-front/tests" \
+            \( -name '*.frag' -o -name '*.glsl' \) 2>/dev/null)
+        seed "$root"/crates/reproj-front/tests/fuzz_regressions/*.frag
+        dict="$here/glsl.dict"; max_len=16384 ;;
+    spirv)
+        # glslang's SPIR-V of the GLSL seeds (what reproj reads from it), where it is installed.
+        if command -v glslangValidator >/dev/null; then
+            for f in $(find "$root/shaders" "$root/tests/corpus/shaders" \( -name '*.frag' -o -name '*.glsl' \) 2>/dev/null); do
+                out="$corpus/$(basename "$f").spv"
+                [ -e "$out" ] || glslangValidator -V -S frag -o "$out" "$f" >/dev/null 2>&1 || rm -f "$out"
+            done
+        fi
+        seed "$root"/crates/reproj-front/tests/fuzz_regressions/*.spv
+        dict="$here/spirv.dict"; max_len=65536 ;;
+    obj)
+        # Small meshes: a triangle, a quad with normals and uvs, the faces tobj triangulates.
+        [ -e "$corpus/tri.obj" ] || printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$corpus/tri.obj"
+        [ -e "$corpus/quad.obj" ] || printf 'o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\ng two\nv 0 0 1\nf -1 -2 -3\n' > "$corpus/quad.obj"
+        seed $(find "$root/tests" "$root/crates" -name '*.obj' -not -path '*/target/*' 2>/dev/null)
+        seed "$root"/crates/reproj-scene/tests/fuzz_regressions/*.obj
+        dict="$here/obj.dict"; max_len=8192 ;;
+    manifest)
+        seed_schema "$root/crates" reproj.manifest
+        seed_schema "$root/tests" reproj.manifest
+        seed "$root"/crates/reproj-models/tests/fuzz_regressions/*.manifest.json
         max_len=65536 ;;
 esac
 

@@ -80,6 +80,7 @@ fuzz_target!(|data: &[u8]| {
         }
         for &(min, max) in &RANGES {
             for max_error in [0.0, 0.01, 1.0, f64::MAX] {
+                let max_error = reproj_select::Budget::new(max_error).expect("a valid budget");
                 let opts = SelectOptions {
                     max_error,
                     min_delta_n: min,

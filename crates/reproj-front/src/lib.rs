@@ -19,6 +19,7 @@ pub mod input;
 pub mod ir;
 pub mod liveness;
 pub mod load;
+pub mod memory;
 pub mod nodes;
 pub mod normalize;
 pub mod parse;

@@ -34,8 +34,25 @@ pub fn load_file_as(path: &Path, lang: Option<Lang>) -> Result<Shader, FrontErro
 }
 
 /// [`load_file_as`], read as `input` says: shader defs, import paths, include folders. A def
-/// that the shader never reads is a warning in [`Shader::warnings`].
+/// that the shader never reads is a warning in [`Shader::warnings`]. A shader whose arrays would
+/// take more GPU memory than the budget is refused here, before any command renders it
+/// ([`crate::memory`]).
 pub fn load_file_with(
+    path: &Path,
+    lang: Option<Lang>,
+    input: &ShaderInput,
+) -> Result<Shader, FrontError> {
+    let shader = read_file_with(path, lang, input)?;
+    crate::memory::check_memory(
+        path,
+        &shader.module,
+        &shader.info,
+        crate::memory::budget_mib(),
+    )?;
+    Ok(shader)
+}
+
+fn read_file_with(
     path: &Path,
     lang: Option<Lang>,
     input: &ShaderInput,

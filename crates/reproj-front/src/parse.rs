@@ -117,6 +117,9 @@ pub enum FrontError {
         /// would let them in.
         hidden: HiddenEntries,
     },
+    /// Private, function or workgroup arrays over the GPU memory budget ([`crate::memory`]).
+    #[error(transparent)]
+    Memory(#[from] Box<crate::memory::OverBudget>),
     /// A construct reproj does not handle, at its place in the source ([`Shader::unsupported`]).
     #[error("{0}")]
     Unsupported(SourceDiagnostic),

@@ -101,3 +101,52 @@ fn fuzz_regressions_do_not_panic() {
         panicked.join(", ")
     );
 }
+
+/// The SPIR-V inputs the `spirv` target found a crash with (`*.spv`): the sampler split
+/// (`spirv_short_instruction.spv`: it indexed the operands of a too-short instruction), then
+/// naga's SPIR-V front end (`spirv_phi_block.spv`: an `OpPhi` naming no block; patched,
+/// vendor/naga/REPROJ-PATCH.md), must return an error or a module, never panic.
+#[test]
+fn spirv_fuzz_regressions_do_not_panic() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_none_or(|x| x != "spv") {
+            continue;
+        }
+        let bytes = std::fs::read(&path).unwrap();
+        let words: Vec<u32> = bytes
+            .chunks_exact(4)
+            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
+            .collect();
+        if let Ok((split, _)) = reproj_front::glslang::split::split_combined_samplers(&words) {
+            let split: Vec<u8> = split.iter().flat_map(|w| w.to_le_bytes()).collect();
+            let _ = reproj_front::parse_spirv(&path, &split);
+        }
+        let _ = reproj_front::parse_spirv(&path, &bytes);
+        n += 1;
+    }
+    assert!(n > 0);
+}
+
+/// The GLSL inputs the `glsl` target found a crash with (`*.frag`), through naga's GLSL front
+/// end (what reproj reads GLSL with where glslang is missing): an error or a module, never a
+/// panic. `glsl_layout_index.frag` (`layout(location = 1[4])`) made naga index an arena with
+/// another arena's handle (patched: vendor/naga/REPROJ-PATCH.md).
+#[test]
+fn glsl_fuzz_regressions_do_not_panic() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_none_or(|x| x != "frag") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        let options = naga::front::glsl::Options::from(naga::ShaderStage::Fragment);
+        let _ = naga::front::glsl::Frontend::default().parse(&options, &text);
+        n += 1;
+    }
+    assert!(n > 0);
+}

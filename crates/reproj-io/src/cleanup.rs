@@ -7,13 +7,48 @@
 //!   output sweeps the hidden siblings whose process is gone ([`sweep_stale`]).
 //! - [`OutputLock`]: one writer per output. A second `analyze` to the same `--out` would skew the
 //!   first one's timings and race for the file; it is refused, naming the process that holds it.
+//!   A lock records more than its writer's pid (see [`crate::holder`]), so a lock whose pid was
+//!   given to another process since is seen as stale and taken over.
+//!
+//! Cleanup comes after the writers: a signal arrives on its own thread while the main thread (or
+//! a frame writer) may be creating a file in the very directory being removed, and would create
+//! it again. So every file or directory reproj creates is created under a shared gate
+//! ([`while_open`]); [`remove_registered`] takes the gate exclusively, which waits for the
+//! creations under way, marks the process as closing, and removes what is registered before it
+//! lets go. From then on every writer is refused ([`WriteError::Interrupted`]) and creates nothing.
 
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Mutex, RwLock};
 
+use crate::holder::{Holder, Liveness, alive};
 use crate::write::WriteError;
 
 static REGISTERED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The gate: `true` once [`remove_registered`] has started.
+static CLOSING: RwLock<bool> = RwLock::new(false);
+
+/// Run `create` (which makes files or directories reproj must clean up) unless cleanup has
+/// started, in which case `path` is refused and nothing is created. Cleanup waits for a `create`
+/// under way to finish.
+pub(crate) fn while_open<T>(
+    path: &Path,
+    create: impl FnOnce() -> Result<T, WriteError>,
+) -> Result<T, WriteError> {
+    let closing = CLOSING.read().unwrap_or_else(|e| e.into_inner());
+    if *closing {
+        return Err(WriteError::Interrupted {
+            path: path.to_owned(),
+        });
+    }
+    create()
+}
+
+/// Whether [`remove_registered`] has run or is running: the process is being interrupted, and
+/// every write is refused.
+pub fn cleanup_started() -> bool {
+    *CLOSING.read().unwrap_or_else(|e| e.into_inner())
+}
 
 pub(crate) fn register(path: &Path) {
     if let Ok(mut r) = REGISTERED.lock() {
@@ -30,11 +65,15 @@ pub(crate) fn unregister(path: &Path) {
 }
 
 /// Remove every registered temporary file, staged directory and lock: what a signal handler
-/// calls before the process exits.
+/// calls before the process exits. It first waits for the files being created to be created,
+/// and from then on every write of the process is refused, so nothing reappears once this
+/// returns.
 pub fn remove_registered() {
+    let mut closing = CLOSING.write().unwrap_or_else(|e| e.into_inner());
+    *closing = true;
     let paths = match REGISTERED.lock() {
         Ok(mut r) => std::mem::take(&mut *r),
-        Err(_) => return,
+        Err(e) => std::mem::take(&mut *e.into_inner()),
     };
     for p in paths {
         if p.is_dir() {
@@ -43,13 +82,7 @@ pub fn remove_registered() {
             let _ = std::fs::remove_file(&p);
         }
     }
-}
-
-/// Whether process `pid` still runs. Without `/proc` (not Linux), every process is taken as
-/// running: nothing is swept or taken over by mistake.
-fn alive(pid: u32) -> bool {
-    let proc = Path::new("/proc");
-    !proc.is_dir() || proc.join(pid.to_string()).exists()
+    drop(closing);
 }
 
 /// The pid in a temporary sibling's name `.{name}.{what}{pid}-{n}` (see `temp_sibling`).
@@ -96,8 +129,9 @@ pub fn sweep_stale(path: &Path) {
     }
 }
 
-/// The lock file of an output: `{out}.lock`, holding the writer's pid. Removed on drop (and by
-/// [`remove_registered`] on a signal); a lock whose process is gone is taken over.
+/// The lock file of an output: `{out}.lock`, holding the writer's identity (pid, start time, boot
+/// id, host: see [`crate::holder`]). Removed on drop (and by [`remove_registered`] on a signal); a
+/// lock whose process is gone, or whose pid now belongs to another process, is taken over.
 #[derive(Debug)]
 pub struct OutputLock {
     path: PathBuf,
@@ -115,31 +149,36 @@ impl OutputLock {
                 source,
             })?;
         }
+        let me = Holder::me();
         for _ in 0..2 {
-            match std::fs::OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(&path)
-            {
-                Ok(mut f) => {
+            let created = while_open(&path, || {
+                let opened = std::fs::OpenOptions::new()
+                    .write(true)
+                    .create_new(true)
+                    .open(&path);
+                if let Ok(mut f) = opened.as_ref() {
                     use std::io::Write;
-                    let _ = writeln!(f, "{}", std::process::id());
+                    let _ = f.write_all(me.to_text().as_bytes());
                     register(&path);
-                    return Ok(OutputLock { path });
                 }
+                Ok(opened)
+            })?;
+            match created {
+                Ok(_) => return Ok(OutputLock { path }),
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
                     let holder = std::fs::read_to_string(&path)
                         .ok()
-                        .and_then(|t| t.trim().parse::<u32>().ok());
+                        .and_then(|t| Holder::parse(&t));
                     match holder {
-                        Some(pid) if alive(pid) && pid != std::process::id() => {
+                        Some(h) if h != me && h.liveness(&me) == Liveness::Running => {
                             return Err(WriteError::Locked {
                                 path: out.to_owned(),
                                 lock: path,
-                                pid,
+                                holder: h.describe(&me),
                             });
                         }
-                        // Stale (its process is gone) or unreadable: take it over.
+                        // Stale (its process is gone, or its pid is another process's now),
+                        // this process's own, or unreadable: take it over.
                         _ => {
                             let _ = std::fs::remove_file(&path);
                         }
@@ -209,10 +248,46 @@ mod tests {
         assert!(e.contains("pid 1") && e.contains("p.json"), "{e}");
         // Held by a process that is gone: taken over.
         std::fs::write(&lock_path, "4999999\n").unwrap();
-        let _lock = OutputLock::acquire(&out).unwrap();
-        assert_eq!(
-            std::fs::read_to_string(&lock_path).unwrap().trim(),
-            std::process::id().to_string()
-        );
+        let lock = OutputLock::acquire(&out).unwrap();
+        let text = std::fs::read_to_string(&lock_path).unwrap();
+        assert_eq!(Holder::parse(&text), Some(Holder::me()));
+        drop(lock);
+    }
+
+    #[test]
+    fn a_lock_whose_pid_was_reused_is_taken_over() {
+        let me = Holder::me();
+        let (Some(start), Some(init_start)) = (me.start, crate::holder::start_time(1)) else {
+            return; // no /proc: a reused pid cannot be told from its writer
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("p.json");
+        let lock_path = dir.path().join("p.json.lock");
+        // Pid 1 runs, but it is not the process that wrote this lock: that one started at
+        // another time (then exited, and its pid went to a new process).
+        let reused = Holder {
+            pid: 1,
+            start: Some(init_start + start + 1),
+            ..me.clone()
+        };
+        std::fs::write(&lock_path, reused.to_text()).unwrap();
+        let lock = OutputLock::acquire(&out).unwrap();
+        drop(lock);
+        // The same pid with its real start time: held, and named.
+        let held = Holder {
+            pid: 1,
+            start: Some(init_start),
+            ..me.clone()
+        };
+        std::fs::write(&lock_path, held.to_text()).unwrap();
+        let e = OutputLock::acquire(&out).unwrap_err().to_string();
+        assert!(e.contains("(pid 1)"), "{e}");
+        // Written before the last boot: stale whatever its pid.
+        let rebooted = Holder {
+            boot: Some("00000000-0000-0000-0000-000000000000".into()),
+            ..held
+        };
+        std::fs::write(&lock_path, rebooted.to_text()).unwrap();
+        drop(OutputLock::acquire(&out).unwrap());
     }
 }

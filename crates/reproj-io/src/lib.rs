@@ -23,12 +23,13 @@
 //! real binary.
 
 mod cleanup;
+mod holder;
 mod input;
 mod json;
 mod owner;
 mod write;
 
-pub use cleanup::{OutputLock, remove_registered, sweep_stale};
+pub use cleanup::{OutputLock, cleanup_started, remove_registered, sweep_stale};
 pub use input::{InputError, InputKind, MAX_INPUT_ENV, check_input, read_input, read_input_string};
 pub use json::{Kind, ReadError, parse_json, read_json};
 pub use owner::{Owner, check_target, write_owned_file};

@@ -25,13 +25,18 @@ pub enum WriteError {
     Refused { path: PathBuf, why: String },
     /// Another reproj process is writing this output.
     #[error(
-        "another reproj (pid {pid}) is writing {path} (lock {lock}); wait for it to finish or stop it (a lock whose process is gone is taken over)"
+        "another reproj ({holder}) is writing {path} (lock {lock}); wait for it to finish or stop it (a lock whose process is gone is taken over)"
     )]
     Locked {
         path: PathBuf,
         lock: PathBuf,
-        pid: u32,
+        /// `pid N`, with `on host H` when the lock was written on another host.
+        holder: String,
     },
+    /// The process is being interrupted (SIGINT/SIGTERM): its partial output was removed, and
+    /// nothing more is created.
+    #[error("not writing {path}: interrupted, partial output removed")]
+    Interrupted { path: PathBuf },
     /// The output file exists and is not reproj's, or its place cannot take a file.
     #[error("refusing to write {path}: {why}")]
     NotOurs { path: PathBuf, why: String },
@@ -78,6 +83,10 @@ fn parent_of(path: &Path) -> &Path {
 /// directory, synced, then renamed over `path`. On any error the temporary file is removed and
 /// `path` keeps what it had.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    crate::cleanup::while_open(path, || write_file_now(path, bytes))
+}
+
+fn write_file_now(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     let dir = parent_of(path);
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     crate::cleanup::sweep_stale(path);
@@ -101,6 +110,13 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
 /// leaves all of them as they were: every file is first written to a temporary sibling, and only
 /// when all are written are they renamed into place.
 pub fn write_files(files: &[(PathBuf, Vec<u8>)]) -> Result<(), WriteError> {
+    let Some((first, _)) = files.first() else {
+        return Ok(());
+    };
+    crate::cleanup::while_open(first, || write_files_now(files))
+}
+
+fn write_files_now(files: &[(PathBuf, Vec<u8>)]) -> Result<(), WriteError> {
     let mut temps: Vec<PathBuf> = Vec::new();
     let clean = |temps: &[PathBuf]| {
         for t in temps {
@@ -186,6 +202,10 @@ pub struct StagedDir {
 
 impl StagedDir {
     pub fn new(out: &Path, replace: Replace) -> Result<StagedDir, WriteError> {
+        crate::cleanup::while_open(out, || StagedDir::new_now(out, replace))
+    }
+
+    fn new_now(out: &Path, replace: Replace) -> Result<StagedDir, WriteError> {
         replace.check(out)?;
         let parent = parent_of(out);
         std::fs::create_dir_all(parent).map_err(io(parent))?;
@@ -215,18 +235,25 @@ impl StagedDir {
         let name = name.as_ref();
         let path = self.path.join(name);
         let shown = self.out.join(name);
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(io(&shown))?;
-        }
-        (|| {
-            injected(&path)?;
-            std::fs::write(&path, bytes)
-        })()
-        .map_err(io(&shown))
+        crate::cleanup::while_open(&shown, || {
+            if let Some(dir) = path.parent() {
+                std::fs::create_dir_all(dir).map_err(io(&shown))?;
+            }
+            (|| {
+                injected(&path)?;
+                std::fs::write(&path, bytes)
+            })()
+            .map_err(io(&shown))
+        })
     }
 
     /// Put the staged directory in place of the output directory.
-    pub fn commit(mut self) -> Result<(), WriteError> {
+    pub fn commit(self) -> Result<(), WriteError> {
+        let out = self.out.clone();
+        crate::cleanup::while_open(&out, || self.commit_now())
+    }
+
+    fn commit_now(mut self) -> Result<(), WriteError> {
         let out = self.out.clone();
         injected(&out).map_err(io(&out))?;
         let old = temp_sibling(&out, "old");

@@ -168,14 +168,26 @@ fn lathe(profile: &[[f32; 2]], segments: u32) -> MeshData {
 fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData, String> {
     let full = session.resolve(path)?;
     // Only a regular file within the size limit: `/dev/zero` or a pipe would never end.
-    reproj_io::check_input(&full, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
-    let (models, _) = tobj::load_obj(
-        &full,
+    let text =
+        reproj_io::read_input(&full, reproj_io::InputKind::Asset).map_err(|e| e.to_string())?;
+    obj_mesh(&full, &text, scale)
+}
+
+/// The mesh of OBJ text `text` (read from `full`, which messages name), its positions times
+/// `scale`: triangulated, one index per vertex, smooth normals where the file has none. A NaN or
+/// infinite number, which would only show as a mesh that covers no pixel, and an index past the
+/// data are refused by name ([`check_obj_text`]).
+/// Materials are not read: an `mtllib` line opens no other file.
+pub fn obj_mesh(full: &std::path::Path, text: &[u8], scale: f32) -> Result<MeshData, String> {
+    check_obj_text(full, text)?;
+    let (models, _) = tobj::load_obj_buf(
+        &mut std::io::Cursor::new(text),
         &tobj::LoadOptions {
             triangulate: true,
             single_index: true,
             ..Default::default()
         },
+        |_| Err(tobj::LoadError::OpenFileFailed),
     )
     .map_err(|e| format!("cannot load OBJ {}: {e}", full.display()))?;
     let mut m = MeshData::default();
@@ -189,6 +201,13 @@ fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData
         }
         for i in 0..nv {
             let p = Vec3::from_slice(&mesh.positions[i * 3..i * 3 + 3]) * scale;
+            if !p.is_finite() {
+                return Err(format!(
+                    "OBJ {}: vertex {i} of `{}` scaled by {scale} is {p}, past the f32 range",
+                    full.display(),
+                    model.name
+                ));
+            }
             let n = if mesh.normals.len() == nv * 3 {
                 Vec3::from_slice(&mesh.normals[i * 3..i * 3 + 3]).normalize_or_zero()
             } else {
@@ -214,6 +233,56 @@ fn obj(session: &Session, path: &std::path::Path, scale: f32) -> Result<MeshData
     }
     compute_tangents(&mut m);
     Ok(m)
+}
+
+/// Refuse an OBJ whose vertex data (`v`, `vn`, `vt`) holds a number that is not finite as an
+/// f32 (`nan`, `inf`, or past ±3.4e38), or whose face or line (`f`, `l`) names a vertex, texture
+/// coordinate or normal that no line before it defines, naming the file, the line and the number.
+/// tobj computes with such an index unchecked (`-11` counts back past the start and wraps): an
+/// overflow, or another vertex's data.
+pub fn check_obj_text(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+    // Lines seen so far of each kind: positions, texture coordinates, normals.
+    let mut counts = [0u64; 3];
+    const KINDS: [&str; 3] = ["vertex position", "texture coordinate", "normal"];
+    for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let at = || format!("OBJ {}:{}", path.display(), i + 1);
+        let line = String::from_utf8_lossy(line);
+        let mut words = line.split_whitespace();
+        let kind = match words.next() {
+            Some("v") => 0,
+            Some("vt") => 1,
+            Some("vn") => 2,
+            Some("f" | "l") => {
+                for word in words {
+                    for (k, part) in word.split('/').take(3).enumerate() {
+                        let Ok(x) = part.parse::<i64>() else { continue };
+                        if x.unsigned_abs() > counts[k] {
+                            return Err(format!(
+                                "{}: `{x}` names no {} ({} defined before this line; OBJ indices count from 1, or back from -1)",
+                                at(),
+                                KINDS[k],
+                                counts[k]
+                            ));
+                        }
+                    }
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        counts[kind] += 1;
+        for w in words {
+            if w.parse::<f32>().is_ok_and(|x| !x.is_finite()) {
+                let w: String = w.chars().take(40).collect();
+                return Err(format!(
+                    "{}: {} `{w}` is not a finite number (NaN, infinite, or past the f32 range ±3.4e38)",
+                    at(),
+                    KINDS[kind]
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Build the mesh of a session object. Errors are one-line messages (file problems).

@@ -318,3 +318,56 @@ fn the_published_session_schema_is_current_and_every_session_validates() {
     prose["resolution"] = serde_json::json!("256x256");
     assert!(!validator.is_valid(&prose));
 }
+
+/// An OBJ's vertex, normal or texture coordinate that is NaN, infinite or past the f32 range is
+/// refused naming the file, the line and the number (it used to give a mesh that covers no
+/// pixel, the NaN never named); a finite one loads.
+#[test]
+fn an_obj_with_a_non_finite_number_is_refused_naming_line_and_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut v = tiny_json();
+    v["geometry"]["objects"][0]["mesh"] = serde_json::json!({"obj": {"path": "m.obj"}});
+    let session =
+        Session::from_json(&v.to_string(), &dir.path().join("s.json"), dir.path()).unwrap();
+    let mesh = &session.geometry.objects[0].mesh;
+    let good = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+    std::fs::write(dir.path().join("m.obj"), good).unwrap();
+    reproj_scene::mesh::build(&session, mesh).unwrap();
+    for (bad, line, value) in [
+        ("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 2, "nan"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1e39 0\nf 1 2 3\n", 3, "1e39"),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -inf\nf 1//1 2//1 3//1\n",
+            4,
+            "-inf",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\n# c\nvt NaN 0\nf 1/1 2/1 3/1\n",
+            5,
+            "NaN",
+        ),
+    ] {
+        std::fs::write(dir.path().join("m.obj"), bad).unwrap();
+        let e = reproj_scene::mesh::build(&session, mesh).unwrap_err();
+        assert!(
+            e.contains(&format!("m.obj:{line}:")) && e.contains(&format!("`{value}`")),
+            "{e}"
+        );
+        assert!(e.contains("not a finite number"), "{e}");
+    }
+    // Finite in the file, past the f32 range once scaled.
+    v["geometry"]["objects"][0]["mesh"] =
+        serde_json::json!({"obj": {"path": "m.obj", "scale": 1e30}});
+    let session =
+        Session::from_json(&v.to_string(), &dir.path().join("s.json"), dir.path()).unwrap();
+    std::fs::write(
+        dir.path().join("m.obj"),
+        "v 0 0 0\nv 1e10 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let e = reproj_scene::mesh::build(&session, &session.geometry.objects[0].mesh).unwrap_err();
+    assert!(
+        e.contains("m.obj: vertex 1") && e.contains("scaled by"),
+        "{e}"
+    );
+}

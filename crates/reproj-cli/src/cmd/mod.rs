@@ -443,6 +443,12 @@ pub fn finish(result: anyhow::Result<()>) -> ExitCode {
         (Ok(()), Err(e)) => e.into(),
         (Ok(()), Ok(())) => return ExitCode::SUCCESS,
     };
+    // A signal's cleanup has run (writes are refused from then on, which is likely this error):
+    // the handler says so and exits 130; leave it the last word.
+    if reproj_io::cleanup_started() {
+        std::thread::sleep(std::time::Duration::from_secs(5));
+        return ExitCode::from(130);
+    }
     // `reproj nodes x.wgsl | head` closes the pipe early: not an error.
     if is_broken_pipe(&e) {
         return ExitCode::SUCCESS;

@@ -237,3 +237,58 @@ fn a_full_or_closed_stdout_exits_5() {
         .unwrap();
     assert_eq!(out.status.code(), Some(0));
 }
+
+/// A 16M-element private array segfaulted `render` after 18 s at 7 GB: refused when the shader
+/// is read, by every command, naming the variable, its size, the budget and how to raise it.
+#[test]
+fn a_private_array_past_the_gpu_memory_budget_is_refused_when_read() {
+    let dir = good_dir();
+    let d = dir.path();
+    std::fs::write(
+        d.join("big.wgsl"),
+        "var<private> big: array<f32, 16777216>;\n@fragment\nfn main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    big[u32(p.x)] = p.y;\n    return vec4<f32>(big[u32(p.y)]);\n}\n",
+    )
+    .unwrap();
+    let expect = "big.wgsl: `big` (private) takes 67108864 bytes per invocation";
+    for args in [
+        vec!["nodes", "big.wgsl"],
+        vec![
+            "render",
+            "big.wgsl",
+            "--session",
+            "good.json",
+            "--max-frames",
+            "2",
+        ],
+    ] {
+        let (code, err) = run_bounded(d, &args, &[]);
+        refused(&args, (code, err.clone()), expect);
+        assert!(
+            err.contains("over the GPU memory budget of 2048 MiB")
+                && err.contains("REPROJ_MAX_SHADER_MEMORY_MB"),
+            "{args:?}: {err}"
+        );
+    }
+    // Raised past it: read (nodes lists it).
+    let args = ["nodes", "big.wgsl"];
+    let (code, err) = run_bounded(d, &args, &[("REPROJ_MAX_SHADER_MEMORY_MB", "8000000")]);
+    assert_eq!(code, 0, "{err}");
+}
+
+/// An OBJ of NaN vertices gave a mesh that "covers no pixel", the NaN never named: refused,
+/// naming the file, the line and the number.
+#[test]
+fn an_obj_with_a_nan_vertex_is_refused_naming_line_and_value() {
+    let dir = good_dir();
+    let d = dir.path();
+    std::fs::write(d.join("nan.obj"), "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    session_with(d, "nan.json", &|v| {
+        v["geometry"]["objects"][0]["mesh"] = serde_json::json!({"obj": {"path": "nan.obj"}})
+    });
+    let args = render("nan.json");
+    refused(
+        &args,
+        run_bounded(d, &args, &[]),
+        "nan.obj:2: vertex position `nan` is not a finite number",
+    );
+}

@@ -65,13 +65,51 @@ fn decode(words: &[u32]) -> Result<(Vec<u32>, Vec<Inst>), String> {
         if count == 0 || i + count > words.len() {
             return Err(format!("truncated instruction at word {i}"));
         }
-        insts.push(Inst {
-            op: (words[i] & 0xffff) as u16,
-            operands: words[i + 1..i + count].to_vec(),
-        });
+        let op = (words[i] & 0xffff) as u16;
+        let operands = words[i + 1..i + count].to_vec();
+        if operands.len() < min_operands(op) {
+            return Err(format!(
+                "instruction {op} at word {i} has {} operands, fewer than SPIR-V requires",
+                operands.len()
+            ));
+        }
+        insts.push(Inst { op, operands });
         i += count;
     }
     Ok((words[..HEADER].to_vec(), insts))
+}
+
+/// The fewest operands SPIR-V allows an instruction this module reads (0 for the others).
+fn min_operands(op: u16) -> usize {
+    match Op::from_u32(u32::from(op)) {
+        Some(Op::TypeSampler | Op::Name) => 1,
+        Some(
+            Op::TypeSampledImage
+            | Op::TypeRuntimeArray
+            | Op::TypeFunction
+            | Op::FunctionParameter
+            | Op::Decorate
+            | Op::Source,
+        ) => 2,
+        Some(
+            Op::TypeArray
+            | Op::TypePointer
+            | Op::Variable
+            | Op::AccessChain
+            | Op::InBoundsAccessChain
+            | Op::Load
+            | Op::FunctionCall
+            | Op::Line,
+        ) => 3,
+        _ => 0,
+    }
+}
+
+/// `map[&id]`, or an error saying the module is not what glslang writes.
+fn get(map: &HashMap<u32, u32>, id: u32) -> Result<u32, String> {
+    map.get(&id)
+        .copied()
+        .ok_or_else(|| format!("malformed module: id {id} is used as a combined image sampler's type or variable, and defined otherwise"))
 }
 
 fn encode(header: &[u32], insts: &[Inst]) -> Vec<u32> {
@@ -108,6 +146,14 @@ fn string_words(s: &str) -> Vec<u32> {
 /// instructions ([`Rewrite`]).
 pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSampler>), String> {
     let (mut header, mut insts) = decode(words)?;
+    // New ids are taken past the bound: one near u32::MAX would overflow (SPIR-V ids stay far
+    // below 2^22 in practice).
+    if header[3] > 1 << 30 {
+        return Err(format!(
+            "an id bound of {} is past what SPIR-V allows",
+            header[3]
+        ));
+    }
     strip_global_lines(&mut insts);
     let mut ids = Ids { next: header[3] };
     let Some(shapes) = Shapes::find(&insts, &mut ids)? else {
@@ -228,11 +274,11 @@ impl Shapes {
     }
 
     /// The sampler type standing beside a combined type.
-    fn sampler_of(&self, t: u32) -> u32 {
+    fn sampler_of(&self, t: u32) -> Result<u32, String> {
         if self.sampled.contains_key(&t) {
-            self.sampler_type
+            Ok(self.sampler_type)
         } else {
-            self.arrays[&t]
+            get(&self.arrays, t)
         }
     }
 }
@@ -326,14 +372,14 @@ impl Rewrite<'_> {
                 self.out.push(inst);
             }
             Some(Op::TypeArray | Op::TypeRuntimeArray) if sh.arrays.contains_key(&o[0]) => {
-                self.array_type(inst)
+                self.array_type(inst)?
             }
-            Some(Op::TypePointer) if sh.pointers.contains_key(&o[0]) => self.pointer_type(&inst),
+            Some(Op::TypePointer) if sh.pointers.contains_key(&o[0]) => self.pointer_type(&inst)?,
             Some(Op::TypeFunction) => {
                 let i = with_twins(Op::TypeFunction, &inst, 2, &sh.pointers);
                 self.out.push(i);
             }
-            Some(Op::Variable) if sh.twins.contains_key(&o[1]) => self.variable(inst),
+            Some(Op::Variable) if sh.twins.contains_key(&o[1]) => self.variable(inst)?,
             Some(Op::Decorate)
                 if o.len() >= 3 && o[1] == BINDING && sh.twins.contains_key(&o[0]) =>
             {
@@ -357,13 +403,13 @@ impl Rewrite<'_> {
     }
 
     /// An array of combined samplers: an array of images, then its sampler-array twin.
-    fn array_type(&mut self, inst: Inst) {
+    fn array_type(&mut self, inst: Inst) -> Result<(), String> {
         let o = &inst.operands;
         let mut image = o.clone();
         image[1] = self.shapes.image_of(o[1]);
         let mut sampler = o.clone();
-        sampler[0] = self.shapes.arrays[&o[0]];
-        sampler[1] = self.shapes.sampler_of(o[1]);
+        sampler[0] = get(&self.shapes.arrays, o[0])?;
+        sampler[1] = self.shapes.sampler_of(o[1])?;
         self.out.push(Inst {
             op: inst.op,
             operands: image,
@@ -372,28 +418,31 @@ impl Rewrite<'_> {
             op: inst.op,
             operands: sampler,
         });
+        Ok(())
     }
 
     /// A pointer to a combined shape: a pointer to the image, then its sampler-pointer twin.
-    fn pointer_type(&mut self, inst: &Inst) {
+    fn pointer_type(&mut self, inst: &Inst) -> Result<(), String> {
         let o = &inst.operands;
         let sh = &self.shapes;
         let image = Inst::new(Op::TypePointer, vec![o[0], o[1], sh.image_of(o[2])]);
         let sampler = Inst::new(
             Op::TypePointer,
-            vec![sh.pointers[&o[0]], o[1], sh.sampler_of(o[2])],
+            vec![get(&sh.pointers, o[0])?, o[1], sh.sampler_of(o[2])?],
         );
         self.out.extend([image, sampler]);
+        Ok(())
     }
 
     /// A combined variable: kept as the image, followed by its sampler variable.
-    fn variable(&mut self, inst: Inst) {
+    fn variable(&mut self, inst: Inst) -> Result<(), String> {
         let o = &inst.operands;
         let mut sampler = o.clone();
-        sampler[0] = self.shapes.pointers[&o[0]];
-        sampler[1] = self.shapes.twins[&o[1]];
+        sampler[0] = get(&self.shapes.pointers, o[0])?;
+        sampler[1] = get(&self.shapes.twins, o[1])?;
         self.out.push(inst);
         self.out.push(Inst::new(Op::Variable, sampler));
+        Ok(())
     }
 
     /// A combined variable's binding: kept for the image, and the sampler's set and binding.

@@ -539,7 +539,9 @@ impl GlobalCtx<'_> {
             handle: crate::Handle<crate::Expression>,
             arena: &crate::Arena<crate::Expression>,
         ) -> Option<crate::Literal> {
-            match arena[handle] {
+            // reproj patch: a handle that is not in `arena` is no constant (glsl-in asks with a
+            // layout qualifier's expression, from another arena), not a panic.
+            match *arena.try_get(handle).ok()? {
                 crate::Expression::Literal(literal) => Some(literal),
                 crate::Expression::ZeroValue(ty) => match gctx.types[ty].inner {
                     crate::TypeInner::Scalar(scalar) => crate::Literal::zero(scalar),
@@ -548,8 +550,9 @@ impl GlobalCtx<'_> {
                 _ => None,
             }
         }
-        let value = match arena[handle] {
-            crate::Expression::Constant(c) => {
+        // reproj patch: `try_get`, as in `get` above.
+        let value = match arena.try_get(handle) {
+            Ok(&crate::Expression::Constant(c)) => {
                 get(*self, self.constants[c].init, self.global_expressions)
             }
             _ => get(*self, handle, arena),

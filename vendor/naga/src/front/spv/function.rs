@@ -211,8 +211,15 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
             // At the end of each of `phi`'s predecessor blocks, store the corresponding
             // source value in the phi's local variable.
             for &(source, predecessor) in phi.expressions.iter() {
-                let source_lexp = &self.lookup_expression[&source];
-                let predecessor_body_idx = block_ctx.body_for_label[&predecessor];
+                // reproj patch: ids that name no expression or block are an error, not a panic.
+                let source_lexp = self
+                    .lookup_expression
+                    .get(&source)
+                    .ok_or(Error::InvalidId(source))?;
+                let predecessor_body_idx = *block_ctx
+                    .body_for_label
+                    .get(&predecessor)
+                    .ok_or(Error::InvalidId(predecessor))?;
                 // If the expression is a global/argument it will have a 0 block
                 // id so we must use a default value instead of panicking
                 let source_body_idx = block_ctx
@@ -241,7 +248,11 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                     // In the block that defines `source`, spill it to a fresh local
                     // variable, to ensure we can still use it at the end of the
                     // predecessor.
-                    let ty = self.lookup_type[&source_lexp.type_id].handle;
+                    let ty = self
+                        .lookup_type
+                        .get(&source_lexp.type_id)
+                        .ok_or(Error::InvalidId(source_lexp.type_id))?
+                        .handle;
                     let local = block_ctx.local_arena.append(
                         crate::LocalVariable {
                             name: None,
@@ -274,7 +285,7 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                     block_ctx
                         .blocks
                         .get_mut(&source_lexp.block_id)
-                        .unwrap()
+                        .ok_or(Error::InvalidId(source_lexp.block_id))?
                         .push(
                             crate::Statement::Store {
                                 pointer,
@@ -288,7 +299,11 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
 
                 // At the end of the phi predecessor block, store the source
                 // value in the phi's value.
-                block_ctx.blocks.get_mut(&predecessor).unwrap().push(
+                block_ctx
+                    .blocks
+                    .get_mut(&predecessor)
+                    .ok_or(Error::InvalidId(predecessor))?
+                    .push(
                     crate::Statement::Store {
                         pointer: phi_pointer,
                         value,

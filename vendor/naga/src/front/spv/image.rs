@@ -80,17 +80,19 @@ fn extract_image_coordinates(
     };
 
     let required_size = image_dim.required_coordinate_size();
+    // reproj patch: the type is added where `parse_type_image` did not (an image type whose
+    // coordinates are of another kind), not a panic.
     let required_ty = required_size.map(|size| {
-        ctx.module
-            .types
-            .get(&crate::Type {
+        ctx.module.types.insert(
+            crate::Type {
                 name: None,
                 inner: crate::TypeInner::Vector {
                     size,
                     scalar: Scalar { kind, width: 4 },
                 },
-            })
-            .expect("Required coordinate type should have been set up by `parse_type_image`!")
+            },
+            crate::Span::default(),
+        )
     });
     let extra_expr = crate::Expression::AccessIndex {
         base,
