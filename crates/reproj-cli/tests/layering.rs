@@ -232,7 +232,8 @@ fn modules_import_only_from_below() {
         (
             "reproj-replay",
             &[
-                "error", "backend", "vertex", "gpu", "readback", "assets", "reduce", "render",
+                "error", "backend", "jitter", "vertex", "gpu", "readback", "assets", "reduce",
+                "render",
             ],
         ),
     ];
