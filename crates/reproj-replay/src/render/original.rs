@@ -100,27 +100,7 @@ impl Renderer {
         opts: &RenderOptions,
         jitter: Jitter,
     ) -> Result<Reference, ReplayError> {
-        let (report, kept) = self.render_plain(
-            shader,
-            entry_index,
-            session,
-            opts,
-            &(),
-            Plain {
-                keep: Keep::Frames,
-                jitter,
-            },
-        )?;
-        let kept = kept.expect("Keep::Frames keeps the frames");
-        let [w, h] = session.resolution;
-        Ok(Reference {
-            width: w,
-            height: h,
-            frames: kept.0,
-            depth: kept.1,
-            report,
-            gpu: kept.2,
-        })
+        self.render_reference(shader, entry_index, session, opts, &(), jitter)
     }
 
     /// [`Renderer::render_original`], telling `progress` as frames come back.
@@ -132,17 +112,23 @@ impl Renderer {
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
     ) -> Result<Reference, ReplayError> {
-        let (report, kept) = self.render_plain(
-            shader,
-            entry_index,
-            session,
-            opts,
-            progress,
-            Plain {
-                keep: Keep::Frames,
-                jitter: Jitter::None,
-            },
-        )?;
+        self.render_reference(shader, entry_index, session, opts, progress, Jitter::None)
+    }
+
+    /// The frames kept as a [`Reference`]; refused where no frame covers a pixel.
+    fn render_reference(
+        &self,
+        shader: &Shader,
+        entry_index: usize,
+        session: &Session,
+        opts: &RenderOptions,
+        progress: &dyn FrameProgress,
+        jitter: Jitter,
+    ) -> Result<Reference, ReplayError> {
+        let keep = Keep::Frames;
+        let plain = Plain { keep, jitter };
+        let (report, kept) =
+            self.render_plain(shader, entry_index, session, opts, progress, plain)?;
         let kept = kept.expect("Keep::Frames keeps the frames");
         if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
             return Err(ReplayError::NothingCovered {
