@@ -1,82 +1,17 @@
 //! Arbitrary text through the front end: parse → normalize (every fragment entry, by name) →
-//! enumerate. Errors are fine; a panic is a bug.
-//!
-//! With REPROJ_FUZZ_STRICT=1 two more things count as crashes: `FrontError::Internal`, and a
-//! normalized module that does not survive a round trip through WGSL (naga's validator does not
-//! check that an expression's operands are in scope; the WGSL writer and parser do).
+//! enumerate (`common::after_parse`, which says what REPROJ_FUZZ_STRICT=1 adds). Errors are fine;
+//! a panic is a bug.
 #![no_main]
+
+mod common;
 
 use std::path::Path;
 
 use libfuzzer_sys::fuzz_target;
-use reproj_front::{FrontError, NormalizeOptions, enumerate, normalize, parse_shader};
-
-fn strict() -> bool {
-    static STRICT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *STRICT.get_or_init(|| std::env::var_os("REPROJ_FUZZ_STRICT").is_some_and(|v| v == "1"))
-}
-
-/// The normalized module, written as WGSL, must parse and validate again.
-fn round_trip(module: &naga::Module, info: &naga::valid::ModuleInfo) {
-    let text = naga::back::wgsl::write_string(module, info, naga::back::wgsl::WriterFlags::empty())
-        .expect("the normalized module cannot be written as WGSL");
-    let again = match naga::front::wgsl::parse_str(&text) {
-        Ok(m) => m,
-        // naga's writer nests single-use expressions; deep helper chains exceed its parser's
-        // recursion limit. A limit of naga, not a reproj bug.
-        Err(e) if e.emit_to_string(&text).contains("recursion limit") => return,
-        Err(e) => panic!("normalized WGSL does not parse:\n{}\n{text}", e.emit_to_string(&text)),
-    };
-    if let Err(e) = reproj_front::validator().validate(&again) {
-        panic!("normalized WGSL does not validate:\n{}\n{text}", e.emit_to_string(&text));
-    }
-}
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let shader = match parse_shader(Path::new("fuzz.wgsl"), text.to_owned()) {
-        Ok(shader) => shader,
-        Err(e) => {
-            // What the CLI shows: the diagnostic rendered from its spans (must not panic).
-            if let Some(d) = e.diagnostic() {
-                let _ = d.render();
-            }
-            let _ = e.to_string();
-            return;
-        }
-    };
-    let entries: Vec<String> = shader
-        .module
-        .entry_points
-        .iter()
-        .filter(|ep| ep.stage == naga::ShaderStage::Fragment)
-        .map(|ep| ep.name.clone())
-        .collect();
-    for name in entries {
-        let opts = NormalizeOptions { entry: Some(name), ..Default::default() };
-        let norm = match normalize(&shader, &opts) {
-            Ok(norm) => norm,
-            // `Internal` means a reproj invariant did not hold; with REPROJ_FUZZ_STRICT=1 it
-            // counts as a crash too.
-            Err(e @ FrontError::Internal { .. }) if strict() => panic!("{e}"),
-            Err(e) => {
-                if let Some(d) = e.diagnostic() {
-                    let _ = d.render();
-                }
-                continue;
-            }
-        };
-        if strict() {
-            round_trip(&norm.module, &norm.info);
-        }
-        let table = enumerate(&shader, &norm);
-        // The root is always a node (`root()` panics otherwise; reproj-instance relies on it).
-        let _ = table.root();
-        // Every node of the table must be reachable by its id.
-        for n in &table.nodes {
-            assert!(table.get(n.id).is_some());
-        }
-    }
+    common::after_parse(reproj_front::parse_shader(Path::new("fuzz.wgsl"), text.to_owned()));
 });

@@ -10,31 +10,14 @@
 //! polynomial), a gradient by central differences (EASU's is a 12-tap pattern), and no
 //! `fp16` packing.
 
+/// Luma gradient (per texel) at which the kernel is fully stretched.
+const FULL_EDGE: f32 = 0.125;
+/// Kernel length along a full edge (1: unchanged).
+const ALONG: f32 = 1.5;
+
 /// Upsample an RGBA f32 frame (`from` = `[width, height]`, row-major, top row first) to `to`,
 /// pixel centers aligned as [`crate::resize::upsample_bilinear`] aligns them, edges clamped.
 pub fn upsample_edge_adaptive(src: &[f32], from: [u32; 2], to: [u32; 2]) -> Vec<f32> {
-    upsample_with(src, from, to, Shape::default())
-}
-
-/// How the kernel follows an edge.
-#[derive(Debug, Clone, Copy)]
-struct Shape {
-    /// Luma gradient (per texel) at which the kernel is fully stretched.
-    full_edge: f32,
-    /// Kernel length along a full edge.
-    along: f32,
-}
-
-impl Default for Shape {
-    fn default() -> Self {
-        Shape {
-            full_edge: 0.125,
-            along: 1.5,
-        }
-    }
-}
-
-fn upsample_with(src: &[f32], from: [u32; 2], to: [u32; 2], shape: Shape) -> Vec<f32> {
     let [sw, sh] = from.map(|v| v as i64);
     let [dw, dh] = to.map(|v| v as usize);
     let texel = |x: i64, y: i64| -> [f32; 4] {
@@ -66,7 +49,7 @@ fn upsample_with(src: &[f32], from: [u32; 2], to: [u32; 2], shape: Shape) -> Vec
                 g[1] += w * 0.5 * (luma(tx, ty + 1) - luma(tx, ty - 1));
             }
             let len = (g[0] * g[0] + g[1] * g[1]).sqrt();
-            let edge = (len / shape.full_edge).min(1.0);
+            let edge = (len / FULL_EDGE).min(1.0);
             let (across, along) = if len > 1e-6 {
                 ([g[0] / len, g[1] / len], [-g[1] / len, g[0] / len])
             } else {
@@ -74,7 +57,7 @@ fn upsample_with(src: &[f32], from: [u32; 2], to: [u32; 2], shape: Shape) -> Vec
             };
             // Longer along the edge (smooth along it); across it the Lanczos lobe keeps it sharp.
             // Narrowing the kernel across the edge too cost 1–3 dB on marble (aliasing).
-            let scale_along = 1.0 + (shape.along - 1.0) * edge;
+            let scale_along = 1.0 + (ALONG - 1.0) * edge;
             let (mut sum, mut wsum) = ([0.0f32; 4], 0.0f32);
             let (mut lo, mut hi) = ([f32::INFINITY; 4], [f32::NEG_INFINITY; 4]);
             for ty in by - 1..=by + 2 {

@@ -68,7 +68,7 @@ fn a_missing_module_is_named_at_its_import() {
 }
 
 /// Modules that import each other are refused as a cycle, naming the chain, not as a module
-/// that was not found (issue 45).
+/// that was not found.
 #[test]
 fn an_import_cycle_is_named_as_a_cycle() {
     let dir = tempfile::tempdir().unwrap();

@@ -3,7 +3,7 @@
 //!
 //! `load_long_chain` and `parsing_is_linear` run in CI (the second fails if naga's typifier is
 //! quadratic again: `vendor/naga/REPROJ-PATCH.md`); the benchmark is ignored and prints the time of
-//! each phase, and in release holds 56k lines to 5 s (issue 22):
+//! each phase, and in release holds 56k lines to 5 s:
 //!
 //! ```text
 //! cargo test --release -p reproj-front --test scale -- --ignored --nocapture

@@ -1,4 +1,4 @@
-//! The common WGSL shapes that need one exit per function or member-by-member stores (issue 27),
+//! The common WGSL shapes that need one exit per function or member-by-member stores,
 //! one minimal fixture each: what they normalize to (snapshots of the normalized WGSL) and which
 //! of their nodes are cacheable; and the diagnostics of what is still refused.
 //!

@@ -1,4 +1,4 @@
-//! Shaders written by others (issue 27): fragment shaders from public, permissively licensed
+//! Shaders written by others: fragment shaders from public, permissively licensed
 //! repositories, kept as found. They are a set *kept aside* for checking, not part of the
 //! repository: `tests/others/SOURCES.md` names each file's repository, path, commit and
 //! license, so the set can be fetched again into `tests/others/{glsl,wgsl}/` (ignored by
@@ -14,7 +14,7 @@
 //! at the top of the repository (insta: `INSTA_UPDATE=always`
 //! accepts a change in place, to review with `git diff`; `tests/README.md`); no file may
 //! panic or report an internal error, and the parse
-//! rates must stay at issue 27's targets (GLSL ≥ 85 %, WGSL ≥ 95 %). Needs glslangValidator, tint
+//! rates must stay at their targets (GLSL ≥ 85 %, WGSL ≥ 95 %). Needs glslangValidator, tint
 //! and spirv-val (`scripts/ensure-tools.sh`): a missing one fails the test.
 
 use std::collections::BTreeMap;
@@ -27,7 +27,7 @@ use reproj_instance::backends::{OutputLang, Outputs};
 use reproj_instance::{InstanceOptions, NodeSelector, instance, write_variant_in};
 use serde_json::{Value, json};
 
-/// Issue 27's parse-rate targets, in percent.
+/// The parse-rate targets, in percent: what a user of another project's shaders may expect.
 const GLSL_TARGET: f64 = 85.0;
 const WGSL_TARGET: f64 = 95.0;
 
@@ -229,7 +229,7 @@ fn shaders_written_by_others_parse_instance_and_validate() {
     let wgsl = files("wgsl", "wgsl");
     assert!(
         glsl.len() + wgsl.len() >= 40,
-        "{} + {} shaders written by others (issue 27 asks for 40)",
+        "{} + {} shaders written by others (the set must hold at least 40)",
         glsl.len(),
         wgsl.len()
     );
