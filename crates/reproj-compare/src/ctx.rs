@@ -123,21 +123,14 @@ impl Ctx<'_> {
     /// still/moving split and the same against the supersampled reference too when
     /// `perceptual` (a method's final frames).
     pub(crate) fn score(&self, frames: &[Vec<f32>], perceptual: bool) -> Scores {
-        let r = self.reference;
-        let error = frames
-            .iter()
-            .enumerate()
-            .map(|(f, frame)| l2::compare(frame, &r.frames[f], &r.depth[f]).error())
-            .sum::<f64>()
-            / frames.len().max(1) as f64;
-        let one = self.against(frames, &r.frames, perceptual);
+        let (one, error) = self.against(frames, &self.reference.frames, perceptual);
         Scores {
             error,
             psnr: one.psnr,
             flip: one.flip,
             split: one.split,
             supersampled: match (perceptual, self.supersampled) {
-                (true, Some(ss)) => Some(self.against(frames, ss, true)),
+                (true, Some(ss)) => Some(self.against(frames, ss, true).0),
                 _ => None,
             },
         }
@@ -146,18 +139,20 @@ impl Ctx<'_> {
     /// The one-sample original against the supersampled reference, when there is one.
     pub(crate) fn original_vs_supersampled(&self) -> Option<Against> {
         let ss = self.supersampled?;
-        Some(self.against(&self.reference.frames, ss, true))
+        Some(self.against(&self.reference.frames, ss, true).0)
     }
 
     /// PSNR of `frames` against `refs` over the reference's covered pixels, pooled over every
     /// frame and (where the session has both) over the still and the moving frames; ꟻLIP on the
-    /// perceptual stride when `perceptual`.
-    fn against(&self, frames: &[Vec<f32>], refs: &[Vec<f32>], perceptual: bool) -> Against {
+    /// perceptual stride when `perceptual`. Beside it, the mean per-pixel L2 error.
+    fn against(&self, frames: &[Vec<f32>], refs: &[Vec<f32>], perceptual: bool) -> (Against, f64) {
         let depth = &self.reference.depth;
+        let mut sum_error = 0.0;
         // [all, still, moving]: (sum of squares, covered pixels).
         let mut pools = [(0.0, 0u64); 3];
         for (f, frame) in frames.iter().enumerate() {
             let e = l2::compare(frame, &refs[f], &depth[f]);
+            sum_error += e.error();
             let side = if self.moving.get(f).copied().unwrap_or(false) {
                 2
             } else {
@@ -200,11 +195,12 @@ impl Ctx<'_> {
         } else {
             Vec::new()
         };
-        Against {
+        let against = Against {
             psnr: psnr(pools[0]),
             flip: (!flips.is_empty()).then(|| flips.iter().sum::<f64>() / flips.len() as f64),
             split,
-        }
+        };
+        (against, sum_error / frames.len().max(1) as f64)
     }
 
     /// Render `shader` (a module reproj wrote, as WGSL) like the original: its frames and mean
