@@ -16,6 +16,39 @@ pub const DEPTH_OUTPUT: &str = "reproj_depth";
 /// Bind groups a variant may use: indices `0..MAX_BIND_GROUPS` (WebGPU's default `maxBindGroups`).
 pub const MAX_BIND_GROUPS: u32 = 4;
 
+/// Where the bindings the instancer adds go. A group of their own (`base` 0: the lowest group the
+/// shader leaves free), or, where the shader uses all [`MAX_BIND_GROUPS`] groups, one of the
+/// shader's groups past its own bindings (`base` one past its highest): the variant's group is
+/// then shared, and a host binds its own resources of that group beside the added ones. The
+/// `*_BINDING` constants are offsets from `base`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AddedPlace {
+    pub group: u32,
+    pub base: u32,
+}
+
+impl AddedPlace {
+    /// A group of the variant's own.
+    pub fn own(group: u32) -> AddedPlace {
+        AddedPlace { group, base: 0 }
+    }
+
+    /// The binding number of the added binding at `offset` (a `*_BINDING` constant).
+    pub fn binding(self, offset: u32) -> u32 {
+        self.base + offset
+    }
+
+    /// Whether `@group(group) @binding(binding)` is one of the added bindings' slots.
+    pub fn holds(self, group: u32, binding: u32) -> bool {
+        group == self.group && binding >= self.base
+    }
+
+    /// Whether the group also holds the shader's own bindings.
+    pub fn shared(self) -> bool {
+        self.base > 0
+    }
+}
+
 /// The debug entry point a replay appends to the first pass's module ([`crate::classify_wgsl`]):
 /// green hit, red miss, blue refresh (rgba8unorm target, no discard).
 pub const CLASSIFY_ENTRY: &str = "reproj_classify";
@@ -115,7 +148,7 @@ mod tests {
     use crate::library::{PrevClip, library_text};
 
     fn library_with(prev_clip: PrevClip) -> naga::Module {
-        let text = library_text(1, prev_clip, Reconstruct::Bilinear, None);
+        let text = library_text(AddedPlace::own(1), prev_clip, Reconstruct::Bilinear, None);
         naga::front::wgsl::parse_str(&text).expect("the lookup library parses")
     }
 

@@ -22,11 +22,7 @@ pub enum InstanceError {
         reason: reproj_front::CullReason,
     },
     #[error(
-        "the shader already uses every bind group slot (groups {used:?}); the variant needs a free group below {MAX_BIND_GROUPS}"
-    )]
-    NoFreeGroup { used: Vec<u32> },
-    #[error(
-        "bind group {group} cannot hold the variant's bindings: the shader uses groups {used:?} and a group must be below {MAX_BIND_GROUPS}"
+        "bind group {group} cannot hold the variant's bindings: a group must be below {MAX_BIND_GROUPS}, with binding numbers to spare below 1000 past the shader's own (the shader uses groups {used:?})"
     )]
     GroupTaken { group: u32, used: Vec<u32> },
     #[error("the block size k must be 1 or even (to align with 2×2 quads), got {0}")]

@@ -105,7 +105,11 @@ pub(crate) fn layout_entry(
 
 /// The bindings of a pass module: the shader's own (bound as for the original) and the
 /// instancer's, each with its layout entry and the resource it takes.
-pub(crate) fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) -> Vec<Binding> {
+pub(crate) fn bindings(
+    module: &Module,
+    place: contract::AddedPlace,
+    reconstruct: Reconstruct,
+) -> Vec<Binding> {
     let mut out: Vec<Binding> = module
         .global_variables
         .iter()
@@ -117,7 +121,7 @@ pub(crate) fn bindings(module: &Module, group: u32, reconstruct: Reconstruct) ->
                 naga::AddressSpace::Storage { .. } => "storage ",
                 _ => "",
             };
-            let added = b.group == group;
+            let added = place.holds(b.group, b.binding);
             let (resource, filterable) = if !added {
                 (BindingResource::Own, true)
             } else {
@@ -199,7 +203,8 @@ pub(crate) struct ManifestInput<'a> {
     pub cache_format: CacheFormat,
     /// The payload channel holding the depth, `None` for the depth copy.
     pub depth_channel: Option<u32>,
-    pub group: u32,
+    /// Where the added bindings are.
+    pub place: contract::AddedPlace,
     /// `None` with the engine's motion vectors.
     pub prev_clip_location: Option<u32>,
     pub passes: &'a [PassModule],
@@ -215,11 +220,17 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         opts,
         cache_format,
         depth_channel,
-        group,
+        place,
         prev_clip_location,
         passes,
     } = *input;
     let mut notes = host_notes(opts, prev_clip_location, depth_channel);
+    if place.shared() {
+        notes.push(format!(
+            "The shader uses every bind group, so the bindings reproj adds join its group {} from binding {} on (`binding_base`): bind the shader's own resources of that group and the added ones in one bind group.",
+            place.group, place.base
+        ));
+    }
     let infos = node_infos(nodes);
     if nodes.len() > 1 {
         notes.push(format!(
@@ -252,7 +263,8 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         } else {
             Vec::new()
         },
-        group,
+        group: place.group,
+        binding_base: place.base,
         conventions: Conventions::default(),
         reprojection: opts.reprojection,
         vertex: vertex_contract(prev_clip_location),
@@ -274,7 +286,7 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         },
         passes: passes
             .iter()
-            .map(|p| pass(p, opts, cache_format, depth_channel, group))
+            .map(|p| pass(p, opts, cache_format, depth_channel, place))
             .collect(),
         notes,
         immediates: immediates(passes),
@@ -364,7 +376,7 @@ fn pass(
     opts: &InstanceOptions,
     cache_format: CacheFormat,
     depth_channel: Option<u32>,
-    group: u32,
+    place: contract::AddedPlace,
 ) -> Pass {
     let (colors, depth) = pass_targets(p, opts, cache_format, depth_channel);
     Pass {
@@ -376,7 +388,7 @@ fn pass(
             .iter()
             .find(|e| e.name != contract::CLASSIFY_ENTRY)
             .map_or_else(String::new, |e| e.name.clone()),
-        bindings: bindings(&p.module, group, opts.reconstruct),
+        bindings: bindings(&p.module, place, opts.reconstruct),
         colors,
         depth,
     }

@@ -247,16 +247,7 @@ pub fn instance_nodes(
             })
             .collect::<Vec<_>>(),
     );
-    let group = match opts.group {
-        None => free_group(&shader.module)?,
-        Some(g) => {
-            let used = used_groups(&shader.module);
-            if g >= MAX_BIND_GROUPS || used.contains(&g) {
-                return Err(InstanceError::GroupTaken { group: g, used });
-            }
-            g
-        }
-    };
+    let place = added_place(&shader.module, opts.group)?;
     let prev_clip = match opts.reprojection {
         Reprojection::Vertex => PrevClip::Location(prev_clip_location(&norm.module)),
         Reprojection::MotionVectors => PrevClip::Motion,
@@ -274,12 +265,12 @@ pub fn instance_nodes(
             components,
         });
     }
-    let library = library_text(group, prev_clip, opts.reconstruct, depth_channel);
+    let library = library_text(place, prev_clip, opts.reconstruct, depth_channel);
     let passes = match opts.strategy {
         Strategy::ThreePass => vec![
             reproject_pass(&library, prev_clip)?,
             recompute_pass(norm, &slots)?,
-            shade_pass(norm, &slots, group)?,
+            shade_pass(norm, &slots, place)?,
         ],
         Strategy::Fused | Strategy::TwoPass => strategy_passes(
             norm,
@@ -297,7 +288,7 @@ pub fn instance_nodes(
         opts,
         cache_format,
         depth_channel,
-        group,
+        place,
         prev_clip_location: prev_clip.location(),
         passes: &passes,
     });
@@ -368,13 +359,37 @@ fn used_groups(module: &Module) -> Vec<u32> {
     used
 }
 
-/// The lowest bind group index the shader does not use.
-pub fn free_group(module: &Module) -> Result<u32, InstanceError> {
+/// Where the variant's bindings go: `chosen` (`--group`) or else the lowest group the shader
+/// leaves free; where that group is the shader's own (chosen, or every group taken: then its
+/// highest), past the shader's bindings in it ([`contract::AddedPlace`]).
+pub fn added_place(module: &Module, chosen: Option<u32>) -> Result<contract::AddedPlace, InstanceError> {
     let used = used_groups(module);
-    (0..MAX_BIND_GROUPS)
-        .find(|g| !used.contains(g))
-        .ok_or(InstanceError::NoFreeGroup { used })
+    let group = match chosen {
+        Some(g) if g >= MAX_BIND_GROUPS => {
+            return Err(InstanceError::GroupTaken { group: g, used });
+        }
+        Some(g) => g,
+        None => match (0..MAX_BIND_GROUPS).find(|g| !used.contains(g)) {
+            Some(g) => g,
+            None => *used.last().expect("every group is used"),
+        },
+    };
+    let base = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, v)| v.binding.as_ref())
+        .filter(|b| b.group == group)
+        .map(|b| b.binding + 1)
+        .max()
+        .unwrap_or(0);
+    if base.checked_add(contract::MOTION_BINDING).is_none_or(|top| top > MAX_BINDING) {
+        return Err(InstanceError::GroupTaken { group, used });
+    }
+    Ok(contract::AddedPlace { group, base })
 }
+
+/// The highest binding number WebGPU's `maxBindingsPerBindGroup` (1000) allows.
+const MAX_BINDING: u32 = 999;
 
 /// One past the highest `@location` the entry point reads.
 fn prev_clip_location(module: &Module) -> u32 {
@@ -549,7 +564,11 @@ fn recompute_pass(norm: &Normalized, slots: &[Slot]) -> Result<PassModule, Insta
     finish(PassKind::Recompute, module)
 }
 
-fn shade_pass(norm: &Normalized, slots: &[Slot], group: u32) -> Result<PassModule, InstanceError> {
+fn shade_pass(
+    norm: &Normalized,
+    slots: &[Slot],
+    place: contract::AddedPlace,
+) -> Result<PassModule, InstanceError> {
     let mut module = norm.module.clone();
     let vec4f = vec_type(&mut module, naga::VectorSize::Quad, naga::Scalar::F32);
     let image_ty = module.types.insert(
@@ -571,8 +590,8 @@ fn shade_pass(norm: &Normalized, slots: &[Slot], group: u32) -> Result<PassModul
             name: Some(contract::CUR_PAYLOAD.into()),
             space: naga::AddressSpace::Handle,
             binding: Some(naga::ResourceBinding {
-                group,
-                binding: contract::CUR_PAYLOAD_BINDING,
+                group: place.group,
+                binding: place.binding(contract::CUR_PAYLOAD_BINDING),
             }),
             ty: image_ty,
             init: None,

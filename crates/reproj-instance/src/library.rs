@@ -6,7 +6,8 @@
 use crate::contract;
 use crate::{InstanceError, PassKind, Reconstruct};
 
-/// The lookup library; `REPROJ_GROUP`, `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS`,
+/// The lookup library; `REPROJ_GROUP`, the bindings' numbers (`REPROJ_AT_NAME`, from
+/// [`contract::AddedPlace`]), `REPROJ_RECONSTRUCT`, `// REPROJ_FILTERS`,
 /// `// REPROJ_INPUT` and the depth's binding, texture and read are substituted. The debug entry [`classify_wgsl`] is not in what the
 /// passes ship: a replay that counts hits with it appends it to pass 1.
 const LOOKUP_LIBRARY: &str = include_str!("lookup.wgsl");
@@ -52,7 +53,7 @@ const MOTION_INPUT: &str = "struct ReprojInput {
 
 // The engine's motion vectors: .xy = uv_current - uv_previous (texture UV, y down), one texel per
 // frame pixel.
-@group(REPROJ_GROUP) @binding(REPROJ_MOTION_BINDING) var reproj_motion: texture_2d<f32>;
+@group(REPROJ_GROUP) @binding(REPROJ_AT_MOTION) var reproj_motion: texture_2d<f32>;
 
 // The previous clip position (w = 1) of the fragment at `position`.
 fn reproj_motion_clip(position: vec4<f32>) -> vec4<f32> {
@@ -116,7 +117,7 @@ fn reproj_catmull_rom(uv: vec2<f32>, size: vec2<f32>, p0: vec2<i32>, p1: vec2<i3
 /// with textureLoad): a depth texture would be a shadow sampler in GLSL, which compares instead of
 /// reading.
 const DEPTH_COPY_BINDING: &str =
-    "@group(REPROJ_GROUP) @binding(2) var reproj_prev_depth: texture_2d<f32>;\n";
+    "@group(REPROJ_GROUP) @binding(REPROJ_AT_PREV_DEPTH) var reproj_prev_depth: texture_2d<f32>;\n";
 
 /// The frame size and the 2×2 texels of `REPROJ_DEPTH_TEXTURE` around uv, clamped to the edge
 /// (what a gather with a clamp-to-edge sampler reads): the depth copy's four loads, the nearest
@@ -146,10 +147,10 @@ const PAYLOAD_DEPTH_READ: &str = "    let reproj_texel = textureSampleLevel(repr
     let d = reproj_texel[REPROJ_DEPTH_CHANNEL];
 ";
 
-/// The lookup library's WGSL for this group, input and reconstruction; `depth_channel`: the
+/// The lookup library's WGSL for this place of the added bindings, input and reconstruction; `depth_channel`: the
 /// payload channel that holds the previous depth, `None` to read the depth copy.
 pub(crate) fn library_text(
-    group: u32,
+    place: contract::AddedPlace,
     prev_clip: PrevClip,
     reconstruct: Reconstruct,
     depth_channel: Option<u32>,
@@ -189,16 +190,18 @@ pub(crate) fn library_text(
         PrevClip::Location(location) => {
             VERTEX_INPUT.replace("REPROJ_PREV_CLIP", &location.to_string())
         }
-        PrevClip::Motion => MOTION_INPUT.replace(
-            "REPROJ_MOTION_BINDING",
-            &contract::MOTION_BINDING.to_string(),
-        ),
+        PrevClip::Motion => MOTION_INPUT.to_owned(),
     };
-    LOOKUP_LIBRARY
+    let mut text = LOOKUP_LIBRARY
         .replace("// REPROJ_DEPTH_BINDING\n", binding)
         .replace("    // REPROJ_PREV_DEPTH\n", &read)
         .replace("// REPROJ_INPUT\n", &input)
-        .replace("REPROJ_GROUP", &group.to_string())
+        .replace("REPROJ_GROUP", &place.group.to_string());
+    for (name, offset) in contract::ADDED_BINDINGS {
+        let slot = format!("REPROJ_AT_{}", name.trim_start_matches("reproj_").to_uppercase());
+        text = text.replace(&slot, &place.binding(offset).to_string());
+    }
+    text
         .replace("REPROJ_RECONSTRUCT", fetch)
         .replace("// REPROJ_FILTERS\n", filters)
 }

@@ -17,11 +17,11 @@ struct ReprojParams {
     depth_epsilon: f32,
 };
 
-@group(REPROJ_GROUP) @binding(0) var<uniform> reproj_params: ReprojParams;
-@group(REPROJ_GROUP) @binding(1) var reproj_prev_payload: texture_2d<f32>;
+@group(REPROJ_GROUP) @binding(REPROJ_AT_PARAMS) var<uniform> reproj_params: ReprojParams;
+@group(REPROJ_GROUP) @binding(REPROJ_AT_PREV_PAYLOAD) var reproj_prev_payload: texture_2d<f32>;
 // REPROJ_DEPTH_BINDING
 // Linear, clamp-to-edge: bilinear reconstruction of the payload in one fetch.
-@group(REPROJ_GROUP) @binding(5) var reproj_linear_sampler: sampler;
+@group(REPROJ_GROUP) @binding(REPROJ_AT_LINEAR_SAMPLER) var reproj_linear_sampler: sampler;
 
 // Where a fragment was in the previous frame (`ReprojInput`): from the vertex stage's extra output
 // or from the engine's motion vectors (library.rs fills it in).

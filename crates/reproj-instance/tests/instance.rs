@@ -197,15 +197,25 @@ fn bad_input_gives_clear_errors() {
     let shader = reproj_front::parse_shader(Path::new("full.wgsl"), full.into()).unwrap();
     let norm = normalize(&shader, &Default::default()).unwrap();
     let table = enumerate(&shader, &norm);
-    let e = instance(
+    // Every group taken: the variant's bindings join the highest, past the shader's own.
+    let v = instance(
         &shader,
         &norm,
         &table,
         NodeSelector::Root,
         &Default::default(),
     )
-    .unwrap_err();
-    assert!(matches!(e, InstanceError::NoFreeGroup { .. }), "{e}");
+    .unwrap();
+    assert_eq!((v.manifest.group, v.manifest.binding_base), (3, 1));
+    let lines: Vec<&str> = v.passes[0].wgsl.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.contains("reproj_params:"))
+        .expect("pass 1 declares the params");
+    assert!(lines[at - 1..=at].concat().contains("@group(3) @binding(1)"), "{}", lines[at - 1]);
+    for b in &v.manifest.passes[0].bindings {
+        assert_eq!(b.added, (b.group, b.binding) != (3, 0) && b.group == 3, "{b:?}");
+    }
 }
 
 #[test]

@@ -271,14 +271,23 @@ fn the_added_group_can_be_chosen() {
         assert!(!p.wgsl.contains("@group(1)"), "{:?}", p.kind);
     }
     assert!(chosen.passes[0].wgsl.contains("@group(3)"));
-    // Taken by the shader itself, or beyond WebGPU's four groups: a clear error.
-    for bad in [0, 4] {
-        match at(Some(bad)) {
-            Err(e @ InstanceError::GroupTaken { .. }) => {
-                assert!(e.to_string().contains(&format!("bind group {bad}")), "{e}")
-            }
-            other => panic!("group {bad}: {other:?}"),
+    assert_eq!((default.manifest.binding_base, chosen.manifest.binding_base), (0, 0));
+    // The shader's own group: the variant's bindings join it past the shader's.
+    let joined = at(Some(0)).unwrap();
+    assert_eq!(joined.manifest.group, 0);
+    assert!(joined.manifest.binding_base > 0);
+    assert!(
+        joined.manifest.passes[0]
+            .bindings
+            .iter()
+            .all(|b| b.added == (b.binding >= joined.manifest.binding_base))
+    );
+    // Beyond WebGPU's four groups: a clear error.
+    match at(Some(4)) {
+        Err(e @ InstanceError::GroupTaken { .. }) => {
+            assert!(e.to_string().contains("bind group 4"), "{e}")
         }
+        other => panic!("group 4: {other:?}"),
     }
 }
 

@@ -59,8 +59,14 @@ pub struct Manifest {
     /// WebGPU device features the passes need (`float32-filterable` to filter a 32-bit float
     /// cache).
     pub required_features: Vec<String>,
-    /// Bind group the instancer added (`--group`, else the lowest one the shader does not use).
+    /// Bind group of the bindings the instancer added (`--group`, else the lowest one the shader
+    /// does not use, else the shader's highest).
     pub group: u32,
+    /// The first binding number of the added bindings in `group` (absent: 0). Above 0 where
+    /// `group` is also the shader's: its own bindings there are below this number, and a host
+    /// binds them and the added ones in one bind group.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub binding_base: u32,
     /// Coordinate and depth conventions the passes assume.
     pub conventions: Conventions,
     /// Where the lookup finds a fragment in the previous frame (version 6; absent: `vertex`).
