@@ -584,7 +584,8 @@ pub struct CacheArgs {
 #[derive(Debug, Clone, Copy, Args)]
 pub struct IntegrationArgs {
     /// Bind group of the variant's added bindings (default: the lowest one the shader does not
-    /// use; at most 3).
+    /// use, else its highest; at most 3). A group the shader uses is shared: the added bindings
+    /// go past its own.
     #[arg(long)]
     pub group: Option<u32>,
     /// How the first pass that writes the frame color starts it: `clear` it (as a standalone pass

@@ -494,3 +494,56 @@ fn a_shader_with_three_bind_groups_is_analyzed_and_verified() {
             .unwrap();
     assert_eq!(manifest["group"], 3, "{manifest}");
 }
+
+/// A shader that uses all four bind groups: the variant's bindings join its group 3 past its own
+/// (`binding_base` 1), so it analyzes, emits and verifies like any other.
+#[test]
+fn a_shader_with_four_bind_groups_shares_one_and_is_analyzed_and_verified() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::two_terms(dir, "unused.wgsl", "s.json");
+    std::fs::copy(
+        common::root().join("crates/reproj-cli/tests/data/four_groups.wgsl"),
+        dir.join("four.wgsl"),
+    )
+    .unwrap();
+    let (code, out, err) = common::analyze_short(
+        dir,
+        "four.wgsl",
+        &["s.json"],
+        "g.profile.json",
+        &["--strategy", "2pass"],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("usable"), "{out}");
+    let (code, out, err) = run(
+        dir,
+        &[
+            "emit",
+            "--profile",
+            "g.profile.json",
+            "--max-error",
+            "0.02",
+            "--out",
+            "e",
+            "--verify",
+            "--session",
+            "s.json",
+            "--runoff",
+            "1",
+            "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+    assert!(report["node"].is_string(), "{report}");
+    assert!(
+        report["measured_error"].as_f64().unwrap() <= 0.02,
+        "{report}"
+    );
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("e/manifest.json")).unwrap())
+            .unwrap();
+    assert_eq!(manifest["group"], 3, "{manifest}");
+    assert_eq!(manifest["binding_base"], 1, "{manifest}");
+}

@@ -224,7 +224,7 @@ pub(crate) fn build_manifest(input: &ManifestInput) -> Manifest {
         prev_clip_location,
         passes,
     } = *input;
-    let mut notes = host_notes(opts, prev_clip_location, depth_channel);
+    let mut notes = host_notes(opts, prev_clip_location, depth_channel, place);
     if place.shared() {
         notes.push(format!(
             "The shader uses every bind group, so the bindings reproj adds join its group {} from binding {} on (`binding_base`): bind the shader's own resources of that group and the added ones in one bind group.",
@@ -313,6 +313,7 @@ fn host_notes(
     opts: &InstanceOptions,
     prev_clip_location: Option<u32>,
     depth_channel: Option<u32>,
+    place: contract::AddedPlace,
 ) -> Vec<String> {
     let draw = match opts.strategy {
         Strategy::ThreePass => "All three passes draw",
@@ -325,7 +326,7 @@ fn host_notes(
         ),
         None => format!(
             "The passes that look up the cache read the engine's motion vectors (binding {} of the group, resource \"motion\"): .xy = uv_current - uv_previous in texture UV (0 to 1, y down), one texel per frame pixel, written before the first pass. The vertex stage writes nothing extra.",
-            contract::MOTION_BINDING
+            place.binding(contract::MOTION_BINDING)
         ),
     };
     let depth = match depth_channel {

@@ -362,7 +362,10 @@ fn used_groups(module: &Module) -> Vec<u32> {
 /// Where the variant's bindings go: `chosen` (`--group`) or else the lowest group the shader
 /// leaves free; where that group is the shader's own (chosen, or every group taken: then its
 /// highest), past the shader's bindings in it ([`contract::AddedPlace`]).
-pub fn added_place(module: &Module, chosen: Option<u32>) -> Result<contract::AddedPlace, InstanceError> {
+pub fn added_place(
+    module: &Module,
+    chosen: Option<u32>,
+) -> Result<contract::AddedPlace, InstanceError> {
     let used = used_groups(module);
     let group = match chosen {
         Some(g) if g >= MAX_BIND_GROUPS => {
@@ -382,7 +385,10 @@ pub fn added_place(module: &Module, chosen: Option<u32>) -> Result<contract::Add
         .map(|b| b.binding + 1)
         .max()
         .unwrap_or(0);
-    if base.checked_add(contract::MOTION_BINDING).is_none_or(|top| top > MAX_BINDING) {
+    if base
+        .checked_add(contract::MOTION_BINDING)
+        .is_none_or(|top| top > MAX_BINDING)
+    {
         return Err(InstanceError::GroupTaken { group, used });
     }
     Ok(contract::AddedPlace { group, base })

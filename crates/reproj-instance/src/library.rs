@@ -198,11 +198,13 @@ pub(crate) fn library_text(
         .replace("// REPROJ_INPUT\n", &input)
         .replace("REPROJ_GROUP", &place.group.to_string());
     for (name, offset) in contract::ADDED_BINDINGS {
-        let slot = format!("REPROJ_AT_{}", name.trim_start_matches("reproj_").to_uppercase());
+        let slot = format!(
+            "REPROJ_AT_{}",
+            name.trim_start_matches("reproj_").to_uppercase()
+        );
         text = text.replace(&slot, &place.binding(offset).to_string());
     }
-    text
-        .replace("REPROJ_RECONSTRUCT", fetch)
+    text.replace("REPROJ_RECONSTRUCT", fetch)
         .replace("// REPROJ_FILTERS\n", filters)
 }
 

@@ -212,9 +212,19 @@ fn bad_input_gives_clear_errors() {
         .iter()
         .position(|l| l.contains("reproj_params:"))
         .expect("pass 1 declares the params");
-    assert!(lines[at - 1..=at].concat().contains("@group(3) @binding(1)"), "{}", lines[at - 1]);
+    assert!(
+        lines[at - 1..=at]
+            .concat()
+            .contains("@group(3) @binding(1)"),
+        "{}",
+        lines[at - 1]
+    );
     for b in &v.manifest.passes[0].bindings {
-        assert_eq!(b.added, (b.group, b.binding) != (3, 0) && b.group == 3, "{b:?}");
+        assert_eq!(
+            b.added,
+            (b.group, b.binding) != (3, 0) && b.group == 3,
+            "{b:?}"
+        );
     }
 }
 

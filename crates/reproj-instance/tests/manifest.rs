@@ -217,7 +217,9 @@ fn every_manifest_is_self_consistent() {
         let reads_motion = m.passes.iter().any(|p| {
             p.bindings.iter().any(|b| {
                 b.resource == BindingResource::Motion
-                    && b.binding == reproj_instance::contract::MOTION_BINDING
+                    && b.binding
+                        == m.added_place()
+                            .binding(reproj_instance::contract::MOTION_BINDING)
             })
         });
         assert_eq!(
@@ -271,7 +273,10 @@ fn the_added_group_can_be_chosen() {
         assert!(!p.wgsl.contains("@group(1)"), "{:?}", p.kind);
     }
     assert!(chosen.passes[0].wgsl.contains("@group(3)"));
-    assert_eq!((default.manifest.binding_base, chosen.manifest.binding_base), (0, 0));
+    assert_eq!(
+        (default.manifest.binding_base, chosen.manifest.binding_base),
+        (0, 0)
+    );
     // The shader's own group: the variant's bindings join it past the shader's.
     let joined = at(Some(0)).unwrap();
     assert_eq!(joined.manifest.group, 0);

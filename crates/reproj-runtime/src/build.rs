@@ -91,6 +91,7 @@ pub(crate) fn build_pass(
     p: &PassPlan,
     setup: &Setup<'_>,
     user: &BTreeMap<u32, &wgpu::BindGroupLayout>,
+    shared: &[wgpu::BindGroupLayoutEntry],
 ) -> Result<PassGpu, RuntimeError> {
     for (g, name) in &p.own_groups {
         if !user.contains_key(g) {
@@ -130,7 +131,13 @@ pub(crate) fn build_pass(
     }
     checked(device, &p.label, || {
         let mut layouts = BTreeMap::new();
-        let groups: std::collections::BTreeSet<u32> = p.added.iter().map(|b| b.group).collect();
+        // The variant's group also where the pass reads only the application's bindings there.
+        let groups: std::collections::BTreeSet<u32> = p
+            .added
+            .iter()
+            .map(|b| b.group)
+            .chain((!p.shared_own.is_empty()).then_some(plan.group))
+            .collect();
         for g in groups {
             let entries: Vec<wgpu::BindGroupLayoutEntry> = p
                 .added
@@ -142,6 +149,7 @@ pub(crate) fn build_pass(
                     ty: b.ty,
                     count: None,
                 })
+                .chain(shared.iter().copied().filter(|_| g == plan.group))
                 .collect();
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(&p.label),

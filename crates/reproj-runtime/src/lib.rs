@@ -13,7 +13,9 @@
 //! What stays yours: the device (with [`Variant::required_features`]), the vertex stage (which
 //! adds the manifest's previous-clip-position output, [`Variant::vertex`]), the bind groups of the
 //! original shader's resources (passed by group index: the runtime owns only the group reproj
-//! added, [`Variant::group`]), and the draw calls. The runtime reads nothing of reproj but the
+//! added, [`Variant::group`]; where that group is also the shader's, a shader on all four groups,
+//! your bindings of it are given as [`Setup::shared`] and bound beside reproj's), and the draw
+//! calls. The runtime reads nothing of reproj but the
 //! manifest and the passes, and depends on wgpu, serde, thiserror and pollster only.
 //!
 //! [`SessionCapture`] records the motion the app draws (camera, model matrices, light, uniform
@@ -79,6 +81,7 @@
 //!             vertex: &vertex,
 //!             bind_group_layouts: &[(0, &app.scene_layout), (2, &app.object_layout)],
 //!             motion: None,
+//!             shared: None,
 //!         },
 //!     )?;
 //!     for _ in 0..frames {
@@ -114,10 +117,12 @@ mod error;
 pub mod manifest;
 mod plan;
 mod resources;
+mod shared;
 mod variant;
 mod webgpu;
 
 pub use capture::{CaptureError, CapturedCamera, CapturedFrame, SessionCapture};
 pub use error::RuntimeError;
 pub use resources::{FrameInputs, FrameTargets, Setup, VariantResources, VertexStage};
+pub use shared::SharedGroup;
 pub use variant::Variant;

@@ -43,8 +43,13 @@ pub struct Manifest {
     pub strategy: String,
     /// WebGPU feature names the device must have.
     pub required_features: Vec<String>,
-    /// The bind group the instancer added (no engine resource may live there).
+    /// The bind group of the bindings the instancer added.
     pub group: u32,
+    /// The first binding number of the added bindings in `group` (absent: 0, the group is the
+    /// variant's own and no engine resource may live there). Above 0: the group is also the
+    /// shader's, whose own bindings there are below this number.
+    #[serde(default)]
+    pub binding_base: u32,
     pub conventions: Conventions,
     /// Where the lookup finds a fragment in the previous frame: `vertex` (the vertex stage's
     /// previous clip position; the default before version 6) or `motion_vectors` (the

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use crate::RuntimeError;
 use crate::build::{PassGpu, Texture, build_pass, checked, sampler, textures};
 use crate::plan::{Added, Attachment, ColorLoad, PassPlan, Plan};
+use crate::shared::{Shared, SharedGroup};
 
 /// How the application builds the variant: its frame, its vertex stages and its bind group layouts.
 #[derive(Debug, Clone, Copy)]
@@ -32,6 +33,10 @@ pub struct Setup<'a> {
     /// y down), written before each frame's [`VariantResources::record`]. After a resize give
     /// the new one with [`VariantResources::set_motion`].
     pub motion: Option<&'a wgpu::TextureView>,
+    /// The application's own bindings of the variant's group, for a variant that shares a group
+    /// with the original shader ([`crate::Variant::shares_group`]: a shader that uses all four
+    /// groups); `None` for any other. The runtime binds them beside its own in one bind group.
+    pub shared: Option<SharedGroup<'a>>,
 }
 
 /// One vertex stage of the application: its module (which writes the manifest's vertex contract,
@@ -89,6 +94,8 @@ pub struct VariantResources {
     passes: Vec<PassGpu>,
     /// The application's motion vectors ([`Setup::motion`]).
     motion: Option<wgpu::TextureView>,
+    /// The application's bindings of a shared group ([`Setup::shared`]).
+    shared: Shared,
     /// The index of the next frame (0: nothing to reuse).
     frame: u32,
     /// The textures are new: clear them before the next frame reads them.
@@ -150,9 +157,15 @@ impl VariantResources {
                 });
                 (textures(device, &plan, setup.size), samplers, params)
             })?;
+        let shared = Shared::new(
+            setup.shared.as_ref(),
+            plan.group,
+            plan.binding_base,
+            &plan.passes,
+        )?;
         let mut passes = Vec::new();
         for p in &plan.passes {
-            passes.push(build_pass(device, &plan, p, setup, &user)?);
+            passes.push(build_pass(device, &plan, p, setup, &user, &shared.layout)?);
         }
         let mut r = VariantResources {
             plan,
@@ -163,6 +176,7 @@ impl VariantResources {
             params,
             passes,
             motion: setup.motion.cloned(),
+            shared,
             frame: 0,
             fresh: true,
         };
@@ -211,6 +225,30 @@ impl VariantResources {
         self.bind(device)
     }
 
+    /// Give the application's bindings of the shared group again (after it made new resources):
+    /// the bind groups are rebuilt. The layout entries must be those given at creation. An error
+    /// for a variant whose group is its own.
+    pub fn set_shared(
+        &mut self,
+        device: &wgpu::Device,
+        shared: &SharedGroup<'_>,
+    ) -> Result<(), RuntimeError> {
+        let new = Shared::new(
+            Some(shared),
+            self.plan.group,
+            self.plan.binding_base,
+            &self.plan.passes,
+        )?;
+        if new.layout != self.shared.layout {
+            return Err(RuntimeError::usage(
+                "set_shared",
+                "gives other layout entries than `Setup::shared` did (the pipelines were made with those)",
+            ));
+        }
+        self.shared = new;
+        self.bind(device)
+    }
+
     /// (Re)build the runtime's bind groups for every pass and ping-pong entry.
     fn bind(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
         let mut all = Vec::new();
@@ -243,6 +281,7 @@ impl VariantResources {
 
     /// The entries of pass `p`'s bind group `g` on ping-pong entry `k`.
     fn entries(&self, p: &PassPlan, g: u32, k: usize) -> Vec<wgpu::BindGroupEntry<'_>> {
+        let own = self.shared.entries().filter(|_| g == self.plan.group);
         p.added
             .iter()
             .filter(|b| b.group == g)
@@ -266,6 +305,7 @@ impl VariantResources {
                     ),
                 },
             })
+            .chain(own)
             .collect()
     }
 

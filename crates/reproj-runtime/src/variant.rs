@@ -63,9 +63,23 @@ impl Variant {
         self.plan.motion
     }
 
-    /// The bind group the runtime owns (`group`): the application binds nothing there.
+    /// The bind group the runtime binds (`group`): the application sets no bind group there, and
+    /// gives its own bindings of it as [`crate::Setup::shared`] where the variant shares it.
     pub fn group(&self) -> u32 {
         self.plan.group
+    }
+
+    /// Whether [`Variant::group`] is also the original shader's (a shader that uses all four
+    /// groups): the application's bindings there, below [`Variant::binding_base`], are then
+    /// given as [`crate::Setup::shared`].
+    pub fn shares_group(&self) -> bool {
+        self.plan.binding_base > 0
+    }
+
+    /// The first binding number of the runtime's bindings in [`Variant::group`] (0 where the
+    /// group is the variant's own).
+    pub fn binding_base(&self) -> u32 {
+        self.plan.binding_base
     }
 
     /// The groups of the application's own resources (the original shader's) that some pass

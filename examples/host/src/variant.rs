@@ -4,7 +4,7 @@
 //! the manifest's vertex contract), its bind groups for the original shader's resources, its
 //! frame and depth targets, and draws its geometry when a pass asks.
 
-use reproj_runtime::{FrameInputs, FrameTargets, Setup, Variant, VariantResources};
+use reproj_runtime::{FrameInputs, FrameTargets, Setup, SharedGroup, Variant, VariantResources};
 
 use crate::engine::{self, Engine, OwnGroup};
 use crate::gpu::{Gpu, Timer};
@@ -30,7 +30,27 @@ impl HostVariant {
     pub fn new(gpu: &Gpu, engine: &Engine, variant: Variant) -> anyhow::Result<HostVariant> {
         let vs_src = engine.vertex_wgsl(Some(variant.vertex()))?;
         let vs = Engine::shader_module(gpu, "host vertex stage (variant)", &vs_src)?;
-        let groups = engine::own_groups(gpu, engine)?;
+        let mut groups = engine::own_groups(gpu, engine)?;
+        // Where the shader uses all four groups, the variant's shares one with it: the engine's
+        // bindings of that group go to the runtime, which binds them beside its own.
+        let shared = variant
+            .shares_group()
+            .then(|| groups.iter().position(|g| g.group == variant.group()))
+            .flatten()
+            .map(|i| groups.remove(i));
+        let shared_resources: Vec<wgpu::BindGroupEntry<'_>> = shared
+            .iter()
+            .flat_map(|g| &g.entries)
+            .map(|e| {
+                let resource = engine
+                    .own_resource(variant.group(), e.binding)
+                    .ok_or_else(|| anyhow::anyhow!("no resource at binding {}", e.binding))?;
+                Ok(wgpu::BindGroupEntry {
+                    binding: e.binding,
+                    resource,
+                })
+            })
+            .collect::<anyhow::Result<_>>()?;
         let mut layouts: Vec<(u32, &wgpu::BindGroupLayout)> =
             groups.iter().map(|g| (g.group, &g.layout)).collect();
         layouts.push((engine.vertex_group, engine.vertex_layout()));
@@ -42,6 +62,10 @@ impl HostVariant {
                 vertex: &engine.vertex_stages(&vs),
                 bind_group_layouts: &layouts,
                 motion: None,
+                shared: shared.as_ref().map(|g| SharedGroup {
+                    layout: &g.entries,
+                    resources: &shared_resources,
+                }),
             },
         )?;
         gpu.check("building the variant")?;

@@ -84,17 +84,22 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
             format!("{:?}", p.kind).to_lowercase(),
         )?;
     }
+    let place = m.added_place();
     let previous = match m.vertex.prev_clip_location {
         Some(location) => format!("prev clip @location({location})"),
         None => format!(
             "motion vectors at binding {}",
-            reproj_instance::contract::MOTION_BINDING
+            place.binding(reproj_instance::contract::MOTION_BINDING)
         ),
     };
-    writeln!(
-        stdout,
-        "  manifest   manifest.json (bind group {}, {previous})",
-        m.group
-    )?;
+    let group = if place.shared() {
+        format!(
+            "bind group {} shared with the shader: reproj's bindings from {} on",
+            place.group, place.base
+        )
+    } else {
+        format!("bind group {}", place.group)
+    };
+    writeln!(stdout, "  manifest   manifest.json ({group}, {previous})")?;
     Ok(())
 }

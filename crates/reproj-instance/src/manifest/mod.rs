@@ -207,6 +207,16 @@ pub struct Conventions {
     pub depth_clear: f32,
 }
 
+impl Manifest {
+    /// Where the bindings reproj added are: `group`, from `binding_base` on.
+    pub fn added_place(&self) -> crate::contract::AddedPlace {
+        crate::contract::AddedPlace {
+            group: self.group,
+            base: self.binding_base,
+        }
+    }
+}
+
 impl Default for Conventions {
     fn default() -> Self {
         Conventions {

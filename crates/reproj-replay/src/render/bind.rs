@@ -265,7 +265,7 @@ impl Renderer {
         label: &str,
         iface: &Interface,
         scene: &Scene,
-        added_group: Option<u32>,
+        added_at: Option<AddedPlace>,
         added: Option<&AddedResources<'_>>,
     ) -> Result<Bindings, ReplayError> {
         let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
@@ -285,7 +285,7 @@ impl Renderer {
                     label,
                     group: g,
                     r,
-                    in_added: Some(g) == added_group,
+                    in_added: added_at.is_some_and(|a| a.holds(g, r.binding)),
                     scene,
                     added,
                 };

@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::AtomicU64;
 
+use reproj_instance::contract::AddedPlace;
 use reproj_instance::{MANIFEST_KIND, Manifest};
 
 use crate::assets::Assets;

@@ -60,12 +60,12 @@ struct SceneNeeds {
 }
 
 impl SceneNeeds {
-    /// The resources of `ifaces` (except group `skip_group`, the variant's own) against `session`.
-    fn of(session: &Session, ifaces: &[&Interface], skip_group: Option<u32>) -> SceneNeeds {
+    /// The resources of `ifaces` (except those at `added`, the variant's own) against `session`.
+    fn of(session: &Session, ifaces: &[&Interface], added: Option<AddedPlace>) -> SceneNeeds {
         let mut needs = SceneNeeds::default();
         for iface in ifaces {
             for r in &iface.resources {
-                if Some(r.group) != skip_group {
+                if !added.is_some_and(|a| a.holds(r.group, r.binding)) {
                     needs.add(session, r);
                 }
             }
@@ -253,17 +253,17 @@ fn sampler_descriptor<'a>(
 }
 
 impl Renderer {
-    /// Build every session resource the interfaces use (except `skip_group`, the variant's own
-    /// group). Missing ones are reported together, by name. In phases: what the interfaces need
+    /// Build every session resource the interfaces use (except the variant's own bindings,
+    /// `added`). Missing ones are reported together, by name. In phases: what the interfaces need
     /// (checked before any GPU object), then the objects, textures, samplers, uniform and storage
     /// buffers and depth passes, in one error scope.
     pub(super) fn build_scene(
         &self,
         session: &Session,
         ifaces: &[&Interface],
-        skip_group: Option<u32>,
+        added: Option<AddedPlace>,
     ) -> Result<Scene, ReplayError> {
-        let mut needs = SceneNeeds::of(session, ifaces, skip_group);
+        let mut needs = SceneNeeds::of(session, ifaces, added);
         needs.check()?;
         self.scoped(
             "creating the session's resources",

@@ -97,8 +97,11 @@ pub(crate) struct PassPlan {
     pub depth: DepthPlan,
     /// The bindings the runtime binds (the variant's group).
     pub added: Vec<AddedBinding>,
-    /// Groups of the application's own resources (`resource: own`) the pass's shader declares.
+    /// Groups of the application's own resources (`resource: own`) the pass's shader declares,
+    /// but the variant's.
     pub own_groups: BTreeMap<u32, String>,
+    /// The application's own resources in the variant's group, where it shares one: by binding.
+    pub shared_own: BTreeMap<u32, String>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -130,8 +133,11 @@ pub(crate) struct Plan {
     pub passes: Vec<PassPlan>,
     /// The render passes a frame records, as ranges of `passes` ([`render_passes`]).
     pub render_passes: Vec<std::ops::Range<usize>>,
-    /// The variant's own group (`group`): the application must leave it free.
+    /// The variant's group (`group`): the application leaves it to the runtime, giving its own
+    /// bindings there ([`crate::SharedGroup`]) where the variant shares it.
     pub group: u32,
+    /// The added bindings' first binding number in `group` (0: the group is the variant's own).
+    pub binding_base: u32,
     /// What a depth texture the runtime owns is cleared to before the first frame.
     pub depth_clear: f32,
     /// A pass reads the application's motion vectors (`reprojection: motion_vectors`).
@@ -223,6 +229,7 @@ impl Plan {
             render_passes: render_passes(&passes),
             passes,
             group: m.group,
+            binding_base: m.binding_base,
             depth_clear: m.conventions.depth_clear as f32,
             motion,
         })
@@ -486,6 +493,7 @@ mod tests {
             passes: Vec::new(),
             render_passes: Vec::new(),
             group: 1,
+            binding_base: 0,
             depth_clear: 1.0,
             motion: false,
         }

@@ -11,6 +11,13 @@ use crate::RuntimeError;
 use crate::manifest::{self, LoadOp, Manifest, Pass, Resource};
 use crate::webgpu;
 
+/// A pass's bindings, sorted by who binds them ([`Check::bindings`]).
+struct Bound {
+    added: Vec<AddedBinding>,
+    own_groups: BTreeMap<u32, String>,
+    shared_own: BTreeMap<u32, String>,
+}
+
 /// What checking a pass needs of the manifest already checked.
 pub(super) struct Check<'a> {
     pub at: &'a At<'a>,
@@ -35,7 +42,11 @@ impl Check<'_> {
             path: file.clone(),
             source,
         })?;
-        let (added, own_groups) = self.bindings(i, p)?;
+        let Bound {
+            added,
+            own_groups,
+            shared_own,
+        } = self.bindings(i, p)?;
         Ok(PassPlan {
             label: format!("pass {} {} ({})", i + 1, p.kind, p.file),
             source,
@@ -44,6 +55,7 @@ impl Check<'_> {
             depth: self.depth(i, p)?,
             added,
             own_groups,
+            shared_own,
         })
     }
 
@@ -179,16 +191,15 @@ impl Check<'_> {
         })
     }
 
-    /// The bindings the runtime binds (the variant's group), and the groups of the application's
-    /// own resources the pass declares (one resource's name each, for messages).
-    fn bindings(
-        &self,
-        i: usize,
-        p: &Pass,
-    ) -> Result<(Vec<AddedBinding>, BTreeMap<u32, String>), RuntimeError> {
+    /// The bindings the runtime binds (the variant's), the groups of the application's own
+    /// resources the pass declares (one resource's name each, for messages), and the
+    /// application's own bindings in the variant's group where it shares one.
+    fn bindings(&self, i: usize, p: &Pass) -> Result<Bound, RuntimeError> {
         let at = self.at;
+        let base = self.m.binding_base;
         let mut added = Vec::new();
         let mut own_groups = BTreeMap::new();
+        let mut shared_own = BTreeMap::new();
         let mut seen = BTreeSet::new();
         for (b_i, b) in p.bindings.iter().enumerate() {
             let field = |rest: &str| format!("passes[{i}].bindings[{b_i}]{rest}");
@@ -207,12 +218,25 @@ impl Check<'_> {
                     own_groups.entry(b.group).or_insert_with(|| b.name.clone());
                     continue;
                 }
+                Resource::Own if b.binding < base => {
+                    shared_own.insert(b.binding, b.name.clone());
+                    continue;
+                }
                 Resource::Own => {
                     return Err(at.err(
                         field(".resource"),
                         format!(
-                            "`{}` is the application's own resource, but its group {group} is the variant's (`group`), which holds the bindings reproj added",
-                            b.name
+                            "`{}` is the application's own resource, but @group({group}) @binding({}) is among the bindings reproj added (`group`, from `binding_base` {base} on)",
+                            b.name, b.binding
+                        ),
+                    ));
+                }
+                _ if b.group == group && b.binding < base => {
+                    return Err(at.err(
+                        field(".binding"),
+                        format!(
+                            "`{}` is a binding reproj added, but its binding {} is below `binding_base` {base}, where the application's own are",
+                            b.name, b.binding
                         ),
                     ));
                 }
@@ -249,6 +273,10 @@ impl Check<'_> {
                 resource,
             });
         }
-        Ok((added, own_groups))
+        Ok(Bound {
+            added,
+            own_groups,
+            shared_own,
+        })
     }
 }

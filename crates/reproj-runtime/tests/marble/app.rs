@@ -8,7 +8,9 @@ use std::num::NonZeroU64;
 use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
-use reproj_runtime::{FrameInputs, FrameTargets, Setup, Variant, VariantResources, VertexStage};
+use reproj_runtime::{
+    FrameInputs, FrameTargets, Setup, SharedGroup, Variant, VariantResources, VertexStage,
+};
 use reproj_scene::reflect::{self, ResourceKind};
 use reproj_scene::session::Cull;
 use reproj_scene::{Session, mesh, uniforms};
@@ -67,6 +69,8 @@ pub struct App {
     scene_size: u32,
     scene_fields: Vec<reflect::UniformField>,
     scene_buffer: wgpu::Buffer,
+    /// The `scene` uniform's layout entry (group 0, binding 0).
+    scene_entry: wgpu::BindGroupLayoutEntry,
     pub scene_layout: wgpu::BindGroupLayout,
     scene_group: wgpu::BindGroup,
     pub object_layout: wgpu::BindGroupLayout,
@@ -134,13 +138,10 @@ impl App {
             },
             count: None,
         };
+        let scene_entry = uniform_entry(0, wgpu::ShaderStages::FRAGMENT, u64::from(*size));
         let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene"),
-            entries: &[uniform_entry(
-                0,
-                wgpu::ShaderStages::FRAGMENT,
-                u64::from(*size),
-            )],
+            entries: &[scene_entry],
         });
         let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene"),
@@ -244,6 +245,7 @@ impl App {
             scene_size: *size,
             scene_fields: fields.clone(),
             scene_buffer,
+            scene_entry,
             scene_layout,
             scene_group,
             object_layout,
@@ -389,12 +391,21 @@ impl App {
             .collect()
     }
 
-    /// Build `variant` for the app (its vertex stages from [`App::stages`]).
+    /// Build `variant` for the app (its vertex stages from [`App::stages`]). Where the variant
+    /// shares group 0 with marble's `scene` uniform (`reproj instance --group 0`), the app gives
+    /// the uniform as the shared group's binding instead of a bind group of its own.
     pub fn create(&self, variant: &Variant, stages: &[VertexStage<'_>]) -> VariantResources {
         assert!(
             !variant.reserved_groups().contains(&OBJECT_GROUP),
             "the app's object group is free"
         );
+        let scene_entry = [self.scene_entry];
+        let scene_resource = [wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.scene_buffer.as_entire_binding(),
+        }];
+        let shares = variant.shares_group();
+        let own = [(0, &self.scene_layout), (OBJECT_GROUP, &self.object_layout)];
         variant
             .create(
                 &self.device,
@@ -402,11 +413,12 @@ impl App {
                     size: self.size,
                     color_format: COLOR,
                     vertex: stages,
-                    bind_group_layouts: &[
-                        (0, &self.scene_layout),
-                        (OBJECT_GROUP, &self.object_layout),
-                    ],
+                    bind_group_layouts: if shares { &own[1..] } else { &own },
                     motion: None,
+                    shared: shares.then_some(SharedGroup {
+                        layout: &scene_entry,
+                        resources: &scene_resource,
+                    }),
                 },
             )
             .unwrap()
@@ -477,8 +489,9 @@ impl App {
                 depth: &self.depth_view,
                 clear_color: self.clear_color(),
             };
+            let scene = [(0, &self.scene_group)];
             let inputs = FrameInputs {
-                bind_groups: &[(0, &self.scene_group)],
+                bind_groups: if variant.shares_group() { &[] } else { &scene },
                 restart: restart && f == 0,
                 ..Default::default()
             };

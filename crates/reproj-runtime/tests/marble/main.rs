@@ -51,8 +51,13 @@ fn render_reference(dir: &Path, out: &Path) -> Vec<Vec<f32>> {
 #[test]
 fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
     let tmp = tempfile::tempdir().unwrap();
-    let cases: [(&str, &[&str]); 3] = [
+    let cases: [(&str, &[&str]); 4] = [
         ("3pass", &[]),
+        // The variant's bindings join marble's group 0, as for a shader that uses all four.
+        (
+            "fused-shared-group",
+            &["--strategy", "fused", "--group", "0"],
+        ),
         (
             "2pass-frame-load",
             &["--strategy", "2pass", "--frame-load", "load"],
@@ -74,6 +79,10 @@ fn an_app_using_the_runtime_renders_the_frames_reproj_render_does() {
         assert_eq!(variant.loads_frame_first(), name.ends_with("frame-load"));
         assert_eq!(variant.loads_depth_first(), name.ends_with("depth-load"));
         assert!(!variant.reads_motion_vectors());
+        assert_eq!(variant.shares_group(), name.ends_with("shared-group"));
+        if variant.shares_group() {
+            assert_eq!((variant.group(), variant.binding_base()), (0, 1));
+        }
         let app = App::new(variant.required_features());
         let vs = app.vertex_module(&variant);
         let stages = app.stages(&vs);
@@ -171,6 +180,7 @@ fn a_variant_that_loads_the_engines_depth_hides_behind_it() {
 
 /// What the application gets wrong is an error naming the argument, never a panic or a wgpu
 /// validation error: a missing layout for the shader's own group, a layout in the variant's group,
+/// a shared group's bindings missing or given where the group is the variant's own,
 /// targets of another format or size, a frame size without pixels.
 #[test]
 fn misuse_is_an_error_naming_the_argument() {
@@ -190,6 +200,7 @@ fn misuse_is_an_error_naming_the_argument() {
                 vertex: &stages,
                 bind_group_layouts: layouts,
                 motion: None,
+                shared: None,
             },
         )
     };
@@ -218,6 +229,7 @@ fn misuse_is_an_error_naming_the_argument() {
                 vertex: &stages,
                 bind_group_layouts: &[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)],
                 motion: Some(&app.frame_view),
+                shared: None,
             },
         ),
         "Setup::motion",
@@ -243,10 +255,50 @@ fn misuse_is_an_error_naming_the_argument() {
                 vertex: &stages,
                 bind_group_layouts: &[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)],
                 motion: None,
+                shared: None,
             },
         ),
         "Setup::motion",
         "give their texture",
+    );
+    // A shared group's bindings not given for a variant that shares marble's group 0, and given
+    // for one that does not.
+    let shared_dir = tmp.path().join("shared");
+    instance_marble(&shared_dir, &["--group", "0"]);
+    let shared = Variant::load(&shared_dir).unwrap();
+    assert!(shared.shares_group());
+    usage(
+        shared.create(
+            &app.device,
+            &Setup {
+                size: app.size,
+                color_format: COLOR,
+                vertex: &stages,
+                bind_group_layouts: &[(OBJECT_GROUP, &app.object_layout)],
+                motion: None,
+                shared: None,
+            },
+        ),
+        "Setup::shared",
+        "`scene` at binding 0",
+    );
+    usage(
+        variant.create(
+            &app.device,
+            &Setup {
+                size: app.size,
+                color_format: COLOR,
+                vertex: &stages,
+                bind_group_layouts: &[(0, &app.scene_layout), (OBJECT_GROUP, &app.object_layout)],
+                motion: None,
+                shared: Some(reproj_runtime::SharedGroup {
+                    layout: &[],
+                    resources: &[],
+                }),
+            },
+        ),
+        "Setup::shared",
+        "is its own",
     );
     // The color target as the depth target: the wrong format.
     let mut enc = app.device.create_command_encoder(&Default::default());

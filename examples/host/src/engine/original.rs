@@ -20,6 +20,8 @@ pub struct Original {
 /// One bind group of the original shader's resources, as the engine binds them.
 pub struct OwnGroup {
     pub group: u32,
+    /// The layout's entries (a variant that shares this group binds them beside its own).
+    pub entries: Vec<wgpu::BindGroupLayoutEntry>,
     pub layout: wgpu::BindGroupLayout,
     pub bind: wgpu::BindGroup,
 }
@@ -60,6 +62,7 @@ pub fn own_groups(gpu: &Gpu, engine: &Engine) -> anyhow::Result<Vec<OwnGroup>> {
         });
         groups.push(OwnGroup {
             group: *g,
+            entries,
             layout,
             bind,
         });

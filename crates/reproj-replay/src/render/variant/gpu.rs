@@ -110,7 +110,7 @@ impl Renderer {
         if let Some(c) = &classify_stage {
             ifaces.push(c);
         }
-        let scene = self.build_scene(session, &ifaces, Some(m.group))?;
+        let scene = self.build_scene(session, &ifaces, Some(m.added_place()))?;
         // With motion vectors the passes read no previous clip position; the replay's motion
         // pass (the engine's velocity pass) does, one location past the shader's inputs.
         let prev_clip_location = match m.vertex.prev_clip_location {
@@ -260,12 +260,18 @@ impl Renderer {
                 &spec.label,
                 &st.iface,
                 scene,
-                Some(m.group),
+                Some(m.added_place()),
                 Some(&added),
             )?);
         }
         let bc = match &plan.classify_stage {
-            Some(c) => self.bindings(CLASSIFY_ENTRY, c, scene, Some(m.group), Some(&added))?,
+            Some(c) => self.bindings(
+                CLASSIFY_ENTRY,
+                c,
+                scene,
+                Some(m.added_place()),
+                Some(&added),
+            )?,
             None => Bindings::empty(),
         };
         Ok((per_pass, bc))
