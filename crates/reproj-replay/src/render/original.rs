@@ -409,7 +409,7 @@ impl Renderer {
         gpu: &mut GpuReference,
     ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
         let (p, t) = (&run.pass, &run.targets);
-        self.write_frame_uniforms(run.session, &p.scene, f, run.jitter.offset(f));
+        self.write_frame_uniforms(run.session, &p.scene, f, &run.jitter);
         let mut enc = self.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -379,24 +379,25 @@ impl Renderer {
         buffers
     }
 
-    /// Write the frame's uniform values and transforms.
+    /// Write the frame's uniform values and transforms: this frame's view-projection moved by
+    /// `jitter`'s offset of this frame, the previous one by its offset of the previous frame
+    /// (where the previous frame was drawn: a cache written then is found there).
     pub(super) fn write_frame_uniforms(
         &self,
         session: &Session,
         scene: &Scene,
         frame: u32,
-        jitter: [f32; 2],
+        jitter: &crate::jitter::Jitter,
     ) {
         let st = session.frame_state(frame);
-        let prev = session.frame_state(frame.saturating_sub(1));
-        let view_proj = crate::jitter::jittered(st.camera.view_proj, jitter, session.resolution);
+        let before = frame.saturating_sub(1);
+        let prev = session.frame_state(before);
+        let size = session.resolution;
+        let view_proj = crate::jitter::jittered(st.camera.view_proj, jitter.offset(frame), size);
+        let prev_view_proj =
+            crate::jitter::jittered(prev.camera.view_proj, jitter.offset(before), size);
         for (i, o) in scene.objects.iter().enumerate() {
-            let u = TransformUniform::new(
-                view_proj,
-                prev.camera.view_proj,
-                st.models[i],
-                prev.models[i],
-            );
+            let u = TransformUniform::new(view_proj, prev_view_proj, st.models[i], prev.models[i]);
             self.queue
                 .write_buffer(&o.xf_buf, 0, bytemuck::bytes_of(&u));
         }

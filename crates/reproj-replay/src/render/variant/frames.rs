@@ -138,7 +138,7 @@ impl Renderer {
     ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
         let (variant, gpu) = (run.variant, run.gpu);
         let cur = (f % 2) as usize;
-        self.write_frame_uniforms(run.session, &gpu.scene, f, [0.0, 0.0]);
+        self.write_frame_uniforms(run.session, &gpu.scene, f, &crate::jitter::Jitter::None);
         let mut p = contract::ReprojParams::for_frame(
             f,
             variant.delta_n_at(f),
@@ -287,6 +287,22 @@ impl Renderer {
         q: &QueryKit,
         slot: u32,
     ) -> wgpu::CommandEncoder {
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        self.encode_variant_passes_into(&mut enc, gpu, plan, cur, q);
+        q.resolve(&mut enc, slot);
+        enc
+    }
+
+    /// [`Renderer::encode_variant_passes`] into `enc`, the queries left unresolved (render pass
+    /// `r` writes timestamps `r`).
+    pub(in crate::render) fn encode_variant_passes_into(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        gpu: &VariantGpu,
+        plan: &VariantPlan,
+        cur: usize,
+        q: &QueryKit,
+    ) {
         let specs = &plan.specs;
         let VariantGpu {
             scene,
@@ -298,11 +314,10 @@ impl Renderer {
         } = gpu;
         let vgroup = *vgroup;
         let b = &binds[cur];
-        let mut enc = self.device.create_command_encoder(&Default::default());
         if let Some(mg) = motion {
-            self.encode_motion(&mut enc, mg, scene, vgroup);
+            self.encode_motion(enc, mg, scene, vgroup);
         }
-        self.encode_host_clears(&mut enc, gpu, cur);
+        self.encode_host_clears(enc, gpu, cur);
         for (r, passes) in plan.render_passes.iter().enumerate() {
             // The first pass's targets and load operations; the others load them all.
             let spec = &specs[passes.start];
@@ -332,8 +347,6 @@ impl Renderer {
                 pass.end_occlusion_query();
             }
         }
-        q.resolve(&mut enc, slot);
-        enc
     }
 
     /// The clears an engine's frame starts with, where the variant's passes load instead: the

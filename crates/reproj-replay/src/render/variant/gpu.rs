@@ -8,14 +8,17 @@ impl Renderer {
     /// ([`Renderer::variant_shaders`]), the targets ([`Renderer::variant_targets`]), each
     /// parity's bindings ([`Renderer::parity_bindings`]), the pipelines
     /// ([`Renderer::variant_pipelines`]).
-    pub(super) fn variant_gpu(
+    /// `motion`: draw the motion pass also for a variant that reads no motion vectors (the
+    /// temporal upsampler reads them).
+    pub(in crate::render) fn variant_gpu(
         &self,
         session: &Session,
         variant: &VariantInput,
         plan: &VariantPlan,
+        motion: bool,
     ) -> Result<VariantGpu, ReplayError> {
         let m = &variant.manifest;
-        let shaders = self.variant_shaders(session, m, plan)?;
+        let shaders = self.variant_shaders(session, m, plan, motion)?;
         let targets = self.variant_targets(session.resolution, m, &plan.specs);
         // Bindings for each parity (cur = parity, prev = 1 − parity).
         let binds = (0..2usize)
@@ -89,6 +92,7 @@ impl Renderer {
         session: &Session,
         m: &reproj_instance::Manifest,
         plan: &VariantPlan,
+        always_motion: bool,
     ) -> Result<VariantShaders, ReplayError> {
         let [w, h] = session.resolution;
         let (stages, classify_stage) = (&plan.stages, &plan.classify_stage);
@@ -126,8 +130,8 @@ impl Renderer {
             vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, Some(prev_clip_location))?;
         let vs = self.shader_module("replay vertex stage (variant)", &vs_src)?;
         let motion = match m.reprojection {
-            Reprojection::Vertex => None,
-            Reprojection::MotionVectors => {
+            Reprojection::Vertex if !always_motion => None,
+            Reprojection::Vertex | Reprojection::MotionVectors => {
                 Some(self.motion_gpu([w, h], &vs, &vs_src, &scene, vgroup, prev_clip_location)?)
             }
         };
@@ -347,7 +351,10 @@ impl Renderer {
 
     /// Clear both parities' payload, depth copy and depth: the "previous" cache before the first
     /// frame (payload 0, depth 1).
-    pub(super) fn clear_variant_cache(&self, gpu: &VariantGpu) -> Result<(), ReplayError> {
+    pub(in crate::render) fn clear_variant_cache(
+        &self,
+        gpu: &VariantGpu,
+    ) -> Result<(), ReplayError> {
         let VariantGpu {
             payload_v,
             depth_copy_v,
@@ -454,38 +461,38 @@ impl VariantTargets {
 }
 
 /// The GPU objects of a variant render ([`Renderer::variant_gpu`]).
-pub(super) struct VariantGpu {
-    pub(super) scene: Scene,
+pub(in crate::render) struct VariantGpu {
+    pub(in crate::render) scene: Scene,
     /// The bind group the replay's vertex stage uses (free in every stage).
-    pub(super) vgroup: u32,
+    pub(in crate::render) vgroup: u32,
     /// The payload and the depth copy of each parity (the depth copy unused where the payload
     /// holds the depth).
-    pub(super) payload_v: Vec<wgpu::TextureView>,
-    pub(super) depth_copy_v: Vec<wgpu::TextureView>,
+    pub(in crate::render) payload_v: Vec<wgpu::TextureView>,
+    pub(in crate::render) depth_copy_v: Vec<wgpu::TextureView>,
     /// One depth buffer, or two that alternate for a variant written before the depth copy.
-    pub(super) depth_v: Vec<wgpu::TextureView>,
-    pub(super) color: wgpu::Texture,
-    pub(super) color_view: wgpu::TextureView,
-    pub(super) cls: wgpu::Texture,
-    pub(super) cls_view: wgpu::TextureView,
-    pub(super) cls_depth_view: wgpu::TextureView,
-    pub(super) params: wgpu::Buffer,
+    pub(in crate::render) depth_v: Vec<wgpu::TextureView>,
+    pub(in crate::render) color: wgpu::Texture,
+    pub(in crate::render) color_view: wgpu::TextureView,
+    pub(in crate::render) cls: wgpu::Texture,
+    pub(in crate::render) cls_view: wgpu::TextureView,
+    pub(in crate::render) cls_depth_view: wgpu::TextureView,
+    pub(in crate::render) params: wgpu::Buffer,
     /// Per parity: each pass's bindings and the classification entry's.
-    pub(super) binds: Vec<(Vec<Bindings>, Bindings)>,
-    pub(super) pipes: Vec<Pipe>,
+    pub(in crate::render) binds: Vec<(Vec<Bindings>, Bindings)>,
+    pub(in crate::render) pipes: Vec<Pipe>,
     /// The classification pipeline, when it is rendered.
-    pub(super) pc: Option<Pipe>,
+    pub(in crate::render) pc: Option<Pipe>,
     /// The session's background.
-    pub(super) clear: wgpu::Color,
+    pub(in crate::render) clear: wgpu::Color,
     /// What the payload is cleared to: 0, and the far plane in the depth channel if it has one.
-    pub(super) payload_clear: wgpu::Color,
+    pub(in crate::render) payload_clear: wgpu::Color,
     /// No pass clears the frame (`--frame-load load`): the host clears it to the background.
-    pub(super) host_clears_frame: bool,
+    pub(in crate::render) host_clears_frame: bool,
     /// The first pass loads the depth (`--depth-load load`): the host clears it (there is no
     /// other geometry in a replay).
-    pub(super) host_clears_depth: bool,
+    pub(in crate::render) host_clears_depth: bool,
     /// The motion vectors' texture and pass, for a variant that reads them.
-    pub(super) motion: Option<motion::MotionGpu>,
+    pub(in crate::render) motion: Option<motion::MotionGpu>,
 }
 
 impl VariantGpu {

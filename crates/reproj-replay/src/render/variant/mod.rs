@@ -29,8 +29,8 @@ pub(super) mod motion;
 mod plan;
 
 use frames::FrameLoop;
-use gpu::VariantGpu;
-use plan::VariantPlan;
+pub(in crate::render) use gpu::VariantGpu;
+pub(in crate::render) use plan::VariantPlan;
 
 /// Hits, misses (recomputes, refreshes included) and shaded pixels of one frame.
 pub(super) struct Counts {
@@ -102,8 +102,8 @@ impl Renderer {
         opts: &RenderOptions,
         progress: &dyn FrameProgress,
     ) -> Result<RenderReport, ReplayError> {
-        let plan = self.plan_variant(shader, session, variant, reference, opts)?;
-        let gpu = self.variant_gpu(session, variant, &plan)?;
+        let plan = self.plan_variant(shader, session, variant, Some(reference), opts)?;
+        let gpu = self.variant_gpu(session, variant, &plan, false)?;
         self.clear_variant_cache(&gpu)?;
         let m = &variant.manifest;
         let mut report = self.new_report("variant", shader, &m.entry, session);

@@ -3,14 +3,14 @@
 
 use super::*;
 impl Renderer {
-    /// Check a variant render against its reference and the adapter, and make its passes'
+    /// Check a variant render against its reference (where it is scored) and the adapter, and make its passes'
     /// stages (their interfaces with the shader's own names): everything before a GPU object.
-    pub(super) fn plan_variant(
+    pub(in crate::render) fn plan_variant(
         &self,
         shader: &Shader,
         session: &Session,
         variant: &VariantInput,
-        reference: &Reference,
+        reference: Option<&Reference>,
         opts: &RenderOptions,
     ) -> Result<VariantPlan, ReplayError> {
         session.validate()?;
@@ -18,7 +18,9 @@ impl Renderer {
         let [w, h] = session.resolution;
         let frames = Self::frame_count(session, opts);
         let first = Self::first_frame(session, opts)?;
-        reference.covers([w, h], first + frames)?;
+        if let Some(reference) = reference {
+            reference.covers([w, h], first + frames)?;
+        }
         if variant.delta_n == 0
             || variant.block == 0
             || variant.delta_n_per_frame.iter().flatten().any(|&d| d == 0)
@@ -103,15 +105,15 @@ impl Renderer {
 }
 
 /// What a variant render needs before any GPU object ([`Renderer::plan_variant`]).
-pub(super) struct VariantPlan {
-    pub(super) frames: u32,
-    pub(super) first: u32,
+pub(in crate::render) struct VariantPlan {
+    pub(in crate::render) frames: u32,
+    pub(in crate::render) first: u32,
     /// Each pass's targets and depth state, in the manifest's order.
-    pub(super) specs: Vec<PassSpec>,
+    pub(in crate::render) specs: Vec<PassSpec>,
     /// The render passes they are drawn in ([`render_passes`]): ranges of `specs`.
-    pub(super) render_passes: Vec<std::ops::Range<usize>>,
+    pub(in crate::render) render_passes: Vec<std::ops::Range<usize>>,
     /// Each pass's module and interface, in the same order.
-    pub(super) stages: Vec<Stage>,
+    pub(in crate::render) stages: Vec<Stage>,
     /// The first pass's classification entry point, when it is rendered each frame.
-    pub(super) classify_stage: Option<Interface>,
+    pub(in crate::render) classify_stage: Option<Interface>,
 }

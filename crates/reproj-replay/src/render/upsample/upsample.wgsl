@@ -28,6 +28,7 @@ struct Params {
     motion_damping: f32,
     clip_moving: f32,
     pad: f32,
+    prev_jitter: vec2<f32>,
 }
 
 @group(0) @binding(0) var color_low: texture_2d<f32>;
@@ -124,8 +125,8 @@ fn upsample_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(spatial, w_new);
     }
     // The motion pass wrote uv_now - uv_before at the jittered pixel: the surface's own motion
-    // plus this frame's offset.
-    let motion = textureLoad(motion_low, nearest, 0).xy - params.jitter / params.low;
+    // plus this frame's offset less the previous frame's (each frame's matrix carries its own).
+    let motion = textureLoad(motion_low, nearest, 0).xy - (params.jitter - params.prev_jitter) / params.low;
     let before = uv - motion;
     if any(before < vec2<f32>(0.0)) || any(before > vec2<f32>(1.0)) {
         return vec4<f32>(spatial, w_new);
