@@ -207,6 +207,7 @@ fn a_jittered_render_moves_the_image_and_a_zero_offset_changes_nothing() {
 /// against 8 samples it stays within 1 dB of the variant drawn plainly (the history's reuse
 /// inside the upsampler is reproj's own, and each frame's jitter does not blur it further).
 #[test]
+#[allow(clippy::needless_range_loop)]
 fn a_variant_inside_the_upsampler_gives_its_frames_at_delta_n_1_and_its_own_error_at_8() {
     let r = renderer();
     let shader = marble();

@@ -79,8 +79,8 @@ enum LowDraw<'a> {
     },
     Variant {
         variant: &'a VariantInput,
-        plan: VariantPlan,
-        gpu: VariantGpu,
+        plan: Box<VariantPlan>,
+        gpu: Box<VariantGpu>,
     },
 }
 
@@ -190,7 +190,11 @@ impl Renderer {
         report.delta_n = Some(variant.delta_n);
         report.block = Some(variant.block);
         report.depth_epsilon = Some(variant.depth_epsilon);
-        let low = LowDraw::Variant { variant, plan, gpu };
+        let low = LowDraw::Variant {
+            variant,
+            plan: Box::new(plan),
+            gpu: Box::new(gpu),
+        };
         self.upsample_frames(low, session, &small, spec, opts, report)
     }
 
