@@ -72,7 +72,7 @@ pub struct Upsampled {
 /// (reproj composed with temporal upsampling; its motion pass is the variant render's).
 enum LowDraw<'a> {
     Original {
-        pass: PlainPass,
+        pass: Box<PlainPass>,
         motion: MotionGpu,
         color_view: wgpu::TextureView,
         depth_view: wgpu::TextureView,
@@ -154,7 +154,7 @@ impl Renderer {
             .create_view(&Default::default());
         let report = self.new_report("upsampled", shader, &pass.iface.entry, session);
         let low = LowDraw::Original {
-            pass,
+            pass: Box::new(pass),
             motion,
             color_view,
             depth_view,
