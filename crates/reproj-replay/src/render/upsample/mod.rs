@@ -70,17 +70,19 @@ pub struct Upsampled {
 /// What the upsampler draws at the render resolution each frame: the original shader (its own
 /// pass, motion pass and targets), or a variant of it, its cache at the render resolution
 /// (reproj composed with temporal upsampling; its motion pass is the variant render's).
+// One per render: its size does not matter.
+#[allow(clippy::large_enum_variant)]
 enum LowDraw<'a> {
     Original {
-        pass: Box<PlainPass>,
+        pass: PlainPass,
         motion: MotionGpu,
         color_view: wgpu::TextureView,
         depth_view: wgpu::TextureView,
     },
     Variant {
         variant: &'a VariantInput,
-        plan: Box<VariantPlan>,
-        gpu: Box<VariantGpu>,
+        plan: VariantPlan,
+        gpu: VariantGpu,
     },
 }
 
@@ -154,7 +156,7 @@ impl Renderer {
             .create_view(&Default::default());
         let report = self.new_report("upsampled", shader, &pass.iface.entry, session);
         let low = LowDraw::Original {
-            pass: Box::new(pass),
+            pass,
             motion,
             color_view,
             depth_view,
@@ -190,11 +192,7 @@ impl Renderer {
         report.delta_n = Some(variant.delta_n);
         report.block = Some(variant.block);
         report.depth_epsilon = Some(variant.depth_epsilon);
-        let low = LowDraw::Variant {
-            variant,
-            plan: Box::new(plan),
-            gpu: Box::new(gpu),
-        };
+        let low = LowDraw::Variant { variant, plan, gpu };
         self.upsample_frames(low, session, &small, spec, opts, report)
     }
 
