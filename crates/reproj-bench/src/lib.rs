@@ -49,6 +49,9 @@ pub enum Subject {
     /// The baseline shader's temporal upsampling ([`Renderer::render_upsampled`]): drawn at a
     /// lower resolution with a jitter and resolved to the session's, both passes timed.
     Upsampled(reproj_replay::UpsampleSpec),
+    /// A cached variant of the baseline shader drawn inside the temporal upsampler
+    /// ([`Renderer::render_upsampled_variant`]): its passes and the resolve timed.
+    UpsampledVariant(VariantInput, reproj_replay::UpsampleSpec),
 }
 
 /// One candidate, named as the report will name it.
@@ -383,6 +386,11 @@ impl Scene<'_> {
                 }
                 Subject::Upsampled(spec) => {
                     r.render_upsampled(b.shader, b.entry, session, spec, &o)?
+                        .report
+                        .frames
+                }
+                Subject::UpsampledVariant(v, spec) => {
+                    r.render_upsampled_variant(b.shader, session, v, spec, &o)?
                         .report
                         .frames
                 }

@@ -77,7 +77,13 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
     let (code, out, err) = reproj(dir, &args);
     assert_eq!(code, 0, "{err}");
     for method in [
-        "original", "resize", "easu", "temporal", "simplify", "reproj",
+        "original",
+        "resize",
+        "easu",
+        "temporal",
+        "simplify",
+        "reproj",
+        "reproj+temporal",
     ] {
         assert!(out.lines().any(|l| l.starts_with(method)), "{out}");
     }
@@ -116,7 +122,14 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         .collect();
     assert_eq!(
         methods,
-        ["resize", "easu", "temporal", "simplify", "reproj"]
+        [
+            "resize",
+            "easu",
+            "temporal",
+            "simplify",
+            "reproj",
+            "reproj+temporal"
+        ]
     );
     for m in json["methods"].as_array().unwrap() {
         // serde_json writes NaN as null: a missing number is a failure here.

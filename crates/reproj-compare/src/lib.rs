@@ -243,8 +243,9 @@ pub fn compare(
             (Some(_), Target::Budget(_)) => 1,
         },
     };
+    // The temporal upsampler's search, and reproj's variant inside it where there is one.
     let temporal_tries = if opts.temporal {
-        opts.resize.tries as u64
+        opts.resize.tries as u64 * (1 + u64::from(input.profile.is_some()))
     } else {
         0
     };
@@ -395,6 +396,8 @@ struct Methods {
     crop_frames: Vec<(String, Vec<f32>)>,
     resize: resize::ResizeDetail,
     temporal: Option<resize::ResizeDetail>,
+    /// reproj's variant inside the temporal upsampler ([`temporal::composed`]).
+    composed: Option<resize::ResizeDetail>,
     simplified: simplify::Simplification,
     reproj: Option<reproj::ReprojDetail>,
     /// reproj's variant, for the final timing.
@@ -440,6 +443,7 @@ fn run_methods(
     results.push(simplified.result.clone());
     crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
     let mut reproj_input = None;
+    let mut alone_speedup = None;
     let reproj_detail = match (input.profile, planned) {
         (Some((profile, path)), Some(planned)) => {
             // At a target speedup the models' point is steered by measurement, as resizing's
@@ -465,10 +469,21 @@ fn run_methods(
                 tries,
                 mid as u32,
             )?;
+            alone_speedup = Some(r.result.speedup);
             results.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
             reproj_input = Some(r.input);
             Some(r.detail)
+        }
+        _ => None,
+    };
+    // reproj's variant inside the temporal upsampler, where both are compared.
+    let composed = match (&reproj_input, alone_speedup) {
+        (Some(v), Some(alone)) if opts.temporal => {
+            let (detail, frames, result) = temporal::composed(ctx, shader, v, alone, &opts.resize)?;
+            results.push(result);
+            crop_frames.push((temporal::COMPOSED.into(), frames[mid].clone()));
+            Some(detail)
         }
         _ => None,
     };
@@ -477,6 +492,7 @@ fn run_methods(
         crop_frames,
         resize: resize_detail,
         temporal,
+        composed,
         simplified,
         reproj: reproj_detail,
         reproj_input,
@@ -501,6 +517,10 @@ fn time_final(
         .temporal
         .as_ref()
         .map(|t| reproj_replay::UpsampleSpec::at(t.tries[t.chosen].resolution));
+    let composed = m
+        .composed
+        .as_ref()
+        .map(|t| reproj_replay::UpsampleSpec::at(t.tries[t.chosen].resolution));
     time_methods(
         ctx.renderer,
         ctx.baseline,
@@ -509,6 +529,7 @@ fn time_final(
             small,
             temporal,
             simplified_wgsl: &m.simplified.wgsl,
+            composed,
             reproj: m.reproj_input.take(),
         },
         &opts.timing,
@@ -581,6 +602,8 @@ struct Finals<'a> {
     /// The temporal upsampler at its chosen resolution, when compared.
     temporal: Option<reproj_replay::UpsampleSpec>,
     simplified_wgsl: &'a str,
+    /// reproj's variant inside the upsampler at its chosen resolution, when compared.
+    composed: Option<reproj_replay::UpsampleSpec>,
     reproj: Option<reproj_replay::VariantInput>,
 }
 
@@ -599,6 +622,7 @@ fn time_methods(
         small,
         temporal,
         simplified_wgsl,
+        composed,
         reproj,
     } = finals;
     let mut candidates = vec![Candidate {
@@ -627,6 +651,12 @@ fn time_methods(
         },
     }]);
     if let Some(v) = reproj {
+        if let Some(spec) = composed {
+            candidates.push(Candidate {
+                name: temporal::COMPOSED.into(),
+                subject: Subject::UpsampledVariant(v.clone(), spec),
+            });
+        }
         candidates.push(Candidate {
             name: "reproj".into(),
             subject: Subject::Variant(v),

@@ -74,6 +74,7 @@ pub(crate) fn resize(
         ctx,
         opts,
         "resize",
+        (1.0 / ctx.target).sqrt(),
         |size| {
             let mut session = ctx.session.clone();
             session.resolution = size;
@@ -129,11 +130,12 @@ pub(crate) fn search_scale(
     ctx: &Ctx,
     opts: &ResizeOptions,
     name: &str,
+    start: f64,
     mut render: impl FnMut([u32; 2]) -> Result<(Vec<Vec<f32>>, reproj_bench::Candidate), CompareError>,
     upsampling: &str,
 ) -> Result<(ResizeDetail, Vec<Vec<f32>>, MethodResult), CompareError> {
     let [w, h] = ctx.session.resolution;
-    let mut scale = (1.0 / ctx.target).sqrt();
+    let mut scale = start.clamp(0.01, 1.0);
     let mut tries: Vec<ResizeTry> = Vec::new();
     let mut best: Option<(usize, Vec<Vec<f32>>)> = None;
     let miss = |s: f64| (s.max(1e-9) / ctx.target).ln().abs();
