@@ -163,6 +163,9 @@ pub struct ReportArgs {
     /// Most selections to render frames of (spread over the budget range).
     #[arg(long, default_value_t = 8)]
     pub max_rendered: usize,
+    /// A `reproj compare` output folder whose table and crops the page shows (repeatable).
+    #[arg(long, value_name = "DIR")]
+    pub compare: Vec<PathBuf>,
     #[arg(long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// Print what was written as JSON (`reproj.report-run`, docs/SCHEMAS.md).

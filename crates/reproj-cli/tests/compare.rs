@@ -211,6 +211,44 @@ fn compare_prints_the_table_and_writes_the_report_chart_and_crops() {
         "four panels side by side"
     );
 
+    // The profile's report page shows the run: its table and its crops. A folder without a
+    // compare.json: exit 2 naming the file, and no page.
+    let (code, _, err) = reproj(
+        dir,
+        &[
+            "report",
+            "tiny.profile.json",
+            "--compare",
+            "cmp",
+            "--max-rendered",
+            "1",
+            "--out",
+            "page.html",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let page = std::fs::read_to_string(dir.join("page.html")).unwrap();
+    assert!(
+        page.contains("Against other methods at equal time"),
+        "no compare section"
+    );
+    assert!(page.contains("<td>reproj+temporal</td>"), "no composed row");
+    assert!(page.contains("alt=\"crops of the middle frame"), "no crops");
+    let (code, _, err) = reproj(
+        dir,
+        &[
+            "report",
+            "tiny.profile.json",
+            "--compare",
+            "nowhere",
+            "--out",
+            "bad.html",
+        ],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("compare.json"), "{err}");
+    assert!(!dir.join("bad.html").exists());
+
     // --json prints the same document.
     let mut json_args = args.to_vec();
     json_args.push("--json");

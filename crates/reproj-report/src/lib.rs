@@ -10,6 +10,7 @@
 
 pub mod base64;
 pub mod budgets;
+pub mod compare;
 pub mod frames;
 pub mod metrics;
 mod page;
@@ -21,6 +22,7 @@ use reproj_analyze::emit::resolve;
 use reproj_models::Profile;
 use reproj_replay::Renderer;
 
+pub use compare::{CompareRun, load_compare};
 pub use page::PAGE_SCHEMA_VERSION;
 
 /// What can go wrong while building a report.
@@ -32,6 +34,11 @@ pub enum ReportError {
     Chart(#[from] reproj_charts::ChartError),
     #[error("cannot encode a frame as PNG: {0}")]
     Png(String),
+    /// A compare run's files (`--compare DIR`).
+    #[error(transparent)]
+    Read(#[from] reproj_io::ReadError),
+    #[error(transparent)]
+    Input(#[from] reproj_io::InputError),
 }
 
 impl ReportError {
@@ -68,6 +75,7 @@ impl ReportError {
         match self {
             ReportError::Analyze(e) => e.is_user_error(),
             ReportError::Chart(_) | ReportError::Png(_) => false,
+            ReportError::Read(_) | ReportError::Input(_) => true,
         }
     }
 }
@@ -84,6 +92,8 @@ pub struct ReportOptions {
     pub max_rendered: usize,
     /// How the rendered selections are timed against the original (one interleaved run).
     pub timing: reproj_bench::BenchOptions,
+    /// Folders of `reproj compare` runs whose tables and crops the page shows.
+    pub compare: Vec<PathBuf>,
 }
 
 impl Default for ReportOptions {
@@ -93,6 +103,7 @@ impl Default for ReportOptions {
             shader: None,
             max_rendered: 8,
             timing: reproj_bench::BenchOptions::default(),
+            compare: Vec::new(),
         }
     }
 }
@@ -119,6 +130,12 @@ pub fn report(
     renderer: &Renderer,
     progress: &mut dyn FnMut(&str),
 ) -> Result<String, ReportError> {
+    // The compare runs first: a bad folder fails before anything renders.
+    let compare = opts
+        .compare
+        .iter()
+        .map(|d| load_compare(d))
+        .collect::<Result<Vec<_>, _>>()?;
     let (_, loaded, shader) =
         reproj_analyze::emit::load_profiled(profile, profile_path, opts.shader.as_deref())?;
     let (nodes, sets) =
@@ -210,6 +227,7 @@ pub fn report(
         records: &records,
         rendered: &rendered,
         charts: &charts,
+        compare: &compare,
     }))
 }
 

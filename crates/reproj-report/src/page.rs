@@ -61,6 +61,8 @@ pub(crate) struct Page<'a> {
     /// One per `budgets.choices`, in order; `None`: not rendered (over the limit).
     pub(crate) rendered: &'a [Option<Rendered>],
     pub(crate) charts: &'a Charts,
+    /// `reproj compare` runs shown on the page.
+    pub(crate) compare: &'a [crate::CompareRun],
 }
 
 #[derive(Serialize)]
@@ -328,6 +330,7 @@ pub(crate) fn html(p: &Page<'_>) -> String {
         png_uri(&p.charts.models.bytes)
     );
     fits(&mut h, profile);
+    crate::compare::section(&mut h, p.compare);
     let _ = write!(
         h,
         r#"<section id="more"><h2>Trade-off and hit rate</h2>

@@ -25,6 +25,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         shader: args.shader.clone(),
         max_rendered: args.max_rendered,
         timing: Default::default(),
+        compare: args.compare.clone(),
     };
     let start = std::time::Instant::now();
     let mut progress = |line: &str| {
