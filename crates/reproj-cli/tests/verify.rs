@@ -442,22 +442,23 @@ fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
     assert!(!out.contains("1.00x [1.00, 1.00]"), "{out}");
 }
 
-/// A shader that uses three bind groups, as engines do (view, material, mesh): the variant takes
-/// the fourth and the replay's own vertex transforms a fifth, so it analyzes, emits and verifies
-/// like any other (it used to be refused: "every bind group 0..4").
-#[test]
-fn a_shader_with_three_bind_groups_is_analyzed_and_verified() {
+/// Analyze `fixture` (a shader of the two-term fixture's inputs) over the two-term session, emit
+/// with `--verify` under 0.02, and check the variant's bindings sit in group 3 from
+/// `binding_base` on.
+fn analyzed_and_verified_in_group_3(fixture: &str, binding_base: u64) {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     common::two_terms(dir, "unused.wgsl", "s.json");
     std::fs::copy(
-        common::root().join("crates/reproj-cli/tests/data/three_groups.wgsl"),
-        dir.join("three.wgsl"),
+        common::root()
+            .join("crates/reproj-cli/tests/data")
+            .join(fixture),
+        dir.join("s.wgsl"),
     )
     .unwrap();
     let (code, out, err) = common::analyze_short(
         dir,
-        "three.wgsl",
+        "s.wgsl",
         &["s.json"],
         "g.profile.json",
         &["--strategy", "2pass"],
@@ -493,57 +494,24 @@ fn a_shader_with_three_bind_groups_is_analyzed_and_verified() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("e/manifest.json")).unwrap())
             .unwrap();
     assert_eq!(manifest["group"], 3, "{manifest}");
+    assert_eq!(
+        manifest["binding_base"].as_u64().unwrap_or(0),
+        binding_base,
+        "{manifest}"
+    );
+}
+
+/// A shader that uses three bind groups, as engines do (view, material, mesh): the variant takes
+/// the fourth and the replay's own vertex transforms a fifth, so it analyzes, emits and verifies
+/// like any other (it used to be refused: "every bind group 0..4").
+#[test]
+fn a_shader_with_three_bind_groups_is_analyzed_and_verified() {
+    analyzed_and_verified_in_group_3("three_groups.wgsl", 0);
 }
 
 /// A shader that uses all four bind groups: the variant's bindings join its group 3 past its own
 /// (`binding_base` 1), so it analyzes, emits and verifies like any other.
 #[test]
 fn a_shader_with_four_bind_groups_shares_one_and_is_analyzed_and_verified() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
-    common::two_terms(dir, "unused.wgsl", "s.json");
-    std::fs::copy(
-        common::root().join("crates/reproj-cli/tests/data/four_groups.wgsl"),
-        dir.join("four.wgsl"),
-    )
-    .unwrap();
-    let (code, out, err) = common::analyze_short(
-        dir,
-        "four.wgsl",
-        &["s.json"],
-        "g.profile.json",
-        &["--strategy", "2pass"],
-    );
-    assert_eq!(code, 0, "{err}");
-    assert!(out.contains("usable"), "{out}");
-    let (code, out, err) = run(
-        dir,
-        &[
-            "emit",
-            "--profile",
-            "g.profile.json",
-            "--max-error",
-            "0.02",
-            "--out",
-            "e",
-            "--verify",
-            "--session",
-            "s.json",
-            "--runoff",
-            "1",
-            "--json",
-        ],
-    );
-    assert_eq!(code, 0, "{err}");
-    let report: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
-    assert!(report["node"].is_string(), "{report}");
-    assert!(
-        report["measured_error"].as_f64().unwrap() <= 0.02,
-        "{report}"
-    );
-    let manifest: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("e/manifest.json")).unwrap())
-            .unwrap();
-    assert_eq!(manifest["group"], 3, "{manifest}");
-    assert_eq!(manifest["binding_base"], 1, "{manifest}");
+    analyzed_and_verified_in_group_3("four_groups.wgsl", 1);
 }
