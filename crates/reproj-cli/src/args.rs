@@ -48,20 +48,20 @@ pub struct BenchArgs {
     #[arg(long, conflicts_with = "delta_n")]
     pub adaptive: bool,
     /// Stop after this many rounds at most (each round renders one block per subject).
-    #[arg(long, default_value_t = 48, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    #[arg(hide = true, long, default_value_t = 48, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub rounds: u32,
     /// Run at least this many rounds (the rounds cycle through 4 windows of the session: 8 gives
     /// each window two).
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    #[arg(hide = true, long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub min_rounds: u32,
     /// Stop measuring after this many seconds (checked between rounds).
-    #[arg(long, default_value_t = 30.0, value_parser = positive_seconds)]
+    #[arg(hide = true, long, default_value_t = 30.0, value_parser = positive_seconds)]
     pub max_time: f64,
     /// Stop once every interval is within ± this fraction of its estimate.
-    #[arg(long, default_value_t = 0.03, value_parser = positive_fraction)]
+    #[arg(hide = true, long, default_value_t = 0.03, value_parser = positive_fraction)]
     pub target: f64,
     /// Timed frames per block (each block renders one more, discarded).
-    #[arg(long, default_value_t = DEFAULT_BLOCK_FRAMES, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    #[arg(hide = true, long, default_value_t = DEFAULT_BLOCK_FRAMES, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub block: u32,
     /// Draw the windows from the session's first N frames only.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -117,20 +117,20 @@ pub struct CompareArgs {
     pub max_frames: Option<u32>,
     /// Simplification: nodes with the largest static saving tried per step (and half as many
     /// more nearest the saving still needed for the target).
-    #[arg(long, default_value_t = 6, value_parser = at_least_one)]
+    #[arg(hide = true, long, default_value_t = 6, value_parser = at_least_one)]
     pub candidates: usize,
     /// Simplification: most nodes replaced.
-    #[arg(long, default_value_t = 8, value_parser = at_least_one)]
+    #[arg(hide = true, long, default_value_t = 8, value_parser = at_least_one)]
     pub max_steps: usize,
     /// Resizing: most scales rendered in the search.
-    #[arg(long, default_value_t = 4, value_parser = at_least_one)]
+    #[arg(hide = true, long, default_value_t = 4, value_parser = at_least_one)]
     pub resize_tries: usize,
     /// reproj at a target speedup (`--speedup`): most points raced while steering to it; the
     /// profile's models choose the first, the measured speedups the next.
-    #[arg(long, default_value_t = 4, value_parser = at_least_one)]
+    #[arg(hide = true, long, default_value_t = 4, value_parser = at_least_one)]
     pub reproj_tries: usize,
     /// Longest refresh period reproj may choose.
-    #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
+    #[arg(hide = true, long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Jittered samples per pixel of the supersampled reference every method is also scored
     /// against (0: none). Costs that many renders of the original.
@@ -208,14 +208,14 @@ pub struct RenderArgs {
     pub frames: Option<PathBuf>,
     /// With --frames: also write each frame's exact linear RGBA as `frame_NNN.f32` (width × height
     /// × 4 little-endian f32, top row first, no header), to compare renderers beyond 8 bits.
-    #[arg(long, requires = "frames")]
+    #[arg(hide = true, long, requires = "frames")]
     pub raw_frames: bool,
     /// Render only the first N frames.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_frames: Option<u32>,
     /// Variants: compute ꟻLIP and SSIM (and with --frames write the ꟻLIP maps) on every Nth
     /// frame (0, N, 2N, ...).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(hide = true, long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub metric_stride: u32,
     /// Fragment entry point.
     #[arg(long)]
@@ -229,7 +229,7 @@ pub struct RenderArgs {
     /// With a variant: draw and time every pass in its own render pass (the JSON records'
     /// `pass_ms`). By default passes that write the same targets share one render pass, as a
     /// host draws them, and only the frame is timed.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub pass_times: bool,
     /// Print the report as JSON (`reproj.render`, docs/SCHEMAS.md).
     #[arg(long)]
@@ -260,12 +260,12 @@ pub struct AnalyzeArgs {
     #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50", value_parser = delta_n_limit)]
     pub delta_n: Vec<u32>,
     /// Refresh periods used only to check the models.
-    #[arg(long, value_delimiter = ',', default_value = "6,30", value_parser = delta_n_limit)]
+    #[arg(hide = true, long, value_delimiter = ',', default_value = "6,30", value_parser = delta_n_limit)]
     pub holdout: Vec<u32>,
     /// Longest refresh period a node is replayed at: past the longest of --delta-n, a node's
     /// period is doubled while its error is under 0.1 and a longer period can still save 3 % of
     /// its frame time (at most the session's frames; 50: never past --delta-n).
-    #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
+    #[arg(hide = true, long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Profile the nodes even where the ceiling race (the root cached and never refreshed,
     /// raced against the original first) says caching cannot pay on this device; skips the race.
@@ -275,45 +275,45 @@ pub struct AnalyzeArgs {
     #[arg(long, value_delimiter = ',')]
     pub nodes: Option<Vec<u32>>,
     /// Profile every cacheable node, as the paper did (hours on a CPU rasterizer for big shaders).
-    #[arg(long, conflicts_with_all = ["nodes", "max_nodes", "min_saving"])]
+    #[arg(hide = true, long, conflicts_with_all = ["nodes", "max_nodes", "min_saving"])]
     pub all_nodes: bool,
     /// Most nodes to profile when pruning (the root included).
     #[arg(long, default_value_t = 16, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u32).range(1..), |n| n as usize))]
     pub max_nodes: usize,
     /// Smallest static saving worth profiling, as a fraction of the shader's cost.
-    #[arg(long, default_value_t = 0.05, value_parser = unit_fraction)]
+    #[arg(hide = true, long, default_value_t = 0.05, value_parser = unit_fraction)]
     pub min_saving: f64,
     /// `adaptive`: replay a node at the longest, shortest and middle training Δn and the
     /// held-out ones, then, while the error model fitted so far misses a held-out measurement,
     /// at the other training Δn one at a time (nearest the worst miss first); `every`: at every
     /// training Δn (the paper's way).
-    #[arg(long, value_enum, default_value = "adaptive")]
+    #[arg(hide = true, long, value_enum, default_value = "adaptive")]
     pub sampling: SamplingArg,
     /// Replay only the first N frames of the session.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub max_frames: Option<u32>,
     /// Race a node's strategies (timed interleaved against the original) on windows of the
     /// session's first N frames only (0: windows over the whole session).
-    #[arg(long, default_value_t = 0)]
+    #[arg(hide = true, long, default_value_t = 0)]
     pub probe_frames: u32,
     /// Compute ꟻLIP and SSIM on every Nth frame of each replay (0, N, 2N, ...): each such frame
     /// is read back and compared on the CPU. Default: about 15 frames per replay (every 10th of
     /// a 150-frame session). Recorded in the profile.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(hide = true, long, value_parser = clap::value_parser!(u32).range(1..))]
     pub metric_stride: Option<u32>,
     /// Do not search sets of nodes cached together (by default, after the single nodes, pairs
     /// among the best of them are ranked by their combined prediction, the best replayed, and the
     /// best measured grown by one node at a time).
-    #[arg(long, conflicts_with_all = ["set_top", "set_replays", "set_max_nodes"])]
+    #[arg(hide = true, long, conflicts_with_all = ["set_top", "set_replays", "set_max_nodes"])]
     pub no_sets: bool,
     /// Form pairs among the K single nodes with the largest predicted saving.
-    #[arg(long, value_name = "K", default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..))]
+    #[arg(hide = true, long, value_name = "K", default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..))]
     pub set_top: u32,
     /// Replay the R pairs predicted fastest.
-    #[arg(long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(hide = true, long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     pub set_replays: u32,
     /// Grow the best measured set up to N nodes (2: pairs only; a payload holds 4 floats).
-    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(2..=4))]
+    #[arg(hide = true, long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(2..=4))]
     pub set_max_nodes: u32,
     #[command(flatten)]
     pub cache: CacheArgs,
@@ -324,13 +324,13 @@ pub struct AnalyzeArgs {
     pub backend: Option<String>,
     /// Profile only shard i of N (0-based) of the nodes, e.g. `--shard 0/3`; join the shards'
     /// profiles with `reproj merge`.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub shard: Option<reproj_models::profile::Shard>,
     /// Start over: ignore the journal an interrupted run left beside the profile.
     #[arg(long)]
     pub fresh: bool,
     /// Do not write the charts.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub no_charts: bool,
     /// Print what was written as JSON (`reproj.analyze`, docs/SCHEMAS.md) instead of the summary.
     #[arg(long)]
@@ -360,7 +360,7 @@ pub struct EmitArgs {
     #[arg(long, value_parser = budget)]
     pub max_error: Budget,
     /// Which measured error the budget bounds: `l2` (the paper's) or `flip` (perceptual).
-    #[arg(long, default_value = "l2")]
+    #[arg(hide = true, long, default_value = "l2")]
     pub metric: reproj_models::Metric,
     /// Profile from `reproj analyze` (default: the newest *.profile.json here). Give one per
     /// session (`--profile slow.profile.json --profile fast.profile.json`, the same shader
@@ -372,10 +372,10 @@ pub struct EmitArgs {
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
     /// Largest refresh period to consider.
-    #[arg(long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
+    #[arg(hide = true, long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
     /// Cache texel format of the written passes (default: the profile's).
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub cache_format: Option<CacheFormatArg>,
     /// Only consider this strategy (default: every strategy the profile measured).
     #[arg(long, value_enum)]
@@ -394,7 +394,7 @@ pub struct EmitArgs {
     /// to this many nodes whose own best choice under the budget is predicted too close to the
     /// selection's to tell apart, and write the fastest measured (the report's `runoff`). 1: write
     /// the prediction's choice without racing.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=8), requires = "verify")]
+    #[arg(hide = true, long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=8), requires = "verify")]
     pub runoff: u32,
     /// Session to verify on (or, without --verify, the session the variant is for). When it is
     /// none of the profiled sessions, its motion is measured and the nearest profile is carried
@@ -405,7 +405,7 @@ pub struct EmitArgs {
     /// What --session's motion does to the selection: `carry` (the profiles carried to it, the
     /// budget held there too) or `ignore` (select on the profiled sessions alone; --verify then
     /// only checks).
-    #[arg(long, value_enum, default_value_t = MotionUse::Carry, requires = "session")]
+    #[arg(hide = true, long, value_enum, default_value_t = MotionUse::Carry, requires = "session")]
     pub motion: MotionUse,
     /// Choose for a Δn that changes every frame with the camera's motion (the manifest's
     /// `params.schedule`, which `render --adaptive` and `reproj-host --adaptive` apply): the node
@@ -430,7 +430,7 @@ pub struct EmitArgs {
     pub overrides: Vec<(String, f64)>,
     /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
     /// below this: for CI, "nothing under the budget is worth it".
-    #[arg(long, value_parser = positive)]
+    #[arg(hide = true, long, value_parser = positive)]
     pub min_speedup: Option<f64>,
 }
 
@@ -570,16 +570,16 @@ pub struct CacheArgs {
     /// otherwise). analyze also takes `auto`: per node, race a larger block (32, at most an
     /// eighth of the frame) against the default at one Δn (the longest at most half the session)
     /// and keep it where it measures more accurate and not slower (recorded in the profile).
-    #[arg(long, value_parser = block_choice)]
+    #[arg(hide = true, long, value_parser = block_choice)]
     pub block: Option<crate::values::BlockArg>,
     /// Relative depth tolerance of the cache hit test.
-    #[arg(long, default_value_t = 0.01, value_parser = depth_epsilon)]
+    #[arg(hide = true, long, default_value_t = 0.01, value_parser = depth_epsilon)]
     pub depth_epsilon: f32,
     /// Cache texel format.
-    #[arg(long, value_enum, default_value = "f32")]
+    #[arg(hide = true, long, value_enum, default_value = "f32")]
     pub cache_format: CacheFormatArg,
     /// Payload reconstruction in pass 1 (`auto`: analyze chooses per node by measurement).
-    #[arg(long, value_enum, default_value = "bilinear")]
+    #[arg(hide = true, long, value_enum, default_value = "bilinear")]
     pub reconstruct: ReconstructArg,
 }
 

@@ -268,3 +268,205 @@ fn render_reports_progress_per_frame_on_stderr() {
         "a short render prints no line: {err}"
     );
 }
+
+/// Every flag `--help` shows, per command, besides help, version, json, quiet, verbose and color:
+/// a flag added to (or hidden from) the help is a decision made here. Tuning flags are hidden
+/// (still accepted; USAGE.md, "Tuning flags").
+#[test]
+fn the_visible_flags_are_these() {
+    let expected: [(&str, &[&str]); 11] = [
+        (
+            "nodes",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "entry",
+                "all",
+            ],
+        ),
+        (
+            "instance",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "node",
+                "out",
+                "entry",
+                "delta-n",
+                "strategy",
+                "group",
+                "frame-load",
+                "depth-load",
+                "reproject",
+                "lang",
+                "override",
+            ],
+        ),
+        (
+            "render",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "session",
+                "node",
+                "variant",
+                "delta-n",
+                "adaptive",
+                "strategy",
+                "frames",
+                "max-frames",
+                "entry",
+                "backend",
+                "speedup",
+            ],
+        ),
+        (
+            "analyze",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "session",
+                "out",
+                "delta-n",
+                "nodes",
+                "max-nodes",
+                "max-frames",
+                "strategy",
+                "entry",
+                "backend",
+                "fresh",
+            ],
+        ),
+        ("merge", &["out"]),
+        (
+            "emit",
+            &[
+                "max-error",
+                "profile",
+                "out",
+                "strategy",
+                "node",
+                "verify",
+                "session",
+                "adaptive",
+                "backend",
+                "group",
+                "frame-load",
+                "depth-load",
+                "reproject",
+                "shader",
+                "lang",
+                "override",
+            ],
+        ),
+        (
+            "report",
+            &[
+                "out",
+                "session",
+                "shader",
+                "max-rendered",
+                "compare",
+                "backend",
+            ],
+        ),
+        (
+            "compare",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "entry",
+                "session",
+                "speedup",
+                "max-error",
+                "profile",
+                "out",
+                "max-frames",
+                "supersample",
+                "no-temporal",
+                "backend",
+            ],
+        ),
+        (
+            "bench",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "session",
+                "delta-n",
+                "adaptive",
+                "max-frames",
+                "entry",
+                "backend",
+            ],
+        ),
+        (
+            "session init",
+            &[
+                "lang-in",
+                "def",
+                "defs-preset",
+                "import-path",
+                "include-dir",
+                "entry",
+                "out",
+                "force",
+                "frames",
+                "resolution",
+            ],
+        ),
+        ("completions", &[]),
+    ];
+    let not_counted = ["help", "version", "json", "quiet", "verbose", "color"];
+    let mut total = 0;
+    for (command, flags) in expected {
+        let mut args: Vec<&str> = command.split(' ').collect();
+        args.push("--help");
+        let (code, out, err) = reproj(&args);
+        assert_eq!(code, 0, "{err}");
+        let mut shown: Vec<String> = out
+            .lines()
+            .filter_map(|l| {
+                let l = l.trim_start();
+                let l = l
+                    .strip_prefix("-")
+                    .filter(|r| r.len() > 3 && &r[1..3] == ", ")
+                    .map_or(l, |r| &r[3..]);
+                let name = l.strip_prefix("--")?;
+                let name: String = name
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '-')
+                    .collect();
+                (!name.is_empty()).then_some(name)
+            })
+            .filter(|n| !not_counted.contains(&n.as_str()))
+            .collect();
+        shown.sort();
+        shown.dedup();
+        // The global flag every command shows.
+        let mut want: Vec<String> = flags.iter().map(|f| f.to_string()).collect();
+        want.push("allow-outside-paths".into());
+        want.sort();
+        assert_eq!(shown, want, "`reproj {command} --help`");
+        total += want.len();
+    }
+    eprintln!("{total} flags visible across the commands");
+}

@@ -55,6 +55,6 @@ pub struct UnrollArg {
     /// multiplies a loop shader's nodes (ambient_occlusion: 35 cacheable → 843 at 32), which
     /// only pays when a per-iteration value is worth caching. Ids differ between values: pass
     /// the same N to `nodes`, `instance` and `analyze`.
-    #[arg(long, default_value_t = 0, value_name = "N")]
+    #[arg(long, hide = true, default_value_t = 0, value_name = "N")]
     pub unroll: u32,
 }
