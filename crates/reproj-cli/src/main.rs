@@ -45,7 +45,8 @@ struct Cli {
 enum Command {
     /// List the candidate nodes of a shader: cacheable ones, or all with the reason others are culled.
     Nodes(NodesArgs),
-    /// Write the three passes and the manifest of the variant that caches one node.
+    /// Write the passes (one to three, by strategy) and the manifest of the variant that caches
+    /// one node, or several packed together.
     Instance(InstanceArgs),
     /// Replay a session for the original shader or one cached variant; print error, hit rate, time.
     Render(RenderArgs),
@@ -58,8 +59,10 @@ enum Command {
     /// Write one self-contained HTML page of a profile: trade-off chart with a budget slider,
     /// frames of every selection, model charts, the table of fits.
     Report(ReportArgs),
-    /// Compare reprojection with reduced-resolution rendering and code simplification at equal
-    /// frame time: error (L2, PSNR, ꟻLIP) per method, a chart and side-by-side crops.
+    /// Compare reprojection with reduced resolution (bilinear, edge-adaptive), temporal
+    /// upsampling (also with reproj inside it) and code simplification at equal frame time: error
+    /// (L2, PSNR, ꟻLIP) per method against the original and a supersampled reference, a chart and
+    /// side-by-side crops.
     Compare(CompareArgs),
     /// Time variants or other shaders against the original, interleaved in one run: median
     /// ms/frame and the speedup with its 95 % interval ("hyperfine for shaders").
