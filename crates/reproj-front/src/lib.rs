@@ -12,6 +12,7 @@ pub mod cost;
 pub mod depth;
 pub mod diagnostic;
 pub mod directives;
+pub mod enables;
 mod exits;
 pub mod glslang;
 mod graph;

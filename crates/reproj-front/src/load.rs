@@ -74,6 +74,7 @@ fn read_file_with(
         }
         Lang::Wgsl => {
             let source = read_input_string(path, InputKind::Shader)?;
+            let source = crate::enables::enable_binding_arrays(&source).into_owned();
             crate::depth::check_chains(path, &source)?;
             if crate::parse::needs_composing(&source) {
                 crate::parse::parse_composed_with(path, &source, input)

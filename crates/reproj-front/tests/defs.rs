@@ -207,3 +207,34 @@ fn glsl_takes_the_defs_as_macros() {
     );
     assert_eq!(warnings, []);
 }
+
+/// Bevy 0.19's view types size the rect lights by `#{MAX_RECT_LIGHTS}`: a material importing
+/// them parses under `--defs-preset bevy`, and names the def without it.
+#[test]
+fn the_bevy_preset_sizes_the_rect_lights() {
+    let path = fixtures().join("rect_lights.wgsl");
+    let bevy = ShaderInput {
+        preset: Some(DefsPreset::Bevy),
+        ..Default::default()
+    };
+    let shader = load_file_with(&path, None, &bevy).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        shader.source.contains("array<RectLight"),
+        "{}",
+        shader.source
+    );
+    assert!(load_file_with(&path, None, &ShaderInput::default()).is_err());
+}
+
+/// A shader and a module it imports written for an older naga, which read `binding_array`
+/// without `enable wgpu_binding_array;`: both are read as if they enabled it, and the lines of
+/// the shader stay where they were.
+#[test]
+fn binding_arrays_need_no_enable_directive() {
+    let path = fixtures().join("binding_arrays.wgsl");
+    let shader =
+        load_file_with(&path, None, &ShaderInput::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(shader.source.contains("binding_array<texture_2d<f32>"));
+    let loaded = load(&path, None, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.table.cacheable().count() > 0);
+}
