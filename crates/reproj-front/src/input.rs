@@ -158,6 +158,17 @@ pub enum InputWarning {
     /// shader or of a module it imports reads (a typo would otherwise pass silently).
     #[error("shader def `{name}` is read by no `#ifdef`/`#ifndef`/`#if` of {path} or its imports")]
     UnreadDef { name: String, path: PathBuf },
+    /// A resource declared without `@group`/`@binding` (Blade's WGSL: its host binds by name),
+    /// given a binding so that the module validates ([`crate::fill_in`]).
+    #[error(
+        "`{name}` in {path} has no @group/@binding (its host binds it by name): read as @group({group}) @binding({binding})"
+    )]
+    BindingAssigned {
+        name: String,
+        group: u32,
+        binding: u32,
+        path: PathBuf,
+    },
 }
 
 /// A warning for each def given by name (not a preset's) that is not in `read`, the defs the

@@ -14,6 +14,7 @@ pub mod diagnostic;
 pub mod directives;
 pub mod enables;
 mod exits;
+pub mod fill_in;
 pub mod glslang;
 mod graph;
 pub mod input;

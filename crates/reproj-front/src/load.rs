@@ -80,7 +80,7 @@ fn read_file_with(
                 crate::parse::parse_composed_with(path, &source, input)
             } else {
                 let mut shader = crate::parse::parse_text(path, Lang::Wgsl, source)?;
-                shader.warnings = crate::input::unread_defs(path, input, &no_reader);
+                (shader.warnings).extend(crate::input::unread_defs(path, input, &no_reader));
                 Ok(shader)
             }
         }

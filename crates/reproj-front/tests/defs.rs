@@ -197,7 +197,10 @@ fn glsl_takes_the_defs_as_macros() {
     assert!(with.contains("sin(") && !with.contains("cos("), "{with}");
     let names: Vec<String> = warnings
         .iter()
-        .map(|InputWarning::UnreadDef { name, .. }| name.clone())
+        .filter_map(|w| match w {
+            InputWarning::UnreadDef { name, .. } => Some(name.clone()),
+            _ => None,
+        })
         .collect();
     assert_eq!(names, ["BAR"]);
     let (without, warnings) = wgsl(&ShaderInput::default());
@@ -236,5 +239,32 @@ fn binding_arrays_need_no_enable_directive() {
         load_file_with(&path, None, &ShaderInput::default()).unwrap_or_else(|e| panic!("{e}"));
     assert!(shader.source.contains("binding_array<texture_2d<f32>"));
     let loaded = load(&path, None, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.table.cacheable().count() > 0);
+}
+
+/// Blade's WGSL declares its resources without `@group`/`@binding` and an integer varying
+/// without `@interpolate(flat)`: the resources take the free bindings of group 0, each named in a
+/// warning, the varying is read as flat, and the shader loads with its nodes.
+#[test]
+fn unbound_resources_and_integer_varyings_are_filled_in() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/host/unbound.wgsl");
+    let loaded = load(&path, None, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let bound: Vec<(String, u32)> = loaded
+        .shader
+        .warnings
+        .iter()
+        .filter_map(|w| match w {
+            InputWarning::BindingAssigned { name, binding, .. } => Some((name.clone(), *binding)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        bound,
+        [
+            ("globals".to_owned(), 0),
+            ("sprite".to_owned(), 1),
+            ("sprite_sampler".to_owned(), 2)
+        ]
+    );
     assert!(loaded.table.cacheable().count() > 0);
 }
