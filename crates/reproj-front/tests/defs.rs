@@ -268,3 +268,16 @@ fn unbound_resources_and_integer_varyings_are_filled_in() {
     );
     assert!(loaded.table.cacheable().count() > 0);
 }
+
+/// A module with a ray query (in an entry point reproj does not rebuild) is read and its fragment
+/// entry point normalized; writing the whole module as WGSL, which naga's writer cannot do for a
+/// ray query, is an error, not a panic.
+#[test]
+fn a_ray_query_elsewhere_in_the_module_is_no_panic() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/host/ray_query.wgsl");
+    let loaded =
+        load(&path, Some("fs_main"), &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.table.cacheable().count() > 0);
+    let err = reproj_front::write_wgsl(&loaded.shader.module, &loaded.shader.info).unwrap_err();
+    assert!(err.to_string().contains("ray query"), "{err}");
+}

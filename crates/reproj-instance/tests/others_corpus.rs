@@ -117,7 +117,13 @@ fn measure_entry(shader: &reproj_front::Shader, entry: &str, only: bool) -> Valu
         NodeSelector::Id(first),
         &InstanceOptions::default(),
     ) {
-        Ok(variant) => row["variant"] = validate::write_and_validate(&variant),
+        Ok(variant) => {
+            let original_fails = validate::original_fails(&loaded.shader);
+            if !original_fails.is_empty() {
+                row["original_fails"] = json!(original_fails);
+            }
+            row["variant"] = validate::write_and_validate(&variant, &original_fails);
+        }
         Err(e) => row["variant"] = json!(format!("instance: {e}")),
     }
     row
