@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fetch the shaders written by others that tests/others/SOURCES.md lists, each at its commit,
 # into tests/others/ (or the folder REPROJ_OTHERS_CORPUS names), with a header comment naming
-# repository, path, commit and license above the file's text, which is kept as found.
+# repository, path, commit and license above the file's text (below its first line where that is
+# GLSL's `#version`, which an ES shader must start with), which is kept as found.
 #
 #   bash scripts/fetch-others.sh               # from GitHub (raw files; an archive for a folder)
 #   bash scripts/fetch-others.sh MIRROR        # from bare git directories MIRROR/OWNER+NAME/repo
@@ -65,11 +66,19 @@ write() {
         text=$(file_at "$repo" "$commit" "$path" && printf x) ||
             { echo "fetch-others: cannot read $path of $repo at $commit" >&2; exit 1; }
     fi
+    text=${text%x}
+    # GLSL's `#version` stays the first line (an ES shader may have nothing before it).
+    local version=""
+    if [[ $text == "#version"* ]]; then
+        version=${text%%$'\n'*}$'\n'
+        text=${text#*$'\n'}
+    fi
     {
-        printf '// Written by others, kept as found below this header (reproj tests/others/SOURCES.md).\n'
+        printf '%s' "$version"
+        printf '// Written by others, kept as found around this header (reproj tests/others/SOURCES.md).\n'
         printf '// repository: https://github.com/%s\n// path: %s\n// commit: %s\n// license: %s\n' \
             "$repo" "$path" "$commit" "$license"
-        printf '%s' "${text%x}"
+        printf '%s' "$text"
     } >"$out"
 }
 
