@@ -42,7 +42,7 @@ const PARSE_TARGET: f64 = 80.0;
 
 /// Where the shaders are: `REPROJ_OTHERS_CORPUS`, else `tests/others`.
 fn others() -> PathBuf {
-    std::env::var_os("REPROJ_OTHERS_CORPUS").map_or_else(|| repo_others(), PathBuf::from)
+    std::env::var_os("REPROJ_OTHERS_CORPUS").map_or_else(repo_others, PathBuf::from)
 }
 
 /// `tests/others` of this repository: `SOURCES.md`, `options.json` and the snapshot.
