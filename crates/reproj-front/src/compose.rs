@@ -97,6 +97,7 @@ fn find_modules(roots: &[PathBuf], shader: &Path) -> BTreeMap<String, Found> {
                 if !source.contains("#define_import_path") {
                     continue;
                 }
+                let source = crate::enables::enable_binding_arrays(&source).into_owned();
                 let (name, imports, _) = get_preprocessor_data(&source);
                 if let Some(name) = name {
                     let imports = imports.into_iter().map(|i| i.import).collect();
@@ -136,7 +137,7 @@ fn find_asset_modules(
             let path = root.join(rel);
             reproj_io::read_input_string(&path, reproj_io::InputKind::Shader)
                 .ok()
-                .map(|s| (path, s))
+                .map(|s| (path, crate::enables::enable_binding_arrays(&s).into_owned()))
         }) else {
             continue;
         };
@@ -277,6 +278,7 @@ fn compose_in(
     roots: &[PathBuf],
     input: &ShaderInput,
 ) -> Result<Composed, FrontError> {
+    let source = &*crate::enables::enable_binding_arrays(source);
     let mut modules = find_modules(roots, path);
     let (_, imports, _) = get_preprocessor_data(source);
     let imports: Vec<String> = imports.into_iter().map(|i| i.import).collect();

@@ -87,14 +87,18 @@ impl DefsPreset {
     /// The preset's defs. Bevy: `AVAILABLE_STORAGE_BUFFER_BINDINGS` is the device's
     /// `max_storage_buffers_per_shader_stage`, which `PipelineCache` adds to every shader (8:
     /// wgpu's default limit, what desktop adapters give at least); `MeshPipeline` adds
-    /// `MAX_DIRECTIONAL_LIGHTS` (10) and `MAX_CASCADES_PER_LIGHT` (4 off WebGL), and materials
-    /// `MATERIAL_BIND_GROUP` (3 from Bevy 0.17; 2 before: override it with a def of its own).
+    /// `MAX_DIRECTIONAL_LIGHTS` (10) and `MAX_CASCADES_PER_LIGHT` (4 off WebGL), Bevy 0.19's
+    /// `MeshRenderPlugin` builds `bevy_pbr::mesh_view_types` with `MAX_RECT_LIGHTS` (8; its
+    /// `array<RectLight, #{MAX_RECT_LIGHTS}u>` does not parse without it, so every shader that
+    /// imports the view bindings needs it), and materials get `MATERIAL_BIND_GROUP` (3 from Bevy
+    /// 0.17; 2 before: override it with a def of its own).
     pub fn defs(self) -> &'static [(&'static str, DefValue)] {
         match self {
             DefsPreset::Bevy => &[
                 ("AVAILABLE_STORAGE_BUFFER_BINDINGS", DefValue::UInt(8)),
                 ("MAX_DIRECTIONAL_LIGHTS", DefValue::UInt(10)),
                 ("MAX_CASCADES_PER_LIGHT", DefValue::UInt(4)),
+                ("MAX_RECT_LIGHTS", DefValue::UInt(8)),
                 ("MATERIAL_BIND_GROUP", DefValue::UInt(3)),
             ],
         }
@@ -154,6 +158,17 @@ pub enum InputWarning {
     /// shader or of a module it imports reads (a typo would otherwise pass silently).
     #[error("shader def `{name}` is read by no `#ifdef`/`#ifndef`/`#if` of {path} or its imports")]
     UnreadDef { name: String, path: PathBuf },
+    /// A resource declared without `@group`/`@binding` (Blade's WGSL: its host binds by name),
+    /// given a binding so that the module validates ([`crate::fill_in`]).
+    #[error(
+        "`{name}` in {path} has no @group/@binding (its host binds it by name): read as @group({group}) @binding({binding})"
+    )]
+    BindingAssigned {
+        name: String,
+        group: u32,
+        binding: u32,
+        path: PathBuf,
+    },
 }
 
 /// A warning for each def given by name (not a preset's) that is not in `read`, the defs the

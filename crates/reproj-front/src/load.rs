@@ -74,12 +74,13 @@ fn read_file_with(
         }
         Lang::Wgsl => {
             let source = read_input_string(path, InputKind::Shader)?;
+            let source = crate::enables::enable_binding_arrays(&source).into_owned();
             crate::depth::check_chains(path, &source)?;
             if crate::parse::needs_composing(&source) {
                 crate::parse::parse_composed_with(path, &source, input)
             } else {
                 let mut shader = crate::parse::parse_text(path, Lang::Wgsl, source)?;
-                shader.warnings = crate::input::unread_defs(path, input, &no_reader);
+                (shader.warnings).extend(crate::input::unread_defs(path, input, &no_reader));
                 Ok(shader)
             }
         }

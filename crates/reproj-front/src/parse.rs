@@ -416,6 +416,11 @@ fn parse_text_defined(
             ))
         })?,
     };
+    let mut module = module;
+    let warnings = match lang {
+        Lang::Wgsl => crate::fill_in::fill_in(path, &mut module),
+        _ => Vec::new(),
+    };
     let info = validator().validate(&module).map_err(|e| {
         // naga gives some errors (a whole entry point's) no span: name the place ourselves.
         let at = (!e.spans().any(|(span, _)| span.to_range().is_some()))
@@ -433,7 +438,7 @@ fn parse_text_defined(
         module,
         info,
         split_samplers: Vec::new(),
-        warnings: Vec::new(),
+        warnings,
         hidden_entries: Vec::new(),
         wgsl_form: false,
     })

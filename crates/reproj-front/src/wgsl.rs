@@ -22,6 +22,17 @@ pub fn write_wgsl(
     module: &Module,
     info: &naga::valid::ModuleInfo,
 ) -> Result<String, naga::back::wgsl::Error> {
+    // naga's writer has no WGSL for a ray query and panics on one (`unreachable!`).
+    let functions = module.functions.iter().map(|(_, f)| f);
+    if functions
+        .chain(module.entry_points.iter().map(|ep| &ep.function))
+        .any(|f| has_ray_query(&f.body))
+    {
+        return Err(naga::back::wgsl::Error::Unsupported {
+            kind: "statement",
+            value: "a ray query (naga's WGSL writer cannot write one)".into(),
+        });
+    }
     let mut module = module.clone();
     let strip = |f: &mut naga::Function| f.named_expressions.retain(|_, name| !generated(name));
     for (_, f) in module.functions.iter_mut() {
@@ -38,6 +49,21 @@ pub fn write_wgsl(
         ""
     };
     Ok(diagnostic_directives(&module) + enable + &text)
+}
+
+/// Whether `block` or a block inside it holds a ray query.
+fn has_ray_query(block: &naga::Block) -> bool {
+    use naga::Statement as S;
+    block.iter().any(|s| match s {
+        S::RayQuery { .. } => true,
+        S::Block(b) => has_ray_query(b),
+        S::If { accept, reject, .. } => has_ray_query(accept) || has_ray_query(reject),
+        S::Switch { cases, .. } => cases.iter().any(|c| has_ray_query(&c.body)),
+        S::Loop {
+            body, continuing, ..
+        } => has_ray_query(body) || has_ray_query(continuing),
+        _ => false,
+    })
 }
 
 /// True when a type or an expression of `module` is f16 data.

@@ -197,7 +197,10 @@ fn glsl_takes_the_defs_as_macros() {
     assert!(with.contains("sin(") && !with.contains("cos("), "{with}");
     let names: Vec<String> = warnings
         .iter()
-        .map(|InputWarning::UnreadDef { name, .. }| name.clone())
+        .filter_map(|w| match w {
+            InputWarning::UnreadDef { name, .. } => Some(name.clone()),
+            _ => None,
+        })
         .collect();
     assert_eq!(names, ["BAR"]);
     let (without, warnings) = wgsl(&ShaderInput::default());
@@ -206,4 +209,75 @@ fn glsl_takes_the_defs_as_macros() {
         "{without}"
     );
     assert_eq!(warnings, []);
+}
+
+/// Bevy 0.19's view types size the rect lights by `#{MAX_RECT_LIGHTS}`: a material importing
+/// them parses under `--defs-preset bevy`, and names the def without it.
+#[test]
+fn the_bevy_preset_sizes_the_rect_lights() {
+    let path = fixtures().join("rect_lights.wgsl");
+    let bevy = ShaderInput {
+        preset: Some(DefsPreset::Bevy),
+        ..Default::default()
+    };
+    let shader = load_file_with(&path, None, &bevy).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        shader.source.contains("array<RectLight"),
+        "{}",
+        shader.source
+    );
+    assert!(load_file_with(&path, None, &ShaderInput::default()).is_err());
+}
+
+/// A shader and a module it imports written for an older naga, which read `binding_array`
+/// without `enable wgpu_binding_array;`: both are read as if they enabled it, and the lines of
+/// the shader stay where they were.
+#[test]
+fn binding_arrays_need_no_enable_directive() {
+    let path = fixtures().join("binding_arrays.wgsl");
+    let shader =
+        load_file_with(&path, None, &ShaderInput::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(shader.source.contains("binding_array<texture_2d<f32>"));
+    let loaded = load(&path, None, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.table.cacheable().count() > 0);
+}
+
+/// Blade's WGSL declares its resources without `@group`/`@binding` and an integer varying
+/// without `@interpolate(flat)`: the resources take the free bindings of group 0, each named in a
+/// warning, the varying is read as flat, and the shader loads with its nodes.
+#[test]
+fn unbound_resources_and_integer_varyings_are_filled_in() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/host/unbound.wgsl");
+    let loaded = load(&path, None, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let bound: Vec<(String, u32)> = loaded
+        .shader
+        .warnings
+        .iter()
+        .filter_map(|w| match w {
+            InputWarning::BindingAssigned { name, binding, .. } => Some((name.clone(), *binding)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        bound,
+        [
+            ("globals".to_owned(), 0),
+            ("sprite".to_owned(), 1),
+            ("sprite_sampler".to_owned(), 2)
+        ]
+    );
+    assert!(loaded.table.cacheable().count() > 0);
+}
+
+/// A module with a ray query (in an entry point reproj does not rebuild) is read and its fragment
+/// entry point normalized; writing the whole module as WGSL, which naga's writer cannot do for a
+/// ray query, is an error, not a panic.
+#[test]
+fn a_ray_query_elsewhere_in_the_module_is_no_panic() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/host/ray_query.wgsl");
+    let loaded =
+        load(&path, Some("fs_main"), &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.table.cacheable().count() > 0);
+    let err = reproj_front::write_wgsl(&loaded.shader.module, &loaded.shader.info).unwrap_err();
+    assert!(err.to_string().contains("ray query"), "{err}");
 }

@@ -55,6 +55,43 @@ fn includes_are_resolved_beside_the_shader() {
     );
 }
 
+/// An `#include` without `#extension GL_GOOGLE_include_directive` (shaderc turns it on by
+/// itself, so Vulkan projects never ask) is read as if it asked, found in an include folder
+/// given (`-I`), and a later error is still reported at its own line.
+#[test]
+fn includes_need_no_extension_line() {
+    if !glslang_here("includes without the extension") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("framework")).unwrap();
+    std::fs::write(
+        dir.path().join("framework/lighting.h"),
+        "vec3 lit(vec3 n) { return vec3(max(n.z, 0.0)); }\n",
+    )
+    .unwrap();
+    let shader = dir.path().join("forward.frag");
+    let text = |body: &str| {
+        format!(
+            "#version 450\nlayout(location = 0) in vec3 n;\nlayout(location = 0) out vec4 c;\n\
+             #include \"lighting.h\"\nvoid main() {{\n    {body}\n}}\n"
+        )
+    };
+    std::fs::write(&shader, text("c = vec4(lit(n) * 2.0, 1.0);")).unwrap();
+    let options = LoadOptions {
+        input: reproj_front::ShaderInput {
+            include_dirs: vec![dir.path().join("framework")],
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let loaded = load(&shader, None, &options).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.table.cacheable().count() > 0);
+    std::fs::write(&shader, text("c = vec4(lit(n) * 2.0, 1.0) + oops;")).unwrap();
+    let msg = load(&shader, None, &options).unwrap_err().to_string();
+    assert!(msg.contains("forward.frag:6:"), "{msg}");
+}
+
 #[test]
 fn matrix_inputs_become_one_vector_per_column() {
     if !glslang_here("matrix inputs") {

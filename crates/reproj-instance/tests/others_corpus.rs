@@ -1,192 +1,206 @@
 //! Shaders written by others: fragment shaders from public, permissively licensed
 //! repositories, kept as found. They are a set *kept aside* for checking, not part of the
 //! repository: `tests/others/SOURCES.md` names each file's repository, path, commit and
-//! license, so the set can be fetched again into `tests/others/{glsl,wgsl}/` (ignored by
-//! git) or any folder `REPROJ_OTHERS_CORPUS` names. The test is ignored by default and run on
-//! purpose: `cargo test -p reproj-instance --test others_corpus -- --ignored` (it fails when the set
-//! is missing). Each file is loaded as `reproj nodes` loads it;
-//! every fragment entry point is normalized and its nodes listed; the first cacheable node is
-//! instanced (3pass) and written in every `--lang`, and the passes are checked by their own tools:
-//! the WGSL by `tint`, the SPIR-V by `spirv-val`, the GLSL by `glslangValidator` (the HLSL and MSL
-//! are written by naga's writers; no validator for them is installed here).
+//! license, and `scripts/fetch-others.sh` fetches them into `tests/others/{glsl,wgsl,imports}/`
+//! (ignored by git) or any folder `REPROJ_OTHERS_CORPUS` names. The test is ignored by default
+//! and run on purpose: `cargo test -p reproj-instance --test others_corpus -- --ignored` (it
+//! fails when the set is missing).
+//!
+//! Each file is read as `reproj nodes` reads it with the options a user of its engine would pass
+//! (`tests/others/options.json`: shader defs, a defs preset, import paths, include folders, per
+//! project; defs the engine's own pipeline always sets for one file or entry point); every
+//! `@fragment` entry point of the file's text counts, those its preprocessor leaves out
+//! included. Each entry point is normalized, its nodes listed, the bind groups it uses noted,
+//! and its first cacheable node instanced (3pass) and written as WGSL, SPIR-V and GLSL, every
+//! file through every validator of its target (`validate.rs`).
 //!
 //! The rows are compared with the committed snapshot `tests/others/snapshots/others_corpus__table.snap`
-//! at the top of the repository (insta: `INSTA_UPDATE=always`
-//! accepts a change in place, to review with `git diff`; `tests/README.md`); no file may
-//! panic or report an internal error, and the parse
-//! rates must stay at their targets (GLSL ≥ 85 %, WGSL ≥ 95 %). Needs glslangValidator, tint
-//! and spirv-val (`scripts/ensure-tools.sh`): a missing one fails the test.
+//! at the top of the repository (insta: `INSTA_UPDATE=always` accepts a change in place, to
+//! review with `git diff`; `tests/README.md`). No file may panic or report an internal error,
+//! every file written must validate, every entry point that does not parse must have a reason in
+//! `options.json`, and the parse rate must reach its target (80 % of the entry points). Needs
+//! naga, tint, spirv-val and glslangValidator: a missing one fails the test.
+
+#[path = "others_corpus/options.rs"]
+mod options;
+#[path = "others_corpus/validate.rs"]
+mod validate;
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use reproj_front::{Loaded, load_file_as};
-use reproj_instance::backends::{OutputLang, Outputs};
-use reproj_instance::{InstanceOptions, NodeSelector, instance, write_variant_in};
+use reproj_front::{Lang, Loaded, ShaderInput, load_file_with};
+use reproj_instance::{InstanceOptions, NodeSelector, instance};
 use serde_json::{Value, json};
 
-/// The parse-rate targets, in percent: what a user of another project's shaders may expect.
-const GLSL_TARGET: f64 = 85.0;
-const WGSL_TARGET: f64 = 95.0;
+use options::{Options, fragment_names};
+
+/// The parse-rate target, in percent of the entry points: what a user of another project's
+/// shaders may expect.
+const PARSE_TARGET: f64 = 80.0;
 
 /// Where the shaders are: `REPROJ_OTHERS_CORPUS`, else `tests/others`.
 fn others() -> PathBuf {
-    std::env::var_os("REPROJ_OTHERS_CORPUS").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/others"),
-        PathBuf::from,
-    )
+    std::env::var_os("REPROJ_OTHERS_CORPUS").map_or_else(repo_others, PathBuf::from)
 }
 
-/// Whether `tool` can be started (tint has no `--version`: any exit status will do).
-fn installed(tool: &str) -> bool {
-    Command::new(tool).arg("--help").output().is_ok()
+/// `tests/others` of this repository: `SOURCES.md`, `options.json` and the snapshot.
+fn repo_others() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/others")
 }
 
-/// The corpus files of one language, sorted.
-fn files(lang: &str, ext: &str) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(others().join(lang))
+/// The corpus files of one language, sorted, as `glsl/x.frag` or `wgsl/x.wgsl`.
+fn files(lang: &str, ext: &str) -> Vec<String> {
+    let mut files: Vec<String> = std::fs::read_dir(others().join(lang))
         .unwrap_or_else(|e| panic!("tests/others/{lang}: {e}"))
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == ext))
+        .map(|p| format!("{lang}/{}", p.file_name().unwrap().to_string_lossy()))
         .collect();
     files.sort();
     files
 }
 
-/// `tool args file`'s failure, as one short line, or `None` when it accepts the file.
-fn rejects(tool: &str, args: &[&str], file: &Path) -> Option<String> {
-    let out = match Command::new(tool).args(args).arg(file).output() {
-        Ok(out) => out,
-        Err(e) => return Some(format!("{tool} did not run: {e}")),
-    };
-    if out.status.success() {
-        return None;
-    }
-    let text =
-        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("no message");
-    // Without the temporary directory, so that the table does not change from run to run.
-    let dir = file
-        .parent()
-        .map(|d| format!("{}/", d.display()))
-        .unwrap_or_default();
-    Some(format!("{tool}: {}", first.replace(&dir, "")))
+/// A front-end error's text without the set's (absolute) folder.
+fn message(e: &dyn std::fmt::Display) -> String {
+    e.to_string()
+        .replace(&format!("{}/", others().display()), "")
 }
 
-/// Every pass file of the variant in `dir` through its language's validator: the failures.
-fn validate_outputs(dir: &Path) -> Vec<String> {
-    let mut names: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
+/// The bind groups the entry point `index` of `shader` uses.
+fn groups(shader: &reproj_front::Shader, index: usize) -> Vec<u32> {
+    let info = shader.info.get_entry_point(index);
+    let mut groups: Vec<u32> = shader
+        .module
+        .global_variables
+        .iter()
+        .filter(|(h, _)| !info[*h].is_empty())
+        .filter_map(|(_, g)| g.binding.as_ref().map(|b| b.group))
         .collect();
-    names.sort();
-    let mut failures = Vec::new();
-    for file in names {
-        let ext = file.extension().and_then(|e| e.to_str()).unwrap_or("");
-        let failure = match ext {
-            "wgsl" => rejects("tint", &["--format", "wgsl", "-o", "/dev/null"], &file),
-            "spv" => rejects("spirv-val", &[], &file),
-            "frag" => rejects("glslangValidator", &["-S", "frag"], &file),
-            _ => None,
-        };
-        if let Some(f) = failure {
-            let name = file.file_name().unwrap().to_string_lossy();
-            failures.push(format!("{name}: {f}"));
-        }
-    }
-    failures
+    groups.sort_unstable();
+    groups.dedup();
+    groups
 }
 
-/// A front-end error's text without the file's (absolute) path.
-fn message(e: &dyn std::fmt::Display, path: &Path, name: &str) -> String {
-    e.to_string().replace(&path.display().to_string(), name)
-}
-
-/// One fragment entry point's row: its nodes, and the first cacheable node's variant.
-fn measure_entry(shader: &reproj_front::Shader, entry: Option<&str>, name: &str) -> Value {
-    let loaded = match Loaded::new(shader.clone(), entry) {
+/// One fragment entry point's row: its groups and nodes, and the first cacheable node's variant
+/// written and validated.
+fn measure_entry(shader: &reproj_front::Shader, entry: &str, only: bool) -> Value {
+    let index = shader
+        .module
+        .entry_points
+        .iter()
+        .position(|ep| ep.name == entry && ep.stage == naga::ShaderStage::Fragment)
+        .expect("a fragment entry point of the module");
+    let mut row = json!({"reads": true, "groups": groups(shader, index)});
+    // With one fragment entry point the CLI needs no `--entry`: measure it as the CLI loads it.
+    let loaded = match Loaded::new(shader.clone(), (!only).then_some(entry)) {
         Ok(l) => l,
-        Err(e) => return json!({"normalizes": false, "error": message(&e, &shader.path, name)}),
+        Err(e) => {
+            row["parses"] = json!(false);
+            row["error"] = json!(message(&e));
+            return row;
+        }
     };
     let cacheable: Vec<u32> = loaded.table.cacheable().map(|n| n.id).collect();
-    let mut row = json!({
-        "normalizes": true,
-        "nodes": loaded.table.nodes.len(),
-        "cacheable": cacheable.len(),
-    });
+    row["parses"] = json!(true);
+    row["nodes"] = json!(loaded.table.nodes.len());
+    row["cacheable"] = json!(cacheable.len());
     let Some(&first) = cacheable.first() else {
         return row;
     };
     row["variant_node"] = json!(first);
-    let variant = instance(
+    match instance(
         &loaded.shader,
         &loaded.norm,
         &loaded.table,
         NodeSelector::Id(first),
         &InstanceOptions::default(),
-    );
-    let variant = match variant {
-        Ok(v) => v,
-        Err(e) => {
-            row["variant"] = json!(format!("instance: {e}"));
-            return row;
+    ) {
+        Ok(variant) => {
+            let original_fails = validate::original_fails(&loaded.shader);
+            if !original_fails.is_empty() {
+                row["original_fails"] = json!(original_fails);
+            }
+            row["variant"] = validate::write_and_validate(&variant, &original_fails);
         }
-    };
-    let dir = tempfile::tempdir().unwrap();
-    let langs = [
-        OutputLang::Glsl,
-        OutputLang::Hlsl,
-        OutputLang::Msl,
-        OutputLang::SpirV,
-    ];
-    if let Err(e) = write_variant_in(&variant, dir.path(), &Outputs::langs(&langs)) {
-        row["variant"] = json!(format!("write: {e}"));
-        return row;
+        Err(e) => row["variant"] = json!(format!("instance: {e}")),
     }
-    let failures = validate_outputs(dir.path());
-    row["variant"] = if failures.is_empty() {
-        json!("validates")
-    } else {
-        json!(failures)
-    };
     row
 }
 
-/// One file's row: whether it loads, and each fragment entry point's row.
-fn measure(path: &Path) -> Value {
-    let name = path.file_name().unwrap().to_string_lossy().into_owned();
-    let shader = match load_file_as(path, None) {
-        Ok(s) => s,
-        Err(e) => return json!({"parses": false, "error": message(&e, path, &name)}),
+/// The shaders read from one file, each with the input it was read with.
+type Reads = Vec<(ShaderInput, Result<reproj_front::Shader, String>)>;
+
+/// The index in `reads` of `path` read with `input`, read now if it was not yet.
+fn read(reads: &mut Reads, path: &Path, input: ShaderInput) -> usize {
+    if let Some(i) = reads.iter().position(|(x, _)| *x == input) {
+        return i;
+    }
+    let shader = load_file_with(path, None, &input).map_err(|e| message(&e));
+    reads.push((input, shader));
+    reads.len() - 1
+}
+
+/// One file's row: each fragment entry point of its text, read with `options`.
+fn measure(file: &str, options: &Options) -> Value {
+    let path = others().join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lang = Lang::from_path(&path);
+    let mut names = match lang {
+        Some(Lang::Glsl) => vec!["main".to_owned()],
+        _ => fragment_names(&text),
     };
-    let entries: Vec<String> = shader
-        .module
-        .entry_points
-        .iter()
-        .filter(|ep| ep.stage == naga::ShaderStage::Fragment)
-        .map(|ep| ep.name.clone())
-        .collect();
-    // With one fragment entry point the CLI needs no `--entry`: measure it as the CLI loads it.
-    let rows: BTreeMap<String, Value> = match entries.as_slice() {
-        [one] => [(one.clone(), measure_entry(&shader, None, &name))].into(),
-        _ => entries
-            .iter()
-            .map(|e| (e.clone(), measure_entry(&shader, Some(e), &name)))
-            .collect(),
-    };
-    let parses = !rows.is_empty() && rows.values().all(|r| r["normalizes"] == true);
-    json!({"parses": parses, "entries": rows})
+    // The inputs the entry points are read with, each shader read once per input.
+    let mut reads: Reads = Vec::new();
+    let base = read(&mut reads, &path, options.input(file, None, &others()));
+    if let Ok(shader) = &reads[base].1 {
+        for ep in &shader.module.entry_points {
+            if ep.stage == naga::ShaderStage::Fragment && !names.contains(&ep.name) {
+                names.push(ep.name.clone());
+            }
+        }
+    }
+    let mut entries = BTreeMap::new();
+    for name in &names {
+        let at = read(
+            &mut reads,
+            &path,
+            options.input(file, Some(name), &others()),
+        );
+        let row = match &reads[at].1 {
+            Err(e) => json!({"reads": false, "parses": false, "error": e}),
+            Ok(shader) => {
+                let fragments = shader
+                    .module
+                    .entry_points
+                    .iter()
+                    .filter(|ep| ep.stage == naga::ShaderStage::Fragment);
+                let only = fragments.clone().count() == 1;
+                if fragments.clone().any(|ep| ep.name == *name) {
+                    measure_entry(shader, name, only)
+                } else {
+                    let hidden = shader.hidden_entries.iter().find(|h| h.name == *name);
+                    json!({"reads": false, "parses": false, "error": match hidden {
+                        Some(h) => format!("left out by the defs given: {h}"),
+                        None if lang == Some(Lang::Glsl) => "no fragment entry point".to_owned(),
+                        None => "not an entry point of the module read".to_owned(),
+                    }})
+                }
+            }
+        };
+        entries.insert(name.clone(), row);
+    }
+    let mut row = json!({"project": options.project(file).name, "entries": entries});
+    if names.is_empty() {
+        row["error"] = json!("no @fragment entry point in the text");
+    }
+    row
 }
 
 /// The row, or the panic it raised (a failure of the test, recorded first so every file runs).
-fn measure_guarded(path: &Path) -> Value {
-    match catch_unwind(AssertUnwindSafe(|| measure(path))) {
+fn measure_guarded(file: &str, options: &Options) -> Value {
+    match catch_unwind(AssertUnwindSafe(|| measure(file, options))) {
         Ok(row) => row,
         Err(payload) => {
             let text = payload
@@ -194,93 +208,178 @@ fn measure_guarded(path: &Path) -> Value {
                 .cloned()
                 .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default();
-            json!({"parses": false, "panic": text})
+            json!({"panic": text})
         }
     }
 }
 
-fn rate(rows: &BTreeMap<String, Value>, prefix: &str) -> (usize, usize) {
-    let of: Vec<&Value> = rows
+/// Every entry-point row with its file's name and project.
+fn entry_rows(measured: &BTreeMap<String, Value>) -> Vec<(&str, &str, &str, &Value)> {
+    measured
         .iter()
-        .filter(|(k, _)| k.starts_with(prefix))
-        .map(|(_, v)| v)
-        .collect();
-    let parsed = of.iter().filter(|v| v["parses"] == true).count();
-    (parsed, of.len())
+        .flat_map(|(file, row)| {
+            let project = row["project"].as_str().unwrap_or("?");
+            row["entries"]
+                .as_object()
+                .into_iter()
+                .flatten()
+                .map(move |(e, r)| (file.as_str(), project, e.as_str(), r))
+        })
+        .collect()
+}
+
+/// Every validator failure in the table, as `file#entry: failure`.
+fn invalid_files(measured: &BTreeMap<String, Value>) -> Vec<String> {
+    let mut out = Vec::new();
+    for (file, _, entry, row) in entry_rows(measured) {
+        for lang in ["wgsl", "spirv", "glsl"] {
+            if let Some(failures) = row["variant"][lang].as_array() {
+                out.extend(failures.iter().map(|f| format!("{file}#{entry}: {f}")));
+            }
+        }
+    }
+    out
+}
+
+/// The summary printed with `--nocapture`: per project, per reason, the validators' counts and
+/// the entry points on three or four bind groups.
+fn summary(measured: &BTreeMap<String, Value>, options: &Options) -> String {
+    let rows = entry_rows(measured);
+    let mut by_project: BTreeMap<&str, (usize, usize, usize)> = BTreeMap::new();
+    let mut by_reason: BTreeMap<String, usize> = BTreeMap::new();
+    let mut checks = 0;
+    let mut groups = Vec::new();
+    for (file, project, entry, row) in &rows {
+        let p = by_project.entry(project).or_default();
+        p.2 += 1;
+        if row["reads"] == true {
+            p.1 += 1;
+        }
+        if row["parses"] == true {
+            p.0 += 1;
+        } else {
+            *by_reason
+                .entry(
+                    options
+                        .reason(file)
+                        .unwrap_or("(no reason given)")
+                        .to_owned(),
+                )
+                .or_default() += 1;
+        }
+        for lang in ["wgsl", "spirv", "glsl"] {
+            if let Some(n) = row["variant"][lang].as_str().and_then(options::checks_in) {
+                checks += n;
+            }
+        }
+        let used = row["groups"].as_array().map_or(0, Vec::len);
+        if row["parses"] == true && used >= 3 {
+            let accepted = if row["variant"].is_object() {
+                "instanced".to_owned()
+            } else {
+                row["variant"]
+                    .as_str()
+                    .unwrap_or("no cacheable node")
+                    .to_owned()
+            };
+            groups.push(format!(
+                "  {file}#{entry}: groups {}: {accepted}",
+                row["groups"]
+            ));
+        }
+    }
+    let mut s = String::new();
+    s += "per project: entry points read (composed, validated by naga), normalized (parse)\n";
+    for (project, (ok, read, n)) in &by_project {
+        s += &format!("  {project}: {read}/{n} read, {ok}/{n} parse\n");
+    }
+    s += "why the others do not:\n";
+    for (reason, n) in &by_reason {
+        s += &format!("  {n:3}  {reason}\n");
+    }
+    s += &format!(
+        "validator checks passed: {checks}; failed: {}\n",
+        invalid_files(measured).len()
+    );
+    s += "entry points on three or four bind groups:\n";
+    s += &groups.join("\n");
+    s
 }
 
 #[test]
 #[ignore = "needs the kept-aside shaders of tests/others/SOURCES.md: run with -- --ignored"]
 fn shaders_written_by_others_parse_instance_and_validate() {
-    let tools = ["glslangValidator", "spirv-val", "tint"];
-    for t in tools {
+    for v in &validate::VALIDATORS {
         assert!(
-            installed(t),
-            "{t} is missing (scripts/ensure-tools.sh installs it)"
+            validate::installed(v.tool),
+            "{} is missing (scripts/ensure-tools.sh installs glslang and spirv-tools; naga: cargo install naga-cli; tint: from Dawn)",
+            v.tool
         );
     }
     // Asked for on purpose: without the shaders the test fails.
     assert!(
         others().join("glsl").is_dir() && others().join("wgsl").is_dir(),
-        "{}/{{glsl,wgsl}} is missing: fetch the files SOURCES.md lists (or set REPROJ_OTHERS_CORPUS)",
+        "{}/{{glsl,wgsl}} is missing: run scripts/fetch-others.sh (or set REPROJ_OTHERS_CORPUS)",
         others().display()
     );
-    let glsl = files("glsl", "frag");
-    let wgsl = files("wgsl", "wgsl");
-    assert!(
-        glsl.len() + wgsl.len() >= 40,
-        "{} + {} shaders written by others (the set must hold at least 40)",
-        glsl.len(),
-        wgsl.len()
-    );
-    let measured: BTreeMap<String, Value> = glsl
+    let options = Options::read(&repo_others().join("options.json"));
+    let all: Vec<String> = files("glsl", "frag")
+        .into_iter()
+        .chain(files("wgsl", "wgsl"))
+        .collect();
+    let measured: BTreeMap<String, Value> = all
         .iter()
-        .map(|p| {
-            (
-                format!("glsl/{}", p.file_name().unwrap().to_string_lossy()),
-                p,
-            )
-        })
-        .chain(wgsl.iter().map(|p| {
-            (
-                format!("wgsl/{}", p.file_name().unwrap().to_string_lossy()),
-                p,
-            )
-        }))
-        .map(|(k, p)| (k, measure_guarded(p)))
+        .map(|f| (f.clone(), measure_guarded(f, &options)))
         .collect();
 
-    let (glsl_ok, glsl_n) = rate(&measured, "glsl/");
-    let (wgsl_ok, wgsl_n) = rate(&measured, "wgsl/");
-    let pct = |ok: usize, n: usize| 100.0 * ok as f64 / n.max(1) as f64;
-    eprintln!(
-        "shaders written by others: GLSL {glsl_ok}/{glsl_n} parse ({:.1} %), WGSL {wgsl_ok}/{wgsl_n} ({:.1} %)",
-        pct(glsl_ok, glsl_n),
-        pct(wgsl_ok, wgsl_n)
-    );
-
-    let text = serde_json::to_string(&measured).unwrap();
     for (name, row) in &measured {
         assert!(row.get("panic").is_none(), "{name} panicked: {row}");
     }
+    let text = serde_json::to_string(&measured).unwrap();
     assert!(
         !text.contains("internal error"),
         "an internal error: {}",
         serde_json::to_string_pretty(&measured).unwrap()
     );
 
+    let rows = entry_rows(&measured);
+    let parsed = rows.iter().filter(|r| r.3["parses"] == true).count();
+    let projects: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.1).collect();
+    let pct = 100.0 * parsed as f64 / rows.len().max(1) as f64;
+    eprintln!(
+        "shaders written by others: {parsed}/{} entry points parse ({pct:.1} %), {} files, {} projects\n{}",
+        rows.len(),
+        measured.len(),
+        projects.len(),
+        summary(&measured, &options)
+    );
+
     let table = serde_json::to_string_pretty(&measured).unwrap();
     // The table stays beside SOURCES.md even when REPROJ_OTHERS_CORPUS points elsewhere.
-    let snapshots = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/others/snapshots");
-    insta::with_settings!({snapshot_path => snapshots}, {
+    insta::with_settings!({snapshot_path => repo_others().join("snapshots")}, {
         insta::assert_snapshot!("table", table);
     });
+    let unexplained: Vec<&str> = rows
+        .iter()
+        .filter(|r| r.3["parses"] != true && options.reason(r.0).is_none())
+        .map(|r| r.0)
+        .collect();
     assert!(
-        pct(glsl_ok, glsl_n) >= GLSL_TARGET,
-        "GLSL parse rate {glsl_ok}/{glsl_n}"
+        unexplained.is_empty(),
+        "entry points that do not parse with no reason in options.json: {unexplained:?}"
+    );
+    let invalid = invalid_files(&measured);
+    assert!(
+        invalid.is_empty(),
+        "files that do not validate: {invalid:#?}"
     );
     assert!(
-        pct(wgsl_ok, wgsl_n) >= WGSL_TARGET,
-        "WGSL parse rate {wgsl_ok}/{wgsl_n}"
+        rows.len() >= 150 && projects.len() >= 8,
+        "the set must hold at least 150 entry points from 8 projects"
+    );
+    assert!(
+        pct >= PARSE_TARGET,
+        "parse rate {parsed}/{}: under {PARSE_TARGET} %",
+        rows.len()
     );
 }

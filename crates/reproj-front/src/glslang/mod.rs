@@ -154,7 +154,7 @@ fn compile(path: &Path, source: &str, input: &ShaderInput) -> Result<Vec<u32>, G
     let written = {
         use std::io::Write;
         let mut stdin = child.stdin.take().expect("stdin is piped");
-        stdin.write_all(source.as_bytes())
+        stdin.write_all(with_include_directive(source).as_bytes())
     };
     let output = child
         .wait_with_output()
@@ -183,6 +183,40 @@ fn compile(path: &Path, source: &str, input: &ShaderInput) -> Result<Vec<u32>, G
         .chunks(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect())
+}
+
+/// `source` with `#extension GL_GOOGLE_include_directive : require` after its `#version` where
+/// it `#include`s without asking for the extension: shaderc, the compiler most Vulkan projects
+/// build with, turns it on by itself, so their shaders never ask. A `#line` after it keeps every
+/// line at its number.
+pub(crate) fn with_include_directive(source: &str) -> std::borrow::Cow<'_, str> {
+    let includes = source
+        .lines()
+        .any(|l| l.trim_start().starts_with("#include"));
+    if !includes || source.contains("GL_GOOGLE_include_directive") {
+        return source.into();
+    }
+    let Some(version) = source
+        .lines()
+        .position(|l| l.trim_start().starts_with("#version"))
+    else {
+        return source.into();
+    };
+    let mut out = String::with_capacity(source.len() + 64);
+    for (i, line) in source.split_inclusive('\n').enumerate() {
+        out.push_str(line);
+        if i == version {
+            if !line.ends_with('\n') {
+                out.push('\n');
+            }
+            // `#line N`: the next line is line N (1-based), as it was.
+            out.push_str(&format!(
+                "#extension GL_GOOGLE_include_directive : require\n#line {}\n",
+                i + 2
+            ));
+        }
+    }
+    out.into()
 }
 
 /// `input`'s defs as GLSL macros, name and value (a bool is 1 or 0).
