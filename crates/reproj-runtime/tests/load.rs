@@ -154,7 +154,7 @@ fn a_broken_manifest_names_the_file_and_the_field() {
         .clone();
     std::fs::remove_file(to.join(&file)).unwrap();
     match Variant::load(&to) {
-        Err(RuntimeError::Read { path, .. }) => assert_eq!(path, to.join(&file)),
+        Err(RuntimeError::File(e)) => assert_eq!(e.path(), to.join(&file)),
         other => panic!("a missing pass file: {other:?}"),
     }
     // Not JSON at all.
