@@ -1369,8 +1369,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             crate::TypeInner::Array { size, .. } => {
                 let size = match size {
                     crate::ArraySize::Constant(size) => size.get(),
+                    // reproj patch: an array sized by an override is an error, not `unreachable!`.
                     crate::ArraySize::Pending(_) => {
-                        unreachable!();
+                        return Err(Error::InvalidAccessType(root_type_id))
                     }
                     // A runtime sized array is not a composite type
                     crate::ArraySize::Dynamic => {
@@ -1393,6 +1394,11 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             }
             _ => return Err(Error::InvalidAccessType(root_type_id)),
         };
+        // reproj patch: a selection past the composite's components is an error, not an index
+        // out of bounds.
+        if selection as usize >= count {
+            return Err(Error::InvalidAccessIndex(selection));
+        }
 
         let mut components = Vec::with_capacity(count);
         for index in 0..count as u32 {
