@@ -43,12 +43,7 @@ pub fn load_file_with(
     input: &ShaderInput,
 ) -> Result<Shader, FrontError> {
     let shader = read_file_with(path, lang, input)?;
-    crate::memory::check_memory(
-        path,
-        &shader.module,
-        &shader.info,
-        crate::memory::budget_mib(),
-    )?;
+    crate::memory::check_shader(path, &shader)?;
     Ok(shader)
 }
 

@@ -61,6 +61,12 @@ pub fn budget_mib() -> u64 {
         .unwrap_or(DEFAULT_BUDGET_MIB)
 }
 
+/// [`check_memory`] of a parsed shader against [`budget_mib`]: what every reader of a shader file
+/// calls (the front end's [`crate::load::load_file_with`], and a variant's passes).
+pub fn check_shader(path: &Path, shader: &crate::Shader) -> Result<(), Box<OverBudget>> {
+    check_memory(path, &shader.module, &shader.info, budget_mib())
+}
+
 /// Refuse `module` (read from `path`) when one of its entry points' private, function and
 /// workgroup variables take more than `budget_mib` MiB of GPU memory, counted as the module
 /// documentation says. `info` is the module's validation info (which globals each entry uses).

@@ -20,7 +20,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, RwLock};
 
-use crate::holder::{Holder, Liveness, alive};
+use crate::holder::{Holder, Liveness};
 use crate::write::WriteError;
 
 static REGISTERED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
@@ -85,8 +85,9 @@ pub fn remove_registered() {
     drop(closing);
 }
 
-/// The pid in a temporary sibling's name `.{name}.{what}{pid}-{n}` (see `temp_sibling`).
-fn sibling_pid(file: &str, name: &str) -> Option<u32> {
+/// The identity in a temporary sibling's name `.{name}.{what}{tag}-{n}` (see `temp_sibling` and
+/// [`Holder::tag`]; an older name holds the pid alone), with the boot id and host short.
+fn sibling_holder(file: &str, name: &str) -> Option<Holder> {
     let rest = file
         .strip_prefix('.')?
         .strip_prefix(name)?
@@ -94,13 +95,16 @@ fn sibling_pid(file: &str, name: &str) -> Option<u32> {
     let rest = ["staged", "old", "tmp"]
         .iter()
         .find_map(|w| rest.strip_prefix(w))?;
-    let (pid, n) = rest.split_once('-')?;
-    n.bytes().all(|b| b.is_ascii_digit()).then_some(())?;
-    pid.parse().ok()
+    let (tag, n) = rest.rsplit_once('-')?;
+    (!n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())).then_some(())?;
+    Holder::parse_tag(tag)
 }
 
 /// Remove the hidden temporary siblings of `path` (staged directories, temporary files, old
-/// directories being replaced) left by processes that no longer run.
+/// directories being replaced) left by processes that no longer run, by the test locks use
+/// ([`Holder::liveness`]): a sibling whose pid now belongs to a process that started later, or
+/// that was written before the last boot, is swept; one of a running process (this one
+/// included), or written on another host, is kept.
 pub fn sweep_stale(path: &Path) {
     let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
         return;
@@ -112,12 +116,13 @@ pub fn sweep_stale(path: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
+    let me = Holder::me().short();
     for e in entries.flatten() {
         let file = e.file_name();
-        let Some(pid) = file.to_str().and_then(|f| sibling_pid(f, name)) else {
+        let Some(holder) = file.to_str().and_then(|f| sibling_holder(f, name)) else {
             continue;
         };
-        if pid == std::process::id() || alive(pid) {
+        if holder.liveness(&me) == Liveness::Running {
             continue;
         }
         let p = e.path();
@@ -207,12 +212,26 @@ mod tests {
 
     #[test]
     fn sibling_names_parse() {
-        assert_eq!(sibling_pid(".out.staged123-0", "out"), Some(123));
-        assert_eq!(sibling_pid(".p.json.tmp77-12", "p.json"), Some(77));
-        assert_eq!(sibling_pid(".out.old9-1", "out"), Some(9));
-        assert_eq!(sibling_pid(".out.staged123", "out"), None);
-        assert_eq!(sibling_pid(".other.staged1-0", "out"), None);
-        assert_eq!(sibling_pid("out.staged1-0", "out"), None);
+        let pid = |f: &str, name: &str| sibling_holder(f, name).map(|h| h.pid);
+        assert_eq!(pid(".out.staged123-0", "out"), Some(123));
+        assert_eq!(pid(".p.json.tmp77-12", "p.json"), Some(77));
+        assert_eq!(pid(".out.old9-1", "out"), Some(9));
+        assert_eq!(pid(".out.staged123", "out"), None);
+        assert_eq!(pid(".other.staged1-0", "out"), None);
+        assert_eq!(pid("out.staged1-0", "out"), None);
+        assert_eq!(pid(".out.staged12.x3-0", "out"), None);
+        // What this process's writers name their siblings: the whole identity, short.
+        let me = Holder::me();
+        let file = format!(".out.staged{}-4", me.tag());
+        assert_eq!(sibling_holder(&file, "out"), Some(me.short()));
+        let full = Holder {
+            pid: 5,
+            start: Some(77),
+            boot: Some("b".into()),
+            host: Some("h".into()),
+        };
+        let file = format!(".out.tmp{}-0", full.tag());
+        assert_eq!(sibling_holder(&file, "out"), Some(full.short()));
     }
 
     #[test]
@@ -226,11 +245,70 @@ mod tests {
             .path()
             .join(format!(".frames.staged{}-0", std::process::id()));
         std::fs::create_dir(&live).unwrap();
+        let mine = dir
+            .path()
+            .join(format!(".frames.staged{}-1", Holder::me().tag()));
+        std::fs::create_dir(&mine).unwrap();
         let other = dir.path().join(".notes.tmp4999999-0");
         std::fs::write(&other, "x").unwrap();
         sweep_stale(&out);
         assert!(!dead.exists());
-        assert!(live.exists() && other.exists());
+        assert!(live.exists() && mine.exists() && other.exists());
+    }
+
+    /// The sweep tells a sibling's writer as locks do: a reused pid or another boot is stale,
+    /// a running process (its start time matching) or another host is kept.
+    #[test]
+    fn a_sibling_whose_pid_was_reused_is_swept_one_of_a_running_process_kept() {
+        let me = Holder::me();
+        let (Some(start), Some(init_start)) = (me.start, crate::holder::start_time(1)) else {
+            return; // no /proc: a reused pid cannot be told from its writer
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("frames");
+        let sibling = |h: &Holder, n: u32| {
+            let p = dir.path().join(format!(".frames.staged{}-{n}", h.tag()));
+            std::fs::create_dir_all(p.join("frame_000.png")).unwrap();
+            p
+        };
+        // Pid 1 runs, but it did not write this: that process started at another time.
+        let reused = sibling(
+            &Holder {
+                pid: 1,
+                start: Some(init_start + start + 1),
+                ..me.clone()
+            },
+            0,
+        );
+        // Pid 1 with its real start time: running, kept.
+        let init = Holder {
+            pid: 1,
+            start: Some(init_start),
+            ..me.clone()
+        };
+        let running = sibling(&init, 1);
+        // Written before the last boot: stale whatever its pid.
+        let rebooted = sibling(
+            &Holder {
+                boot: Some("00000000-0000-0000-0000-000000000000".into()),
+                ..init.clone()
+            },
+            2,
+        );
+        // Another host's process cannot be checked from here: kept, even with no such pid here.
+        let remote = sibling(
+            &Holder {
+                pid: 4_999_999,
+                host: Some("elsewhere".into()),
+                ..me.clone()
+            },
+            3,
+        );
+        // This process: kept.
+        let mine = sibling(&me, 4);
+        sweep_stale(&out);
+        assert!(!reused.exists() && !rebooted.exists());
+        assert!(running.exists() && remote.exists() && mine.exists());
     }
 
     #[test]

@@ -10,8 +10,14 @@
 //!
 //! Without `/proc` (not Linux), every process is taken as running: nothing is taken over by
 //! mistake.
+//!
+//! A temporary sibling (a staged directory, a temporary file) carries the same identity in its
+//! name ([`Holder::tag`]), the boot id and host shortened to a hash, so the sweep of stale
+//! siblings uses the same test as locks: a sibling whose pid was reused is swept, and one of a
+//! process running here, or on another host, is kept.
 
 use std::path::Path;
+use std::sync::OnceLock;
 
 /// The identity of the process that wrote a lock, as recorded in it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -33,14 +39,75 @@ pub(crate) enum Liveness {
 }
 
 impl Holder {
-    /// This process.
+    /// This process (read from `/proc` once).
     pub fn me() -> Holder {
-        let pid = std::process::id();
+        static ME: OnceLock<Holder> = OnceLock::new();
+        ME.get_or_init(|| {
+            let pid = std::process::id();
+            Holder {
+                pid,
+                start: start_time(pid),
+                boot: read_line(Path::new("/proc/sys/kernel/random/boot_id")),
+                host: read_line(Path::new("/proc/sys/kernel/hostname")),
+            }
+        })
+        .clone()
+    }
+
+    /// The identity as a file name's part: `{pid}` then `.s{start}`, `.b{boot}`, `.h{host}` for
+    /// those known, the boot id and host as 8 hex digits of their hash ([`Holder::short`]).
+    pub fn tag(&self) -> String {
+        let short = self.short();
+        let mut s = short.pid.to_string();
+        if let Some(t) = short.start {
+            s += &format!(".s{t}");
+        }
+        if let Some(b) = &short.boot {
+            s += &format!(".b{b}");
+        }
+        if let Some(h) = &short.host {
+            s += &format!(".h{h}");
+        }
+        s
+    }
+
+    /// Parse [`tag`](Self::tag)'s format (a pid alone is what older names hold); `None` when it
+    /// is not one. The boot id and host are the short forms: compare with [`Holder::short`].
+    pub fn parse_tag(tag: &str) -> Option<Holder> {
+        let mut parts = tag.split('.');
+        let pid = parts.next()?;
+        if pid.is_empty() || !pid.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        let mut h = Holder {
+            pid: pid.parse().ok()?,
+            start: None,
+            boot: None,
+            host: None,
+        };
+        let hex = |v: &str| {
+            (v.len() == 8 && v.bytes().all(|b| b.is_ascii_hexdigit())).then(|| v.to_owned())
+        };
+        for part in parts {
+            match part.split_at_checked(1)? {
+                ("s", v) if h.start.is_none() => h.start = Some(v.parse().ok()?),
+                ("b", v) if h.boot.is_none() => h.boot = Some(hex(v)?),
+                ("h", v) if h.host.is_none() => h.host = Some(hex(v)?),
+                _ => return None,
+            }
+        }
+        Some(h)
+    }
+
+    /// The same identity with the boot id and host replaced by 8 hex digits of their FNV-1a hash:
+    /// what a name holds ([`Holder::tag`]), and what a parsed tag is compared with.
+    pub fn short(&self) -> Holder {
+        let hash = |s: &String| crate::content_hash(s.as_bytes())[..8].to_owned();
         Holder {
-            pid,
-            start: start_time(pid),
-            boot: read_line(Path::new("/proc/sys/kernel/random/boot_id")),
-            host: read_line(Path::new("/proc/sys/kernel/hostname")),
+            pid: self.pid,
+            start: self.start,
+            boot: self.boot.as_ref().map(hash),
+            host: self.host.as_ref().map(hash),
         }
     }
 
@@ -111,7 +178,7 @@ impl Holder {
 }
 
 /// Whether a process `pid` exists. Without `/proc` every pid is taken as running.
-pub(crate) fn alive(pid: u32) -> bool {
+fn alive(pid: u32) -> bool {
     let proc = Path::new("/proc");
     !proc.is_dir() || proc.join(pid.to_string()).exists()
 }
@@ -161,6 +228,29 @@ mod tests {
             (42, None, None, None)
         );
         assert_eq!(Holder::parse("x\nstart=1"), None);
+    }
+
+    #[test]
+    fn tags_round_trip_short_and_old_names_parse() {
+        let me = Holder::me();
+        assert_eq!(Holder::parse_tag(&me.tag()), Some(me.short()));
+        let full = Holder {
+            pid: 9,
+            start: Some(123),
+            boot: Some("0f1e2d3c-aaaa-bbbb-cccc-000011112222".into()),
+            host: Some("a host.example".into()),
+        };
+        let tag = full.tag();
+        assert!(tag.starts_with("9.s123.b") && !tag.contains(' '), "{tag}");
+        assert_eq!(Holder::parse_tag(&tag), Some(full.short()));
+        let old = Holder::parse_tag("42").unwrap();
+        assert_eq!(
+            (old.pid, old.start, old.boot, old.host),
+            (42, None, None, None)
+        );
+        for bad in ["", "x", "4.s", "4.sx", "4.bxyz", "4.s1.s2", "4.q1", "-4"] {
+            assert_eq!(Holder::parse_tag(bad), None, "{bad}");
+        }
     }
 
     #[test]

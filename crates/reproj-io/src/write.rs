@@ -63,14 +63,17 @@ fn injected(path: &Path) -> std::io::Result<()> {
 }
 
 /// A name for a temporary sibling of `path`: hidden, unique within the process and across
-/// processes.
+/// processes, and naming its writer as a lock does (pid, start time, boot and host:
+/// [`crate::holder::Holder::tag`]), so that [`crate::sweep_stale`] sweeps it once that process
+/// is gone, even when its pid was given to another.
 fn temp_sibling(path: &Path, what: &str) -> PathBuf {
     static COUNTER: AtomicU32 = AtomicU32::new(0);
     let name = path
         .file_name()
         .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.{what}{}-{n}", std::process::id()))
+    let me = crate::holder::Holder::me().tag();
+    path.with_file_name(format!(".{name}.{what}{me}-{n}"))
 }
 
 fn parent_of(path: &Path) -> &Path {

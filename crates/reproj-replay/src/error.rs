@@ -48,6 +48,10 @@ pub enum ReplayError {
     ReferenceMismatch { reference: String, session: String },
     #[error("variant: {message}")]
     Variant { message: String },
+    /// A variant's pass whose arrays take more GPU memory than the budget
+    /// ([`reproj_front::memory`]), refused when it is read.
+    #[error(transparent)]
+    Memory(#[from] Box<reproj_front::memory::OverBudget>),
     #[error(transparent)]
     Write(#[from] reproj_io::WriteError),
     #[error(transparent)]

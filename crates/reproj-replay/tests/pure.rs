@@ -1,5 +1,6 @@
-//! The generated vertex stage, without a GPU: its WGSL validates and feeds every fragment input,
-//! and what it cannot feed is an error naming each input.
+//! Without a GPU: the generated vertex stage's WGSL validates and feeds every fragment input, and
+//! what it cannot feed is an error naming each input; a variant folder whose pass is over the GPU
+//! memory budget is refused when it is read, naming the pass's file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -91,4 +92,33 @@ fn merging_inputs_refuses_disagreeing_types() {
     assert!(merge_inputs(&[&iface.inputs, &iface.inputs]).is_ok());
     let e = merge_inputs(&[&iface.inputs, &other]).unwrap_err();
     assert!(e.to_string().contains("@location(0)"), "{e}");
+}
+
+/// A variant folder is read through `VariantInput::from_dir`, not the front end's loader: its
+/// passes are held to the same GPU memory budget, and a pass over it is refused naming its file.
+#[test]
+fn a_variant_pass_past_the_gpu_memory_budget_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let from = data("variant_tiny");
+    for e in std::fs::read_dir(&from).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dir.path().join(p.file_name().unwrap())).unwrap();
+    }
+    reproj_replay::VariantInput::from_dir(dir.path(), 2).expect("the variant as written");
+    let pass = dir.path().join("pass2_recompute.wgsl");
+    std::fs::write(
+        &pass,
+        "var<private> big: array<f32, 16777216>;\n@fragment\nfn main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    big[u32(p.x)] = p.y;\n    return vec4<f32>(big[u32(p.y)]);\n}\n",
+    )
+    .unwrap();
+    let e = reproj_replay::VariantInput::from_dir(dir.path(), 2).unwrap_err();
+    assert!(matches!(e, ReplayError::Memory(_)), "{e:?}");
+    assert!(e.is_user_error());
+    let m = e.to_string();
+    assert!(
+        m.starts_with(&format!("{}: `big` (private)", pass.display()))
+            && m.contains("over the GPU memory budget")
+            && m.contains("REPROJ_MAX_SHADER_MEMORY_MB"),
+        "{m}"
+    );
 }

@@ -52,13 +52,10 @@ pub struct CapturedFrame {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum CaptureError {
-    /// The base session could not be read.
-    #[error("reading {path}: {source}")]
-    Read {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// The base session was not read: missing, not a regular file, past its
+    /// [`crate::ReadLimits`] limit, or not text.
+    #[error(transparent)]
+    File(#[from] crate::FileError),
     /// The base session is not a JSON object of a reproj session.
     #[error("{path}: {message}")]
     Base { path: PathBuf, message: String },
@@ -90,12 +87,19 @@ pub struct SessionCapture {
 impl SessionCapture {
     /// Start from the session file at `path` (its file references, such as meshes and textures,
     /// are relative to its folder: write the recording beside it, or make them absolute).
+    /// Only a regular file within the default [`crate::ReadLimits`] is read, as the reproj CLI
+    /// reads a session.
     pub fn from_file(path: impl AsRef<Path>) -> Result<SessionCapture, CaptureError> {
+        SessionCapture::from_file_with(path, &crate::ReadLimits::default())
+    }
+
+    /// [`SessionCapture::from_file`] within `limits` (`json_bytes`).
+    pub fn from_file_with(
+        path: impl AsRef<Path>,
+        limits: &crate::ReadLimits,
+    ) -> Result<SessionCapture, CaptureError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| CaptureError::Read {
-            path: path.to_owned(),
-            source,
-        })?;
+        let text = crate::files::read_text(path, crate::files::FileKind::Json, limits)?;
         let base: Value = serde_json::from_str(&text).map_err(|e| CaptureError::Base {
             path: path.to_owned(),
             message: format!("not JSON: {e}"),

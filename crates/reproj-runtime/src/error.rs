@@ -8,13 +8,10 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum RuntimeError {
-    /// A file of the variant (its manifest or a pass) could not be read.
-    #[error("reading {path}: {source}")]
-    Read {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// A file of the variant (its manifest or a pass) was not read: missing, not a regular
+    /// file, past its [`crate::ReadLimits`] limit, or not text.
+    #[error(transparent)]
+    File(#[from] crate::FileError),
     /// `manifest.json` is not JSON, or a field does not have the schema's type.
     #[error("{path}: `{field}`: {message}")]
     Parse {

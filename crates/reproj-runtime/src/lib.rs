@@ -114,6 +114,7 @@
 mod build;
 pub mod capture;
 mod error;
+mod files;
 pub mod manifest;
 mod plan;
 mod resources;
@@ -123,6 +124,7 @@ mod webgpu;
 
 pub use capture::{CaptureError, CapturedCamera, CapturedFrame, SessionCapture};
 pub use error::RuntimeError;
+pub use files::{FileError, ReadLimits};
 pub use resources::{FrameInputs, FrameTargets, Setup, VariantResources, VertexStage};
 pub use shared::SharedGroup;
 pub use variant::Variant;

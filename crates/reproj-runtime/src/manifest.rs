@@ -13,6 +13,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::RuntimeError;
+use crate::files::{self, ReadLimits};
 
 /// The schema name and the versions this runtime reads (version 4 only added which nodes the
 /// payload holds, which a host need not know; version 5 the run-time Δn schedule,
@@ -290,12 +291,15 @@ pub struct DepthState {
 impl Manifest {
     /// Read `path` (a variant's `manifest.json`): the schema name and version first (an older or
     /// newer manifest gets a message naming its version, not the first field that differs), then
-    /// the rest, typed with the failing field's path.
+    /// the rest, typed with the failing field's path. Only a regular file within the default
+    /// [`ReadLimits`] is read ([`crate::files`]).
     pub fn read(path: &Path) -> Result<Manifest, RuntimeError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RuntimeError::Read {
-            path: path.to_owned(),
-            source,
-        })?;
+        Manifest::read_with(path, &ReadLimits::default())
+    }
+
+    /// [`Manifest::read`] within `limits`.
+    pub fn read_with(path: &Path, limits: &ReadLimits) -> Result<Manifest, RuntimeError> {
+        let text = files::read_text(path, files::FileKind::Json, limits)?;
         Manifest::parse(path, &text)
     }
 

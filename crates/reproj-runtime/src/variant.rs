@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use crate::manifest::{Manifest, VertexContract};
 use crate::plan::{self, Plan};
-use crate::{RuntimeError, Setup, VariantResources};
+use crate::{ReadLimits, RuntimeError, Setup, VariantResources};
 
 /// A variant written by `reproj emit` or `reproj instance`: its manifest and pass sources, checked.
 /// Nothing here touches a GPU; [`Variant::create`] builds it on a device.
@@ -21,10 +21,19 @@ pub struct Variant {
 impl Variant {
     /// Read `dir/manifest.json` (schema `reproj.manifest`, versions 3 to 7) and the pass files it
     /// names, and check every field the runtime uses: an error names the file and the field.
+    ///
+    /// Each file is read as the reproj CLI reads it: a regular file (a folder, a named pipe or a
+    /// device is refused before it is opened) within the default [`ReadLimits`], and each pass a
+    /// file of `dir` (a link out of it is refused).
     pub fn load(dir: impl AsRef<Path>) -> Result<Variant, RuntimeError> {
+        Variant::load_with(dir, &ReadLimits::default())
+    }
+
+    /// [`Variant::load`] within `limits` (to read a manifest or pass larger than the defaults).
+    pub fn load_with(dir: impl AsRef<Path>, limits: &ReadLimits) -> Result<Variant, RuntimeError> {
         let dir = dir.as_ref();
-        let manifest = Manifest::read(&plan::manifest_path(dir))?;
-        let plan = Plan::new(dir, &manifest)?;
+        let manifest = Manifest::read_with(&plan::manifest_path(dir), limits)?;
+        let plan = Plan::new(dir, &manifest, limits)?;
         Ok(Variant {
             dir: dir.to_owned(),
             manifest,

@@ -1,11 +1,12 @@
-//! `Variant::load` without a GPU: a variant `reproj instance` writes loads, and each broken
-//! manifest is an error naming the file and the field, never a panic.
+//! `Variant::load` without a GPU: a variant `reproj instance` writes loads, each broken
+//! manifest is an error naming the file and the field, never a panic, and its files are read as
+//! the CLI reads its inputs (no pipe waited on, no link out of the folder, a size limit).
 
 mod common;
 
 use std::path::Path;
 
-use reproj_runtime::{RuntimeError, Variant};
+use reproj_runtime::{FileError, ReadLimits, RuntimeError, Variant};
 use serde_json::{Value, json};
 
 use common::instance_marble;
@@ -154,7 +155,7 @@ fn a_broken_manifest_names_the_file_and_the_field() {
         .clone();
     std::fs::remove_file(to.join(&file)).unwrap();
     match Variant::load(&to) {
-        Err(RuntimeError::Read { path, .. }) => assert_eq!(path, to.join(&file)),
+        Err(RuntimeError::File(e)) => assert_eq!(e.path(), to.join(&file)),
         other => panic!("a missing pass file: {other:?}"),
     }
     // Not JSON at all.
@@ -164,4 +165,75 @@ fn a_broken_manifest_names_the_file_and_the_field() {
         text.contains("manifest.json") && text.contains("not JSON"),
         "{text}"
     );
+}
+
+/// The CLI's door rules: a pass linked out of the variant's folder is refused at its field, a
+/// pass past the limit names the limit to raise (and `load_with` raises it), and a manifest that
+/// is a named pipe is refused without being waited on.
+#[cfg(unix)]
+#[test]
+fn files_are_read_as_the_cli_reads_its_inputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("v");
+    instance_marble(&dir, &["--strategy", "3pass"]);
+    let passes: Vec<String> = Variant::load(&dir)
+        .unwrap()
+        .manifest()
+        .passes
+        .iter()
+        .map(|p| p.file.clone())
+        .collect();
+
+    // A pass that is a link to a file elsewhere: its text is never read.
+    let to = tmp.path().join("linked");
+    edited(&dir, &to, |_| {});
+    let outside = tmp.path().join("outside.wgsl");
+    std::fs::rename(to.join(&passes[0]), &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, to.join(&passes[0])).unwrap();
+    let text = Variant::load(&to).unwrap_err().to_string();
+    assert!(
+        text.contains("`passes[0].file`") && text.contains("a link out of the variant's directory"),
+        "{text}"
+    );
+
+    // Past the limit: the largest pass is refused, naming it and the limit to raise.
+    let (largest, size) = passes
+        .iter()
+        .map(|f| (f, std::fs::metadata(dir.join(f)).unwrap().len()))
+        .max_by_key(|&(_, n)| n)
+        .unwrap();
+    let small = ReadLimits {
+        shader_bytes: size - 1,
+        ..ReadLimits::default()
+    };
+    match Variant::load_with(&dir, &small) {
+        Err(RuntimeError::File(e @ FileError::TooLarge { .. })) => {
+            assert_eq!(e.path(), dir.join(largest));
+            assert!(e.to_string().contains("ReadLimits::shader_bytes"), "{e}");
+        }
+        other => panic!("a pass past the limit: {other:?}"),
+    }
+    let enough = ReadLimits {
+        shader_bytes: size,
+        ..small
+    };
+    assert_eq!(
+        Variant::load_with(&dir, &enough).unwrap().pass_count(),
+        passes.len()
+    );
+
+    // A manifest that is a named pipe: refused before it is opened (opening would block).
+    let piped = tmp.path().join("piped");
+    std::fs::create_dir(&piped).unwrap();
+    let made = std::process::Command::new("mkfifo")
+        .arg(piped.join("manifest.json"))
+        .status()
+        .is_ok_and(|s| s.success());
+    assert!(made, "mkfifo");
+    match Variant::load(&piped) {
+        Err(RuntimeError::File(FileError::NotAFile { what, .. })) => {
+            assert_eq!(what, "a named pipe")
+        }
+        other => panic!("a manifest that is a pipe: {other:?}"),
+    }
 }

@@ -1,6 +1,6 @@
 //! Bad written variants (`render --variant`): missing, a manifest that is not JSON, of another
-//! version or without passes; a manifest naming a pass outside its folder; and a variant run
-//! with a shader that is not its own.
+//! version or without passes; a manifest naming a pass outside its folder; a pass whose arrays are
+//! over the GPU memory budget; and a variant run with a shader that is not its own.
 
 use super::{Case, Good, case, input};
 
@@ -13,6 +13,9 @@ const RENDER_V: [&str; 6] = [
     "--variant",
     "v",
 ];
+
+/// A pass whose private array takes 64 MiB per invocation: over the GPU memory budget.
+const BIG_PASS: &str = "var<private> big: array<f32, 16777216>;\n@fragment\nfn main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    big[u32(p.x)] = p.y;\n    return vec4<f32>(big[u32(p.y)]);\n}\n";
 
 pub(super) fn cases(good: &Good) -> Vec<Case> {
     let manifest = |edit: &dyn Fn(&mut serde_json::Value)| good.manifest(edit);
@@ -36,6 +39,19 @@ pub(super) fn cases(good: &Good) -> Vec<Case> {
             )],
             &RENDER_V,
             "outside the manifest's folder",
+        ),
+        // A variant's pass is a shader read from a file: the same GPU memory budget as any.
+        case(
+            "variant pass over the GPU memory budget",
+            &[
+                (
+                    "v/manifest.json",
+                    &manifest(&|v| v["passes"][0]["file"] = "big.wgsl".into()),
+                ),
+                ("v/big.wgsl", BIG_PASS),
+            ],
+            &RENDER_V,
+            "big.wgsl: `big` (private) takes 67108864 bytes per invocation",
         ),
         // Written variants.
         case(

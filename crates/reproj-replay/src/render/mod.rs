@@ -175,7 +175,9 @@ impl VariantInput {
             .unwrap_or(self.delta_n)
     }
 
-    /// From a directory holding `manifest.json` and the pass files it names.
+    /// From a directory holding `manifest.json` and the pass files it names: each pass inside the
+    /// directory, a regular file within the shader size limit ([`reproj_io::read_input`]), valid
+    /// WGSL, and within the GPU memory budget ([`reproj_front::memory`]).
     pub fn from_dir(dir: &Path, delta_n: u32) -> Result<Self, ReplayError> {
         let mpath = dir.join("manifest.json");
         let manifest: Manifest = reproj_io::read_json(&mpath, &MANIFEST_KIND)?;
@@ -187,10 +189,17 @@ impl VariantInput {
                 .map_err(|why| ReplayError::Variant {
                     message: format!("{}: field `passes[{i}].file`: {why}", mpath.display()),
                 })?;
-            sources.push(
-                reproj_io::read_input_string(&f, reproj_io::InputKind::Shader)
-                    .map_err(reproj_io::ReadError::from)?,
-            );
+            let source = reproj_io::read_input_string(&f, reproj_io::InputKind::Shader)
+                .map_err(reproj_io::ReadError::from)?;
+            // A pass is a shader read from a file: held to the same GPU memory budget as any
+            // other before anything renders it.
+            let shader = reproj_front::parse_shader(&f, source.clone()).map_err(|e| {
+                ReplayError::Variant {
+                    message: e.to_string(),
+                }
+            })?;
+            reproj_front::memory::check_shader(&f, &shader)?;
+            sources.push(source);
         }
         let mut v = Self::new(sources, manifest, delta_n);
         v.label = dir.display().to_string();

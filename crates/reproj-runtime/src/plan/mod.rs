@@ -6,9 +6,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::RuntimeError;
 use crate::manifest::{self, Manifest, ParamValue};
 use crate::webgpu;
+use crate::{ReadLimits, RuntimeError};
 
 mod pass;
 
@@ -158,8 +158,8 @@ impl At<'_> {
 }
 
 impl Plan {
-    /// Check `m` (read from `dir/manifest.json`) and read its pass files.
-    pub fn new(dir: &Path, m: &Manifest) -> Result<Plan, RuntimeError> {
+    /// Check `m` (read from `dir/manifest.json`) and read its pass files within `limits`.
+    pub fn new(dir: &Path, m: &Manifest, limits: &ReadLimits) -> Result<Plan, RuntimeError> {
         let path = manifest_path(dir);
         let at = At(&path);
         if !m.conventions.are_webgpu() {
@@ -184,6 +184,7 @@ impl Plan {
         let check = pass::Check {
             at: &at,
             dir,
+            limits,
             m,
             textures: &textures,
             samplers: &samplers,

@@ -8,6 +8,7 @@ use super::{
     TexturePlan,
 };
 use crate::RuntimeError;
+use crate::files::{self, ReadLimits};
 use crate::manifest::{self, LoadOp, Manifest, Pass, Resource};
 use crate::webgpu;
 
@@ -22,6 +23,7 @@ struct Bound {
 pub(super) struct Check<'a> {
     pub at: &'a At<'a>,
     pub dir: &'a Path,
+    pub limits: &'a ReadLimits,
     pub m: &'a Manifest,
     pub textures: &'a [TexturePlan],
     pub samplers: &'a [SamplerPlan],
@@ -31,17 +33,9 @@ impl Check<'_> {
     /// Pass `i`: its source read, its targets and bindings resolved.
     pub fn pass(&self, i: usize, p: &Pass) -> Result<PassPlan, RuntimeError> {
         let at = self.at;
-        if p.file.is_empty() || Path::new(&p.file).components().count() != 1 {
-            return Err(at.err(
-                format!("passes[{i}].file"),
-                format!("`{}` is not a file name in the variant's directory", p.file),
-            ));
-        }
-        let file = self.dir.join(&p.file);
-        let source = std::fs::read_to_string(&file).map_err(|source| RuntimeError::Read {
-            path: file.clone(),
-            source,
-        })?;
+        let file = files::inside(self.dir, &p.file)
+            .map_err(|why| at.err(format!("passes[{i}].file"), why))?;
+        let source = files::read_text(&file, files::FileKind::Shader, self.limits)?;
         let Bound {
             added,
             own_groups,

@@ -51,6 +51,16 @@ impl Alignment {
         let mask = self.0.get() - 1;
         (n + mask) & !mask
     }
+
+    /// [`round_up`](Self::round_up), or `None` past `u32::MAX` (reproj patch: the SPIR-V front
+    /// end lays out structs whose offsets come from the module).
+    pub const fn checked_round_up(&self, n: u32) -> Option<u32> {
+        let mask = self.0.get() - 1;
+        match n.checked_add(mask) {
+            Some(m) => Some(m & !mask),
+            None => None,
+        }
+    }
 }
 
 impl Display for Alignment {

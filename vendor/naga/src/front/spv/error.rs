@@ -113,6 +113,9 @@ pub enum Error {
     InvalidImageBaseType(Handle<crate::Type>),
     #[error("invalid image {0:?}")]
     InvalidImage(Handle<crate::Type>),
+    /// reproj patch: image coordinates that are neither a scalar nor a vector.
+    #[error("image coordinates of type {0:?}: neither a scalar nor a vector")]
+    InvalidImageCoordinates(Handle<crate::Type>),
     #[error("invalid as type {0:?}")]
     InvalidAsType(Handle<crate::Type>),
     #[error("invalid vector type {0:?}")]
@@ -139,6 +142,13 @@ pub enum Error {
     FunctionCallCycle(spirv::Word),
     #[error("invalid array size %{0}")]
     InvalidArraySize(spirv::Word),
+    /// reproj patch: a type the layouter refuses (an array past 4 GiB, a member of a later type).
+    #[error("{0}")]
+    Layout(crate::proc::LayoutError),
+    /// reproj patch: a struct (or an entry point's outputs) whose members' offsets and sizes add
+    /// up past 4 GiB.
+    #[error("the layout of %{0} is larger than 4 GiB")]
+    LayoutTooLarge(spirv::Word),
     #[error("invalid barrier scope %{0}")]
     InvalidBarrierScope(spirv::Word),
     #[error("invalid barrier memory semantics %{0}")]

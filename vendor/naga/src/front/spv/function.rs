@@ -415,8 +415,12 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
         // abstraction harder to follow than just writing out what we mean. `Layouter`
         // and `Alignment` cover the worst parts already.
         let mut members = Vec::new();
-        self.layouter.update(module.to_ctx()).unwrap();
-        let mut next_member_offset = 0;
+        // reproj patch: a type the layouter refuses, or outputs whose sizes add up past u32,
+        // are an error, not a panic or an overflow.
+        self.layouter
+            .update(module.to_ctx())
+            .map_err(Error::Layout)?;
+        let mut next_member_offset = 0u32;
         let mut struct_alignment = crate::proc::Alignment::ONE;
         let mut components = Vec::new();
         for &v_id in ep.variable_ids.iter() {
@@ -479,10 +483,14 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                             }
 
                             let member_alignment = self.layouter[sm.ty].alignment;
-                            next_member_offset = member_alignment.round_up(next_member_offset);
+                            next_member_offset = member_alignment
+                                .checked_round_up(next_member_offset)
+                                .ok_or(Error::LayoutTooLarge(v_id))?;
                             sm.offset = next_member_offset;
                             struct_alignment = struct_alignment.max(member_alignment);
-                            next_member_offset += self.layouter[sm.ty].size;
+                            next_member_offset = next_member_offset
+                                .checked_add(self.layouter[sm.ty].size)
+                                .ok_or(Error::LayoutTooLarge(v_id))?;
                             members.push(sm);
 
                             components.push(function.expressions.append(
@@ -503,7 +511,9 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                         }
 
                         let member_alignment = self.layouter[result.ty].alignment;
-                        next_member_offset = member_alignment.round_up(next_member_offset);
+                        next_member_offset = member_alignment
+                            .checked_round_up(next_member_offset)
+                            .ok_or(Error::LayoutTooLarge(v_id))?;
                         members.push(crate::StructMember {
                             name: None,
                             ty: result.ty,
@@ -511,7 +521,9 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                             offset: next_member_offset,
                         });
                         struct_alignment = struct_alignment.max(member_alignment);
-                        next_member_offset += self.layouter[result.ty].size;
+                        next_member_offset = next_member_offset
+                            .checked_add(self.layouter[result.ty].size)
+                            .ok_or(Error::LayoutTooLarge(v_id))?;
                         // populate just the globals first, then do `Load` in a
                         // separate step, so that we can get a range.
                         components.push(expr_handle);
@@ -597,7 +609,9 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                         name: None,
                         inner: crate::TypeInner::Struct {
                             members,
-                            span: struct_alignment.round_up(next_member_offset),
+                            span: struct_alignment
+                                .checked_round_up(next_member_offset)
+                                .ok_or(Error::LayoutTooLarge(fun_id))?,
                         },
                     },
                     span,

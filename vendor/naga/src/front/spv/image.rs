@@ -69,14 +69,16 @@ fn extract_image_coordinates(
     base: Handle<crate::Expression>,
     coordinate_ty: Handle<crate::Type>,
     ctx: &mut super::BlockContext,
-) -> (Handle<crate::Expression>, Option<Handle<crate::Expression>>) {
+) -> Result<(Handle<crate::Expression>, Option<Handle<crate::Expression>>), Error> {
     let (given_size, kind) = match ctx.module.types[coordinate_ty].inner {
         crate::TypeInner::Scalar(Scalar { kind, .. }) => (None, kind),
         crate::TypeInner::Vector {
             size,
             scalar: Scalar { kind, .. },
         } => (Some(size), kind),
-        ref other => unreachable!("Unexpected texture coordinate {:?}", other),
+        // reproj patch: coordinates of another type (a sampler, a struct) are an error, not
+        // `unreachable!`.
+        _ => return Err(Error::InvalidImageCoordinates(coordinate_ty)),
     };
 
     let required_size = image_dim.required_coordinate_size();
@@ -101,7 +103,7 @@ fn extract_image_coordinates(
 
     let base_span = ctx.expressions.get_span(base);
 
-    match extra_coordinate {
+    Ok(match extra_coordinate {
         ExtraCoordinate::ArrayLayer => {
             let extracted = match required_size {
                 None => ctx
@@ -191,7 +193,7 @@ fn extract_image_coordinates(
             };
             (ctx.expressions.append(cut_expr, base_span), None)
         }
-    }
+    })
 }
 
 pub(super) fn patch_comparison_type(
@@ -311,7 +313,7 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                 coord_handle,
                 coord_type_handle,
                 ctx,
-            ),
+            )?,
             _ => return Err(Error::InvalidImage(image_ty)),
         };
 
@@ -442,7 +444,7 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                     coord_handle,
                     coord_type_handle,
                     ctx,
-                );
+                )?;
                 (coord, array_index, class.is_depth())
             }
             _ => return Err(Error::InvalidImage(image_ty)),
@@ -724,8 +726,13 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
         };
 
         match ctx.expressions[si_lexp.sampler] {
+            // reproj patch: a sampler that is no image or sampler global is an error, not a panic.
             crate::Expression::GlobalVariable(handle) => {
-                *self.handle_sampling.get_mut(&handle).unwrap() |= sampling_bit;
+                *self
+                    .handle_sampling
+                    .get_mut(&handle)
+                    .ok_or(Error::InvalidGlobalVar(crate::Expression::GlobalVariable(handle)))? |=
+                    sampling_bit;
             }
 
             crate::Expression::FunctionArgument(i) => {
@@ -734,7 +741,9 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
 
             crate::Expression::Access { base, .. } => match ctx.expressions[base] {
                 crate::Expression::GlobalVariable(handle) => {
-                    *self.handle_sampling.get_mut(&handle).unwrap() |= sampling_bit;
+                    *self.handle_sampling.get_mut(&handle).ok_or(Error::InvalidGlobalVar(
+                        crate::Expression::GlobalVariable(handle),
+                    ))? |= sampling_bit;
                 }
 
                 ref other => return Err(Error::InvalidGlobalVar(other.clone())),
@@ -762,7 +771,7 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                         coord_handle,
                         coord_type_handle,
                         ctx,
-                    ),
+                    )?,
                     {
                         match dref_id {
                             Some(id) => {

@@ -1076,10 +1076,11 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
         let left = self.get_expr_handle(p1_id, p1_lexp, ctx, emitter, block, body_idx);
 
         let result_lookup_ty = self.lookup_type.lookup(result_type_id)?;
+        // reproj patch: a type with no scalar kind is an error, not a panic.
         let kind = ctx.module.types[result_lookup_ty.handle]
             .inner
             .scalar_kind()
-            .unwrap();
+            .ok_or(Error::InvalidInnerType(result_type_id))?;
 
         let expr = crate::Expression::Unary {
             op,
@@ -1142,10 +1143,11 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             SignAnchor::Operand => p1_lexp.type_id,
         };
         let expected_lookup_ty = self.lookup_type.lookup(expected_type_id)?;
+        // reproj patch: a type with no scalar kind is an error, not a panic.
         let kind = ctx.module.types[expected_lookup_ty.handle]
             .inner
             .scalar_kind()
-            .unwrap();
+            .ok_or(Error::InvalidInnerType(expected_type_id))?;
 
         let expr = crate::Expression::Binary {
             op,
@@ -1210,17 +1212,18 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
         let p1_lexp = self.lookup_expression.lookup(p1_id)?;
         let left = self.get_expr_handle(p1_id, p1_lexp, ctx, emitter, block, body_idx);
         let p1_lookup_ty = self.lookup_type.lookup(p1_lexp.type_id)?;
+        // reproj patch: an operand of a type with no scalar kind is an error, not a panic.
         let p1_kind = ctx.module.types[p1_lookup_ty.handle]
             .inner
             .scalar_kind()
-            .unwrap();
+            .ok_or(Error::InvalidInnerType(p1_lexp.type_id))?;
         let p2_lexp = self.lookup_expression.lookup(p2_id)?;
         let right = self.get_expr_handle(p2_id, p2_lexp, ctx, emitter, block, body_idx);
         let p2_lookup_ty = self.lookup_type.lookup(p2_lexp.type_id)?;
         let p2_kind = ctx.module.types[p2_lookup_ty.handle]
             .inner
             .scalar_kind()
-            .unwrap();
+            .ok_or(Error::InvalidInnerType(p2_lexp.type_id))?;
 
         let expr = crate::Expression::Binary {
             op,
@@ -1366,8 +1369,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             crate::TypeInner::Array { size, .. } => {
                 let size = match size {
                     crate::ArraySize::Constant(size) => size.get(),
+                    // reproj patch: an array sized by an override is an error, not `unreachable!`.
                     crate::ArraySize::Pending(_) => {
-                        unreachable!();
+                        return Err(Error::InvalidAccessType(root_type_id))
                     }
                     // A runtime sized array is not a composite type
                     crate::ArraySize::Dynamic => {
@@ -1390,6 +1394,11 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             }
             _ => return Err(Error::InvalidAccessType(root_type_id)),
         };
+        // reproj patch: a selection past the composite's components is an error, not an index
+        // out of bounds.
+        if selection as usize >= count {
+            return Err(Error::InvalidAccessIndex(selection));
+        }
 
         let mut components = Vec::with_capacity(count);
         for index in 0..count as u32 {
@@ -1823,7 +1832,11 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                     // skip all the fake IDs registered for the entry points
                     continue;
                 }
-                let lookup = self.lookup_function.get_mut(&fun_id).unwrap();
+                // reproj patch: a call of an id that is no function is an error, not a panic.
+                let lookup = self
+                    .lookup_function
+                    .get_mut(&fun_id)
+                    .ok_or(Error::InvalidId(fun_id))?;
                 // take out the function from the old array
                 let fun = mem::take(&mut functions[lookup.handle]);
                 // add it to the newly formed arena, and adjust the lookup
@@ -2393,7 +2406,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
         let decor = self.future_decor.remove(&id).unwrap_or_default();
         let base = self.lookup_type.lookup(type_id)?.handle;
 
-        self.layouter.update(module.to_ctx()).unwrap();
+        // reproj patch: a type the layouter refuses is an error, not a panic.
+        self.layouter
+            .update(module.to_ctx())
+            .map_err(Error::Layout)?;
 
         // HACK if the underlying type is an image or a sampler, let's assume
         //      that we're dealing with a binding-array
@@ -2474,7 +2490,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
         let decor = self.future_decor.remove(&id).unwrap_or_default();
         let base = self.lookup_type.lookup(type_id)?.handle;
 
-        self.layouter.update(module.to_ctx()).unwrap();
+        // reproj patch: a type the layouter refuses is an error, not a panic.
+        self.layouter
+            .update(module.to_ctx())
+            .map_err(Error::Layout)?;
 
         // HACK same case as in `parse_type_array()`
         let inner = if let crate::TypeInner::Image { .. } | crate::TypeInner::Sampler { .. } =
@@ -2525,7 +2544,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             .as_ref()
             .is_some_and(|decor| decor.storage_buffer);
 
-        self.layouter.update(module.to_ctx()).unwrap();
+        // reproj patch: a type the layouter refuses is an error, not a panic.
+        self.layouter
+            .update(module.to_ctx())
+            .map_err(Error::Layout)?;
 
         let mut members = Vec::<crate::StructMember>::with_capacity(inst.wc as usize - 2);
         let mut member_lookups = Vec::with_capacity(members.capacity());
@@ -2547,8 +2569,12 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                 row_major: decor.matrix_major == Some(Majority::Row),
             });
 
+            // reproj patch: offsets and sizes that add up past u32 are an error, not an
+            // overflow (a member's `Offset` decoration comes from the module).
             let member_alignment = self.layouter[ty].alignment;
-            span = member_alignment.round_up(span);
+            span = member_alignment
+                .checked_round_up(span)
+                .ok_or(Error::LayoutTooLarge(id))?;
             alignment = member_alignment.max(alignment);
 
             let binding = decor.io_binding().ok();
@@ -2557,7 +2583,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             }
             let offset = span;
 
-            span += self.layouter[ty].size;
+            span = span
+                .checked_add(self.layouter[ty].size)
+                .ok_or(Error::LayoutTooLarge(id))?;
 
             let inner = &module.types[ty].inner;
             if let crate::TypeInner::Matrix {
@@ -2587,7 +2615,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             });
         }
 
-        span = alignment.round_up(span);
+        span = alignment
+            .checked_round_up(span)
+            .ok_or(Error::LayoutTooLarge(id))?;
 
         let inner = crate::TypeInner::Struct { span, members };
 

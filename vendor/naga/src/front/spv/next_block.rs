@@ -890,7 +890,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
 
                     let result_ty = self.lookup_type.lookup(result_type_id)?;
                     let inner = &ctx.module.types[result_ty.handle].inner;
-                    let kind = inner.scalar_kind().unwrap();
+                    // reproj patch: a type with no scalar kind is an error, not a panic.
+                    let kind = inner
+                        .scalar_kind()
+                        .ok_or(Error::InvalidInnerType(result_type_id))?;
                     let size = inner.size(ctx.gctx()) as u8;
 
                     let left_cast = ctx.expressions.append(
@@ -1117,14 +1120,15 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                     let count_handle = get_expr_handle!(count_id, count_lexp);
                     let count_lookup_ty = self.lookup_type.lookup(count_lexp.type_id)?;
 
+                    // reproj patch: a type with no scalar kind is an error, not a panic.
                     let offset_kind = ctx.module.types[offset_lookup_ty.handle]
                         .inner
                         .scalar_kind()
-                        .unwrap();
+                        .ok_or(Error::InvalidInnerType(offset_lexp.type_id))?;
                     let count_kind = ctx.module.types[count_lookup_ty.handle]
                         .inner
                         .scalar_kind()
-                        .unwrap();
+                        .ok_or(Error::InvalidInnerType(count_lexp.type_id))?;
 
                     let offset_cast_handle = if offset_kind != crate::ScalarKind::Uint {
                         ctx.expressions.append(
@@ -1185,14 +1189,15 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                     let count_handle = get_expr_handle!(count_id, count_lexp);
                     let count_lookup_ty = self.lookup_type.lookup(count_lexp.type_id)?;
 
+                    // reproj patch: a type with no scalar kind is an error, not a panic.
                     let offset_kind = ctx.module.types[offset_lookup_ty.handle]
                         .inner
                         .scalar_kind()
-                        .unwrap();
+                        .ok_or(Error::InvalidInnerType(offset_lexp.type_id))?;
                     let count_kind = ctx.module.types[count_lookup_ty.handle]
                         .inner
                         .scalar_kind()
-                        .unwrap();
+                        .ok_or(Error::InvalidInnerType(count_lexp.type_id))?;
 
                     let offset_cast_handle = if offset_kind != crate::ScalarKind::Uint {
                         ctx.expressions.append(
