@@ -469,7 +469,15 @@ fn run_methods(
                 tries,
                 mid as u32,
             )?;
-            alone_speedup = Some(r.result.speedup);
+            // Its speed as raced (the final interleaved run sets the result's later), else
+            // as predicted.
+            let d = &r.detail;
+            alone_speedup = Some(
+                d.tries
+                    .iter()
+                    .find(|t| t.node == d.node && t.delta_n == d.delta_n && t.speedup > 0.0)
+                    .map_or(d.predicted_speedup, |t| t.speedup),
+            );
             results.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
             reproj_input = Some(r.input);
