@@ -190,19 +190,22 @@ fn no_output_names_the_entry_point() {
     );
 }
 
+/// An output struct filled in branches (`if … { out.color = …; } return out;`, Bevy's
+/// `pbr.wgsl`) is returned as one built member by member, so its `@location(0)` member is the root.
 #[test]
-fn output_struct_filled_in_a_branch_is_refused_at_the_return() {
-    insta::assert_snapshot!(
-        "struct_in_branch",
-        error(
-            "struct Out { @location(0) color: vec4<f32>, @location(1) extra: vec4<f32> };
+fn output_struct_filled_in_a_branch_is_composed_at_the_return() {
+    let (norm, table) = load(
+        "struct Out { @location(0) color: vec4<f32>, @location(1) extra: vec4<f32> };
 @fragment fn fs_main(@location(0) p: vec3<f32>) -> Out {
     var out: Out;
-    if p.x > 0.5 { out.color = vec4<f32>(1.0); }
+    out.extra = vec4<f32>(p, 1.0);
+    if p.x > 0.5 { out.color = vec4<f32>(sin(p * 3.0), 1.0); } else { out.color = vec4<f32>(0.2); }
     return out;
-}"
-        )
+}",
     );
+    insta::assert_snapshot!("struct_in_branch", wgsl(&norm));
+    assert_eq!(table.root().ty, "vec4<f32>");
+    assert!(table.root().cacheable, "{:?}", table.root().reason);
 }
 
 /// A C-style `switch` whose cases fall through (GLSL; WGSL has none, and naga's WGSL writer

@@ -320,6 +320,40 @@ impl Out<'_, '_> {
         Ok(())
     }
 
+    /// A struct result that is not built by a constructor where it is returned (a local filled
+    /// in branches: `if … { out.color = a; } else { out.color = b; } return out;`, Bevy's
+    /// `pbr.wgsl`), returned as one built member by member (`Out(out.color, …)`) when
+    /// normalizing, so that its `@location(0)` member is an expression of its own: the root.
+    fn struct_by_members(
+        &mut self,
+        ctx: &Ctx,
+        value: Handle<Expression>,
+        span: Span,
+    ) -> Handle<Expression> {
+        if !self.normalize() || self.depth != 0 {
+            return value;
+        }
+        let Some(result) = ctx.fun.result.as_ref() else {
+            return value;
+        };
+        let naga::TypeInner::Struct { members, .. } = &self.module.types[result.ty].inner else {
+            return value;
+        };
+        if matches!(self.fun.expressions[value], Expression::Compose { .. }) {
+            return value;
+        }
+        let components = (0..members.len() as u32)
+            .map(|index| self.append(Expression::AccessIndex { base: value, index }, span))
+            .collect();
+        self.append(
+            Expression::Compose {
+                ty: result.ty,
+                components,
+            },
+            span,
+        )
+    }
+
     /// A `return`: at the top level the function's result (zero in the recompute pass, before
     /// the cached node), in an inlined helper the value of the call.
     fn return_stmt(
@@ -333,7 +367,10 @@ impl Out<'_, '_> {
                 // A return before the cached node in the recompute pass: its value is not
                 // the payload; return zero.
                 (_, Some(stop)) => Some(self.append(Expression::ZeroValue(stop.vec4), span)),
-                (Some(v), None) => Some(self.translate(ctx, v)?),
+                (Some(v), None) => {
+                    let v = self.translate(ctx, v)?;
+                    Some(self.struct_by_members(ctx, v, span))
+                }
                 (None, None) => None,
             };
             if self.depth == 0 {
