@@ -129,21 +129,6 @@ pub(super) fn cases() -> Vec<Case> {
             "refresh period",
         ),
         case(
-            "group taken",
-            &[],
-            &[
-                "instance",
-                "good.wgsl",
-                "--node",
-                "root",
-                "--group",
-                "0",
-                "--out",
-                "out",
-            ],
-            "bind group 0",
-        ),
-        case(
             "group too high",
             &[],
             &[
