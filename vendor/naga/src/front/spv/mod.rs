@@ -2031,7 +2031,12 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                 // Ignored because the other option (OriginLowerLeft) is not valid in Vulkan mode.
             }
             ExecutionMode::LocalSize => {
-                ep.workgroup_size = [args[0], args[1], args[2]];
+                // reproj patch: `LocalSize` with fewer than three sizes is an error, not an index
+                // out of bounds.
+                let &[x, y, z] = args.as_slice() else {
+                    return Err(Error::InvalidOperandCount(inst.op, inst.wc));
+                };
+                ep.workgroup_size = [x, y, z];
             }
             _ => {
                 return Err(Error::UnsupportedExecutionMode(mode_id));
