@@ -283,12 +283,13 @@ impl Shapes {
     }
 }
 
+/// The samplers split, and each variable's sampler `(group, binding)`.
+type SamplerBindings = (Vec<SplitSampler>, HashMap<u32, (u32, u32)>);
+
 /// Each sampler takes the next binding its group leaves free, in declaration order: the samplers
 /// split, and each variable's sampler `(group, binding)`. A group whose bindings reach
 /// `u32::MAX` leaves none free: an error.
-fn sampler_bindings(
-    shapes: &Shapes,
-) -> Result<(Vec<SplitSampler>, HashMap<u32, (u32, u32)>), String> {
+fn sampler_bindings(shapes: &Shapes) -> Result<SamplerBindings, String> {
     let past = |group: u32| {
         format!("descriptor set {group} has no binding free past u32::MAX for a split sampler")
     };

@@ -2099,7 +2099,12 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                                 false => accept,
                             },
                         );
-                        debug_assert!(prev.is_none());
+                        // reproj patch: a block that a second branch enters without a merge is
+                        // an error, not a failed assertion (or, without debug assertions, a block
+                        // silently moved).
+                        if prev.is_some() {
+                            return Err(Error::InvalidTerminator);
+                        }
                     }
 
                     if same_target {
@@ -2116,7 +2121,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                         merger(&mut reject_block, &info)
                     } else {
                         let prev = ctx.body_for_label.insert(false_target.label_id, reject);
-                        debug_assert!(prev.is_none());
+                        // reproj patch: as for the accept branch.
+                        if prev.is_some() {
+                            return Err(Error::InvalidTerminator);
+                        }
                     }
 
                     ctx.bodies.push(reject_block);
