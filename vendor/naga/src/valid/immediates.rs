@@ -212,24 +212,6 @@ mod tests {
         assert_eq!(slots, ImmediateSlots::from_raw(0b1111_0001));
     }
 
-    /// reproj patch: past slot 63 (byte 256) nothing overflows.
-    #[test]
-    fn range_past_256_keeps_the_tracked_slots() {
-        assert_eq!(
-            ImmediateSlots::from_range(0, 1024),
-            ImmediateSlots::from_raw(u64::MAX)
-        );
-        assert_eq!(
-            ImmediateSlots::from_range(248, 16),
-            ImmediateSlots::from_raw(0b11 << 62)
-        );
-        assert_eq!(ImmediateSlots::from_range(300, 8), ImmediateSlots::default());
-        assert_eq!(
-            ImmediateSlots::from_range(u32::MAX - 3, 8),
-            ImmediateSlots::default()
-        );
-    }
-
     #[test]
     fn range_unaligned() {
         assert_eq!(
