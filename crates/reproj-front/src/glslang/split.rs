@@ -159,7 +159,7 @@ pub fn split_combined_samplers(words: &[u32]) -> Result<(Vec<u32>, Vec<SplitSamp
     let Some(shapes) = Shapes::find(&insts, &mut ids)? else {
         return Ok((encode(&header, &insts), Vec::new()));
     };
-    let (split, sampler_binding) = sampler_bindings(&shapes);
+    let (split, sampler_binding) = sampler_bindings(&shapes)?;
     let mut rewrite = Rewrite {
         out: Vec::with_capacity(insts.len() + 4 * shapes.vars.len()),
         shapes,
@@ -283,11 +283,19 @@ impl Shapes {
     }
 }
 
+/// The samplers split, and each variable's sampler `(group, binding)`.
+type SamplerBindings = (Vec<SplitSampler>, HashMap<u32, (u32, u32)>);
+
 /// Each sampler takes the next binding its group leaves free, in declaration order: the samplers
-/// split, and each variable's sampler `(group, binding)`.
-fn sampler_bindings(shapes: &Shapes) -> (Vec<SplitSampler>, HashMap<u32, (u32, u32)>) {
+/// split, and each variable's sampler `(group, binding)`. A group whose bindings reach
+/// `u32::MAX` leaves none free: an error.
+fn sampler_bindings(shapes: &Shapes) -> Result<SamplerBindings, String> {
+    let past = |group: u32| {
+        format!("descriptor set {group} has no binding free past u32::MAX for a split sampler")
+    };
     let decorations = &shapes.decorations;
-    let mut free: BTreeMap<u32, u32> = BTreeMap::new();
+    // The next free binding of each group, in 64 bits: a binding of u32::MAX leaves none.
+    let mut free: BTreeMap<u32, u64> = BTreeMap::new();
     for (&(target, kind), &value) in decorations {
         if kind == BINDING {
             let group = decorations
@@ -295,7 +303,7 @@ fn sampler_bindings(shapes: &Shapes) -> (Vec<SplitSampler>, HashMap<u32, (u32, u
                 .copied()
                 .unwrap_or(0);
             let slot = free.entry(group).or_default();
-            *slot = (*slot).max(value + 1);
+            *slot = (*slot).max(u64::from(value) + 1);
         }
     }
     let mut split = Vec::new();
@@ -309,7 +317,7 @@ fn sampler_bindings(shapes: &Shapes) -> (Vec<SplitSampler>, HashMap<u32, (u32, u
             .copied()
             .unwrap_or(0);
         let slot = free.entry(group).or_default();
-        let binding = *slot;
+        let binding = u32::try_from(*slot).map_err(|_| past(group))?;
         *slot += 1;
         sampler_binding.insert(var, (group, binding));
         split.push(SplitSampler {
@@ -323,7 +331,7 @@ fn sampler_bindings(shapes: &Shapes) -> (Vec<SplitSampler>, HashMap<u32, (u32, u
             sampler_binding: binding,
         });
     }
-    (split, sampler_binding)
+    Ok((split, sampler_binding))
 }
 
 /// An instruction whose operands from `first` on are a list (a function type's parameters, a

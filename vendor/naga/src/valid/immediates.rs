@@ -13,12 +13,20 @@ impl ImmediateSlots {
     }
 
     /// Compute the bitmask for a byte range [offset .. offset + size_bytes).
+    ///
+    /// reproj patch: the slots past the 64th (byte 256) are not tracked. A larger immediate
+    /// block (which no device's limits allow) overflowed the shifts and the sum; the SPIR-V fuzz
+    /// target found it, a WGSL `var<immediate>` of a large struct reaches it too.
     pub const fn from_range(offset: u32, size_bytes: u32) -> Self {
         if size_bytes == 0 {
             return Self(0);
         }
         let lo = offset / 4;
-        let hi = (offset + size_bytes).div_ceil(4);
+        if lo >= 64 {
+            return Self(0);
+        }
+        let hi = (offset as u64 + size_bytes as u64).div_ceil(4);
+        let hi = if hi > 64 { 64 } else { hi as u32 };
         Self(u64::MAX << lo & u64::MAX >> (64 - hi))
     }
 
@@ -35,7 +43,13 @@ impl ImmediateSlots {
                 let mut slots = Self::default();
                 for member in members {
                     let member_ty = &types[member.ty].inner;
-                    slots |= Self::from_type(member_ty, offset + member.offset, types, gctx);
+                    // reproj patch: saturating (see `from_range`).
+                    slots |= Self::from_type(
+                        member_ty,
+                        offset.saturating_add(member.offset),
+                        types,
+                        gctx,
+                    );
                 }
                 slots
             }
@@ -92,10 +106,13 @@ impl ImmediateSlots {
             E::GlobalVariable(_) => Self::from_type(global_ty, 0, types, gctx),
             E::AccessIndex { base, index } => {
                 if let E::GlobalVariable(_) = expression_arena[base] {
+                    // reproj patch: an index past the members (refused by the validator later)
+                    // falls back to the whole variable, not an index out of bounds.
                     if let TypeInner::Struct { ref members, .. } = *global_ty {
-                        let member = &members[index as usize];
-                        let member_ty = &types[member.ty].inner;
-                        return Self::from_type(member_ty, member.offset, types, gctx);
+                        if let Some(member) = members.get(index as usize) {
+                            let member_ty = &types[member.ty].inner;
+                            return Self::from_type(member_ty, member.offset, types, gctx);
+                        }
                     }
                 }
                 Self::from_type(global_ty, 0, types, gctx)

@@ -663,7 +663,11 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                     }
                 };
 
-                debug_assert_eq!(level, crate::SampleLevel::Auto);
+                // reproj patch: a gather with a level of detail is an error, not a failed
+                // assertion.
+                if level != crate::SampleLevel::Auto {
+                    return Err(Error::InvalidOperand);
+                }
                 level = crate::SampleLevel::Zero;
 
                 // SPIR-V specification: "Behavior is undefined if its value is not 0, 1, 2 or 3."
@@ -679,7 +683,11 @@ impl<I: Iterator<Item = u32>> super::Frontend<I> {
                 }
             }
             (true, None) => {
-                debug_assert_eq!(level, crate::SampleLevel::Auto);
+                // reproj patch: a gather with a level of detail is an error, not a failed
+                // assertion.
+                if level != crate::SampleLevel::Auto {
+                    return Err(Error::InvalidOperand);
+                }
                 level = crate::SampleLevel::Zero;
 
                 Some(crate::SwizzleComponent::X)

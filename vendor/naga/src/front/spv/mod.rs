@@ -2031,7 +2031,12 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                 // Ignored because the other option (OriginLowerLeft) is not valid in Vulkan mode.
             }
             ExecutionMode::LocalSize => {
-                ep.workgroup_size = [args[0], args[1], args[2]];
+                // reproj patch: `LocalSize` with fewer than three sizes is an error, not an index
+                // out of bounds.
+                let &[x, y, z] = args.as_slice() else {
+                    return Err(Error::InvalidOperandCount(inst.op, inst.wc));
+                };
+                ep.workgroup_size = [x, y, z];
             }
             _ => {
                 return Err(Error::UnsupportedExecutionMode(mode_id));
@@ -3215,8 +3220,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
             crate::Expression::Access { base, index } => {
                 log::debug!("\t\t  access {handle:?} {index:?}");
                 let ty = self.record_atomic_access(ctx, base)?;
+                // reproj patch: an atomic on an element of something other than an array (a
+                // vector's component) is an error, not `unreachable!`.
                 let crate::TypeInner::Array { base, .. } = ctx.module.types[ty].inner else {
-                    unreachable!("Atomic operations on Access expressions only work for arrays");
+                    return Err(Error::InvalidAccess(ctx.expressions[handle].clone()));
                 };
                 Ok(base)
             }
@@ -3224,15 +3231,20 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                 log::debug!("\t\t  access index {handle:?} {index:?}");
                 let ty = self.record_atomic_access(ctx, base)?;
                 match ctx.module.types[ty].inner {
+                    // reproj patch: a member past the struct's, or a field of something other
+                    // than a struct or an array, is an error, not a panic.
                     crate::TypeInner::Struct { ref members, .. } => {
                         let index = index as usize;
+                        let member = members
+                            .get(index)
+                            .ok_or_else(|| Error::InvalidAccess(ctx.expressions[handle].clone()))?;
                         self.upgrade_atomics.insert_field(ty, index);
-                        Ok(members[index].ty)
+                        Ok(member.ty)
                     }
                     crate::TypeInner::Array { base, .. } => {
                         Ok(base)
                     }
-                    _ => unreachable!("Atomic operations on AccessIndex expressions only work for structs and arrays"),
+                    _ => return Err(Error::InvalidAccess(ctx.expressions[handle].clone())),
                 }
             }
             crate::Expression::GlobalVariable(h) => {

@@ -2099,7 +2099,12 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                                 false => accept,
                             },
                         );
-                        debug_assert!(prev.is_none());
+                        // reproj patch: a block that a second branch enters without a merge is
+                        // an error, not a failed assertion (or, without debug assertions, a block
+                        // silently moved).
+                        if prev.is_some() {
+                            return Err(Error::InvalidTerminator);
+                        }
                     }
 
                     if same_target {
@@ -2116,7 +2121,10 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                         merger(&mut reject_block, &info)
                     } else {
                         let prev = ctx.body_for_label.insert(false_target.label_id, reject);
-                        debug_assert!(prev.is_none());
+                        // reproj patch: as for the accept branch.
+                        if prev.is_some() {
+                            return Err(Error::InvalidTerminator);
+                        }
                     }
 
                     ctx.bodies.push(reject_block);
@@ -2146,7 +2154,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                     ctx.bodies.push(Body::with_parent(body_idx));
                     ctx.body_for_label.entry(default_id).or_insert(default);
 
-                    let selector_lexp = &self.lookup_expression[&selector];
+                    // reproj patch: a selector id that names no expression is an error, not a
+                    // panic.
+                    let selector_lexp = self.lookup_expression.lookup(selector)?;
                     let selector_lty = self.lookup_type.lookup(selector_lexp.type_id)?;
                     let selector_handle = get_expr_handle!(selector, selector_lexp);
                     let selector = match ctx.module.types[selector_lty.handle].inner {
@@ -2168,7 +2178,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                             kind: crate::ScalarKind::Sint,
                             width: _,
                         }) => selector_handle,
-                        ref other => unimplemented!("Unexpected selector {:?}", other),
+                        // reproj patch: a selector that is not an integer scalar is an error,
+                        // not `unimplemented!`.
+                        _ => return Err(Error::InvalidInnerType(selector_lexp.type_id)),
                     };
 
                     // Clear past switch cases to prevent them from entering this one
