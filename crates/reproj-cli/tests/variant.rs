@@ -14,12 +14,13 @@ fn json(stdout: &str) -> serde_json::Value {
     serde_json::from_str(stdout).unwrap_or_else(|e| panic!("{e}: {stdout}"))
 }
 
-/// A group the shader uses, or one past WebGPU's four: exit 2, one message, nothing written.
+/// A group past WebGPU's four: exit 2, one message, nothing written. (A group the shader uses is
+/// shared: the variant's bindings go past the shader's own there.)
 #[test]
-fn a_taken_group_is_a_user_error() {
+fn a_group_past_the_four_is_a_user_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("v");
-    for group in ["0", "4"] {
+    for group in ["4"] {
         let (code, _, err) = reproj(&[
             "instance",
             "shaders/marble.wgsl",

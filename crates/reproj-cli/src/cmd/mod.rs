@@ -73,12 +73,17 @@ impl std::error::Error for OverBudget {}
 
 /// On SIGINT or SIGTERM: remove the temporary files, staged directories and locks being
 /// written (the previous outputs are untouched: nothing was renamed over them yet), say so, and
-/// exit 130. A journal (`analyze`) stays: the next run resumes from it.
+/// exit 130. A journal (`analyze`) stays: the next run resumes from it. The exit skips the
+/// process's exit handlers (`_exit`): the renderer's threads are still running, and tearing down
+/// the driver under them could kill the process by a signal after the cleanup (seen with
+/// lavapipe: a status of no code instead of 130).
+#[allow(unsafe_code)]
 pub fn clean_up_on_signals() {
     let _ = ctrlc::set_handler(|| {
         reproj_io::remove_registered();
         crate::ui::error("interrupted; partial output removed, previous outputs kept");
-        std::process::exit(130);
+        // SAFETY: `_exit` ends the process at once; nothing of this process runs after it.
+        unsafe { libc::_exit(130) }
     });
 }
 
