@@ -443,7 +443,6 @@ fn run_methods(
     results.push(simplified.result.clone());
     crop_frames.push(("simplify".into(), simplified.frames[mid].clone()));
     let mut reproj_input = None;
-    let mut alone_speedup = None;
     let reproj_detail = match (input.profile, planned) {
         (Some((profile, path)), Some(planned)) => {
             // At a target speedup the models' point is steered by measurement, as resizing's
@@ -469,15 +468,6 @@ fn run_methods(
                 tries,
                 mid as u32,
             )?;
-            // Its speed as raced (the final interleaved run sets the result's later), else
-            // as predicted.
-            let d = &r.detail;
-            alone_speedup = Some(
-                d.tries
-                    .iter()
-                    .find(|t| t.node == d.node && t.delta_n == d.delta_n && t.speedup > 0.0)
-                    .map_or(d.predicted_speedup, |t| t.speedup),
-            );
             results.push(r.result);
             crop_frames.push(("reproj".into(), r.crop_frame));
             reproj_input = Some(r.input);
@@ -486,8 +476,15 @@ fn run_methods(
         _ => None,
     };
     // reproj's variant inside the temporal upsampler, where both are compared.
-    let composed = match (&reproj_input, alone_speedup) {
-        (Some(v), Some(alone)) if opts.temporal => {
+    let composed = match (&reproj_input, &reproj_detail) {
+        (Some(v), Some(d)) if opts.temporal => {
+            // reproj's speed as raced (the final interleaved run sets its result's later), else
+            // as predicted.
+            let alone = d
+                .tries
+                .iter()
+                .find(|t| t.node == d.node && t.delta_n == d.delta_n && t.speedup > 0.0)
+                .map_or(d.predicted_speedup, |t| t.speedup);
             let (detail, frames, result) = temporal::composed(ctx, shader, v, alone, &opts.resize)?;
             results.push(result);
             crop_frames.push((temporal::COMPOSED.into(), frames[mid].clone()));

@@ -10,6 +10,7 @@ use reproj_compare::{COMPARE_SCHEMA, COMPARE_VERSION, CompareReport};
 
 use crate::ReportError;
 use crate::base64::png_uri;
+use crate::page::{esc, num};
 
 /// One compare run, read from its folder.
 #[derive(Debug, Clone)]
@@ -114,17 +115,4 @@ pub(crate) fn section(h: &mut String, runs: &[CompareRun]) {
         }
     }
     h.push_str("</section>\n");
-}
-
-/// A number with `digits` decimals, or a dash.
-fn num(v: Option<f64>, digits: usize) -> String {
-    v.filter(|v| v.is_finite())
-        .map_or_else(|| "–".into(), |v| format!("{v:.digits$}"))
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }

@@ -129,14 +129,14 @@ struct Point {
 /// Below this R² a node's timing fit is labelled weak in the table of fits.
 const WEAK_TIME_R2: f64 = 0.5;
 
-fn esc(s: &str) -> String {
+pub(crate) fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
 }
 
-fn num(v: Option<f64>, decimals: usize) -> String {
+pub(crate) fn num(v: Option<f64>, decimals: usize) -> String {
     v.filter(|v| v.is_finite())
         .map_or_else(|| "–".to_string(), |v| format!("{v:.decimals$}"))
 }

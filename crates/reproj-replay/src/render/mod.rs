@@ -152,6 +152,25 @@ pub struct VariantInput {
 }
 
 impl VariantInput {
+    /// The `reproj_params` of frame `frame` of a render whose first frame is `first`: Δn 1 there
+    /// (the cache starts empty, every pixel is refreshed), else this frame's Δn.
+    pub(super) fn params_at(
+        &self,
+        frame: u32,
+        first: u32,
+    ) -> reproj_instance::contract::ReprojParams {
+        let mut p = reproj_instance::contract::ReprojParams::for_frame(
+            frame,
+            self.delta_n_at(frame),
+            self.block,
+            self.depth_epsilon,
+        );
+        if frame == first {
+            p.delta_n = 1;
+        }
+        p
+    }
+
     /// From WGSL texts and a manifest; k and ε from the manifest's defaults.
     pub fn new(sources: Vec<String>, manifest: Manifest, delta_n: u32) -> Self {
         let label = format!("{} node {}", manifest.shader, manifest.node.id);
@@ -225,4 +244,10 @@ impl std::fmt::Debug for Renderer {
             .field("timestamps", &self.timestamps)
             .finish()
     }
+}
+
+/// The session's background as a clear color.
+pub(super) fn background_color(session: &reproj_scene::Session) -> wgpu::Color {
+    let [r, g, b, a] = session.background.map(f64::from);
+    wgpu::Color { r, g, b, a }
 }

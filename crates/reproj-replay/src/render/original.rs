@@ -331,13 +331,7 @@ impl Renderer {
             }
             Keep::Frames => None,
         };
-        let bg = session.background;
-        let clear = wgpu::Color {
-            r: bg[0] as f64,
-            g: bg[1] as f64,
-            b: bg[2] as f64,
-            a: bg[3] as f64,
-        };
+        let clear = background_color(session);
         Ok(PlainTargets {
             color,
             color_view,

@@ -315,7 +315,7 @@ impl Renderer {
             } => {
                 self.write_frame_uniforms(small, &p.scene, f, jitter);
                 self.encode_motion(&mut enc, motion, &p.scene, p.vgroup);
-                let clear = background(small);
+                let clear = background_color(small);
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("upsampler input"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -346,16 +346,7 @@ impl Renderer {
             }
             LowDraw::Variant { variant, plan, gpu } => {
                 self.write_frame_uniforms(small, &gpu.scene, f, jitter);
-                let mut p = reproj_instance::contract::ReprojParams::for_frame(
-                    f,
-                    variant.delta_n_at(f),
-                    variant.block,
-                    variant.depth_epsilon,
-                );
-                if f == first {
-                    // The cache starts empty: the first frame refreshes everything.
-                    p.delta_n = 1;
-                }
+                let p = variant.params_at(f, first);
                 self.queue
                     .write_buffer(&gpu.params, 0, bytemuck::bytes_of(&p));
                 self.encode_variant_passes_into(&mut enc, gpu, plan, (f % 2) as usize, q);
@@ -396,17 +387,6 @@ fn low_session(session: &Session, spec: &UpsampleSpec) -> Session {
     let mut small = session.clone();
     small.resolution = [spec.low[0].clamp(1, w), spec.low[1].clamp(1, h)];
     small
-}
-
-/// The session's background as a clear color.
-fn background(session: &Session) -> wgpu::Color {
-    let bg = session.background;
-    wgpu::Color {
-        r: bg[0] as f64,
-        g: bg[1] as f64,
-        b: bg[2] as f64,
-        a: bg[3] as f64,
-    }
 }
 
 /// An upsampled frame's record: its time, the low-resolution pass's shaded pixels; no error

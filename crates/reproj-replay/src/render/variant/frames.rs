@@ -139,16 +139,7 @@ impl Renderer {
         let (variant, gpu) = (run.variant, run.gpu);
         let cur = (f % 2) as usize;
         self.write_frame_uniforms(run.session, &gpu.scene, f, &crate::jitter::Jitter::None);
-        let mut p = contract::ReprojParams::for_frame(
-            f,
-            variant.delta_n_at(f),
-            variant.block,
-            variant.depth_epsilon,
-        );
-        if f == run.plan.first {
-            // The cache starts empty: the first frame refreshes everything.
-            p.delta_n = 1;
-        }
+        let p = variant.params_at(f, run.plan.first);
         self.queue
             .write_buffer(&gpu.params, 0, bytemuck::bytes_of(&p));
         let render = self.encode_variant_passes(gpu, run.plan, cur, &rb.q, slot);

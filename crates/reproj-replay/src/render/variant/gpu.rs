@@ -26,13 +26,7 @@ impl Renderer {
             .collect::<Result<Vec<_>, _>>()?;
         let (pipes, pc) = self.variant_pipelines(plan, &shaders, &binds, targets.cache_format)?;
         let specs = &plan.specs;
-        let bg = session.background;
-        let clear = wgpu::Color {
-            r: bg[0] as f64,
-            g: bg[1] as f64,
-            b: bg[2] as f64,
-            a: bg[3] as f64,
-        };
+        let clear = background_color(session);
         let [r, g, b, a] = reproj_instance::payload_clear(m.depth_channel);
         let payload_clear = wgpu::Color { r, g, b, a };
         let host_clears_depth = specs.first().is_some_and(|s| s.depth_load);
