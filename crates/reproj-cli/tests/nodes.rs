@@ -147,7 +147,7 @@ fn unsupported_construct_exits_2_with_location_line_and_caret() {
     .unwrap();
     let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    // An output struct filled inside a branch is still refused, at the return.
+    // An output struct filled inside a branch is built member by member and accepted.
     let f = dir.path().join("branchy.wgsl");
     std::fs::write(
         &f,
@@ -158,11 +158,25 @@ fn unsupported_construct_exits_2_with_location_line_and_caret() {
     )
     .unwrap();
     let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    // An integer output color is refused, at the value written.
+    let f = dir.path().join("int.wgsl");
+    std::fs::write(
+        &f,
+        "struct O {\n    @location(0) c: vec4<i32>,\n};\n\
+         @fragment fn fs(@location(0) p: vec3<f32>) -> O {\n    var o: O;\n\
+         \x20   o.c = vec4<i32>(vec3<i32>(p * 4.0), 1);\n    return o;\n}\n",
+    )
+    .unwrap();
+    let (code, _, err) = reproj(&["nodes", f.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("branchy.wgsl:8:5"), "{err}");
+    assert!(err.contains("int.wgsl:6:11"), "{err}");
     // The source line and a caret under the construct, as for parse errors.
-    assert!(err.contains("8 │     return o;"), "{err}");
-    assert!(err.contains("^^^^^^^^^"), "{err}");
+    assert!(
+        err.contains("6 │     o.c = vec4<i32>(vec3<i32>(p * 4.0), 1);"),
+        "{err}"
+    );
+    assert!(err.contains("^^^^^^^^^^^^^^^^"), "{err}");
 }
 
 fn json_nodes(shader: &str, all: bool) -> Vec<serde_json::Value> {
