@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The equal-time table of docs/results.md ("Against what engines ship"): for each shader, a short
+# The equal-time table of docs/notebook/upsampling-comparison.md ("Against what engines ship"): for each shader, a short
 # analyze (its profile, for reproj's own choice), then `compare` at each target speedup — resize,
 # easu, temporal, simplify, reproj and reproj+temporal, timed interleaved, scored against the one-sample original
 # and a supersampled reference. One compare.json per shader and speedup under OUT; summarize with

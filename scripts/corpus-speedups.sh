@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The corpus table docs/results.md gives ("The corpus, end to end"): for every corpus shader that
+# The corpus table docs/notebook/corpus.md gives ("The corpus, end to end"): for every corpus shader that
 # has a session (tests/corpus/shaders/*.wgsl and glsl/*.frag with tests/corpus/sessions/), a
 # short analyze (training Δn 2, 10, 26, 50, at most 4 nodes, no sets), then emit --verify at 0.01
 # and 0.03; one line per shader and budget in OUT/corpus.tsv: the ceiling the analysis measured,

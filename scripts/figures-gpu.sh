@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The figures docs/results.md gives for a real GPU, in one run of about seven minutes: for marble
+# The figures docs/notebook/gpu-h200.md gives for a real GPU, in one run of about seven minutes: for marble
 # and ambient occlusion at 1920×1080, the A/A check, analyze (periods extended where they can
 # pay), emit at 0.002 / 0.01 / 0.03 / 0.1 (verified at 0.01), the variants benched together
 # interleaved, and compare at 2× (3× where time is left). Each step has its own time limit and a

@@ -292,8 +292,9 @@ mod tests {
         assert_eq!(race_period(&[], 100), 2);
     }
 
-    /// Marble's node 680, 2pass, Δn 18 on lavapipe (docs/results.md): k=4 2.06× [2.01, 2.11]
-    /// at 31.51 dB, k=32 2.01× [1.95, 2.09] at 32.62 dB — level in speed, lower in error: kept.
+    /// Marble's node 680, 2pass, Δn 18 on lavapipe (docs/notebook/refresh-block.md): k=4
+    /// 2.06× [2.01, 2.11] at 31.51 dB, k=32 2.01× [1.95, 2.09] at 32.62 dB — level in speed,
+    /// lower in error: kept.
     #[test]
     fn equal_speed_and_lower_error_keeps_the_larger_block() {
         let (b, c) = (e(2.06, 2.01, 2.11), e(2.01, 1.95, 2.09));

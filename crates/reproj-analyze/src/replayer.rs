@@ -33,7 +33,7 @@ pub(crate) enum RaceLength {
 
 /// A longer race: 16 to 48 rounds of 8 frames, until ±2 % or 12 s. On the H200 at 1080p, marble's
 /// node 680 left Catmull-Rom at 2.39× [1.89, 3.03] against bilinear's 1.84× [1.78, 1.90] after the
-/// short race's 8 rounds (docs/results.md).
+/// short race's 8 rounds (docs/notebook/gpu-h200.md).
 pub(crate) const LONG_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
     block_frames: 8,
     stop: reproj_models::speedup::StopRule {

@@ -301,8 +301,8 @@ pub fn instance_nodes(
 /// depth and payload in one filtered fetch and no depth copy target is written; else (`None`) in
 /// the depth copy, read with four loads. `f32` widens the payload by that channel; an exact
 /// format packs only where it has one free (`r32float` for a one-float node keeps the depth copy).
-/// Four loads cost a CPU rasterizer more than the shading they save (docs/results.md, "The depth
-/// in the payload").
+/// Four loads cost a CPU rasterizer more than the shading they save
+/// (docs/notebook/pass-layouts.md, "The depth in the payload").
 fn payload_layout(opts: &InstanceOptions, components: u32) -> (CacheFormat, Option<u32>) {
     let packs = opts.strategy != Strategy::ThreePass && opts.reconstruct.filters();
     match opts.cache_format {

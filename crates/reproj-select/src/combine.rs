@@ -19,7 +19,8 @@
 //!   `E[hit] = E[miss] + Σ (E[hit]ᵢ − E[miss]ᵢ)`.
 //!   (Adding per-pixel hit savings against the original's mean cost and taking the largest
 //!   overhead, as this did first, predicted about the slower member where the fits had put the
-//!   savings in the overhead: 4.2 ms for a pair measured at 1.1 ms, `docs/results.md`.)
+//!   savings in the overhead: 4.2 ms for a pair measured at 1.1 ms,
+//!   `docs/notebook/node-sets.md`.)
 //!   Savings of nested nodes (one inside the other's expression) do not add; such sets are
 //!   over-predicted, and the set search does not form them.
 

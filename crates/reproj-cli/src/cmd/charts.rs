@@ -5,7 +5,7 @@ use std::path::Path;
 use reproj_models::Profile;
 
 /// Budgets whose selections the trade-off chart marks: the ones `scripts/demo.sh` emits at and
-/// `docs/results.md` reports.
+/// `docs/notebook/speedups-and-budgets.md` reports.
 pub const MARKED_BUDGETS: [f64; 4] = [0.002, 0.01, 0.03, 0.1];
 
 /// The directory and the file-name stem of the charts beside `profile_path`.

@@ -12,8 +12,8 @@
 //! The kernel has no workgroup memory and no barrier: a thread writes its block's record. The first
 //! form (16×16 threads of 4×4 pixels, then a tree over the workgroup) cost 1.05–1.2 ms per 256×256
 //! frame on lavapipe, which runs barriers as coroutine switches (a third of a marble variant's own
-//! passes at Δn 50); this one 0.37–0.38 ms (`docs/results.md`, "Analysis time: the error
-//! reduction").
+//! passes at Δn 50); this one 0.37–0.38 ms (`docs/notebook/analysis-time.md`, "Analysis time:
+//! the error reduction").
 //!
 //! Precision: a thread sums each row of its block in f32 (8 terms), then the rows (8), and the
 //! host sums the blocks in f64; the relative error of a frame's sums is about 16 f32 roundings,

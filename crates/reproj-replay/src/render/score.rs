@@ -4,8 +4,8 @@
 //! frame on one core). Both frame loops (the variant's and the plain one's) hand each sampled
 //! frame to a [`Scorer`], which scores it on [`scoring_pool`]'s threads. Those run at the lowest
 //! CPU priority, so on a CPU adapter (lavapipe) they take only the cycles the rasterizer leaves
-//! idle and never slow a timed frame (`docs/results.md`, "Analysis time: the error reduction and
-//! the scoring threads"); on a GPU they simply overlap the rendering. A loop's scope waits for the
+//! idle and never slow a timed frame (`docs/notebook/analysis-time.md`, "Analysis time: the error
+//! reduction and the scoring threads"); on a GPU they simply overlap the rendering. A loop's scope waits for the
 //! last of its frames, so scoring never overlaps another render or a race.
 
 use std::sync::mpsc;
