@@ -1,4 +1,4 @@
-// Set-search fixture (`crates/reproj-cli/tests/sets.rs`, docs/results.md): two independent
+// Set-search fixture (`crates/reproj-cli/tests/sets.rs`, docs/notebook/node-sets.md): two independent
 // expensive terms of the surface point — an albedo `a` (192 waves) and a gloss `b` (144 waves;
 // not as costly as `a`, or `analyze`'s pruning would merge the two as one choice) — lit by a moving
 // light. Each term alone is a good node to cache; caching both in one payload
