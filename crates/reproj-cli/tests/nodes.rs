@@ -419,18 +419,22 @@ fn instance_writes_other_languages() {
 }
 
 /// Vulkan GLSL with combined image samplers (`sampler2D`, read through glslang): `nodes` lists
-/// nodes at their GLSL lines, and `nodes --json` names the image and sampler bindings it split.
+/// nodes at their GLSL lines and columns, and `nodes --json` names the image and sampler bindings
+/// it split.
 #[test]
 fn glsl_with_combined_samplers_nodes() {
     let shader = "tests/corpus/shaders/glsl/normal_map.frag";
     let (code, out, err) = reproj(&["nodes", shader]);
     assert_eq!(code, 0, "{err}");
-    // `vec3 color = texture(samplerColor, inUV).rgb` is line 31 of the file.
-    assert!(
-        out.lines()
-            .any(|l| l.contains(" 31:5 ") && l.contains("texture(samplerColor, inUV)")),
-        "{out}"
-    );
+    // `vec3 color = texture(samplerColor, inUV).rgb` is line 31 of the file: the read and its
+    // swizzle at column 18, each with its own text.
+    for text in ["texture(samplerColor, inUV)", "texture(samplerColor, inUV).rgb"] {
+        assert!(
+            out.lines()
+                .any(|l| l.contains(" 31:18 ") && l.trim_end().ends_with(&format!(" {text}"))),
+            "{out}"
+        );
+    }
     let (code, out, err) = reproj(&["nodes", shader, "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();

@@ -179,3 +179,53 @@ fn input_attachments_are_refused_by_name_with_a_caret() {
         "{shown}"
     );
 }
+
+/// glslang's lines carry no column: every value of a GLSL line is still listed at its own column
+/// with its own text — each sub-expression where it is written, a literal where it is written, a
+/// parenthesized operand with its parentheses, an input at its declaration (without the comment
+/// after it), a matrix input's columns at the matrix's declaration.
+#[test]
+fn glsl_nodes_sit_at_their_own_column_with_their_own_text() {
+    if !glslang_here("columns") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shader = dir.path().join("cols.frag");
+    std::fs::write(
+        &shader,
+        "#version 450\nlayout(location = 0) in vec3 p; // position\n\
+         layout(location = 1) in mat3 tbn;\nlayout(location = 0) out vec4 o;\n\
+         void main() {\n    float a = sin(p.x) * 2.0 + cos(p.y * 3.0);\n\
+         \x20   vec3 c = vec3(a) * (p + 0.5) + tbn * p;\n    o = vec4(c, 1.0);\n}\n",
+    )
+    .unwrap();
+    let loaded = load(&shader, None, &LoadOptions::default()).unwrap();
+    let at: Vec<(u32, u32, &str)> = loaded
+        .table
+        .nodes
+        .iter()
+        .map(|n| (n.line, n.col, n.text.as_str()))
+        .collect();
+    for want in [
+        (2, 1, "layout(location = 0) in vec3 p"),
+        (3, 1, "layout(location = 1) in mat3 tbn"),
+        (6, 19, "p.x"),
+        (6, 15, "sin(p.x)"),
+        (6, 26, "2.0"),
+        (6, 15, "sin(p.x) * 2.0"),
+        (6, 36, "p.y"),
+        (6, 42, "3.0"),
+        (6, 36, "p.y * 3.0"),
+        (6, 32, "cos(p.y * 3.0)"),
+        (6, 15, "sin(p.x) * 2.0 + cos(p.y * 3.0)"),
+        (7, 14, "vec3(a)"),
+        (7, 25, "p + 0.5"),
+        (7, 14, "vec3(a) * (p + 0.5)"),
+        (7, 36, "tbn * p"),
+        (7, 14, "vec3(a) * (p + 0.5) + tbn * p"),
+        (8, 9, "vec4(c, 1.0)"),
+    ] {
+        assert!(at.contains(&want), "{want:?} not among {at:#?}");
+    }
+    assert!(at.iter().all(|&(line, _, _)| line > 0), "{at:#?}");
+}

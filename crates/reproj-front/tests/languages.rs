@@ -42,23 +42,25 @@ fn glsl_marble_has_the_nodes_of_its_wgsl_twin() {
         g >= w && g * 10 <= w * 11,
         "GLSL marble: {g} cacheable nodes, WGSL: {w}"
     );
-    // The root is the color written to the `out` variable, at its line in the GLSL file
-    // (glslang's OpLine: a node is placed at its line, whose text it shows).
+    // The root is the color written to the `out` variable, at its line and column in the GLSL
+    // file (glslang's OpLine names the line; the line's parse, the column and text).
     let root = glsl.table.root();
     assert!(root.cacheable);
-    assert_eq!(root.text, "frag_color = vec4(color, 1.0)");
-    assert_eq!(root.line, 104);
-    // The octave sums are nodes, at their lines.
-    for text in ["float s1 = n0 + n1", "float s4 = s3 + n4"] {
+    assert_eq!(root.text, "vec4(color, 1.0)");
+    assert_eq!((root.line, root.col), (104, 18));
+    // The octave sums are nodes, where they are written.
+    for (line, col, text) in [(79, 16, "n0 + n1"), (82, 16, "s3 + n4")] {
         assert!(
-            glsl.table.cacheable().any(|n| n.text == text),
-            "no cacheable `{text}`"
+            glsl.table
+                .cacheable()
+                .any(|n| (n.line, n.col, n.text.as_str()) == (line, col, text)),
+            "no cacheable `{text}` at {line}:{col}"
         );
     }
 }
 
-/// glslang writes an OpLine before each statement: every node has its GLSL line, and no text
-/// runs past its line.
+/// glslang writes an OpLine before each statement: every node has its GLSL line (and its
+/// column, from the line's parse), and no text runs past its line.
 #[test]
 fn glsl_nodes_are_placed_at_their_glsl_lines() {
     let glsl = load(
@@ -77,7 +79,7 @@ fn glsl_nodes_are_placed_at_their_glsl_lines() {
     assert!(
         nodes
             .iter()
-            .any(|n| n.text == "vec3 h = normalize(l + v)" && n.line == 95),
+            .any(|n| n.text == "normalize(l + v)" && (n.line, n.col) == (95, 14)),
         "the half vector's line is not a node"
     );
     for n in nodes {

@@ -13,6 +13,7 @@
 //! uses a specialization constant inside a constant expression (`OpSpecConstantOp`, which naga
 //! does not read) has its specialization constants frozen at their defaults by `spirv-opt`.
 
+mod columns;
 mod matrix_inputs;
 mod push_constants;
 pub mod split;
@@ -106,6 +107,7 @@ pub(crate) fn parse(
             crate::diagnostic::from_validation(&e, None),
         )))
     })?;
+    columns::narrow_spans(&mut module, &info, &source);
     Ok(Shader {
         path: path.to_owned(),
         lang: Lang::Glsl,

@@ -174,9 +174,16 @@ pub(super) fn place_leaves(
             let (line, col, text) = span_text(shader, lines, span);
             Some((line, col, leaf_text(module, fun, e).unwrap_or(text)))
         };
+        // A column of a matrix input (split into `NAME_colC` vectors): the matrix's declaration.
         let declared = name
             .as_deref()
-            .and_then(|n| declaration(shader, lines, n))
+            .and_then(|n| {
+                declaration(shader, lines, n).or_else(|| {
+                    let (matrix, column) = n.rsplit_once("_col")?;
+                    column.parse::<u8>().ok()?;
+                    declaration(shader, lines, matrix)
+                })
+            })
             .or_else(written);
         let place = match (declared, user.get(&h)) {
             (Some(place), _) => place,
@@ -267,7 +274,12 @@ fn declaration(shader: &Shader, lines: &LineIndex, name: &str) -> Option<(u32, u
         }
         let start = src[..at].rfind('\n').map_or(0, |i| i + 1);
         let stop = src[at..].find('\n').map_or(src.len(), |i| at + i);
-        let line = src[start..stop].trim();
+        // Without a comment at the line's end.
+        let line = src[start..stop]
+            .split("//")
+            .next()
+            .unwrap_or_default()
+            .trim();
         let text = line.strip_suffix(';').unwrap_or(line).trim_end();
         let (l, _) = lines.location(at);
         let col = (start + src[start..stop].len() - src[start..stop].trim_start().len() - start)
