@@ -428,7 +428,10 @@ fn glsl_with_combined_samplers_nodes() {
     assert_eq!(code, 0, "{err}");
     // `vec3 color = texture(samplerColor, inUV).rgb` is line 31 of the file: the read and its
     // swizzle at column 18, each with its own text.
-    for text in ["texture(samplerColor, inUV)", "texture(samplerColor, inUV).rgb"] {
+    for text in [
+        "texture(samplerColor, inUV)",
+        "texture(samplerColor, inUV).rgb",
+    ] {
         assert!(
             out.lines()
                 .any(|l| l.contains(" 31:18 ") && l.trim_end().ends_with(&format!(" {text}"))),
