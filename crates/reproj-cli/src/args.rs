@@ -31,7 +31,7 @@ pub struct BenchArgs {
     pub candidates: Vec<PathBuf>,
     /// The shader's language, when its extension does not say (the baseline and shader
     /// candidates).
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub input: ShaderInputArgs,
@@ -61,7 +61,7 @@ pub struct BenchArgs {
     #[arg(hide = true, long, default_value_t = 0.03, value_parser = positive_fraction)]
     pub target: f64,
     /// Timed frames per block (each block renders one more, discarded).
-    #[arg(hide = true, long, default_value_t = DEFAULT_BLOCK_FRAMES, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    #[arg(hide = true, long = "block-frames", default_value_t = DEFAULT_BLOCK_FRAMES, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub block: u32,
     /// Draw the windows from the session's first N frames only.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -69,7 +69,7 @@ pub struct BenchArgs {
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    #[arg(hide = true, long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// Print the result as JSON (`reproj.bench` v1, docs/SCHEMAS.md).
     #[arg(long)]
@@ -82,7 +82,7 @@ pub struct CompareArgs {
     /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
     /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     /// How the shader is read (with --profile: the profile's, unless given here).
     #[command(flatten)]
@@ -134,15 +134,15 @@ pub struct CompareArgs {
     pub max_delta_n: u32,
     /// Jittered samples per pixel of the supersampled reference every method is also scored
     /// against (0: none). Costs that many renders of the original.
-    #[arg(long, default_value_t = 16, value_parser = supersample_count)]
+    #[arg(hide = true, long, default_value_t = 16, value_parser = supersample_count)]
     pub supersample: u32,
     /// Leave temporal upsampling out of the comparison.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub no_temporal: bool,
     /// Print compare.json instead of the table.
     #[arg(long)]
     pub json: bool,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    #[arg(hide = true, long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
 }
 
@@ -155,18 +155,18 @@ pub struct ReportArgs {
     #[arg(long, value_parser = output_path, default_value = "report.html")]
     pub out: PathBuf,
     /// Session to render the selections with (default: the profile's).
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub session: Option<PathBuf>,
     /// The shader (default: the profile's; it must be the profiled shader up to comments).
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub shader: Option<PathBuf>,
     /// Most selections to render frames of (spread over the budget range).
-    #[arg(long, default_value_t = 8)]
+    #[arg(hide = true, long, default_value_t = 8)]
     pub max_rendered: usize,
     /// A `reproj compare` output folder whose table and crops the page shows (repeatable).
     #[arg(long, value_name = "DIR")]
     pub compare: Vec<PathBuf>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    #[arg(hide = true, long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// Print what was written as JSON (`reproj.report-run`, docs/SCHEMAS.md).
     #[arg(long)]
@@ -179,7 +179,7 @@ pub struct RenderArgs {
     /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
     /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub input: ShaderInputArgs,
@@ -220,11 +220,12 @@ pub struct RenderArgs {
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    #[arg(hide = true, long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// With a variant: also time it against the original through the timing engine, interleaved
-    /// in one run with its 95 % interval (as `reproj bench`, up to 30 s), and report the speedup.
-    #[arg(long)]
+    /// in one run with its 95 % interval (as `reproj bench`, up to 30 s), and report the speedup
+    /// (`--speedup`, its former name, is still read).
+    #[arg(long = "time", alias = "speedup")]
     pub speedup: bool,
     /// With a variant: draw and time every pass in its own render pass (the JSON records'
     /// `pass_ms`). By default passes that write the same targets share one render pass, as a
@@ -242,7 +243,7 @@ pub struct AnalyzeArgs {
     /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
     /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub input: ShaderInputArgs,
@@ -256,8 +257,9 @@ pub struct AnalyzeArgs {
     /// Profile file to write (default: SHADER_STEM.profile.json in the current directory).
     #[arg(long, value_parser = output_path)]
     pub out: Option<PathBuf>,
-    /// Refresh periods the error model is fitted to.
-    #[arg(long, value_delimiter = ',', default_value = "2,10,18,26,34,42,50", value_parser = delta_n_limit)]
+    /// Refresh periods the error model is fitted to (`--delta-n`, its former name, is still
+    /// read).
+    #[arg(long = "fit-delta-n", alias = "delta-n", value_delimiter = ',', default_value = "2,10,18,26,34,42,50", value_parser = delta_n_limit)]
     pub delta_n: Vec<u32>,
     /// Refresh periods used only to check the models.
     #[arg(hide = true, long, value_delimiter = ',', default_value = "6,30", value_parser = delta_n_limit)]
@@ -278,7 +280,7 @@ pub struct AnalyzeArgs {
     #[arg(hide = true, long, conflicts_with_all = ["nodes", "max_nodes", "min_saving"])]
     pub all_nodes: bool,
     /// Most nodes to profile when pruning (the root included).
-    #[arg(long, default_value_t = 16, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u32).range(1..), |n| n as usize))]
+    #[arg(hide = true, long, default_value_t = 16, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u32).range(1..), |n| n as usize))]
     pub max_nodes: usize,
     /// Smallest static saving worth profiling, as a fraction of the shader's cost.
     #[arg(hide = true, long, default_value_t = 0.05, value_parser = unit_fraction)]
@@ -320,14 +322,14 @@ pub struct AnalyzeArgs {
     /// Fragment entry point.
     #[arg(long)]
     pub entry: Option<String>,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    #[arg(hide = true, long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     /// Profile only shard i of N (0-based) of the nodes, e.g. `--shard 0/3`; join the shards'
     /// profiles with `reproj merge`.
     #[arg(hide = true, long)]
     pub shard: Option<reproj_models::profile::Shard>,
     /// Start over: ignore the journal an interrupted run left beside the profile.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub fresh: bool,
     /// Do not write the charts.
     #[arg(hide = true, long)]
@@ -413,20 +415,20 @@ pub struct EmitArgs {
     /// every frame within the budget; --verify then renders and times it adaptively.
     #[arg(long)]
     pub adaptive: bool,
-    #[arg(long, help = backend_help(), value_parser = parse_backend)]
+    #[arg(hide = true, long, help = backend_help(), value_parser = parse_backend)]
     pub backend: Option<String>,
     #[command(flatten)]
     pub integration: IntegrationArgs,
     /// The shader to instance instead of the profile's (it must be the profiled shader up to
     /// comments and formatting).
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub shader: Option<PathBuf>,
     /// Also write every pass in these languages, beside its WGSL (comma-separated).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub lang: Vec<LangArg>,
     /// The value of an `override` constant in the --lang passes, NAME=VALUE (repeatable; the
     /// others keep their defaults).
-    #[arg(long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
+    #[arg(hide = true, long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
     pub overrides: Vec<(String, f64)>,
     /// Exit with code 3 when the selection's speedup (measured with --verify, else predicted) is
     /// below this: for CI, "nothing under the budget is worth it".
@@ -456,7 +458,7 @@ pub struct SessionInitArgs {
     /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
     /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub input: ShaderInputArgs,
@@ -467,7 +469,7 @@ pub struct SessionInitArgs {
     #[arg(short, long)]
     pub out: Option<PathBuf>,
     /// Replace `--out` when it exists.
-    #[arg(long)]
+    #[arg(hide = true, long)]
     pub force: bool,
     /// Frames in the session.
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..))]
@@ -484,7 +486,7 @@ pub struct NodesArgs {
     /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
     /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub input: ShaderInputArgs,
@@ -584,20 +586,23 @@ pub struct CacheArgs {
 }
 
 /// How the written passes fit into a host engine: shared by `instance` and `emit`.
-#[derive(Debug, Clone, Copy, Args)]
+#[derive(Debug, Clone, Args)]
 pub struct IntegrationArgs {
     /// Bind group of the variant's added bindings (default: the lowest one the shader does not
     /// use, else its highest; at most 3). A group the shader uses is shared: the added bindings
     /// go past its own.
     #[arg(long)]
     pub group: Option<u32>,
-    /// How the first pass that writes the frame color starts it: `clear` it (as a standalone pass
-    /// would) or `load` what the engine drew before.
-    #[arg(long, value_enum, default_value = "clear")]
+    /// What the engine drew before that the first passes keep instead of clearing: `frame` (its
+    /// color) and `depth` (its opaque geometry, so the variant is hidden behind it);
+    /// comma-separated. Default: both cleared, as a standalone pass would.
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "TARGETS")]
+    pub load: Vec<LoadTarget>,
+    /// How the first pass that writes the frame color starts it (as `--load frame`).
+    #[arg(hide = true, long, value_enum, default_value = "clear")]
     pub frame_load: FrameLoadArg,
-    /// How the first pass starts the depth target: `clear` it, or `load` the engine's depth (its
-    /// opaque geometry, drawn before) so the variant is hidden behind it.
-    #[arg(long, value_enum, default_value = "clear")]
+    /// How the first pass starts the depth target (as `--load depth`).
+    #[arg(hide = true, long, value_enum, default_value = "clear")]
     pub depth_load: FrameLoadArg,
     /// Where the lookup finds a fragment in the previous frame: the `vertex` stage's extra output
     /// (the previous clip position), or the engine's `motion-vectors` texture (.xy = uv_current −
@@ -611,6 +616,25 @@ pub struct IntegrationArgs {
 pub enum FrameLoadArg {
     Clear,
     Load,
+}
+
+/// A target the engine drew before (`--load`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LoadTarget {
+    Frame,
+    Depth,
+}
+
+impl IntegrationArgs {
+    /// Whether the first pass loads the frame color (`--load frame` or `--frame-load load`).
+    pub fn loads_frame(&self) -> bool {
+        self.load.contains(&LoadTarget::Frame) || self.frame_load == FrameLoadArg::Load
+    }
+
+    /// Whether the first pass loads the depth (`--load depth` or `--depth-load load`).
+    pub fn loads_depth(&self) -> bool {
+        self.load.contains(&LoadTarget::Depth) || self.depth_load == FrameLoadArg::Load
+    }
 }
 
 /// Where the previous position comes from.
@@ -652,7 +676,7 @@ pub struct InstanceArgs {
     /// The shader: WGSL, GLSL (`.glsl`, `.frag`) or SPIR-V (`.spv`), by extension.
     pub shader: PathBuf,
     /// The shader's language, when its extension does not say.
-    #[arg(long, value_enum)]
+    #[arg(hide = true, long, value_enum)]
     pub lang_in: Option<LangInArg>,
     #[command(flatten)]
     pub input: ShaderInputArgs,
@@ -680,7 +704,7 @@ pub struct InstanceArgs {
     pub lang: Vec<LangArg>,
     /// The value of an `override` constant in the --lang passes, NAME=VALUE (repeatable; the
     /// others keep their defaults).
-    #[arg(long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
+    #[arg(hide = true, long = "override", value_name = "NAME=VALUE", value_parser = override_value)]
     pub overrides: Vec<(String, f64)>,
     /// Print what was written as JSON (`reproj.instance`: the files and the manifest).
     #[arg(long)]

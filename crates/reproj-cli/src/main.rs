@@ -21,7 +21,7 @@ struct Cli {
     /// Let sessions (and their glTF files) name files outside their own folder: absolute paths,
     /// `..` above it, links out of it. Off by default, so a session from elsewhere cannot read
     /// other files of this machine.
-    #[arg(long, global = true)]
+    #[arg(long, global = true, hide = true)]
     allow_outside_paths: bool,
     /// Say less on stderr: errors and warnings only (no progress, no notes).
     #[arg(short, long, global = true, conflicts_with = "verbose")]

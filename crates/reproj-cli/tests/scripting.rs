@@ -160,7 +160,7 @@ fn every_command_prints_json_with_schema_and_version() {
             TINY_SESSION,
             "--max-frames",
             "4",
-            "--block",
+            "--block-frames",
             "2",
             "--rounds",
             "2",

@@ -1,4 +1,4 @@
-//! Engine shaders through the real binary: `--def`, `--import-path` and their messages, on the
+//! Engine shaders through the real binary: `--def`, `-I`/`--import-path` and their messages, on the
 //! front end's fixtures (`crates/reproj-front/tests/fixtures/defs/`).
 
 mod common;
@@ -70,8 +70,11 @@ fn nodes_takes_defs_and_warns_of_one_nobody_reads() {
 fn an_import_path_finds_an_asset_import_and_a_hidden_entry_is_named() {
     let shader = format!("{DEFS}/asset_import.wgsl");
     let assets = format!("{DEFS}/assets");
-    let (code, _, err) = reproj(&["nodes", &shader, "--import-path", &assets]);
-    assert_eq!(code, 0, "{err}");
+    // `-I` serves WGSL imports and GLSL includes; `--import-path` (hidden) WGSL only.
+    for flag in ["-I", "--import-path"] {
+        let (code, _, err) = reproj(&["nodes", &shader, flag, &assets]);
+        assert_eq!(code, 0, "{flag}: {err}");
+    }
     let (code, _, err) = reproj(&["nodes", &shader]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("\"shaders/noise.wgsl\""), "{err}");
@@ -87,7 +90,7 @@ fn an_import_path_finds_an_asset_import_and_a_hidden_entry_is_named() {
 }
 
 /// Every command that reads a shader takes the same input options (one flattened set: clap's
-/// checks of each command run on its `--help`).
+/// checks of each command run on its `--help`, which shows the visible ones).
 #[test]
 fn every_command_that_reads_a_shader_takes_the_input_options() {
     for command in [
@@ -106,7 +109,7 @@ fn every_command_that_reads_a_shader_takes_the_input_options() {
             continue; // a build without the command
         }
         assert_eq!(code, 0, "{command:?}: {err}");
-        for flag in ["--def", "--defs-preset", "--import-path", "--include-dir"] {
+        for flag in ["--def", "--defs-preset", "--include-dir"] {
             assert!(out.contains(flag), "{command:?} has no {flag}: {out}");
         }
     }

@@ -361,7 +361,7 @@ fn composer_error(
                 m.labels.push((at..at + name.len(), "imported here".into()));
             }
             m.notes.push(format!(
-                "searched: {places}; add the folder holding the module's source as an import path (`--import-path`) or to {IMPORTS_VAR} (`:`-separated), e.g. a checkout of the engine's shader sources (Bevy's modules are in its crates: bevy_pbr, bevy_render, ...)"
+                "searched: {places}; add the folder holding the module's source with `-I DIR` or to {IMPORTS_VAR} (`:`-separated), e.g. a checkout of the engine's shader sources (Bevy's modules are in its crates: bevy_pbr, bevy_render, ...)"
             ));
             m
         }

@@ -1,5 +1,5 @@
-//! How every command that reads a shader reads it, beyond its language: shader defs, import
-//! paths and include folders, and loop unrolling. Flattened into each command's arguments.
+//! How every command that reads a shader reads it, beyond its language: shader defs, the
+//! folders its imports and includes are searched in, and loop unrolling. Flattened into each command's arguments.
 
 use std::path::PathBuf;
 
@@ -18,12 +18,13 @@ pub struct ShaderInputArgs {
     /// An engine's usual defs, under the --def ones: `bevy` (docs/USAGE.md lists them).
     #[arg(long, value_name = "ENGINE", value_parser = crate::values::defs_preset)]
     pub defs_preset: Option<reproj_front::DefsPreset>,
-    /// A folder searched (with its subfolders) for `#import`ed WGSL modules, and against which
-    /// asset-path imports (`#import "shaders/x.wgsl"`) are resolved; repeatable, searched after
-    /// the shader's folder and before REPROJ_WGSL_IMPORTS.
-    #[arg(long = "import-path", value_name = "DIR")]
+    /// A WGSL import folder only (as --include-dir, which also serves GLSL).
+    #[arg(hide = true, long = "import-path", value_name = "DIR")]
     pub import_paths: Vec<PathBuf>,
-    /// A folder searched for GLSL `#include "x"` after the shader's own; repeatable.
+    /// A folder searched for what the shader pulls in, after the shader's own; repeatable. WGSL:
+    /// searched with its subfolders for `#import`ed modules, and asset-path imports
+    /// (`#import "shaders/x.wgsl"`) are resolved against it (before REPROJ_WGSL_IMPORTS). GLSL:
+    /// searched for `#include "x"`, as glslang's -I.
     #[arg(short = 'I', long = "include-dir", value_name = "DIR")]
     pub include_dirs: Vec<PathBuf>,
 }
@@ -34,7 +35,12 @@ impl ShaderInputArgs {
         reproj_front::ShaderInput {
             defs: self.defs.iter().cloned().collect(),
             preset: self.defs_preset,
-            import_paths: self.import_paths.clone(),
+            import_paths: self
+                .import_paths
+                .iter()
+                .chain(&self.include_dirs)
+                .cloned()
+                .collect(),
             include_dirs: self.include_dirs.clone(),
         }
     }

@@ -121,7 +121,7 @@ fn inputs(args: &EmitArgs) -> anyhow::Result<Inputs> {
                 |_| UserError(format!("--node {id}: a node id (a number) or `root`")),
             )?)),
         },
-        integration: super::integrate(Default::default(), args.integration),
+        integration: super::integrate(Default::default(), &args.integration),
         shader: args.shader.clone(),
         outputs: super::outputs(&args.lang, &args.overrides),
         also,

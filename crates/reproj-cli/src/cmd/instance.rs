@@ -25,7 +25,7 @@ pub fn run(args: &InstanceArgs) -> anyhow::Result<()> {
     let (shader, norm, table) = (&loaded.shader, &loaded.norm, &loaded.table);
     let opts = super::integrate(
         super::instance_options(args.cache, args.delta_n)?,
-        args.integration,
+        &args.integration,
     );
     let variant = instance_nodes(shader, norm, table, &selectors, &opts)?;
     let outputs = super::outputs(&args.lang, &args.overrides);

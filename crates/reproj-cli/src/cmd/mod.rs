@@ -356,17 +356,19 @@ pub fn instance_options(
 /// Apply the integration flags to instancing options.
 pub fn integrate(
     opts: reproj_instance::InstanceOptions,
-    i: crate::IntegrationArgs,
+    i: &crate::IntegrationArgs,
 ) -> reproj_instance::InstanceOptions {
     reproj_instance::InstanceOptions {
         group: i.group,
-        frame_load: match i.frame_load {
-            crate::FrameLoadArg::Clear => reproj_instance::FrameLoad::Clear,
-            crate::FrameLoadArg::Load => reproj_instance::FrameLoad::Load,
+        frame_load: if i.loads_frame() {
+            reproj_instance::FrameLoad::Load
+        } else {
+            reproj_instance::FrameLoad::Clear
         },
-        depth_load: match i.depth_load {
-            crate::FrameLoadArg::Clear => reproj_instance::DepthLoad::Clear,
-            crate::FrameLoadArg::Load => reproj_instance::DepthLoad::Load,
+        depth_load: if i.loads_depth() {
+            reproj_instance::DepthLoad::Load
+        } else {
+            reproj_instance::DepthLoad::Clear
         },
         reprojection: match i.reproject {
             crate::ReprojectArg::Vertex => reproj_instance::Reprojection::Vertex,
