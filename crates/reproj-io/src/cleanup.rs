@@ -20,8 +20,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, RwLock};
 
+use crate::error::WriteError;
 use crate::holder::{Holder, Liveness};
-use crate::write::WriteError;
 
 static REGISTERED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 

@@ -23,6 +23,7 @@
 //! real binary.
 
 mod cleanup;
+mod error;
 mod holder;
 mod input;
 mod json;

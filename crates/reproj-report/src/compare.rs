@@ -10,7 +10,7 @@ use reproj_compare::{COMPARE_SCHEMA, COMPARE_VERSION, CompareReport};
 
 use crate::ReportError;
 use crate::base64::png_uri;
-use crate::page::{esc, num};
+use crate::html::{esc, num};
 
 /// One compare run, read from its folder.
 #[derive(Debug, Clone)]

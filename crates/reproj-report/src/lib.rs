@@ -12,6 +12,7 @@ pub mod base64;
 pub mod budgets;
 pub mod compare;
 pub mod frames;
+mod html;
 pub mod metrics;
 mod page;
 

@@ -14,6 +14,7 @@ use serde::Serialize;
 use crate::base64::png_uri;
 use crate::budgets::{BudgetEntry, Budgets, Records, label};
 use crate::frames::Rendered;
+use crate::html::{esc, num};
 use crate::metrics::{self, Metric};
 use crate::{ReportError, frames::FrameImages};
 
@@ -128,18 +129,6 @@ struct Point {
 
 /// Below this R² a node's timing fit is labelled weak in the table of fits.
 const WEAK_TIME_R2: f64 = 0.5;
-
-pub(crate) fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
-pub(crate) fn num(v: Option<f64>, decimals: usize) -> String {
-    v.filter(|v| v.is_finite())
-        .map_or_else(|| "–".to_string(), |v| format!("{v:.decimals$}"))
-}
 
 fn sci(v: Option<f64>) -> String {
     v.filter(|v| v.is_finite())

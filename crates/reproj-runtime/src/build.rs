@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use crate::RuntimeError;
 use crate::plan::{Attachment, PassPlan, Plan, SamplerPlan};
-use crate::resources::Setup;
+use crate::setup::Setup;
 
 /// A texture of the manifest's `textures`, on the device.
 #[derive(Debug)]

@@ -118,6 +118,7 @@ mod files;
 pub mod manifest;
 mod plan;
 mod resources;
+mod setup;
 mod shared;
 mod variant;
 mod webgpu;

@@ -8,46 +8,8 @@ use std::sync::Arc;
 use crate::RuntimeError;
 use crate::build::{PassGpu, Texture, build_pass, checked, sampler, textures};
 use crate::plan::{Added, Attachment, ColorLoad, PassPlan, Plan};
+pub use crate::setup::{Setup, VertexStage};
 use crate::shared::{Shared, SharedGroup};
-
-/// How the application builds the variant: its frame, its vertex stages and its bind group layouts.
-#[derive(Debug, Clone, Copy)]
-pub struct Setup<'a> {
-    /// The frame's width and height in pixels (the textures' size; [`VariantResources::resize`]
-    /// changes it).
-    pub size: [u32; 2],
-    /// The format of the application's color target: what the manifest's `frame` is.
-    pub color_format: wgpu::TextureFormat,
-    /// The application's vertex stages (one per pipeline state it draws with, such as its culling
-    /// modes). Each pass gets one pipeline per stage, in this order: the draw callback of
-    /// [`VariantResources::record`] receives them as a slice.
-    pub vertex: &'a [VertexStage<'a>],
-    /// The layouts of the application's bind groups, by group index: every group of
-    /// [`crate::Variant::own_groups`] (the original shader's resources, as the application bound
-    /// them for it) and the groups its vertex stage reads. The variant's own group
-    /// ([`crate::Variant::group`]) may not be among them.
-    pub bind_group_layouts: &'a [(u32, &'a wgpu::BindGroupLayout)],
-    /// The application's motion vectors, for a variant that reads them
-    /// ([`crate::Variant::reads_motion_vectors`]; `None` for any other): a float texture of the
-    /// frame's size with `TEXTURE_BINDING` usage, `.xy` = `uv_current - uv_previous` (texture UV,
-    /// y down), written before each frame's [`VariantResources::record`]. After a resize give
-    /// the new one with [`VariantResources::set_motion`].
-    pub motion: Option<&'a wgpu::TextureView>,
-    /// The application's own bindings of the variant's group, for a variant that shares a group
-    /// with the original shader ([`crate::Variant::shares_group`]: a shader that uses all four
-    /// groups); `None` for any other. The runtime binds them beside its own in one bind group.
-    pub shared: Option<SharedGroup<'a>>,
-}
-
-/// One vertex stage of the application: its module (which writes the manifest's vertex contract,
-/// [`crate::Variant::vertex`]), entry point, vertex buffers and primitive state.
-#[derive(Debug, Clone)]
-pub struct VertexStage<'a> {
-    pub module: &'a wgpu::ShaderModule,
-    pub entry_point: &'a str,
-    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    pub primitive: wgpu::PrimitiveState,
-}
 
 /// The application's targets for one frame.
 #[derive(Debug, Clone, Copy)]
