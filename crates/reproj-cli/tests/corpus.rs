@@ -19,8 +19,7 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 const STRATEGIES: [&str; 3] = ["3pass", "2pass", "fused"];
 
