@@ -26,6 +26,7 @@ mod sessions;
 mod sets;
 mod shader_defs;
 mod signals;
+mod test_files;
 mod variant;
 mod verify;
 mod writers;

@@ -11,8 +11,8 @@ use std::path::Path;
 
 use reproj_runtime::{FrameInputs, FrameTargets, RuntimeError, Setup, Variant};
 
-use app::{App, COLOR, FRAMES, OBJECT_GROUP};
 use crate::common::{instance_marble, reproj, s};
+use app::{App, COLOR, FRAMES, OBJECT_GROUP};
 
 /// Largest allowed difference of any channel of any pixel between the app's frames and
 /// `reproj render`'s.
