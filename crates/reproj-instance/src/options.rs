@@ -1,5 +1,5 @@
 //! What a caller chooses about a variant: the node to cache, its payload format, the strategy
-//! and the frame plan's knobs ([`InstanceOptions`]), with the defaults the CLI starts from.
+//! and the frame plan's knobs ([`InstanceOptions`]), and their defaults.
 
 use super::*;
 

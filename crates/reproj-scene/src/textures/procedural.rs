@@ -1,6 +1,6 @@
-//! Generated texture content: periodic fBm value noise, an analytic sky-and-ground environment
-//! (as a cube map or an equirectangular map), 3D volumes and the flat 2D kinds (noise, normal
-//! map, checker, solid), each with its mip chain.
+//! Generated texture content: periodic fBm value noise, an analytic environment (sky with
+//! clouds and a sun over the ground, as a cube map or an equirectangular map), 3D volumes and
+//! the flat 2D kinds (noise, normal map, checker, solid).
 
 use glam::{Vec3, Vec4};
 
