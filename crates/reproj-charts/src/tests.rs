@@ -1,5 +1,6 @@
 //! Charts of synthetic profiles. Set `REPROJ_CHARTS_KEEP=DIR` to keep the files for a look.
 
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use reproj_models::profile::{
@@ -10,7 +11,9 @@ use reproj_models::{
     ErrorFitOptions, FrameTiming, HitRateFit, PROFILE_VERSION, Profile, fit_error, fit_hit_rate,
     fit_timing_with_holdout, predicted_frame_ms,
 };
+use reproj_select::{SelectOptions, Selection, select_with_sets};
 
+use super::data::HIGHLIGHTED;
 use super::*;
 
 const TRAIN: [u32; 7] = [2, 10, 18, 26, 34, 42, 50];

@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-mod common;
-use common::{root, run as reproj};
+use crate::common::{root, run as reproj};
 
 /// marble over a smaller, shorter copy of its session (the timing needs work to measure, not
 /// pixels to look at).

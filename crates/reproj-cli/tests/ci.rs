@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-mod common;
-use common::{root, run as reproj};
+use crate::common::{root, run as reproj};
 use std::process::Command;
 
 fn names(dir: &Path) -> Vec<String> {

@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-mod common;
-use common::{root, run as reproj};
+use crate::common::{root, run as reproj};
 
 fn numbers(v: &serde_json::Value, path: &str, out: &mut Vec<(String, f64)>) {
     match v {

@@ -1,26 +1,26 @@
 //! The corpus (`tests/corpus/shaders/` at the top of the repository, sessions in
 //! `tests/corpus/sessions/`; the GLSL shaders of `tests/corpus/shaders/glsl/` that have a session
 //! in `tests/corpus/sessions/glsl/`): engine-style fragment shaders, each run through the real
-//! binary and compared with the committed snapshot `tests/corpus/snapshots/corpus__table.snap`, so
-//! that a shader that stops parsing, loses cacheable nodes, stops validating or rendering (or
-//! starts to) fails here. Per shader it records: whether `nodes` parses it, the cacheable node
-//! count, the outcome of `instance` for the root and the costliest other cacheable node in each
-//! strategy, the outcome of `render --node root --delta-n 4 --max-frames 4`, and that of a short
-//! `analyze` (12 frames, two nodes, 2pass). An outcome is `ok` or the one-line message of an exit-2
-//! rejection; anything else (a panic, another exit code, a message over several lines, files left
-//! behind by a rejection) fails outright. Everything is written in temporary directories.
+//! binary and compared with the committed snapshot
+//! `tests/corpus/snapshots/integration__corpus__table.snap`, so that a shader that stops parsing,
+//! loses cacheable nodes, stops validating or rendering (or starts to) fails here. Per shader it
+//! records: whether `nodes` parses it, the cacheable node count, the outcome of `instance` for the
+//! root and the costliest other cacheable node in each strategy, the outcome of `render --node root
+//! --delta-n 4 --max-frames 4`, and that of a short `analyze` (12 frames, two nodes, 2pass). An
+//! outcome is `ok` or the one-line message of an exit-2 rejection; anything else (a panic, another
+//! exit code, a message over several lines, files left behind by a rejection) fails outright.
+//! Everything is written in temporary directories.
 //!
-//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-cli --test corpus` and
-//! `git diff tests/corpus` (`cargo insta review` does not look outside the crates), then update
-//! `docs/CORPUS.md` (`tests/README.md`).
+//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-cli --test integration
+//! corpus::` and `git diff tests/corpus` (`cargo insta review` does not look outside the crates),
+//! then update `docs/CORPUS.md` (`tests/README.md`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde_json::{Value, json};
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 const STRATEGIES: [&str; 3] = ["3pass", "2pass", "fused"];
 

@@ -6,8 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 fn session_json(name: &str) -> Value {
     let p = root().join(format!("tests/corpus/sessions/{name}.json"));

@@ -2,8 +2,7 @@
 //! directive survives every pass, and the replay asks the device for SHADER_F16 (an adapter
 //! without it is refused with a message naming the feature, exit 2; lavapipe has it).
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 #[test]
 fn an_f16_shader_and_its_variant_render() {

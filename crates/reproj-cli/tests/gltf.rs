@@ -4,8 +4,7 @@
 
 use serde_json::Value;
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 #[test]
 fn a_gltf_session_renders_and_analyzes() {

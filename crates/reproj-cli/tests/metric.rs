@@ -3,9 +3,7 @@
 //! re-rendered (marble, whose cached root pays off even on a CPU rasterizer). Renders on the
 //! machine's Vulkan adapter; `render` on the replay's 64×64 test data.
 
-mod common;
-
-use common::{root, run};
+use crate::common::{root, run};
 
 const TINY: &str = "crates/reproj-replay/tests/data/tiny.wgsl";
 const TINY_MOVING: &str = "crates/reproj-replay/tests/data/tiny_moving.json";

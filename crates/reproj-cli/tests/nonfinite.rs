@@ -5,8 +5,7 @@
 //! - A variant that renders NaN or ∞ where the original is finite is set aside with that reason.
 //! - `emit --verify` fails on such a variant (exit 4): tested on the gate in `cmd/emit.rs`.
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 fn setup(files: &[(&str, &str)]) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();

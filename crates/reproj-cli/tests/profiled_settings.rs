@@ -1,8 +1,8 @@
 //! What `emit` writes is what `analyze` measured: a profile records its variants' reconstruction
 //! and cache format, and the emitted manifest uses them (`--cache-format` overrides the format).
 
-mod common;
-use common::run;
+use crate::common;
+use crate::common::run;
 
 #[test]
 fn emit_writes_the_reconstruction_and_format_the_profile_measured() {

@@ -6,8 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
-use common::{root, run as reproj};
+use crate::common::{root, run as reproj};
 
 /// A small profile of marble, made quickly (as the CI tests make theirs): the recorded session at
 /// 160×120, 8 frames, three nodes, three training periods. (The tiny test shader is too cheap for

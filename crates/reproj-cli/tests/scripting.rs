@@ -4,11 +4,9 @@
 //! The commands that render use the machine's Vulkan adapter (lavapipe where there is no GPU) on
 //! the replay's 64×64 test data, a few frames each.
 
-mod common;
-
 use std::path::Path;
 
-use common::{root, run, run_env};
+use crate::common::{root, run, run_env};
 
 const TINY: &str = "crates/reproj-replay/tests/data/tiny.wgsl";
 const TINY_SESSION: &str = "crates/reproj-replay/tests/data/tiny_static_plane.json";

@@ -2,8 +2,7 @@
 //! runs at once, for every shader of the test bed; an existing file is not replaced without
 //! `--force`; what the replay cannot provide is refused with exit 2 and nothing written.
 
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 #[test]
 fn every_test_bed_shader_renders_with_its_starting_session() {

@@ -3,8 +3,8 @@
 //! each session's prediction; verified on the faster session, it holds where the single-session
 //! choice (`verify.rs`) broke it. Profiles of another shader are refused.
 
-mod common;
-use common::run;
+use crate::common;
+use crate::common::run;
 
 #[test]
 fn the_budget_holds_on_every_profiled_session() {

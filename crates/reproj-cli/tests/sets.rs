@@ -3,11 +3,9 @@
 //! `emit` picks the pair that caches both terms (`a` and `b`: the two nodes pruning keeps besides
 //! the root) and `emit --verify` measures it; `compare` at the same budget renders that pair; with `--no-sets` the profile records no set. Renders on the machine's Vulkan adapter (lavapipe in CI).
 
-mod common;
-
 use std::path::Path;
 
-use common::{root, run};
+use crate::common::{root, run};
 
 const SHADER: &str = "crates/reproj-cli/tests/data/two_terms.wgsl";
 const SESSION: &str = "crates/reproj-cli/tests/data/two_terms.json";

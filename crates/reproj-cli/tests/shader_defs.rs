@@ -1,7 +1,7 @@
 //! Engine shaders through the real binary: `--def`, `-I`/`--import-path` and their messages, on the
 //! front end's fixtures (`crates/reproj-front/tests/fixtures/defs/`).
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -1,7 +1,7 @@
 //! Written variants through the real binary: `instance --group/--frame-load` and `render --variant`.
 
-mod common;
-use common::root;
+use crate::common;
+use crate::common::root;
 
 fn reproj(args: &[&str]) -> (i32, String, String) {
     common::run(&root(), args)

@@ -3,8 +3,8 @@
 //! exit 0; and by default emit carries the profile to that session's motion first, so that the
 //! choice holds there.
 
-mod common;
-use common::run;
+use crate::common;
+use crate::common::run;
 
 /// Given the session it is for, emit measures that session's motion and carries the profile to it
 /// before selecting: the fast session (outside the one profiled motion) gets a warning saying so,

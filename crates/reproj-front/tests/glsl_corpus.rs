@@ -1,11 +1,10 @@
 //! The GLSL corpus (`tests/corpus/shaders/glsl/`): Vulkan-style GLSL 450 fragment shaders (combined
 //! image samplers, push constants with `layout(offset = N)`, specialization constants, uniform
 //! blocks), read through glslang. Each must parse and yield nodes; the counts are compared with the
-//! committed snapshot `tests/corpus/snapshots/glsl_corpus__table.snap` at the top of the repository
-//! (insta: `INSTA_UPDATE=always` accepts a change in place, to review with `git diff`;
-//! `tests/README.md`). Needs
-//! `glslangValidator` (`scripts/ensure-tools.sh`): without it these tests fail under `CI` and say
-//! they skipped otherwise.
+//! committed snapshot `tests/corpus/snapshots/integration__glsl_corpus__table.snap` at the top of
+//! the repository (insta: `INSTA_UPDATE=always` accepts a change in place, to review with `git
+//! diff`; `tests/README.md`). Needs `glslangValidator` (`scripts/ensure-tools.sh`): without it
+//! these tests fail under `CI` and say they skipped otherwise.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

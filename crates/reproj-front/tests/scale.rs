@@ -6,7 +6,7 @@
 //! each phase, and in release holds 56k lines to 5 s:
 //!
 //! ```text
-//! cargo test --release -p reproj-front --test scale -- --ignored --nocapture
+//! cargo test --release -p reproj-front --test integration scale:: -- --ignored --nocapture
 //! ```
 
 use std::path::Path;

@@ -2,8 +2,8 @@
 //! one minimal fixture each: what they normalize to (snapshots of the normalized WGSL) and which
 //! of their nodes are cacheable; and the diagnostics of what is still refused.
 //!
-//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-front --test shapes` (or
-//! `cargo insta review`) and review the diff of `tests/snapshots/`.
+//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-front --test integration
+//! shapes::` (or `cargo insta review`) and review the diff of `tests/snapshots/`.
 
 use std::path::Path;
 

@@ -1,8 +1,8 @@
 //! Loop unrolling: what is unrolled, what is left alone, the node counts it gives, and a snapshot of
 //! an unrolled fixture.
 //!
-//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-front --test unroll` (or
-//! `cargo insta review`) and review the diff of `tests/snapshots/`.
+//! After an intended change: `INSTA_UPDATE=always cargo test -p reproj-front --test integration
+//! unroll::` (or `cargo insta review`) and review the diff of `tests/snapshots/`.
 
 use std::path::Path;
 

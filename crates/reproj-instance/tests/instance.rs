@@ -9,8 +9,7 @@ use reproj_instance::{
     InstanceError, InstanceOptions, NodeSelector, PassKind, Strategy, instance, write_variant,
 };
 
-mod common;
-use common::{check_round_trip, load, node_by_text, pass, root, samples};
+use crate::common::{check_round_trip, load, node_by_text, pass, root, samples};
 
 /// Every cacheable node of every sample, in every strategy: each pass validates (inside
 /// `instance`, before and after compaction) and its WGSL is a fixed point of parse → validate →

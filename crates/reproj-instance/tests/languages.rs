@@ -3,8 +3,7 @@
 
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
 
-mod common;
-use common::load;
+use crate::common::load;
 
 /// `--lang`: every pass of marble's variants in GLSL, HLSL, MSL and SPIR-V, beside the WGSL.
 #[test]

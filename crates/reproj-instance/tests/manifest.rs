@@ -97,8 +97,8 @@ fn published_schema_is_current() {
     let published = std::fs::read_to_string(schema_path()).unwrap_or_default();
     assert!(
         published == text,
-        "docs/manifest.schema.json is out of date: run \
-         `INSTA_UPDATE=always cargo test -p reproj-instance --test manifest` and review the diff"
+        "docs/manifest.schema.json is out of date: run `INSTA_UPDATE=always cargo test -p \
+         reproj-instance --test integration manifest::` and review the diff"
     );
 }
 

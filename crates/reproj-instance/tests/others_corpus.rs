@@ -3,8 +3,8 @@
 //! repository: `tests/others/SOURCES.md` names each file's repository, path, commit and
 //! license, and `scripts/fetch-others.sh` fetches them into `tests/others/{glsl,wgsl,imports}/`
 //! (ignored by git) or any folder `REPROJ_OTHERS_CORPUS` names. The test is ignored by default
-//! and run on purpose: `cargo test -p reproj-instance --test others_corpus -- --ignored` (it
-//! fails when the set is missing).
+//! and run on purpose: `cargo test -p reproj-instance --test integration others_corpus:: --
+//! --ignored` (it fails when the set is missing).
 //!
 //! Each file is read as `reproj nodes` reads it with the options a user of its engine would pass
 //! (`tests/others/options.json`: shader defs, a defs preset, import paths, include folders, per
@@ -14,12 +14,13 @@
 //! and its first cacheable node instanced (3pass) and written as WGSL, SPIR-V and GLSL, every
 //! file through every validator of its target (`validate.rs`).
 //!
-//! The rows are compared with the committed snapshot `tests/others/snapshots/others_corpus__table.snap`
-//! at the top of the repository (insta: `INSTA_UPDATE=always` accepts a change in place, to
-//! review with `git diff`; `tests/README.md`). No file may panic or report an internal error,
-//! every file written must validate, every entry point that does not parse must have a reason in
-//! `options.json`, and the parse rate must reach its target (80 % of the entry points). Needs
-//! naga, tint, spirv-val and glslangValidator: a missing one fails the test.
+//! The rows are compared with the committed snapshot
+//! `tests/others/snapshots/integration__others_corpus__table.snap` at the top of the repository
+//! (insta: `INSTA_UPDATE=always` accepts a change in place, to review with `git diff`;
+//! `tests/README.md`). No file may panic or report an internal error, every file written must
+//! validate, every entry point that does not parse must have a reason in `options.json`, and the
+//! parse rate must reach its target (80 % of the entry points). Needs naga, tint, spirv-val and
+//! glslangValidator: a missing one fails the test.
 
 #[path = "others_corpus/options.rs"]
 mod options;

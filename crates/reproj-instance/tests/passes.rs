@@ -7,8 +7,7 @@ use std::path::Path;
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceError, InstanceOptions, NodeSelector, PassKind, Strategy, instance};
 
-mod common;
-use common::{check_round_trip, load, node_by_text, pass, root};
+use crate::common::{check_round_trip, load, node_by_text, pass, root};
 
 #[test]
 fn shade_pass_drops_the_cached_noise_and_keeps_the_overlap() {

@@ -7,8 +7,7 @@ use std::path::PathBuf;
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance};
 
-mod common;
-use common::{check_round_trip, root_in_every_strategy};
+use crate::common::{check_round_trip, root_in_every_strategy};
 
 /// `enable f16;` survives the passes of every strategy: each pass of each cacheable node of a
 /// shader computing in f16 parses and validates again (it failed to parse without the directive).

@@ -1,8 +1,6 @@
 //! Error model (eq. 2) fits: recovery from noisy synthetic data and every failure path.
 
-mod common;
-
-use common::{DELTA_NS, Rng};
+use crate::common::{DELTA_NS, Rng};
 use reproj_models::{
     ErrorFit, ErrorFitFailure, ErrorFitOptions, ErrorFitStatus, LAMBDA_MAX, fit_error,
 };

@@ -1,8 +1,6 @@
 //! Hit-rate model (eq. 4) fits.
 
-mod common;
-
-use common::{DELTA_NS, Rng};
+use crate::common::{DELTA_NS, Rng};
 use reproj_models::{HitRateFit, HitRateFitFailure, HitRateStatus, fit_hit_rate};
 
 fn failure(fit: &HitRateFit) -> &HitRateFitFailure {

@@ -1,8 +1,6 @@
 //! Timing model (eq. 3) fits: recovery, hold-out, clamping and every rank-deficient case.
 
-mod common;
-
-use common::Rng;
+use crate::common::Rng;
 use reproj_models::{
     FrameTiming, HitRateFit, TimingFit, TimingFitFailure, TimingParam, TimingStatus, TimingWarning,
     fit_timing, fit_timing_with_holdout, predicted_frame_ms,

@@ -2,14 +2,12 @@
 //! manifest is an error naming the file and the field, never a panic, and its files are read as
 //! the CLI reads its inputs (no pipe waited on, no link out of the folder, a size limit).
 
-mod common;
-
 use std::path::Path;
 
 use reproj_runtime::{FileError, ReadLimits, RuntimeError, Variant};
 use serde_json::{Value, json};
 
-use common::instance_marble;
+use crate::common::instance_marble;
 
 /// A copy of `dir` in `to` whose manifest is `edit`ed.
 fn edited(dir: &Path, to: &Path, edit: impl FnOnce(&mut Value)) {

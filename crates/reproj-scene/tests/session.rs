@@ -258,8 +258,8 @@ var<immediate> push: Push;
 
 /// `docs/session.schema.json` is what the session types generate. It is published at that path
 /// (editors read it), so it is not an insta snapshot, but it is updated the way snapshots are:
-/// after changing the types, `INSTA_UPDATE=always cargo test -p reproj-scene --test session`
-/// rewrites it, and `git diff` reviews it.
+/// after changing the types, `INSTA_UPDATE=always cargo test -p reproj-scene --test integration
+/// session::` rewrites it, and `git diff` reviews it.
 #[test]
 fn the_published_session_schema_is_current_and_every_session_validates() {
     let path = root().join("docs/session.schema.json");
@@ -271,8 +271,8 @@ fn the_published_session_schema_is_current_and_every_session_validates() {
     let published = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         published == text,
-        "docs/session.schema.json is out of date: run \
-         `INSTA_UPDATE=always cargo test -p reproj-scene --test session` and review the diff"
+        "docs/session.schema.json is out of date: run `INSTA_UPDATE=always cargo test -p \
+         reproj-scene --test integration session::` and review the diff"
     );
     let schema: serde_json::Value = serde_json::from_str(&published).unwrap();
     let validator = jsonschema::validator_for(&schema).unwrap();

@@ -10,12 +10,16 @@
 
 mod budget;
 pub mod combine;
+mod measured;
 pub mod motion;
 mod records;
 mod worst;
 
 pub use budget::{Budget, DELTA_N_RANGE, InvalidBudget};
 pub use combine::{SetPrediction, best_set, combined_timing, predict_set};
+pub use measured::{
+    Calibration, MeasuredBound, calibration, measured_errors, predicted_error, respect_measurements,
+};
 pub use records::{ProfileRecords, profile_records};
 pub use worst::{Scene, ScenePrediction, select_worst_case};
 
@@ -58,201 +62,6 @@ pub struct NodeRecord {
     /// longest measured one is predicted ([`respect_measurements`]). Empty: the model alone.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub measured_errors: Vec<(u32, f64)>,
-}
-
-/// What the measured errors say of the error at one Δn ([`respect_measurements`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum MeasuredBound {
-    /// No measurement to go by.
-    Unmeasured,
-    /// Measured at this Δn (the larger, if measured twice).
-    Exact(f64),
-    /// Between two measured periods (Δn = 1 counts as measured at 0: it reproduces the
-    /// original): `(Δn, error)` below and above, and the line between them at this Δn.
-    Between {
-        below: (u32, f64),
-        above: (u32, f64),
-        chord: f64,
-    },
-    /// Past the longest measured period: not predicted (the model would extrapolate).
-    Beyond { longest: u32 },
-}
-
-/// Where `delta_n` lies among the measured errors.
-pub fn respect_measurements(measured: &[(u32, f64)], delta_n: u32) -> MeasuredBound {
-    let finite: Vec<(u32, f64)> = measured
-        .iter()
-        .copied()
-        .filter(|(_, e)| e.is_finite())
-        .collect();
-    let Some(longest) = finite.iter().map(|m| m.0).max() else {
-        return MeasuredBound::Unmeasured;
-    };
-    if delta_n > longest {
-        return MeasuredBound::Beyond { longest };
-    }
-    // The worst measurement at a period (a period measured twice keeps the larger error).
-    let at = |dn: u32| {
-        finite
-            .iter()
-            .filter(|m| m.0 == dn)
-            .map(|m| m.1)
-            .fold(f64::NEG_INFINITY, f64::max)
-    };
-    if finite.iter().any(|m| m.0 == delta_n) {
-        return MeasuredBound::Exact(at(delta_n));
-    }
-    let below = finite
-        .iter()
-        .map(|m| m.0)
-        .filter(|&d| d < delta_n)
-        .max()
-        .map_or((1, 0.0), |d| (d, at(d)));
-    let above = finite
-        .iter()
-        .map(|m| m.0)
-        .filter(|&d| d > delta_n)
-        .min()
-        .expect("delta_n is below the longest");
-    let above = (above, at(above));
-    let t = f64::from(delta_n - below.0) / f64::from(above.0 - below.0);
-    MeasuredBound::Between {
-        below,
-        above,
-        chord: below.1 + t * (above.1 - below.1),
-    }
-}
-
-/// The error predicted for `node` at `delta_n`, held to what the profile measured: at a measured
-/// period never below the measurement; between two, never below the line between them nor below
-/// the model scaled by how much it under-predicted those two neighbours; past the longest
-/// measured period, none.
-pub fn predicted_error(node: &NodeRecord, delta_n: u32) -> Option<f64> {
-    let model = |dn: u32| node.error.predict(f64::from(dn));
-    let m = model(delta_n)?;
-    Some(match respect_measurements(&node.measured_errors, delta_n) {
-        MeasuredBound::Unmeasured => m,
-        MeasuredBound::Exact(e) => m.max(e),
-        MeasuredBound::Between {
-            below,
-            above,
-            chord,
-        } => {
-            // How far the model falls short of each measured neighbour (Δn = 1 is no check).
-            let short = |(dn, e): (u32, f64)| match model(dn) {
-                Some(p) if dn > 1 && p > 0.0 && e.is_finite() => e / p,
-                _ => 1.0,
-            };
-            (m * short(below).max(short(above)).max(1.0)).max(chord)
-        }
-        MeasuredBound::Beyond { .. } => return None,
-    })
-}
-
-/// The `(Δn, value)` pairs a node (or set) measured for `metric`.
-pub fn measured_errors(
-    measurements: &[reproj_models::profile::Measurement],
-    metric: reproj_models::Metric,
-) -> Vec<(u32, f64)> {
-    measurements
-        .iter()
-        .filter_map(|m| Some((m.delta_n, m.value(metric)?)))
-        .collect()
-}
-
-/// How an interleaved measurement calibrates a node's timing model: the model gives the shape of
-/// the frame time over Δn (its ratio between two periods), the measurement its level, so the
-/// predicted speedup at Δn is the measured one × t̂(Δn_measured) / t̂(Δn), with the measured
-/// interval carried along.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Calibration {
-    /// The period the speedup was measured at.
-    pub delta_n: u32,
-    /// Factor on t̂: `original_ms / (measured speedup × t̂(delta_n))`.
-    pub ms_scale: f64,
-    /// The measured 95 % interval over the measured speedup (`[lo / s, hi / s]`).
-    pub rel_ci95: [f64; 2],
-}
-
-impl Calibration {
-    /// From a speedup `speedup` [`ci95`] measured at `delta_n`, the original's time and the
-    /// model's `t̂(delta_n)`; `None` unless every number is finite and positive.
-    pub fn new(
-        delta_n: u32,
-        speedup: f64,
-        ci95: [f64; 2],
-        original_ms: f64,
-        model_ms: f64,
-    ) -> Option<Calibration> {
-        let scale = original_ms / (speedup * model_ms);
-        let rel = [ci95[0] / speedup, ci95[1] / speedup];
-        (scale.is_finite() && scale > 0.0 && rel.iter().all(|r| r.is_finite() && *r > 0.0))
-            .then_some(Calibration {
-                delta_n,
-                ms_scale: scale,
-                rel_ci95: rel,
-            })
-    }
-}
-
-impl NodeRecord {
-    /// The selector's view of `node` in `profile` with its error model for `metric`: its fits,
-    /// its interleaved race ([`calibration`]) and its measured errors ([`measured_errors`]) — the
-    /// one way `emit`, `report`, `compare` and the charts build it, so they choose alike. `None`
-    /// when the profile has no model for `metric`.
-    pub fn from_profile(
-        profile: &reproj_models::Profile,
-        node: &reproj_models::profile::NodeProfile,
-        metric: reproj_models::Metric,
-    ) -> Option<NodeRecord> {
-        Some(NodeRecord {
-            id: node.id,
-            text: node.text.clone(),
-            strategy: node.strategy.clone(),
-            error: node.fit(metric)?.clone(),
-            timing: node.timing_fit.clone(),
-            mean_pixels: profile.original.mean_pixels,
-            measured: calibration(profile, node),
-            measured_errors: measured_errors(&node.measurements, metric),
-        })
-    }
-}
-
-/// The calibration of `node`'s timing model in `profile` by its strategy's interleaved race
-/// against the original (`analyze`, profile version 7 on) — or, where the node kept a filter other
-/// than the profile's, by that filter's race (`filter_probes`, version 9), since the strategy race
-/// timed the profile's filter; likewise a block size kept by a block race (`block_probes`,
-/// version 10); `None` for older profiles or a node whose race gave no estimate.
-pub fn calibration(
-    profile: &reproj_models::Profile,
-    node: &reproj_models::profile::NodeProfile,
-) -> Option<Calibration> {
-    let filter = node.reconstruct_in(profile);
-    let (delta_n, speedup, ci95) = if filter != profile.reconstruct {
-        let probe = profile.filter_probes.iter().find(|p| {
-            p.node == node.id && p.kept && p.strategy == node.strategy && p.reconstruct == filter
-        })?;
-        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
-    } else if let Some(probe) = profile.block_probes.iter().find(|p| {
-        p.node == node.id && p.kept && p.strategy == node.strategy && Some(p.block) == node.block
-    }) {
-        // A block race's kept size (version 10): timed at the longest period as the strategy
-        // race was, but with the block the node was profiled with.
-        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
-    } else {
-        let probe = profile
-            .strategy_probes
-            .iter()
-            .find(|p| p.node == node.id && p.kept && p.strategy == node.strategy)?;
-        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
-    };
-    let model_ms = predicted_frame_ms(
-        &node.timing_fit,
-        &profile.hit_rate,
-        f64::from(delta_n),
-        profile.original.mean_pixels,
-    )?;
-    Calibration::new(delta_n, speedup, ci95, profile.original.frame_ms, model_ms)
 }
 
 fn three_pass() -> String {

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use super::common::root;
+use crate::common::root;
 
 /// Longest any case may run: far past a refusal, far short of a hang.
 const LIMIT: Duration = Duration::from_secs(60);

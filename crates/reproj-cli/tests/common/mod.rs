@@ -1,5 +1,5 @@
 //! What the CLI tests share: the repository root and running the real binary.
-#![allow(dead_code)] // each test binary uses part of it
+#![allow(dead_code)] // each test module uses part of it
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

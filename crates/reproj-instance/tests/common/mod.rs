@@ -1,6 +1,6 @@
 //! What the instancer's tests share: the repository's sample shaders loaded and normalized, a
 //! pass's text, nodes by their text, and the WGSL round-trip check.
-#![allow(dead_code)] // each test binary uses part of it
+#![allow(dead_code)] // each test module uses part of it
 
 use std::path::{Path, PathBuf};
 

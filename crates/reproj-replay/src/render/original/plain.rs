@@ -1,4 +1,6 @@
-//! The reference loop: render the original shader over the session.
+//! The plain loop behind the reference renders: one pass of the original per frame, its
+//! targets and readback, and what comes back (the frames kept, or their errors against a
+//! reference, scored on the GPU).
 
 use std::collections::BTreeSet;
 
@@ -14,182 +16,16 @@ use reproj_metrics::{FrameRecord, RenderReport};
 use reproj_scene::reflect::{self, Interface};
 use reproj_scene::session::Session;
 
-use super::*;
+use crate::render::*;
 
 impl Renderer {
-    /// How many frames a render draws: the session's from `first_frame` on, at most
-    /// `max_frames`, at least one.
-    pub(super) fn frame_count(session: &Session, opts: &RenderOptions) -> u32 {
-        let left = session.frames.saturating_sub(opts.first_frame);
-        opts.max_frames.map_or(left, |m| m.min(left)).max(1)
-    }
-
-    /// Refuse, before allocating anything, a render the adapter or the machine cannot hold: a
-    /// side past the adapter's largest texture, or reference frames (kept on the GPU and, read
-    /// back, on the CPU: about 40 bytes per pixel per frame, plus the targets) past the memory
-    /// the machine has available.
-    pub(super) fn check_size(
-        &self,
-        session: &Session,
-        frames: u32,
-        keeps_frames: bool,
-    ) -> Result<(), ReplayError> {
-        let [w, h] = session.resolution;
-        let max_side = self.device.limits().max_texture_dimension_2d;
-        if w > max_side || h > max_side {
-            return Err(ReplayError::TooLarge {
-                session: session.display_name(),
-                what: format!(
-                    "its resolution {w}×{h} is past {}'s largest texture side, {max_side}",
-                    self.adapter_info.name
-                ),
-            });
-        }
-        let pixels = u64::from(w) * u64::from(h);
-        let per_frame = if keeps_frames { 40 } else { 0 };
-        let need = pixels * (per_frame * u64::from(frames) + 160);
-        if let Some(available) = available_memory()
-            && need > available
-        {
-            let fits = (available / pixels.max(1)).saturating_sub(160) / per_frame.max(1);
-            return Err(ReplayError::TooLarge {
-                session: session.display_name(),
-                what: format!(
-                    "{frames} frames at {w}×{h} need about {:.1} GiB for the reference frames and targets, and {:.1} GiB are available; replay fewer frames (--max-frames {}) or a lower resolution",
-                    need as f64 / (1u64 << 30) as f64,
-                    available as f64 / (1u64 << 30) as f64,
-                    fits.max(1)
-                ),
-            });
-        }
-        Ok(())
-    }
-
-    /// The first frame a render draws (`first_frame`, checked against the session).
-    pub(super) fn first_frame(session: &Session, opts: &RenderOptions) -> Result<u32, ReplayError> {
-        if opts.first_frame >= session.frames {
-            return Err(ReplayError::Variant {
-                message: format!(
-                    "first frame {} is past the session's {} frames",
-                    opts.first_frame, session.frames
-                ),
-            });
-        }
-        Ok(opts.first_frame)
-    }
-
-    /// Render the original shader's fragment entry `entry_index` over the session: the reference
-    /// frames (kept in memory) and a report with frame times and shaded-pixel counts.
-    pub fn render_original(
-        &self,
-        shader: &Shader,
-        entry_index: usize,
-        session: &Session,
-        opts: &RenderOptions,
-    ) -> Result<Reference, ReplayError> {
-        self.render_original_with(shader, entry_index, session, opts, &())
-    }
-
-    /// [`Renderer::render_original`] with the projection moved by `jitter` each frame (one
-    /// sample of a supersampled reference: [`Jitter::Fixed`]).
-    pub fn render_original_jittered(
-        &self,
-        shader: &Shader,
-        entry_index: usize,
-        session: &Session,
-        opts: &RenderOptions,
-        jitter: Jitter,
-    ) -> Result<Reference, ReplayError> {
-        self.render_reference(shader, entry_index, session, opts, &(), jitter)
-    }
-
-    /// [`Renderer::render_original`], telling `progress` as frames come back.
-    pub fn render_original_with(
-        &self,
-        shader: &Shader,
-        entry_index: usize,
-        session: &Session,
-        opts: &RenderOptions,
-        progress: &dyn FrameProgress,
-    ) -> Result<Reference, ReplayError> {
-        self.render_reference(shader, entry_index, session, opts, progress, Jitter::None)
-    }
-
-    /// The frames kept as a [`Reference`]; refused where no frame covers a pixel.
-    fn render_reference(
-        &self,
-        shader: &Shader,
-        entry_index: usize,
-        session: &Session,
-        opts: &RenderOptions,
-        progress: &dyn FrameProgress,
-        jitter: Jitter,
-    ) -> Result<Reference, ReplayError> {
-        let keep = Keep::Frames;
-        let plain = Plain { keep, jitter };
-        let (report, kept) =
-            self.render_plain(shader, entry_index, session, opts, progress, plain)?;
-        let kept = kept.expect("Keep::Frames keeps the frames");
-        if !opts.timing_only && report.frames.iter().all(|f| f.covered == 0) {
-            return Err(ReplayError::NothingCovered {
-                session: session.display_name(),
-                frames: report.frames.len() as u32,
-            });
-        }
-        let [w, h] = session.resolution;
-        Ok(Reference {
-            width: w,
-            height: h,
-            frames: kept.0,
-            depth: kept.1,
-            report,
-            gpu: kept.2,
-        })
-    }
-
-    /// Render another shader of the original's kind (no cache: a simplified or resized shader)
-    /// over the session and score each frame against `reference` as a variant's replay does: the
-    /// error reduced on the GPU, ꟻLIP and SSIM at `opts.perceptual_stride`. No frame is kept, so
-    /// at 1080p this costs the frames' rendering and the sampled frames' metrics, not 33 MB per
-    /// frame of readback and a CPU pass over each.
-    pub fn render_scored(
-        &self,
-        shader: &Shader,
-        entry_index: usize,
-        session: &Session,
-        reference: &Reference,
-        opts: &RenderOptions,
-    ) -> Result<RenderReport, ReplayError> {
-        let frames = Self::frame_count(session, opts);
-        let first = Self::first_frame(session, opts)?;
-        let [w, h] = session.resolution;
-        reference.covers([w, h], first + frames)?;
-        let opts = RenderOptions {
-            png_dir: None,
-            timing_only: false,
-            ..opts.clone()
-        };
-        let (report, _) = self.render_plain(
-            shader,
-            entry_index,
-            session,
-            &opts,
-            &(),
-            Plain {
-                keep: Keep::ScoreAgainst(reference),
-                jitter: Jitter::None,
-            },
-        )?;
-        Ok(report)
-    }
-
     /// The loop of [`Renderer::render_original_with`] and [`Renderer::render_scored`]: one pass
     /// of `shader` per frame; what comes back is `keep`'s. With [`Keep::Frames`], the frames,
     /// their depth and the GPU copy of both. In phases: checks, the pass
     /// ([`Renderer::plain_pass`]), its targets and readback ([`Renderer::plain_targets`]), the
     /// frame loop ([`Renderer::plain_frames`], the sampled frames' perceptual metrics scored
     /// beside it), then their records.
-    fn render_plain(
+    pub(super) fn render_plain(
         &self,
         shader: &Shader,
         entry_index: usize,
@@ -234,7 +70,7 @@ impl Renderer {
     /// pipeline, the vertex transforms in the first bind group `iface` leaves free; with
     /// `prev_clip`, the vertex stage also writes the previous clip position as that output (for a
     /// motion pass).
-    pub(super) fn plain_pass(
+    pub(in crate::render) fn plain_pass(
         &self,
         shader: &Shader,
         iface: Interface,
@@ -517,47 +353,11 @@ impl Renderer {
         }
         Ok(())
     }
-
-    pub(super) fn new_report(
-        &self,
-        kind: &str,
-        shader: &Shader,
-        entry: &str,
-        session: &Session,
-    ) -> RenderReport {
-        RenderReport {
-            schema: reproj_metrics::RENDER_REPORT_SCHEMA.into(),
-            version: reproj_metrics::RENDER_REPORT_VERSION,
-            kind: kind.into(),
-            shader: shader.path.display().to_string(),
-            entry: entry.into(),
-            session: session.display_name(),
-            resolution: session.resolution,
-            adapter: self.adapter_info.clone(),
-            timing: self.timing_method(),
-            node: None,
-            delta_n: None,
-            block: None,
-            depth_epsilon: None,
-            error: 0.0,
-            error_worst: None,
-            flip: None,
-            ssim: None,
-            mse: 0.0,
-            psnr: l2::PSNR_CAP,
-            hit_rate: 0.0,
-            frame_ms: 0.0,
-            cpu_ms: 0.0,
-            nonfinite_pixels: 0,
-            nonfinite_reference_pixels: 0,
-            frames: Vec::new(),
-        }
-    }
 }
 
 /// What [`Renderer::render_plain`] keeps of the frames.
 #[derive(Clone, Copy)]
-enum Keep<'r> {
+pub(super) enum Keep<'r> {
     /// The frames, their depth and their copy on the GPU: a [`Reference`].
     Frames,
     /// Nothing: each frame is scored against this reference instead.
@@ -565,25 +365,25 @@ enum Keep<'r> {
 }
 
 /// What a plain render keeps, and where its samples sit in their pixels.
-struct Plain<'r> {
-    keep: Keep<'r>,
-    jitter: Jitter,
+pub(super) struct Plain<'r> {
+    pub(super) keep: Keep<'r>,
+    pub(super) jitter: Jitter,
 }
 
 /// The frames, depths and GPU copy a [`Keep::Frames`] render keeps.
-type KeptFrames = (Vec<Vec<f32>>, Vec<Vec<f32>>, GpuReference);
+pub(super) type KeptFrames = (Vec<Vec<f32>>, Vec<Vec<f32>>, GpuReference);
 
 /// The original's pass ([`Renderer::plain_pass`]).
-pub(super) struct PlainPass {
-    pub(super) iface: Interface,
-    pub(super) scene: Scene,
+pub(in crate::render) struct PlainPass {
+    pub(in crate::render) iface: Interface,
+    pub(in crate::render) scene: Scene,
     /// The bind group of the vertex transforms (one the shader leaves free).
-    pub(super) vgroup: u32,
-    pub(super) bindings: Bindings,
-    pub(super) pipe: Pipe,
+    pub(in crate::render) vgroup: u32,
+    pub(in crate::render) bindings: Bindings,
+    pub(in crate::render) pipe: Pipe,
     /// The vertex stage and its source (a motion pass draws with it).
-    pub(super) vs: wgpu::ShaderModule,
-    pub(super) vs_src: String,
+    pub(in crate::render) vs: wgpu::ShaderModule,
+    pub(in crate::render) vs_src: String,
 }
 
 /// A plain render's targets, queries and readback ([`Renderer::plain_targets`]).
@@ -625,13 +425,4 @@ struct PlainOut {
     frames: Vec<Vec<f32>>,
     depth: Vec<Vec<f32>>,
     gpu: GpuReference,
-}
-
-/// The memory the machine has available (`MemAvailable` in `/proc/meminfo`), in bytes; `None`
-/// where that cannot be read (not Linux).
-pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }

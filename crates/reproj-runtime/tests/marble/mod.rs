@@ -6,15 +6,13 @@
 //! GPU: `scripts/ensure-vulkan.sh`).
 
 mod app;
-#[path = "../common/mod.rs"]
-mod common;
 
 use std::path::Path;
 
 use reproj_runtime::{FrameInputs, FrameTargets, RuntimeError, Setup, Variant};
 
+use crate::common::{instance_marble, reproj, s};
 use app::{App, COLOR, FRAMES, OBJECT_GROUP};
-use common::{instance_marble, reproj, s};
 
 /// Largest allowed difference of any channel of any pixel between the app's frames and
 /// `reproj render`'s.

@@ -17,9 +17,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-#[path = "../common/mod.rs"]
-mod common;
-use common::{root, run};
+use crate::common::{root, run};
 
 mod arguments;
 mod hostile;

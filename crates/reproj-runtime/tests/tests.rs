@@ -1,0 +1,8 @@
+//! reproj-runtime's integration tests, one binary (`--test integration`): a module per topic, each
+//! in its file beside this one. A test is named `MODULE::NAME`; `cargo test -p reproj-runtime
+//! --test integration MODULE::` runs one module. A new file here runs only once declared below: the
+//! crate sets `autotests = false`.
+
+mod common;
+mod load;
+mod marble;
