@@ -19,32 +19,12 @@ use reproj_select::{NodeRecord, predict, predict_set};
 
 use crate::AnalyzeError;
 use crate::input::Progress;
+pub use crate::options::SetSearchOptions;
 use crate::options::period_plan;
 use crate::replayer::{Fitted, Replayer, Subject, fit_replays};
 
 /// The most floats one payload holds (an RGBA texture).
 pub const MAX_PAYLOAD_FLOATS: u32 = 4;
-
-/// Options of [`search_sets`] (`analyze --set-top`, `--set-replays`, `--set-max-nodes`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct SetSearchOptions {
-    /// Pairs are formed among this many single nodes, the largest predicted savings.
-    pub top: usize,
-    /// Replay this many pairs, the fastest predicted.
-    pub replays: usize,
-    /// Grow the best measured set up to this many nodes (2: pairs only).
-    pub max_nodes: usize,
-}
-
-impl Default for SetSearchOptions {
-    fn default() -> Self {
-        SetSearchOptions {
-            top: 6,
-            replays: 3,
-            max_nodes: 3,
-        }
-    }
-}
 
 /// A single node the search may put in a set.
 #[derive(Debug, Clone, PartialEq)]

@@ -292,3 +292,127 @@ fn modules_import_only_from_below() {
         );
     }
 }
+
+/// The `crate::` paths a file's code names (outside comments and its `#[cfg(test)]` part, whose
+/// tests may reach across): the first segment of each, `use crate::{a::X, b}` giving `a` and `b`.
+fn crate_paths(text: &str) -> Vec<String> {
+    let code: String = text
+        .lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let ident = |s: &str| -> String {
+        s.trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect()
+    };
+    let mut out = Vec::new();
+    for (i, _) in code.match_indices("crate::") {
+        // `crate::`, not the end of another name (`$crate::` in a macro is fine).
+        if code[..i]
+            .chars()
+            .last()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == '$')
+        {
+            continue;
+        }
+        let rest = &code[i + "crate::".len()..];
+        let Some(group) = rest.strip_prefix('{') else {
+            out.push(ident(rest));
+            continue;
+        };
+        // The group's items at its top level.
+        let (mut depth, mut start) = (0usize, 0usize);
+        for (j, c) in group.char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' if depth == 0 => {
+                    out.push(ident(&group[start..j]));
+                    break;
+                }
+                '}' => depth -= 1,
+                ',' if depth == 0 => {
+                    out.push(ident(&group[start..j]));
+                    start = j + 1;
+                }
+                _ => {}
+            }
+        }
+    }
+    out
+}
+
+/// No crate's top-level modules import each other in a circle (every crate, computed from the
+/// code: a module that uses another's items sits above it, so each crate reads bottom-up).
+#[test]
+fn no_crate_has_an_import_circle() {
+    let crates = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut circles = Vec::new();
+    for entry in std::fs::read_dir(&crates).unwrap() {
+        let src = entry.unwrap().path().join("src");
+        if !src.is_dir() {
+            continue;
+        }
+        let name = src.parent().unwrap().file_name().unwrap().to_string_lossy();
+        let module_of = |p: &Path| -> Option<String> {
+            let first = p.strip_prefix(&src).ok()?.iter().next()?.to_str()?;
+            let m = first.strip_suffix(".rs").unwrap_or(first);
+            (m != "lib" && m != "main").then(|| m.to_owned())
+        };
+        let mut files = vec![src.clone()];
+        let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        let mut sources = Vec::new();
+        while let Some(p) = files.pop() {
+            if p.is_dir() {
+                files.extend(std::fs::read_dir(&p).unwrap().map(|e| e.unwrap().path()));
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                if let Some(m) = module_of(&p) {
+                    graph.entry(m.clone()).or_default();
+                    sources.push((m, p));
+                }
+            }
+        }
+        for (m, p) in sources {
+            let text = std::fs::read_to_string(&p).unwrap();
+            for used in crate_paths(&text) {
+                if used != m && graph.contains_key(&used) {
+                    graph.get_mut(&m).unwrap().insert(used);
+                }
+            }
+        }
+        // A depth-first walk: a module met again while on the path closes a circle.
+        fn walk(
+            m: &str,
+            graph: &BTreeMap<String, BTreeSet<String>>,
+            path: &mut Vec<String>,
+            done: &mut BTreeSet<String>,
+            found: &mut Vec<String>,
+        ) {
+            if let Some(at) = path.iter().position(|p| p == m) {
+                found.push(format!("{} → {m}", path[at..].join(" → ")));
+                return;
+            }
+            if !done.insert(m.to_owned()) {
+                return;
+            }
+            path.push(m.to_owned());
+            for next in &graph[m] {
+                walk(next, graph, path, done, found);
+            }
+            path.pop();
+        }
+        let mut done = BTreeSet::new();
+        let mut found = Vec::new();
+        for m in graph.keys() {
+            walk(m, &graph, &mut Vec::new(), &mut done, &mut found);
+        }
+        circles.extend(found.into_iter().map(|c| format!("{name}: {c}")));
+    }
+    assert!(
+        circles.is_empty(),
+        "import circles:\n{}",
+        circles.join("\n")
+    );
+}

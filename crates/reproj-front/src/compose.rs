@@ -27,7 +27,7 @@ use naga_oil::compose::{
 use crate::diagnostic::{Message, SourceDiagnostic};
 use crate::directives::HiddenEntry;
 use crate::input::{DefValue, InputWarning, ShaderInput};
-use crate::parse::FrontError;
+use crate::shader::FrontError;
 
 /// The environment variable listing further folders of importable modules.
 pub const IMPORTS_VAR: &str = "REPROJ_WGSL_IMPORTS";
@@ -35,7 +35,7 @@ pub const IMPORTS_VAR: &str = "REPROJ_WGSL_IMPORTS";
 /// Folders below a search root that are read, at most (a root is not meant to be a whole disk).
 const MAX_FILES: usize = 20_000;
 
-pub use crate::parse::needs_composing;
+pub use crate::directives::needs_composing;
 
 /// A module file found in the search folders.
 #[derive(Debug)]

@@ -13,7 +13,7 @@
 use std::path::Path;
 
 use crate::diagnostic::{Message, SourceDiagnostic};
-use crate::parse::FrontError;
+use crate::shader::FrontError;
 
 /// The most binary operators one statement may hold. Far past real shaders (a few hundred at
 /// most); far below what overflows naga's lowering on the main thread's stack (10,000 did not).

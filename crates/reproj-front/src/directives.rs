@@ -286,6 +286,13 @@ pub fn hidden_fragments(source: &str, defs: &BTreeMap<String, DefValue>) -> Vec<
     hidden
 }
 
+/// True when `source` uses naga_oil's preprocessor (a line starting with `#`: `#import`,
+/// `#define_import_path`, `#ifdef`, `#if`...), which plain WGSL never does. Such a shader is
+/// composed even without an import: its `#ifdef`s are naga_oil's to resolve.
+pub fn needs_composing(source: &str) -> bool {
+    source.lines().any(|l| l.trim_start().starts_with('#'))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,18 +26,17 @@ pub mod nodes;
 pub mod normalize;
 pub mod parse;
 pub mod rebuild;
+pub mod shader;
 pub mod unroll;
 pub mod wgsl;
 
 pub use diagnostic::{Message, SourceDiagnostic};
 pub use directives::{HiddenEntries, HiddenEntry};
 pub use input::{DefValue, DefsPreset, InputWarning, ShaderInput, parse_def};
-pub use load::{CullSummary, LoadOptions, Loaded, load};
+pub use load::{CullSummary, LoadOptions, Loaded, load, load_file, load_file_as, load_file_with};
 pub use nodes::{CullReason, Node, NodeTable, enumerate};
 pub use normalize::{NormalizeOptions, Normalized, normalize};
-pub use parse::{
-    FrontError, Lang, Shader, load_file, load_file_as, load_file_with, parse_glsl, parse_glsl_with,
-    parse_shader, parse_spirv, validator,
-};
+pub use parse::{parse_glsl, parse_glsl_with, parse_shader, parse_spirv};
+pub use shader::{FrontError, Lang, Shader, validator};
 pub use unroll::{UnrollOptions, Unrolled, unroll};
 pub use wgsl::write_wgsl;

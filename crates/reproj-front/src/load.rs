@@ -7,7 +7,7 @@ use std::path::Path;
 use crate::input::ShaderInput;
 use crate::nodes::{CullReason, NodeTable, enumerate};
 use crate::normalize::{NormalizeOptions, Normalized, normalize};
-use crate::parse::{FrontError, Lang, Shader};
+use crate::shader::{FrontError, Lang, Shader};
 use crate::unroll::UnrollOptions;
 
 /// Options of [`load`].

@@ -10,8 +10,8 @@ use std::collections::HashMap;
 
 use naga::{Expression, Handle, Span};
 
-use crate::parse::{FrontError, Lang, Shader, validator};
 use crate::rebuild::{Rebuilt, Rewrite, rebuild_live};
+use crate::shader::{FrontError, Lang, Shader, validator};
 use crate::unroll::{UnrollOptions, unroll};
 
 /// A normalized shader: one fragment entry point whose result is the root of an expression DAG.

@@ -9,7 +9,6 @@ use reproj_select::{DEFAULT_MAX_DELTA_N, DEFAULT_MIN_DELTA_N};
 use crate::AnalyzeError;
 use crate::journal::JournalOptions;
 use crate::prune::PruneOptions;
-use crate::sets::SetSearchOptions;
 
 mod extension;
 
@@ -338,6 +337,27 @@ pub(crate) fn check_periods(
 
 /// How many times longer than the replayed frames a refresh period may be.
 const MAX_PERIODS_PER_SESSION: u32 = 10;
+
+/// Options of [`crate::search_sets`] (`analyze --set-top`, `--set-replays`, `--set-max-nodes`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SetSearchOptions {
+    /// Pairs are formed among this many single nodes, the largest predicted savings.
+    pub top: usize,
+    /// Replay this many pairs, the fastest predicted.
+    pub replays: usize,
+    /// Grow the best measured set up to this many nodes (2: pairs only).
+    pub max_nodes: usize,
+}
+
+impl Default for SetSearchOptions {
+    fn default() -> Self {
+        SetSearchOptions {
+            top: 6,
+            replays: 3,
+            max_nodes: 3,
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {

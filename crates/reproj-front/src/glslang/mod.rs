@@ -25,7 +25,7 @@ use std::process::{Command, Stdio};
 
 use crate::diagnostic::{Message, SourceDiagnostic};
 use crate::input::{DefValue, ShaderInput};
-use crate::parse::{FrontError, Lang, Shader, validator};
+use crate::shader::{FrontError, Lang, Shader, validator};
 
 pub use split::SplitSampler;
 

@@ -49,7 +49,7 @@ pub(super) fn pad_push_constants(module: &mut naga::Module) {
     if padded.is_empty() {
         return;
     }
-    let Ok(info) = crate::parse::validator().validate(module) else {
+    let Ok(info) = crate::shader::validator().validate(module) else {
         return;
     };
     // Every access to a member of the struct, by function, before anything changes.
@@ -148,7 +148,7 @@ pub(super) fn pad_push_constants(module: &mut naga::Module) {
     }
     // Anything else that used the struct whole (a local copy of the block) would no longer
     // match: then the module is left as it was.
-    if crate::parse::validator().validate(module).is_err() {
+    if crate::shader::validator().validate(module).is_err() {
         *module = original;
     }
 }

@@ -18,17 +18,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use spirv::Op;
 
-/// One combined image sampler of the GLSL shader, as the SPIR-V that reproj reads binds it.
-#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
-pub struct SplitSampler {
-    /// The GLSL name (`albedo`); the image keeps it, the sampler is `NAME_sampler`.
-    pub name: String,
-    pub group: u32,
-    /// The image's binding: the combined sampler's own.
-    pub image_binding: u32,
-    /// The sampler's binding: the next one the group leaves free.
-    pub sampler_binding: u32,
-}
+pub use crate::shader::SplitSampler;
 
 /// A SPIR-V instruction: opcode and operand words.
 #[derive(Debug, Clone)]

@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 pub use crate::cost::DEFAULT_TRIP_COUNT;
 use crate::ir;
 use crate::normalize::Normalized;
-use crate::parse::Shader;
+use crate::shader::Shader;
 use costs::Costs;
 use cull::{Flags, continuous_from, cull_reason, feeds_derivatives, payload_components};
 use source::{LineIndex, node_type, place_leaves, source_position, span_text};

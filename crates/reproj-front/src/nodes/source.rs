@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use naga::{Expression, Handle, TypeInner};
 
 use crate::ir;
-use crate::parse::Shader;
+use crate::shader::Shader;
 
 /// Line, column and source text of the expression `h`, from its span or, where the front end
 /// left none, from the variable it loads or its operands.
@@ -71,7 +71,7 @@ fn position_within(
 /// Whether `shader` is GLSL as glslang's SPIR-V gave it, whose values have lines only where an
 /// `OpLine` names one (WGSL, and the WGSL naga writes of SPIR-V or GLSL, spans every value).
 fn read_through_glslang(shader: &Shader) -> bool {
-    shader.lang == crate::parse::Lang::Glsl && !shader.wgsl_form
+    shader.lang == crate::shader::Lang::Glsl && !shader.wgsl_form
 }
 
 /// The span of the last store to `v` in `block`, in program order, that has one: the stored

@@ -20,7 +20,7 @@ use std::collections::{HashMap, HashSet};
 use naga::{Block, Expression, Function, Handle, LocalVariable, Span, Statement};
 
 use crate::ir;
-use crate::parse::FrontError;
+use crate::shader::FrontError;
 
 /// Whether calls are inlined and expressions shared (internal: chosen by the [`Rewrite`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
