@@ -53,7 +53,7 @@ fn the_original_against_itself_holds_one_and_a_variant_is_timed_beside_it() {
         "12",
         "--min-rounds",
         "12",
-        "--block",
+        "--block-frames",
         "6",
         "--json",
     ];

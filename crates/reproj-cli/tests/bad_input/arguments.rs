@@ -95,10 +95,10 @@ pub(super) fn cases() -> Vec<Case> {
                 "good.wgsl",
                 "--session",
                 "good.json",
-                "--delta-n",
+                "--fit-delta-n",
                 "a",
             ],
-            "--delta-n",
+            "--fit-delta-n",
         ),
         case(
             "analyze unknown node",
@@ -299,9 +299,10 @@ pub(super) fn cases() -> Vec<Case> {
             "named twice",
         ),
         (
+            // `--delta-n`, analyze's former name for the list, is still read.
             "analyze period far too long",
             &["--delta-n", "1000000"][..],
-            "--delta-n",
+            "--fit-delta-n",
         ),
         (
             "analyze period past ten sessions",
