@@ -957,7 +957,11 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
         } else {
             // Add a temporary variable of the same type which will be used to
             // store the original expression and used in the current block
-            let ty = self.lookup_type[&lookup.type_id].handle;
+            // reproj patch: an expression whose type id names no type is used in place (the
+            // validator then refuses the module) instead of panicking on the map's index.
+            let Some(ty) = self.lookup_type.get(&lookup.type_id).map(|t| t.handle) else {
+                return lookup.handle;
+            };
             let local = ctx.local_arena.append(
                 crate::LocalVariable {
                     name: None,
