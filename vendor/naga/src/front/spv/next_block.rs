@@ -696,7 +696,9 @@ impl<I: Iterator<Item = u32>> Frontend<I> {
                     );
                 }
                 Op::CompositeConstruct => {
-                    inst.expect_at_least(3)?;
+                    // reproj patch: at least one constituent (`components[0]` below), or
+                    // `Error::InvalidOperandCount` instead of an index's panic.
+                    inst.expect_at_least(4)?;
 
                     let result_type_id = self.next()?;
                     let id = self.next()?;
