@@ -260,29 +260,15 @@ fn modules_import_only_from_below() {
                 .unwrap_or_else(|| panic!("{name}: module {module} is not in the list"));
             seen.insert(module.to_owned());
             let text = std::fs::read_to_string(&p).unwrap();
-            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
-                for (i, _) in line.match_indices("crate::") {
-                    // `crate::`, not the end of another name (`$crate::` in a macro is fine).
-                    if line[..i]
-                        .chars()
-                        .last()
-                        .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
-                    {
-                        continue;
-                    }
-                    let used: String = line[i + "crate::".len()..]
-                        .chars()
-                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-                        .collect();
-                    let Some(r) = rank(&used) else {
-                        continue;
-                    };
-                    assert!(
-                        r <= own,
-                        "{name}: {} imports crate::{used}, which is above it ({order:?})",
-                        rel.display()
-                    );
-                }
+            for used in crate_paths(&text, Part::Whole) {
+                let Some(r) = rank(&used) else {
+                    continue;
+                };
+                assert!(
+                    r <= own,
+                    "{name}: {} imports crate::{used}, which is above it ({order:?})",
+                    rel.display()
+                );
             }
         }
         assert_eq!(
@@ -293,12 +279,21 @@ fn modules_import_only_from_below() {
     }
 }
 
-/// The `crate::` paths a file's code names (outside comments and its `#[cfg(test)]` part, whose
-/// tests may reach across): the first segment of each, `use crate::{a::X, b}` giving `a` and `b`.
-fn crate_paths(text: &str) -> Vec<String> {
+/// Which part of a file [`crate_paths`] reads.
+#[derive(Clone, Copy, PartialEq)]
+enum Part {
+    /// All of it.
+    Whole,
+    /// What comes before its `#[cfg(test)]` part (whose tests may reach across).
+    Code,
+}
+
+/// The `crate::` paths a file names outside comments (in `part` of it): the first segment of
+/// each, `use crate::{a::X, b}` giving `a` and `b`.
+fn crate_paths(text: &str, part: Part) -> Vec<String> {
     let code: String = text
         .lines()
-        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .take_while(|l| part == Part::Whole || l.trim() != "#[cfg(test)]")
         .filter(|l| !l.trim_start().starts_with("//"))
         .collect::<Vec<_>>()
         .join("\n");
@@ -376,7 +371,7 @@ fn no_crate_has_an_import_circle() {
         }
         for (m, p) in sources {
             let text = std::fs::read_to_string(&p).unwrap();
-            for used in crate_paths(&text) {
+            for used in crate_paths(&text, Part::Code) {
                 if used != m && graph.contains_key(&used) {
                     graph.get_mut(&m).unwrap().insert(used);
                 }
