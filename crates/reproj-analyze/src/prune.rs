@@ -31,9 +31,9 @@ impl Default for PruneOptions {
     }
 }
 
-/// Static saving of caching `node`.
-pub fn saving(node: &Node) -> f64 {
-    (node.cost - node.overlap).max(0.0)
+/// Static saving of caching `node` ([`Node::saving`]).
+pub(crate) fn saving(node: &Node) -> f64 {
+    node.saving()
 }
 
 /// The ids of the nodes to profile, in id order. The root is always first in importance and is

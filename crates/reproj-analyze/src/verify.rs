@@ -10,10 +10,10 @@ use reproj_replay::{RenderOptions, Renderer, VariantInput};
 use reproj_scene::Session;
 
 use crate::AnalyzeError;
-use crate::emit::{EmitReport, write_report};
+use reproj_emit::{EmitReport, write_report};
 
 /// Re-render the selection over `session`, record measured error and speedup in `report`, and
-/// rewrite `out/report.json` (`out`: the directory [`crate::emit()`] wrote into; the shader is the one the
+/// rewrite `out/report.json` (`out`: the directory [`reproj_emit::emit()`] wrote into; the shader is the one the
 /// report names). The error comes from one replay of the whole session; the speed from the
 /// timing engine (`reproj-bench`: original and variant interleaved, with an interval), under
 /// `timing`.
@@ -54,7 +54,7 @@ pub fn verify(
             if report.adaptive.is_some() {
                 // As a host applies the schedule: each frame's Δn from its measured motion.
                 input.delta_n_per_frame =
-                    crate::motion::adaptive_periods(&v.manifest.params, session);
+                    reproj_emit::motion::adaptive_periods(&v.manifest.params, session);
             }
             let r = renderer.render_variant(&shader, session, &input, &reference, &opts)?;
             if let (Some(a), Some(periods)) = (report.adaptive.as_mut(), &input.delta_n_per_frame) {
@@ -71,7 +71,7 @@ pub fn verify(
                     .iter()
                     .map(|(&dn, &(sum, n))| (dn, sum / f64::from(n.max(1))))
                     .max_by(|a, b| a.1.total_cmp(&b.1));
-                a.measured_worst_band = worst.map(|(dn, e)| crate::motion::BandError {
+                a.measured_worst_band = worst.map(|(dn, e)| reproj_emit::motion::BandError {
                     delta_n: dn,
                     frames: by_period[&dn].1,
                     error: e,
@@ -111,7 +111,7 @@ pub fn verify(
     if let Some(w) = other_machine(&profile.machine, &reproj_bench::Machine::of(renderer)) {
         report.timing_warnings.insert(0, w);
     }
-    write_report(report, out)
+    Ok(write_report(report, out)?)
 }
 
 /// A warning where the profile was measured on another adapter or driver than `here`: the
@@ -133,21 +133,21 @@ pub(crate) fn other_machine(
     ))
 }
 
-/// The runoff (`emit --verify`, [`crate::emit::contenders`]): every contender timed against the
+/// The runoff (`emit --verify`, [`reproj_emit::contenders`]): every contender timed against the
 /// original in one interleaved run (`reproj-bench`, under `timing`), over `session` with the
 /// profiled shader. Returns what the report keeps and the index of the contender to write: the
 /// highest measured speedup — one run on this machine, the contenders side by side, is better
 /// evidence than predictions each scaled to its own short race at another moment — or the
 /// prediction's choice where no contender has a figure.
 pub fn runoff(
-    contenders: &[crate::emit::Contender],
+    contenders: &[reproj_emit::Contender],
     report: &EmitReport,
     (profile, profile_path): (&Profile, &Path),
     session: &Session,
     renderer: &Renderer,
     timing: &reproj_bench::BenchOptions,
     progress: &mut dyn FnMut(&reproj_bench::Progress<'_>),
-) -> Result<(crate::emit::Runoff, usize), AnalyzeError> {
+) -> Result<(reproj_emit::Runoff, usize), AnalyzeError> {
     let (shader, entry, reference) = original(
         report,
         (profile, profile_path),
@@ -193,7 +193,7 @@ pub fn runoff(
         .iter()
         .zip(&timed.candidates)
         .enumerate()
-        .map(|(i, (c, t))| crate::emit::RunoffEntry {
+        .map(|(i, (c, t))| reproj_emit::RunoffEntry {
             node: c.node.clone(),
             strategy: c.selection.strategy.clone(),
             delta_n: c.selection.delta_n,
@@ -207,7 +207,7 @@ pub fn runoff(
         })
         .collect();
     Ok((
-        crate::emit::Runoff {
+        reproj_emit::Runoff {
             rounds: timed.rounds,
             entries,
             changed: winner != predicted,
@@ -239,7 +239,7 @@ fn original(
     renderer: &Renderer,
     opts: &RenderOptions,
 ) -> Result<(reproj_front::Shader, usize, reproj_replay::Reference), AnalyzeError> {
-    let input = crate::emit::profile_shader_input(profile, profile_path)?;
+    let input = reproj_emit::profile_shader_input(profile, profile_path)?;
     let shader =
         reproj_front::load_file_with(Path::new(&report.shader), None, &input)?.to_wgsl()?;
     let entry = shader.fragment_entry(Some(&profile.entry))?;

@@ -3,9 +3,8 @@
 
 use std::path::PathBuf;
 
-use reproj_analyze::{
-    AnalyzeInput, AnalyzeOptions, EmitOptions, Silent, analyze, emit, load_profile, verify,
-};
+use reproj_analyze::{AnalyzeInput, AnalyzeOptions, Silent, analyze, verify};
+use reproj_emit::{EmitOptions, emit, load_profile};
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_models::profile::NodeStatus;
 use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
@@ -426,7 +425,7 @@ fn two_independent_terms_make_a_pair_that_emit_picks() {
         Some(set.name().as_str()),
         "{report:?}"
     );
-    assert_eq!(report.version, reproj_analyze::EMIT_REPORT_VERSION);
+    assert_eq!(report.version, reproj_emit::EMIT_REPORT_VERSION);
     let variant = variant.unwrap();
     assert_eq!(variant.manifest.also.len(), 1);
 }

@@ -4,5 +4,3 @@
 //! crate sets `autotests = false`.
 
 mod analyze;
-mod emit;
-mod motion;

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use reproj_analyze::Budget;
+use reproj_emit::Budget;
 
 /// A time limit in seconds: finite and positive.
 pub(crate) fn positive_seconds(s: &str) -> Result<f64, String> {

@@ -70,6 +70,7 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
         "reproj-metrics",
         "reproj-models",
         "reproj-select",
+        "reproj-emit",
         "reproj-charts",
         "reproj-io",
     ];
@@ -182,6 +183,7 @@ fn the_light_build_has_no_gpu_crates() {
         "plotters",
         "reproj-replay",
         "reproj-bench",
+        "reproj-analyze",
         "cc",
         "image",
         "gltf",
@@ -194,7 +196,7 @@ fn the_light_build_has_no_gpu_crates() {
         );
     }
     for needed in [
-        "reproj-analyze",
+        "reproj-emit",
         "reproj-instance",
         "reproj-scene",
         "reproj-metrics",
@@ -362,11 +364,11 @@ fn no_crate_has_an_import_circle() {
         while let Some(p) = files.pop() {
             if p.is_dir() {
                 files.extend(std::fs::read_dir(&p).unwrap().map(|e| e.unwrap().path()));
-            } else if p.extension().is_some_and(|x| x == "rs") {
-                if let Some(m) = module_of(&p) {
-                    graph.entry(m.clone()).or_default();
-                    sources.push((m, p));
-                }
+            } else if p.extension().is_some_and(|x| x == "rs")
+                && let Some(m) = module_of(&p)
+            {
+                graph.entry(m.clone()).or_default();
+                sources.push((m, p));
             }
         }
         for (m, p) in sources {

@@ -64,6 +64,9 @@ pub enum CompareError {
     Replay(#[from] reproj_replay::ReplayError),
     #[error(transparent)]
     Analyze(#[from] reproj_analyze::AnalyzeError),
+    /// The profile (read as `emit` reads it) or the variant it names.
+    #[error(transparent)]
+    Emit(#[from] reproj_emit::EmitError),
     #[error(transparent)]
     Write(#[from] reproj_io::WriteError),
     #[error(transparent)]
@@ -101,6 +104,7 @@ impl CompareError {
             CompareError::Instance(e) => e.is_user_error(),
             CompareError::Replay(e) => e.is_user_error(),
             CompareError::Analyze(e) => e.is_user_error(),
+            CompareError::Emit(e) => e.is_user_error(),
             CompareError::Chart(_) | CompareError::Internal { .. } => false,
             _ => true,
         }
@@ -112,6 +116,7 @@ impl CompareError {
             CompareError::Front(e) => e.diagnostic(),
             CompareError::Instance(e) => e.diagnostic(),
             CompareError::Analyze(e) => e.diagnostic(),
+            CompareError::Emit(e) => e.diagnostic(),
             _ => None,
         }
     }

@@ -39,7 +39,7 @@ pub struct Budgets {
 }
 
 /// The selector's records: the profile's usable nodes and sets, as `reproj emit` builds them
-/// (`reproj_analyze::emit::selector_records`).
+/// (`reproj_emit::selector_records`).
 #[derive(Debug, Clone)]
 pub struct Records {
     pub nodes: Vec<NodeRecord>,

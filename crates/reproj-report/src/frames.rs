@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use reproj_front::Shader;
-use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance, instance_nodes};
+use reproj_instance::InstanceOptions;
 use reproj_metrics::RenderReport;
 use reproj_metrics::srgb::frame_to_rgba8;
 use reproj_models::Profile;
@@ -125,72 +125,16 @@ pub fn render_choice(
 }
 
 /// The variant of `choice`: its node, or its set in one payload, in the strategy and with the
-/// settings the profile measured, at the choice's Δn.
+/// settings the profile measured, at the choice's Δn ([`reproj_emit::VariantSpec`]).
 fn choice_variant(
     shader: &Shader,
     loaded: &reproj_front::Loaded,
     profile: &Profile,
     choice: &Choice,
 ) -> Result<reproj_instance::Variant, ReportError> {
-    let strategy_of = |name: &str, what: String| -> Result<Strategy, ReportError> {
-        name.parse().map_err(|e: String| {
-            reproj_analyze::AnalyzeError::Options(format!("{what}: {e}")).into()
-        })
-    };
     let profile_path = Path::new(&profile.shader.path);
-    Ok(if choice.members.is_empty() {
-        let node = profile
-            .nodes
-            .iter()
-            .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
-            .expect("the choice comes from the profile's nodes");
-        let sel = if node.root {
-            NodeSelector::Root
-        } else {
-            NodeSelector::Id(node.id)
-        };
-        let (reconstruct, cache_format) =
-            reproj_analyze::emit::profile_variant_settings(profile, Some(node), profile_path)?;
-        instance(
-            shader,
-            &loaded.norm,
-            &loaded.table,
-            sel,
-            &InstanceOptions {
-                strategy: strategy_of(&node.strategy, format!("node {}", node.id))?,
-                delta_n: choice.delta_n,
-                block: node.block.unwrap_or(profile.block),
-                depth_epsilon: profile.depth_epsilon,
-                reconstruct,
-                cache_format,
-                ..InstanceOptions::default()
-            },
-        )?
-    } else {
-        let set = profile
-            .sets
-            .iter()
-            .find(|s| s.members == choice.members && s.strategy == choice.strategy)
-            .expect("the choice comes from the profile's sets");
-        let (reconstruct, cache_format) =
-            reproj_analyze::emit::profile_variant_settings(profile, None, profile_path)?;
-        let sels: Vec<NodeSelector> = set.members.iter().map(|&id| NodeSelector::Id(id)).collect();
-        instance_nodes(
-            shader,
-            &loaded.norm,
-            &loaded.table,
-            &sels,
-            &InstanceOptions {
-                strategy: strategy_of(&set.strategy, format!("set {}", set.name()))?,
-                delta_n: choice.delta_n,
-                block: set.block,
-                depth_epsilon: profile.depth_epsilon,
-                reconstruct,
-                cache_format,
-                ..InstanceOptions::default()
-            },
-        )?
-    })
+    let spec = reproj_emit::VariantSpec::of_choice(profile, profile_path, choice)?;
+    Ok(spec.instance(shader, loaded, &InstanceOptions::default())?)
 }
 
 /// The frames shown: the middle one, and the one with the largest error when it is another.

@@ -19,7 +19,7 @@ mod page;
 use std::path::{Path, PathBuf};
 
 use reproj_analyze::AnalyzeError;
-use reproj_analyze::emit::resolve;
+use reproj_emit::resolve;
 use reproj_models::Profile;
 use reproj_replay::Renderer;
 
@@ -60,6 +60,12 @@ impl From<reproj_front::FrontError> for ReportError {
 
 impl From<reproj_instance::InstanceError> for ReportError {
     fn from(e: reproj_instance::InstanceError) -> Self {
+        ReportError::Analyze(e.into())
+    }
+}
+
+impl From<reproj_emit::EmitError> for ReportError {
+    fn from(e: reproj_emit::EmitError) -> Self {
         ReportError::Analyze(e.into())
     }
 }
@@ -138,9 +144,9 @@ pub fn report(
         .map(|d| load_compare(d))
         .collect::<Result<Vec<_>, _>>()?;
     let (_, loaded, shader) =
-        reproj_analyze::emit::load_profiled(profile, profile_path, opts.shader.as_deref())?;
+        reproj_emit::load_profiled(profile, profile_path, opts.shader.as_deref())?;
     let (nodes, sets) =
-        reproj_analyze::emit::selector_records(profile, profile_path, reproj_models::Metric::L2)?;
+        reproj_emit::selector_records(profile, profile_path, reproj_models::Metric::L2)?;
     let records = budgets::Records { nodes, sets };
     let session_path = opts
         .session

@@ -19,9 +19,9 @@ fn the_lookup_is_the_selector_at_every_budget() {
         "/tests/data/marble_small.profile.json"
     );
     let path = std::path::Path::new(path);
-    let profile = reproj_analyze::load_profile(path).unwrap();
+    let profile = reproj_emit::load_profile(path).unwrap();
     let (nodes, sets) =
-        reproj_analyze::emit::selector_records(&profile, path, reproj_models::Metric::L2).unwrap();
+        reproj_emit::selector_records(&profile, path, reproj_models::Metric::L2).unwrap();
     let recs = Records { nodes, sets };
     let b = budgets(&profile, &recs);
     let [lo, hi] = b.range;

@@ -104,7 +104,7 @@ pub(super) fn profile(
         shader: Source {
             path: input.shader.path.display().to_string(),
             hash: content_hash(input.shader.source.as_bytes()),
-            ir_hash: Some(crate::emit::ir_hash(input.shader)),
+            ir_hash: Some(reproj_emit::ir_hash(input.shader)),
         },
         entry: input.norm.entry.clone(),
         unroll: input.norm.unroll.max_trip,
@@ -146,7 +146,7 @@ pub(super) fn profile(
         sets: m.sets,
         time: m.time,
         shard: opts.shard,
-        motion: crate::motion::measure(input.session, Some(m.frames)),
+        motion: reproj_emit::motion::measure(input.session, Some(m.frames)),
         ceiling: m.ceiling,
     }
 }

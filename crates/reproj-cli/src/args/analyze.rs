@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use reproj_analyze::EXTENDED_MAX_DELTA_N;
+use reproj_emit::EXTENDED_MAX_DELTA_N;
 
 use super::*;
 use crate::values::{backend_help, delta_n_limit, output_path, parse_backend, unit_fraction};

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use reproj_analyze::{Budget, EXTENDED_MAX_DELTA_N};
+use reproj_emit::{Budget, EXTENDED_MAX_DELTA_N};
 
 use super::*;
 use crate::values::{

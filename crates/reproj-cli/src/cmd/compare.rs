@@ -4,8 +4,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use reproj_analyze::load_profile;
 use reproj_compare::{CompareInput, CompareOptions, CompareReport, Target, compare, write_outputs};
+use reproj_emit::load_profile;
 use reproj_replay::{Renderer, RendererOptions};
 use reproj_scene::Session;
 
@@ -26,7 +26,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     };
     // And the shader is read as the profile's was, unless told otherwise here.
     let input = match &profile {
-        Some((p, path)) if args.input.is_empty() => reproj_analyze::profile_shader_input(p, path)?,
+        Some((p, path)) if args.input.is_empty() => reproj_emit::profile_shader_input(p, path)?,
         _ => args.input.to_input(),
     };
     let mut loaded = super::load_shader(
@@ -97,7 +97,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
 }
 
 /// What every method aims at: `--speedup` (checked here, a number above 1) or reproj's own
-/// selection under `--max-error` (a [`reproj_analyze::Budget`], checked by clap).
+/// selection under `--max-error` (a [`reproj_emit::Budget`], checked by clap).
 fn target(args: &CompareArgs) -> Result<Target, UserError> {
     match (args.speedup, args.max_error) {
         (Some(x), _) if !(x.is_finite() && x > 1.0) => Err(UserError(format!(

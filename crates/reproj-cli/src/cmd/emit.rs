@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use reproj_analyze::{DELTA_N_RANGE, EmitOptions, EmitReport, emit, latest_profile, load_profile};
+use reproj_emit::{DELTA_N_RANGE, EmitOptions, EmitReport, emit, latest_profile, load_profile};
 use reproj_models::Profile;
 use reproj_scene::Session;
 
@@ -91,14 +91,14 @@ fn inputs(args: &EmitArgs) -> anyhow::Result<Inputs> {
         Some(path) => {
             let session = Session::load(path)?;
             let bytes = reproj_io::read_input(path, reproj_io::InputKind::Json)?;
-            let motion = reproj_analyze::motion::measure(&session, None);
+            let motion = reproj_emit::motion::measure(&session, None);
             Some((session, motion, reproj_models::content_hash(&bytes)))
         }
         None => None,
     };
     let target = match (&session, &args.session) {
         (Some((_, Some(motion), hash)), Some(path)) if args.motion == crate::MotionUse::Carry => {
-            Some(reproj_analyze::motion::TargetSession {
+            Some(reproj_emit::motion::TargetSession {
                 name: path.display().to_string(),
                 hash: hash.clone(),
                 motion: motion.clone(),
@@ -116,10 +116,10 @@ fn inputs(args: &EmitArgs) -> anyhow::Result<Inputs> {
         strategy: args.strategy.map(super::strategy),
         node: match args.node.as_deref() {
             None => None,
-            Some("root") => Some(reproj_analyze::emit::NodeChoice::Root),
-            Some(id) => Some(reproj_analyze::emit::NodeChoice::Id(id.parse().map_err(
-                |_| UserError(format!("--node {id}: a node id (a number) or `root`")),
-            )?)),
+            Some("root") => Some(reproj_emit::NodeChoice::Root),
+            Some(id) => Some(reproj_emit::NodeChoice::Id(id.parse().map_err(|_| {
+                UserError(format!("--node {id}: a node id (a number) or `root`"))
+            })?)),
         },
         integration: super::integrate(Default::default(), &args.integration),
         shader: args.shader.clone(),
@@ -127,9 +127,9 @@ fn inputs(args: &EmitArgs) -> anyhow::Result<Inputs> {
         also,
         target,
         period: if args.adaptive {
-            reproj_analyze::motion::PeriodChoice::Adaptive
+            reproj_emit::motion::PeriodChoice::Adaptive
         } else {
-            reproj_analyze::motion::PeriodChoice::Fixed
+            reproj_emit::motion::PeriodChoice::Fixed
         },
     };
     Ok(Inputs {
@@ -369,7 +369,7 @@ fn print_motion(stdout: &mut impl Write, report: &EmitReport, e: f64) -> std::io
 /// it against the original (the timing engine).
 #[cfg(feature = "gpu")]
 fn verify_selection(
-    report: &mut reproj_analyze::EmitReport,
+    report: &mut reproj_emit::EmitReport,
     variant: &mut Option<reproj_instance::Variant>,
     (profile, profile_path): (&reproj_models::Profile, &std::path::Path),
     opts: &EmitOptions,
@@ -383,7 +383,7 @@ fn verify_selection(
     })?;
     let timing = reproj_bench::BenchOptions::default();
     let contenders =
-        reproj_analyze::contenders(profile, profile_path, opts, report, args.runoff as usize)?;
+        reproj_emit::contenders(profile, profile_path, opts, report, args.runoff as usize)?;
     if !contenders.is_empty() {
         let bar = if args.json || crate::ui::quiet() {
             indicatif::ProgressBar::hidden()
@@ -430,7 +430,7 @@ fn verify_selection(
 /// `--verify` renders: a build without the `gpu` feature says so (exit 2).
 #[cfg(not(feature = "gpu"))]
 fn verify_selection(
-    _: &mut reproj_analyze::EmitReport,
+    _: &mut reproj_emit::EmitReport,
     _: &mut Option<reproj_instance::Variant>,
     _: (&reproj_models::Profile, &std::path::Path),
     _: &EmitOptions,
@@ -444,7 +444,7 @@ fn verify_selection(
 /// a warning naming a tighter budget: the budget is a promise), then `--min-speedup` — on the
 /// lower end of the measured speedup's 95 % interval with `--verify` (noise never passes a bar),
 /// on the prediction without (exit 3).
-fn gate(report: &reproj_analyze::EmitReport, args: &EmitArgs) -> Option<anyhow::Error> {
+fn gate(report: &reproj_emit::EmitReport, args: &EmitArgs) -> Option<anyhow::Error> {
     let measured = match report.metric {
         // Adaptive: every band of the schedule promises the budget, the worst one included.
         reproj_models::Metric::L2 => report.measured_error.map(|e| {
@@ -527,7 +527,7 @@ mod tests {
         }
     }
 
-    fn report(measured: serde_json::Value) -> reproj_analyze::EmitReport {
+    fn report(measured: serde_json::Value) -> reproj_emit::EmitReport {
         let mut v = serde_json::json!({
             "profile": "p.json", "shader": "s.wgsl", "max_error": 0.01, "original_ms": 2.0,
             "files": [], "adapter": "test",

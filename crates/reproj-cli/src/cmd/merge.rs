@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use reproj_analyze::emit::{load_profile, resolve};
+use reproj_emit::{load_profile, resolve};
 
 use crate::MergeArgs;
 

@@ -107,7 +107,7 @@ pub fn adapt(
         ))
         .into());
     }
-    let per_frame = reproj_analyze::motion::adaptive_periods(params, session).ok_or_else(|| {
+    let per_frame = reproj_emit::motion::adaptive_periods(params, session).ok_or_else(|| {
         UserError(
             "the session's motion cannot be measured (no object's mesh could be built)".into(),
         )
@@ -281,8 +281,8 @@ fn classify(e: &anyhow::Error) -> (u8, Option<&reproj_front::SourceDiagnostic>) 
         if let Some(i) = c.downcast_ref::<reproj_instance::InstanceError>() {
             return (user(i.is_user_error()), i.diagnostic());
         }
-        if let Some(a) = c.downcast_ref::<reproj_analyze::AnalyzeError>() {
-            return (user(a.is_user_error()), a.diagnostic());
+        if let Some(e) = c.downcast_ref::<reproj_emit::EmitError>() {
+            return (user(e.is_user_error()), e.diagnostic());
         }
         #[cfg(feature = "gpu")]
         if let Some(found) = classify_gpu(c) {
@@ -305,6 +305,9 @@ fn classify_gpu<'e>(
     }
     if let Some(r) = c.downcast_ref::<reproj_replay::ReplayError>() {
         return Some((user(r.is_user_error()), None));
+    }
+    if let Some(a) = c.downcast_ref::<reproj_analyze::AnalyzeError>() {
+        return Some((user(a.is_user_error()), a.diagnostic()));
     }
     if let Some(r) = c.downcast_ref::<reproj_compare::CompareError>() {
         return Some((user(r.is_user_error()), r.diagnostic()));

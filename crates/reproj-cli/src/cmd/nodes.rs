@@ -75,7 +75,7 @@ pub fn run(args: &NodesArgs) -> anyhow::Result<()> {
             n.ty,
             n.cost,
             n.overlap,
-            100.0 * reproj_analyze::prune::saving(n) / total_cost,
+            100.0 * n.saving() / total_cost,
             format!("{}:{}", n.line, n.col),
         )?;
     }

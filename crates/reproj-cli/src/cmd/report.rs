@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use reproj_analyze::load_profile;
+use reproj_emit::load_profile;
 use reproj_replay::{Renderer, RendererOptions};
 use reproj_report::{ReportOptions, report};
 

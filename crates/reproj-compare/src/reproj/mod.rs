@@ -11,11 +11,10 @@
 
 use std::path::Path;
 
-use reproj_analyze::emit::resolve;
+use reproj_emit::{EmitError, Profiled, VariantSpec, resolve};
 use reproj_front::Loaded;
-use reproj_instance::{InstanceOptions, NodeSelector, Strategy, instance_nodes};
+use reproj_instance::InstanceOptions;
 use reproj_models::Profile;
-use reproj_models::profile::{NodeProfile, SetProfile};
 use reproj_replay::{RenderOptions, VariantInput};
 use serde::{Deserialize, Serialize};
 
@@ -91,48 +90,10 @@ pub(crate) struct ReprojRun {
     pub(crate) crop_frame: Vec<f32>,
 }
 
-/// What reproj caches: one profiled node, or a measured set of nodes in one payload.
-#[derive(Clone, Copy)]
-enum Pick<'p> {
-    Node(&'p NodeProfile),
-    Set(&'p SetProfile),
-}
-
-impl Pick<'_> {
-    /// The refresh block size its measurements used (a node's own, else the profile's).
-    fn block(&self, profile: &Profile) -> u32 {
-        match self {
-            Pick::Node(n) => n.block.unwrap_or(profile.block),
-            Pick::Set(s) => s.block,
-        }
-    }
-
-    /// The name reports use: the node id, `root`, or the set's `22+39`.
-    fn name(&self) -> String {
-        match self {
-            Pick::Node(n) if n.root => "root".into(),
-            Pick::Node(n) => n.id.to_string(),
-            Pick::Set(s) => s.name(),
-        }
-    }
-    fn text(&self) -> String {
-        match self {
-            Pick::Node(n) => n.text.clone(),
-            Pick::Set(s) => s.texts.join(" + "),
-        }
-    }
-    fn strategy(&self) -> &str {
-        match self {
-            Pick::Node(n) => &n.strategy,
-            Pick::Set(s) => &s.strategy,
-        }
-    }
-}
-
 /// reproj's choice before rendering: the profiled node or set and where on its models.
 #[derive(Clone, Copy)]
 pub(crate) struct Planned<'p> {
-    pick: Pick<'p>,
+    pick: Profiled<'p>,
     delta_n: u32,
     predicted_error: f64,
     /// The profile's original frame time / `predicted_ms`.
@@ -150,8 +111,8 @@ pub(crate) fn plan<'p>(
     target: Target,
     max_delta_n: u32,
 ) -> Result<Planned<'p>, CompareError> {
-    if !reproj_analyze::emit::is_profiled_shader(profile, &loaded.shader.to_wgsl()?) {
-        return Err(reproj_analyze::AnalyzeError::Stale {
+    if !reproj_emit::is_profiled_shader(profile, &loaded.shader.to_wgsl()?) {
+        return Err(EmitError::Stale {
             path: resolve(&profile.shader.path, profile_path),
             what: "shader".into(),
         }
@@ -181,7 +142,7 @@ impl<'p> Planned<'p> {
     /// Whether this is the point `detail` reports (same node or set, strategy and Δn).
     pub(crate) fn same_point(&self, detail: &ReprojDetail) -> bool {
         self.pick.name() == detail.node
-            && self.pick.strategy() == detail.strategy
+            && self.pick.strategy_name() == detail.strategy
             && self.delta_n == detail.delta_n
     }
 
@@ -203,44 +164,8 @@ fn variant(
     profile_path: &Path,
     planned: &Planned<'_>,
 ) -> Result<VariantInput, CompareError> {
-    let shader = &loaded.shader;
-    let pick = planned.pick;
-    let node_name = pick.name();
-    let strategy: Strategy =
-        pick.strategy()
-            .parse()
-            .map_err(|e: String| reproj_analyze::AnalyzeError::BadProfile {
-                path: profile_path.to_owned(),
-                message: format!("node {node_name}: {e}"),
-            })?;
-    let block = pick.block(profile);
-    let selectors = match pick {
-        Pick::Node(n) if n.root => vec![NodeSelector::Root],
-        Pick::Node(n) => vec![NodeSelector::Id(n.id)],
-        Pick::Set(s) => s.members.iter().map(|&id| NodeSelector::Id(id)).collect(),
-    };
-    // A node's own reconstruction filter; a set's is the profile's.
-    let node = match pick {
-        Pick::Node(n) => Some(n),
-        Pick::Set(_) => None,
-    };
-    let (reconstruct, cache_format) =
-        reproj_analyze::emit::profile_variant_settings(profile, node, profile_path)?;
-    let variant = instance_nodes(
-        shader,
-        &loaded.norm,
-        &loaded.table,
-        &selectors,
-        &InstanceOptions {
-            strategy,
-            delta_n: planned.delta_n,
-            block,
-            depth_epsilon: profile.depth_epsilon,
-            reconstruct,
-            cache_format,
-            ..Default::default()
-        },
-    )?;
+    let spec = VariantSpec::of(profile, profile_path, planned.pick, planned.delta_n)?;
+    let variant = spec.instance(&loaded.shader, loaded, &InstanceOptions::default())?;
     Ok(VariantInput::new(
         variant.passes.iter().map(|p| p.wgsl.clone()).collect(),
         variant.manifest.clone(),
@@ -302,7 +227,7 @@ pub(crate) fn reproj(
             profile: profile_path.display().to_string(),
             node: node_name.clone(),
             text: pick.text(),
-            strategy: pick.strategy().to_owned(),
+            strategy: pick.strategy_name().to_owned(),
             delta_n: planned.delta_n,
             predicted_error: planned.predicted_error,
             predicted_speedup: planned.predicted_speedup,
@@ -328,13 +253,13 @@ pub(crate) fn reproj(
             },
             setting: format!(
                 "{} {node_name} cached at Δn = {} ({}, k = {})",
-                if matches!(pick, Pick::Set(_)) {
+                if matches!(pick, Profiled::Set(_)) {
                     "nodes"
                 } else {
                     "node"
                 },
                 planned.delta_n,
-                pick.strategy(),
+                pick.strategy_name(),
                 pick.block(profile)
             ),
         },
@@ -384,7 +309,10 @@ mod tests {
             let target = slowest.predicted_speedup
                 + (fastest.predicted_speedup - slowest.predicted_speedup) * f64::from(i) / 20.0;
             let p = at(target);
-            assert_eq!((p.pick.name(), p.pick.strategy()), ("697".into(), "2pass"));
+            assert_eq!(
+                (p.pick.name(), p.pick.strategy_name()),
+                ("697".into(), "2pass")
+            );
             assert!(
                 p.predicted_speedup >= target - 1e-12,
                 "Δn {}: {} for {target}",

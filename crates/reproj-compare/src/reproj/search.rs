@@ -12,11 +12,11 @@ use reproj_select::{
     select_with_sets,
 };
 
-use super::{Pick, Planned, ReprojDetail, ReprojTry, variant};
+use super::{Planned, Profiled, ReprojDetail, ReprojTry, variant};
 use crate::{CompareError, Ctx};
 
 /// A planned point: (pick, Δn, predicted error, predicted ms).
-pub(super) type Point<'p> = (Pick<'p>, u32, f64, f64);
+pub(super) type Point<'p> = (Profiled<'p>, u32, f64, f64);
 
 /// What reproj may choose from a profile: its usable nodes and measured sets, and their
 /// selector records.
@@ -64,8 +64,8 @@ impl<'p> Candidates<'p> {
     }
 
     /// The node `id` in `strategy`, as a pick.
-    fn node(&self, id: u32, strategy: &str) -> Pick<'p> {
-        Pick::Node(
+    fn node(&self, id: u32, strategy: &str) -> Profiled<'p> {
+        Profiled::Node(
             self.usable
                 .iter()
                 .find(|n| n.id == id && n.strategy == strategy)
@@ -87,8 +87,9 @@ pub(crate) fn along<'p>(
     max_delta_n: u32,
 ) -> Option<Planned<'p>> {
     let c = Candidates::of(profile);
-    let same = |pick: &Pick| pick.name() == reported.node && pick.strategy() == reported.strategy;
-    let curve: Vec<(Pick<'p>, NodeRecord)> = c
+    let same =
+        |pick: &Profiled| pick.name() == reported.node && pick.strategy_name() == reported.strategy;
+    let curve: Vec<(Profiled<'p>, NodeRecord)> = c
         .records
         .iter()
         .map(|r| (c.node(r.id, &r.strategy), r.clone()))
@@ -96,7 +97,7 @@ pub(crate) fn along<'p>(
             c.sets
                 .iter()
                 .zip(&c.set_records)
-                .map(|(s, r)| (Pick::Set(s), r.as_node())),
+                .map(|(s, r)| (Profiled::Set(s), r.as_node())),
         )
         .filter(|(pick, _)| same(pick))
         .collect();
@@ -150,7 +151,7 @@ pub(super) fn at_speedup<'p>(
         let as_node = rec.as_node();
         for dn in DEFAULT_MIN_DELTA_N..=max_delta_n {
             if let Some(p) = predict(&as_node, &profile.hit_rate, dn) {
-                points.push((Pick::Set(set), dn, p.predicted_error, p.predicted_ms));
+                points.push((Profiled::Set(set), dn, p.predicted_error, p.predicted_ms));
             }
         }
     }
@@ -193,7 +194,7 @@ pub(super) fn under_budget<'p>(
                 .find(|s| s.members == choice.members && s.strategy == choice.strategy)
                 .expect("the choice comes from the profile's sets");
             Ok((
-                Pick::Set(set),
+                Profiled::Set(set),
                 choice.delta_n,
                 choice.predicted_error,
                 choice.predicted_ms,
@@ -228,7 +229,7 @@ pub(crate) fn steer<'p>(
 ) -> Result<(Planned<'p>, Vec<ReprojTry>), CompareError> {
     let c = Candidates::of(profile);
     let miss = |s: f64| (s.max(1e-9) / ctx.target).ln().abs();
-    let key = |p: &Planned| (p.pick.name(), p.pick.strategy().to_owned(), p.delta_n);
+    let key = |p: &Planned| (p.pick.name(), p.pick.strategy_name().to_owned(), p.delta_n);
     let mut planned = first;
     let mut raced: Vec<(Planned<'p>, ReprojTry)> = Vec::new();
     for _ in 0..tries.max(1) {
@@ -251,7 +252,7 @@ pub(crate) fn steer<'p>(
             planned,
             ReprojTry {
                 node: planned.pick.name(),
-                strategy: planned.pick.strategy().to_owned(),
+                strategy: planned.pick.strategy_name().to_owned(),
                 delta_n: planned.delta_n,
                 predicted_error: planned.predicted_error,
                 predicted_speedup: planned.predicted_speedup,

@@ -136,6 +136,14 @@ pub struct Node {
     pub handle: Option<Handle<Expression>>,
 }
 
+impl Node {
+    /// Static saving of caching this node: its cost less what the rest of the shader still
+    /// computes (its overlap). What `analyze` prunes candidates by and `nodes` lists.
+    pub fn saving(&self) -> f64 {
+        (self.cost - self.overlap).max(0.0)
+    }
+}
+
 /// All candidate nodes of one entry point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NodeTable {

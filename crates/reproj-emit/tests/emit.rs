@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use reproj_analyze::{AnalyzeError, EmitOptions, EmitReport, emit, load_profile};
+use reproj_emit::{EmitError, EmitOptions, EmitReport, emit, load_profile};
 use reproj_instance::CacheFormat;
 use reproj_models::profile::{
     AnalysisTime, Machine, Measurement, NodeProfile, NodeStatus, OriginalRecord, Source,
@@ -192,8 +192,8 @@ fn budgets_pick_original_node_then_root() {
         &std::fs::read_to_string(dir.path().join("moderate/report.json")).unwrap(),
     )
     .unwrap();
-    assert_eq!(written["schema"], reproj_analyze::EMIT_REPORT_SCHEMA);
-    assert_eq!(written["version"], reproj_analyze::EMIT_REPORT_VERSION);
+    assert_eq!(written["schema"], reproj_emit::EMIT_REPORT_SCHEMA);
+    assert_eq!(written["version"], reproj_emit::EMIT_REPORT_VERSION);
 
     let (r, _) = emit(&p, &pp, &opts(0.5, &dir.path().join("loose"))).unwrap();
     assert_eq!(r.node.as_deref(), Some("root"), "{r:?}");
@@ -326,7 +326,7 @@ fn stale_shader_is_refused() {
         &opts(0.015, &dir.path().join("out")),
     )
     .unwrap_err();
-    assert!(matches!(e, AnalyzeError::Stale { .. }), "{e}");
+    assert!(matches!(e, EmitError::Stale { .. }), "{e}");
 }
 
 #[test]
@@ -356,7 +356,7 @@ fn the_runoff_races_the_nodes_predicted_too_close_to_tell_apart() {
     let o = opts(0.5, &dir.path().join("loose"));
     let (r, _) = emit(&p, &pp, &o).unwrap();
     assert_eq!(r.node.as_deref(), Some("root"), "{r:?}");
-    let c = reproj_analyze::contenders(&p, &pp, &o, &r, 3).unwrap();
+    let c = reproj_emit::contenders(&p, &pp, &o, &r, 3).unwrap();
     let names: Vec<&str> = c.iter().map(|c| c.node.as_str()).collect();
     assert_eq!(names, ["root", &sum.to_string()], "fastest predicted first");
     assert!(c[0].chosen_by_prediction && !c[1].chosen_by_prediction);
@@ -367,7 +367,7 @@ fn the_runoff_races_the_nodes_predicted_too_close_to_tell_apart() {
     }
     // The sum's contender is what `emit --node` writes for it.
     let forced = EmitOptions {
-        node: Some(reproj_analyze::emit::NodeChoice::Id(sum)),
+        node: Some(reproj_emit::NodeChoice::Id(sum)),
         ..opts(0.5, &dir.path().join("forced"))
     };
     let (f, fv) = emit(&p, &pp, &forced).unwrap();
@@ -379,12 +379,12 @@ fn the_runoff_races_the_nodes_predicted_too_close_to_tell_apart() {
 
     // No runoff: one contender allowed, a forced node, or a node far slower than the choice.
     assert!(
-        reproj_analyze::contenders(&p, &pp, &o, &r, 1)
+        reproj_emit::contenders(&p, &pp, &o, &r, 1)
             .unwrap()
             .is_empty()
     );
     assert!(
-        reproj_analyze::contenders(&p, &pp, &forced, &f, 3)
+        reproj_emit::contenders(&p, &pp, &forced, &f, 3)
             .unwrap()
             .is_empty()
     );
@@ -392,7 +392,7 @@ fn the_runoff_races_the_nodes_predicted_too_close_to_tell_apart() {
     let (r, _) = emit(&p, &pp, &o).unwrap();
     assert_eq!(r.node.as_deref(), Some("root"));
     assert!(
-        reproj_analyze::contenders(&p, &pp, &o, &r, 3)
+        reproj_emit::contenders(&p, &pp, &o, &r, 3)
             .unwrap()
             .is_empty()
     );

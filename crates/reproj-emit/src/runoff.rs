@@ -5,7 +5,7 @@
 //! (8 rounds, intervals of ±15–20 % on a CPU rasterizer), so two nodes a few per cent apart in
 //! prediction are a coin toss — marble at budget 0.1 predicted node 697 at 2.63× and measured
 //! 2.38×, while node 680 at Δn 50 measured 2.62×. This module is the GPU-free half: who races
-//! ([`contenders`]) and what the report keeps ([`Runoff`]); [`crate::verify::runoff`] times them.
+//! ([`contenders`]) and what the report keeps ([`Runoff`]); reproj-analyze's `runoff` times them.
 
 use std::path::Path;
 
@@ -14,12 +14,13 @@ use reproj_models::Profile;
 use reproj_select::{Choice, Selection};
 use serde::{Deserialize, Serialize};
 
-use super::{
-    EmitOptions, EmitReport, NodeChoice, choose, gather, load_profiled, node_variant,
-    profile_variant_settings, records_of, select_options,
-};
-use crate::AnalyzeError;
+use crate::EmitError;
 use crate::motion::PeriodChoice;
+use crate::spec::{Profiled, VariantSpec};
+use crate::{
+    EmitOptions, EmitReport, NodeChoice, choose, gather, load_profiled, profile_variant_settings,
+    records_of, select_options,
+};
 
 /// One node's own best choice under the budget, in memory, ready to be timed.
 #[derive(Debug, Clone)]
@@ -37,7 +38,7 @@ pub struct Contender {
 }
 
 impl Contender {
-    /// `opts` restricted to this contender (`--node` and `--strategy`): what [`super::emit`]
+    /// `opts` restricted to this contender (`--node` and `--strategy`): what [`crate::emit`]
     /// writes when the runoff chooses it.
     pub fn emit_options(&self, opts: &EmitOptions) -> EmitOptions {
         EmitOptions {
@@ -83,7 +84,7 @@ pub struct RunoffEntry {
 /// where neither has a measured interval: 10 %.
 const CLOSE_WITHOUT_INTERVALS: f64 = 0.9;
 
-/// The contenders of a runoff for `report` (what [`super::emit`] chose under `opts`): the choice
+/// The contenders of a runoff for `report` (what [`crate::emit`] chose under `opts`): the choice
 /// itself and every other node whose own best choice under the budget is predicted too close to
 /// tell apart — its predicted interval reaches the choice's (within 10 % of it where there are no
 /// intervals) — at most `max` of them, the fastest predicted first. Empty (no runoff) when fewer
@@ -95,7 +96,7 @@ pub fn contenders(
     opts: &EmitOptions,
     report: &EmitReport,
     max: usize,
-) -> Result<Vec<Contender>, AnalyzeError> {
+) -> Result<Vec<Contender>, EmitError> {
     let (Some(current), Some(best), Some(current_strategy)) = (
         report.node.as_deref(),
         report.predicted_speedup,
@@ -124,7 +125,7 @@ pub fn contenders(
             node: Some(NodeChoice::Id(id)),
             ..opts.clone()
         };
-        let (_, all) = gather(profile, profile_path, &node_opts)?;
+        let all = gather(profile, profile_path, &node_opts)?;
         let names: Vec<String> = all.iter().map(|(p, _, _)| p.session.path.clone()).collect();
         let Selection::Node(choice) = choose(&all, &names, &node_opts, &select_opts).selection
         else {
@@ -165,15 +166,14 @@ pub fn contenders(
                 .iter()
                 .find(|n| n.id == selection.node_id && n.strategy == selection.strategy)
                 .expect("the selection comes from the profile's nodes");
-            let (variant, _) = node_variant(
+            let mut spec = VariantSpec::of(
                 profile,
                 profile_path,
-                opts,
-                (&shader, &loaded),
-                cache_format,
+                Profiled::Node(node),
                 selection.delta_n,
-                node,
             )?;
+            spec.cache_format = cache_format;
+            let variant = spec.instance(&shader, &loaded, &opts.integration)?;
             Ok(Contender {
                 node: node_name(profile, node.id),
                 choice: if node.root {

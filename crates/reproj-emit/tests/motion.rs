@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use reproj_analyze::motion::measure;
+use reproj_emit::motion::measure;
 use reproj_scene::Session;
 
 fn root() -> PathBuf {

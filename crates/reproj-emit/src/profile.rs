@@ -3,10 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::*;
+use crate::*;
 
 /// Read a profile, naming the field when it is malformed.
-pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
+pub fn load_profile(path: &Path) -> Result<Profile, EmitError> {
     let profile: Profile = reproj_io::read_json(path, &reproj_models::PROFILE_KIND)?;
     profile
         .check()
@@ -19,8 +19,8 @@ pub fn load_profile(path: &Path) -> Result<Profile, AnalyzeError> {
 }
 
 /// The most recently modified `*.profile.json` in `dir`.
-pub fn latest_profile(dir: &Path) -> Result<PathBuf, AnalyzeError> {
-    let entries = std::fs::read_dir(dir).map_err(|source| AnalyzeError::Io {
+pub fn latest_profile(dir: &Path) -> Result<PathBuf, EmitError> {
+    let entries = std::fs::read_dir(dir).map_err(|source| EmitError::Io {
         path: dir.to_owned(),
         source,
     })?;
@@ -30,7 +30,7 @@ pub fn latest_profile(dir: &Path) -> Result<PathBuf, AnalyzeError> {
         .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
         .max()
         .map(|(_, p)| p)
-        .ok_or_else(|| AnalyzeError::Options(format!(
+        .ok_or_else(|| EmitError::Options(format!(
             "no *.profile.json in {}: run `reproj analyze SHADER --session SESSION` first, or pass --profile",
             dir.display()
         )))
@@ -52,10 +52,10 @@ pub fn resolve(recorded: &str, profile_path: &Path) -> PathBuf {
 /// shader file by its extension: a profile is data from anywhere, and loading what it names
 /// shows that file's first lines in a diagnostic (a profile naming `/etc/passwd` must not print
 /// it).
-pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf, AnalyzeError> {
+pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf, EmitError> {
     let path = resolve(&profile.shader.path, profile_path);
     if reproj_front::Lang::from_path(&path).is_none() {
-        return Err(AnalyzeError::BadProfile {
+        return Err(EmitError::BadProfile {
             path: profile_path.to_owned(),
             message: format!(
                 "field `shader.path`: `{}` is not a shader file (.wgsl, .glsl, .frag or .spv)",
@@ -64,7 +64,7 @@ pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf,
         });
     }
     if !path.exists() {
-        return Err(AnalyzeError::BadProfile {
+        return Err(EmitError::BadProfile {
             path: profile_path.to_owned(),
             message: format!(
                 "field `shader.path`: the shader `{}` is not at {} (looked for relative to the profile's folder); restore it, or re-run `reproj analyze`",
@@ -81,9 +81,9 @@ pub fn profile_shader(profile: &Profile, profile_path: &Path) -> Result<PathBuf,
 pub fn profile_shader_input(
     profile: &Profile,
     profile_path: &Path,
-) -> Result<reproj_front::ShaderInput, AnalyzeError> {
+) -> Result<reproj_front::ShaderInput, EmitError> {
     let record = &profile.shader_input;
-    let bad = |field: &str, message: String| AnalyzeError::BadProfile {
+    let bad = |field: &str, message: String| EmitError::BadProfile {
         path: profile_path.to_owned(),
         message: format!("field `shader_input.{field}`: {message}"),
     };
@@ -115,8 +115,8 @@ pub fn profile_variant_settings(
     profile: &Profile,
     node: Option<&reproj_models::profile::NodeProfile>,
     profile_path: &Path,
-) -> Result<(Reconstruct, CacheFormatChoice), AnalyzeError> {
-    let bad = |field: &str, value: &str| AnalyzeError::BadProfile {
+) -> Result<(Reconstruct, CacheFormatChoice), EmitError> {
+    let bad = |field: &str, value: &str| EmitError::BadProfile {
         path: profile_path.to_owned(),
         message: format!("field `{field}`: `{value}` is not one reproj writes"),
     };
@@ -147,7 +147,7 @@ pub(super) fn records_of<'p>(
     profile: &'p Profile,
     profile_path: &Path,
     opts: &EmitOptions,
-) -> Result<ProfileRecords<'p>, AnalyzeError> {
+) -> Result<ProfileRecords<'p>, EmitError> {
     records_with(
         profile,
         profile_path,
@@ -164,7 +164,7 @@ pub fn selector_records(
     profile: &Profile,
     profile_path: &Path,
     metric: Metric,
-) -> Result<(Vec<NodeRecord>, Vec<SetRecord>), AnalyzeError> {
+) -> Result<(Vec<NodeRecord>, Vec<SetRecord>), EmitError> {
     let (_, nodes, sets) = records_with(profile, profile_path, metric, None, None)?;
     Ok((nodes, sets))
 }
@@ -176,7 +176,7 @@ fn records_with<'p>(
     metric: Metric,
     strategy: Option<&str>,
     node: Option<&NodeChoice>,
-) -> Result<ProfileRecords<'p>, AnalyzeError> {
+) -> Result<ProfileRecords<'p>, EmitError> {
     let r = reproj_select::profile_records(
         profile,
         metric,
@@ -184,7 +184,7 @@ fn records_with<'p>(
         &|n| node.is_none_or(|c| c.admits(n)),
         node.is_none(),
     )
-    .map_err(|_| AnalyzeError::BadProfile {
+    .map_err(|_| EmitError::BadProfile {
         path: profile_path.to_owned(),
         message: format!(
             "it has no {metric} measurements (profile version {}; they are recorded from version 4): re-run `reproj analyze` to bound {metric}",
@@ -201,7 +201,7 @@ pub(super) fn same_shader(
     first_path: &Path,
     other: &Profile,
     other_path: &Path,
-) -> Result<(), AnalyzeError> {
+) -> Result<(), EmitError> {
     let shader = |p: &Profile| {
         p.shader
             .ir_hash
@@ -221,7 +221,7 @@ pub(super) fn same_shader(
     };
     match differs {
         None => Ok(()),
-        Some(what) => Err(AnalyzeError::BadProfile {
+        Some(what) => Err(EmitError::BadProfile {
             path: other_path.to_owned(),
             message: format!(
                 "its {what} differs from {}'s: profiles selected together must be of one shader with one setting, over different sessions",
@@ -266,7 +266,7 @@ pub fn load_profiled(
     profile: &Profile,
     profile_path: &Path,
     shader: Option<&Path>,
-) -> Result<(PathBuf, reproj_front::Loaded, reproj_front::Shader), AnalyzeError> {
+) -> Result<(PathBuf, reproj_front::Loaded, reproj_front::Shader), EmitError> {
     let shader_path = match shader {
         Some(s) => s.to_owned(),
         None => profile_shader(profile, profile_path)?,
@@ -281,7 +281,7 @@ pub fn load_profiled(
     let loaded = load(&shader_path, Some(&profile.entry), &load_options)?;
     let shader = loaded.shader.to_wgsl()?;
     if !is_profiled_shader(profile, &shader) {
-        return Err(AnalyzeError::Stale {
+        return Err(EmitError::Stale {
             path: shader_path,
             what: "shader".into(),
         });

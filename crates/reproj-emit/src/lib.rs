@@ -1,9 +1,12 @@
-//! `emit`: select the fastest (node or set of nodes, Δn) under an error budget from a profile and
-//! write its passes.
-//! Needs no GPU; [`crate::verify`] re-renders the selection to check the prediction.
+//! reproj's deciding stage, GPU-free: `emit` selects the fastest (node or set of nodes, Δn) under an
+//! error budget from a profile and writes its passes. Built and tested without wgpu: the light
+//! build CI uses to run `emit` is this crate and the CLI. reproj-analyze's `verify` re-renders the
+//! selection to check the prediction.
 //!
 //! In phases: read the profile(s) and check the shader is the one profiled (`profile.rs`), select
-//! across the sessions and motion (here), write the choice (`write.rs`).
+//! across the sessions and motion (`choose.rs`, [`motion`]), spell the choice as a typed
+//! [`VariantSpec`] (`spec.rs`, the one place a profile's strings become a variant's options),
+//! write it (`write.rs`). [`contenders`] lists what a runoff times (`runoff.rs`).
 
 use std::path::{Path, PathBuf};
 
@@ -16,15 +19,18 @@ use reproj_io::Replace;
 use reproj_metrics::MetricSummary;
 use reproj_models::Metric;
 use reproj_models::{Profile, content_hash};
-use reproj_select::{Budget, NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};
+use reproj_select::{NodeRecord, ScenePrediction, SelectOptions, Selection, SetRecord};
 use serde::{Deserialize, Serialize};
 
-use crate::AnalyzeError;
-
 mod choose;
+mod error;
+pub mod motion;
 mod profile;
 mod runoff;
+mod spec;
 mod write;
+
+pub use error::EmitError;
 
 use choose::{Records, choose};
 pub use profile::{
@@ -33,7 +39,8 @@ pub use profile::{
 };
 use profile::{records_of, same_shader, same_variant};
 pub use runoff::{Contender, Runoff, RunoffEntry, contenders};
-use write::{Writer, node_variant};
+pub use spec::{Profiled, VariantSpec};
+use write::Writer;
 
 /// Options of [`emit`].
 #[derive(Debug, Clone)]
@@ -267,7 +274,7 @@ pub fn emit(
     profile: &Profile,
     profile_path: &Path,
     opts: &EmitOptions,
-) -> Result<(EmitReport, Option<Variant>), AnalyzeError> {
+) -> Result<(EmitReport, Option<Variant>), EmitError> {
     let (shader_path, loaded, shader) =
         load_profiled(profile, profile_path, opts.shader.as_deref())?;
     // `--node N` for a node the shader does not have: the same answer as `instance` and `render`.
@@ -283,9 +290,9 @@ pub fn emit(
         }
         .into());
     }
-    let (usable_sets, all) = gather(profile, profile_path, opts)?;
-    // The sets' reconstruction and the cache format (each node's own filter is read below).
-    let (set_reconstruct, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
+    let all = gather(profile, profile_path, opts)?;
+    // The cache format (each node's own filter is read by its spec).
+    let (_, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
     let cache_format = opts.cache_format.unwrap_or(profiled_format);
     let select_opts = select_options(opts);
     let names: Vec<String> = all.iter().map(|(p, _, _)| p.session.path.clone()).collect();
@@ -317,31 +324,23 @@ pub fn emit(
         staging: &staging,
     };
     let variant = match selection {
-        Selection::Node(choice) if !choice.members.is_empty() => {
-            let set = usable_sets
-                .iter()
-                .find(|s| s.members == choice.members && s.strategy == choice.strategy)
-                .expect("the selection comes from the profile's sets");
-            let schedule = schedule_of(&|(_, _, sets)| {
-                sets.iter()
-                    .find(|r| r.members == set.members && r.strategy == set.strategy)
-                    .map(SetRecord::as_node)
-            });
-            Some(w.set(&choice, set, set_reconstruct, schedule, &mut report)?)
-        }
         Selection::Node(choice) => {
-            let node = profile
-                .nodes
-                .iter()
-                .find(|n| n.id == choice.node_id && n.strategy == choice.strategy)
-                .expect("the selection comes from the profile's nodes");
-            let schedule = schedule_of(&|(_, nodes, _)| {
-                nodes
-                    .iter()
-                    .find(|r| r.id == node.id && r.strategy == node.strategy)
-                    .cloned()
-            });
-            Some(w.node(&choice, node, schedule, &mut report)?)
+            let profiled = Profiled::of_choice(profile, &choice)
+                .expect("the selection comes from the profile's nodes and sets");
+            let schedule = match profiled {
+                Profiled::Set(set) => schedule_of(&|(_, _, sets)| {
+                    sets.iter()
+                        .find(|r| r.members == set.members && r.strategy == set.strategy)
+                        .map(SetRecord::as_node)
+                }),
+                Profiled::Node(node) => schedule_of(&|(_, nodes, _)| {
+                    nodes
+                        .iter()
+                        .find(|r| r.id == node.id && r.strategy == node.strategy)
+                        .cloned()
+                }),
+            };
+            Some(w.variant(&choice, profiled, schedule, &mut report)?)
         }
         Selection::Original { reason } => {
             // A profile that stopped at its ceiling says why better than "no usable node".
@@ -362,6 +361,8 @@ pub fn emit(
 }
 
 pub use reproj_instance::ir_hash;
+/// The error budget and the default refresh periods, as the CLI checks them at its edge.
+pub use reproj_select::{Budget, DELTA_N_RANGE, EXTENDED_MAX_DELTA_N};
 
 /// The selector's options of `opts`.
 fn select_options(opts: &EmitOptions) -> SelectOptions {
@@ -372,21 +373,14 @@ fn select_options(opts: &EmitOptions) -> SelectOptions {
     }
 }
 
-/// The usable sets of `profile` and the selector's records of it and of every `--also` profile
-/// (checked to be the same shader), under `opts`' filters: what [`emit`] chooses across.
-#[allow(clippy::type_complexity)]
+/// The selector's records of `profile` and of every `--also` profile (checked to be the same
+/// shader), under `opts`' filters: what [`emit`] chooses across.
 fn gather<'p>(
     profile: &'p Profile,
     profile_path: &Path,
     opts: &'p EmitOptions,
-) -> Result<
-    (
-        Vec<&'p reproj_models::profile::SetProfile>,
-        Vec<Records<'p>>,
-    ),
-    AnalyzeError,
-> {
-    let (usable_sets, records, set_records) = records_of(profile, profile_path, opts)?;
+) -> Result<Vec<Records<'p>>, EmitError> {
+    let (_, records, set_records) = records_of(profile, profile_path, opts)?;
     // Other sessions' profiles of the same shader: the budget must hold on each (worst case).
     let mut all: Vec<Records> = vec![(profile, records, set_records)];
     for (path, other) in &opts.also {
@@ -397,11 +391,11 @@ fn gather<'p>(
         nodes.retain(|n| same_variant(profile, other, n.id));
         all.push((other, nodes, sets));
     }
-    Ok((usable_sets, all))
+    Ok(all)
 }
 
 /// Write `out/report.json`.
-pub(crate) fn write_report(report: &EmitReport, out: &Path) -> Result<(), AnalyzeError> {
+pub fn write_report(report: &EmitReport, out: &Path) -> Result<(), EmitError> {
     let mut json = serde_json::to_vec_pretty(report).expect("report serializes");
     json.push(b'\n');
     Ok(reproj_io::write_file(&out.join("report.json"), &json)?)

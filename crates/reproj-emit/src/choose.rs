@@ -8,7 +8,7 @@ use reproj_select::{
     select_worst_case,
 };
 
-use super::EmitOptions;
+use crate::EmitOptions;
 use crate::motion::{AdaptiveReport, MotionReport, PeriodChoice, ProfiledSession, Segment};
 
 /// A profile with its nodes and sets as the selector's records.
