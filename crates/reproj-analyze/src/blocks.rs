@@ -22,11 +22,11 @@
 //! The race costs one replay and one short race per node; `--block K` fixes the size instead.
 
 use reproj_instance::{InstanceOptions, NodeSelector, Strategy};
-use reproj_models::profile::{BlockProbe, Measurement};
+use reproj_models::profile::{BlockProbe, Measurement, Timed};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use crate::AnalyzeError;
-use crate::replayer::{RaceEntry, Replayer, finite};
+use crate::replayer::{RaceEntry, Replayer, finite, timed_candidate};
 
 /// The largest block raced.
 pub(crate) const LARGEST: u32 = 32;
@@ -124,13 +124,12 @@ pub(crate) fn race_block(
     let (base_error, challenger_error) = (race.base.error, challenger.measurement.error);
     let probe = |block: u32, error: f64| BlockProbe {
         node: id,
+        reconstruct: None,
         strategy: race.strategy.name().into(),
         block,
         delta_n: dn,
         error: finite(error),
-        speedup: None,
-        speedup_ci95: None,
-        rounds: None,
+        timed: Timed::default(),
         kept: false,
         note: None,
     };
@@ -200,16 +199,9 @@ pub(crate) fn race_block(
         }
     );
     rp.progress.note(&format!("{who}: {note}"));
-    let timed = |p: BlockProbe, i: usize| {
-        let c = report.candidates.get(i);
-        BlockProbe {
-            speedup: c.and_then(|c| c.speedup).map(finite),
-            speedup_ci95: c
-                .and_then(|c| c.speedup_ci95)
-                .map(|[lo, hi]| [finite(lo), finite(hi)]),
-            rounds: c.map(|c| c.rounds),
-            ..p
-        }
+    let timed = |p: BlockProbe, i: usize| BlockProbe {
+        timed: timed_candidate(&report, i),
+        ..p
     };
     probes.push(BlockProbe {
         kept: !kept,

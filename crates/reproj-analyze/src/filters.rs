@@ -28,12 +28,12 @@
 //! equal error, because bilinear at half the Δn has nearly the same hit rate.
 
 use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy};
-use reproj_models::profile::{FilterProbe, Measurement};
+use reproj_models::profile::{FilterProbe, Measurement, Timed};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 use reproj_models::{ErrorFit, ErrorFitOptions, fit_error};
 
 use crate::AnalyzeError;
-use crate::replayer::{Challenger, RaceEntry, RaceLength, Replayer, finite};
+use crate::replayer::{Challenger, RaceEntry, RaceLength, Replayer, finite, timed_candidate};
 
 /// The filter raced against the analysis's own (bilinear).
 pub(crate) const CHALLENGER: Reconstruct = Reconstruct::CatmullRom;
@@ -166,14 +166,12 @@ pub(crate) fn race_filter(
 fn probe(race: &FilterRace, reconstruct: Reconstruct, delta_n: u32, error: f64) -> FilterProbe {
     FilterProbe {
         node: race.id,
-        reconstruct: reconstruct.name().into(),
+        reconstruct: Some(reconstruct.name().into()),
         strategy: race.strategy.name().into(),
         block: race.block,
         delta_n,
         error: finite(error),
-        speedup: None,
-        speedup_ci95: None,
-        rounds: None,
+        timed: Timed::default(),
         kept: false,
         note: None,
     }
@@ -311,16 +309,9 @@ fn record(
 ) {
     let (base, longest) = (v.base, rp.longest);
     let challenger_error = v.challenger_error;
-    let timed = |p: FilterProbe, i: usize| {
-        let c = raced.report.candidates.get(i);
-        FilterProbe {
-            speedup: c.and_then(|c| c.speedup).map(finite),
-            speedup_ci95: c
-                .and_then(|c| c.speedup_ci95)
-                .map(|[lo, hi]| [finite(lo), finite(hi)]),
-            rounds: c.map(|c| c.rounds),
-            ..p
-        }
+    let timed = |p: FilterProbe, i: usize| FilterProbe {
+        timed: timed_candidate(&raced.report, i),
+        ..p
     };
     let shown = |e: Option<&SpeedupEstimate>| e.map_or_else(|| "untimed".into(), |e| e.display());
     let against = match v.base_period {

@@ -42,9 +42,12 @@ fn assert_raced_every_strategy_but_the_decisively_pruned(profile: &reproj_models
         if of(second).any(|p| p.strategy == lost.strategy) {
             continue;
         }
-        let (w, l) = (winner.speedup_ci95.unwrap(), lost.speedup_ci95.unwrap());
+        let (w, l) = (
+            winner.timed.speedup_ci95.unwrap(),
+            lost.timed.speedup_ci95.unwrap(),
+        );
         assert!(
-            l[1] < w[0] && winner.speedup.unwrap() >= 2.0 * lost.speedup.unwrap(),
+            l[1] < w[0] && winner.timed.speedup.unwrap() >= 2.0 * lost.timed.speedup.unwrap(),
             "{} pruned without a decisive loss: {probes:?}",
             lost.strategy
         );
@@ -113,15 +116,15 @@ fn static_session_profiles_without_nan_and_emits() {
         assert_eq!(kept.len(), 1, "{probes:?}");
         assert_eq!(kept[0].strategy, n.strategy);
         // No strategy is faster than the kept one beyond doubt (noise never decides a race).
-        let [_, kept_hi] = kept[0].speedup_ci95.unwrap();
+        let [_, kept_hi] = kept[0].timed.speedup_ci95.unwrap();
         for p in &probes {
-            let [lo, hi] = p.speedup_ci95.unwrap();
+            let [lo, hi] = p.timed.speedup_ci95.unwrap();
             assert!(
-                lo <= p.speedup.unwrap() && p.speedup.unwrap() <= hi,
+                lo <= p.timed.speedup.unwrap() && p.timed.speedup.unwrap() <= hi,
                 "{p:?}"
             );
             assert!(
-                p.kept || p.speedup < kept[0].speedup || lo <= kept_hi,
+                p.kept || p.timed.speedup < kept[0].timed.speedup || lo <= kept_hi,
                 "{p:?} beats {:?}",
                 kept[0]
             );
@@ -278,8 +281,8 @@ fn strategies_race_interleaved_then_the_kept_one_replays_the_session() {
     assert_raced_every_strategy_but_the_decisively_pruned(&profile);
     for p in &profile.strategy_probes {
         assert!(p.original_ms.is_some_and(|ms| ms > 0.0), "{p:?}");
-        assert!(p.rounds.is_some_and(|r| r >= 8), "{p:?}");
-        assert!(p.speedup.is_some_and(f64::is_finite), "{p:?}");
+        assert!(p.timed.rounds.is_some_and(|r| r >= 8), "{p:?}");
+        assert!(p.timed.speedup.is_some_and(f64::is_finite), "{p:?}");
         assert_eq!(p.error, None, "a race measures no error");
     }
     for n in &profile.nodes {
@@ -295,7 +298,7 @@ fn strategies_race_interleaved_then_the_kept_one_replays_the_session() {
             // Set aside by the race: only a non-root node slower beyond doubt; the profile keeps
             // its replay at the longest period and no other.
             assert!(!n.root);
-            assert!(kept.speedup_ci95.unwrap()[1] < 1.0, "{kept:?}");
+            assert!(kept.timed.speedup_ci95.unwrap()[1] < 1.0, "{kept:?}");
             assert_eq!(n.measurements.len(), 1, "{n:?}");
             continue;
         }

@@ -16,7 +16,7 @@ mod input;
 mod probes;
 pub use ceiling::Ceiling;
 pub use input::ShaderInputRecord;
-pub use probes::{BlockProbe, FilterProbe, StrategyProbe};
+pub use probes::{BlockProbe, FilterProbe, RaceProbe, StrategyProbe, Timed};
 
 /// Version of the profile schema. Bump on any incompatible change.
 /// Version 2: per-node `strategy` and `block`, and `strategy_probes`. Version 1 files still load

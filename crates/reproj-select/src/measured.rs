@@ -177,21 +177,36 @@ pub fn calibration(
     let filter = node.reconstruct_in(profile);
     let (delta_n, speedup, ci95) = if filter != profile.reconstruct {
         let probe = profile.filter_probes.iter().find(|p| {
-            p.node == node.id && p.kept && p.strategy == node.strategy && p.reconstruct == filter
+            p.node == node.id
+                && p.kept
+                && p.strategy == node.strategy
+                && p.reconstruct.as_deref() == Some(filter)
         })?;
-        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
+        (
+            probe.delta_n,
+            probe.timed.speedup?,
+            probe.timed.speedup_ci95?,
+        )
     } else if let Some(probe) = profile.block_probes.iter().find(|p| {
         p.node == node.id && p.kept && p.strategy == node.strategy && Some(p.block) == node.block
     }) {
         // A block race's kept size (version 10): timed at the longest period as the strategy
         // race was, but with the block the node was profiled with.
-        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
+        (
+            probe.delta_n,
+            probe.timed.speedup?,
+            probe.timed.speedup_ci95?,
+        )
     } else {
         let probe = profile
             .strategy_probes
             .iter()
             .find(|p| p.node == node.id && p.kept && p.strategy == node.strategy)?;
-        (probe.delta_n, probe.speedup?, probe.speedup_ci95?)
+        (
+            probe.delta_n,
+            probe.timed.speedup?,
+            probe.timed.speedup_ci95?,
+        )
     };
     let model_ms = predicted_frame_ms(
         &node.timing_fit,

@@ -10,7 +10,7 @@ use reproj_models::profile::{BlockProbe, FilterProbe, Measurement, StrategyProbe
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use crate::AnalyzeError;
-use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, too_slow};
+use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, timed_estimate, too_slow};
 use crate::strategies::{Outcome, StrategyPruner, Verdict};
 
 /// One node's replays: the strategy and filter it was profiled with, its measurements, and why
@@ -260,9 +260,7 @@ fn strategy_probes(
                 kept: Some(i) == winner,
                 frames: None,
                 original_ms: Some(finite(e.map_or(r.baseline.median_ms, |e| e.baseline_ms))),
-                speedup: e.map(|e| finite(e.speedup)),
-                speedup_ci95: e.map(|e| [finite(e.ci95[0]), finite(e.ci95[1])]),
-                rounds: e.map(|e| e.rounds),
+                timed: timed_estimate(e.as_ref()),
             }
         })
         .collect()

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use reproj_instance::Strategy;
-use reproj_models::profile::{AnalysisTime, Measurement};
+use reproj_models::profile::{AnalysisTime, Measurement, Timed};
 use reproj_models::speedup::SpeedupEstimate;
 use reproj_replay::{RenderOptions, Renderer, VariantInput};
 
@@ -347,6 +347,28 @@ pub(crate) fn mean(it: impl Iterator<Item = f64>) -> f64 {
 /// NaN and infinities never reach the profile.
 pub(crate) fn finite(x: f64) -> f64 {
     if x.is_finite() { x } else { 0.0 }
+}
+
+/// What a race's report measured of its candidate `i`, as a probe records it (finite; all `None`
+/// where the report has no such candidate).
+pub(crate) fn timed_candidate(report: &reproj_bench::BenchReport, i: usize) -> Timed {
+    let c = report.candidates.get(i);
+    Timed {
+        speedup: c.and_then(|c| c.speedup).map(finite),
+        speedup_ci95: c
+            .and_then(|c| c.speedup_ci95)
+            .map(|[lo, hi]| [finite(lo), finite(hi)]),
+        rounds: c.map(|c| c.rounds),
+    }
+}
+
+/// A speedup estimate as a probe records it (finite; all `None` without one).
+pub(crate) fn timed_estimate(e: Option<&SpeedupEstimate>) -> Timed {
+    Timed {
+        speedup: e.map(|e| finite(e.speedup)),
+        speedup_ci95: e.map(|e| [finite(e.ci95[0]), finite(e.ci95[1])]),
+        rounds: e.map(|e| e.rounds),
+    }
 }
 
 /// The hit-rate model of a shader and session: one fit over every node's measurements at the
