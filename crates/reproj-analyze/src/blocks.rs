@@ -150,23 +150,23 @@ pub(crate) fn race_block(
         });
         return Ok(None);
     }
-    let entries = [
-        RaceEntry {
-            name: format!("k{}", race.block),
-            sources: race.base_sources,
-            variant: race.base_variant,
-            delta_n: dn,
-        },
-        RaceEntry {
-            name: format!("k{k}"),
-            sources: &challenger.sources,
-            variant: &challenger.variant,
-            delta_n: dn,
-        },
-    ];
-    let report = rp.race(&format!("{who} blocks"), id, &[], &entries)?;
-    rp.progress.step(&format!("{who} blocks raced"));
-    let (base_estimate, challenger_estimate) = (report.estimate(0), report.estimate(1));
+    let base_entry = RaceEntry {
+        name: format!("k{}", race.block),
+        sources: race.base_sources,
+        variant: race.base_variant,
+        delta_n: dn,
+    };
+    let challenger_entry = RaceEntry {
+        name: format!("k{k}"),
+        sources: &challenger.sources,
+        variant: &challenger.variant,
+        delta_n: dn,
+    };
+    // One short race decides (a larger block is kept unless slower beyond doubt).
+    let duel = rp.duel(id, "blocks", Some(base_entry), challenger_entry, |_, _| {
+        false
+    })?;
+    let (report, base_estimate, challenger_estimate) = (duel.report, duel.base, duel.challenger);
     let kept = challenger_kept(
         base_error,
         challenger_error,

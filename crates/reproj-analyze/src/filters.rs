@@ -33,7 +33,7 @@ use reproj_models::speedup::{SpeedupEstimate, separates};
 use reproj_models::{ErrorFit, ErrorFitOptions, fit_error};
 
 use crate::AnalyzeError;
-use crate::replayer::{Challenger, RaceEntry, RaceLength, Replayer, finite, timed_candidate};
+use crate::replayer::{Challenger, Duel, RaceEntry, Replayer, finite, timed_candidate};
 
 /// The filter raced against the analysis's own (bilinear).
 pub(crate) const CHALLENGER: Reconstruct = Reconstruct::CatmullRom;
@@ -221,70 +221,31 @@ fn challenger_at_longest(
     )
 }
 
-/// The race's report and its two estimates: the base at its equal-error period (when it has
-/// one), the challenger at the longest period.
-struct Raced {
-    report: reproj_bench::BenchReport,
-    /// The challenger's index among the candidates.
-    last: usize,
-    base: Option<SpeedupEstimate>,
-    challenger: Option<SpeedupEstimate>,
-}
-
 /// Race the base at its equal-error period (when it has one) and the challenger at the longest,
-/// again and longer when the first race leaves it undecided (the third progress step).
+/// again and longer when the first race leaves it undecided ([`worth_racing_longer`]; the third
+/// progress step).
 fn race_at_equal_error(
     rp: &mut Replayer<'_, '_>,
     race: &FilterRace<'_>,
     challenger: &Kept,
     base_period: Option<u32>,
-) -> Result<Raced, AnalyzeError> {
-    let (id, longest) = (race.id, rp.longest);
+) -> Result<Duel, AnalyzeError> {
+    let longest = rp.longest;
     let base = rp.opts.instance.reconstruct;
-    let who = format!("node {id}");
-    let mut entries = Vec::new();
-    if let Some(dn) = base_period {
-        entries.push(RaceEntry {
-            name: format!("{base}@{dn}"),
-            sources: race.base_sources,
-            variant: race.base_variant,
-            delta_n: dn,
-        });
-    }
-    entries.push(RaceEntry {
+    let base_entry = base_period.map(|dn| RaceEntry {
+        name: format!("{base}@{dn}"),
+        sources: race.base_sources,
+        variant: race.base_variant,
+        delta_n: dn,
+    });
+    let challenger_entry = RaceEntry {
         name: format!("{CHALLENGER}@{longest}"),
         sources: &challenger.sources,
         variant: &challenger.variant,
         delta_n: longest,
-    });
-    let mut report = rp.race(&format!("{who} filters"), id, &[], &entries)?;
-    let last = entries.len() - 1;
-    let estimates =
-        |r: &reproj_bench::BenchReport| (base_period.and_then(|_| r.estimate(0)), r.estimate(last));
-    let (mut base_estimate, mut challenger_estimate) = estimates(&report);
-    if let (Some(b), Some(c)) = (&base_estimate, &challenger_estimate)
-        && worth_racing_longer(Some(b), c)
-    {
-        rp.progress.note(&format!(
-            "{who}: {CHALLENGER} {} against {base} {}: undecided, racing again, longer",
-            c.display(),
-            b.display()
-        ));
-        report = rp.race_as(
-            &format!("{who} filters"),
-            id,
-            &[],
-            &entries,
-            RaceLength::Long,
-        )?;
-        (base_estimate, challenger_estimate) = estimates(&report);
-    }
-    rp.progress.step(&format!("{who} filters raced"));
-    Ok(Raced {
-        report,
-        last,
-        base: base_estimate,
-        challenger: challenger_estimate,
+    };
+    rp.duel(race.id, "filters", base_entry, challenger_entry, |b, c| {
+        worth_racing_longer(Some(b), c)
     })
 }
 
@@ -303,7 +264,7 @@ struct Verdict {
 fn record(
     rp: &Replayer<'_, '_>,
     race: &FilterRace<'_>,
-    raced: &Raced,
+    raced: &Duel,
     v: &Verdict,
     probes: &mut Vec<FilterProbe>,
 ) {
