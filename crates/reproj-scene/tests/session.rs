@@ -254,6 +254,19 @@ var<immediate> push: Push;
             .contains("`push` is a push-constant block (naga's immediates)"),
         "{e}"
     );
+    // A block the entry point does not read is refused too (the whole module is created on the
+    // device, and wgpu refuses it there, exit 1), saying that it is unused.
+    let src = "struct Push { tint: vec4<f32> }
+var<immediate> push: Push;
+@fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> { return vec4(p, 1.0); }";
+    let module = naga::front::wgsl::parse_str(src).unwrap();
+    let info = reproj_front::validator().validate(&module).unwrap();
+    let e = reflect::reflect(&module, &info, 0).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`push` is a push-constant block (naga's immediates) (declared, though this entry point does not read it)"),
+        "{e}"
+    );
 }
 
 /// `docs/session.schema.json` is what the session types generate. It is published at that path

@@ -471,17 +471,24 @@ pub fn reflect(
     let fi = info.get_entry_point(entry_index);
     let mut resources = Vec::new();
     for (h, gv) in module.global_variables.iter() {
-        if fi[h].is_empty() {
-            continue;
-        }
         if gv.space == AddressSpace::Immediate {
-            // Refused here, by name, rather than by wgpu's pipeline validation later.
+            // Refused here, by name, rather than by wgpu's shader validation later: the whole
+            // module is created on the device, so even a block the entry point does not read
+            // needs the immediates capability the replay does not ask for.
+            let unused = if fi[h].is_empty() {
+                " (declared, though this entry point does not read it)"
+            } else {
+                ""
+            };
             return Err(Unsupported {
                 what: format!(
-                    "`{}` is a push-constant block (naga's immediates): the replay cannot bind push constants yet; declare its members in a uniform block to render or analyze this shader",
+                    "`{}` is a push-constant block (naga's immediates){unused}: the replay cannot bind push constants yet; declare its members in a uniform block to render or analyze this shader",
                     gv.name.as_deref().unwrap_or("the immediate block")
                 ),
             });
+        }
+        if fi[h].is_empty() {
+            continue;
         }
         let Some(rb) = &gv.binding else { continue };
         let name = gv
