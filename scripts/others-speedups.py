@@ -6,7 +6,8 @@ scripts/fetch-others.sh): for every fragment entry point, read with its engine's
 most 4 nodes, no sets), then `emit --verify` at 0.01 and 0.03. One line per entry point and budget
 in OUT/corpus.tsv, in corpus-speedups.sh's columns (the shader column is FILE or FILE:ENTRY), so
 that `python3 scripts/corpus-table.py OUT/corpus.tsv` summarizes it; a step that fails is a line
-too (`session-failed`, `analyze-failed`, with the first error line).
+too (`session-failed`, `analyze-failed`, with the first error line), and so is an entry point
+with nothing worth caching (`nothing-cacheable`, with analyze's reason).
 
     python3 scripts/others-speedups.py [OUT] [FILTER]
 
@@ -145,6 +146,16 @@ def main():
             if rc != 0:
                 line.update(status="analyze-failed", ceiling=ceiling, analyze_s=secs,
                             reason=f"{first_error(se)} (rc {rc})")
+                write(tsv, [line], name)
+                continue
+            if not os.path.exists(profile):
+                # No cacheable node: analyze says why (`no_cacheable`) and writes no profile.
+                try:
+                    why = json.load(open(os.path.join(d, "analyze.json"))).get("no_cacheable", [])
+                except (OSError, ValueError):
+                    why = []
+                line.update(status="nothing-cacheable", analyze_s=secs,
+                            reason=" ".join(w.strip() for w in why[1:])[:160])
                 write(tsv, [line], name)
                 continue
             rows = []

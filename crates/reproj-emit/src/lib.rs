@@ -380,12 +380,12 @@ fn gather<'p>(
     profile_path: &Path,
     opts: &'p EmitOptions,
 ) -> Result<Vec<Records<'p>>, EmitError> {
-    let (_, records, set_records) = records_of(profile, profile_path, opts)?;
+    let (records, set_records) = records_of(profile, profile_path, opts)?;
     // Other sessions' profiles of the same shader: the budget must hold on each (worst case).
     let mut all: Vec<Records> = vec![(profile, records, set_records)];
     for (path, other) in &opts.also {
         same_shader(profile, profile_path, other, path)?;
-        let (_, mut nodes, sets) = records_of(other, path, opts)?;
+        let (mut nodes, sets) = records_of(other, path, opts)?;
         // A node measured as another variant there (another refresh block or filter, kept by
         // that session's race) is another candidate: it cannot hold the budget for this one.
         nodes.retain(|n| same_variant(profile, other, n.id));

@@ -133,21 +133,13 @@ pub fn profile_variant_settings(
     Ok((reconstruct, cache_format))
 }
 
-/// A profile's usable sets (in `opts.strategy`, when one is named) and the selector records of its
-/// usable nodes and sets in `opts.metric`.
-#[allow(clippy::type_complexity)]
-/// A profile's usable sets, and its nodes and sets as the selector's records.
-pub(super) type ProfileRecords<'p> = (
-    Vec<&'p reproj_models::profile::SetProfile>,
-    Vec<NodeRecord>,
-    Vec<SetRecord>,
-);
-
-pub(super) fn records_of<'p>(
-    profile: &'p Profile,
+/// The selector's records of a profile's usable nodes and sets under `opts`' metric, strategy
+/// (when one is named) and node (when one is: sets are then left out).
+pub(super) fn records_of(
+    profile: &Profile,
     profile_path: &Path,
     opts: &EmitOptions,
-) -> Result<ProfileRecords<'p>, EmitError> {
+) -> Result<(Vec<NodeRecord>, Vec<SetRecord>), EmitError> {
     records_with(
         profile,
         profile_path,
@@ -165,18 +157,17 @@ pub fn selector_records(
     profile_path: &Path,
     metric: Metric,
 ) -> Result<(Vec<NodeRecord>, Vec<SetRecord>), EmitError> {
-    let (_, nodes, sets) = records_with(profile, profile_path, metric, None, None)?;
-    Ok((nodes, sets))
+    records_with(profile, profile_path, metric, None, None)
 }
 
 /// [`records_of`] with its filters spelled out (`reproj_select::profile_records`).
-fn records_with<'p>(
-    profile: &'p Profile,
+fn records_with(
+    profile: &Profile,
     profile_path: &Path,
     metric: Metric,
     strategy: Option<&str>,
     node: Option<&NodeChoice>,
-) -> Result<ProfileRecords<'p>, EmitError> {
+) -> Result<(Vec<NodeRecord>, Vec<SetRecord>), EmitError> {
     let r = reproj_select::profile_records(
         profile,
         metric,
@@ -191,7 +182,7 @@ fn records_with<'p>(
             profile.version
         ),
     })?;
-    Ok((r.usable_sets, r.nodes, r.sets))
+    Ok((r.nodes, r.sets))
 }
 
 /// Another session's profile must be of the same shader (IR), entry, unrolling and cache

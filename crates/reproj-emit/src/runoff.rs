@@ -114,7 +114,7 @@ pub fn contenders(
     let best_lo = report
         .predicted_speedup_ci95
         .map_or(best * CLOSE_WITHOUT_INTERVALS, |[lo, _]| lo);
-    let (_, records, _) = records_of(profile, profile_path, opts)?;
+    let (records, _) = records_of(profile, profile_path, opts)?;
     let mut ids: Vec<u32> = records.iter().map(|r| r.id).collect();
     ids.sort_unstable();
     ids.dedup();

@@ -7,13 +7,13 @@ use crate::{NodeRecord, SetRecord, measured_errors};
 /// pass layout's name) and `keep_node`; sets only where `sets`. The one way `emit`, `report` and
 /// the charts build what they choose from. `Err` names the first usable node with no model for
 /// `metric` (a profile made before that metric was recorded).
-pub fn profile_records<'p>(
-    profile: &'p reproj_models::Profile,
+pub fn profile_records(
+    profile: &reproj_models::Profile,
     metric: reproj_models::Metric,
     strategy: Option<&str>,
     keep_node: &dyn Fn(&reproj_models::profile::NodeProfile) -> bool,
     sets: bool,
-) -> Result<ProfileRecords<'p>, u32> {
+) -> Result<ProfileRecords, u32> {
     use reproj_models::profile::NodeStatus;
     let usable: Vec<_> = profile
         .nodes
@@ -29,15 +29,12 @@ pub fn profile_records<'p>(
         .iter()
         .filter_map(|n| NodeRecord::from_profile(profile, n, metric))
         .collect();
-    let usable_sets: Vec<_> = profile
+    let set_records = profile
         .sets
         .iter()
         .filter(|s| s.status == NodeStatus::Ok)
         .filter(|s| strategy.is_none_or(|st| st == s.strategy))
         .filter(|_| sets)
-        .collect();
-    let set_records = usable_sets
-        .iter()
         .filter_map(|s| {
             Some(SetRecord {
                 members: s.members.clone(),
@@ -51,7 +48,6 @@ pub fn profile_records<'p>(
         })
         .collect();
     Ok(ProfileRecords {
-        usable_sets,
         nodes,
         sets: set_records,
     })
@@ -59,10 +55,7 @@ pub fn profile_records<'p>(
 
 /// What [`profile_records`] builds.
 #[derive(Debug, Clone)]
-pub struct ProfileRecords<'p> {
-    /// The profile's usable sets, in the order of `sets`' records (a set whose model is missing
-    /// has no record).
-    pub usable_sets: Vec<&'p reproj_models::profile::SetProfile>,
+pub struct ProfileRecords {
     pub nodes: Vec<NodeRecord>,
     pub sets: Vec<SetRecord>,
 }
