@@ -69,7 +69,7 @@ pub struct EmitOptions {
     /// Languages to write the passes in besides WGSL, and the values of the override constants.
     pub outputs: Outputs,
     /// Profiles of the same shader over other sessions (path, profile): the selection holds the
-    /// budget on every session, the first profile's included ([`select_worst_case`]).
+    /// budget on every session, the first profile's included ([`reproj_select::select_worst_case`]).
     pub also: Vec<(PathBuf, Profile)>,
     /// The session the variant is for, when it may be none of the profiled ones (`--verify
     /// --session NEW`): the profile nearest in motion is carried to its motion

@@ -65,7 +65,7 @@ pub struct ProfiledSession<'a> {
     pub motion: Option<&'a Motion>,
     pub nodes: &'a [NodeRecord],
     pub sets: &'a [SetRecord],
-    /// Its slower and faster halves ([`segments`]; empty: none usable).
+    /// Its slower and faster halves ([`segments`](super::segments); empty: none usable).
     pub segments: &'a [Segment],
 }
 
