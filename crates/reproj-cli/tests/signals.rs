@@ -3,6 +3,9 @@
 //! - SIGINT during `render --frames`: exit 130, no `.frames.staged*` directory left, the previous
 //!   frames directory untouched.
 //! - A staged directory left by a process that is gone (SIGKILL) is swept by the next run.
+//! - A memory fault (SIGSEGV, as a Vulkan driver raises on a shader it cannot run) during
+//!   `render --frames`: exit 1 with a message saying what happened, the old frames intact, and the
+//!   staged directory swept by the next run.
 //! - A second `analyze` to the same `--out` while the first runs: exit 2 naming the first's pid;
 //!   SIGTERM on the first removes its lock and keeps its journal.
 
@@ -103,6 +106,42 @@ fn an_interrupted_render_leaves_nothing_hidden_and_the_old_frames_intact() {
         std::fs::read(dir.join("frames/frame_000.png")).unwrap(),
         b"old"
     );
+}
+
+#[test]
+fn a_memory_fault_is_said_and_exits_1_and_the_next_run_sweeps_what_it_left() {
+    let tmp = setup();
+    let dir = tmp.path();
+    std::fs::create_dir(dir.join("frames")).unwrap();
+    std::fs::write(dir.join("frames/frame_000.png"), b"old").unwrap();
+    let args = [
+        "render",
+        "marble.wgsl",
+        "--session",
+        "marble.json",
+        "--frames",
+        "frames",
+    ];
+    let child = spawn(dir, &args);
+    wait_for("the staged frames", || {
+        hidden(dir).iter().any(|n| n.starts_with(".frames.staged"))
+    });
+    signal(&child, "-SEGV");
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("error: reproj stopped on a memory fault (SIGSEGV or SIGBUS)"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(dir.join("frames/frame_000.png")).unwrap(),
+        b"old"
+    );
+    // The next run sweeps the staged directory the faulted process left.
+    let (code, _, err) = run(dir, &[&args[..], &["--max-frames", "2"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(hidden(dir).is_empty(), "{:?}", hidden(dir));
 }
 
 #[test]

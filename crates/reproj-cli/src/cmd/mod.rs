@@ -77,6 +77,12 @@ impl std::error::Error for OverBudget {}
 /// process's exit handlers (`_exit`): the renderer's threads are still running, and tearing down
 /// the driver under them could kill the process by a signal after the cleanup (seen with
 /// lavapipe: a status of no code instead of 130).
+///
+/// On a memory fault (SIGSEGV, SIGBUS): say what happened instead of the shell's bare
+/// "Segmentation fault", and exit 1 (a bug: ours, or, while rendering, most often the Vulkan
+/// driver's on that shader — lavapipe 22.3 faults on a few engine shaders). Nothing is cleaned up
+/// there (a lock may be held by the faulting thread): what was being written is left for the next
+/// run's sweep of stale temporaries, and the previous outputs are untouched.
 #[allow(unsafe_code)]
 pub fn clean_up_on_signals() {
     let _ = ctrlc::set_handler(|| {
@@ -85,6 +91,25 @@ pub fn clean_up_on_signals() {
         // SAFETY: `_exit` ends the process at once; nothing of this process runs after it.
         unsafe { libc::_exit(130) }
     });
+    extern "C" fn on_fault(_: libc::c_int) {
+        const MESSAGE: &[u8] = b"error: reproj stopped on a memory fault (SIGSEGV or SIGBUS). While rendering this is most often the Vulkan driver failing on the shader (lavapipe 22.3 does on a few): try a newer Mesa or a GPU. Previous outputs are kept; what was being written is swept by the next run. Please report it with the shader and session.\n";
+        // SAFETY: `write` and `_exit` are async-signal-safe; the message is a static buffer.
+        unsafe {
+            libc::write(2, MESSAGE.as_ptr().cast(), MESSAGE.len());
+            libc::_exit(1);
+        }
+    }
+    // SAFETY: a handler that only calls async-signal-safe functions, installed once at start-up;
+    // SA_ONSTACK runs it on the thread's alternate stack where Rust set one (a stack overflow).
+    unsafe {
+        let mut action: libc::sigaction = std::mem::zeroed();
+        action.sa_sigaction = on_fault as extern "C" fn(libc::c_int) as libc::sighandler_t;
+        action.sa_flags = libc::SA_ONSTACK | libc::SA_RESETHAND;
+        libc::sigemptyset(&mut action.sa_mask);
+        for signal in [libc::SIGSEGV, libc::SIGBUS] {
+            libc::sigaction(signal, &action, std::ptr::null_mut());
+        }
+    }
 }
 
 /// What an existing profile path must hold for analyze or merge to replace it.
