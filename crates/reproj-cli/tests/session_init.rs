@@ -113,3 +113,50 @@ fn an_existing_file_stays_without_force_and_unsupported_bindings_are_refused() {
     );
     assert!(!target.exists());
 }
+
+/// A shader whose text leaves its resources' bindings to the host (Blade binds by name) or its
+/// integer varyings' `flat` to an older naga is filled in when read (a warning names each binding
+/// chosen), and a device gets the filled-in module, not the text: its starting session renders,
+/// original and variant, where wgpu refused the text itself (exit 1).
+#[test]
+fn a_shader_without_bindings_renders_with_the_bindings_it_was_read_with() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(
+        dir.join("blit.wgsl"),
+        "struct Params { tint: vec4<f32> }
+var<uniform> params: Params;
+var input: texture_2d<f32>;
+var samp: sampler;
+@fragment
+fn fs(@location(0) normal: vec3<f32>, @location(2) uv: vec2<f32>) -> @location(0) vec4<f32> {
+    let lit = max(dot(normalize(normal), vec3(0.0, 0.0, 1.0)), 0.1);
+    return textureSample(input, samp, uv) * params.tint * lit;
+}
+",
+    )
+    .unwrap();
+    let (code, _, err) = run(dir, &["session", "init", "blit.wgsl", "-o", "s.json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("`input` in blit.wgsl has no @group/@binding (its host binds it by name)"),
+        "{err}"
+    );
+    for extra in [&[][..], &["--node", "root", "--strategy", "2pass"][..]] {
+        let args = [
+            &[
+                "render",
+                "blit.wgsl",
+                "--session",
+                "s.json",
+                "--max-frames",
+                "3",
+                "-q",
+            ][..],
+            extra,
+        ]
+        .concat();
+        let (code, _, err) = run(dir, &args);
+        assert_eq!(code, 0, "{extra:?}: {err}");
+    }
+}

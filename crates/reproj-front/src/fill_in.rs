@@ -17,11 +17,14 @@ use naga::{AddressSpace, Binding, Handle, Interpolation, Module, ShaderStage, Ty
 
 use crate::input::InputWarning;
 
-/// Fill in `module`'s integer varyings and unbound resources (the module docs); the warnings
-/// for the bindings chosen.
-pub fn fill_in(path: &Path, module: &mut Module) -> Vec<InputWarning> {
-    flat_integer_varyings(module);
-    assign_bindings(path, module)
+/// Fill in `module`'s integer varyings and unbound resources (the module docs): the warnings for
+/// the bindings chosen, and whether anything was filled in (the module then says more than its
+/// text, and a device is given naga's WGSL of it: [`crate::Shader::to_wgsl`]).
+pub fn fill_in(path: &Path, module: &mut Module) -> (Vec<InputWarning>, bool) {
+    let flat = flat_integer_varyings(module);
+    let warnings = assign_bindings(path, module);
+    let changed = flat || !warnings.is_empty();
+    (warnings, changed)
 }
 
 /// Whether a varying of type `ty` is an integer one.
@@ -32,8 +35,8 @@ fn is_integer(module: &Module, ty: Handle<Type>) -> bool {
     )
 }
 
-/// `binding` made flat when it is a location of an integer type without interpolation.
-fn make_flat(module: &Module, ty: Handle<Type>, binding: &mut Option<Binding>) {
+/// `binding` made flat when it is a location of an integer type without interpolation (true then).
+fn make_flat(module: &Module, ty: Handle<Type>, binding: &mut Option<Binding>) -> bool {
     if let Some(Binding::Location {
         interpolation: interpolation @ None,
         sampling,
@@ -43,13 +46,15 @@ fn make_flat(module: &Module, ty: Handle<Type>, binding: &mut Option<Binding>) {
     {
         *interpolation = Some(Interpolation::Flat);
         *sampling = None;
+        return true;
     }
+    false
 }
 
-/// The struct `ty` with its integer location members made flat.
-fn flat_members(module: &mut Module, ty: Handle<Type>) {
+/// The struct `ty` with its integer location members made flat (true when one was).
+fn flat_members(module: &mut Module, ty: Handle<Type>) -> bool {
     let TypeInner::Struct { members, span } = &module.types[ty].inner else {
-        return;
+        return false;
     };
     let mut members = members.clone();
     let span = *span;
@@ -59,7 +64,7 @@ fn flat_members(module: &mut Module, ty: Handle<Type>) {
     // `replace` takes only a type the arena does not hold yet: an unchanged one stays.
     if matches!(&module.types[ty].inner, TypeInner::Struct { members: old, .. } if *old == members)
     {
-        return;
+        return false;
     }
     let name = module.types[ty].name.clone();
     module.types.replace(
@@ -69,9 +74,12 @@ fn flat_members(module: &mut Module, ty: Handle<Type>) {
             inner: TypeInner::Struct { members, span },
         },
     );
+    true
 }
 
-fn flat_integer_varyings(module: &mut Module) {
+/// Integer varyings made flat (the module docs); true when one was.
+fn flat_integer_varyings(module: &mut Module) -> bool {
+    let mut changed = false;
     let mut structs = Vec::new();
     for i in 0..module.entry_points.len() {
         let stage = module.entry_points[i].stage;
@@ -79,13 +87,13 @@ fn flat_integer_varyings(module: &mut Module) {
         match stage {
             ShaderStage::Fragment => {
                 for arg in &mut f.arguments {
-                    make_flat(module, arg.ty, &mut arg.binding);
+                    changed |= make_flat(module, arg.ty, &mut arg.binding);
                     structs.push(arg.ty);
                 }
             }
             ShaderStage::Vertex => {
                 if let Some(r) = &mut f.result {
-                    make_flat(module, r.ty, &mut r.binding);
+                    changed |= make_flat(module, r.ty, &mut r.binding);
                     structs.push(r.ty);
                 }
             }
@@ -96,8 +104,9 @@ fn flat_integer_varyings(module: &mut Module) {
     structs.sort();
     structs.dedup();
     for ty in structs {
-        flat_members(module, ty);
+        changed |= flat_members(module, ty);
     }
+    changed
 }
 
 /// Whether a global in `space` is a resource a host binds.
@@ -147,7 +156,8 @@ mod tests {
              @fragment fn fs() -> @location(0) vec4<f32> { return a + b + c; }",
         )
         .unwrap();
-        let warnings = fill_in(Path::new("x.wgsl"), &mut module);
+        let (warnings, changed) = fill_in(Path::new("x.wgsl"), &mut module);
+        assert!(changed);
         let bindings: Vec<_> = module
             .global_variables
             .iter()
@@ -167,7 +177,15 @@ mod tests {
         )
         .unwrap();
         assert!(crate::parse::validator().validate(&module).is_err());
-        assert!(fill_in(Path::new("x.wgsl"), &mut module).is_empty());
+        assert_eq!(
+            fill_in(Path::new("x.wgsl"), &mut module),
+            (Vec::new(), true)
+        );
         crate::parse::validator().validate(&module).unwrap();
+        // Filled in once, nothing is left to fill in.
+        assert_eq!(
+            fill_in(Path::new("x.wgsl"), &mut module),
+            (Vec::new(), false)
+        );
     }
 }

@@ -66,6 +66,10 @@ pub struct Shader {
     /// ([`Shader::to_wgsl`]): spans then point into that WGSL, `to_wgsl` returns it as it is, and
     /// its IR hash is that of the GLSL shader it came from (`source` is the WGSL written of it).
     pub wgsl_form: bool,
+    /// For a WGSL shader, whether reading it filled in what its text leaves to the host or to an
+    /// older naga (a resource's binding, an integer varying's `flat`: `fill_in`): `module` then
+    /// says more than `source`, and [`Shader::to_wgsl`] writes the module's WGSL for a device.
+    pub filled_in: bool,
 }
 
 /// Everything that can go wrong in the front end. Each variant renders as one clear message; the

@@ -269,6 +269,28 @@ var<immediate> push: Push;
     );
 }
 
+/// A resource without @group/@binding (a host that binds by name, as Blade's WGSL is written) is
+/// refused by name at reflection, not by wgpu's shader validation (exit 1).
+#[test]
+fn reflection_refuses_a_resource_without_a_binding_by_name() {
+    let src = "struct P { tint: vec4<f32> }
+var<uniform> params: P;
+@fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> { return params.tint * p.x; }";
+    let module = naga::front::wgsl::parse_str(src).unwrap();
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all() - naga::valid::ValidationFlags::BINDINGS,
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap();
+    let e = reflect::reflect(&module, &info, 0).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`params` has no @group/@binding (its host binds it by name)"),
+        "{e}"
+    );
+}
+
 /// `docs/session.schema.json` is what the session types generate. It is published at that path
 /// (editors read it), so it is not an insta snapshot, but it is updated the way snapshots are:
 /// after changing the types, `INSTA_UPDATE=always cargo test -p reproj-scene --test integration

@@ -118,6 +118,7 @@ pub(crate) fn parse(
         warnings: Vec::new(),
         hidden_entries: Vec::new(),
         wgsl_form: false,
+        filled_in: false,
     })
 }
 

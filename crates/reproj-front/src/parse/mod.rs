@@ -273,9 +273,9 @@ fn parse_text_defined(
         })?,
     };
     let mut module = module;
-    let warnings = match lang {
+    let (warnings, filled_in) = match lang {
         Lang::Wgsl => crate::fill_in::fill_in(path, &mut module),
-        _ => Vec::new(),
+        _ => (Vec::new(), false),
     };
     let info = validator().validate(&module).map_err(|e| {
         // naga gives some errors (a whole entry point's) no span: name the place ourselves.
@@ -297,6 +297,7 @@ fn parse_text_defined(
         warnings,
         hidden_entries: Vec::new(),
         wgsl_form: false,
+        filled_in,
     })
 }
 

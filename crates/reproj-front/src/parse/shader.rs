@@ -8,9 +8,10 @@ use crate::directives::{HiddenEntries, HiddenEntry};
 impl Shader {
     /// The same shader with WGSL source text, as the replay renders it: itself for WGSL (and
     /// SPIR-V, whose source is already WGSL, and a GLSL shader's WGSL form), naga's WGSL of the
-    /// module for GLSL. Spans of the result point into the WGSL.
+    /// module for GLSL and for a WGSL shader whose reading filled in bindings or `flat`s its text
+    /// leaves out ([`Shader::filled_in`]). Spans of the result point into the WGSL.
     pub fn to_wgsl(&self) -> Result<Shader, FrontError> {
-        if self.lang != Lang::Glsl || self.wgsl_form {
+        if (self.lang != Lang::Glsl && !self.filled_in) || self.wgsl_form {
             return Ok(self.clone());
         }
         let path = self.path.display();

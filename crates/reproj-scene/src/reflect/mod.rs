@@ -487,6 +487,19 @@ pub fn reflect(
                 ),
             });
         }
+        let resource_space = matches!(
+            gv.space,
+            AddressSpace::Uniform | AddressSpace::Storage { .. } | AddressSpace::Handle
+        );
+        if resource_space && gv.binding.is_none() {
+            // A resource its host binds by name (Blade's WGSL): wgpu refuses the module at once.
+            return Err(Unsupported {
+                what: format!(
+                    "`{}` has no @group/@binding (its host binds it by name): give every resource of the module @group(G) @binding(B) to render or analyze this shader",
+                    gv.name.as_deref().unwrap_or("a resource")
+                ),
+            });
+        }
         if fi[h].is_empty() {
             continue;
         }
