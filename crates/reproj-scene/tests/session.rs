@@ -291,6 +291,23 @@ var<uniform> params: P;
     );
 }
 
+/// An override without a default (WebGPU samples' `override canvasSizeWidth: f32;`) is refused by
+/// name at reflection, not when wgpu creates the pipeline (exit 1).
+#[test]
+fn reflection_refuses_an_override_without_a_default_by_name() {
+    let src = "override width: f32;
+@fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> { return vec4(p / width, 1.0); }";
+    let module = naga::front::wgsl::parse_str(src).unwrap();
+    let info = reproj_front::validator().validate(&module).unwrap();
+    let e = reflect::reflect(&module, &info, 0).unwrap_err();
+    assert!(
+        e.to_string().contains(
+            "override `width` has no default value, and the replay sets no pipeline constants"
+        ),
+        "{e}"
+    );
+}
+
 /// `docs/session.schema.json` is what the session types generate. It is published at that path
 /// (editors read it), so it is not an insta snapshot, but it is updated the way snapshots are:
 /// after changing the types, `INSTA_UPDATE=always cargo test -p reproj-scene --test integration

@@ -468,6 +468,16 @@ pub fn reflect(
         what: format!("layout of the module's types: {e}"),
     })?;
 
+    // An override without a default needs a pipeline constant, which the replay does not set:
+    // refused here, by name, rather than by wgpu when the pipeline is created.
+    if let Some((_, o)) = module.overrides.iter().find(|(_, o)| o.init.is_none()) {
+        let name = o.name.as_deref().unwrap_or("an override");
+        return Err(Unsupported {
+            what: format!(
+                "override `{name}` has no default value, and the replay sets no pipeline constants: give it one in the shader (`override {name}: f32 = …;`) to render or analyze it"
+            ),
+        });
+    }
     let fi = info.get_entry_point(entry_index);
     let mut resources = Vec::new();
     for (h, gv) in module.global_variables.iter() {
