@@ -128,7 +128,7 @@ def main():
             line = dict.fromkeys(COLUMNS, "")
             line.update(shader=name, budget="all")
             session = os.path.join(d, "session.json")
-            rc, _, se, _ = run(["session", "init", path, "-o", session, "--frames", FRAMES, "-q"] + flags)
+            rc, _, se, _ = run(["session", "init", path, "-o", session, "--force", "--frames", FRAMES, "-q"] + flags)
             if rc != 0:
                 line.update(status="session-failed", reason=f"{first_error(se)} (rc {rc})")
                 write(tsv, [line], name)
