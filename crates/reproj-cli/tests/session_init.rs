@@ -160,3 +160,51 @@ fn fs(@location(0) normal: vec3<f32>, @location(2) uv: vec2<f32>) -> @location(0
         assert_eq!(code, 0, "{extra:?}: {err}");
     }
 }
+
+/// An integer fragment input (Bevy's `instance_index`, a texture-array index: flat) takes no
+/// vertex attribute: `session init` says it is fed 0, and the original and a variant render.
+#[test]
+fn an_integer_input_is_fed_zero_and_renders() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(
+        dir.join("instanced.wgsl"),
+        "struct Mesh { tint: vec4<f32> }
+@group(1) @binding(0) var<storage, read> meshes: array<Mesh>;
+struct VertexOutput {
+    @builtin(position) position: vec4<f32>,
+    @location(1) world_normal: vec3<f32>,
+    @location(6) @interpolate(flat) instance_index: u32,
+}
+@fragment
+fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
+    let lit = max(dot(normalize(in.world_normal), vec3(0.0, 0.0, 1.0)), 0.1);
+    return meshes[in.instance_index].tint * lit;
+}
+",
+    )
+    .unwrap();
+    let (code, _, err) = run(dir, &["session", "init", "instanced.wgsl", "-o", "s.json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("`instance_index` (u32) is an integer input, fed 0"),
+        "{err}"
+    );
+    for extra in [&[][..], &["--node", "root", "--strategy", "2pass"][..]] {
+        let args = [
+            &[
+                "render",
+                "instanced.wgsl",
+                "--session",
+                "s.json",
+                "--max-frames",
+                "3",
+                "-q",
+            ][..],
+            extra,
+        ]
+        .concat();
+        let (code, _, err) = run(dir, &args);
+        assert_eq!(code, 0, "{extra:?}: {err}");
+    }
+}

@@ -119,7 +119,7 @@ fn check_mapped(
 ) -> Result<(), ReplayError> {
     let mut missing = Vec::new();
     for i in inputs {
-        if Some(i.location) == prev_clip_location {
+        if Some(i.location) == prev_clip_location || i.scalar.is_integer() {
             continue;
         }
         if !mapping.contains_key(&i.location) {
@@ -173,7 +173,7 @@ fn write_declarations(s: &mut String, group: u32, inputs: &[FragInput]) {
             "    @location({}) {q}o{}: {},",
             i.location,
             i.location,
-            vec_ty(i.components)
+            i.scalar.wgsl_type(i.components)
         );
     }
     let _ = writeln!(s, "}};");
@@ -220,6 +220,14 @@ fn write_entry(
                 "    out.o{} = replay_xf.prev_view_proj * (replay_xf.prev_model * vec4<f32>(v.position, 1.0));",
                 i.location
             );
+        } else if i.scalar.is_integer() {
+            // An integer input (flat): 0, the one instance drawn, the first index.
+            let _ = writeln!(
+                s,
+                "    out.o{} = {}();",
+                i.location,
+                i.scalar.wgsl_type(i.components)
+            );
         } else {
             let attr = mapping[&i.location];
             let _ = writeln!(
@@ -242,6 +250,7 @@ pub fn merge_inputs(sets: &[&[FragInput]]) -> Result<Vec<FragInput>, ReplayError
             match out.get(&i.location) {
                 Some(prev)
                     if prev.components != i.components
+                        || prev.scalar != i.scalar
                         || prev.interpolation != i.interpolation
                         || prev.sampling != i.sampling =>
                 {

@@ -37,6 +37,7 @@ fn vertex_stage_validates_and_feeds_every_input() {
         inputs.extend(prev_clip.map(|location| reflect::FragInput {
             location,
             components: 4,
+            scalar: reflect::InputScalar::F32,
             interpolation: None,
             sampling: None,
             name: "prev_clip".into(),

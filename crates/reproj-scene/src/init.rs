@@ -368,6 +368,17 @@ fn inputs(used: &[FragInput], notes: &mut Vec<String>) -> Result<Value, StarterE
     .map(|(l, a)| (l.to_string(), a))
     .collect();
     for i in used {
+        if i.scalar.is_integer() {
+            // No attribute: the replay feeds an integer input 0 (the one instance drawn).
+            notes.push(format!(
+                "inputs.{}: `{}` ({}) is an integer input, fed 0 (the one instance drawn, the first index)",
+                i.location,
+                i.name,
+                i.scalar.wgsl_type(i.components)
+            ));
+            map.remove(&i.location.to_string());
+            continue;
+        }
         let (attribute, why) = match attribute_by_name(&i.name, i.components) {
             Some(a) => (a, "from its name"),
             None => match attribute_by_location(i.location, i.components) {
@@ -438,6 +449,7 @@ mod tests {
 
     fn input(location: u32, components: u32, name: &str) -> FragInput {
         FragInput {
+            scalar: crate::reflect::InputScalar::F32,
             location,
             components,
             interpolation: None,

@@ -291,6 +291,30 @@ var<uniform> params: P;
     );
 }
 
+/// An integer input (flat) is read with its scalar, for the replay to feed it 0.
+#[test]
+fn reflection_reads_an_integer_input_with_its_scalar() {
+    let src = "struct V { @builtin(position) p: vec4<f32>, @location(0) n: vec3<f32>, @location(6) @interpolate(flat) i: u32, @location(7) @interpolate(flat) j: vec2<i32> }
+@fragment fn fs(v: V) -> @location(0) vec4<f32> { return vec4(v.n * f32(v.i + u32(v.j.x)), 1.0); }";
+    let module = naga::front::wgsl::parse_str(src).unwrap();
+    let info = reproj_front::validator().validate(&module).unwrap();
+    let iface = reflect::reflect(&module, &info, 0).unwrap();
+    let by = |l: u32| iface.inputs.iter().find(|i| i.location == l).unwrap();
+    assert_eq!(
+        (by(0).scalar, by(0).components),
+        (reflect::InputScalar::F32, 3)
+    );
+    assert_eq!(
+        (by(6).scalar, by(6).components),
+        (reflect::InputScalar::U32, 1)
+    );
+    assert_eq!(
+        (by(7).scalar, by(7).components),
+        (reflect::InputScalar::I32, 2)
+    );
+    assert_eq!(by(7).scalar.wgsl_type(2), "vec2<i32>");
+}
+
 /// An override without a default (WebGPU samples' `override canvasSizeWidth: f32;`) is refused by
 /// name at reflection, not when wgpu creates the pipeline (exit 1).
 #[test]

@@ -24,14 +24,51 @@ pub struct Unsupported {
 #[derive(Debug, Clone, PartialEq)]
 pub struct FragInput {
     pub location: u32,
-    /// Number of f32 components (1..=4).
+    /// Number of components (1..=4), of `scalar`.
     pub components: u32,
+    /// Their scalar: f32 inputs are fed from the session's vertex attributes; an integer input
+    /// (flat: Bevy's `instance_index`, a texture index) is fed 0, the one instance drawn.
+    pub scalar: InputScalar,
     /// WGSL interpolation qualifier as written (`perspective`, `linear`, `flat`), if any.
     pub interpolation: Option<String>,
     /// WGSL sampling qualifier (`center`, `centroid`, `sample`, ...), if any.
     pub sampling: Option<String>,
     /// Member or argument name, for messages.
     pub name: String,
+}
+
+/// The scalar of a fragment input.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum InputScalar {
+    #[default]
+    F32,
+    I32,
+    U32,
+}
+
+impl InputScalar {
+    /// As WGSL spells it.
+    pub fn wgsl(self) -> &'static str {
+        match self {
+            InputScalar::F32 => "f32",
+            InputScalar::I32 => "i32",
+            InputScalar::U32 => "u32",
+        }
+    }
+
+    /// The type of `n` of them (`f32`, `vec3<u32>`).
+    pub fn wgsl_type(self, n: u32) -> String {
+        if n == 1 {
+            self.wgsl().to_owned()
+        } else {
+            format!("vec{n}<{}>", self.wgsl())
+        }
+    }
+
+    /// Whether it is an integer (fed 0, flat).
+    pub fn is_integer(self) -> bool {
+        self != InputScalar::F32
+    }
 }
 
 /// Scalar type of a uniform leaf.
@@ -242,6 +279,21 @@ fn sampling_name(s: naga::Sampling) -> &'static str {
     }
 }
 
+/// The components and scalar of an input of type `ty`: 32-bit floats or integers, 1 to 4.
+fn input_components(module: &Module, ty: Handle<naga::Type>) -> Option<(u32, InputScalar)> {
+    let of = |s: naga::Scalar| match (s.kind, s.width) {
+        (ScalarKind::Float, 4) => Some(InputScalar::F32),
+        (ScalarKind::Sint, 4) => Some(InputScalar::I32),
+        (ScalarKind::Uint, 4) => Some(InputScalar::U32),
+        _ => None,
+    };
+    match module.types[ty].inner {
+        TypeInner::Scalar(s) => Some((1, of(s)?)),
+        TypeInner::Vector { size, scalar } => Some((size as u32, of(scalar)?)),
+        _ => None,
+    }
+}
+
 fn float_components(module: &Module, ty: Handle<naga::Type>) -> Option<u32> {
     match module.types[ty].inner {
         TypeInner::Scalar(s) if s.kind == ScalarKind::Float && s.width == 4 => Some(1),
@@ -284,15 +336,16 @@ fn collect_input(
             sampling,
             ..
         }) => {
-            let components = float_components(module, ty).ok_or_else(|| Unsupported {
+            let (components, scalar) = input_components(module, ty).ok_or_else(|| Unsupported {
                 what: format!(
-                    "fragment input `{name}` at @location({location}) of `{entry}` has type {}; the replay feeds only f32 scalars and vectors",
+                    "fragment input `{name}` at @location({location}) of `{entry}` has type {}; the replay feeds only 32-bit scalars and vectors",
                     type_text(module, ty)
                 ),
             })?;
             out.push(FragInput {
                 location: *location,
                 components,
+                scalar,
                 interpolation: interpolation.map(|i| interp_name(i).to_owned()),
                 sampling: sampling.map(|s| sampling_name(s).to_owned()),
                 name: name.to_owned(),

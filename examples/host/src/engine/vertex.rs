@@ -99,6 +99,19 @@ impl Engine {
         let mut body = String::new();
         let mut missing = Vec::new();
         for i in &self.iface.inputs {
+            if i.scalar.is_integer() {
+                // An integer input (flat): 0, the one instance drawn, as the replay feeds it.
+                let ty = i.scalar.wgsl_type(i.components);
+                let _ = writeln!(
+                    s,
+                    "    @location({}) {}o{}: {ty},",
+                    i.location,
+                    interpolation(i),
+                    i.location
+                );
+                let _ = writeln!(body, "    out.o{} = {ty}();", i.location);
+                continue;
+            }
             let Some(attr) = self.session.inputs.get(&i.location) else {
                 missing.push(format!("@location({}) `{}`", i.location, i.name));
                 continue;

@@ -38,6 +38,7 @@ pub(in crate::render) fn prev_clip_input(inputs: &[reflect::FragInput]) -> refle
     reflect::FragInput {
         location: inputs.iter().map(|i| i.location + 1).max().unwrap_or(0),
         components: 4,
+        scalar: reflect::InputScalar::F32,
         interpolation: None,
         sampling: None,
         name: "prev_clip".into(),
