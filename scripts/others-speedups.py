@@ -60,7 +60,8 @@ def entries(path):
         return [None]
     text = open(path, encoding="utf-8", errors="replace").read()
     names = re.findall(r"@fragment\s*(?:@[\w()., ]+\s*)*fn\s+(\w+)", text)
-    return names or [None]
+    # An entry point defined in two `#ifdef` branches is one entry point.
+    return list(dict.fromkeys(names)) or [None]
 
 
 def run(args, out_path=None):
