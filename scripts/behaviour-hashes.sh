@@ -10,12 +10,11 @@ set -uo pipefail
 bin="$(realpath "$1")"; out="$2"
 cd "$(dirname "$0")/.."
 rm -rf "$out"; mkdir -p "$out"
-profiles=$( (ls crates/reproj-report/tests/data/*.profile.json; find out -name '*.profile.json' 2>/dev/null) | sort)
-i=0
+# PROFILES (a grep pattern) keeps some of them, e.g. PROFILES='^out/(t|corpus)/'.
+profiles=$( (ls crates/reproj-report/tests/data/*.profile.json; find out -name '*.profile.json' 2>/dev/null) | sort | grep -E "${PROFILES:-.}")
 for p in $profiles; do
-    i=$((i + 1))
     for b in 0.002 0.01 0.03 0.1; do
-        d="$out/emit-$i-$b"
+        d="$out/emit-$(echo "$p" | tr / _)-$b"
         "$bin" emit --profile "$p" --max-error "$b" --out "$d" --json -q > "$d.json" 2> "$d.err"
         echo "emit $p $b rc=$? $(sed -e "s#$out/[^\"]*##g" "$d.json" | sha256sum | cut -c1-16) $(cat "$d"/* 2>/dev/null | sed -e "s#$out##g" | sha256sum | cut -c1-16)"
     done
