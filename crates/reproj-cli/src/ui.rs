@@ -108,13 +108,18 @@ fn label(text: &str, ansi: &str) -> String {
     }
 }
 
-/// `error: MESSAGE` (the one prefix of every error reproj prints).
+/// `error: MESSAGE` (the one prefix of every error reproj prints). naga_oil's decorated names
+/// read as `module::item`.
 pub fn error(message: impl Display) {
+    let message = message.to_string();
+    let message = reproj_front::names::undecorate(&message);
     eprintln!("{}: {message}", label("error", "1;31"));
 }
 
 /// `warning: MESSAGE`, said even with `-q`.
 pub fn warn(message: impl Display) {
+    let message = message.to_string();
+    let message = reproj_front::names::undecorate(&message);
     eprintln!("{}: {message}", label("warning", "1;33"));
 }
 

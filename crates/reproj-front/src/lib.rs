@@ -22,6 +22,7 @@ pub mod ir;
 pub mod liveness;
 pub mod load;
 pub mod memory;
+pub mod names;
 pub mod nodes;
 pub mod normalize;
 pub mod parse;
