@@ -17,6 +17,7 @@ REPROJ names the binary (default target/release/reproj), REPROJ_OTHERS_CORPUS th
 skipped, so a stopped run continues where it stopped.
 """
 import csv
+import functools
 import json
 import os
 import re
@@ -35,9 +36,15 @@ COLUMNS = ["shader", "budget", "status", "ceiling", "node", "strategy", "delta_n
            "lo", "hi", "error", "psnr", "reason", "analyze_s"]
 
 
+@functools.cache
+def engine_options():
+    """tests/others/options.json, read once."""
+    return json.load(open(os.path.join(SET, "options.json")))
+
+
 def options(rel, entry):
     """The reproj flags a user of the file's engine passes (tests/others/options.json)."""
-    opts = json.load(open(os.path.join(SET, "options.json")))
+    opts = engine_options()
     flags = []
     for p in opts["projects"]:
         if not any(rel.startswith(pre) for pre in p.get("prefixes", [])):

@@ -31,11 +31,6 @@ impl Default for PruneOptions {
     }
 }
 
-/// Static saving of caching `node` ([`Node::saving`]).
-pub(crate) fn saving(node: &Node) -> f64 {
-    node.saving()
-}
-
 /// The ids of the nodes to profile, in id order. The root is always first in importance and is
 /// always included.
 pub fn profile_candidates(table: &NodeTable, opts: &PruneOptions) -> Vec<u32> {
@@ -43,7 +38,7 @@ pub fn profile_candidates(table: &NodeTable, opts: &PruneOptions) -> Vec<u32> {
     let root = table.root();
     let mut pool: Vec<&Node> = table
         .cacheable()
-        .filter(|n| !n.root && saving(n) >= opts.min_saving * total)
+        .filter(|n| !n.root && n.saving() >= opts.min_saving * total)
         .collect();
     // Among nodes that save about the same, keep the cheapest one: it is the furthest upstream, so
     // more of what follows it stays fresh and its error is lower (the turbulence sum rather than the
@@ -53,15 +48,15 @@ pub fn profile_candidates(table: &NodeTable, opts: &PruneOptions) -> Vec<u32> {
     for n in pool {
         let near = merged
             .iter()
-            .any(|m| (saving(m) - saving(n)).abs() < opts.merge_within * total);
+            .any(|m| (m.saving() - n.saving()).abs() < opts.merge_within * total);
         // A node saving as much as the whole shader is the root again.
-        let near_root = (saving(root) - saving(n)).abs() < opts.merge_within * total;
+        let near_root = (root.saving() - n.saving()).abs() < opts.merge_within * total;
         if !near && !near_root {
             merged.push(n);
         }
     }
     // Highest saving first for the spread below.
-    merged.sort_by(|a, b| saving(b).total_cmp(&saving(a)).then(a.id.cmp(&b.id)));
+    merged.sort_by(|a, b| b.saving().total_cmp(&a.saving()).then(a.id.cmp(&b.id)));
     let room = opts.max_nodes.saturating_sub(1);
     let chosen: Vec<&Node> = if merged.len() <= room {
         merged

@@ -108,19 +108,21 @@ fn label(text: &str, ansi: &str) -> String {
     }
 }
 
-/// `error: MESSAGE` (the one prefix of every error reproj prints). naga_oil's decorated names
-/// read as `module::item`.
-pub fn error(message: impl Display) {
+/// `LABEL: MESSAGE` on stderr, naga_oil's decorated names read as `module::item`.
+fn say(what: &str, ansi: &str, message: impl Display) {
     let message = message.to_string();
     let message = reproj_front::names::undecorate(&message);
-    eprintln!("{}: {message}", label("error", "1;31"));
+    eprintln!("{}: {message}", label(what, ansi));
+}
+
+/// `error: MESSAGE` (the one prefix of every error reproj prints).
+pub fn error(message: impl Display) {
+    say("error", "1;31", message);
 }
 
 /// `warning: MESSAGE`, said even with `-q`.
 pub fn warn(message: impl Display) {
-    let message = message.to_string();
-    let message = reproj_front::names::undecorate(&message);
-    eprintln!("{}: {message}", label("warning", "1;33"));
+    say("warning", "1;33", message);
 }
 
 /// A line about what is going on (which profile, how far): left out with `-q`.

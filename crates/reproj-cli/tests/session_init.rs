@@ -114,16 +114,38 @@ fn an_existing_file_stays_without_force_and_unsupported_bindings_are_refused() {
     assert!(!target.exists());
 }
 
+/// Write `source` as `file` in a fresh folder, give it a starting session, and check that
+/// `session init` says `said` and that the original and a 2pass variant of the root render.
+fn starts_and_renders(file: &str, source: &str, said: &str) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join(file), source).unwrap();
+    let (code, _, err) = run(dir, &["session", "init", file, "-o", "s.json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains(said), "{err}");
+    for extra in [&[][..], &["--node", "root", "--strategy", "2pass"][..]] {
+        let render = [
+            "render",
+            file,
+            "--session",
+            "s.json",
+            "--max-frames",
+            "3",
+            "-q",
+        ];
+        let (code, _, err) = run(dir, &[&render[..], extra].concat());
+        assert_eq!(code, 0, "{extra:?}: {err}");
+    }
+}
+
 /// A shader whose text leaves its resources' bindings to the host (Blade binds by name) or its
 /// integer varyings' `flat` to an older naga is filled in when read (a warning names each binding
 /// chosen), and a device gets the filled-in module, not the text: its starting session renders,
 /// original and variant, where wgpu refused the text itself (exit 1).
 #[test]
 fn a_shader_without_bindings_renders_with_the_bindings_it_was_read_with() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
-    std::fs::write(
-        dir.join("blit.wgsl"),
+    starts_and_renders(
+        "blit.wgsl",
         "struct Params { tint: vec4<f32> }
 var<uniform> params: Params;
 var input: texture_2d<f32>;
@@ -134,41 +156,16 @@ fn fs(@location(0) normal: vec3<f32>, @location(2) uv: vec2<f32>) -> @location(0
     return textureSample(input, samp, uv) * params.tint * lit;
 }
 ",
-    )
-    .unwrap();
-    let (code, _, err) = run(dir, &["session", "init", "blit.wgsl", "-o", "s.json"]);
-    assert_eq!(code, 0, "{err}");
-    assert!(
-        err.contains("`input` in blit.wgsl has no @group/@binding (its host binds it by name)"),
-        "{err}"
+        "`input` in blit.wgsl has no @group/@binding (its host binds it by name)",
     );
-    for extra in [&[][..], &["--node", "root", "--strategy", "2pass"][..]] {
-        let args = [
-            &[
-                "render",
-                "blit.wgsl",
-                "--session",
-                "s.json",
-                "--max-frames",
-                "3",
-                "-q",
-            ][..],
-            extra,
-        ]
-        .concat();
-        let (code, _, err) = run(dir, &args);
-        assert_eq!(code, 0, "{extra:?}: {err}");
-    }
 }
 
 /// An integer fragment input (Bevy's `instance_index`, a texture-array index: flat) takes no
 /// vertex attribute: `session init` says it is fed 0, and the original and a variant render.
 #[test]
 fn an_integer_input_is_fed_zero_and_renders() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
-    std::fs::write(
-        dir.join("instanced.wgsl"),
+    starts_and_renders(
+        "instanced.wgsl",
         "struct Mesh { tint: vec4<f32> }
 @group(1) @binding(0) var<storage, read> meshes: array<Mesh>;
 struct VertexOutput {
@@ -182,29 +179,6 @@ fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
     return meshes[in.instance_index].tint * lit;
 }
 ",
-    )
-    .unwrap();
-    let (code, _, err) = run(dir, &["session", "init", "instanced.wgsl", "-o", "s.json"]);
-    assert_eq!(code, 0, "{err}");
-    assert!(
-        err.contains("`instance_index` (u32) is an integer input, fed 0"),
-        "{err}"
+        "`instance_index` (u32) is an integer input, fed 0",
     );
-    for extra in [&[][..], &["--node", "root", "--strategy", "2pass"][..]] {
-        let args = [
-            &[
-                "render",
-                "instanced.wgsl",
-                "--session",
-                "s.json",
-                "--max-frames",
-                "3",
-                "-q",
-            ][..],
-            extra,
-        ]
-        .concat();
-        let (code, _, err) = run(dir, &args);
-        assert_eq!(code, 0, "{extra:?}: {err}");
-    }
 }

@@ -292,8 +292,9 @@ pub fn emit(
     }
     let all = gather(profile, profile_path, opts)?;
     // The cache format (each node's own filter is read by its spec).
-    let (_, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
-    let cache_format = opts.cache_format.unwrap_or(profiled_format);
+    // The profile's filter and cache format name what reproj writes, checked before anything is
+    // (each variant's spec reads them again).
+    profile_variant_settings(profile, None, profile_path)?;
     let select_opts = select_options(opts);
     let names: Vec<String> = all.iter().map(|(p, _, _)| p.session.path.clone()).collect();
     let chosen = choose(&all, &names, opts, &select_opts);
@@ -320,7 +321,6 @@ pub fn emit(
         shader_path: &shader_path,
         shader: &shader,
         loaded: &loaded,
-        cache_format,
         staging: &staging,
     };
     let variant = match selection {

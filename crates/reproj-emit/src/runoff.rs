@@ -18,8 +18,7 @@ use crate::EmitError;
 use crate::motion::PeriodChoice;
 use crate::spec::{Profiled, VariantSpec};
 use crate::{
-    EmitOptions, EmitReport, NodeChoice, choose, gather, load_profiled, profile_variant_settings,
-    records_of, select_options,
+    EmitOptions, EmitReport, NodeChoice, choose, gather, load_profiled, records_of, select_options,
 };
 
 /// One node's own best choice under the budget, in memory, ready to be timed.
@@ -157,8 +156,6 @@ pub fn contenders(
         return Ok(Vec::new());
     }
     let (_, loaded, shader) = load_profiled(profile, profile_path, opts.shader.as_deref())?;
-    let (_, profiled_format) = profile_variant_settings(profile, None, profile_path)?;
-    let cache_format = opts.cache_format.unwrap_or(profiled_format);
     kept.into_iter()
         .map(|(selection, chosen_by_prediction)| {
             let node = profile
@@ -166,13 +163,13 @@ pub fn contenders(
                 .iter()
                 .find(|n| n.id == selection.node_id && n.strategy == selection.strategy)
                 .expect("the selection comes from the profile's nodes");
-            let mut spec = VariantSpec::of(
+            let spec = VariantSpec::of(
                 profile,
                 profile_path,
                 Profiled::Node(node),
                 selection.delta_n,
-            )?;
-            spec.cache_format = cache_format;
+            )?
+            .in_format(opts.cache_format);
             let variant = spec.instance(&shader, &loaded, &opts.integration)?;
             Ok(Contender {
                 node: node_name(profile, node.id),

@@ -159,6 +159,14 @@ impl VariantSpec {
         VariantSpec::of(profile, profile_path, profiled, choice.delta_n)
     }
 
+    /// This spec in the cache format `asked` (`emit --cache-format`; `None`: the profile's).
+    pub fn in_format(self, asked: Option<CacheFormatChoice>) -> VariantSpec {
+        VariantSpec {
+            cache_format: asked.unwrap_or(self.cache_format),
+            ..self
+        }
+    }
+
     /// The instancer's options of this spec, placed in a host as `integration` says (its bind
     /// group, frame and depth loads and reprojection; its other fields are not read).
     pub fn options(&self, integration: &InstanceOptions) -> InstanceOptions {

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use reproj_front::{Loaded, Shader};
-use reproj_instance::{CacheFormatChoice, DeltaNBand, Variant, variant_files};
+use reproj_instance::{DeltaNBand, Variant, variant_files};
 use reproj_metrics::psnr;
 use reproj_models::Profile;
 use reproj_select::Choice;
@@ -21,7 +21,6 @@ pub(super) struct Writer<'a> {
     /// The WGSL `analyze` profiled, and its normalised IR and node table.
     pub(super) shader: &'a Shader,
     pub(super) loaded: &'a Loaded,
-    pub(super) cache_format: CacheFormatChoice,
     pub(super) staging: &'a reproj_io::StagedDir,
 }
 
@@ -65,9 +64,10 @@ impl Writer<'_> {
         profiled: Profiled<'_>,
         delta_n: u32,
     ) -> Result<VariantSpec, EmitError> {
-        let mut spec = VariantSpec::of(self.profile, self.profile_path, profiled, delta_n)?;
-        spec.cache_format = self.cache_format;
-        Ok(spec)
+        Ok(
+            VariantSpec::of(self.profile, self.profile_path, profiled, delta_n)?
+                .in_format(self.opts.cache_format),
+        )
     }
 
     /// Nothing pays under the budget: write the shader as it was given (GLSL or SPIR-V stay what

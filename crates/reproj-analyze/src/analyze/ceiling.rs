@@ -68,7 +68,7 @@ pub(super) fn measure_ceiling(rp: &mut Replayer<'_, '_>) -> Result<Option<Ceilin
         .table
         .cacheable()
         .filter(|n| !n.root)
-        .map(|n| crate::prune::saving(n) / total)
+        .map(|n| n.saving() / total)
         .fold(0.0_f64, f64::max)
         .min(1.0);
     Ok(Some(Ceiling {

@@ -57,9 +57,14 @@ pub(super) fn replay_nodes(
     Ok(replays)
 }
 
-/// `ids` by static saving ([`crate::prune::saving`]), the largest first (ties by id).
+/// `ids` by static saving ([`reproj_front::Node::saving`]), the largest first (ties by id).
 fn by_saving(rp: &Replayer<'_, '_>, ids: &[u32]) -> Vec<u32> {
-    let saving = |id: u32| rp.input.table.get(id).map_or(0.0, crate::prune::saving);
+    let saving = |id: u32| {
+        rp.input
+            .table
+            .get(id)
+            .map_or(0.0, reproj_front::Node::saving)
+    };
     let mut order = ids.to_vec();
     order.sort_by(|&a, &b| saving(b).total_cmp(&saving(a)).then(a.cmp(&b)));
     order
