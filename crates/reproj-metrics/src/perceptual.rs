@@ -15,6 +15,10 @@
 
 use crate::srgb::to_srgb8;
 
+/// ꟻLIP's viewing conditions: pixels per degree of visual angle (NVIDIA's default: a 0.7 m wide
+/// 4K monitor seen from 0.7 m).
+pub const PIXELS_PER_DEGREE: f32 = nv_flip::DEFAULT_PIXELS_PER_DEGREE;
+
 /// Side of the SSIM window.
 pub const SSIM_WINDOW: usize = 11;
 /// Standard deviation of the SSIM window's Gaussian, pixels.

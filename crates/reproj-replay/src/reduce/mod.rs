@@ -28,10 +28,14 @@ use crate::gpu::{Gpu, gpu_err};
 use crate::readback::Staging;
 use reproj_metrics::l2::{self, FrameError};
 
+mod perceptual;
 mod reference;
 
+pub(crate) use perceptual::{GpuPerceptual, PerceptualCache};
+use reference::GpuFrame;
 pub use reference::Reference;
 pub(crate) use reference::{GpuReference, Keeper};
+use reproj_metrics::perceptual::PerceptualError;
 
 /// Pixels per side of the tile one workgroup covers (8×8 threads, 8×8 pixels each: `SIDE` and
 /// `BLOCK` in `reduce.wgsl`).
@@ -207,10 +211,7 @@ impl<'a> Reducer<'a> {
         frame: u32,
         slot: u32,
     ) -> Result<(), ReplayError> {
-        let refr =
-            self.reference.frames.get(frame as usize).ok_or_else(|| {
-                gpu_err("the error reduction", format!("no reference frame {frame}"))
-            })?;
+        let refr = self.frame(frame)?;
         let at = slot as u64 * self.stride;
         let size = slot_bytes(self.groups);
         let group = r.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -257,6 +258,14 @@ impl<'a> Reducer<'a> {
         &self.read
     }
 
+    /// Reference frame `frame` on the GPU.
+    fn frame(&self, frame: u32) -> Result<&GpuFrame, ReplayError> {
+        self.reference
+            .frames
+            .get(frame as usize)
+            .ok_or_else(|| gpu_err("the error reduction", format!("no reference frame {frame}")))
+    }
+
     /// The error sums of the frame in `slot` (the read buffer must be mapped).
     pub(crate) fn read(&self, slot: u32) -> Result<FrameError, ReplayError> {
         let at = slot as u64 * self.stride;
@@ -270,75 +279,105 @@ impl<'a> Reducer<'a> {
     }
 }
 
-/// Which frames of a variant replay come back as pixels.
+/// Which frames of a replay come back as pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum PixelsBack {
-    /// None: only the GPU reduction's sums come back.
+    /// None: only the GPU's sums come back (the error's, and the perceptual metrics' of the
+    /// frames [`FrameErrors::new`] is asked to score).
     None,
-    /// Frames `f` with `f % k == 0` (for the perceptual metrics); the reduction still gives
-    /// every frame's sums.
-    Every(u32),
     /// Every frame (they are written as PNGs); the error is computed on the CPU
     /// ([`reproj_metrics::l2::compare`]) and there is no reduction.
     All,
 }
 
-impl PixelsBack {
-    /// Whether frame `frame`'s pixels come back.
-    pub(crate) fn includes(self, frame: u32) -> bool {
-        match self {
-            PixelsBack::None => false,
-            PixelsBack::Every(k) => frame.is_multiple_of(k.max(1)),
-            PixelsBack::All => true,
-        }
-    }
+/// What comes back of one frame ([`FrameErrors::read`]).
+pub(crate) struct FrameBack {
+    /// Its error against the reference.
+    pub(crate) error: FrameError,
+    /// Its pixels, with [`PixelsBack::All`].
+    pub(crate) pixels: Option<Vec<f32>>,
+    /// Its ꟻLIP and SSIM, where it is one of the frames scored on the GPU.
+    pub(crate) perceptual: Option<PerceptualError>,
 }
 
-/// How a variant replay gets each frame's error against the reference, and the pixels of the
-/// frames [`PixelsBack`] asks for.
+/// How a replay gets each frame's error against the reference, the perceptual metrics of the
+/// sampled frames, and the pixels of the frames [`PixelsBack`] asks for.
 pub(crate) struct FrameErrors<'a> {
     /// Reduced on the GPU: only the per-block sums come back. `None` with [`PixelsBack::All`].
     reducer: Option<Reducer<'a>>,
+    /// ꟻLIP and SSIM of every `k`-th frame, on the GPU (`None` with [`PixelsBack::All`]: the
+    /// CPU scores the frames it has, and writes their ꟻLIP maps).
+    perceptual: Option<(u32, GpuPerceptual)>,
     /// One slot per frame of a batch for the frames whose pixels come back.
     pixels: Option<Staging>,
-    back: PixelsBack,
+}
+
+/// The kernels a replay's scoring uses, each built once per renderer.
+pub(crate) struct Kernels<'k> {
+    pub(crate) reduce: &'k KernelCache,
+    pub(crate) perceptual: &'k PerceptualCache,
 }
 
 impl<'a> FrameErrors<'a> {
-    /// For `frames` frames of `reference` read back in batches of `slots`.
+    /// For `frames` frames of `reference` read back in batches of `slots`; with
+    /// [`PixelsBack::None`], frames `f` with `f % k == 0` scored for ꟻLIP and SSIM on the GPU
+    /// where `perceptual_stride` is `Some(k)`.
     pub(crate) fn new(
         r: &Gpu,
-        kernels: &KernelCache,
+        kernels: Kernels<'_>,
         reference: &'a Reference,
         frames: u32,
         slots: u32,
         back: PixelsBack,
+        perceptual_stride: Option<u32>,
     ) -> Result<FrameErrors<'a>, ReplayError> {
         let (w, h) = (reference.width, reference.height);
         let pixels =
-            (back != PixelsBack::None).then(|| Staging::new(r, "frame readback", w, h, 16, slots));
-        let reducer = if back == PixelsBack::All {
-            None
-        } else {
-            let gpu = reference.gpu.on(r, reference, frames)?;
-            Some(Reducer::new(r, kernels.get(r)?, gpu, w, h, slots)?)
+            (back == PixelsBack::All).then(|| Staging::new(r, "frame readback", w, h, 16, slots));
+        let (reducer, perceptual) = match back {
+            PixelsBack::All => (None, None),
+            PixelsBack::None => {
+                let gpu = reference.gpu.on(r, reference, frames)?;
+                let perceptual = match perceptual_stride {
+                    Some(k) => Some((
+                        k.max(1),
+                        GpuPerceptual::new(r, kernels.perceptual.get(r)?, w, h, slots)?,
+                    )),
+                    None => None,
+                };
+                let reducer = Reducer::new(r, kernels.reduce.get(r)?, gpu, w, h, slots)?;
+                (Some(reducer), perceptual)
+            }
         };
         Ok(FrameErrors {
             reducer,
+            perceptual,
             pixels,
-            back,
         })
     }
 
     /// The buffers to map with the batch's other readbacks.
     pub(crate) fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
         let reducer = self.reducer.as_ref().map(|red| red.read_buffer());
+        let perceptual = self.perceptual.as_ref().map(|(_, p)| p.read_buffer());
         let pixels = self.pixels.as_ref().map(|p| &p.buf);
-        reducer.into_iter().chain(pixels).collect()
+        reducer
+            .into_iter()
+            .chain(perceptual)
+            .chain(pixels)
+            .collect()
+    }
+
+    /// Whether frame `frame` is scored for ꟻLIP and SSIM on the GPU.
+    fn scores(&self, frame: u32) -> Option<&GpuPerceptual> {
+        self.perceptual
+            .as_ref()
+            .filter(|(k, _)| frame.is_multiple_of(*k))
+            .map(|(_, p)| p)
     }
 
     /// Record what frame `frame` (its color target `color`, viewed as `view`) needs, into `slot`:
-    /// the reduction, the copy of its pixels, or both.
+    /// the reduction and the perceptual metrics, or the copy of its pixels.
     pub(crate) fn encode(
         &self,
         r: &Gpu,
@@ -350,31 +389,37 @@ impl<'a> FrameErrors<'a> {
     ) -> Result<(), ReplayError> {
         if let Some(red) = &self.reducer {
             red.encode(r, enc, view, frame, slot)?;
+            if let Some(p) = self.scores(frame) {
+                p.encode(r, enc, view, red.frame(frame)?, slot);
+            }
         }
-        if let Some(staging) = &self.pixels
-            && self.back.includes(frame)
-        {
+        if let Some(staging) = &self.pixels {
             staging.copy(enc, color, slot);
         }
         Ok(())
     }
 
-    /// The error of frame `frame` in `slot`, and its pixels when they came back (the read buffers
-    /// must be mapped).
+    /// What came back of frame `frame` in `slot` (the read buffers must be mapped).
     pub(crate) fn read(
         &self,
         slot: u32,
         reference: &Reference,
         frame: u32,
-    ) -> Result<(FrameError, Option<Vec<f32>>), ReplayError> {
+    ) -> Result<FrameBack, ReplayError> {
         let pixels: Option<Vec<f32>> = match &self.pixels {
-            Some(staging) if self.back.includes(frame) => {
-                Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?))
-            }
-            _ => None,
+            Some(staging) => Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?)),
+            None => None,
+        };
+        let perceptual = match self.scores(frame) {
+            Some(p) => Some(p.read(slot)?),
+            None => None,
         };
         if let Some(red) = &self.reducer {
-            return Ok((red.read(slot)?, pixels));
+            return Ok(FrameBack {
+                error: red.read(slot)?,
+                pixels,
+                perceptual,
+            });
         }
         let f = frame as usize;
         let (Some(pixels), Some(color), Some(depth)) =
@@ -385,7 +430,11 @@ impl<'a> FrameErrors<'a> {
                 session: format!("frame {frame}"),
             });
         };
-        Ok((l2::compare(&pixels, color, depth), Some(pixels)))
+        Ok(FrameBack {
+            error: l2::compare(&pixels, color, depth),
+            pixels: Some(pixels),
+            perceptual,
+        })
     }
 }
 

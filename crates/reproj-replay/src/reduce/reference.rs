@@ -46,7 +46,7 @@ impl Reference {
 /// One reference frame on the GPU: its color (rgba32float) and its depth (r32float; 1 where
 /// nothing was drawn).
 #[derive(Debug, Clone)]
-pub(super) struct GpuFrame {
+pub(crate) struct GpuFrame {
     pub(super) color: wgpu::TextureView,
     pub(super) depth: wgpu::TextureView,
 }

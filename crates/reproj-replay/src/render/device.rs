@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use crate::assets::Assets;
 use crate::error::ReplayError;
 use crate::gpu::Gpu;
-use crate::reduce::KernelCache;
+use crate::reduce::{KernelCache, Kernels, PerceptualCache};
 use reproj_metrics::{AdapterReport, TimingMethod};
 
 use super::*;
@@ -20,9 +20,18 @@ impl Renderer {
             gpu: Gpu::open(opts.backend.as_deref(), opts.cpu_timing)?,
             assets: Assets::default(),
             reduce_kernel: KernelCache::default(),
+            perceptual_kernel: PerceptualCache::default(),
             pipelines: Mutex::default(),
             pipeline_hits: AtomicU64::new(0),
         })
+    }
+
+    /// The scoring kernels, built on first use and kept.
+    pub(crate) fn kernels(&self) -> Kernels<'_> {
+        Kernels {
+            reduce: &self.reduce_kernel,
+            perceptual: &self.perceptual_kernel,
+        }
     }
 
     /// How many times a replay found its render pipelines already built (compiled) by an earlier one.

@@ -27,7 +27,7 @@ use crate::assets::Assets;
 use crate::error::ReplayError;
 use crate::gpu::Gpu;
 use crate::readback::*;
-use crate::reduce::{KernelCache, Reference};
+use crate::reduce::{KernelCache, PerceptualCache, Reference};
 
 mod bind;
 mod depth;
@@ -227,11 +227,13 @@ impl VariantInput {
 }
 
 /// The renderer: its [`Gpu`] (which it derefs to), and what is kept across replays: the session's
-/// meshes and textures, the error reduction pipeline, the render pipelines.
+/// meshes and textures, the scoring pipelines (the error reduction, the perceptual metrics), the
+/// render pipelines.
 pub struct Renderer {
     gpu: Gpu,
     assets: Assets,
     reduce_kernel: KernelCache,
+    perceptual_kernel: PerceptualCache,
     /// Render pipelines kept across replays (see [`Renderer::pipeline`]).
     pipelines: Mutex<HashMap<String, Pipe>>,
     pipeline_hits: AtomicU64,

@@ -23,8 +23,8 @@ impl Renderer {
     /// of `shader` per frame; what comes back is `keep`'s. With [`Keep::Frames`], the frames,
     /// their depth and the GPU copy of both. In phases: checks, the pass
     /// ([`Renderer::plain_pass`]), its targets and readback ([`Renderer::plain_targets`]), the
-    /// frame loop ([`Renderer::plain_frames`], the sampled frames' perceptual metrics scored
-    /// beside it), then their records.
+    /// frame loop ([`Renderer::plain_frames`]; a scored render's error and sampled frames'
+    /// perceptual metrics computed on the GPU), then their records.
     pub(super) fn render_plain(
         &self,
         shader: &Shader,
@@ -54,13 +54,10 @@ impl Renderer {
         let mut out = PlainOut {
             gpu: GpuReference::new(self),
             report: self.new_report("original", shader, &run.pass.iface.entry, session),
-            to_score: Vec::new(),
             frames: Vec::with_capacity(frames as usize),
             depth: Vec::with_capacity(frames as usize),
         };
-        if let Some(scorer) = self.plain_frames(&run, progress, &mut out)? {
-            scorer.record(&mut out.report, opts)?;
-        }
+        self.plain_frames(&run, progress, &mut out)?;
         out.report.summarize();
         let kept = matches!(keep, Keep::Frames).then_some((out.frames, out.depth, out.gpu));
         Ok((out.report, kept))
@@ -148,23 +145,18 @@ impl Renderer {
             )
         });
         let errors = match keep {
-            Keep::ScoreAgainst(reference) => {
-                let back = match opts.perceptual_stride {
-                    Some(k) => PixelsBack::Every(k.max(1)),
-                    None => PixelsBack::None,
-                };
-                Some((
+            Keep::ScoreAgainst(reference) => Some((
+                reference,
+                FrameErrors::new(
+                    self,
+                    self.kernels(),
                     reference,
-                    FrameErrors::new(
-                        self,
-                        &self.reduce_kernel,
-                        reference,
-                        first + frames,
-                        slots,
-                        back,
-                    )?,
-                ))
-            }
+                    first + frames,
+                    slots,
+                    PixelsBack::None,
+                    opts.perceptual_stride,
+                )?,
+            )),
             Keep::Frames => None,
         };
         let clear = background_color(session);
@@ -183,12 +175,12 @@ impl Renderer {
 
     /// The frame loop: each frame encoded and submitted into its slot of the batch, and the
     /// batch read back with one wait when it is full.
-    fn plain_frames<'r>(
+    fn plain_frames(
         &self,
-        run: &PlainRun<'r>,
+        run: &PlainRun<'_>,
         progress: &dyn FrameProgress,
         out: &mut PlainOut,
-    ) -> Result<Option<Scorer<'r>>, ReplayError> {
+    ) -> Result<(), ReplayError> {
         let t = &run.targets;
         let mut rb_bufs = t.q.read_buffers();
         if let Some((frame_rb, depth_rb, _)) = &t.kept {
@@ -200,33 +192,20 @@ impl Renderer {
         }
         let end = run.first + run.frames;
         let mut batch = FrameBatch::new("", t.slots, end);
-        // Scored renders: the sampled frames are scored beside the loop (`score.rs`).
-        let mut scorer = t
-            .errors
-            .as_ref()
-            .map(|(reference, _)| Scorer::new(reference, run.session.resolution));
-        scoring_pool().in_place_scope(|scope| -> Result<(), ReplayError> {
-            for f in run.first..end {
-                let slot = batch.slot();
-                let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
-                if !batch.submit(self, enc, rb, f)? {
-                    continue;
-                }
-                // Read the batch back with one wait.
-                batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                    self.plain_frame_back(run, slot, f, cpu_ms, out)?;
-                    progress.frame(f - run.first + 1, run.frames);
-                    Ok(())
-                })?;
-                if let Some(scorer) = &mut scorer {
-                    for (f, pixels) in out.to_score.drain(..) {
-                        scorer.spawn(scope, f, pixels);
-                    }
-                }
+        for f in run.first..end {
+            let slot = batch.slot();
+            let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
+            if !batch.submit(self, enc, rb, f)? {
+                continue;
             }
-            Ok(())
-        })?;
-        Ok(scorer)
+            // Read the batch back with one wait.
+            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
+                self.plain_frame_back(run, slot, f, cpu_ms, out)?;
+                progress.frame(f - run.first + 1, run.frames);
+                Ok(())
+            })?;
+        }
+        Ok(())
     }
 
     /// Frame `f`'s commands: its uniforms written, then its pass (timed and counted into
@@ -303,19 +282,14 @@ impl Renderer {
         };
         let mut covered = depth.iter().filter(|&&d| d < 1.0).count() as u64;
         let mut nonfinite = pixels.chunks_exact(4).filter(|p| !l2::finite3(p)).count() as u64;
-        // Scored: the error against the reference (its covered pixels) and the sampled
-        // frames' pixels for the perceptual metrics.
+        // Scored: the error against the reference (its covered pixels) and, for the sampled
+        // frames, the perceptual metrics.
         let mut errs = l2::FrameError::default();
+        let mut scored = None;
         if let Some((reference, e)) = &t.errors {
-            let (fe, px) = e.read(slot, reference, f)?;
-            let perceptual = opts
-                .perceptual_stride
-                .is_some_and(|k| f.is_multiple_of(k.max(1)));
-            if let Some(px) = px.filter(|_| perceptual) {
-                out.to_score.push((f, px));
-            }
-            (covered, nonfinite) = (fe.covered, fe.nonfinite);
-            errs = fe;
+            let back = e.read(slot, reference, f)?;
+            (covered, nonfinite) = (back.error.covered, back.error.nonfinite);
+            (errs, scored) = (back.error, back.perceptual);
         }
         let (occ, pass_ms, span) = t.q.read(slot)?;
         let frame_ms = span.unwrap_or(cpu_ms);
@@ -344,8 +318,8 @@ impl Renderer {
             max_abs_diff: errs.max_abs_diff,
             nonfinite,
             nonfinite_reference: errs.nonfinite_reference,
-            flip: None,
-            ssim: None,
+            flip: scored.map(|p| p.flip),
+            ssim: scored.map(|p| p.ssim),
         });
         if t.kept.is_some() {
             out.frames.push(pixels);
@@ -419,8 +393,6 @@ struct PlainRun<'a> {
 /// What a plain render gathers as its frames come back.
 struct PlainOut {
     report: RenderReport,
-    /// Sampled frames for the perceptual metrics, handed to the scorer after each batch.
-    to_score: Vec<(u32, Vec<f32>)>,
     /// Kept frames and depths, and their copies on the GPU.
     frames: Vec<Vec<f32>>,
     depth: Vec<Vec<f32>>,

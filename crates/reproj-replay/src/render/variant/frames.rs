@@ -97,21 +97,23 @@ impl Renderer {
             plan.render_passes.len() as u32,
             slots,
         );
-        let back = match (&opts.png_dir, opts.perceptual_stride) {
-            (Some(_), _) => PixelsBack::All,
-            (None, Some(k)) => PixelsBack::Every(k.max(1)),
-            (None, None) => PixelsBack::None,
+        // Frames written as PNGs come back whole (and are scored on the CPU, which writes
+        // their ꟻLIP maps); otherwise only numbers do.
+        let back = match &opts.png_dir {
+            Some(_) => PixelsBack::All,
+            None => PixelsBack::None,
         };
         let errors = if opts.timing_only {
             None
         } else {
             Some(FrameErrors::new(
                 self,
-                &self.reduce_kernel,
+                self.kernels(),
                 run.reference,
                 plan.first + plan.frames,
                 slots,
                 back,
+                opts.perceptual_stride,
             )?)
         };
         let cls_rb = run
@@ -187,7 +189,8 @@ impl Renderer {
     }
 
     /// Frame `f`, back in `slot` (`cpu_ms` its CPU time): its record, with its PNGs written, and
-    /// its pixels where it is sampled for the perceptual metrics.
+    /// its pixels where it is sampled for the perceptual metrics on the CPU (frames that come
+    /// back whole, for PNGs; the others are scored on the GPU).
     fn variant_frame_back(
         &self,
         run: &FrameLoop<'_>,
@@ -197,9 +200,12 @@ impl Renderer {
         cpu_ms: f64,
     ) -> Result<(FrameRecord, Option<Vec<f32>>), ReplayError> {
         let opts = run.opts;
-        let (errs, pixels) = match &rb.errors {
-            Some(errors) => errors.read(slot, run.reference, f)?,
-            None => (Default::default(), None),
+        let (errs, pixels, scored) = match &rb.errors {
+            Some(errors) => {
+                let back = errors.read(slot, run.reference, f)?;
+                (back.error, back.pixels, back.perceptual)
+            }
+            None => (Default::default(), None, None),
         };
         let cls_px = match &rb.cls_rb {
             Some(c) => Some(c.image(slot)?),
@@ -261,8 +267,8 @@ impl Renderer {
             max_abs_diff: errs.max_abs_diff,
             nonfinite: errs.nonfinite,
             nonfinite_reference: errs.nonfinite_reference,
-            flip: None,
-            ssim: None,
+            flip: scored.map(|p| p.flip),
+            ssim: scored.map(|p| p.ssim),
         };
         Ok((record, sampled))
     }
