@@ -122,30 +122,42 @@ impl Ctx<'_> {
     /// L2 error and PSNR of `frames` (full resolution) against the reference; ꟻLIP, the
     /// still/moving split and the same against the supersampled reference too when
     /// `perceptual` (a method's final frames).
-    pub(crate) fn score(&self, frames: &[Vec<f32>], perceptual: bool) -> Scores {
-        let (one, error) = self.against(frames, &self.reference.frames, perceptual);
-        Scores {
+    pub(crate) fn score(
+        &self,
+        frames: &[Vec<f32>],
+        perceptual: bool,
+    ) -> Result<Scores, CompareError> {
+        let (one, error) = self.against(frames, &self.reference.frames, perceptual)?;
+        Ok(Scores {
             error,
             psnr: one.psnr,
             flip: one.flip,
             split: one.split,
             supersampled: match (perceptual, self.supersampled) {
-                (true, Some(ss)) => Some(self.against(frames, ss, true).0),
+                (true, Some(ss)) => Some(self.against(frames, ss, true)?.0),
                 _ => None,
             },
-        }
+        })
     }
 
     /// The one-sample original against the supersampled reference, when there is one.
-    pub(crate) fn original_vs_supersampled(&self) -> Option<Against> {
-        let ss = self.supersampled?;
-        Some(self.against(&self.reference.frames, ss, true).0)
+    pub(crate) fn original_vs_supersampled(&self) -> Result<Option<Against>, CompareError> {
+        let Some(ss) = self.supersampled else {
+            return Ok(None);
+        };
+        Ok(Some(self.against(&self.reference.frames, ss, true)?.0))
     }
 
     /// PSNR of `frames` against `refs` over the reference's covered pixels, pooled over every
     /// frame and (where the session has both) over the still and the moving frames; ꟻLIP on the
-    /// perceptual stride when `perceptual`. Beside it, the mean per-pixel L2 error.
-    fn against(&self, frames: &[Vec<f32>], refs: &[Vec<f32>], perceptual: bool) -> (Against, f64) {
+    /// perceptual stride when `perceptual`, computed on the renderer's device as a scored replay
+    /// computes it. Beside it, the mean per-pixel L2 error.
+    fn against(
+        &self,
+        frames: &[Vec<f32>],
+        refs: &[Vec<f32>],
+        perceptual: bool,
+    ) -> Result<(Against, f64), CompareError> {
         let depth = &self.reference.depth;
         let mut sum_error = 0.0;
         // [all, still, moving]: (sum of squares, covered pixels).
@@ -173,24 +185,21 @@ impl Ctx<'_> {
             still_psnr: psnr(pools[1]),
             moving_psnr: psnr(pools[2]),
         });
-        // ꟻLIP on every stride-th frame, the frames in parallel.
+        // ꟻLIP on every stride-th frame.
         let flips: Vec<f64> = if perceptual {
-            use rayon::prelude::*;
-            let (stride, r) = (self.stride, self.reference);
-            (0..frames.len())
-                .into_par_iter()
-                .filter(|&f| (f as u32).is_multiple_of(stride))
-                .map(|f| {
-                    let (p, _) = reproj_metrics::perceptual::compare_perceptual_split(
-                        &frames[f],
-                        &refs[f],
-                        &depth[f],
-                        r.width,
-                        r.height,
-                        reproj_metrics::perceptual::FrameSplit::Whole,
-                    );
-                    p.flip
-                })
+            let sampled: Vec<usize> = (0..frames.len())
+                .filter(|&f| (f as u32).is_multiple_of(self.stride))
+                .collect();
+            let r = self.reference;
+            self.renderer
+                .perceptual_of(
+                    &pick(frames, &sampled),
+                    &pick(refs, &sampled),
+                    &pick(depth, &sampled),
+                    [r.width, r.height],
+                )?
+                .iter()
+                .map(|p| p.flip)
                 .collect()
         } else {
             Vec::new()
@@ -200,7 +209,7 @@ impl Ctx<'_> {
             flip: (!flips.is_empty()).then(|| flips.iter().sum::<f64>() / flips.len() as f64),
             split,
         };
-        (against, sum_error / frames.len().max(1) as f64)
+        Ok((against, sum_error / frames.len().max(1) as f64))
     }
 
     /// Render `shader` (a module reproj wrote, as WGSL) like the original: its frames and mean
@@ -274,4 +283,9 @@ mod tests {
         assert!(!in_doubt(&estimate(1.6, [1.5, 1.7]), 2.0, 0.05));
         assert!(!in_doubt(&estimate(2.5, [2.3, 2.7]), 2.0, 0.05));
     }
+}
+
+/// The images at `indices`, as slices.
+fn pick<'a>(images: &'a [Vec<f32>], indices: &[usize]) -> Vec<&'a [f32]> {
+    indices.iter().map(|&f| images[f].as_slice()).collect()
 }

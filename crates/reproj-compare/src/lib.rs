@@ -334,7 +334,7 @@ pub fn compare(
         } else {
             0
         },
-        original_vs_supersampled: ctx.original_vs_supersampled(),
+        original_vs_supersampled: ctx.original_vs_supersampled()?,
         moving_frames: moving.iter().filter(|&&m| m).count() as u32,
         notes: {
             notes.extend(supersample::notes(&moving, opts.temporal));

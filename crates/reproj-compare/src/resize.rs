@@ -111,7 +111,7 @@ pub(crate) fn edge_adaptive(
     ctx.progress.step("edge-adaptive upsampling");
     let result = MethodResult {
         method: "easu".into(),
-        scores: ctx.score(&up, true),
+        scores: ctx.score(&up, true)?,
         setting: resize.setting.replace(
             "bilinear upsampling",
             "edge-adaptive upsampling (EASU-like)",
@@ -150,7 +150,7 @@ pub(crate) fn search_scale(
         let (up, candidate) = render(size)?;
         let (timed, races) = ctx.race_try(candidate, opts.tolerance)?;
         let speedup = timed.map_or(0.0, |e| e.speedup);
-        let error = ctx.score(&up, false).error;
+        let error = ctx.score(&up, false)?.error;
         ctx.progress
             .step(&format!("{name} {}×{}: {speedup:.2}×", size[0], size[1]));
         tries.push(ResizeTry {
@@ -181,7 +181,7 @@ pub(crate) fn search_scale(
     }
     let (chosen, frames) = best.expect("at least one try");
     let t = &tries[chosen];
-    let scores = ctx.score(&frames, true);
+    let scores = ctx.score(&frames, true)?;
     let result = MethodResult {
         speedup_ci95: t.speedup_ci95,
         method: name.into(),

@@ -248,7 +248,7 @@ fn finish(
             shader: table.shader.clone(),
         })?;
     let (frames, _) = ctx.render_wgsl("simplified.wgsl", &wgsl)?;
-    let scores = ctx.score(&frames, true);
+    let scores = ctx.score(&frames, true)?;
     let result = MethodResult {
         speedup_ci95: ci95,
         method: "simplify".into(),

@@ -194,15 +194,16 @@ pub(crate) fn reproj(
     let render = RenderOptions {
         png_dir: Some(tmp.path().to_owned()),
         raw_frames: true,
-        perceptual_stride: Some(ctx.stride),
+        // Scored below with the other methods' scorer (ꟻLIP on the GPU), once.
+        perceptual_stride: None,
         ..ctx.render_opts.clone()
     };
     let r = ctx
         .renderer
         .render_variant(shader, ctx.session, &input, ctx.reference, &render)?;
     ctx.progress.step("reproj");
-    // Every frame came back raw: the crop, and the figures the GPU reduction does not make
-    // (the still/moving split, the supersampled reference).
+    // Every frame came back raw: the crop, ꟻLIP, and the figures the GPU reduction does not
+    // make (the still/moving split, the supersampled reference).
     let read_raw = |f: usize| -> Result<Vec<f32>, CompareError> {
         let raw = tmp.path().join(format!("frame_{f:03}.f32"));
         let bytes = std::fs::read(&raw).map_err(|e| CompareError::Internal {
@@ -218,7 +219,7 @@ pub(crate) fn reproj(
         .map(read_raw)
         .collect::<Result<Vec<_>, _>>()?;
     let crop_frame = frames[(crop as usize).min(frames.len() - 1)].clone();
-    let cpu = ctx.score(&frames, true);
+    let scored = ctx.score(&frames, true)?;
     drop(frames);
     // Its speed comes from the comparison's final interleaved run (`time_methods`): none here.
     Ok(ReprojRun {
@@ -247,9 +248,9 @@ pub(crate) fn reproj(
                 } else {
                     reproj_metrics::PSNR_CAP
                 },
-                flip: r.flip.map(|f| f.mean),
-                split: cpu.split,
-                supersampled: cpu.supersampled,
+                flip: scored.flip,
+                split: scored.split,
+                supersampled: scored.supersampled,
             },
             setting: format!(
                 "{} {node_name} cached at Δn = {} ({}, k = {})",

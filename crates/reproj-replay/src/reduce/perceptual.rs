@@ -22,7 +22,7 @@ use reproj_metrics::perceptual::{PIXELS_PER_DEGREE, PerceptualError, SSIM_SIGMA,
 use crate::error::ReplayError;
 use crate::gpu::{Gpu, gpu_err};
 
-use super::reference::GpuFrame;
+use super::reference::{GpuFrame, GpuReference};
 
 /// The kernels (`perceptual.wgsl`).
 const SHADER: &str = include_str!("perceptual.wgsl");
@@ -326,6 +326,27 @@ impl GpuPerceptual {
         }
         drop(pass);
         enc.copy_buffer_to_buffer(&self.out, at, &self.read, at, Some(size));
+    }
+
+    /// The metrics of `frame` against `reference` (linear RGBA f32 on the host) over the pixels
+    /// where `depth` < 1: both uploaded, scored through slot 0, read back with one wait.
+    pub(crate) fn score(
+        &self,
+        r: &Gpu,
+        frame: &[f32],
+        reference: &[f32],
+        depth: &[f32],
+    ) -> Result<PerceptualError, ReplayError> {
+        let [w, h] = self.size;
+        let refr = GpuReference::upload(r, w, h, &[reference], &[depth])?;
+        let test = GpuReference::upload(r, w, h, &[frame], &[depth])?;
+        let mut enc = r.device.create_command_encoder(&Default::default());
+        self.encode(r, &mut enc, &test.frames[0].color, &refr.frames[0], 0);
+        r.queue.submit([enc.finish()]);
+        r.map_read(&[self.read_buffer()])?;
+        let scored = self.read(0);
+        Gpu::unmap_all(&[self.read_buffer()]);
+        scored
     }
 
     /// The buffer to map with the batch's other readbacks.

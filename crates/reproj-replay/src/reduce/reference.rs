@@ -101,16 +101,17 @@ impl GpuReference {
 
     /// Frames of `w`×`h` RGBA f32 `colors` and f32 `depths` (row-major, top row first) uploaded to
     /// `r`'s device.
-    pub(crate) fn upload(
+    pub(crate) fn upload<C: AsRef<[f32]>, D: AsRef<[f32]>>(
         r: &Gpu,
         w: u32,
         h: u32,
-        colors: &[Vec<f32>],
-        depths: &[Vec<f32>],
+        colors: &[C],
+        depths: &[D],
     ) -> Result<GpuReference, ReplayError> {
         let px = w as usize * h as usize;
         let mut out = GpuReference::new(r);
         for (f, (color, depth)) in colors.iter().zip(depths).enumerate() {
+            let (color, depth) = (color.as_ref(), depth.as_ref());
             if color.len() != 4 * px || depth.len() != px {
                 return Err(ReplayError::ReferenceMismatch {
                     reference: format!(

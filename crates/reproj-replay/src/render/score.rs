@@ -1,8 +1,11 @@
-//! ꟻLIP and SSIM of the sampled frames, scored while the frame loop goes on.
+//! ꟻLIP and SSIM of frames already on the host: [`Renderer::perceptual_of`] on the GPU (what
+//! `compare` scores its methods' frames with), and [`Scorer`] on the CPU while a frame loop goes
+//! on, for replays that read every frame back to write it as a PNG (it writes the ꟻLIP maps too).
+//! A scored replay without PNGs scores its sampled frames where they are (`reduce/perceptual.rs`).
 //!
-//! The perceptual metrics are the costliest CPU work of a replay (ꟻLIP: about 26 ms per 256×256
-//! frame on one core). Both frame loops (the variant's and the plain one's) hand each sampled
-//! frame to a [`Scorer`], which scores it on [`scoring_pool`]'s threads. Those run at the lowest
+//! On the CPU the perceptual metrics are the costliest work of a replay (ꟻLIP: about 26 ms per
+//! 256×256 frame on one core). The variant's frame loop hands each sampled frame to a
+//! [`Scorer`], which scores it on [`scoring_pool`]'s threads. Those run at the lowest
 //! CPU priority, so on a CPU adapter (lavapipe) they take only the cycles the rasterizer leaves
 //! idle and never slow a timed frame (`docs/notebook/analysis-time.md`, "Analysis time: the error
 //! reduction and the scoring threads"); on a GPU they simply overlap the rendering. A loop's scope waits for the
@@ -14,9 +17,46 @@ use reproj_metrics::RenderReport;
 use reproj_metrics::output;
 use reproj_metrics::perceptual::{self, PerceptualError};
 
-use super::RenderOptions;
+use super::{RenderOptions, Renderer};
 use crate::error::ReplayError;
-use crate::reduce::Reference;
+use crate::reduce::{GpuPerceptual, Reference};
+
+impl Renderer {
+    /// ꟻLIP and SSIM of each of `frames` against the reference frame of the same index (linear
+    /// RGBA f32, `size` pixels, top row first), pooled over the pixels where that frame's
+    /// `depth` < 1: the metrics a scored replay computes, on this renderer's device, for frames
+    /// the caller holds. One frame at a time is uploaded and scored (only numbers come back).
+    pub fn perceptual_of(
+        &self,
+        frames: &[&[f32]],
+        references: &[&[f32]],
+        depth: &[&[f32]],
+        [w, h]: [u32; 2],
+    ) -> Result<Vec<PerceptualError>, ReplayError> {
+        if frames.len() != references.len() || frames.len() != depth.len() {
+            return Err(ReplayError::ReferenceMismatch {
+                reference: format!(
+                    "{} reference frames and {} depth images",
+                    references.len(),
+                    depth.len()
+                ),
+                session: format!("{} frames to score", frames.len()),
+            });
+        }
+        if frames.is_empty() {
+            return Ok(Vec::new());
+        }
+        let scorer = GpuPerceptual::new(self, self.kernels().perceptual.get(self)?, w, h, 1)?;
+        let out = frames
+            .iter()
+            .zip(references)
+            .zip(depth)
+            .map(|((frame, reference), depth)| scorer.score(self, frame, reference, depth))
+            .collect::<Result<Vec<_>, _>>()?;
+        self.check_errors("scoring frames")?;
+        Ok(out)
+    }
+}
 
 /// The pool that scores sampled frames: one thread per core, each at the lowest CPU priority
 /// (Linux: the `SCHED_IDLE` policy, else nice 19, for the thread). Made once.
