@@ -271,6 +271,7 @@ mod tests {
             lp_num_threads: Some("2".into()),
             cpu_rasterizer: true,
             driver: driver.map(Into::into),
+            clock: None,
         }
     }
 

@@ -20,13 +20,16 @@ use reproj_models::speedup::{
     self, Conditions, SpeedupEstimate, StopRule, Subject as Slot, block_ms, round_order, stratum,
     window_start,
 };
+pub use reproj_models::speedup::{DEFAULT_SETTLE, Settle, Settling};
+
+mod settle;
 use reproj_replay::{Reference, RenderOptions, Renderer, ReplayError, VariantInput};
 use reproj_scene::Session;
 use serde::{Deserialize, Serialize};
 
 /// Schema name and version of [`BenchReport`] (`docs/SCHEMAS.md`).
 pub const BENCH_SCHEMA: &str = "reproj.bench";
-pub const BENCH_VERSION: u32 = 1;
+pub const BENCH_VERSION: u32 = 2;
 
 /// Timed frames per block by default (after the discarded first frame).
 pub const DEFAULT_BLOCK_FRAMES: u32 = 12;
@@ -79,6 +82,9 @@ pub struct BenchOptions {
     pub stop: StopRule,
     /// Use only the session's first N frames for the windows.
     pub max_frames: Option<u32>,
+    /// Render the baseline until the device's clock has settled before the first round
+    /// (`None`: time at once).
+    pub settle: Option<Settle>,
 }
 
 impl Default for BenchOptions {
@@ -87,6 +93,7 @@ impl Default for BenchOptions {
             block_frames: DEFAULT_BLOCK_FRAMES,
             stop: StopRule::default(),
             max_frames: None,
+            settle: Some(DEFAULT_SETTLE),
         }
     }
 }
@@ -204,6 +211,10 @@ pub struct BenchReport {
     pub others_cpu: Option<f64>,
     pub baseline: BaselineFigure,
     pub candidates: Vec<CandidateFigure>,
+    /// What the baseline's settling saw before the first round (version 2; absent where the run
+    /// did not settle, and in older reports).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settling: Option<Settling>,
     /// Empty when the run was clean.
     pub warnings: Vec<String>,
 }
@@ -296,10 +307,15 @@ pub fn bench(
         candidates,
     };
 
-    // Warm-up, not recorded: every subject builds its pipelines once.
+    // Warm-up, not recorded: every subject builds its pipelines once; then the baseline renders
+    // until the device's clock has settled.
     for who in round_order(0, candidates.len()) {
         scene.block(who, 0, block_len.min(2))?;
     }
+    let settling = match opts.settle {
+        Some(s) => Some(scene.settle(&s, window_start(0, frames, block_len), block_len, warm)?),
+        None => None,
+    };
     let t0 = Instant::now();
     let cpu0 = cpu_ticks();
     let mut runs = Runs {
@@ -333,14 +349,19 @@ pub fn bench(
         (Some(a), Some(b)) => others_share(a, b),
         _ => None,
     };
-    Ok(runs.report(
+    let mut report = runs.report(
         renderer,
         candidates,
         opts,
         [timed, frames],
         t0.elapsed().as_secs_f64(),
         others_cpu,
-    ))
+    );
+    if let Some(w) = settling.as_ref().and_then(Settling::warning) {
+        report.warnings.insert(0, w);
+    }
+    report.settling = settling;
+    Ok(report)
 }
 
 /// What renders a block: the renderer, the baseline and the candidates over the session.
@@ -492,6 +513,7 @@ impl Runs {
                     blocks_ms: blocks,
                 })
                 .collect(),
+            settling: None,
             warnings,
         }
     }

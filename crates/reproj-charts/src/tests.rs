@@ -193,6 +193,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
             lp_num_threads: None,
             cpu_rasterizer: false,
             driver: None,
+            clock: None,
         },
         resolution: [640, 480],
         frames: 150,

@@ -42,7 +42,7 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
     let tmp = tempfile::tempdir().unwrap();
     let profile_path = tmp.path().join("two_terms.profile.json");
     let (profile, log) = analyze(&profile_path, &[]);
-    assert_eq!(profile["version"], 12);
+    assert_eq!(profile["version"], 13);
     assert!(log.contains("sets: 1 pairs among the top 2 nodes"), "{log}");
     let sets = profile["sets"].as_array().expect(&log);
     assert!(!sets.is_empty(), "{profile:#}");
@@ -166,7 +166,7 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
 
     // `--no-sets`: no search, nothing recorded.
     let (profile, log) = analyze(&tmp.path().join("p.profile.json"), &["--no-sets"]);
-    assert_eq!(profile["version"], 12);
+    assert_eq!(profile["version"], 13);
     assert!(profile.get("sets").is_none(), "{:#}", profile["sets"]);
     assert!(!log.contains("sets:"), "{log}");
 }

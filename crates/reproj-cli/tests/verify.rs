@@ -258,7 +258,7 @@ fn verify_names_a_profile_measured_on_another_driver() {
     let dir = tmp.path();
     let analyzed = two_terms_profiled_in_2pass(dir);
     let mut profile = two_terms_profile(dir);
-    assert_eq!(profile["version"], 12);
+    assert_eq!(profile["version"], 13);
     let driver = profile["machine"]["driver"]
         .as_str()
         .unwrap_or_else(|| panic!("the adapter names its driver: {}", profile["machine"]))

@@ -97,6 +97,7 @@ fn profile(shader: &Path) -> Profile {
             lp_num_threads: None,
             cpu_rasterizer: false,
             driver: None,
+            clock: None,
         },
         resolution: [256, 256],
         frames: 40,

@@ -51,7 +51,9 @@ pub use probes::{BlockProbe, FilterProbe, RaceProbe, StrategyProbe, Timed};
 /// (`analyze --max-delta-n`). And `shader_input`, how the shader file was read (shader defs, a defs preset, import
 /// paths, GLSL include folders), so that `emit`, `report` and `compare --profile` read the same
 /// shader. Older files still load without any of them (read as by default).
-pub const PROFILE_VERSION: u32 = 12;
+/// Version 13: `machine.clock`, the device's clock as the first race found it (the original
+/// rendered until two blocks agree before every race is timed).
+pub const PROFILE_VERSION: u32 = 13;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).
@@ -200,6 +202,10 @@ pub struct Machine {
     /// lavapipe; version 11 on, absent before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub driver: Option<String>,
+    /// The device's clock before the analysis's first race: the original's settling blocks
+    /// (`crate::speedup::Settling`; version 13 on, absent before and where nothing was raced).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clock: Option<crate::speedup::Settling>,
 }
 
 impl Machine {

@@ -117,6 +117,81 @@ impl StopRule {
     }
 }
 
+/// How long the baseline renders before a run is timed, so that the device's clock has settled: a
+/// GPU idles at a low clock and raises it under load (an H200 from 345 MHz), and the first rounds
+/// of a run that starts cold time the ramp, not the shaders.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Settle {
+    /// Settled once two successive blocks of the baseline (on one window) are this close: 0.03 is
+    /// within 3 % of each other.
+    pub tolerance: f64,
+    /// Give up after this many seconds (the run is timed anyway, with a warning).
+    pub max_seconds: f64,
+}
+
+/// The settling every run does unless told otherwise.
+pub const DEFAULT_SETTLE: Settle = Settle {
+    tolerance: 0.03,
+    max_seconds: 3.0,
+};
+
+impl Default for Settle {
+    fn default() -> Self {
+        DEFAULT_SETTLE
+    }
+}
+
+/// What settling saw of the device before a run: its clock's behaviour, recorded with the run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Settling {
+    /// The baseline's figure per block (ms per frame, the same window each time), in order.
+    pub blocks_ms: Vec<f64>,
+    /// Seconds spent.
+    pub seconds: f64,
+    /// Whether the last two blocks agreed within the tolerance.
+    pub settled: bool,
+}
+
+impl Settle {
+    /// Whether `blocks` (figures so far, in order) have settled: the last two finite and within
+    /// the tolerance of each other.
+    pub fn reached(&self, blocks: &[f64]) -> bool {
+        match blocks {
+            [.., a, b] if a.is_finite() && b.is_finite() && *a > 0.0 && *b > 0.0 => {
+                (b / a - 1.0).abs() <= self.tolerance
+            }
+            _ => false,
+        }
+    }
+}
+
+impl Settling {
+    /// How much the baseline's figure moved from the first block to the last (their ratio), where
+    /// both are finite.
+    pub fn drift(&self) -> Option<f64> {
+        let (first, last) = (self.blocks_ms.first()?, self.blocks_ms.last()?);
+        (first.is_finite() && last.is_finite() && *first > 0.0).then(|| last / first)
+    }
+
+    /// The warning a run gets when the clock did not settle in time.
+    pub fn warning(&self) -> Option<String> {
+        if self.settled {
+            return None;
+        }
+        let moved = match self.blocks_ms.as_slice() {
+            [.., a, b] if *a > 0.0 => {
+                format!("the original's last two blocks were {a:.3} and {b:.3} ms per frame")
+            }
+            _ => "too few blocks to tell".into(),
+        };
+        Some(format!(
+            "the clock did not settle before timing: after {} blocks in {:.1} s {moved}; the first rounds may time a clock still moving",
+            self.blocks_ms.len(),
+            self.seconds
+        ))
+    }
+}
+
 /// A speedup (baseline time / candidate time: above 1 the candidate is faster) with its 95 %
 /// interval, from paired block figures.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

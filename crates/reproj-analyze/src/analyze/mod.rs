@@ -87,6 +87,7 @@ pub fn analyze(
         original_ms: original.frame_ms,
         longest,
         timing_warnings: Vec::new(),
+        clock: None,
     };
     let ceiling = if opts.ceiling {
         ceiling::measure_ceiling(&mut rp)?
@@ -136,6 +137,7 @@ pub fn analyze(
             sets,
             time,
             timing_warnings: rp.timing_warnings,
+            clock: rp.clock,
             ceiling,
         },
     ))

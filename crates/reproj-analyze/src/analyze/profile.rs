@@ -87,6 +87,7 @@ pub(super) struct Measured {
     pub(super) sets: Vec<SetProfile>,
     pub(super) time: AnalysisTime,
     pub(super) timing_warnings: Vec<String>,
+    pub(super) clock: Option<reproj_bench::Settling>,
     pub(super) ceiling: Option<reproj_models::profile::Ceiling>,
 }
 
@@ -126,6 +127,7 @@ pub(super) fn profile(
             lp_num_threads: std::env::var("LP_NUM_THREADS").ok(),
             cpu_rasterizer: reproj_bench::Machine::of(renderer).cpu_rasterizer,
             driver: Some(reproj_bench::driver_of(adapter)).filter(|d| !d.is_empty()),
+            clock: m.clock,
         },
         resolution: input.session.resolution,
         frames: m.frames,

@@ -53,6 +53,7 @@ pub const DEFAULT_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions 
         max_seconds: 4.0,
     },
     max_frames: None,
+    settle: Some(reproj_bench::DEFAULT_SETTLE),
 };
 
 /// Options of [`analyze`].

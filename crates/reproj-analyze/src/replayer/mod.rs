@@ -43,6 +43,7 @@ pub(crate) const LONG_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOpti
         max_seconds: 12.0,
     },
     max_frames: None,
+    settle: Some(reproj_bench::DEFAULT_SETTLE),
 };
 
 /// Why a non-root subject whose variant at the longest period is slower than the original beyond
@@ -115,6 +116,8 @@ pub(crate) struct Replayer<'a, 'b> {
     pub(crate) longest: u32,
     /// Every timing warning of the analysis, once each (into the profile).
     pub(crate) timing_warnings: Vec<String>,
+    /// The device's clock as the first race's settling found it (into the profile).
+    pub(crate) clock: Option<reproj_bench::Settling>,
 }
 
 /// What [`Replayer::replay_plan`] replays: a node, or a set of nodes cached together.
@@ -351,6 +354,9 @@ impl Replayer<'_, '_> {
             && let Ok(json) = serde_json::to_value(&report)
         {
             j.record_race(key, json)?;
+        }
+        if self.clock.is_none() {
+            self.clock.clone_from(&report.settling);
         }
         for w in &report.warnings {
             // The same warning for every node says nothing more: once each. The first one

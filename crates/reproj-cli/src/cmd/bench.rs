@@ -58,6 +58,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             max_seconds: args.max_time,
         },
         max_frames: args.max_frames,
+        settle: Some(reproj_bench::DEFAULT_SETTLE),
     };
     let report = bench(
         &renderer,
@@ -165,6 +166,17 @@ fn write_table(out: &mut impl Write, r: &BenchReport, args: &BenchArgs) -> anyho
         r.seconds
     )?;
     writeln!(out, "on {}", r.machine.describe())?;
+    if let Some(s) = &r.settling {
+        let blocks: Vec<String> = s.blocks_ms.iter().map(|b| format!("{b:.3}")).collect();
+        writeln!(
+            out,
+            "clock {} after {} blocks of the original in {:.1} s (ms/frame: {})",
+            if s.settled { "settled" } else { "not settled" },
+            s.blocks_ms.len(),
+            s.seconds,
+            blocks.join(", ")
+        )?;
+    }
     let width = r
         .candidates
         .iter()

@@ -260,3 +260,28 @@ fn bad_input_never_yields_nan() {
     );
     assert_eq!(w.len(), 2, "{w:?}");
 }
+
+#[test]
+fn settling_needs_two_blocks_within_the_tolerance() {
+    let s = Settle::default();
+    assert!(!s.reached(&[]));
+    assert!(!s.reached(&[4.0]));
+    // A clock ramping up: each block faster, until two agree within 3 %.
+    assert!(!s.reached(&[8.0, 5.0]));
+    assert!(s.reached(&[8.0, 5.0, 4.9]));
+    assert!(!s.reached(&[4.0, f64::NAN]));
+    let settling = Settling {
+        blocks_ms: vec![8.0, 5.0, 4.9],
+        seconds: 0.2,
+        settled: true,
+    };
+    assert_eq!(settling.warning(), None);
+    assert!((settling.drift().unwrap() - 4.9 / 8.0).abs() < 1e-12);
+    let cold = Settling {
+        settled: false,
+        ..settling
+    };
+    let w = cold.warning().unwrap();
+    assert!(w.starts_with("the clock did not settle"), "{w}");
+    assert!(w.contains("5.000 and 4.900"), "{w}");
+}
