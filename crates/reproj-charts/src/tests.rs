@@ -214,6 +214,7 @@ fn profile_of(sims: &[Sim], original_ms: f64) -> Profile {
         strategy_probes: Vec::new(),
         filter_probes: Vec::new(),
         block_probes: Vec::new(),
+        period_probes: Vec::new(),
         timing_warnings: Vec::new(),
         sets: Vec::new(),
         time: AnalysisTime::default(),

@@ -126,6 +126,7 @@ fn profile(shader: &Path) -> Profile {
         strategy_probes: Vec::new(),
         filter_probes: Vec::new(),
         block_probes: Vec::new(),
+        period_probes: Vec::new(),
         timing_warnings: Vec::new(),
         sets: Vec::new(),
         time: AnalysisTime::default(),

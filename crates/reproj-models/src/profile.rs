@@ -52,7 +52,8 @@ pub use probes::{BlockProbe, FilterProbe, RaceProbe, StrategyProbe, Timed};
 /// paths, GLSL include folders), so that `emit`, `report` and `compare --profile` read the same
 /// shader. Older files still load without any of them (read as by default).
 /// Version 13: `machine.clock`, the device's clock as the first race found it (the original
-/// rendered until two blocks agree before every race is timed).
+/// rendered until two blocks agree before every race is timed), and `period_probes`, each node
+/// raced at a second period so that the time side follows races, not replays.
 pub const PROFILE_VERSION: u32 = 13;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
@@ -122,6 +123,11 @@ pub struct Profile {
     /// auto`, version 10; empty without the race).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub block_probes: Vec<BlockProbe>,
+    /// Each profiled node's kept variant raced against the original at a second period, the
+    /// shortest of the plan, so that its frame time over Δn follows two races (version 13; empty
+    /// before).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub period_probes: Vec<StrategyProbe>,
     /// What the interleaved timing saw of the machine during the analysis (load, drift, wide
     /// intervals), once each; empty when it was quiet (version 7 on).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

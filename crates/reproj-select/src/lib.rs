@@ -18,7 +18,8 @@ mod worst;
 pub use budget::{Budget, DELTA_N_RANGE, InvalidBudget};
 pub use combine::{SetPrediction, best_set, combined_timing, predict_set};
 pub use measured::{
-    Calibration, MeasuredBound, calibration, measured_errors, predicted_error, respect_measurements,
+    Calibration, MeasuredBound, RaceLine, RacePoint, calibration, measured_errors, predicted_error,
+    respect_measurements,
 };
 pub use records::{ProfileRecords, profile_records};
 pub use worst::{Scene, ScenePrediction, select_worst_case};
@@ -166,8 +167,19 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
     let dn = f64::from(delta_n);
     let gamma = hit_rate.gamma(dn)?;
     let error = predicted_error(node, delta_n)?;
-    let ms = predicted_frame_ms(&node.timing, hit_rate, dn, node.mean_pixels)?;
-    let ms = ms * node.measured.map_or(1.0, |c| c.ms_scale);
+    // Two races: the frame time along them; one: the timing model at the race's level.
+    let (ms, rel_ci95) = match node.measured {
+        Some(Calibration {
+            line: Some(line), ..
+        }) => (line.ms_at(gamma), Some(line.rel_ci95_at(gamma))),
+        measured => {
+            let ms = predicted_frame_ms(&node.timing, hit_rate, dn, node.mean_pixels)?;
+            (
+                ms * measured.map_or(1.0, |c| c.ms_scale),
+                measured.map(|c| c.rel_ci95),
+            )
+        }
+    };
     (error.is_finite() && ms.is_finite() && ms > 0.0).then(|| Prediction {
         node_id: node.id,
         strategy: node.strategy.clone(),
@@ -175,7 +187,7 @@ pub fn predict(node: &NodeRecord, hit_rate: &HitRateFit, delta_n: u32) -> Option
         hit_rate: gamma,
         predicted_error: error,
         predicted_ms: ms,
-        rel_ci95: node.measured.map(|c| c.rel_ci95),
+        rel_ci95,
     })
 }
 

@@ -107,10 +107,11 @@ pub fn measured_errors(
         .collect()
 }
 
-/// How an interleaved measurement calibrates a node's timing model: the model gives the shape of
-/// the frame time over Δn (its ratio between two periods), the measurement its level, so the
-/// predicted speedup at Δn is the measured one × t̂(Δn_measured) / t̂(Δn), with the measured
-/// interval carried along.
+/// How interleaved measurements set a node's frame time. With one race, the timing model gives
+/// the shape of the frame time over Δn (its ratio between two periods), the race its level, so
+/// the predicted speedup at Δn is the measured one × t̂(Δn_measured) / t̂(Δn), with the measured
+/// interval carried along. With a second race at another period ([`RaceLine`]) the races give the
+/// shape too, and the replays' times are not used.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Calibration {
     /// The period the speedup was measured at.
@@ -119,6 +120,67 @@ pub struct Calibration {
     pub ms_scale: f64,
     /// The measured 95 % interval over the measured speedup (`[lo / s, hi / s]`).
     pub rel_ci95: [f64; 2],
+    /// The frame time along two races, where the node was raced at a second period.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line: Option<RaceLine>,
+}
+
+/// One race of a node's variant: the hit rate γ at its period, the frame time it implies (the
+/// original's over the speedup) and its interval relative to the speedup.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RacePoint {
+    pub delta_n: u32,
+    pub gamma: f64,
+    pub ms: f64,
+    pub rel_ci95: [f64; 2],
+}
+
+/// A node's frame time from two races at two periods: linear in the hit rate γ between them (a
+/// frame's work is its hits' and its misses' — eq. 3 — and γ(Δn) is counted, not timed), the
+/// interval interpolated between theirs. Beyond the two the line is extended, its interval the
+/// nearer race's.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RaceLine {
+    pub points: [RacePoint; 2],
+}
+
+impl RaceLine {
+    /// From two races, `None` where their hit rates are too close to tell a slope (or a figure
+    /// is not finite).
+    pub fn new(a: RacePoint, b: RacePoint) -> Option<RaceLine> {
+        let finite = |p: &RacePoint| {
+            p.gamma.is_finite()
+                && p.ms.is_finite()
+                && p.ms > 0.0
+                && p.rel_ci95.iter().all(|r| r.is_finite() && *r > 0.0)
+        };
+        ((a.gamma - b.gamma).abs() > 1e-6 && finite(&a) && finite(&b)).then(|| {
+            let mut points = [a, b];
+            points.sort_by(|x, y| x.gamma.total_cmp(&y.gamma));
+            RaceLine { points }
+        })
+    }
+
+    /// Where γ lies between the two races: 0 at the first (lower γ), 1 at the second.
+    fn at(&self, gamma: f64) -> f64 {
+        let [a, b] = self.points;
+        (gamma - a.gamma) / (b.gamma - a.gamma)
+    }
+
+    /// The frame time at hit rate `gamma`, ms; never below a tenth of the faster race's (a line
+    /// extended far past its races is not a measurement).
+    pub fn ms_at(&self, gamma: f64) -> f64 {
+        let [a, b] = self.points;
+        let t = self.at(gamma);
+        (a.ms + t * (b.ms - a.ms)).max(0.1 * a.ms.min(b.ms))
+    }
+
+    /// The interval at `gamma`, relative to the speedup there.
+    pub fn rel_ci95_at(&self, gamma: f64) -> [f64; 2] {
+        let [a, b] = self.points;
+        let t = self.at(gamma).clamp(0.0, 1.0);
+        [0, 1].map(|i| a.rel_ci95[i] + t * (b.rel_ci95[i] - a.rel_ci95[i]))
+    }
 }
 
 impl Calibration {
@@ -138,6 +200,7 @@ impl Calibration {
                 delta_n,
                 ms_scale: scale,
                 rel_ci95: rel,
+                line: None,
             })
     }
 }
@@ -214,5 +277,34 @@ pub fn calibration(
         f64::from(delta_n),
         profile.original.mean_pixels,
     )?;
-    Calibration::new(delta_n, speedup, ci95, profile.original.frame_ms, model_ms)
+    let mut c = Calibration::new(delta_n, speedup, ci95, profile.original.frame_ms, model_ms)?;
+    // The same variant raced at a second period (profile version 13): the shape from the races.
+    let original_ms = profile.original.frame_ms;
+    let point = |delta_n: u32, speedup: f64, ci95: [f64; 2]| {
+        Some(RacePoint {
+            delta_n,
+            gamma: profile.hit_rate.gamma(f64::from(delta_n))?,
+            ms: original_ms / speedup,
+            rel_ci95: [ci95[0] / speedup, ci95[1] / speedup],
+        })
+    };
+    // (A kept filter's race timed another variant than the period probe's.)
+    let probes = if filter == profile.reconstruct {
+        profile.period_probes.as_slice()
+    } else {
+        &[]
+    };
+    c.line = probes
+        .iter()
+        .find(|p| {
+            p.node == node.id
+                && p.strategy == node.strategy
+                && node.block.is_none_or(|b| b == p.block)
+                && p.delta_n != delta_n
+        })
+        .and_then(|p| {
+            let second = point(p.delta_n, p.timed.speedup?, p.timed.speedup_ci95?)?;
+            RaceLine::new(point(delta_n, speedup, ci95)?, second)
+        });
+    Some(c)
 }

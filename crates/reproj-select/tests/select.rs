@@ -481,3 +481,49 @@ fn several_sessions_hold_the_budget_on_every_one() {
 fn within(max_error: f64) -> SelectOptions {
     SelectOptions::new(Budget::new(max_error).unwrap())
 }
+
+/// With a second race, the frame time follows the two races (linear in the hit rate between
+/// them), not the timing model; the interval is interpolated between theirs.
+#[test]
+fn two_races_set_the_frame_time_and_its_interval() {
+    use reproj_select::{Calibration, RaceLine, RacePoint, predict};
+    let hr = HitRateFit::from_mu(0.9);
+    let gamma = |dn: f64| hr.gamma(dn).unwrap();
+    // Raced at Δn 2 (6 ms: 1.67×) and Δn 50 (4 ms: 2.5×); the replays' model says otherwise.
+    let at = |delta_n: u32, ms: f64, rel: [f64; 2]| RacePoint {
+        delta_n,
+        gamma: gamma(f64::from(delta_n)),
+        ms,
+        rel_ci95: rel,
+    };
+    let line = RaceLine::new(at(50, 4.0, [0.98, 1.02]), at(2, 6.0, [0.9, 1.1])).unwrap();
+    // The two races' order does not matter; equal hit rates give no line.
+    assert_eq!(
+        Some(line),
+        RaceLine::new(at(2, 6.0, [0.9, 1.1]), at(50, 4.0, [0.98, 1.02]))
+    );
+    assert_eq!(RaceLine::new(at(2, 6.0, [0.9, 1.1]), at(2, 5.0, [0.9, 1.1])), None);
+    let mut n = node(1, 0.02, 0.05, 1e-6, 2.0e-5);
+    n.measured = Some(Calibration {
+        delta_n: 50,
+        ms_scale: 1.0,
+        rel_ci95: [0.98, 1.02],
+        line: Some(line),
+    });
+    for (dn, ms) in [(2, 6.0), (50, 4.0)] {
+        let p = predict(&n, &hr, dn).unwrap();
+        assert!((p.predicted_ms - ms).abs() < 1e-9, "Δn {dn}: {p:?}");
+    }
+    // Halfway in the hit rate: halfway in time, and in the interval.
+    let g_mid = 0.5 * (gamma(2.0) + gamma(50.0));
+    let dn_mid = (1.0 / (1.0 - g_mid / 0.9)).round() as u32;
+    let p = predict(&n, &hr, dn_mid).unwrap();
+    let t = (p.hit_rate - gamma(2.0)) / (gamma(50.0) - gamma(2.0));
+    assert!((p.predicted_ms - (6.0 - 2.0 * t)).abs() < 1e-9, "{p:?}");
+    let rel = p.rel_ci95.unwrap();
+    assert!((rel[0] - (0.9 + 0.08 * t)).abs() < 1e-9, "{rel:?}");
+    // Without the line: the model at the race's level, as before.
+    n.measured = Some(Calibration { line: None, ..n.measured.unwrap() });
+    let model = predict(&n, &hr, 50).unwrap();
+    assert!((model.predicted_ms - 4.0).abs() > 0.1, "{model:?}");
+}

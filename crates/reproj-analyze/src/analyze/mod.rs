@@ -9,6 +9,7 @@
 mod ceiling;
 mod node;
 mod profile;
+mod shape;
 
 use std::time::Instant;
 

@@ -9,6 +9,7 @@ use reproj_instance::{InstanceOptions, NodeSelector, Reconstruct, Strategy, inst
 use reproj_models::profile::{BlockProbe, FilterProbe, Measurement, StrategyProbe};
 use reproj_models::speedup::{SpeedupEstimate, separates};
 
+use super::shape;
 use crate::AnalyzeError;
 use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, timed_estimate, too_slow};
 use crate::strategies::{Outcome, StrategyPruner, Verdict};
@@ -32,6 +33,7 @@ pub(super) struct Replays {
     pub(super) probes: Vec<StrategyProbe>,
     pub(super) filter_probes: Vec<FilterProbe>,
     pub(super) block_probes: Vec<BlockProbe>,
+    pub(super) period_probes: Vec<StrategyProbe>,
 }
 
 /// Replay the nodes one by one ([`replay_node`]), pruning the strategies that keep losing: the
@@ -54,6 +56,7 @@ pub(super) fn replay_nodes(
     replays.probes.sort_by_key(|p| p.node);
     replays.filter_probes.sort_by_key(|p| p.node);
     replays.block_probes.sort_by_key(|p| p.node);
+    replays.period_probes.sort_by_key(|p| p.node);
     Ok(replays)
 }
 
@@ -467,6 +470,18 @@ fn profile_winner(
         &mut measurements,
         &mut failure,
     )?;
+    if failure.is_none() && raced.is_some() {
+        let second = shape::Second {
+            id,
+            strategy,
+            block,
+            sources: &sources,
+            variant: &variant,
+        };
+        replays
+            .period_probes
+            .extend(shape::race_second_period(rp, &second, plan)?);
+    }
     Ok(Raw {
         id,
         strategy,

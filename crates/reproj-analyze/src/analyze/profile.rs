@@ -144,6 +144,7 @@ pub(super) fn profile(
         strategy_probes: m.replays.probes,
         filter_probes: m.replays.filter_probes,
         block_probes: m.replays.block_probes,
+        period_probes: m.replays.period_probes,
         timing_warnings: m.timing_warnings,
         sets: m.sets,
         time: m.time,
