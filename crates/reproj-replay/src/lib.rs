@@ -75,8 +75,8 @@ pub use backend::{compiled_backends, parse_backends};
 pub use jitter::Jitter;
 pub use reduce::Reference;
 pub use render::{
-    FrameProgress, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled, VariantInput,
-    available_memory,
+    FrameProgress, PerceptualOn, RenderOptions, Renderer, RendererOptions, UpsampleSpec, Upsampled,
+    VariantInput, available_memory,
 };
 
 pub use error::ReplayError;

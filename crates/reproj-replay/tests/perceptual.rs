@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use reproj_front::{enumerate, load_file, normalize};
 use reproj_instance::{InstanceOptions, NodeSelector, instance};
-use reproj_replay::{RenderOptions, Renderer, RendererOptions, VariantInput};
+use reproj_replay::{PerceptualOn, RenderOptions, Renderer, RendererOptions, VariantInput};
 use reproj_scene::Session;
 
 fn root() -> PathBuf {
@@ -15,8 +15,13 @@ fn root() -> PathBuf {
 
 #[test]
 fn flip_and_ssim_grow_with_the_refresh_period_on_marble() {
-    let renderer =
-        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+    // Scored on the device (the CPU's path through the variant loop is every analysis's on
+    // lavapipe).
+    let renderer = Renderer::new(&RendererOptions {
+        perceptual_on: PerceptualOn::Device,
+        ..Default::default()
+    })
+    .expect("a Vulkan adapter (lavapipe in CI)");
     let shader = load_file(&root().join("shaders/marble.wgsl")).unwrap();
     let session = Session::load(root().join("sessions/marble.json")).unwrap();
     let norm = normalize(&shader, &Default::default()).unwrap();
@@ -81,13 +86,25 @@ fn flip_and_ssim_grow_with_the_refresh_period_on_marble() {
     );
 }
 
-/// `render_scored` (the error reduced on the GPU, ꟻLIP and SSIM of the sampled frames on the GPU
-/// too, no frame kept) scores a shader as the CPU scores its kept frames (to f32 rounding):
-/// marble with its turbulence halved, against marble.
+/// `render_scored` (the error reduced on the GPU, ꟻLIP and SSIM of the sampled frames on the
+/// device or on the CPU, no frame kept) scores a shader as the CPU scores its kept frames (to f32
+/// rounding): marble with its turbulence halved, against marble.
 #[test]
-fn a_scored_render_equals_scoring_the_kept_frames() {
-    let renderer =
-        Renderer::new(&RendererOptions::default()).expect("a Vulkan adapter (lavapipe in CI)");
+fn a_scored_render_equals_scoring_the_kept_frames_on_the_device() {
+    scored_render_equals_kept_frames(PerceptualOn::Device);
+}
+
+#[test]
+fn a_scored_render_equals_scoring_the_kept_frames_on_the_cpu() {
+    scored_render_equals_kept_frames(PerceptualOn::Cpu);
+}
+
+fn scored_render_equals_kept_frames(perceptual_on: PerceptualOn) {
+    let renderer = Renderer::new(&RendererOptions {
+        perceptual_on,
+        ..Default::default()
+    })
+    .expect("a Vulkan adapter (lavapipe in CI)");
     let path = root().join("shaders/marble.wgsl");
     let shader = load_file(&path).unwrap();
     let session = Session::load(root().join("sessions/marble.json")).unwrap();

@@ -502,7 +502,10 @@ fn two_races_set_the_frame_time_and_its_interval() {
         Some(line),
         RaceLine::new(at(2, 6.0, [0.9, 1.1]), at(50, 4.0, [0.98, 1.02]))
     );
-    assert_eq!(RaceLine::new(at(2, 6.0, [0.9, 1.1]), at(2, 5.0, [0.9, 1.1])), None);
+    assert_eq!(
+        RaceLine::new(at(2, 6.0, [0.9, 1.1]), at(2, 5.0, [0.9, 1.1])),
+        None
+    );
     let mut n = node(1, 0.02, 0.05, 1e-6, 2.0e-5);
     n.measured = Some(Calibration {
         delta_n: 50,
@@ -523,7 +526,10 @@ fn two_races_set_the_frame_time_and_its_interval() {
     let rel = p.rel_ci95.unwrap();
     assert!((rel[0] - (0.9 + 0.08 * t)).abs() < 1e-9, "{rel:?}");
     // Without the line: the model at the race's level, as before.
-    n.measured = Some(Calibration { line: None, ..n.measured.unwrap() });
+    n.measured = Some(Calibration {
+        line: None,
+        ..n.measured.unwrap()
+    });
     let model = predict(&n, &hr, 50).unwrap();
     assert!((model.predicted_ms - 4.0).abs() > 0.1, "{model:?}");
 }

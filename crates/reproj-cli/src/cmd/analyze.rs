@@ -275,6 +275,7 @@ fn analyze_session(
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
+        ..Default::default()
     })?;
     // `auto`: each strategy's default block is the base, and a larger one races it per node.
     let (block, race_blocks) = match args.cache.block {

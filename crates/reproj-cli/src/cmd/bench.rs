@@ -33,6 +33,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
+        ..Default::default()
     })?;
     let bar = ProgressBar::new_spinner().with_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}").expect("template"),

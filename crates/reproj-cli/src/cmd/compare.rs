@@ -50,6 +50,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
+        ..Default::default()
     })?;
     crate::ui::note(format_args!(
         "comparing {} over {} on {} ({} cores, LP_NUM_THREADS={}) at {}",

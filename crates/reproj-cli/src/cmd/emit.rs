@@ -380,6 +380,7 @@ fn verify_selection(
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
+        ..Default::default()
     })?;
     let timing = reproj_bench::BenchOptions::default();
     let contenders =

@@ -32,6 +32,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
+        ..Default::default()
     })?;
     // `--frames DIR` is written aside and replaces DIR whole at the end: a failed or
     // interrupted render leaves the previous frames as they were.

@@ -19,6 +19,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     let renderer = Renderer::new(&RendererOptions {
         backend: args.backend.clone(),
         cpu_timing: false,
+        ..Default::default()
     })?;
     let opts = ReportOptions {
         session: args.session.clone(),

@@ -294,7 +294,7 @@ pub(crate) enum PixelsBack {
 pub(crate) struct FrameBack {
     /// Its error against the reference.
     pub(crate) error: FrameError,
-    /// Its pixels, with [`PixelsBack::All`].
+    /// Its pixels, with [`PixelsBack::All`], or where it is sampled and scored on the CPU.
     pub(crate) pixels: Option<Vec<f32>>,
     /// Its ꟻLIP and SSIM, where it is one of the frames scored on the GPU.
     pub(crate) perceptual: Option<PerceptualError>,
@@ -305,17 +305,26 @@ pub(crate) struct FrameBack {
 pub(crate) struct FrameErrors<'a> {
     /// Reduced on the GPU: only the per-block sums come back. `None` with [`PixelsBack::All`].
     reducer: Option<Reducer<'a>>,
-    /// ꟻLIP and SSIM of every `k`-th frame, on the GPU (`None` with [`PixelsBack::All`]: the
-    /// CPU scores the frames it has, and writes their ꟻLIP maps).
-    perceptual: Option<(u32, GpuPerceptual)>,
+    /// ꟻLIP and SSIM of every `k`-th frame (`None` with [`PixelsBack::All`]: the CPU scores the
+    /// frames it has, and writes their ꟻLIP maps).
+    perceptual: Option<(u32, Sampled)>,
     /// One slot per frame of a batch for the frames whose pixels come back.
     pixels: Option<Staging>,
 }
 
-/// The kernels a replay's scoring uses, each built once per renderer.
+/// How the sampled frames are scored.
+enum Sampled {
+    /// On the device, only numbers come back.
+    Device(GpuPerceptual),
+    /// On the CPU: their pixels come back, one slot per frame of a batch.
+    Cpu(Staging),
+}
+
+/// The kernels a replay's scoring uses, each built once per renderer; no perceptual kernel
+/// where the sampled frames are scored on the CPU.
 pub(crate) struct Kernels<'k> {
     pub(crate) reduce: &'k KernelCache,
-    pub(crate) perceptual: &'k PerceptualCache,
+    pub(crate) perceptual: Option<&'k PerceptualCache>,
 }
 
 impl<'a> FrameErrors<'a> {
@@ -338,12 +347,16 @@ impl<'a> FrameErrors<'a> {
             PixelsBack::All => (None, None),
             PixelsBack::None => {
                 let gpu = reference.gpu.on(r, reference, frames)?;
-                let perceptual = match perceptual_stride {
-                    Some(k) => Some((
+                let perceptual = match (perceptual_stride, kernels.perceptual) {
+                    (Some(k), Some(cache)) => Some((
                         k.max(1),
-                        GpuPerceptual::new(r, kernels.perceptual.get(r)?, w, h, slots)?,
+                        Sampled::Device(GpuPerceptual::new(r, cache.get(r)?, w, h, slots)?),
                     )),
-                    None => None,
+                    (Some(k), None) => Some((
+                        k.max(1),
+                        Sampled::Cpu(Staging::new(r, "sampled frames", w, h, 16, slots)),
+                    )),
+                    (None, _) => None,
                 };
                 let reducer = Reducer::new(r, kernels.reduce.get(r)?, gpu, w, h, slots)?;
                 (Some(reducer), perceptual)
@@ -359,7 +372,10 @@ impl<'a> FrameErrors<'a> {
     /// The buffers to map with the batch's other readbacks.
     pub(crate) fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
         let reducer = self.reducer.as_ref().map(|red| red.read_buffer());
-        let perceptual = self.perceptual.as_ref().map(|(_, p)| p.read_buffer());
+        let perceptual = self.perceptual.as_ref().map(|(_, p)| match p {
+            Sampled::Device(p) => p.read_buffer(),
+            Sampled::Cpu(staging) => &staging.buf,
+        });
         let pixels = self.pixels.as_ref().map(|p| &p.buf);
         reducer
             .into_iter()
@@ -368,8 +384,8 @@ impl<'a> FrameErrors<'a> {
             .collect()
     }
 
-    /// Whether frame `frame` is scored for ꟻLIP and SSIM on the GPU.
-    fn scores(&self, frame: u32) -> Option<&GpuPerceptual> {
+    /// How frame `frame` is scored for ꟻLIP and SSIM, where it is sampled.
+    fn scores(&self, frame: u32) -> Option<&Sampled> {
         self.perceptual
             .as_ref()
             .filter(|(k, _)| frame.is_multiple_of(*k))
@@ -389,8 +405,10 @@ impl<'a> FrameErrors<'a> {
     ) -> Result<(), ReplayError> {
         if let Some(red) = &self.reducer {
             red.encode(r, enc, view, frame, slot)?;
-            if let Some(p) = self.scores(frame) {
-                p.encode(r, enc, view, red.frame(frame)?, slot);
+            match self.scores(frame) {
+                Some(Sampled::Device(p)) => p.encode(r, enc, view, red.frame(frame)?, slot),
+                Some(Sampled::Cpu(staging)) => staging.copy(enc, color, slot),
+                None => {}
             }
         }
         if let Some(staging) = &self.pixels {
@@ -406,14 +424,17 @@ impl<'a> FrameErrors<'a> {
         reference: &Reference,
         frame: u32,
     ) -> Result<FrameBack, ReplayError> {
-        let pixels: Option<Vec<f32>> = match &self.pixels {
-            Some(staging) => Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?)),
-            None => None,
-        };
-        let perceptual = match self.scores(frame) {
-            Some(p) => Some(p.read(slot)?),
-            None => None,
-        };
+        let (mut pixels, mut perceptual) = (None, None);
+        if let Some(staging) = &self.pixels {
+            pixels = Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?));
+        }
+        match self.scores(frame) {
+            Some(Sampled::Device(p)) => perceptual = Some(p.read(slot)?),
+            Some(Sampled::Cpu(staging)) => {
+                pixels = Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?));
+            }
+            None => {}
+        }
         if let Some(red) = &self.reducer {
             return Ok(FrameBack {
                 error: red.read(slot)?,

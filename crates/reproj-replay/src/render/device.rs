@@ -16,11 +16,18 @@ impl Renderer {
     /// Open the default adapter of the chosen backends (Vulkan unless `opts.backend` or
     /// `WGPU_BACKEND` says otherwise) and create a device with timestamp queries when available.
     pub fn new(opts: &RendererOptions) -> Result<Renderer, ReplayError> {
+        let gpu = Gpu::open(opts.backend.as_deref(), opts.cpu_timing)?;
+        let cpu_rasterizer = gpu.adapter_info.device_type.eq_ignore_ascii_case("cpu");
         Ok(Renderer {
-            gpu: Gpu::open(opts.backend.as_deref(), opts.cpu_timing)?,
+            gpu,
             assets: Assets::default(),
             reduce_kernel: KernelCache::default(),
             perceptual_kernel: PerceptualCache::default(),
+            perceptual_on_device: match opts.perceptual_on {
+                PerceptualOn::Auto => !cpu_rasterizer,
+                PerceptualOn::Device => true,
+                PerceptualOn::Cpu => false,
+            },
             pipelines: Mutex::default(),
             pipeline_hits: AtomicU64::new(0),
         })
@@ -30,7 +37,7 @@ impl Renderer {
     pub(crate) fn kernels(&self) -> Kernels<'_> {
         Kernels {
             reduce: &self.reduce_kernel,
-            perceptual: &self.perceptual_kernel,
+            perceptual: self.perceptual_on_device.then_some(&self.perceptual_kernel),
         }
     }
 

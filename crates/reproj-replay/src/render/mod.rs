@@ -71,6 +71,23 @@ pub struct RendererOptions {
     pub backend: Option<String>,
     /// Time with CPU submit + wait even if the adapter has timestamp queries.
     pub cpu_timing: bool,
+    /// Where the sampled frames' ꟻLIP and SSIM are computed.
+    pub perceptual_on: PerceptualOn,
+}
+
+/// Where a replay computes the perceptual metrics (ꟻLIP, SSIM) of its sampled frames.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum PerceptualOn {
+    /// On the device, unless it is a CPU rasterizer: there the frames are in host memory already,
+    /// and NVIDIA's code on the scoring threads (which take only the cycles the rasterizer leaves
+    /// idle) costs a quarter of what the kernels cost run by the rasterizer (lavapipe, 256×256:
+    /// about 40 against 160 ms a frame).
+    #[default]
+    Auto,
+    /// On the device: a compute pass per frame, only numbers come back (`reduce/perceptual.rs`).
+    Device,
+    /// On the CPU: the frames come back and are scored by NVIDIA's code beside the frame loop.
+    Cpu,
 }
 
 /// Told after each frame of a replay comes back (frames come back in batches, so the calls
@@ -234,6 +251,8 @@ pub struct Renderer {
     assets: Assets,
     reduce_kernel: KernelCache,
     perceptual_kernel: PerceptualCache,
+    /// The sampled frames' perceptual metrics are computed on the device.
+    perceptual_on_device: bool,
     /// Render pipelines kept across replays (see [`Renderer::pipeline`]).
     pipelines: Mutex<HashMap<String, Pipe>>,
     pipeline_hits: AtomicU64,

@@ -24,8 +24,10 @@ use crate::reduce::{GpuPerceptual, Reference};
 impl Renderer {
     /// ꟻLIP and SSIM of each of `frames` against the reference frame of the same index (linear
     /// RGBA f32, `size` pixels, top row first), pooled over the pixels where that frame's
-    /// `depth` < 1: the metrics a scored replay computes, on this renderer's device, for frames
-    /// the caller holds. One frame at a time is uploaded and scored (only numbers come back).
+    /// `depth` < 1: the metrics a scored replay computes, where it computes them
+    /// ([`crate::PerceptualOn`]), for frames the caller holds. On the device one frame at a time
+    /// is uploaded and scored (only numbers come back); on the CPU the frames are scored side
+    /// by side on the current rayon pool.
     pub fn perceptual_of(
         &self,
         frames: &[&[f32]],
@@ -46,7 +48,27 @@ impl Renderer {
         if frames.is_empty() {
             return Ok(Vec::new());
         }
-        let scorer = GpuPerceptual::new(self, self.kernels().perceptual.get(self)?, w, h, 1)?;
+        let Some(kernel) = self.kernels().perceptual else {
+            use rayon::prelude::*;
+            let scored = frames
+                .par_iter()
+                .zip(references)
+                .zip(depth)
+                .map(|((frame, reference), depth)| {
+                    let (p, _) = perceptual::compare_perceptual_split(
+                        frame,
+                        reference,
+                        depth,
+                        w,
+                        h,
+                        perceptual::FrameSplit::Whole,
+                    );
+                    p
+                })
+                .collect();
+            return Ok(scored);
+        };
+        let scorer = GpuPerceptual::new(self, kernel.get(self)?, w, h, 1)?;
         let out = frames
             .iter()
             .zip(references)

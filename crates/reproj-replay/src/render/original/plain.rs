@@ -23,8 +23,9 @@ impl Renderer {
     /// of `shader` per frame; what comes back is `keep`'s. With [`Keep::Frames`], the frames,
     /// their depth and the GPU copy of both. In phases: checks, the pass
     /// ([`Renderer::plain_pass`]), its targets and readback ([`Renderer::plain_targets`]), the
-    /// frame loop ([`Renderer::plain_frames`]; a scored render's error and sampled frames'
-    /// perceptual metrics computed on the GPU), then their records.
+    /// frame loop ([`Renderer::plain_frames`]; a scored render's error reduced on the GPU, its
+    /// sampled frames' perceptual metrics computed where [`crate::PerceptualOn`] says: on the
+    /// device, or on the CPU beside the loop), then their records.
     pub(super) fn render_plain(
         &self,
         shader: &Shader,
@@ -54,10 +55,13 @@ impl Renderer {
         let mut out = PlainOut {
             gpu: GpuReference::new(self),
             report: self.new_report("original", shader, &run.pass.iface.entry, session),
+            to_score: Vec::new(),
             frames: Vec::with_capacity(frames as usize),
             depth: Vec::with_capacity(frames as usize),
         };
-        self.plain_frames(&run, progress, &mut out)?;
+        if let Some(scorer) = self.plain_frames(&run, progress, &mut out)? {
+            scorer.record(&mut out.report, opts)?;
+        }
         out.report.summarize();
         let kept = matches!(keep, Keep::Frames).then_some((out.frames, out.depth, out.gpu));
         Ok((out.report, kept))
@@ -175,12 +179,12 @@ impl Renderer {
 
     /// The frame loop: each frame encoded and submitted into its slot of the batch, and the
     /// batch read back with one wait when it is full.
-    fn plain_frames(
+    fn plain_frames<'r>(
         &self,
-        run: &PlainRun<'_>,
+        run: &PlainRun<'r>,
         progress: &dyn FrameProgress,
         out: &mut PlainOut,
-    ) -> Result<(), ReplayError> {
+    ) -> Result<Option<Scorer<'r>>, ReplayError> {
         let t = &run.targets;
         let mut rb_bufs = t.q.read_buffers();
         if let Some((frame_rb, depth_rb, _)) = &t.kept {
@@ -192,20 +196,33 @@ impl Renderer {
         }
         let end = run.first + run.frames;
         let mut batch = FrameBatch::new("", t.slots, end);
-        for f in run.first..end {
-            let slot = batch.slot();
-            let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
-            if !batch.submit(self, enc, rb, f)? {
-                continue;
+        // Sampled frames scored on the CPU are scored beside the loop (`score.rs`).
+        let mut scorer = t
+            .errors
+            .as_ref()
+            .map(|(reference, _)| Scorer::new(reference, run.session.resolution));
+        scoring_pool().in_place_scope(|scope| -> Result<(), ReplayError> {
+            for f in run.first..end {
+                let slot = batch.slot();
+                let (enc, rb) = self.encode_plain_frame(run, f, slot, &mut out.gpu)?;
+                if !batch.submit(self, enc, rb, f)? {
+                    continue;
+                }
+                // Read the batch back with one wait.
+                batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
+                    self.plain_frame_back(run, slot, f, cpu_ms, out)?;
+                    progress.frame(f - run.first + 1, run.frames);
+                    Ok(())
+                })?;
+                if let Some(scorer) = &mut scorer {
+                    for (f, pixels) in out.to_score.drain(..) {
+                        scorer.spawn(scope, f, pixels);
+                    }
+                }
             }
-            // Read the batch back with one wait.
-            batch.read_back(self, &rb_bufs, |slot, f, cpu_ms| {
-                self.plain_frame_back(run, slot, f, cpu_ms, out)?;
-                progress.frame(f - run.first + 1, run.frames);
-                Ok(())
-            })?;
-        }
-        Ok(())
+            Ok(())
+        })?;
+        Ok(scorer)
     }
 
     /// Frame `f`'s commands: its uniforms written, then its pass (timed and counted into
@@ -288,6 +305,10 @@ impl Renderer {
         let mut scored = None;
         if let Some((reference, e)) = &t.errors {
             let back = e.read(slot, reference, f)?;
+            // Pixels come back only for a sampled frame scored on the CPU.
+            if let Some(px) = back.pixels {
+                out.to_score.push((f, px));
+            }
             (covered, nonfinite) = (back.error.covered, back.error.nonfinite);
             (errs, scored) = (back.error, back.perceptual);
         }
@@ -393,6 +414,8 @@ struct PlainRun<'a> {
 /// What a plain render gathers as its frames come back.
 struct PlainOut {
     report: RenderReport,
+    /// Sampled frames scored on the CPU, handed to the scorer after each batch.
+    to_score: Vec<(u32, Vec<f32>)>,
     /// Kept frames and depths, and their copies on the GPU.
     frames: Vec<Vec<f32>>,
     depth: Vec<Vec<f32>>,

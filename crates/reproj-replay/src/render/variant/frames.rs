@@ -98,7 +98,8 @@ impl Renderer {
             slots,
         );
         // Frames written as PNGs come back whole (and are scored on the CPU, which writes
-        // their ꟻLIP maps); otherwise only numbers do.
+        // their ꟻLIP maps); otherwise numbers do, and the sampled frames' pixels where they are
+        // scored on the CPU.
         let back = match &opts.png_dir {
             Some(_) => PixelsBack::All,
             None => PixelsBack::None,
@@ -189,8 +190,8 @@ impl Renderer {
     }
 
     /// Frame `f`, back in `slot` (`cpu_ms` its CPU time): its record, with its PNGs written, and
-    /// its pixels where it is sampled for the perceptual metrics on the CPU (frames that come
-    /// back whole, for PNGs; the others are scored on the GPU).
+    /// its pixels where it is sampled for the perceptual metrics on the CPU (every frame that
+    /// comes back, for PNGs, and the sampled ones where [`crate::PerceptualOn`] says the CPU).
     fn variant_frame_back(
         &self,
         run: &FrameLoop<'_>,
