@@ -8,6 +8,8 @@ import sys
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 shaders = sorted({r["shader"] for r in rows})
 print(f"{len(shaders)} shaders")
+if not rows:
+    sys.exit(0)  # a run cut before its first shader finished: nothing to summarize
 for b in ("0.01", "0.03"):
     at = [r for r in rows if r["budget"] in (b, "all")]
     speed = []
@@ -15,7 +17,8 @@ for b in ("0.01", "0.03"):
         s = float(r["speedup"]) if r["speedup"] else 1.0
         speed.append(s)
     reach = sum(1 for s in speed if s >= 1.2)
-    print(f"budget {b}: {reach} of {len(at)} reach >= 1.2x; median {statistics.median(speed):.2f}x")
+    median = f"{statistics.median(speed):.2f}x" if speed else "-"
+    print(f"budget {b}: {reach} of {len(at)} reach >= 1.2x; median {median}")
     kinds = {}
     for r in at:
         if r["speedup"] and float(r["speedup"]) >= 1.2:
