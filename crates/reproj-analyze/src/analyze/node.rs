@@ -480,7 +480,7 @@ fn profile_winner(
         };
         replays
             .period_probes
-            .extend(shape::race_second_period(rp, &second, plan)?);
+            .extend(shape::race_second_period(rp, &second, &measurements, plan)?);
     }
     Ok(Raw {
         id,

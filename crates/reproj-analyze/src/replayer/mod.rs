@@ -29,7 +29,24 @@ pub(crate) enum RaceLength {
     Long,
     /// As short, run again on one entry to settle a doubt the first race left (journaled apart).
     Again,
+    /// A node's variant at its second period ([`PERIOD_RACE`]).
+    Period,
 }
+
+/// The race of a node's variant at its second period: 8 rounds (each window twice, once in each
+/// order) of 4 timed frames, at most 4 s. It sets the shape of the node's frame time over Δn,
+/// not a decision, so half the frames of a deciding race do (marble on lavapipe: ~0.8 s a node).
+pub(crate) const PERIOD_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
+    block_frames: 4,
+    stop: reproj_models::speedup::StopRule {
+        min_rounds: 8,
+        max_rounds: 8,
+        target_half_width: 0.05,
+        max_seconds: 4.0,
+    },
+    max_frames: None,
+    settle: None,
+};
 
 /// A longer race: 16 to 48 rounds of 8 frames, until ±2 % or 12 s. On the H200 at 1080p, marble's
 /// node 680 left Catmull-Rom at 2.39× [1.89, 3.03] against bilinear's 1.84× [1.78, 1.90] after the
@@ -311,7 +328,13 @@ impl Replayer<'_, '_> {
         let mut race = match length {
             RaceLength::Short | RaceLength::Again => self.opts.race,
             RaceLength::Long => LONG_RACE,
+            RaceLength::Period => PERIOD_RACE,
         };
+        // The device's clock settles once, before the analysis's first race: the replays between
+        // races keep it busy (on the H200 only the first race met a clock still rising).
+        if self.clock.is_some() {
+            race.settle = None;
+        }
         race.max_frames = match (self.opts.probe_frames, self.opts.max_frames) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
@@ -322,6 +345,7 @@ impl Replayer<'_, '_> {
             RaceLength::Short => {}
             RaceLength::Long => names.push("long"),
             RaceLength::Again => names.push("again"),
+            RaceLength::Period => names.push("period"),
         }
         let key = ReplayKey::race(node, set, &names, self.longest, race.max_frames);
         if let Some(report) = self
