@@ -61,7 +61,16 @@ fn the_original_against_itself_holds_one_and_a_variant_is_timed_beside_it() {
     assert_eq!(code, 0, "{err}");
     let r: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(r["schema"], "reproj.bench");
-    assert_eq!(r["version"], 1);
+    assert_eq!(r["version"], 2);
+    // The clock settled (or a warning says it did not) before the first round: at least two
+    // blocks of the original, each a figure.
+    let settling = &r["settling"];
+    let blocks = settling["blocks_ms"].as_array().unwrap();
+    assert!(blocks.len() >= 2, "{settling}");
+    assert!(blocks.iter().all(|b| b.as_f64().unwrap() > 0.0), "{settling}");
+    if settling["settled"] == false {
+        assert!(r["warnings"].to_string().contains("the clock did not settle"), "{out}");
+    }
     assert_eq!(r["rounds"], 12);
     assert_eq!(r["block_frames"], 6);
     assert!(r["baseline"]["median_ms"].as_f64().unwrap() > 0.0);
