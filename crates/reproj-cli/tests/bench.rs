@@ -67,9 +67,17 @@ fn the_original_against_itself_holds_one_and_a_variant_is_timed_beside_it() {
     let settling = &r["settling"];
     let blocks = settling["blocks_ms"].as_array().unwrap();
     assert!(blocks.len() >= 2, "{settling}");
-    assert!(blocks.iter().all(|b| b.as_f64().unwrap() > 0.0), "{settling}");
+    assert!(
+        blocks.iter().all(|b| b.as_f64().unwrap() > 0.0),
+        "{settling}"
+    );
     if settling["settled"] == false {
-        assert!(r["warnings"].to_string().contains("the clock did not settle"), "{out}");
+        assert!(
+            r["warnings"]
+                .to_string()
+                .contains("the clock did not settle"),
+            "{out}"
+        );
     }
     assert_eq!(r["rounds"], 12);
     assert_eq!(r["block_frames"], 6);

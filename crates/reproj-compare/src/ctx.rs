@@ -257,6 +257,11 @@ impl Ctx<'_> {
     }
 }
 
+/// The images at `indices`, as slices.
+fn pick<'a>(images: &'a [Vec<f32>], indices: &[usize]) -> Vec<&'a [f32]> {
+    indices.iter().map(|&f| images[f].as_slice()).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -283,9 +288,4 @@ mod tests {
         assert!(!in_doubt(&estimate(1.6, [1.5, 1.7]), 2.0, 0.05));
         assert!(!in_doubt(&estimate(2.5, [2.3, 2.7]), 2.0, 0.05));
     }
-}
-
-/// The images at `indices`, as slices.
-fn pick<'a>(images: &'a [Vec<f32>], indices: &[usize]) -> Vec<&'a [f32]> {
-    indices.iter().map(|&f| images[f].as_slice()).collect()
 }

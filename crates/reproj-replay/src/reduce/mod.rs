@@ -31,7 +31,7 @@ use reproj_metrics::l2::{self, FrameError};
 mod perceptual;
 mod reference;
 
-pub(crate) use perceptual::{GpuPerceptual, PerceptualCache};
+pub(crate) use perceptual::GpuPerceptual;
 use reference::GpuFrame;
 pub use reference::Reference;
 pub(crate) use reference::{GpuReference, Keeper};
@@ -130,22 +130,43 @@ impl Kernel {
     }
 }
 
-/// The reduction pipeline of one device, built on first use and kept (the renderer holds one).
-#[derive(Default)]
-pub(crate) struct KernelCache(Mutex<Option<Kernel>>);
+/// A compute kernel built once per device ([`Built`]).
+pub(crate) trait Builds: Clone {
+    fn build(r: &Gpu) -> Result<Self, ReplayError>;
+}
 
-impl KernelCache {
-    /// The pipeline on `r`, built on first use.
-    pub(crate) fn get(&self, r: &Gpu) -> Result<Kernel, ReplayError> {
+impl Builds for Kernel {
+    fn build(r: &Gpu) -> Result<Kernel, ReplayError> {
+        Kernel::new(r)
+    }
+}
+
+/// A kernel of one device, built on first use and kept (the renderer holds one of each).
+pub(crate) struct Built<K>(Mutex<Option<K>>);
+
+impl<K> Default for Built<K> {
+    fn default() -> Self {
+        Built(Mutex::new(None))
+    }
+}
+
+impl<K: Builds> Built<K> {
+    /// The kernel on `r`, built on first use.
+    pub(crate) fn get(&self, r: &Gpu) -> Result<K, ReplayError> {
         let mut k = self.0.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(k) = &*k {
             return Ok(k.clone());
         }
-        let built = Kernel::new(r)?;
+        let built = K::build(r)?;
         *k = Some(built.clone());
         Ok(built)
     }
 }
+
+/// The error reduction's kernel of one device.
+pub(crate) type KernelCache = Built<Kernel>;
+/// The perceptual metrics' kernels of one device.
+pub(crate) type PerceptualCache = Built<perceptual::PerceptualKernel>;
 
 /// Reduces each frame of a variant replay against the reference: [`Reducer::encode`] after the
 /// frame's passes, [`Reducer::read`] once the batch's [`Reducer::read_buffer`] is mapped.
@@ -494,3 +515,39 @@ fn sum(partials: &[Partial], pixels: u64) -> FrameError {
 
 #[cfg(test)]
 mod tests;
+
+/// Noise for the kernels' tests: a small deterministic generator and frames made with it.
+#[cfg(test)]
+pub(crate) mod noise {
+    /// xorshift, values in [0, 1).
+    pub(crate) struct Rng(pub(crate) u32);
+
+    impl Rng {
+        pub(crate) fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 17;
+            self.0 ^= self.0 << 5;
+            (self.0 >> 8) as f32 / (1u32 << 24) as f32
+        }
+
+        /// A reference of `px` RGBA pixels with channels in `[lo, lo + span)`, a frame off it by
+        /// up to ±`jitter` / 2, and a depth leaving a third of the pixels uncovered.
+        pub(crate) fn frames(
+            &mut self,
+            px: usize,
+            lo: f32,
+            span: f32,
+            jitter: f32,
+        ) -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+            let reference: Vec<f32> = (0..4 * px).map(|_| span * self.next() + lo).collect();
+            let frame = reference
+                .iter()
+                .map(|&v| v + jitter * (self.next() - 0.5))
+                .collect();
+            let depth = (0..px)
+                .map(|_| if self.next() < 0.33 { 1.0 } else { self.next() })
+                .collect();
+            (frame, reference, depth)
+        }
+    }
+}

@@ -15,7 +15,6 @@
 
 use std::borrow::Cow;
 use std::num::NonZeroU64;
-use std::sync::Mutex;
 
 use reproj_metrics::perceptual::{PIXELS_PER_DEGREE, PerceptualError, SSIM_SIGMA, SSIM_WINDOW};
 
@@ -176,20 +175,9 @@ impl PerceptualKernel {
     }
 }
 
-/// The perceptual pipelines of one device, built on first use and kept (the renderer holds one).
-#[derive(Default)]
-pub(crate) struct PerceptualCache(Mutex<Option<PerceptualKernel>>);
-
-impl PerceptualCache {
-    /// The pipelines on `r`, built on first use.
-    pub(crate) fn get(&self, r: &Gpu) -> Result<PerceptualKernel, ReplayError> {
-        let mut k = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(k) = &*k {
-            return Ok(k.clone());
-        }
-        let built = PerceptualKernel::new(r)?;
-        *k = Some(built.clone());
-        Ok(built)
+impl super::Builds for PerceptualKernel {
+    fn build(r: &Gpu) -> Result<PerceptualKernel, ReplayError> {
+        PerceptualKernel::new(r)
     }
 }
 
@@ -217,7 +205,7 @@ impl GpuPerceptual {
     ) -> Result<GpuPerceptual, ReplayError> {
         let params = params(w, h)?;
         let image = u64::from(w) * u64::from(h) * 16;
-        let limit = u64::from(r.device.limits().max_storage_buffer_binding_size);
+        let limit = r.device.limits().max_storage_buffer_binding_size;
         if image > limit {
             return Err(ReplayError::Unsupported {
                 what: format!(

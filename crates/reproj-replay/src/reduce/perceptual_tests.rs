@@ -5,16 +5,7 @@ use super::*;
 use crate::reduce::GpuReference;
 use reproj_metrics::perceptual::compare_perceptual;
 
-/// A small deterministic generator (xorshift), values in [0, 1).
-struct Rng(u32);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 17;
-        self.0 ^= self.0 << 5;
-        (self.0 >> 8) as f32 / (1u32 << 24) as f32
-    }
-}
+use crate::reduce::noise::Rng;
 
 /// Score `frame` against `reference` on the GPU, through slot 1 of a two-slot scorer.
 fn gpu(
@@ -88,15 +79,7 @@ fn gpu_perceptual_metrics_equal_the_reference_code_s_on_noise() {
     // Not a multiple of the tile (partial tiles at the right and bottom edges); colours in
     // [-0.25, 1.25) (the clamp matters); a third of the pixels uncovered.
     for (w, h) in [(70, 37), (128, 96)] {
-        let px = (w * h) as usize;
-        let reference: Vec<f32> = (0..4 * px).map(|_| 1.5 * rng.next() - 0.25).collect();
-        let frame: Vec<f32> = reference
-            .iter()
-            .map(|&v| v + 0.3 * (rng.next() - 0.5))
-            .collect();
-        let depth: Vec<f32> = (0..px)
-            .map(|_| if rng.next() < 0.33 { 1.0 } else { rng.next() })
-            .collect();
+        let (frame, reference, depth) = rng.frames((w * h) as usize, -0.25, 1.5, 0.3);
         assert_close(w, h, &frame, &reference, &depth, "noise");
     }
 }

@@ -2,16 +2,7 @@
 
 use super::*;
 
-/// A small deterministic generator (xorshift), values in [0, 1).
-struct Rng(u32);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 17;
-        self.0 ^= self.0 << 5;
-        (self.0 >> 8) as f32 / (1u32 << 24) as f32
-    }
-}
+use super::noise::Rng;
 
 /// Reduce `frame` against `reference` on the GPU, through slot 1 of a two-slot reducer.
 fn gpu(r: &Gpu, w: u32, h: u32, frame: &[f32], reference: &[f32], depth: &[f32]) -> FrameError {
@@ -40,15 +31,7 @@ fn gpu_sums_equal_the_cpu_sums() {
     // Not a multiple of the tile: partial tiles at the right and bottom edges. Colors in
     // [-0.5, 1.5) (clamping matters), a third of the pixels uncovered.
     for (w, h) in [(70, 37), (256, 256), (1, 1)] {
-        let px = (w * h) as usize;
-        let reference: Vec<f32> = (0..4 * px).map(|_| 2.0 * rng.next() - 0.5).collect();
-        let frame: Vec<f32> = reference
-            .iter()
-            .map(|&v| v + 0.2 * (rng.next() - 0.5))
-            .collect();
-        let depth: Vec<f32> = (0..px)
-            .map(|_| if rng.next() < 0.33 { 1.0 } else { rng.next() })
-            .collect();
+        let (frame, reference, depth) = rng.frames((w * h) as usize, -0.5, 2.0, 0.2);
         let cpu = l2::compare(&frame, &reference, &depth);
         let g = gpu(&r, w, h, &frame, &reference, &depth);
         assert_eq!((g.pixels, g.covered), (cpu.pixels, cpu.covered), "{w}×{h}");
