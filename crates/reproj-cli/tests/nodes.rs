@@ -372,6 +372,52 @@ fn no_cacheable_node_says_why() {
     assert!(lines.iter().any(|l| l.starts_with("hint: ")), "{out}");
 }
 
+/// `analyze` on a shader with nothing worth caching writes no profile and says so (before any
+/// GPU work); the `emit` a user runs next says why there is none.
+#[test]
+fn nothing_to_cache_analyze_then_emit_say_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("flat.wgsl");
+    std::fs::write(
+        &path,
+        "@fragment fn fs(@location(0) p: vec3<f32>) -> @location(0) vec4<f32> {\n\
+         \x20   return vec4<f32>(p, 1.0);\n}\n",
+    )
+    .unwrap();
+    let session = root().join("sessions/marble.json");
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_reproj"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("run reproj");
+        (
+            out.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (code, out, err) = run(&[
+        "analyze",
+        "flat.wgsl",
+        "--session",
+        session.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("no cacheable node"), "{out}");
+    assert!(
+        out.contains("no profile written: keep the original shader"),
+        "{out}"
+    );
+    assert!(!dir.path().join("flat.profile.json").exists());
+    let (code, out, err) = run(&["emit", "--max-error", "0.01"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(
+        err.contains("nothing worth caching") && err.contains("reproj nodes"),
+        "{err}"
+    );
+}
+
 /// A GLSL shader whose output cannot be traced to the entry's return: exit 2, one message.
 #[test]
 fn untraceable_glsl_output_exits_2() {

@@ -31,7 +31,7 @@ pub fn latest_profile(dir: &Path) -> Result<PathBuf, EmitError> {
         .max()
         .map(|(_, p)| p)
         .ok_or_else(|| EmitError::Options(format!(
-            "no *.profile.json in {}: run `reproj analyze SHADER --session SESSION` first, or pass --profile",
+            "no *.profile.json in {}: run `reproj analyze SHADER --session SESSION` first, or pass --profile (analyze writes none for a shader with nothing worth caching: `reproj nodes SHADER` says why)",
             dir.display()
         )))
 }

@@ -88,6 +88,10 @@ pub fn run(args: &AnalyzeArgs) -> anyhow::Result<()> {
         for line in lines {
             writeln!(stdout, "{line}")?;
         }
+        writeln!(
+            stdout,
+            "no profile written: keep the original shader (`emit` has nothing to choose from)"
+        )?;
         return Ok(());
     }
     let stem = args.shader.file_stem().map_or_else(
