@@ -268,6 +268,44 @@ impl EmitReport {
     }
 }
 
+/// Write the original shader into `opts.out` in place of what [`emit`] wrote there, with
+/// `reason` (a verified variant slower than the original beyond doubt, say); plus
+/// `report.json`. The report keeps `measured` (what the rejected choice measured) for the reader.
+pub fn keep_original(
+    profile: &Profile,
+    profile_path: &Path,
+    opts: &EmitOptions,
+    reason: &str,
+    measured: &EmitReport,
+) -> Result<EmitReport, EmitError> {
+    let (shader_path, loaded, shader) =
+        load_profiled(profile, profile_path, opts.shader.as_deref())?;
+    let mut report = EmitReport::empty(profile, profile_path, &shader_path, opts);
+    (report.sessions, report.motion, report.runoff) = (
+        measured.sessions.clone(),
+        measured.motion.clone(),
+        measured.runoff.clone(),
+    );
+    report.timing_warnings.clone_from(&measured.timing_warnings);
+    let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
+    let w = Writer {
+        profile,
+        profile_path,
+        opts,
+        shader_path: &shader_path,
+        shader: &shader,
+        loaded: &loaded,
+        staging: &staging,
+    };
+    w.original(reason, &mut report)?;
+    report
+        .files
+        .push(opts.out.join("report.json").display().to_string());
+    write_report(&report, staging.path())?;
+    staging.commit()?;
+    Ok(report)
+}
+
 /// Select under the budget and write the result into `opts.out`: the three passes and the
 /// manifest, or the original shader unchanged when nothing fits; plus `report.json`.
 pub fn emit(

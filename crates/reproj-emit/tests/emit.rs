@@ -157,6 +157,37 @@ fn opts(max_error: f64, out: &Path) -> EmitOptions {
     }
 }
 
+/// A written variant replaced by the original (`emit --verify` found it slower beyond doubt): the
+/// folder holds the shader unchanged and the report with the reason, and no pass or manifest.
+#[test]
+fn keep_original_replaces_a_written_variant() {
+    let shader = root().join("shaders/marble.wgsl");
+    let p = profile(&shader);
+    let dir = tempfile::tempdir().unwrap();
+    let pp = dir.path().join("marble.profile.json");
+    let out = dir.path().join("v");
+    let o = opts(0.015, &out);
+    let (written, v) = emit(&p, &pp, &o).unwrap();
+    assert!(v.is_some() && out.join("manifest.json").exists());
+    let why = "verified slower than the original beyond doubt";
+    let r = reproj_emit::keep_original(&p, &pp, &o, why, &written).unwrap();
+    assert_eq!((r.node.as_deref(), r.reason.as_deref()), (None, Some(why)));
+    assert_eq!(
+        std::fs::read_to_string(out.join("marble.wgsl")).unwrap(),
+        std::fs::read_to_string(&shader).unwrap()
+    );
+    for gone in [
+        "manifest.json",
+        "pass1_reproject.wgsl",
+        "pass2_recompute.wgsl",
+    ] {
+        assert!(!out.join(gone).exists(), "{gone}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["reason"], why);
+}
+
 #[test]
 fn budgets_pick_original_node_then_root() {
     let shader = root().join("shaders/marble.wgsl");

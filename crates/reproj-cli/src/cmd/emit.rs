@@ -425,7 +425,28 @@ fn verify_selection(
         &renderer,
         &timing,
     )?;
+    // Never a shader slower than the one it replaces: the original is written instead.
+    if let Some(reason) = slower_beyond_doubt(report).filter(|_| variant.is_some()) {
+        *report = reproj_emit::keep_original(profile, profile_path, opts, &reason, report)?;
+        *variant = None;
+    }
     Ok(())
+}
+
+/// Why a verified choice is not written: its measured speedup's whole 95 % interval below 1×
+/// (slower than the original beyond doubt; noise alone never rejects it).
+#[cfg(any(feature = "gpu", test))]
+fn slower_beyond_doubt(report: &reproj_emit::EmitReport) -> Option<String> {
+    let (s, [lo, hi]) = (report.measured_speedup?, report.measured_speedup_ci95?);
+    (hi < 1.0).then(|| {
+        format!(
+            "the choice ({} {} at Δn {}) verified slower than the original beyond doubt: {s:.2}x [{lo:.2}, {hi:.2}] over {} rounds; the original is kept",
+            report.node.as_deref().map_or_else(|| "node ?".into(), |n| format!("node {n}")),
+            report.strategy.as_deref().unwrap_or("?"),
+            report.delta_n.unwrap_or(0),
+            report.measured_rounds.unwrap_or(0),
+        )
+    })
 }
 
 /// `--verify` renders: a build without the `gpu` feature says so (exit 2).
@@ -545,6 +566,31 @@ mod tests {
     }
 
     use super::super::classify;
+
+    #[test]
+    fn a_choice_is_rejected_only_when_slower_beyond_doubt() {
+        let r = |s: f64, ci: [f64; 2]| {
+            report(serde_json::json!({
+                "node": "680", "strategy": "2pass", "delta_n": 3, "measured_rounds": 48,
+                "measured_speedup": s, "measured_speedup_ci95": ci,
+            }))
+        };
+        assert_eq!(slower_beyond_doubt(&r(1.5, [1.4, 1.6])), None);
+        // Slower by its estimate, but the interval reaches 1×: noise could say either.
+        assert_eq!(slower_beyond_doubt(&r(0.97, [0.92, 1.02])), None);
+        let why = slower_beyond_doubt(&r(0.83, [0.80, 0.86])).unwrap();
+        assert!(
+            why.contains("node 680 2pass at Δn 3") && why.contains("0.83x [0.80, 0.86]"),
+            "{why}"
+        );
+        // Nothing measured (the original kept, or no --verify): nothing to reject.
+        assert_eq!(
+            slower_beyond_doubt(&report(serde_json::json!({
+                "measured_speedup": null, "measured_speedup_ci95": null
+            }))),
+            None
+        );
+    }
 
     #[test]
     fn a_verified_nan_or_infinity_never_passes() {
