@@ -38,14 +38,8 @@ pub(crate) enum RaceLength {
 /// not a decision, so half the frames of a deciding race do (marble on lavapipe: ~0.8 s a node).
 pub(crate) const PERIOD_RACE: reproj_bench::BenchOptions = reproj_bench::BenchOptions {
     block_frames: 4,
-    stop: reproj_models::speedup::StopRule {
-        min_rounds: 8,
-        max_rounds: 8,
-        target_half_width: 0.05,
-        max_seconds: 4.0,
-    },
-    max_frames: None,
     settle: None,
+    ..crate::options::DEFAULT_RACE
 };
 
 /// A longer race: 16 to 48 rounds of 8 frames, until ±2 % or 12 s. On the H200 at 1080p, marble's
