@@ -10,7 +10,29 @@ use crate::journal::ReplayKey;
 use crate::options::{HeldOut, held_out_check, next_extension, next_period};
 use crate::replayer::{RaceEntry, Replayer, Subject, too_slow};
 
+/// Periods to replay at, in order: (Δn, skippable).
+pub(crate) type Plan = Vec<(u32, bool)>;
+
 impl Replayer<'_, '_> {
+    /// The block race's period (`--block auto`), the periods a node is replayed at first (the
+    /// longest, and the block race's) and the rest of `plan`.
+    pub(crate) fn period_order(&self, plan: &[(u32, bool)]) -> (Option<u32>, Plan, Plan) {
+        let (input, opts, longest) = (self.input, self.opts, self.longest);
+        let race_dn = (opts.race_blocks && opts.block.is_none()).then(|| {
+            let frames = opts
+                .max_frames
+                .map_or(input.session.frames, |m| m.min(input.session.frames));
+            crate::blocks::race_period(&opts.delta_n_train, frames)
+        });
+        let mut first = vec![(longest, false)];
+        let mut rest = plan.to_vec();
+        if let Some(dn) = race_dn.filter(|&dn| dn != longest) {
+            first.push((dn, false));
+            rest.retain(|&(d, _)| d != dn);
+        }
+        (race_dn, first, rest)
+    }
+
     /// Replay `subject`'s variant over the whole session at the periods of `plan` ((Δn,
     /// skippable)), appending to `measurements`: the fixed periods in order, then the skippable
     /// ones one at a time while the error model misses a held-out measurement, the one nearest the

@@ -21,11 +21,11 @@ use reproj_models::speedup::{
     window_start,
 };
 pub use reproj_models::speedup::{DEFAULT_SETTLE, Settle, Settling};
-
-mod settle;
 use reproj_replay::{Reference, RenderOptions, Renderer, ReplayError, VariantInput};
 use reproj_scene::Session;
 use serde::{Deserialize, Serialize};
+
+mod settle;
 
 /// Schema name and version of [`BenchReport`] (`docs/SCHEMAS.md`).
 pub const BENCH_SCHEMA: &str = "reproj.bench";
@@ -128,9 +128,7 @@ impl Machine {
     /// The machine `renderer` runs on.
     pub fn of(renderer: &Renderer) -> Machine {
         let a = renderer.adapter();
-        let cpu = a.device_type.eq_ignore_ascii_case("cpu")
-            || a.name.contains("llvmpipe")
-            || a.name.contains("lavapipe");
+        let cpu = a.is_cpu_rasterizer();
         Machine {
             adapter: a.name.clone(),
             device_type: a.device_type.clone(),
@@ -212,7 +210,7 @@ pub struct BenchReport {
     pub baseline: BaselineFigure,
     pub candidates: Vec<CandidateFigure>,
     /// What the baseline's settling saw before the first round (version 2; absent where the run
-    /// did not settle, and in older reports).
+    /// was told not to settle, and in older reports).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub settling: Option<Settling>,
     /// Empty when the run was clean.

@@ -150,8 +150,8 @@ impl Ctx<'_> {
 
     /// PSNR of `frames` against `refs` over the reference's covered pixels, pooled over every
     /// frame and (where the session has both) over the still and the moving frames; ꟻLIP on the
-    /// perceptual stride when `perceptual`, computed on the renderer's device as a scored replay
-    /// computes it. Beside it, the mean per-pixel L2 error.
+    /// perceptual stride when `perceptual`, computed where the renderer's scored replays compute
+    /// it ([`Renderer::perceptual_of`]). Beside it, the mean per-pixel L2 error.
     fn against(
         &self,
         frames: &[Vec<f32>],

@@ -270,7 +270,8 @@ impl EmitReport {
 
 /// Write the original shader into `opts.out` in place of what [`emit`] wrote there, with
 /// `reason` (a verified variant slower than the original beyond doubt, say); plus
-/// `report.json`. The report keeps `measured` (what the rejected choice measured) for the reader.
+/// `report.json`, which keeps `measured`'s sessions, motion, runoff and timing warnings. The
+/// shader is copied as it is: [`emit`] checked it was the one profiled.
 pub fn keep_original(
     profile: &Profile,
     profile_path: &Path,
@@ -278,8 +279,7 @@ pub fn keep_original(
     reason: &str,
     measured: &EmitReport,
 ) -> Result<EmitReport, EmitError> {
-    let (shader_path, loaded, shader) =
-        load_profiled(profile, profile_path, opts.shader.as_deref())?;
+    let shader_path = profile::shader_path_of(profile, profile_path, opts.shader.as_deref())?;
     let mut report = EmitReport::empty(profile, profile_path, &shader_path, opts);
     (report.sessions, report.motion, report.runoff) = (
         measured.sessions.clone(),
@@ -287,45 +287,24 @@ pub fn keep_original(
         measured.runoff.clone(),
     );
     report.timing_warnings.clone_from(&measured.timing_warnings);
-    let profiled = (shader_path.as_path(), &loaded, &shader);
-    stage(
-        profile,
-        profile_path,
-        opts,
-        profiled,
-        &mut report,
-        |w, report| w.original(reason, report),
-    )?;
+    let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
+    write::original(&staging, &opts.out, &shader_path, reason, &mut report)?;
+    finish(&mut report, opts, staging)?;
     Ok(report)
 }
 
-/// Stage `opts.out`, let `write` write the choice into it through a [`Writer`] (the profiled
-/// shader: its path, its reading and the WGSL), then add `report.json` and commit the folder.
-fn stage<T>(
-    profile: &Profile,
-    profile_path: &Path,
-    opts: &EmitOptions,
-    (shader_path, loaded, shader): (&Path, &reproj_front::Loaded, &reproj_front::Shader),
+/// Add `report.json` to the staged output folder and put the folder in place.
+fn finish(
     report: &mut EmitReport,
-    write: impl FnOnce(&Writer<'_>, &mut EmitReport) -> Result<T, EmitError>,
-) -> Result<T, EmitError> {
-    let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
-    let w = Writer {
-        profile,
-        profile_path,
-        opts,
-        shader_path,
-        shader,
-        loaded,
-        staging: &staging,
-    };
-    let written = write(&w, report)?;
+    opts: &EmitOptions,
+    staging: reproj_io::StagedDir,
+) -> Result<(), EmitError> {
     report
         .files
         .push(opts.out.join("report.json").display().to_string());
     write_report(report, staging.path())?;
     staging.commit()?;
-    Ok(written)
+    Ok(())
 }
 
 /// Select under the budget and write the result into `opts.out`: the three passes and the
@@ -373,45 +352,46 @@ pub fn emit(
     (report.sessions, report.motion, report.adaptive) =
         (chosen.sessions, chosen.motion, chosen.adaptive);
     let selection = chosen.selection;
-    let read = (shader_path.as_path(), &loaded, &shader);
-    let variant = stage(
+    let staging = reproj_io::StagedDir::new(&opts.out, Replace::OwnFiles(VARIANT_FILES))?;
+    let w = Writer {
         profile,
         profile_path,
         opts,
-        read,
-        &mut report,
-        |w, report| {
-            Ok(match selection {
-                Selection::Node(choice) => {
-                    let profiled = Profiled::of_choice(profile, &choice)
-                        .expect("the selection comes from the profile's nodes and sets");
-                    let schedule = match profiled {
-                        Profiled::Set(set) => schedule_of(&|(_, _, sets)| {
-                            sets.iter()
-                                .find(|r| r.members == set.members && r.strategy == set.strategy)
-                                .map(SetRecord::as_node)
-                        }),
-                        Profiled::Node(node) => schedule_of(&|(_, nodes, _)| {
-                            nodes
-                                .iter()
-                                .find(|r| r.id == node.id && r.strategy == node.strategy)
-                                .cloned()
-                        }),
-                    };
-                    Some(w.variant(&choice, profiled, schedule, report)?)
-                }
-                Selection::Original { reason } => {
-                    // A profile that stopped at its ceiling says why better than "no usable node".
-                    let why = match &profile.ceiling {
-                        Some(c) if !c.pays && profile.nodes.is_empty() => c.to_string(),
-                        _ => reason.to_string(),
-                    };
-                    w.original(&why, report)?;
-                    None
-                }
-            })
-        },
-    )?;
+        shader_path: &shader_path,
+        shader: &shader,
+        loaded: &loaded,
+        staging: &staging,
+    };
+    let variant = match selection {
+        Selection::Node(choice) => {
+            let profiled = Profiled::of_choice(profile, &choice)
+                .expect("the selection comes from the profile's nodes and sets");
+            let schedule = match profiled {
+                Profiled::Set(set) => schedule_of(&|(_, _, sets)| {
+                    sets.iter()
+                        .find(|r| r.members == set.members && r.strategy == set.strategy)
+                        .map(SetRecord::as_node)
+                }),
+                Profiled::Node(node) => schedule_of(&|(_, nodes, _)| {
+                    nodes
+                        .iter()
+                        .find(|r| r.id == node.id && r.strategy == node.strategy)
+                        .cloned()
+                }),
+            };
+            Some(w.variant(&choice, profiled, schedule, &mut report)?)
+        }
+        Selection::Original { reason } => {
+            // A profile that stopped at its ceiling says why better than "no usable node".
+            let why = match &profile.ceiling {
+                Some(c) if !c.pays && profile.nodes.is_empty() => c.to_string(),
+                _ => reason.to_string(),
+            };
+            w.original(&why, &mut report)?;
+            None
+        }
+    };
+    finish(&mut report, opts, staging)?;
     Ok((report, variant))
 }
 

@@ -249,6 +249,18 @@ pub fn is_profiled_shader(profile: &Profile, shader: &reproj_front::Shader) -> b
     }
 }
 
+/// The path of the shader a profile was made of: `shader` when given, else the profile's own.
+pub(crate) fn shader_path_of(
+    profile: &Profile,
+    profile_path: &Path,
+    shader: Option<&Path>,
+) -> Result<PathBuf, EmitError> {
+    match shader {
+        Some(s) => Ok(s.to_owned()),
+        None => profile_shader(profile, profile_path),
+    }
+}
+
 /// The shader a profile was made of — `shader` when given, else the profile's own — loaded as
 /// `analyze` loaded it (its entry point and unrolling), and checked to be the one profiled
 /// ([`is_profiled_shader`]): its path, the loaded shader, and its WGSL (what the replay renders:
@@ -258,10 +270,7 @@ pub fn load_profiled(
     profile_path: &Path,
     shader: Option<&Path>,
 ) -> Result<(PathBuf, reproj_front::Loaded, reproj_front::Shader), EmitError> {
-    let shader_path = match shader {
-        Some(s) => s.to_owned(),
-        None => profile_shader(profile, profile_path)?,
-    };
+    let shader_path = shader_path_of(profile, profile_path, shader)?;
     let load_options = LoadOptions {
         unroll: UnrollOptions {
             max_trip: profile.unroll,

@@ -73,22 +73,13 @@ impl Writer<'_> {
     /// Nothing pays under the budget: write the shader as it was given (GLSL or SPIR-V stay what
     /// they were), and why.
     pub(super) fn original(&self, reason: &str, report: &mut EmitReport) -> Result<(), EmitError> {
-        let name = self
-            .shader_path
-            .file_name()
-            .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
-        let original = std::fs::read(self.shader_path).map_err(|source| {
-            EmitError::Front(reproj_front::FrontError::Io {
-                path: self.shader_path.to_owned(),
-                source,
-            })
-        })?;
-        self.staging.write(&name, &original)?;
-        report
-            .files
-            .push(self.opts.out.join(&name).display().to_string());
-        report.reason = Some(reason.to_owned());
-        Ok(())
+        original(
+            self.staging,
+            &self.opts.out,
+            self.shader_path,
+            reason,
+            report,
+        )
     }
 
     /// Stage the variant's files (passes in every language, manifest) and list them in the report.
@@ -117,4 +108,28 @@ fn fill_choice(report: &mut EmitReport, choice: &Choice) {
     report.original_ms = choice.original_ms;
     report.predicted_speedup = Some(choice.predicted_speedup);
     report.predicted_speedup_ci95 = choice.predicted_speedup_ci95;
+}
+
+/// Stage the shader at `shader_path` as it was given (GLSL or SPIR-V stay what they were) for
+/// the folder `out`, list it in the report, and say why.
+pub(super) fn original(
+    staging: &reproj_io::StagedDir,
+    out: &Path,
+    shader_path: &Path,
+    reason: &str,
+    report: &mut EmitReport,
+) -> Result<(), EmitError> {
+    let name = shader_path
+        .file_name()
+        .map_or_else(|| "original.wgsl".into(), |n| n.to_owned());
+    let original = std::fs::read(shader_path).map_err(|source| {
+        EmitError::Front(reproj_front::FrontError::Io {
+            path: shader_path.to_owned(),
+            source,
+        })
+    })?;
+    staging.write(&name, &original)?;
+    report.files.push(out.join(&name).display().to_string());
+    report.reason = Some(reason.to_owned());
+    Ok(())
 }

@@ -26,6 +26,16 @@ pub struct AdapterReport {
     pub driver_info: String,
 }
 
+impl AdapterReport {
+    /// A CPU rasterizer (lavapipe, llvmpipe): its frames are in host memory, and its speed
+    /// figures say nothing of a GPU's.
+    pub fn is_cpu_rasterizer(&self) -> bool {
+        self.device_type.eq_ignore_ascii_case("cpu")
+            || self.name.contains("llvmpipe")
+            || self.name.contains("lavapipe")
+    }
+}
+
 /// One frame's measurements.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FrameRecord {

@@ -365,18 +365,7 @@ fn profile_winner(
         verdict,
     };
     // The longest period first, and the block race's period with it: the race starts from them.
-    let race_dn = (opts.race_blocks && opts.block.is_none()).then(|| {
-        let frames = opts
-            .max_frames
-            .map_or(input.session.frames, |m| m.min(input.session.frames));
-        crate::blocks::race_period(&opts.delta_n_train, frames)
-    });
-    let mut first = vec![(longest, false)];
-    let mut rest: Vec<(u32, bool)> = plan.to_vec();
-    if let Some(dn) = race_dn.filter(|&dn| dn != longest) {
-        first.push((dn, false));
-        rest.retain(|&(d, _)| d != dn);
-    }
+    let (race_dn, first, mut rest) = rp.period_order(plan);
     rp.replay_plan(
         &subject,
         &sources,
@@ -471,16 +460,9 @@ fn profile_winner(
         &mut failure,
     )?;
     if failure.is_none() && raced.is_some() {
-        let second = shape::Second {
-            id,
-            strategy,
-            block,
-            sources: &sources,
-            variant: &variant,
-        };
-        replays
-            .period_probes
-            .extend(shape::race_second_period(rp, &second, &measurements, plan)?);
+        let kept = (sources.as_slice(), &variant);
+        let probe = shape::race_second_period(rp, &subject, kept, &measurements, plan)?;
+        replays.period_probes.extend(probe);
     }
     Ok(Raw {
         id,

@@ -9,20 +9,10 @@
 //! Where they agree, the timing model fitted to them keeps the shape, the race the level, and no
 //! race is spent (a quiet lavapipe: marble's replays stray 4–11 %).
 
-use reproj_instance::Strategy;
 use reproj_models::profile::{Measurement, StrategyProbe};
 
 use crate::AnalyzeError;
-use crate::replayer::{RaceEntry, RaceLength, Replayer, finite, timed_estimate};
-
-/// The node's variant as it was kept (its strategy race's figures stand for it).
-pub(super) struct Second<'a> {
-    pub(super) id: u32,
-    pub(super) strategy: Strategy,
-    pub(super) block: u32,
-    pub(super) sources: &'a [String],
-    pub(super) variant: &'a reproj_instance::Variant,
-}
+use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, timed_estimate};
 
 /// How far replays may stray from a line in their miss rate (relative to the line) and still set
 /// the shape of a node's frame time.
@@ -64,12 +54,13 @@ pub(super) fn replay_spread(measurements: &[Measurement]) -> Option<f64> {
 }
 
 /// Where `measurements` (the node's replays) stray from their line by more than
-/// [`REPLAY_SPREAD`], race `node`'s variant at the shortest period of `plan` (other than the
-/// longest, which its strategy race timed): its probe, kept. None where the replays agree or the
-/// plan has no other period.
+/// [`REPLAY_SPREAD`], race the node's kept variant (`subject`'s, its pass sources and variant)
+/// at the shortest period of `plan` (other than the longest, which its strategy race timed): its
+/// probe, kept. None where the replays agree or the plan has no other period.
 pub(super) fn race_second_period(
     rp: &mut Replayer<'_, '_>,
-    node: &Second<'_>,
+    subject: &Subject,
+    (sources, variant): (&[String], &reproj_instance::Variant),
     measurements: &[Measurement],
     plan: &[(u32, bool)],
 ) -> Result<Option<StrategyProbe>, AnalyzeError> {
@@ -81,7 +72,7 @@ pub(super) fn race_second_period(
     if spread.is_some_and(|s| s <= REPLAY_SPREAD) {
         return Ok(None);
     }
-    let id = node.id;
+    let id = subject.node;
     rp.progress.note(&format!(
         "node {id}: its replays' frame times {}: its frame time over Δn follows two races (raced at Δn {delta_n} too)",
         spread.map_or_else(
@@ -91,9 +82,9 @@ pub(super) fn race_second_period(
     ));
     rp.progress.extend(1);
     let entry = RaceEntry {
-        name: format!("{} Δn={delta_n}", node.strategy),
-        sources: node.sources,
-        variant: node.variant,
+        name: format!("{} Δn={delta_n}", subject.strategy),
+        sources,
+        variant,
         delta_n,
     };
     let report = rp.race_as(&format!("node {id}"), id, &[], &[entry], RaceLength::Period)?;
@@ -102,8 +93,8 @@ pub(super) fn race_second_period(
     let c = &report.candidates[0];
     Ok(Some(StrategyProbe {
         node: id,
-        strategy: node.strategy.name().into(),
-        block: node.block,
+        strategy: subject.strategy.name().into(),
+        block: subject.block,
         delta_n,
         frame_ms: finite(e.map_or(c.median_ms.unwrap_or(0.0), |e| e.candidate_ms)),
         error: None,

@@ -169,9 +169,12 @@ fn write_table(out: &mut impl Write, r: &BenchReport, args: &BenchArgs) -> anyho
     writeln!(out, "on {}", r.machine.describe())?;
     if let Some(s) = &r.settling {
         let blocks: Vec<String> = s.blocks_ms.iter().map(|b| format!("{b:.3}")).collect();
+        let moved = s.drift().map_or_else(String::new, |d| {
+            format!("; {:+.0} % first to last", 100.0 * (d - 1.0))
+        });
         writeln!(
             out,
-            "clock {} after {} blocks of the original in {:.1} s (ms/frame: {})",
+            "clock {} after {} blocks of the original in {:.1} s (ms/frame: {}{moved})",
             if s.settled { "settled" } else { "not settled" },
             s.blocks_ms.len(),
             s.seconds,

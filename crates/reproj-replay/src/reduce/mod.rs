@@ -302,43 +302,49 @@ impl<'a> Reducer<'a> {
 
 /// Which frames of a replay come back as pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum PixelsBack {
+enum PixelsBack {
     /// None: only the GPU's sums come back (the error's, and the perceptual metrics' of the
-    /// frames [`FrameErrors::new`] is asked to score).
+    /// frames scored on the device).
     None,
+    /// Frames `f` with `f % k == 0`, for the perceptual metrics on the CPU; the reduction still
+    /// gives every frame's sums.
+    Every(u32),
     /// Every frame (they are written as PNGs); the error is computed on the CPU
     /// ([`reproj_metrics::l2::compare`]) and there is no reduction.
     All,
+}
+
+impl PixelsBack {
+    /// Whether frame `frame`'s pixels come back.
+    fn includes(self, frame: u32) -> bool {
+        match self {
+            PixelsBack::None => false,
+            PixelsBack::Every(k) => frame.is_multiple_of(k.max(1)),
+            PixelsBack::All => true,
+        }
+    }
 }
 
 /// What comes back of one frame ([`FrameErrors::read`]).
 pub(crate) struct FrameBack {
     /// Its error against the reference.
     pub(crate) error: FrameError,
-    /// Its pixels, with [`PixelsBack::All`], or where it is sampled and scored on the CPU.
+    /// Its pixels, where it comes back whole: written as a PNG, or sampled and scored on the CPU.
     pub(crate) pixels: Option<Vec<f32>>,
-    /// Its ꟻLIP and SSIM, where it is one of the frames scored on the GPU.
+    /// Its ꟻLIP and SSIM, where it is sampled and scored on the device.
     pub(crate) perceptual: Option<PerceptualError>,
 }
 
 /// How a replay gets each frame's error against the reference, the perceptual metrics of the
-/// sampled frames, and the pixels of the frames [`PixelsBack`] asks for.
+/// sampled frames on the device, and the pixels of the frames that come back whole.
 pub(crate) struct FrameErrors<'a> {
     /// Reduced on the GPU: only the per-block sums come back. `None` with [`PixelsBack::All`].
     reducer: Option<Reducer<'a>>,
-    /// ꟻLIP and SSIM of every `k`-th frame (`None` with [`PixelsBack::All`]: the CPU scores the
-    /// frames it has, and writes their ꟻLIP maps).
-    perceptual: Option<(u32, Sampled)>,
+    /// ꟻLIP and SSIM of every `k`-th frame on the device.
+    perceptual: Option<(u32, GpuPerceptual)>,
     /// One slot per frame of a batch for the frames whose pixels come back.
     pixels: Option<Staging>,
-}
-
-/// How the sampled frames are scored.
-enum Sampled {
-    /// On the device, only numbers come back.
-    Device(GpuPerceptual),
-    /// On the CPU: their pixels come back, one slot per frame of a batch.
-    Cpu(Staging),
+    back: PixelsBack,
 }
 
 /// The kernels a replay's scoring uses, each built once per renderer; no perceptual kernel
@@ -349,54 +355,48 @@ pub(crate) struct Kernels<'k> {
 }
 
 impl<'a> FrameErrors<'a> {
-    /// For `frames` frames of `reference` read back in batches of `slots`; with
-    /// [`PixelsBack::None`], frames `f` with `f % k == 0` scored for ꟻLIP and SSIM on the GPU
-    /// where `perceptual_stride` is `Some(k)`.
+    /// For `frames` frames of `reference` read back in batches of `slots`: every frame back
+    /// whole where `pngs` (scored on the CPU), else reduced on the GPU, with frames `f` where
+    /// `f % k == 0` (`perceptual_stride` `Some(k)`) scored for ꟻLIP and SSIM on the device where
+    /// `kernels` has its kernel, else brought back for the CPU.
     pub(crate) fn new(
         r: &Gpu,
         kernels: Kernels<'_>,
         reference: &'a Reference,
         frames: u32,
         slots: u32,
-        back: PixelsBack,
-        perceptual_stride: Option<u32>,
+        (pngs, perceptual_stride): (bool, Option<u32>),
     ) -> Result<FrameErrors<'a>, ReplayError> {
         let (w, h) = (reference.width, reference.height);
+        let (back, perceptual) = match (pngs, perceptual_stride, kernels.perceptual) {
+            (true, _, _) => (PixelsBack::All, None),
+            (false, Some(k), Some(cache)) => (
+                PixelsBack::None,
+                Some((k.max(1), GpuPerceptual::new(r, cache.get(r)?, w, h, slots)?)),
+            ),
+            (false, Some(k), None) => (PixelsBack::Every(k.max(1)), None),
+            (false, None, _) => (PixelsBack::None, None),
+        };
         let pixels =
-            (back == PixelsBack::All).then(|| Staging::new(r, "frame readback", w, h, 16, slots));
-        let (reducer, perceptual) = match back {
-            PixelsBack::All => (None, None),
-            PixelsBack::None => {
-                let gpu = reference.gpu.on(r, reference, frames)?;
-                let perceptual = match (perceptual_stride, kernels.perceptual) {
-                    (Some(k), Some(cache)) => Some((
-                        k.max(1),
-                        Sampled::Device(GpuPerceptual::new(r, cache.get(r)?, w, h, slots)?),
-                    )),
-                    (Some(k), None) => Some((
-                        k.max(1),
-                        Sampled::Cpu(Staging::new(r, "sampled frames", w, h, 16, slots)),
-                    )),
-                    (None, _) => None,
-                };
-                let reducer = Reducer::new(r, kernels.reduce.get(r)?, gpu, w, h, slots)?;
-                (Some(reducer), perceptual)
-            }
+            (back != PixelsBack::None).then(|| Staging::new(r, "frame readback", w, h, 16, slots));
+        let reducer = if back == PixelsBack::All {
+            None
+        } else {
+            let gpu = reference.gpu.on(r, reference, frames)?;
+            Some(Reducer::new(r, kernels.reduce.get(r)?, gpu, w, h, slots)?)
         };
         Ok(FrameErrors {
             reducer,
             perceptual,
             pixels,
+            back,
         })
     }
 
     /// The buffers to map with the batch's other readbacks.
     pub(crate) fn read_buffers(&self) -> Vec<&wgpu::Buffer> {
         let reducer = self.reducer.as_ref().map(|red| red.read_buffer());
-        let perceptual = self.perceptual.as_ref().map(|(_, p)| match p {
-            Sampled::Device(p) => p.read_buffer(),
-            Sampled::Cpu(staging) => &staging.buf,
-        });
+        let perceptual = self.perceptual.as_ref().map(|(_, p)| p.read_buffer());
         let pixels = self.pixels.as_ref().map(|p| &p.buf);
         reducer
             .into_iter()
@@ -405,8 +405,8 @@ impl<'a> FrameErrors<'a> {
             .collect()
     }
 
-    /// How frame `frame` is scored for ꟻLIP and SSIM, where it is sampled.
-    fn scores(&self, frame: u32) -> Option<&Sampled> {
+    /// The device's scorer, where it scores frame `frame`.
+    fn scores(&self, frame: u32) -> Option<&GpuPerceptual> {
         self.perceptual
             .as_ref()
             .filter(|(k, _)| frame.is_multiple_of(*k))
@@ -414,7 +414,7 @@ impl<'a> FrameErrors<'a> {
     }
 
     /// Record what frame `frame` (its color target `color`, viewed as `view`) needs, into `slot`:
-    /// the reduction and the perceptual metrics, or the copy of its pixels.
+    /// the reduction, the perceptual metrics, the copy of its pixels, as asked.
     pub(crate) fn encode(
         &self,
         r: &Gpu,
@@ -426,13 +426,13 @@ impl<'a> FrameErrors<'a> {
     ) -> Result<(), ReplayError> {
         if let Some(red) = &self.reducer {
             red.encode(r, enc, view, frame, slot)?;
-            match self.scores(frame) {
-                Some(Sampled::Device(p)) => p.encode(r, enc, view, red.frame(frame)?, slot),
-                Some(Sampled::Cpu(staging)) => staging.copy(enc, color, slot),
-                None => {}
+            if let Some(p) = self.scores(frame) {
+                p.encode(r, enc, view, red.frame(frame)?, slot);
             }
         }
-        if let Some(staging) = &self.pixels {
+        if let Some(staging) = &self.pixels
+            && self.back.includes(frame)
+        {
             staging.copy(enc, color, slot);
         }
         Ok(())
@@ -445,17 +445,13 @@ impl<'a> FrameErrors<'a> {
         reference: &Reference,
         frame: u32,
     ) -> Result<FrameBack, ReplayError> {
-        let (mut pixels, mut perceptual) = (None, None);
-        if let Some(staging) = &self.pixels {
-            pixels = Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?));
-        }
-        match self.scores(frame) {
-            Some(Sampled::Device(p)) => perceptual = Some(p.read(slot)?),
-            Some(Sampled::Cpu(staging)) => {
-                pixels = Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?));
+        let pixels: Option<Vec<f32>> = match &self.pixels {
+            Some(staging) if self.back.includes(frame) => {
+                Some(bytemuck::pod_collect_to_vec(&staging.image(slot)?))
             }
-            None => {}
-        }
+            _ => None,
+        };
+        let perceptual = self.scores(frame).map(|p| p.read(slot)).transpose()?;
         if let Some(red) = &self.reducer {
             return Ok(FrameBack {
                 error: red.read(slot)?,

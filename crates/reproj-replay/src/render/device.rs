@@ -17,7 +17,7 @@ impl Renderer {
     /// `WGPU_BACKEND` says otherwise) and create a device with timestamp queries when available.
     pub fn new(opts: &RendererOptions) -> Result<Renderer, ReplayError> {
         let gpu = Gpu::open(opts.backend.as_deref(), opts.cpu_timing)?;
-        let cpu_rasterizer = gpu.adapter_info.device_type.eq_ignore_ascii_case("cpu");
+        let cpu_rasterizer = gpu.adapter_info.is_cpu_rasterizer();
         Ok(Renderer {
             gpu,
             assets: Assets::default(),

@@ -1,11 +1,12 @@
-//! ꟻLIP and SSIM of frames already on the host: [`Renderer::perceptual_of`] on the GPU (what
-//! `compare` scores its methods' frames with), and [`Scorer`] on the CPU while a frame loop goes
-//! on, for replays that read every frame back to write it as a PNG (it writes the ꟻLIP maps too).
-//! A scored replay without PNGs scores its sampled frames where they are (`reduce/perceptual.rs`).
+//! ꟻLIP and SSIM of frames on the host: [`Renderer::perceptual_of`] (what `compare` scores its
+//! methods' frames with, where [`crate::PerceptualOn`] says), and [`Scorer`] on the CPU while a
+//! frame loop goes on — for the sampled frames where the CPU scores them, and for replays that
+//! read every frame back to write it as a PNG (it writes the ꟻLIP maps too). On the device a
+//! scored replay scores its sampled frames where they are (`reduce/perceptual.rs`).
 //!
 //! On the CPU the perceptual metrics are the costliest work of a replay (ꟻLIP: about 26 ms per
-//! 256×256 frame on one core). The variant's frame loop hands each sampled frame to a
-//! [`Scorer`], which scores it on [`scoring_pool`]'s threads. Those run at the lowest
+//! 256×256 frame on one core). Both frame loops hand each sampled frame to a [`Scorer`], which
+//! scores it on [`scoring_pool`]'s threads. Those run at the lowest
 //! CPU priority, so on a CPU adapter (lavapipe) they take only the cycles the rasterizer leaves
 //! idle and never slow a timed frame (`docs/notebook/analysis-time.md`, "Analysis time: the error
 //! reduction and the scoring threads"); on a GPU they simply overlap the rendering. A loop's scope waits for the

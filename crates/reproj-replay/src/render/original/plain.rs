@@ -8,7 +8,7 @@ use reproj_front::Shader;
 
 use crate::error::ReplayError;
 use crate::jitter::Jitter;
-use crate::reduce::{FrameErrors, GpuReference, Keeper, PixelsBack};
+use crate::reduce::{FrameErrors, GpuReference, Keeper};
 use crate::vertex;
 use reproj_metrics::l2;
 use reproj_metrics::output;
@@ -157,8 +157,7 @@ impl Renderer {
                     reference,
                     first + frames,
                     slots,
-                    PixelsBack::None,
-                    opts.perceptual_stride,
+                    (false, opts.perceptual_stride),
                 )?,
             )),
             Keep::Frames => None,

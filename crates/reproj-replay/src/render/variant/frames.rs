@@ -97,13 +97,6 @@ impl Renderer {
             plan.render_passes.len() as u32,
             slots,
         );
-        // Frames written as PNGs come back whole (and are scored on the CPU, which writes
-        // their ꟻLIP maps); otherwise numbers do, and the sampled frames' pixels where they are
-        // scored on the CPU.
-        let back = match &opts.png_dir {
-            Some(_) => PixelsBack::All,
-            None => PixelsBack::None,
-        };
         let errors = if opts.timing_only {
             None
         } else {
@@ -113,8 +106,7 @@ impl Renderer {
                 run.reference,
                 plan.first + plan.frames,
                 slots,
-                back,
-                opts.perceptual_stride,
+                (opts.png_dir.is_some(), opts.perceptual_stride),
             )?)
         };
         let cls_rb = run

@@ -11,7 +11,7 @@ use reproj_front::Shader;
 use reproj_instance::{CacheFormat, Reprojection};
 
 use crate::error::ReplayError;
-use crate::reduce::{FrameErrors, PixelsBack};
+use crate::reduce::FrameErrors;
 use crate::vertex;
 use reproj_metrics::l2;
 use reproj_metrics::output;
