@@ -9,6 +9,11 @@ use crate::common::{root, run};
 
 const SHADER: &str = "crates/reproj-cli/tests/data/two_terms.wgsl";
 const SESSION: &str = "crates/reproj-cli/tests/data/two_terms.json";
+/// The error budget: the pair's error at Δn 24 (0.0035) fits it, while the root (every pixel
+/// cached) fits only Δn ≤ 3 (0.0064 at Δn 4), at most about 2x. At 0.01 the root fits Δn 5,
+/// predicted 2.6–3.0x against the pair's 3.6–8x on an idle machine: close enough that a loaded
+/// one (other tests' replays beside these) once chose the root.
+const BUDGET: &str = "0.004";
 
 /// `analyze` into `profile`: the profile and the command's stderr.
 fn analyze(profile: &Path, extra: &[&str]) -> (serde_json::Value, String) {
@@ -65,7 +70,7 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
             "--profile",
             profile_path.to_str().unwrap(),
             "--max-error",
-            "0.01",
+            BUDGET,
             "--out",
             out.to_str().unwrap(),
             "--verify",
@@ -95,7 +100,7 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
     );
     // Verified by replaying the set's variant.
     let measured = report["measured_error"].as_f64().unwrap();
-    assert!(measured <= 0.02, "{report:#}");
+    assert!(measured <= 2.0 * BUDGET.parse::<f64>().unwrap(), "{report:#}");
     assert!(report["measured_ms"].as_f64().unwrap() > 0.0);
 
     // `compare` at the same budget renders the same set as reproj's method.
@@ -109,7 +114,7 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
             "--profile",
             profile_path.to_str().unwrap(),
             "--max-error",
-            "0.01",
+            BUDGET,
             "--out",
             tmp.path().join("cmp").to_str().unwrap(),
             "--json",
@@ -150,8 +155,8 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
         .as_array()
         .unwrap()
         .iter()
-        .rfind(|e| e["budget"].as_f64().unwrap() <= 0.01)
-        .expect("an entry at or below 0.01");
+        .rfind(|e| e["budget"].as_f64().unwrap() <= BUDGET.parse::<f64>().unwrap())
+        .expect("an entry at or below the budget");
     let shown = &data["choices"][entry["choice"].as_u64().expect("a choice") as usize];
     assert_eq!(shown["label"], label.as_str(), "{shown:#}");
     assert_eq!(shown["delta_n"], report["delta_n"], "{shown:#}");
