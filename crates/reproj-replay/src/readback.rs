@@ -171,6 +171,12 @@ impl QueryKit {
             })
     }
 
+    /// The timestamp query set (render pass `r` writes `2r` and `2r + 1`), where the adapter has
+    /// timestamps.
+    pub(crate) fn timestamps(&self) -> Option<&wgpu::QuerySet> {
+        self.ts.as_ref().map(|(qs, _, _)| qs)
+    }
+
     /// Record resolving this frame's queries into `slot` of the readback buffers.
     pub(crate) fn resolve(&self, enc: &mut wgpu::CommandEncoder, slot: u32) {
         let at = self.occ_stride * slot as u64;

@@ -23,7 +23,13 @@ pub(crate) struct PassGpu {
     pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
     /// The runtime's bind groups (group index, group) for each entry of `frames.ping_pong`.
     pub groups: Vec<Vec<(u32, wgpu::BindGroup)>>,
+    /// The debug entry's pipelines ([`crate::Setup::classification`]), one per vertex stage:
+    /// the first pass's only, empty elsewhere.
+    pub classify: Vec<wgpu::RenderPipeline>,
 }
+
+/// The first pass's debug entry point: the hit map ([`crate::Setup::classification`]).
+pub const CLASSIFY_ENTRY: &str = "reproj_classify";
 
 /// Run `f` in a validation error scope; wgpu's error comes back naming `what`.
 pub(crate) fn checked<T>(
@@ -84,14 +90,15 @@ pub(crate) fn sampler(device: &wgpu::Device, s: &SamplerPlan) -> wgpu::Sampler {
     })
 }
 
-/// Pass `p`'s layouts and pipelines (one per vertex stage); its bind groups come from `bind`.
+/// Pass `p`'s layouts and pipelines (one per vertex stage), and with `classify` its debug
+/// entry's into a target of that format; its bind groups come from `bind`.
 pub(crate) fn build_pass(
     device: &wgpu::Device,
     plan: &Plan,
     p: &PassPlan,
     setup: &Setup<'_>,
     user: &BTreeMap<u32, &wgpu::BindGroupLayout>,
-    shared: &[wgpu::BindGroupLayoutEntry],
+    (shared, classify): (&[wgpu::BindGroupLayoutEntry], Option<wgpu::TextureFormat>),
 ) -> Result<PassGpu, RuntimeError> {
     for (g, name) in &p.own_groups {
         if !user.contains_key(g) {
@@ -182,37 +189,55 @@ pub(crate) fn build_pass(
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let pipelines = setup
-            .vertex
-            .iter()
-            .map(|v| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&p.label),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: v.module,
-                        entry_point: Some(v.entry_point),
-                        compilation_options: Default::default(),
-                        buffers: v.buffers,
-                    },
-                    primitive: v.primitive,
-                    depth_stencil: Some(depth.clone()),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &fs,
-                        entry_point: Some(&p.entry),
-                        compilation_options: Default::default(),
-                        targets: &targets,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
+        let pipelines_of = |entry: &str, targets: &[Option<wgpu::ColorTargetState>], depth: wgpu::DepthStencilState| {
+            setup
+                .vertex
+                .iter()
+                .map(|v| {
+                    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some(&p.label),
+                        layout: Some(&layout),
+                        vertex: wgpu::VertexState {
+                            module: v.module,
+                            entry_point: Some(v.entry_point),
+                            compilation_options: Default::default(),
+                            buffers: v.buffers,
+                        },
+                        primitive: v.primitive,
+                        depth_stencil: Some(depth.clone()),
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &fs,
+                            entry_point: Some(entry),
+                            compilation_options: Default::default(),
+                            targets,
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    })
                 })
-            })
-            .collect();
+                .collect::<Vec<_>>()
+        };
+        let pipelines = pipelines_of(&p.entry, &targets, depth.clone());
+        // The hit map draws the geometry again into a target of its own, nearest first.
+        let classify = classify.map_or_else(Vec::new, |format| {
+            let target = [Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })];
+            let depth = wgpu::DepthStencilState {
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                ..depth.clone()
+            };
+            pipelines_of(CLASSIFY_ENTRY, &target, depth)
+        });
         PassGpu {
             pipelines,
             layouts,
             groups: Vec::new(),
+            classify,
         }
     })
 }

@@ -80,6 +80,7 @@
 //!             color_format: wgpu::TextureFormat::Rgba16Float,
 //!             vertex: &vertex,
 //!             bind_group_layouts: &[(0, &app.scene_layout), (2, &app.object_layout)],
+//!             classification: None,
 //!             motion: None,
 //!             shared: None,
 //!         },

@@ -40,6 +40,19 @@ pub struct FrameInputs<'a> {
     /// pass `r` writes `2r` at its beginning and `2r + 1` at its end (passes that share their
     /// targets share a render pass, [`crate::Variant::render_passes`]).
     pub timestamps: Option<&'a wgpu::QuerySet>,
+    /// Occlusion queries (at least [`crate::Variant::pass_count`] of them): pass `i` counts the
+    /// samples it draws into query `i` — in a `3pass` variant the pixels that reused the cache
+    /// (pass 1), that recomputed the node (pass 2) and every pixel shaded (pass 3); in a `2pass`
+    /// one the hits and the misses. The hit rate of a frame, measured where it is drawn.
+    pub occlusion: Option<&'a wgpu::QuerySet>,
+    /// The frame index the passes see (the `clock` parameter, which phases their refresh
+    /// schedule). `None`: the frames counted since the last restart ([`VariantResources::frame`]).
+    /// Which textures are read and written follows that count either way.
+    pub clock: Option<u32>,
+    /// Record every pass in a render pass of its own, even where passes could share one
+    /// ([`crate::Variant::render_passes`]): [`FrameInputs::timestamps`] then time each pass apart
+    /// (`2i` and `2i + 1` for pass `i`). Costs a store and reload of the targets between them.
+    pub separate_passes: bool,
 }
 
 /// A variant on a device, for one frame size: textures (payload and depth-copy ping-pong),
@@ -62,6 +75,9 @@ pub struct VariantResources {
     frame: u32,
     /// The textures are new: clear them before the next frame reads them.
     fresh: bool,
+    /// The ping-pong entry of the frame [`VariantResources::record`] recorded last, for
+    /// [`VariantResources::record_classification`].
+    recorded: Option<usize>,
 }
 
 impl VariantResources {
@@ -126,8 +142,16 @@ impl VariantResources {
             &plan.passes,
         )?;
         let mut passes = Vec::new();
-        for p in &plan.passes {
-            passes.push(build_pass(device, &plan, p, setup, &user, &shared.layout)?);
+        for (i, p) in plan.passes.iter().enumerate() {
+            let classify = setup.classification.filter(|_| i == 0);
+            passes.push(build_pass(
+                device,
+                &plan,
+                p,
+                setup,
+                &user,
+                (&shared.layout, classify),
+            )?);
         }
         let mut r = VariantResources {
             plan,
@@ -141,6 +165,7 @@ impl VariantResources {
             shared,
             frame: 0,
             fresh: true,
+            recorded: None,
         };
         r.bind(device)?;
         Ok(r)
@@ -167,6 +192,7 @@ impl VariantResources {
         self.size = size;
         self.frame = 0;
         self.fresh = true;
+        self.recorded = None;
         self.bind(device)
     }
 
@@ -315,10 +341,15 @@ impl VariantResources {
         queue.write_buffer(
             &self.params,
             0,
-            &self.plan.params_bytes(frame, inputs.delta_n),
+            &self.plan.params_bytes(frame, inputs.clock, inputs.delta_n),
         );
         let k = frame as usize % self.plan.ping_pong;
-        for (r, passes) in self.plan.render_passes.iter().enumerate() {
+        let render_passes = if inputs.separate_passes {
+            (0..self.plan.passes.len()).map(|i| i..i + 1).collect()
+        } else {
+            self.plan.render_passes.clone()
+        };
+        for (r, passes) in render_passes.iter().enumerate() {
             // Loaded as the first pass loads, stored as the last stores.
             let (first, last) = (
                 &self.plan.passes[passes.start],
@@ -351,23 +382,89 @@ impl VariantResources {
                         end_of_pass_write_index: Some(2 * r as u32 + 1),
                     }
                 }),
-                occlusion_query_set: None,
+                occlusion_query_set: inputs.occlusion,
                 multiview_mask: None,
             });
-            for gp in &self.passes[passes.clone()] {
+            for (i, gp) in self.passes.iter().enumerate().take(passes.end).skip(passes.start) {
                 for (g, bg) in inputs.bind_groups {
                     pass.set_bind_group(*g, *bg, &[]);
                 }
                 for (g, bg) in &gp.groups[k] {
                     pass.set_bind_group(*g, bg, &[]);
                 }
+                if inputs.occlusion.is_some() {
+                    pass.begin_occlusion_query(i as u32);
+                }
                 draw(&mut pass, &gp.pipelines);
+                if inputs.occlusion.is_some() {
+                    pass.end_occlusion_query();
+                }
             }
         }
+        self.recorded = Some(k);
         // Past u32::MAX the clock goes on at the same ping-pong entry without meaning frame 0.
         let next = u64::from(frame) + 1;
         let len = self.plan.ping_pong as u64;
         self.frame = u32::try_from(next).unwrap_or((next % len + len) as u32);
+        Ok(())
+    }
+
+    /// Draw the hit map of the frame [`VariantResources::record`] recorded last into `target`
+    /// (cleared first; of [`Setup::classification`]'s format and the frame's size), depth-tested
+    /// in `depth` (cleared to the manifest's depth clear; the frame's size): the first pass's debug
+    /// entry, with that frame's params and textures, the application's `bind_groups` and
+    /// `draw`ing its geometry again as for `record`. Record it before the next frame's `record`.
+    pub fn record_classification<F>(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        (target, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        bind_groups: &[(u32, &wgpu::BindGroup)],
+        mut draw: F,
+    ) -> Result<(), RuntimeError>
+    where
+        F: FnMut(&mut wgpu::RenderPass<'_>, &[wgpu::RenderPipeline]),
+    {
+        let first = &self.passes[0];
+        if first.classify.is_empty() {
+            return Err(RuntimeError::usage(
+                "record_classification",
+                "the variant was built without `Setup::classification`",
+            ));
+        }
+        let Some(k) = self.recorded else {
+            return Err(RuntimeError::usage(
+                "record_classification",
+                "no frame was recorded since the variant was built or resized",
+            ));
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("reproj classification"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(self.plan.depth_clear),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        for (g, bg) in bind_groups {
+            pass.set_bind_group(*g, *bg, &[]);
+        }
+        for (g, bg) in &first.groups[k] {
+            pass.set_bind_group(*g, bg, &[]);
+        }
+        draw(&mut pass, &first.classify);
         Ok(())
     }
 

@@ -30,6 +30,12 @@ pub struct Setup<'a> {
     /// with the original shader ([`crate::Variant::shares_group`]: a shader that uses all four
     /// groups); `None` for any other. The runtime binds them beside its own in one bind group.
     pub shared: Option<SharedGroup<'a>>,
+    /// Also build the first pass's debug entry point `reproj_classify` (the hit map: green where a
+    /// pixel reused the cache, red where it recomputed, blue where it refreshed), drawn into a
+    /// target of this format (`rgba8unorm`) by [`crate::VariantResources::record_classification`].
+    /// The passes reproj writes leave that entry out: append reproj's `classify_wgsl` text to the
+    /// first pass and build with [`crate::Variant::from_sources`]. `None` for what ships.
+    pub classification: Option<wgpu::TextureFormat>,
 }
 
 /// One vertex stage of the application: its module (which writes the manifest's vertex contract,

@@ -32,8 +32,29 @@ impl Variant {
     /// [`Variant::load`] within `limits` (to read a manifest or pass larger than the defaults).
     pub fn load_with(dir: impl AsRef<Path>, limits: &ReadLimits) -> Result<Variant, RuntimeError> {
         let dir = dir.as_ref();
-        let manifest = Manifest::read_with(&plan::manifest_path(dir), limits)?;
-        let plan = Plan::new(dir, &manifest, limits)?;
+        let path = plan::manifest_path(dir);
+        let manifest = Manifest::read_with(&path, limits)?;
+        let plan = Plan::new(&path, &manifest, plan::Sources::Files { dir, limits })?;
+        Ok(Variant {
+            dir: dir.to_owned(),
+            manifest,
+            plan: Arc::new(plan),
+        })
+    }
+
+    /// A variant held in memory: the text of its manifest and each pass's WGSL, in the manifest's
+    /// pass order (what [`Variant::load`] reads from a folder; the files the manifest names are
+    /// not read). `dir` names it in errors, as `dir/manifest.json`. For a host that writes or
+    /// edits the passes itself, and for reproj's own replay.
+    pub fn from_sources(
+        dir: impl AsRef<Path>,
+        manifest: &str,
+        sources: &[String],
+    ) -> Result<Variant, RuntimeError> {
+        let dir = dir.as_ref();
+        let path = plan::manifest_path(dir);
+        let manifest = Manifest::parse(&path, manifest)?;
+        let plan = Plan::new(&path, &manifest, plan::Sources::Given(sources))?;
         Ok(Variant {
             dir: dir.to_owned(),
             manifest,

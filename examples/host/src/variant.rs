@@ -61,6 +61,7 @@ impl HostVariant {
                 color_format: engine::FRAME_FORMAT,
                 vertex: &engine.vertex_stages(&vs),
                 bind_group_layouts: &layouts,
+                classification: None,
                 motion: None,
                 shared: shared.as_ref().map(|g| SharedGroup {
                     layout: &g.entries,
@@ -101,6 +102,7 @@ impl HostVariant {
                 restart: false,
                 bind_groups: &bind_groups,
                 timestamps: timer.query_set(),
+                ..Default::default()
             },
             |pass, pipelines| engine.draw_stages(pass, pipelines),
         )?;

@@ -1,4 +1,5 @@
-//! Bind group layouts and bind groups of a fragment interface, including the variant's own group.
+//! Bind group layouts and bind groups of a fragment interface, bound from the scene (a variant's
+//! own group is the runtime's).
 
 use std::collections::BTreeMap;
 use std::num::NonZeroU64;
@@ -8,26 +9,45 @@ use reproj_scene::reflect::{self, Interface, ResourceKind};
 
 use crate::gpu::tex_dim;
 
-use reproj_instance::contract;
 
 use super::*;
 
-/// Host-owned resources of the variant's added bind group, by binding name.
-pub(super) struct AddedResources<'a> {
-    pub(super) params: &'a wgpu::Buffer,
-    pub(super) point_sampler: &'a wgpu::Sampler,
-    pub(super) linear_sampler: &'a wgpu::Sampler,
-    /// The payload is rgba16float (always filterable).
-    pub(super) payload_half: bool,
-    pub(super) prev_payload: &'a wgpu::TextureView,
-    /// The previous frame's depth copy (r32float), read as a float texture.
-    pub(super) prev_depth_copy: &'a wgpu::TextureView,
-    /// The previous frame's depth buffer, for variants written before the depth copy, whose lookup
-    /// declares `reproj_prev_depth` as a depth texture (they list no depth copy target).
-    pub(super) prev_depth_buffer: Option<&'a wgpu::TextureView>,
-    pub(super) cur_payload: &'a wgpu::TextureView,
-    /// The motion vectors of this frame, for a variant that reads them (`reproj_motion`).
-    pub(super) motion: Option<&'a wgpu::TextureView>,
+/// The layout entries of group `g`'s resources `rs`, and what of `scene` is bound to each
+/// ([`Binding::resolve`]).
+pub(super) fn group_entries<'r>(
+    label: &str,
+    g: u32,
+    rs: &[&reflect::Resource],
+    scene: &'r Scene,
+) -> Result<(Vec<wgpu::BindGroupLayoutEntry>, Vec<wgpu::BindingResource<'r>>), ReplayError> {
+    let mut entries = Vec::new();
+    let mut bind = Vec::new();
+    for r in rs {
+        let binding = Binding {
+            label,
+            group: g,
+            r,
+            scene,
+        };
+        let (ty, res) = binding.resolve()?;
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: r.binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty,
+            count: None,
+        });
+        bind.push(res);
+    }
+    Ok((entries, bind))
+}
+
+/// An interface's resources by group.
+pub(super) fn by_group(iface: &Interface) -> BTreeMap<u32, Vec<&reflect::Resource>> {
+    let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
+    for r in &iface.resources {
+        by_group.entry(r.group).or_default().push(r);
+    }
+    by_group
 }
 
 /// Bind group layouts and bind groups of one fragment entry point.
@@ -76,17 +96,14 @@ impl Bindings {
     }
 }
 
-/// One resource of a fragment interface being bound: where it is, and what it is bound from (the
-/// variant's added resources in its own group, the scene's elsewhere).
+/// One resource of a fragment interface being bound from the scene: where it is, and the scene.
+/// (A variant's own bindings are the runtime's, `variant/gpu.rs`.)
 struct Binding<'a, 'r> {
     /// The pass, for messages.
     label: &'a str,
     group: u32,
     r: &'a reflect::Resource,
-    /// In the variant's added group.
-    in_added: bool,
     scene: &'r Scene,
-    added: Option<&'r AddedResources<'r>>,
 }
 
 /// A resource's layout entry type and the resource bound to it.
@@ -104,34 +121,25 @@ impl<'r> Binding<'_, 'r> {
     }
 
     /// The resource's layout entry type and what is bound to it, by its kind.
-    /// `float32_filterable`: the device filters 32-bit float textures.
-    fn resolve(&self, float32_filterable: bool) -> Result<Bound<'r>, ReplayError> {
+    fn resolve(&self) -> Result<Bound<'r>, ReplayError> {
         match &self.r.kind {
             ResourceKind::Uniform { size, .. } => self.uniform(*size),
             ResourceKind::Storage(_) => self.storage(),
-            ResourceKind::Texture { dim } => self.texture(*dim, float32_filterable),
+            ResourceKind::Texture { dim } => self.texture(*dim),
             ResourceKind::DepthTexture => self.depth_texture(),
-            ResourceKind::Sampler { .. } if self.in_added => self.added_sampler(),
             ResourceKind::Sampler { comparison } => self.scene_sampler(*comparison),
             ResourceKind::Unsupported(w) => Err(ReplayError::Unsupported { what: w.clone() }),
         }
     }
 
-    /// A uniform buffer: the variant's parameters in its group, else the scene's.
+    /// A uniform buffer of the scene.
     fn uniform(&self, size: u32) -> Result<Bound<'r>, ReplayError> {
-        let buf = if self.in_added {
-            match (self.r.name.as_str(), self.added) {
-                (contract::PARAMS, Some(a)) => a.params,
-                _ => return Err(self.missing("uniform")),
-            }
-        } else {
-            &self
-                .scene
-                .uniforms
-                .get(&self.r.name)
-                .ok_or_else(|| self.missing("uniform"))?
-                .0
-        };
+        let buf = &self
+            .scene
+            .uniforms
+            .get(&self.r.name)
+            .ok_or_else(|| self.missing("uniform"))?
+            .0;
         Ok((
             wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
@@ -160,34 +168,16 @@ impl<'r> Binding<'_, 'r> {
         ))
     }
 
-    /// A float texture: the variant's payloads, depth copy and motion vectors in its group
-    /// (only the previous payload filterable, where its format is), else the scene's.
-    fn texture(
-        &self,
-        dim: reflect::TexDim,
-        float32_filterable: bool,
-    ) -> Result<Bound<'r>, ReplayError> {
-        let (r, in_added) = (self.r, self.in_added);
-        let view = if in_added {
-            match (r.name.as_str(), self.added) {
-                (contract::PREV_PAYLOAD, Some(a)) => a.prev_payload,
-                (contract::PREV_DEPTH, Some(a)) => a.prev_depth_copy,
-                (contract::CUR_PAYLOAD, Some(a)) => a.cur_payload,
-                (contract::MOTION, Some(a)) => a.motion.ok_or_else(|| self.missing("texture"))?,
-                _ => return Err(self.missing("texture")),
-            }
-        } else {
-            self.scene
-                .textures
-                .get(&r.name)
-                .ok_or_else(|| self.missing("texture"))?
-        };
-        let payload_half = self.added.is_some_and(|a| a.payload_half);
-        let filterable =
-            !in_added || (r.name == contract::PREV_PAYLOAD && (float32_filterable || payload_half));
+    /// A float texture of the scene (filterable).
+    fn texture(&self, dim: reflect::TexDim) -> Result<Bound<'r>, ReplayError> {
+        let view = self
+            .scene
+            .textures
+            .get(&self.r.name)
+            .ok_or_else(|| self.missing("texture"))?;
         Ok((
             wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable },
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
                 view_dimension: tex_dim(dim),
                 multisampled: false,
             },
@@ -195,23 +185,14 @@ impl<'r> Binding<'_, 'r> {
         ))
     }
 
-    /// A depth texture: the previous depth buffer in the variant's group (a variant written
-    /// before the depth copy), else the scene's depth pass.
+    /// A depth texture: the scene's depth pass.
     fn depth_texture(&self) -> Result<Bound<'r>, ReplayError> {
-        let view = match (self.r.name.as_str(), self.added) {
-            (contract::PREV_DEPTH, Some(a)) if self.in_added => a
-                .prev_depth_buffer
-                .ok_or_else(|| self.missing("depth texture"))?,
-            _ if !self.in_added => {
-                &self
-                    .scene
-                    .depth
-                    .get(&self.r.name)
-                    .ok_or_else(|| self.missing("depth texture"))?
-                    .view
-            }
-            _ => return Err(self.missing("depth texture")),
-        };
+        let view = &self
+            .scene
+            .depth
+            .get(&self.r.name)
+            .ok_or_else(|| self.missing("depth texture"))?
+            .view;
         Ok((
             wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Depth,
@@ -219,23 +200,6 @@ impl<'r> Binding<'_, 'r> {
                 multisampled: false,
             },
             wgpu::BindingResource::TextureView(view),
-        ))
-    }
-
-    /// One of the variant's two samplers (point, linear).
-    fn added_sampler(&self) -> Result<Bound<'r>, ReplayError> {
-        let (s, ty) = match (self.r.name.as_str(), self.added) {
-            (contract::POINT_SAMPLER, Some(a)) => {
-                (a.point_sampler, wgpu::SamplerBindingType::NonFiltering)
-            }
-            (contract::LINEAR_SAMPLER, Some(a)) => {
-                (a.linear_sampler, wgpu::SamplerBindingType::Filtering)
-            }
-            _ => return Err(self.missing("sampler")),
-        };
-        Ok((
-            wgpu::BindingType::Sampler(ty),
-            wgpu::BindingResource::Sampler(s),
         ))
     }
 
@@ -259,45 +223,16 @@ impl<'r> Binding<'_, 'r> {
 
 impl Renderer {
     /// Layouts and bind groups of one fragment interface (every group but the vertex group): each
-    /// group's resources resolved ([`Binding::resolve`]), then its layout and bind group made.
+    /// group's resources resolved ([`Renderer::group_entries`]), then its layout and bind group made.
     pub(super) fn bindings(
         &self,
         label: &str,
         iface: &Interface,
         scene: &Scene,
-        added_at: Option<AddedPlace>,
-        added: Option<&AddedResources<'_>>,
     ) -> Result<Bindings, ReplayError> {
-        let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
-        for r in &iface.resources {
-            by_group.entry(r.group).or_default().push(r);
-        }
-        let float32_filterable = self
-            .device
-            .features()
-            .contains(wgpu::Features::FLOAT32_FILTERABLE);
         let mut out = Bindings::empty();
-        for (g, rs) in by_group {
-            let mut entries = Vec::new();
-            let mut bind: Vec<wgpu::BindingResource<'_>> = Vec::new();
-            for r in &rs {
-                let binding = Binding {
-                    label,
-                    group: g,
-                    r,
-                    in_added: added_at.is_some_and(|a| a.holds(g, r.binding)),
-                    scene,
-                    added,
-                };
-                let (ty, res) = binding.resolve(float32_filterable)?;
-                entries.push(wgpu::BindGroupLayoutEntry {
-                    binding: r.binding,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty,
-                    count: None,
-                });
-                bind.push(res);
-            }
+        for (g, rs) in by_group(iface) {
+            let (entries, bind) = group_entries(label, g, &rs, scene)?;
             let (layout, group) = self.bind_group(
                 &format!("{label}: bind group {g}"),
                 label,

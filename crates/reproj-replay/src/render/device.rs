@@ -29,6 +29,7 @@ impl Renderer {
                 PerceptualOn::Cpu => false,
             },
             pipelines: Mutex::default(),
+            variants: Mutex::default(),
             pipeline_hits: AtomicU64::new(0),
         })
     }

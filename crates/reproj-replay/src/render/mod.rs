@@ -53,15 +53,6 @@ pub use upsample::{UpsampleSpec, Upsampled};
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const CLASSIFY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-/// The depth copy a variant's color passes write and the next frame's lookup reads.
-const DEPTH_COPY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// The depth copy is cleared to the far plane, like a depth buffer.
-const DEPTH_COPY_CLEAR: wgpu::Color = wgpu::Color {
-    r: 1.0,
-    g: 0.0,
-    b: 0.0,
-    a: 0.0,
-};
 
 /// How to open the GPU.
 #[derive(Debug, Clone, Default)]
@@ -169,25 +160,6 @@ pub struct VariantInput {
 }
 
 impl VariantInput {
-    /// The `reproj_params` of frame `frame` of a render whose first frame is `first`: Δn 1 there
-    /// (the cache starts empty, every pixel is refreshed), else this frame's Δn.
-    pub(super) fn params_at(
-        &self,
-        frame: u32,
-        first: u32,
-    ) -> reproj_instance::contract::ReprojParams {
-        let mut p = reproj_instance::contract::ReprojParams::for_frame(
-            frame,
-            self.delta_n_at(frame),
-            self.block,
-            self.depth_epsilon,
-        );
-        if frame == first {
-            p.delta_n = 1;
-        }
-        p
-    }
-
     /// From WGSL texts and a manifest; k and ε from the manifest's defaults.
     pub fn new(sources: Vec<String>, manifest: Manifest, delta_n: u32) -> Self {
         let label = format!("{} node {}", manifest.shader, manifest.node.id);
@@ -255,6 +227,9 @@ pub struct Renderer {
     perceptual_on_device: bool,
     /// Render pipelines kept across replays (see [`Renderer::pipeline`]).
     pipelines: Mutex<HashMap<String, Pipe>>,
+    /// Variants kept built across replays, by key, the most recently used last
+    /// (`variant/gpu.rs`).
+    variants: Mutex<Vec<(String, variant::BuiltVariant)>>,
     pipeline_hits: AtomicU64,
 }
 

@@ -5,7 +5,6 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use reproj_front::Shader;
-use reproj_instance::{Manifest, PassKind};
 
 use crate::error::ReplayError;
 use crate::vertex::VERTEX_ENTRY;
@@ -89,109 +88,6 @@ fn bind_group_layouts<'a>(
 
 /// Pipelines kept at most; the cache starts over beyond (an `analyze` keeps one node's few).
 pub(super) const PIPELINE_CACHE_LEN: usize = 64;
-
-/// A color attachment of a variant pass.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Attachment {
-    Frame,
-    Cache,
-    /// The fragment's depth, read by the next frame's lookup.
-    DepthCopy,
-}
-
-/// The render passes a variant's passes are drawn in, as ranges of pass indices: consecutive
-/// passes that write the same targets (the same attachment at every location) share one where the
-/// later loads every target and the depth — a host draws them so (`docs/PASSES.md`, "One render
-/// pass"), and on a tiler or a CPU rasterizer a render pass boundary stores and reloads every
-/// target. No pass of a shared render pass reads what it writes: a pass never binds its own
-/// targets, and they are the same. With `separate`, one render pass per pass (per-pass timing).
-pub(super) fn render_passes(specs: &[PassSpec], separate: bool) -> Vec<std::ops::Range<usize>> {
-    let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
-    for (i, spec) in specs.iter().enumerate() {
-        let joins = !separate
-            && i > 0
-            && spec.depth_load
-            && spec.colors.iter().all(|c| c.is_none_or(|(_, load)| load))
-            && spec
-                .colors
-                .iter()
-                .map(|c| c.map(|(t, _)| t))
-                .eq(specs[i - 1].colors.iter().map(|c| c.map(|(t, _)| t)));
-        match groups.last_mut() {
-            Some(g) if joins => g.end = i + 1,
-            _ => groups.push(i..i + 1),
-        }
-    }
-    groups
-}
-
-/// One variant pass as the manifest describes it.
-#[derive(Debug)]
-pub(super) struct PassSpec {
-    pub(super) label: String,
-    /// By `@location`: the attachment and whether it is loaded (else cleared).
-    pub(super) colors: Vec<Option<(Attachment, bool)>>,
-    pub(super) compare: wgpu::CompareFunction,
-    pub(super) depth_write: bool,
-    /// Depth loaded (else cleared to 1).
-    pub(super) depth_load: bool,
-}
-
-/// The passes of a variant, from its manifest.
-pub(super) fn pass_specs(m: &Manifest) -> Result<Vec<PassSpec>, ReplayError> {
-    use reproj_instance::Strategy;
-    let expected: &[PassKind] = match m.strategy {
-        Strategy::ThreePass => &[PassKind::Reproject, PassKind::Recompute, PassKind::Shade],
-        Strategy::TwoPass => &[PassKind::ShadeHits, PassKind::ShadeMisses],
-        Strategy::Fused => &[PassKind::Fused],
-    };
-    let kinds: Vec<PassKind> = m.passes.iter().map(|p| p.kind).collect();
-    let bad = |message: String| ReplayError::Variant { message };
-    if kinds != expected {
-        return Err(bad(format!(
-            "a {} variant has the passes {expected:?}, the manifest lists {kinds:?}",
-            m.strategy
-        )));
-    }
-    m.passes
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let mut colors = Vec::new();
-            for c in &p.colors {
-                let t = match c.attachment.as_str() {
-                    reproj_instance::ATTACHMENT_FRAME => Attachment::Frame,
-                    reproj_instance::ROLE_CUR_PAYLOAD => Attachment::Cache,
-                    reproj_instance::ROLE_CUR_DEPTH_COPY => Attachment::DepthCopy,
-                    other => return Err(bad(format!("unknown color attachment `{other}`"))),
-                };
-                let load = c.load.is_load();
-                let at = c.location as usize;
-                if at >= 8 {
-                    return Err(bad(format!("color location {at} is out of range")));
-                }
-                if colors.len() <= at {
-                    colors.resize(at + 1, None);
-                }
-                colors[at] = Some((t, load));
-            }
-            let compare = match p.depth.compare.as_str() {
-                "less" => wgpu::CompareFunction::Less,
-                "less-equal" => wgpu::CompareFunction::LessEqual,
-                "equal" => wgpu::CompareFunction::Equal,
-                "always" => wgpu::CompareFunction::Always,
-                other => return Err(bad(format!("unknown depth compare `{other}`"))),
-            };
-            Ok(PassSpec {
-                label: format!("pass {} {}", i + 1, p.file.trim_end_matches(".wgsl")),
-                colors,
-                compare,
-                depth_write: p.depth.write,
-                depth_load: p.depth.load.is_load(),
-            })
-        })
-        .collect()
-}
 
 impl Renderer {
     pub(super) fn make_stage(
@@ -377,57 +273,5 @@ impl Renderer {
             usage,
             view_formats: &[],
         })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn spec(colors: &[(Attachment, bool)], depth_load: bool) -> PassSpec {
-        PassSpec {
-            label: String::new(),
-            colors: colors.iter().copied().map(Some).collect(),
-            compare: wgpu::CompareFunction::Less,
-            depth_write: true,
-            depth_load,
-        }
-    }
-
-    #[test]
-    fn passes_that_load_the_same_targets_share_a_render_pass() {
-        use Attachment::*;
-        // 2pass: shade hits (clears), shade misses (loads the same two targets).
-        let two = [
-            spec(&[(Frame, false), (Cache, false)], false),
-            spec(&[(Frame, true), (Cache, true)], true),
-        ];
-        assert_eq!(
-            render_passes(&two, false),
-            [std::ops::Range { start: 0, end: 2 }]
-        );
-        assert_eq!(render_passes(&two, true), [0..1, 1..2]);
-        // 3pass: reproject and recompute share the cache; shade writes other targets.
-        let three = [
-            spec(&[(Cache, false)], false),
-            spec(&[(Cache, true)], true),
-            spec(&[(Frame, false), (DepthCopy, false)], true),
-        ];
-        assert_eq!(render_passes(&three, false), [0..2, 2..3]);
-        // A pass that clears a target, or clears the depth, starts its own.
-        let clears = [
-            spec(&[(Frame, false), (Cache, false)], false),
-            spec(&[(Frame, true), (Cache, false)], true),
-            spec(&[(Frame, true), (Cache, true)], false),
-        ];
-        assert_eq!(render_passes(&clears, false), [0..1, 1..2, 2..3]);
-        // The same targets at other locations are other targets.
-        let swapped = [
-            spec(&[(Frame, false), (Cache, false)], false),
-            spec(&[(Cache, true), (Frame, true)], true),
-        ];
-        assert_eq!(render_passes(&swapped, false), [0..1, 1..2]);
-        assert_eq!(render_passes(&two[..1], false).len(), 1);
-        assert!(render_passes(&[], false).is_empty());
     }
 }

@@ -8,9 +8,11 @@ use std::path::{Path, PathBuf};
 
 use crate::manifest::{self, Manifest, ParamValue};
 use crate::webgpu;
-use crate::{ReadLimits, RuntimeError};
+use crate::RuntimeError;
 
 mod pass;
+
+pub(crate) use pass::Sources;
 
 /// A texture of the manifest's `textures` (all are the frame's size).
 #[derive(Debug, Clone)]
@@ -158,10 +160,21 @@ impl At<'_> {
 }
 
 impl Plan {
-    /// Check `m` (read from `dir/manifest.json`) and read its pass files within `limits`.
-    pub fn new(dir: &Path, m: &Manifest, limits: &ReadLimits) -> Result<Plan, RuntimeError> {
-        let path = manifest_path(dir);
-        let at = At(&path);
+    /// Check `m` (read from `path`) with its passes' WGSL from `sources`.
+    pub fn new(path: &Path, m: &Manifest, sources: Sources<'_>) -> Result<Plan, RuntimeError> {
+        let at = At(path);
+        if let Sources::Given(given) = sources
+            && given.len() != m.passes.len()
+        {
+            return Err(at.err(
+                "passes",
+                format!(
+                    "lists {} passes, {} sources were given",
+                    m.passes.len(),
+                    given.len()
+                ),
+            ));
+        }
         if !m.conventions.are_webgpu() {
             return Err(at.err(
                 "conventions",
@@ -183,8 +196,7 @@ impl Plan {
         let samplers = samplers(&at, m)?;
         let check = pass::Check {
             at: &at,
-            dir,
-            limits,
+            sources,
             m,
             textures: &textures,
             samplers: &samplers,
@@ -411,9 +423,9 @@ fn params(at: &At<'_>, m: &Manifest) -> Result<(usize, Vec<ParamPlan>), RuntimeE
 impl Plan {
     /// The `reproj_params` bytes of frame `frame` (counted from the last restart): per field,
     /// `constant` → its value; `steady` → `first` on frame 0 (nothing to reuse yet) else `value`,
-    /// or `delta_n` for the field named `delta_n` when given; `frame_index` → `frame`. `u32`
+    /// or `delta_n` for the field named `delta_n` when given; `frame_index` → `clock`, else `frame`. `u32`
     /// fields are rounded.
-    pub fn params_bytes(&self, frame: u32, delta_n: Option<u32>) -> Vec<u8> {
+    pub fn params_bytes(&self, frame: u32, clock: Option<u32>, delta_n: Option<u32>) -> Vec<u8> {
         let mut bytes = vec![0u8; self.params_size];
         for f in &self.params {
             let x = match f.value {
@@ -424,7 +436,7 @@ impl Plan {
                         _ => value,
                     }
                 }
-                ParamValue::FrameIndex => f64::from(frame),
+                ParamValue::FrameIndex => f64::from(clock.unwrap_or(frame)),
             };
             let le = match f.ty {
                 ParamType::U32 => (x.round().max(0.0) as u32).to_le_bytes(),
@@ -510,11 +522,14 @@ mod tests {
         assert!(p.has_delta_n());
         let eps = 0.01f32.to_bits();
         // Frame 0: nothing to reuse, Δn is `first` whatever is asked.
-        assert_eq!(words(&p.params_bytes(0, None)), [1, 0, 4, eps]);
-        assert_eq!(words(&p.params_bytes(0, Some(16))), [1, 0, 4, eps]);
-        assert_eq!(words(&p.params_bytes(5, None)), [8, 5, 4, eps]);
-        assert_eq!(words(&p.params_bytes(5, Some(16))), [16, 5, 4, eps]);
+        assert_eq!(words(&p.params_bytes(0, None, None)), [1, 0, 4, eps]);
+        assert_eq!(words(&p.params_bytes(0, None, Some(16))), [1, 0, 4, eps]);
+        assert_eq!(words(&p.params_bytes(5, None, None)), [8, 5, 4, eps]);
+        assert_eq!(words(&p.params_bytes(5, None, Some(16))), [16, 5, 4, eps]);
         // Δn is at least 1.
-        assert_eq!(words(&p.params_bytes(5, Some(0))), [1, 5, 4, eps]);
+        assert_eq!(words(&p.params_bytes(5, None, Some(0))), [1, 5, 4, eps]);
+        // The clock the host gives; frame 0 still refreshes everything.
+        assert_eq!(words(&p.params_bytes(5, Some(12), None)), [8, 12, 4, eps]);
+        assert_eq!(words(&p.params_bytes(0, Some(12), Some(16))), [1, 12, 4, eps]);
     }
 }

@@ -19,11 +19,19 @@ struct Bound {
     shared_own: BTreeMap<u32, String>,
 }
 
+/// Where the passes' WGSL comes from.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Sources<'a> {
+    /// The files the manifest names, in its folder, read within the limits.
+    Files { dir: &'a Path, limits: &'a ReadLimits },
+    /// Given in memory, in the manifest's pass order.
+    Given(&'a [String]),
+}
+
 /// What checking a pass needs of the manifest already checked.
 pub(super) struct Check<'a> {
     pub at: &'a At<'a>,
-    pub dir: &'a Path,
-    pub limits: &'a ReadLimits,
+    pub sources: Sources<'a>,
     pub m: &'a Manifest,
     pub textures: &'a [TexturePlan],
     pub samplers: &'a [SamplerPlan],
@@ -33,9 +41,15 @@ impl Check<'_> {
     /// Pass `i`: its source read, its targets and bindings resolved.
     pub fn pass(&self, i: usize, p: &Pass) -> Result<PassPlan, RuntimeError> {
         let at = self.at;
-        let file = files::inside(self.dir, &p.file)
-            .map_err(|why| at.err(format!("passes[{i}].file"), why))?;
-        let source = files::read_text(&file, files::FileKind::Shader, self.limits)?;
+        let source = match self.sources {
+            Sources::Files { dir, limits } => {
+                let file = files::inside(dir, &p.file)
+                    .map_err(|why| at.err(format!("passes[{i}].file"), why))?;
+                files::read_text(&file, files::FileKind::Shader, limits)?
+            }
+            // `Plan::new` checked there is one per pass.
+            Sources::Given(given) => given[i].clone(),
+        };
         let Bound {
             added,
             own_groups,

@@ -414,6 +414,7 @@ impl App {
                     color_format: COLOR,
                     vertex: stages,
                     bind_group_layouts: if shares { &own[1..] } else { &own },
+                    classification: None,
                     motion: None,
                     shared: shares.then_some(SharedGroup {
                         layout: &scene_entry,

@@ -90,7 +90,7 @@ impl Renderer {
         let vs_src = vertex::vertex_wgsl(vgroup, &inputs, &session.inputs, prev_clip)?;
         let vs = self.shader_module("replay vertex stage", &vs_src)?;
         let fs = self.shader_module(&shader.path.display().to_string(), &shader.source)?;
-        let bindings = self.bindings("original", &iface, &scene, None, None)?;
+        let bindings = self.bindings("original", &iface, &scene)?;
         let pipe = self.pipeline(
             &PipelineSpec {
                 label: "original",

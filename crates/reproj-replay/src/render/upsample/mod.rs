@@ -108,7 +108,7 @@ impl LowDraw<'_> {
         match self {
             LowDraw::Original { .. } => (1, 1),
             LowDraw::Variant { plan, .. } => {
-                (plan.specs.len() as u32, plan.render_passes.len() as u32)
+                (plan.runtime.pass_count() as u32, plan.render_passes.len() as u32)
             }
         }
     }
@@ -185,7 +185,6 @@ impl Renderer {
         };
         let plan = self.plan_variant(shader, &small, variant, None, &no_classify)?;
         let gpu = self.variant_gpu(&small, variant, &plan, true)?;
-        self.clear_variant_cache(&gpu)?;
         let m = &variant.manifest;
         let mut report = self.new_report("upsampled variant", shader, &m.entry, session);
         report.node = Some(m.node.id.clone());
@@ -346,10 +345,7 @@ impl Renderer {
             }
             LowDraw::Variant { variant, plan, gpu } => {
                 self.write_frame_uniforms(small, &gpu.scene, f, jitter);
-                let p = variant.params_at(f, first);
-                self.queue
-                    .write_buffer(&gpu.params, 0, bytemuck::bytes_of(&p));
-                self.encode_variant_passes_into(&mut enc, gpu, plan, (f % 2) as usize, q);
+                self.encode_variant_passes_into(&mut enc, gpu, variant, (f, first), q)?;
                 plan.render_passes.len() as u32
             }
         };

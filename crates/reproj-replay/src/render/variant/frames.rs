@@ -93,7 +93,7 @@ impl Renderer {
         let slots = self.batch_len(plan.frames, Staging::slot_bytes(w, h, 16));
         let q = QueryKit::new(
             self,
-            plan.specs.len() as u32,
+            plan.runtime.pass_count() as u32,
             plan.render_passes.len() as u32,
             slots,
         );
@@ -109,9 +109,8 @@ impl Renderer {
                 (opts.png_dir.is_some(), opts.perceptual_stride),
             )?)
         };
-        let cls_rb = run
-            .gpu
-            .pc
+        let cls_rb = plan
+            .classify_stage
             .as_ref()
             .map(|_| Staging::new(self, "classify readback", w, h, 4, slots));
         Ok(VariantReadback {
@@ -122,8 +121,8 @@ impl Renderer {
         })
     }
 
-    /// Frame `f`'s commands, into `slot`: its uniforms and `reproj_params` written, its passes
-    /// (the render, timed), then the readback (and the untimed classification pass).
+    /// Frame `f`'s commands, into `slot`: its uniforms written, its passes (the render, timed),
+    /// then the readback (and the untimed classification pass).
     fn encode_variant_frame(
         &self,
         run: &FrameLoop<'_>,
@@ -131,54 +130,28 @@ impl Renderer {
         f: u32,
         slot: u32,
     ) -> Result<(wgpu::CommandEncoder, wgpu::CommandEncoder), ReplayError> {
-        let (variant, gpu) = (run.variant, run.gpu);
-        let cur = (f % 2) as usize;
+        let gpu = run.gpu;
         self.write_frame_uniforms(run.session, &gpu.scene, f, &crate::jitter::Jitter::None);
-        let p = variant.params_at(f, run.plan.first);
-        self.queue
-            .write_buffer(&gpu.params, 0, bytemuck::bytes_of(&p));
-        let render = self.encode_variant_passes(gpu, run.plan, cur, &rb.q, slot);
+        let mut render = self.device.create_command_encoder(&Default::default());
+        self.encode_variant_passes_into(&mut render, gpu, run.variant, (f, run.plan.first), &rb.q)?;
+        rb.q.resolve(&mut render, slot);
         let mut enc = self.device.create_command_encoder(&Default::default());
         if let Some(errors) = &rb.errors {
             errors.encode(self, &mut enc, &gpu.color, &gpu.color_view, f, slot)?;
         }
-        if let (Some(pc), Some(cls_rb)) = (&gpu.pc, &rb.cls_rb) {
-            self.encode_classify(&mut enc, gpu, pc, &gpu.binds[cur].1);
+        if let Some(cls_rb) = &rb.cls_rb {
+            let runtime = gpu.runtime.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            runtime
+                .record_classification(
+                    &mut enc,
+                    (&gpu.cls_view, &gpu.cls_depth_view),
+                    &gpu.scene_groups(),
+                    |pass, pipelines| gpu.draw_objects(pass, pipelines),
+                )
+                .map_err(|e| runtime_error(run.variant, e))?;
             cls_rb.copy(&mut enc, &gpu.cls, slot);
         }
         Ok((render, enc))
-    }
-
-    /// Record the classification pass into the classification map.
-    fn encode_classify(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        gpu: &VariantGpu,
-        pc: &Pipe,
-        bindings: &Bindings,
-    ) {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(CLASSIFY_ENTRY),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &gpu.cls_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &gpu.cls_depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            ..Default::default()
-        });
-        self.draw(&mut pass, pc, bindings, &gpu.scene, gpu.vgroup);
     }
 
     /// Frame `f`, back in `slot` (`cpu_ms` its CPU time): its record, with its PNGs written, and
@@ -206,7 +179,7 @@ impl Renderer {
         };
         let (occ, render_pass_ms, span) = rb.q.read(slot)?;
         // Per pass only where each pass has its own render pass (`VariantInput::pass_times`).
-        let pass_ms = if run.plan.render_passes.len() == run.plan.specs.len() {
+        let pass_ms = if run.plan.render_passes.len() == run.plan.runtime.pass_count() {
             render_pass_ms
         } else {
             Vec::new()
@@ -266,82 +239,51 @@ impl Renderer {
         Ok((record, sampled))
     }
 
-    /// Record frame parity `cur`'s passes (the host's clears first, where no pass clears the
-    /// frame or the first pass loads the depth) in their render passes ([`render_passes`]), each
-    /// pass counted and each render pass timed by `q` into `slot`.
-    pub(super) fn encode_variant_passes(
-        &self,
-        gpu: &VariantGpu,
-        plan: &VariantPlan,
-        cur: usize,
-        q: &QueryKit,
-        slot: u32,
-    ) -> wgpu::CommandEncoder {
-        let mut enc = self.device.create_command_encoder(&Default::default());
-        self.encode_variant_passes_into(&mut enc, gpu, plan, cur, q);
-        q.resolve(&mut enc, slot);
-        enc
-    }
-
-    /// [`Renderer::encode_variant_passes`] into `enc`, the queries left unresolved (render pass
-    /// `r` writes timestamps `r`).
+    /// Record frame `f`'s passes of a render whose first frame is `first` (the cache starts
+    /// over there): the motion pass where there is one, the host's clears (where no pass clears
+    /// the frame or the first pass loads the depth), then the variant's passes as the runtime
+    /// records them, each pass counted by `q`'s occlusion queries and each render pass timed
+    /// (render pass `r` writes timestamps `2r` and `2r + 1`), left unresolved.
     pub(in crate::render) fn encode_variant_passes_into(
         &self,
         enc: &mut wgpu::CommandEncoder,
         gpu: &VariantGpu,
-        plan: &VariantPlan,
-        cur: usize,
+        variant: &VariantInput,
+        (f, first): (u32, u32),
         q: &QueryKit,
-    ) {
-        let specs = &plan.specs;
-        let VariantGpu {
-            scene,
-            vgroup,
-            binds,
-            pipes,
-            motion,
-            ..
-        } = gpu;
-        let vgroup = *vgroup;
-        let b = &binds[cur];
-        if let Some(mg) = motion {
-            self.encode_motion(enc, mg, scene, vgroup);
+    ) -> Result<(), ReplayError> {
+        if let Some(mg) = &gpu.motion {
+            self.encode_motion(enc, mg, &gpu.scene, gpu.vgroup);
         }
-        self.encode_host_clears(enc, gpu, cur);
-        for (r, passes) in plan.render_passes.iter().enumerate() {
-            // The first pass's targets and load operations; the others load them all.
-            let spec = &specs[passes.start];
-            let colors = pass_colors(gpu, spec, cur);
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(&spec.label),
-                color_attachments: &colors,
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: gpu.depth_at(cur),
-                    depth_ops: Some(wgpu::Operations {
-                        load: if spec.depth_load {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(1.0)
-                        },
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: q.writes(r as u32),
-                occlusion_query_set: Some(&q.occlusion),
-                multiview_mask: None,
-            });
-            for i in passes.clone() {
-                pass.begin_occlusion_query(i as u32);
-                self.draw(&mut pass, &pipes[i], &b.0[i], scene, vgroup);
-                pass.end_occlusion_query();
-            }
-        }
+        self.encode_host_clears(enc, gpu);
+        let mut runtime = gpu.runtime.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let groups = gpu.scene_groups();
+        runtime
+            .record(
+                &self.queue,
+                enc,
+                &reproj_runtime::FrameTargets {
+                    color: &gpu.color_view,
+                    depth: &gpu.depth_view,
+                    clear_color: gpu.clear,
+                },
+                &reproj_runtime::FrameInputs {
+                    delta_n: Some(variant.delta_n_at(f)),
+                    restart: f == first,
+                    bind_groups: &groups,
+                    timestamps: q.timestamps(),
+                    occlusion: Some(&q.occlusion),
+                    clock: Some(f),
+                    separate_passes: variant.pass_times,
+                },
+                |pass, pipelines| gpu.draw_objects(pass, pipelines),
+            )
+            .map_err(|e| runtime_error(variant, e))
     }
 
     /// The clears an engine's frame starts with, where the variant's passes load instead: the
     /// depth (the first pass loads it) and the frame (no pass clears it).
-    fn encode_host_clears(&self, enc: &mut wgpu::CommandEncoder, gpu: &VariantGpu, cur: usize) {
+    fn encode_host_clears(&self, enc: &mut wgpu::CommandEncoder, gpu: &VariantGpu) {
         if gpu.host_clears_depth {
             // `--depth-load load`: the passes test against the engine's depth, which starts the
             // frame cleared; a replay draws nothing else into it.
@@ -349,7 +291,7 @@ impl Renderer {
                 label: Some("host clears the depth"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: gpu.depth_at(cur),
+                    view: &gpu.depth_view,
                     depth_ops: Some(wgpu::Operations {
                         load: wgpu::LoadOp::Clear(1.0),
                         store: wgpu::StoreOp::Store,
@@ -379,39 +321,11 @@ impl Renderer {
     }
 }
 
-/// A pass's color attachments at frame parity `cur`, by `@location`: the frame, the current
-/// payload, the current depth copy, each loaded or cleared as `spec` lists.
-fn pass_colors<'a>(
-    gpu: &'a VariantGpu,
-    spec: &PassSpec,
-    cur: usize,
-) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
-    let clear_payload = gpu.payload_clear;
-    spec.colors
-        .iter()
-        .map(|c| {
-            c.map(|(t, load)| {
-                let (view, clear_to) = match t {
-                    Attachment::Frame => (&gpu.color_view, gpu.clear),
-                    Attachment::Cache => (&gpu.payload_v[cur], clear_payload),
-                    Attachment::DepthCopy => (&gpu.depth_copy_v[cur], DEPTH_COPY_CLEAR),
-                };
-                wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: if load {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(clear_to)
-                        },
-                        store: wgpu::StoreOp::Store,
-                    },
-                }
-            })
-        })
-        .collect()
+/// A runtime error of drawing `variant`, named.
+fn runtime_error(variant: &VariantInput, e: reproj_runtime::RuntimeError) -> ReplayError {
+    ReplayError::Variant {
+        message: format!("{}: {e}", variant.label),
+    }
 }
 
 /// Hit, miss and refresh pixels of a classification map (rgba8: green hit, else red miss, else

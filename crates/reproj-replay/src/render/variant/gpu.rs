@@ -1,15 +1,30 @@
-//! Phase 2 of a variant render: its GPU objects, and the cache cleared before the first frame.
+//! Phase 2 of a variant render: its GPU objects. The variant itself — its payload and depth-copy
+//! ping-pong, samplers, parameters, bind groups and pipelines — is built by `reproj-runtime`, the
+//! code a host ships, and kept across replays ([`VARIANT_CACHE_LEN`]); the replay adds the scene,
+//! its vertex stage and bindings, the frame and depth targets, the classification map and the
+//! motion pass.
+
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex, PoisonError};
+
+use reproj_runtime::{SharedGroup, VertexStage};
+use reproj_scene::session::Cull;
 
 use super::*;
+
+/// Variants kept built across replays (an `analyze` races a node's few at once; a bench's blocks
+/// replay the same ones again and again): on a CPU rasterizer compiling the passes is most of a
+/// replay's set-up time.
+pub(in crate::render) const VARIANT_CACHE_LEN: usize = 6;
+
+/// A variant built on the device, kept across replays under its key ([`Renderer::variant_gpu`]).
+pub(in crate::render) type BuiltVariant = Arc<Mutex<reproj_runtime::VariantResources>>;
+
 impl Renderer {
-    /// The GPU objects of a variant render: the scene, the stages' modules, the payload and depth
-    /// copy ping-pong, the frame and classification targets, the samplers, each parity's bind
-    /// groups and the passes' pipelines. In phases: the interfaces and the vertex stage
-    /// ([`Renderer::variant_shaders`]), the targets ([`Renderer::variant_targets`]), each
-    /// parity's bindings ([`Renderer::parity_bindings`]), the pipelines
-    /// ([`Renderer::variant_pipelines`]).
-    /// `motion`: draw the motion pass also for a variant that reads no motion vectors (the
-    /// temporal upsampler reads them).
+    /// The GPU objects of a variant render: the scene, its bindings and vertex stage, the frame,
+    /// depth and classification targets, the motion pass, and the variant built by the runtime
+    /// (or found built by an earlier replay). `motion`: draw the motion pass also for a variant
+    /// that reads no motion vectors (the temporal upsampler reads them).
     pub(in crate::render) fn variant_gpu(
         &self,
         session: &Session,
@@ -19,68 +34,64 @@ impl Renderer {
     ) -> Result<VariantGpu, ReplayError> {
         let m = &variant.manifest;
         let shaders = self.variant_shaders(session, m, plan, motion)?;
-        let targets = self.variant_targets(session.resolution, m, &plan.specs);
-        // Bindings for each parity (cur = parity, prev = 1 − parity).
-        let binds = (0..2usize)
-            .map(|parity| self.parity_bindings(parity, m, plan, &shaders, &targets))
-            .collect::<Result<Vec<_>, _>>()?;
-        let (pipes, pc) = self.variant_pipelines(plan, &shaders, &binds, targets.cache_format)?;
-        let specs = &plan.specs;
-        let clear = background_color(session);
-        let [r, g, b, a] = reproj_instance::payload_clear(m.depth_channel);
-        let payload_clear = wgpu::Color { r, g, b, a };
-        let host_clears_depth = specs.first().is_some_and(|s| s.depth_load);
-        let host_clears_frame = !specs.iter().any(|s| {
-            s.colors
-                .iter()
-                .flatten()
-                .any(|(t, load)| *t == Attachment::Frame && !load)
-        });
         let VariantShaders {
             scene,
             vgroup,
+            vs_src,
+            vs,
             motion,
-            ..
         } = shaders;
-        let VariantTargets {
-            payload_v,
-            depth_copy_v,
-            depth_v,
-            color,
-            color_view,
-            cls,
-            cls_view,
-            cls_depth_view,
-            params,
-            ..
-        } = targets;
+        let [w, h] = session.resolution;
+        let depth = self.target("depth", w, h, DEPTH_FORMAT, false);
+        let depth_view = depth.create_view(&Default::default());
+        let color = self.target("frame color", w, h, FRAME_FORMAT, true);
+        let color_view = color.create_view(&Default::default());
+        let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
+        let cls_view = cls.create_view(&Default::default());
+        let cls_depth = self.target("classify depth", w, h, DEPTH_FORMAT, false);
+        let cls_depth_view = cls_depth.create_view(&Default::default());
+        let scene_iface = scene_interface(plan, m.added_place());
+        let binds = self.bindings("scene", &scene_iface, &scene)?;
+        let built = self.built_variant(
+            plan,
+            &BuildInputs {
+                scene: &scene,
+                scene_iface: &scene_iface,
+                binds: &binds,
+                vgroup,
+                vs: (&vs_src, &vs),
+                size: [w, h],
+                // The upsampler draws the motion pass for its resolve; the passes read it only
+                // where the variant reads motion vectors.
+                motion: motion
+                    .as_ref()
+                    .filter(|_| m.reprojection == Reprojection::MotionVectors)
+                    .map(|mg| &mg.view),
+            },
+        )?;
         Ok(VariantGpu {
+            runtime: built,
+            group: m.group,
+            culls: culls(&scene),
             scene,
             vgroup,
-            payload_v,
-            depth_copy_v,
-            depth_v,
+            binds,
+            depth_view,
             color,
             color_view,
             cls,
             cls_view,
             cls_depth_view,
-            params,
-            binds,
-            pipes,
-            pc,
-            clear,
-            payload_clear,
-            host_clears_frame,
-            host_clears_depth,
+            clear: background_color(session),
+            host_clears_frame: plan.runtime.loads_frame_first(),
+            host_clears_depth: plan.runtime.loads_depth_first(),
             motion,
+            _textures: [depth, cls_depth],
         })
     }
 
-    /// The passes' interfaces and shared vertex stage: the vertex transforms' group (free in
-    /// every stage), the scene they use, the vertex stage writing every input they read (and the
-    /// previous clip position), the motion pass where the variant reads motion vectors, and the
-    /// passes' fragment modules.
+    /// The scene, the vertex stage writing every input the passes read (and the previous clip
+    /// position), and the motion pass where the variant reads motion vectors.
     fn variant_shaders(
         &self,
         session: &Session,
@@ -129,357 +140,219 @@ impl Renderer {
                 Some(self.motion_gpu([w, h], &vs, &vs_src, &scene, vgroup, prev_clip_location)?)
             }
         };
-        let fsm: Vec<wgpu::ShaderModule> = stages
-            .iter()
-            .map(|s| self.shader_module(&s.shader.path.display().to_string(), &s.shader.source))
-            .collect::<Result<_, _>>()?;
         Ok(VariantShaders {
             scene,
             vgroup,
             vs_src,
             vs,
-            fsm,
             motion,
         })
     }
 
-    /// The targets of frames of `[w, h]`: the payload and depth copy of each parity, the depth
-    /// buffer (two, alternating, for a variant written before the depth copy: `specs` list no
-    /// depth copy target), the frame, the classification map and its depth; the parameters
-    /// buffer and the variant's two samplers.
-    fn variant_targets(
+    /// The variant built by the runtime for this scene and frame size: found built by an earlier
+    /// replay under the same key (the passes, the vertex stage, the scene's layouts, the size;
+    /// its motion vectors and shared bindings given again), else built and kept.
+    fn built_variant(
         &self,
-        [w, h]: [u32; 2],
-        m: &reproj_instance::Manifest,
-        specs: &[PassSpec],
-    ) -> VariantTargets {
-        let cache_format = cache_texture_format(m.cache_format);
-        let payload = [
-            self.target("payload A", w, h, cache_format, true),
-            self.target("payload B", w, h, cache_format, true),
-        ];
-        let depth_copy = [
-            self.target("depth copy A", w, h, DEPTH_COPY_FORMAT, true),
-            self.target("depth copy B", w, h, DEPTH_COPY_FORMAT, true),
-        ];
-        // The lookup reads the depth copy or the payload's depth channel; only a variant written
-        // before both (no depth copy target) reads the previous depth buffer, which must then
-        // alternate like the payload.
-        let legacy_depth = m.depth_channel.is_none()
-            && !specs.iter().any(|s| {
-                s.colors
-                    .iter()
-                    .flatten()
-                    .any(|c| c.0 == Attachment::DepthCopy)
-            });
-        let depth: Vec<wgpu::Texture> = if legacy_depth {
-            vec![
-                self.target("depth A", w, h, DEPTH_FORMAT, true),
-                self.target("depth B", w, h, DEPTH_FORMAT, true),
-            ]
-        } else {
-            vec![self.target("depth", w, h, DEPTH_FORMAT, false)]
-        };
-        let views = |ts: &[wgpu::Texture]| -> Vec<wgpu::TextureView> {
-            ts.iter()
-                .map(|t| t.create_view(&Default::default()))
-                .collect()
-        };
-        let payload_v = views(&payload);
-        let depth_copy_v = views(&depth_copy);
-        let depth_v = views(&depth);
-        let color = self.target("frame color", w, h, FRAME_FORMAT, true);
-        let color_view = color.create_view(&Default::default());
-        let cls = self.target("classify", w, h, CLASSIFY_FORMAT, false);
-        let cls_view = cls.create_view(&Default::default());
-        let cls_depth = self.target("classify depth", w, h, DEPTH_FORMAT, false);
-        let cls_depth_view = cls_depth.create_view(&Default::default());
-        let params = self.buffer(
-            contract::PARAMS,
-            u64::from(contract::PARAMS_SIZE),
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        plan: &VariantPlan,
+        b: &BuildInputs<'_>,
+    ) -> Result<BuiltVariant, ReplayError> {
+        let runtime = &plan.runtime;
+        let group = runtime.group();
+        let shared = b.binds.layouts.contains_key(&group);
+        let key = format!(
+            "{}|{:?}|{}|{:?}|{:?}|{}|{:?}|{}",
+            plan.manifest_json,
+            plan.sources,
+            b.vs.0,
+            b.binds.layout_keys,
+            culls(b.scene),
+            b.vgroup,
+            b.size,
+            b.motion.is_some(),
         );
-        let clamp = |filter: wgpu::FilterMode, label: &str| {
-            self.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: wgpu::AddressMode::ClampToEdge,
-                address_mode_v: wgpu::AddressMode::ClampToEdge,
-                address_mode_w: wgpu::AddressMode::ClampToEdge,
-                mag_filter: filter,
-                min_filter: filter,
-                ..Default::default()
+        // The shared group's resources (a shader on all four groups): the scene's, given to the
+        // runtime to bind beside its own.
+        let shared_rs = by_group(b.scene_iface).remove(&group).unwrap_or_default();
+        let (shared_layout, shared_bind) = if shared {
+            group_entries("scene", group, &shared_rs, b.scene)?
+        } else {
+            Default::default()
+        };
+        let shared_entries: Vec<wgpu::BindGroupEntry<'_>> = shared_rs
+            .iter()
+            .zip(shared_bind)
+            .map(|(r, resource)| wgpu::BindGroupEntry {
+                binding: r.binding,
+                resource,
+            })
+            .collect();
+        let shared = shared.then_some(SharedGroup {
+            layout: &shared_layout,
+            resources: &shared_entries,
+        });
+        let found = {
+            let mut cache = self.variants.lock().unwrap_or_else(PoisonError::into_inner);
+            let at = cache.iter().position(|(k, _)| *k == key);
+            at.map(|i| {
+                let hit = cache.remove(i);
+                cache.push(hit.clone());
+                hit.1
             })
         };
-        let point_sampler = clamp(wgpu::FilterMode::Nearest, contract::POINT_SAMPLER);
-        let linear_sampler = clamp(wgpu::FilterMode::Linear, contract::LINEAR_SAMPLER);
-        VariantTargets {
-            cache_format,
-            legacy_depth,
-            _textures: (payload, depth_copy, depth, cls_depth),
-            payload_v,
-            depth_copy_v,
-            depth_v,
-            color,
-            color_view,
-            cls,
-            cls_view,
-            cls_depth_view,
-            params,
-            point_sampler,
-            linear_sampler,
-        }
-    }
-
-    /// The bindings of the frames of parity `parity` (cur = parity, prev = 1 − parity): each
-    /// pass's, and the classification entry's (none where it is not rendered).
-    fn parity_bindings(
-        &self,
-        parity: usize,
-        m: &reproj_instance::Manifest,
-        plan: &VariantPlan,
-        shaders: &VariantShaders,
-        t: &VariantTargets,
-    ) -> Result<(Vec<Bindings>, Bindings), ReplayError> {
-        let scene = &shaders.scene;
-        let added = AddedResources {
-            params: &t.params,
-            point_sampler: &t.point_sampler,
-            linear_sampler: &t.linear_sampler,
-            payload_half: m.cache_format.is_half(),
-            prev_payload: &t.payload_v[1 - parity],
-            prev_depth_copy: &t.depth_copy_v[1 - parity],
-            prev_depth_buffer: t.legacy_depth.then(|| t.depth_at(1 - parity)),
-            cur_payload: &t.payload_v[parity],
-            motion: shaders.motion.as_ref().map(|mg| &mg.view),
+        let gpu_err = |e: reproj_runtime::RuntimeError| ReplayError::Variant {
+            message: format!("{}: {e}", plan.label),
         };
-        let mut per_pass = Vec::new();
-        for (st, spec) in plan.stages.iter().zip(&plan.specs) {
-            per_pass.push(self.bindings(
-                &spec.label,
-                &st.iface,
-                scene,
-                Some(m.added_place()),
-                Some(&added),
-            )?);
-        }
-        let bc = match &plan.classify_stage {
-            Some(c) => self.bindings(
-                CLASSIFY_ENTRY,
-                c,
-                scene,
-                Some(m.added_place()),
-                Some(&added),
-            )?,
-            None => Bindings::empty(),
-        };
-        Ok((per_pass, bc))
-    }
-
-    /// Each pass's pipelines (with the bindings of parity 0: both parities' layouts are the
-    /// same), and the classification entry's where it is rendered.
-    fn variant_pipelines(
-        &self,
-        plan: &VariantPlan,
-        shaders: &VariantShaders,
-        binds: &[(Vec<Bindings>, Bindings)],
-        cache_format: wgpu::TextureFormat,
-    ) -> Result<(Vec<Pipe>, Option<Pipe>), ReplayError> {
-        let VariantShaders {
-            scene,
-            vgroup,
-            vs_src,
-            vs,
-            fsm,
-            ..
-        } = shaders;
-        let stages = &plan.stages;
-        let mut pipes = Vec::new();
-        for (i, spec) in plan.specs.iter().enumerate() {
-            let formats: Vec<Option<wgpu::TextureFormat>> = spec
-                .colors
-                .iter()
-                .map(|c| {
-                    c.map(|(t, _)| match t {
-                        Attachment::Frame => FRAME_FORMAT,
-                        Attachment::Cache => cache_format,
-                        Attachment::DepthCopy => DEPTH_COPY_FORMAT,
-                    })
-                })
-                .collect();
-            pipes.push(self.pipeline(
-                &PipelineSpec {
-                    label: &spec.label,
-                    sources: [vs_src, &stages[i].shader.source],
-                    vs,
-                    fs: &fsm[i],
-                    entry: &stages[i].iface.entry,
-                    formats: &formats,
-                    compare: spec.compare,
-                    depth_write: spec.depth_write,
-                },
-                &binds[0].0[i],
-                scene,
-                *vgroup,
-            )?);
-        }
-        let pc = match &plan.classify_stage {
-            Some(_) => Some(self.pipeline(
-                &PipelineSpec {
-                    label: CLASSIFY_ENTRY,
-                    sources: [vs_src, &stages[0].shader.source],
-                    vs,
-                    fs: &fsm[0],
-                    entry: CLASSIFY_ENTRY,
-                    formats: &[Some(CLASSIFY_FORMAT)],
-                    compare: wgpu::CompareFunction::Less,
-                    depth_write: true,
-                },
-                &binds[0].1,
-                scene,
-                *vgroup,
-            )?),
-            None => None,
-        };
-        Ok((pipes, pc))
-    }
-
-    /// Clear both parities' payload, depth copy and depth: the "previous" cache before the first
-    /// frame (payload 0, depth 1).
-    pub(in crate::render) fn clear_variant_cache(
-        &self,
-        gpu: &VariantGpu,
-    ) -> Result<(), ReplayError> {
-        let VariantGpu {
-            payload_v,
-            depth_copy_v,
-            ..
-        } = gpu;
-        let depth_at = |p: usize| gpu.depth_at(p);
-        {
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            for i in 0..2 {
-                let clear_to = |view, color| {
-                    Some(wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(color),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })
-                };
-                let _ = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("clear cache"),
-                    color_attachments: &[
-                        clear_to(&payload_v[i], gpu.payload_clear),
-                        clear_to(&depth_copy_v[i], DEPTH_COPY_CLEAR),
-                    ],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: depth_at(i),
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    ..Default::default()
-                });
+        if let Some(built) = found {
+            self.pipeline_hits.fetch_add(1, Ordering::Relaxed);
+            {
+                let mut res = built.lock().unwrap_or_else(PoisonError::into_inner);
+                if let Some(view) = b.motion {
+                    res.set_motion(&self.device, view).map_err(gpu_err)?;
+                }
+                if let Some(shared) = &shared {
+                    res.set_shared(&self.device, shared).map_err(gpu_err)?;
+                }
             }
-            self.queue.submit([enc.finish()]);
-            self.wait()?;
-            self.check_errors("clearing the cache")?;
+            return Ok(built);
         }
-
-        Ok(())
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<reproj_scene::mesh::Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &attrs,
+        })];
+        let stages: Vec<VertexStage<'_>> = culls(b.scene)
+            .iter()
+            .map(|cull| VertexStage {
+                module: b.vs.1,
+                entry_point: crate::vertex::VERTEX_ENTRY,
+                buffers: &buffers,
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: (*cull == Cull::Back).then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+            })
+            .collect();
+        let mut layouts: Vec<(u32, &wgpu::BindGroupLayout)> = b
+            .binds
+            .layouts
+            .iter()
+            .filter(|(g, _)| **g != group)
+            .map(|(g, l)| (*g, l))
+            .collect();
+        layouts.push((b.vgroup, &b.scene.vertex_bgl));
+        let resources = runtime
+            .create(
+                &self.device,
+                &reproj_runtime::Setup {
+                    size: b.size,
+                    color_format: FRAME_FORMAT,
+                    vertex: &stages,
+                    bind_group_layouts: &layouts,
+                    motion: b.motion,
+                    shared,
+                    classification: plan.classify_stage.as_ref().map(|_| CLASSIFY_FORMAT),
+                },
+            )
+            .map_err(gpu_err)?;
+        let built = Arc::new(Mutex::new(resources));
+        let mut cache = self.variants.lock().unwrap_or_else(PoisonError::into_inner);
+        if cache.len() >= VARIANT_CACHE_LEN {
+            cache.remove(0);
+        }
+        cache.push((key, built.clone()));
+        Ok(built)
     }
 }
 
-/// The texture format of a cache format.
-fn cache_texture_format(format: CacheFormat) -> wgpu::TextureFormat {
-    match format {
-        CacheFormat::Rgba32float => wgpu::TextureFormat::Rgba32Float,
-        CacheFormat::Rg32float => wgpu::TextureFormat::Rg32Float,
-        CacheFormat::R32float => wgpu::TextureFormat::R32Float,
-        CacheFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
-        CacheFormat::Rg16float => wgpu::TextureFormat::Rg16Float,
-        CacheFormat::R16float => wgpu::TextureFormat::R16Float,
+/// The cull modes the scene's objects use, in order: the runtime builds one pipeline of each
+/// pass per mode ([`reproj_runtime::Setup::vertex`]).
+fn culls(scene: &Scene) -> Vec<Cull> {
+    let mut culls: Vec<Cull> = Vec::new();
+    for o in &scene.objects {
+        if !culls.contains(&o.cull) {
+            culls.push(o.cull);
+        }
     }
+    culls.sort_by_key(|c| *c as u8);
+    culls
 }
 
-/// The interfaces' shared objects ([`Renderer::variant_shaders`]).
+/// The original shader's resources the passes (and the classification entry) read, once each:
+/// what the scene binds. The variant's own bindings (its group, from its binding base) are the
+/// runtime's.
+fn scene_interface(plan: &VariantPlan, added: reproj_instance::contract::AddedPlace) -> Interface {
+    let mut iface = plan.stages[0].iface.clone();
+    iface.resources.clear();
+    let all = plan
+        .stages
+        .iter()
+        .map(|s| &s.iface)
+        .chain(plan.classify_stage.as_ref())
+        .flat_map(|i| &i.resources);
+    for r in all {
+        if !added.holds(r.group, r.binding)
+            && !iface
+                .resources
+                .iter()
+                .any(|o| (o.group, o.binding) == (r.group, r.binding))
+        {
+            iface.resources.push(r.clone());
+        }
+    }
+    iface
+        .resources
+        .sort_by_key(|r| (r.group, r.binding));
+    iface
+}
+
+/// What building a variant reads ([`Renderer::built_variant`]).
+struct BuildInputs<'a> {
+    scene: &'a Scene,
+    scene_iface: &'a Interface,
+    binds: &'a Bindings,
+    vgroup: u32,
+    /// The vertex stage's WGSL (for the cache key) and module.
+    vs: (&'a str, &'a wgpu::ShaderModule),
+    size: [u32; 2],
+    motion: Option<&'a wgpu::TextureView>,
+}
+
+/// The scene and the replay's shaders ([`Renderer::variant_shaders`]).
 struct VariantShaders {
     scene: Scene,
     /// The bind group the replay's vertex stage uses (free in every stage).
     vgroup: u32,
-    /// The vertex stage, its WGSL (for the pipeline cache key) and module.
+    /// The vertex stage, its WGSL (for the cache key) and module.
     vs_src: String,
     vs: wgpu::ShaderModule,
-    /// Each pass's fragment module.
-    fsm: Vec<wgpu::ShaderModule>,
     motion: Option<motion::MotionGpu>,
-}
-
-/// The targets, parameters buffer and samplers of a variant render
-/// ([`Renderer::variant_targets`]).
-struct VariantTargets {
-    cache_format: wgpu::TextureFormat,
-    /// A variant written before the depth copy: it reads the previous depth buffer.
-    legacy_depth: bool,
-    /// The payloads, depth copies, depth buffers and classification depth, held while the
-    /// render's objects are made (their views are what is used).
-    _textures: (
-        [wgpu::Texture; 2],
-        [wgpu::Texture; 2],
-        Vec<wgpu::Texture>,
-        wgpu::Texture,
-    ),
-    payload_v: Vec<wgpu::TextureView>,
-    depth_copy_v: Vec<wgpu::TextureView>,
-    depth_v: Vec<wgpu::TextureView>,
-    color: wgpu::Texture,
-    color_view: wgpu::TextureView,
-    cls: wgpu::Texture,
-    cls_view: wgpu::TextureView,
-    cls_depth_view: wgpu::TextureView,
-    params: wgpu::Buffer,
-    point_sampler: wgpu::Sampler,
-    linear_sampler: wgpu::Sampler,
-}
-
-impl VariantTargets {
-    /// The depth buffer of the frame of parity `p`.
-    fn depth_at(&self, p: usize) -> &wgpu::TextureView {
-        &self.depth_v[p % self.depth_v.len()]
-    }
 }
 
 /// The GPU objects of a variant render ([`Renderer::variant_gpu`]).
 pub(in crate::render) struct VariantGpu {
+    /// The variant on the device, built by the runtime.
+    pub(in crate::render) runtime: BuiltVariant,
+    /// The variant's group: the scene sets no bind group there.
+    pub(in crate::render) group: u32,
+    /// The cull modes, as the runtime's pipelines of each pass are ordered.
+    pub(in crate::render) culls: Vec<Cull>,
     pub(in crate::render) scene: Scene,
     /// The bind group the replay's vertex stage uses (free in every stage).
     pub(in crate::render) vgroup: u32,
-    /// The payload and the depth copy of each parity (the depth copy unused where the payload
-    /// holds the depth).
-    pub(in crate::render) payload_v: Vec<wgpu::TextureView>,
-    pub(in crate::render) depth_copy_v: Vec<wgpu::TextureView>,
-    /// One depth buffer, or two that alternate for a variant written before the depth copy.
-    pub(in crate::render) depth_v: Vec<wgpu::TextureView>,
+    /// The scene's bindings of the original shader's resources the passes read.
+    pub(in crate::render) binds: Bindings,
+    pub(in crate::render) depth_view: wgpu::TextureView,
     pub(in crate::render) color: wgpu::Texture,
     pub(in crate::render) color_view: wgpu::TextureView,
     pub(in crate::render) cls: wgpu::Texture,
     pub(in crate::render) cls_view: wgpu::TextureView,
     pub(in crate::render) cls_depth_view: wgpu::TextureView,
-    pub(in crate::render) params: wgpu::Buffer,
-    /// Per parity: each pass's bindings and the classification entry's.
-    pub(in crate::render) binds: Vec<(Vec<Bindings>, Bindings)>,
-    pub(in crate::render) pipes: Vec<Pipe>,
-    /// The classification pipeline, when it is rendered.
-    pub(in crate::render) pc: Option<Pipe>,
     /// The session's background.
     pub(in crate::render) clear: wgpu::Color,
-    /// What the payload is cleared to: 0, and the far plane in the depth channel if it has one.
-    pub(in crate::render) payload_clear: wgpu::Color,
     /// No pass clears the frame (`--frame-load load`): the host clears it to the background.
     pub(in crate::render) host_clears_frame: bool,
     /// The first pass loads the depth (`--depth-load load`): the host clears it (there is no
@@ -487,11 +360,35 @@ pub(in crate::render) struct VariantGpu {
     pub(in crate::render) host_clears_depth: bool,
     /// The motion vectors' texture and pass, for a variant that reads them.
     pub(in crate::render) motion: Option<motion::MotionGpu>,
+    /// The depth and classification depth textures, held (their views are what is used).
+    _textures: [wgpu::Texture; 2],
 }
 
 impl VariantGpu {
-    /// The depth buffer of the frame of parity `p`.
-    pub(super) fn depth_at(&self, p: usize) -> &wgpu::TextureView {
-        &self.depth_v[p % self.depth_v.len()]
+    /// The scene's bind groups a frame sets (every group but the variant's).
+    pub(in crate::render) fn scene_groups(&self) -> Vec<(u32, &wgpu::BindGroup)> {
+        self.binds
+            .groups
+            .iter()
+            .filter(|(g, _)| **g != self.group)
+            .map(|(g, bg)| (*g, bg))
+            .collect()
+    }
+
+    /// Draw the scene's objects with `pipelines` (one per cull mode, [`VariantGpu::culls`]).
+    pub(in crate::render) fn draw_objects(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipelines: &[wgpu::RenderPipeline],
+    ) {
+        for o in &self.scene.objects {
+            if let Some(i) = self.culls.iter().position(|c| *c == o.cull) {
+                pass.set_pipeline(&pipelines[i]);
+            }
+            pass.set_bind_group(self.vgroup, &o.xf_bg, &[]);
+            pass.set_vertex_buffer(0, o.vbuf.slice(..));
+            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.count, 0, 0..1);
+        }
     }
 }

@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use reproj_front::Shader;
-use reproj_instance::{CacheFormat, Reprojection};
+use reproj_instance::Reprojection;
 
 use crate::error::ReplayError;
 use crate::reduce::FrameErrors;
@@ -19,7 +19,6 @@ use reproj_metrics::{FrameRecord, RenderReport};
 use reproj_scene::reflect::{self, Interface};
 use reproj_scene::session::Session;
 
-use reproj_instance::contract;
 
 use super::*;
 
@@ -29,7 +28,7 @@ pub(super) mod motion;
 mod plan;
 
 use frames::FrameLoop;
-pub(in crate::render) use gpu::VariantGpu;
+pub(in crate::render) use gpu::{BuiltVariant, VariantGpu};
 pub(in crate::render) use plan::VariantPlan;
 
 /// Hits, misses (recomputes, refreshes included) and shaded pixels of one frame.
@@ -104,7 +103,6 @@ impl Renderer {
     ) -> Result<RenderReport, ReplayError> {
         let plan = self.plan_variant(shader, session, variant, Some(reference), opts)?;
         let gpu = self.variant_gpu(session, variant, &plan, false)?;
-        self.clear_variant_cache(&gpu)?;
         let m = &variant.manifest;
         let mut report = self.new_report("variant", shader, &m.entry, session);
         report.node = Some(m.node.id.clone());

@@ -29,7 +29,20 @@ impl Renderer {
                 message: "Δn and k must be at least 1".into(),
             });
         }
-        let specs = pass_specs(m)?;
+        check_pass_kinds(m)?;
+        // Written before the depth copy: its lookup reads the previous frame's depth buffer,
+        // which a host cannot give (its one depth target is this frame's).
+        let depth_copy = m.passes.iter().flat_map(|p| &p.colors).any(|c| {
+            c.attachment == reproj_instance::ROLE_CUR_DEPTH_COPY
+        });
+        if m.depth_channel.is_none() && !depth_copy {
+            return Err(ReplayError::Variant {
+                message: format!(
+                    "{}: written before the depth copy (its lookup reads the previous frame's depth buffer, which reproj-runtime cannot give it): write it again with `reproj instance` or `reproj emit`",
+                    variant.label
+                ),
+            });
+        }
         if variant.sources.len() != m.passes.len() {
             return Err(ReplayError::Variant {
                 message: format!(
@@ -92,14 +105,30 @@ impl Renderer {
                 ),
             });
         }
-        let render_passes = render_passes(&specs, variant.pass_times);
+        // The variant as the runtime reads it: the manifest with the render's refresh block and
+        // depth tolerance, and the passes as drawn (the classification entry appended).
+        let manifest_json = manifest_for(m, variant.block, variant.depth_epsilon)?;
+        let sources: Vec<String> = stages.iter().map(|s| s.shader.source.clone()).collect();
+        let runtime =
+            reproj_runtime::Variant::from_sources(Path::new(&variant.label), &manifest_json, &sources)
+                .map_err(|e| ReplayError::Variant {
+                    message: e.to_string(),
+                })?;
+        let render_passes = if variant.pass_times {
+            (0..runtime.pass_count()).map(|i| i..i + 1).collect()
+        } else {
+            runtime.render_passes()
+        };
         Ok(VariantPlan {
             frames,
             first,
-            specs,
             render_passes,
             stages,
             classify_stage,
+            label: variant.label.clone(),
+            manifest_json,
+            sources,
+            runtime,
         })
     }
 }
@@ -108,12 +137,67 @@ impl Renderer {
 pub(in crate::render) struct VariantPlan {
     pub(in crate::render) frames: u32,
     pub(in crate::render) first: u32,
-    /// Each pass's targets and depth state, in the manifest's order.
-    pub(in crate::render) specs: Vec<PassSpec>,
-    /// The render passes they are drawn in ([`render_passes`]): ranges of `specs`.
+    /// The render passes the passes are drawn in, as ranges of them: the runtime's
+    /// ([`reproj_runtime::Variant::render_passes`]), or one per pass where each is timed
+    /// ([`VariantInput::pass_times`]).
     pub(in crate::render) render_passes: Vec<std::ops::Range<usize>>,
     /// Each pass's module and interface, in the same order.
     pub(in crate::render) stages: Vec<Stage>,
     /// The first pass's classification entry point, when it is rendered each frame.
     pub(in crate::render) classify_stage: Option<Interface>,
+    /// The variant's label, for messages.
+    pub(in crate::render) label: String,
+    /// The manifest and the passes' WGSL the runtime was given (the key of the built variant).
+    pub(in crate::render) manifest_json: String,
+    pub(in crate::render) sources: Vec<String>,
+    /// The variant as `reproj-runtime` reads it, checked: what draws it.
+    pub(in crate::render) runtime: reproj_runtime::Variant,
+}
+
+/// The passes a strategy has, in order: a manifest listing others is refused by name.
+fn check_pass_kinds(m: &reproj_instance::Manifest) -> Result<(), ReplayError> {
+    use reproj_instance::{PassKind, Strategy};
+    let expected: &[PassKind] = match m.strategy {
+        Strategy::ThreePass => &[PassKind::Reproject, PassKind::Recompute, PassKind::Shade],
+        Strategy::TwoPass => &[PassKind::ShadeHits, PassKind::ShadeMisses],
+        Strategy::Fused => &[PassKind::Fused],
+    };
+    let kinds: Vec<PassKind> = m.passes.iter().map(|p| p.kind).collect();
+    if kinds != expected {
+        return Err(ReplayError::Variant {
+            message: format!(
+                "a {} variant has the passes {expected:?}, the manifest lists {kinds:?}",
+                m.strategy
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// `m` as JSON, its `block` and `depth_epsilon` parameters set to the render's.
+fn manifest_for(
+    m: &reproj_instance::Manifest,
+    block: u32,
+    depth_epsilon: f32,
+) -> Result<String, ReplayError> {
+    let bad = |e: serde_json::Error| ReplayError::Variant {
+        message: format!("the manifest does not serialize: {e}"),
+    };
+    let mut json = serde_json::to_value(m).map_err(bad)?;
+    if let Some(fields) = json
+        .pointer_mut("/params/fields")
+        .and_then(|f| f.as_array_mut())
+    {
+        for f in fields {
+            let value = match f.get("name").and_then(|n| n.as_str()) {
+                Some("block") => f64::from(block),
+                Some("depth_epsilon") => f64::from(depth_epsilon),
+                _ => continue,
+            };
+            if let Some(v) = f.pointer_mut("/value/value") {
+                *v = serde_json::json!(value);
+            }
+        }
+    }
+    serde_json::to_string(&json).map_err(bad)
 }
