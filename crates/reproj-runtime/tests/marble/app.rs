@@ -62,7 +62,7 @@ pub struct App {
     pub queue: wgpu::Queue,
     pub session: Session,
     pub size: [u32; 2],
-    frame: wgpu::Texture,
+    pub frame: wgpu::Texture,
     pub frame_view: wgpu::TextureView,
     depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
@@ -72,7 +72,7 @@ pub struct App {
     /// The `scene` uniform's layout entry (group 0, binding 0).
     scene_entry: wgpu::BindGroupLayoutEntry,
     pub scene_layout: wgpu::BindGroupLayout,
-    scene_group: wgpu::BindGroup,
+    pub scene_group: wgpu::BindGroup,
     pub object_layout: wgpu::BindGroupLayout,
     objects: Vec<Object>,
     culls: Vec<Cull>,
@@ -301,7 +301,7 @@ impl App {
     }
 
     /// Write frame `f`'s object transforms and `scene` uniform.
-    fn write_frame(&self, f: u32) {
+    pub fn write_frame(&self, f: u32) {
         let st = self.session.frame_state(f);
         let prev = self.session.frame_state(f.saturating_sub(1));
         for (i, o) in self.objects.iter().enumerate() {
@@ -322,13 +322,18 @@ impl App {
         self.queue.write_buffer(&self.scene_buffer, 0, &bytes);
     }
 
-    fn clear_color(&self) -> wgpu::Color {
+    pub fn clear_color(&self) -> wgpu::Color {
         let [r, g, b, a] = self.session.background.map(f64::from);
         wgpu::Color { r, g, b, a }
     }
 
     /// The texels of `tex` (`bytes` per texel), row-major, top row first, as f32s.
-    fn read(&self, tex: &wgpu::Texture, bytes: u32) -> Vec<f32> {
+    pub fn read(&self, tex: &wgpu::Texture, bytes: u32) -> Vec<f32> {
+        bytemuck::pod_collect_to_vec::<u8, f32>(&self.read_bytes(tex, bytes))
+    }
+
+    /// The texels of `tex` (`bytes` per texel), row-major, top row first.
+    pub fn read_bytes(&self, tex: &wgpu::Texture, bytes: u32) -> Vec<u8> {
         let [w, h] = self.size;
         let tight = w * bytes;
         let row =
@@ -359,11 +364,19 @@ impl App {
             .unwrap();
         let data = buf.get_mapped_range(..).unwrap().to_vec();
         (0..h as usize)
-            .flat_map(|y| {
-                let r = &data[y * row as usize..y * row as usize + tight as usize];
-                bytemuck::pod_collect_to_vec::<u8, f32>(r)
-            })
+            .flat_map(|y| data[y * row as usize..y * row as usize + tight as usize].to_vec())
             .collect()
+    }
+
+    /// Draw the app's objects with `pipelines` (one per vertex stage, [`App::stages`]).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, pipelines: &[wgpu::RenderPipeline]) {
+        for o in &self.objects {
+            pass.set_pipeline(&pipelines[o.stage]);
+            pass.set_bind_group(OBJECT_GROUP, &o.group, &[]);
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.count, 0, 0..1);
+        }
     }
 
     /// The app's vertex module for `variant` and its vertex buffer layout.
@@ -395,6 +408,16 @@ impl App {
     /// shares group 0 with marble's `scene` uniform (`reproj instance --group 0`), the app gives
     /// the uniform as the shared group's binding instead of a bind group of its own.
     pub fn create(&self, variant: &Variant, stages: &[VertexStage<'_>]) -> VariantResources {
+        self.create_with(variant, stages, None)
+    }
+
+    /// [`App::create`], with the debug classification entry built into `classification`'s format.
+    pub fn create_with(
+        &self,
+        variant: &Variant,
+        stages: &[VertexStage<'_>],
+        classification: Option<wgpu::TextureFormat>,
+    ) -> VariantResources {
         assert!(
             !variant.reserved_groups().contains(&OBJECT_GROUP),
             "the app's object group is free"
@@ -414,7 +437,7 @@ impl App {
                     color_format: COLOR,
                     vertex: stages,
                     bind_group_layouts: if shares { &own[1..] } else { &own },
-                    classification: None,
+                    classification,
                     motion: None,
                     shared: shares.then_some(SharedGroup {
                         layout: &scene_entry,
@@ -501,15 +524,7 @@ impl App {
                 &mut enc,
                 &targets,
                 &inputs,
-                |pass, pipelines| {
-                    for o in &self.objects {
-                        pass.set_pipeline(&pipelines[o.stage]);
-                        pass.set_bind_group(OBJECT_GROUP, &o.group, &[]);
-                        pass.set_vertex_buffer(0, o.vertices.slice(..));
-                        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
-                        pass.draw_indexed(0..o.count, 0, 0..1);
-                    }
-                },
+                |pass, pipelines| self.draw(pass, pipelines),
             )
             .unwrap();
             self.queue.submit([enc.finish()]);

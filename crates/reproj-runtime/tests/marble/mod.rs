@@ -6,6 +6,7 @@
 //! GPU: `scripts/ensure-vulkan.sh`).
 
 mod app;
+mod counts;
 
 use std::path::Path;
 
