@@ -110,6 +110,34 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
     }
 }
 
+/// One executor: the replay draws every variant through the runtime hosts ship (so every figure
+/// reproj prints measures that code), and nothing else in the workspace draws manifests.
+#[test]
+fn the_replay_draws_variants_through_the_runtime() {
+    let (graph, _) = lock_graph();
+    assert!(graph["reproj-replay"].contains("reproj-runtime"));
+    let replay = Path::new(env!("CARGO_MANIFEST_DIR")).join("../reproj-replay/src");
+    let mut stack = vec![replay];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let path = e.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|x| x == "rs") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                // The roles of the variant's textures are the runtime's to resolve.
+                for role in ["ROLE_CUR_PAYLOAD", "PREV_PAYLOAD", "ROLE_PREV_DEPTH_COPY"] {
+                    assert!(
+                        !text.contains(role),
+                        "{} binds the variant's `{role}` itself",
+                        path.display()
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The runtime an engine links depends on no other reproj crate (its test app's scene comes from
 /// reproj-scene as a dev-dependency only): the manifest is the interface.
 #[test]

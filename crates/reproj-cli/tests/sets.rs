@@ -100,7 +100,10 @@ fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_n
     );
     // Verified by replaying the set's variant.
     let measured = report["measured_error"].as_f64().unwrap();
-    assert!(measured <= 2.0 * BUDGET.parse::<f64>().unwrap(), "{report:#}");
+    assert!(
+        measured <= 2.0 * BUDGET.parse::<f64>().unwrap(),
+        "{report:#}"
+    );
     assert!(report["measured_ms"].as_f64().unwrap() > 0.0);
 
     // `compare` at the same budget renders the same set as reproj's method.

@@ -189,7 +189,9 @@ pub(crate) fn build_pass(
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let pipelines_of = |entry: &str, targets: &[Option<wgpu::ColorTargetState>], depth: wgpu::DepthStencilState| {
+        let pipelines_of = |entry: &str,
+                            targets: &[Option<wgpu::ColorTargetState>],
+                            depth: wgpu::DepthStencilState| {
             setup
                 .vertex
                 .iter()

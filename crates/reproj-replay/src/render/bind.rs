@@ -9,7 +9,6 @@ use reproj_scene::reflect::{self, Interface, ResourceKind};
 
 use crate::gpu::tex_dim;
 
-
 use super::*;
 
 /// The layout entries of group `g`'s resources `rs`, and what of `scene` is bound to each
@@ -19,7 +18,13 @@ pub(super) fn group_entries<'r>(
     g: u32,
     rs: &[&reflect::Resource],
     scene: &'r Scene,
-) -> Result<(Vec<wgpu::BindGroupLayoutEntry>, Vec<wgpu::BindingResource<'r>>), ReplayError> {
+) -> Result<
+    (
+        Vec<wgpu::BindGroupLayoutEntry>,
+        Vec<wgpu::BindingResource<'r>>,
+    ),
+    ReplayError,
+> {
     let mut entries = Vec::new();
     let mut bind = Vec::new();
     for r in rs {

@@ -6,9 +6,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use crate::RuntimeError;
 use crate::manifest::{self, Manifest, ParamValue};
 use crate::webgpu;
-use crate::RuntimeError;
 
 mod pass;
 
@@ -530,6 +530,9 @@ mod tests {
         assert_eq!(words(&p.params_bytes(5, None, Some(0))), [1, 5, 4, eps]);
         // The clock the host gives; frame 0 still refreshes everything.
         assert_eq!(words(&p.params_bytes(5, Some(12), None)), [8, 12, 4, eps]);
-        assert_eq!(words(&p.params_bytes(0, Some(12), Some(16))), [1, 12, 4, eps]);
+        assert_eq!(
+            words(&p.params_bytes(0, Some(12), Some(16))),
+            [1, 12, 4, eps]
+        );
     }
 }

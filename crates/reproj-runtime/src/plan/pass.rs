@@ -23,7 +23,10 @@ struct Bound {
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Sources<'a> {
     /// The files the manifest names, in its folder, read within the limits.
-    Files { dir: &'a Path, limits: &'a ReadLimits },
+    Files {
+        dir: &'a Path,
+        limits: &'a ReadLimits,
+    },
     /// Given in memory, in the manifest's pass order.
     Given(&'a [String]),
 }

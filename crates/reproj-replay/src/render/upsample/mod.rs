@@ -107,9 +107,10 @@ impl LowDraw<'_> {
     fn queries(&self) -> (u32, u32) {
         match self {
             LowDraw::Original { .. } => (1, 1),
-            LowDraw::Variant { plan, .. } => {
-                (plan.runtime.pass_count() as u32, plan.render_passes.len() as u32)
-            }
+            LowDraw::Variant { plan, .. } => (
+                plan.runtime.pass_count() as u32,
+                plan.render_passes.len() as u32,
+            ),
         }
     }
 }

@@ -140,7 +140,10 @@ impl Renderer {
             errors.encode(self, &mut enc, &gpu.color, &gpu.color_view, f, slot)?;
         }
         if let Some(cls_rb) = &rb.cls_rb {
-            let runtime = gpu.runtime.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            let runtime = gpu
+                .runtime
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
             runtime
                 .record_classification(
                     &mut enc,
@@ -256,7 +259,10 @@ impl Renderer {
             self.encode_motion(enc, mg, &gpu.scene, gpu.vgroup);
         }
         self.encode_host_clears(enc, gpu);
-        let mut runtime = gpu.runtime.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut runtime = gpu
+            .runtime
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         let groups = gpu.scene_groups();
         runtime
             .record(

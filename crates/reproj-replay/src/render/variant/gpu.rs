@@ -303,9 +303,7 @@ fn scene_interface(plan: &VariantPlan, added: reproj_instance::contract::AddedPl
             iface.resources.push(r.clone());
         }
     }
-    iface
-        .resources
-        .sort_by_key(|r| (r.group, r.binding));
+    iface.resources.sort_by_key(|r| (r.group, r.binding));
     iface
 }
 

@@ -19,7 +19,6 @@ use reproj_metrics::{FrameRecord, RenderReport};
 use reproj_scene::reflect::{self, Interface};
 use reproj_scene::session::Session;
 
-
 use super::*;
 
 mod frames;

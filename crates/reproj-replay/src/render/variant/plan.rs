@@ -32,9 +32,11 @@ impl Renderer {
         check_pass_kinds(m)?;
         // Written before the depth copy: its lookup reads the previous frame's depth buffer,
         // which a host cannot give (its one depth target is this frame's).
-        let depth_copy = m.passes.iter().flat_map(|p| &p.colors).any(|c| {
-            c.attachment == reproj_instance::ROLE_CUR_DEPTH_COPY
-        });
+        let depth_copy = m
+            .passes
+            .iter()
+            .flat_map(|p| &p.colors)
+            .any(|c| c.attachment == reproj_instance::ROLE_CUR_DEPTH_COPY);
         if m.depth_channel.is_none() && !depth_copy {
             return Err(ReplayError::Variant {
                 message: format!(
@@ -109,11 +111,14 @@ impl Renderer {
         // depth tolerance, and the passes as drawn (the classification entry appended).
         let manifest_json = manifest_for(m, variant.block, variant.depth_epsilon)?;
         let sources: Vec<String> = stages.iter().map(|s| s.shader.source.clone()).collect();
-        let runtime =
-            reproj_runtime::Variant::from_sources(Path::new(&variant.label), &manifest_json, &sources)
-                .map_err(|e| ReplayError::Variant {
-                    message: e.to_string(),
-                })?;
+        let runtime = reproj_runtime::Variant::from_sources(
+            Path::new(&variant.label),
+            &manifest_json,
+            &sources,
+        )
+        .map_err(|e| ReplayError::Variant {
+            message: e.to_string(),
+        })?;
         let render_passes = if variant.pass_times {
             (0..runtime.pass_count()).map(|i| i..i + 1).collect()
         } else {
