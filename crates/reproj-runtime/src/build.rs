@@ -156,7 +156,15 @@ pub(crate) fn build_pass(
                     ty: b.ty,
                     count: None,
                 })
-                .chain(shared.iter().copied().filter(|_| g == plan.group))
+                // The application's bindings of a shared group that this pass declares, not the
+                // others (lavapipe 22.3 faults drawing a pass of a shader on all four groups
+                // whose shared group's layout holds a uniform the pass does not declare).
+                .chain(
+                    shared
+                        .iter()
+                        .copied()
+                        .filter(|e| g == plan.group && p.shared_own.contains_key(&e.binding)),
+                )
                 .collect();
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(&p.label),

@@ -271,7 +271,11 @@ impl VariantResources {
 
     /// The entries of pass `p`'s bind group `g` on ping-pong entry `k`.
     fn entries(&self, p: &PassPlan, g: u32, k: usize) -> Vec<wgpu::BindGroupEntry<'_>> {
-        let own = self.shared.entries().filter(|_| g == self.plan.group);
+        // Of the application's bindings there, those the pass declares (`Plan::passes`).
+        let own = self
+            .shared
+            .entries()
+            .filter(|e| g == self.plan.group && p.shared_own.contains_key(&e.binding));
         p.added
             .iter()
             .filter(|b| b.group == g)
