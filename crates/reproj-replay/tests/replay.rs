@@ -271,6 +271,44 @@ fn static_variant_at_delta_n_8_hits_seven_in_eight() {
     assert!(json.contains("\"hit_rate\""));
 }
 
+/// A variant is built once and kept (`reproj-runtime`'s resources: its pipelines, textures and
+/// bind groups): replayed again, at another Δn and at the first, it gives what a fresh renderer
+/// gives, frame for frame (the cache starts over at each replay's first frame), and the
+/// renderer says it reused it.
+#[test]
+fn a_variant_kept_built_across_replays_renders_as_a_fresh_one() {
+    let (r, shader, session, reference) = tiny_reference("tiny_moving.json");
+    let at = |dn: u32| VariantInput::from_dir(&data("variant_tiny"), dn).unwrap();
+    let opts = RenderOptions::default();
+    let before = r.reused_pipelines();
+    let first = r
+        .render_variant(&shader, &session, &at(2), &reference, &opts)
+        .unwrap();
+    r.render_variant(&shader, &session, &at(4), &reference, &opts)
+        .unwrap();
+    let again = r
+        .render_variant(&shader, &session, &at(2), &reference, &opts)
+        .unwrap();
+    assert!(
+        r.reused_pipelines() >= before + 2,
+        "built once, reused twice"
+    );
+    let (fresh_r, ..) = tiny_reference("tiny_moving.json");
+    let fresh = fresh_r
+        .render_variant(&shader, &session, &at(2), &reference, &opts)
+        .unwrap();
+    for run in [&again, &fresh] {
+        for (a, b) in first.frames.iter().zip(&run.frames) {
+            assert_eq!(
+                (a.hits, a.recomputes, a.hit_px, a.error.to_bits()),
+                (b.hits, b.recomputes, b.hit_px, b.error.to_bits()),
+                "frame {}",
+                a.frame
+            );
+        }
+    }
+}
+
 /// A variant written before the depth copy (its lookup reads the previous depth buffer as a
 /// `texture_depth_2d`, no depth copy target; its manifest rewritten as version 3) is refused by
 /// name, with what to do: the replay draws variants as `reproj-runtime` does, and a host's one

@@ -18,6 +18,12 @@
 //! calls. The runtime reads nothing of reproj but the
 //! manifest and the passes, and depends on wgpu, serde, thiserror and pollster only.
 //!
+//! What a frame did: [`FrameInputs::occlusion`] counts each pass's samples (a `3pass` variant's
+//! hits, recomputes and covered pixels: the hit rate where the frame is drawn), and a variant
+//! built with [`Setup::classification`] draws a debug hit map
+//! ([`VariantResources::record_classification`]). [`Variant::from_sources`] builds a variant
+//! held in memory; reproj's own replay draws every variant it measures through this crate.
+//!
 //! [`SessionCapture`] records the motion the app draws (camera, model matrices, light, uniform
 //! values per frame) as a session file, so `reproj analyze` measures the shader over it.
 //!

@@ -193,7 +193,10 @@ impl Renderer {
         });
         let found = {
             let mut cache = self.variants.lock().unwrap_or_else(PoisonError::into_inner);
-            let at = cache.iter().position(|(k, _)| *k == key);
+            // Not one another render holds (beside the cache): its frames would interleave.
+            let at = cache
+                .iter()
+                .position(|(k, v)| *k == key && Arc::strong_count(v) == 1);
             at.map(|i| {
                 let hit = cache.remove(i);
                 cache.push(hit.clone());
@@ -260,6 +263,7 @@ impl Renderer {
             .map_err(gpu_err)?;
         let built = Arc::new(Mutex::new(resources));
         let mut cache = self.variants.lock().unwrap_or_else(PoisonError::into_inner);
+        cache.retain(|(k, _)| *k != key);
         if cache.len() >= VARIANT_CACHE_LEN {
             cache.remove(0);
         }
