@@ -11,7 +11,7 @@ use reproj_models::speedup::{SpeedupEstimate, separates};
 
 use super::shape;
 use crate::AnalyzeError;
-use crate::replayer::{RaceEntry, RaceLength, Replayer, Subject, finite, timed_estimate, too_slow};
+use crate::replayer::{Again, RaceEntry, Replayer, Subject, finite, timed_estimate, too_slow};
 use crate::strategies::{Outcome, StrategyPruner, Verdict};
 
 /// One node's replays: the strategy and filter it was profiled with, its measurements, and why
@@ -87,7 +87,9 @@ fn replay_node(
     let (opts, progress, longest) = (rp.opts, rp.progress, rp.longest);
     let to_try = strategies_to_try(rp, id, pruner);
     let (mut built, instance_failure) = instance_strategies(rp, id, &to_try);
-    let race = if built.is_empty() {
+    let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
+    let contest = if built.is_empty() {
+        progress.step(&format!("node {id} race at Δn={longest}"));
         None
     } else {
         let entries: Vec<RaceEntry> = built
@@ -99,25 +101,23 @@ fn replay_node(
                 delta_n: longest,
             })
             .collect();
-        Some(rp.race(&format!("node {id}"), id, &[], &entries)?)
+        let root = rp.input.table.get(id).is_some_and(|n| n.root);
+        let done = format!("node {id} race at Δn={longest}");
+        Some(
+            rp.contest((id, &format!("node {id}"), &done), &entries, |e| {
+                doubt(root, &strategies, e).map(|which| Again::Pooled {
+                    which,
+                    why: format!("node {id}: in doubt against the original"),
+                })
+            })?,
+        )
     };
-    progress.step(&format!("node {id} race at Δn={longest}"));
-    let mut estimates: Vec<Option<SpeedupEstimate>> = race
+    let estimates = contest
         .as_ref()
-        .map(|r| (0..r.candidates.len()).map(|i| r.estimate(i)).collect())
+        .map(|c| c.estimates.clone())
         .unwrap_or_default();
-    let strategies: Vec<Strategy> = built.iter().map(|b| b.strategy).collect();
-    let mut winner = race_winner(&strategies, &estimates);
-    // A winner slower than the original by its estimate but not beyond doubt: race again.
-    let node = rp.input.table.get(id).expect("ids come from the table");
-    if let (Some(w), Some(r)) = (winner, &race)
-        && let Some(e) = estimates[w]
-        && !node.root
-        && in_doubt(&e)
-    {
-        settle_doubt(rp, id, &built, r, w, &mut estimates)?;
-        winner = race_winner(&strategies, &estimates);
-    }
+    let winner = race_winner(&strategies, &estimates);
+    let race = contest.map(|c| c.report);
     if let Some(w) = winner
         && let Some(best) = estimates[w]
     {
@@ -160,7 +160,7 @@ fn replay_node(
 }
 
 /// Whether a race leaves it in doubt that a variant is slower than the original: slower by its
-/// estimate, its interval reaching 1× or beyond ([`settle_doubt`]; where one more race does not
+/// estimate, its interval reaching 1× or beyond ([`doubt`]; where one more race does not
 /// settle it either, the node is profiled).
 fn in_doubt(e: &SpeedupEstimate) -> bool {
     e.speedup < 1.0 && !e.surely_slower()
@@ -242,7 +242,7 @@ fn instance_strategies(
 
 /// The probes of node `id`'s strategy race at the longest period, the winner's kept: each
 /// strategy's figures as decided on (`estimates`: the race's, or where a doubt was settled the
-/// rounds of both races, [`settle_doubt`]).
+/// rounds of both races, [`doubt`]).
 fn strategy_probes(
     id: u32,
     longest: u32,
@@ -274,57 +274,24 @@ fn strategy_probes(
         .collect()
 }
 
-/// Settle a race that left its winner (`winner`) in doubt against the original ([`in_doubt`]): the winner
-/// and every strategy ahead of it by estimate are raced once more, and each one's estimate
-/// becomes that of the rounds of both races (the same subjects, windows and baseline), so that
-/// the winner is chosen again on them and the node is set aside only if it is then slower
-/// beyond doubt. A node that would otherwise be replayed over its periods (several replays of
-/// the whole session) though most likely it cannot pay off costs one short race instead.
-fn settle_doubt(
-    rp: &mut Replayer<'_, '_>,
-    id: u32,
-    built: &[Built],
-    race: &reproj_bench::BenchReport,
-    winner: usize,
-    estimates: &mut [Option<SpeedupEstimate>],
-) -> Result<(), AnalyzeError> {
-    let (progress, longest) = (rp.progress, rp.longest);
-    let Some(floor) = estimates[winner].map(|e| e.speedup) else {
-        return Ok(());
-    };
-    let again: Vec<usize> = (0..built.len())
-        .filter(|&i| i == winner || estimates[i].is_some_and(|e| e.speedup > floor))
-        .collect();
-    let entries: Vec<RaceEntry> = again
-        .iter()
-        .map(|&i| RaceEntry {
-            name: built[i].strategy.name().to_string(),
-            sources: &built[i].sources,
-            variant: &built[i].variant,
-            delta_n: longest,
-        })
-        .collect();
-    progress.extend(1);
-    let report = rp.race_as(&format!("node {id}"), id, &[], &entries, RaceLength::Again)?;
-    progress.step(&format!("node {id} race again at Δn={longest}"));
-    let mut said = Vec::new();
-    for (j, &i) in again.iter().enumerate() {
-        let Some(pooled) = race.pooled_estimate(i, &report, j) else {
-            continue;
-        };
-        said.push(format!(
-            "{} {} → {}",
-            built[i].strategy,
-            estimates[i].map_or_else(|| "–".into(), |e| e.display()),
-            pooled.display()
-        ));
-        estimates[i] = Some(pooled);
-    }
-    progress.note(&format!(
-        "node {id}: in doubt against the original; raced again, both races' rounds: {}",
-        said.join(", ")
-    ));
-    Ok(())
+/// Whether a race left its winner in doubt against the original ([`in_doubt`]; never the
+/// root's), and if so the strategies to race again: the winner and every one ahead of it by
+/// estimate. Raced again, each one's estimate becomes that of the rounds of both races, the
+/// winner is chosen again on them and the node is set aside only if it is then slower beyond
+/// doubt: a node that would otherwise be replayed over its periods (several replays of the
+/// whole session) though most likely it cannot pay off costs one short race instead.
+fn doubt(
+    root: bool,
+    strategies: &[Strategy],
+    estimates: &[Option<SpeedupEstimate>],
+) -> Option<Vec<usize>> {
+    let winner = race_winner(strategies, estimates)?;
+    let floor = estimates[winner].filter(|e| !root && in_doubt(e))?.speedup;
+    Some(
+        (0..estimates.len())
+            .filter(|&i| i == winner || estimates[i].is_some_and(|e| e.speedup > floor))
+            .collect(),
+    )
 }
 
 /// The winning strategy replayed over the longest period and the plan; with `race_blocks`, a
@@ -594,5 +561,19 @@ mod tests {
         // Faster by its estimate: profiled, whatever its interval.
         assert!(!d(1.05, 0.9, 1.2));
         assert!(!d(2.0, 1.9, 2.1));
+    }
+
+    #[test]
+    fn a_winner_in_doubt_races_again_with_every_strategy_ahead_of_it() {
+        let s = [Strategy::ThreePass, Strategy::TwoPass, Strategy::Fused];
+        // Fused wins (nothing separates from it) at 0.86× [0.67, 1.09]: it and 3pass, ahead by
+        // its estimate, race again; 2pass, behind, does not.
+        let est = [e(0.9, 0.6, 1.2), e(0.8, 0.6, 1.0), e(0.86, 0.67, 1.09)];
+        assert_eq!(doubt(false, &s, &est), Some(vec![0, 2]));
+        // Never the root's; never a winner faster by its estimate or slower beyond doubt.
+        assert_eq!(doubt(true, &s, &est), None);
+        assert_eq!(doubt(false, &s, &[None, None, e(1.05, 0.9, 1.2)]), None);
+        assert_eq!(doubt(false, &s, &[None, None, e(0.8, 0.7, 0.9)]), None);
+        assert_eq!(doubt(false, &s, &[None, None, None]), None);
     }
 }

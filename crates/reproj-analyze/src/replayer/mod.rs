@@ -15,7 +15,10 @@ use crate::input::{AnalyzeInput, Progress};
 use crate::journal::{Journal, ReplayKey, ReplayResult};
 use crate::options::AnalyzeOptions;
 
+mod contest;
 mod fit;
+
+pub(crate) use contest::{Again, Duel};
 
 use fit::replay;
 pub(crate) use fit::{Fitted, fit_replays};
@@ -98,15 +101,6 @@ pub(crate) struct RaceEntry<'a> {
     pub(crate) sources: &'a [String],
     pub(crate) variant: &'a reproj_instance::Variant,
     pub(crate) delta_n: u32,
-}
-
-/// What [`Replayer::duel`] measured: the deciding race's report, and its estimates of the base
-/// (where it raced) and of the challenger, the report's candidate `last`.
-pub(crate) struct Duel {
-    pub(crate) report: reproj_bench::BenchReport,
-    pub(crate) base: Option<SpeedupEstimate>,
-    pub(crate) challenger: Option<SpeedupEstimate>,
-    pub(crate) last: usize,
 }
 
 /// What every replay of one analysis shares: the renderer and the reference, the options, the
@@ -243,55 +237,6 @@ impl Replayer<'_, '_> {
         entries: &[RaceEntry<'_>],
     ) -> Result<reproj_bench::BenchReport, AnalyzeError> {
         self.race_as(who, node, set, entries, RaceLength::Short)
-    }
-
-    /// The race of one variant dimension (a refresh block, a reconstruction filter) for node `id`:
-    /// `base` (where it races) against `challenger`, interleaved with the original in one short
-    /// race; where `undecided` says that race left the two open, they race again, longer, and that
-    /// race decides. `what` names the dimension in the progress (`blocks`, `filters`), whose last
-    /// step this is.
-    pub(crate) fn duel(
-        &mut self,
-        id: u32,
-        what: &str,
-        base: Option<RaceEntry<'_>>,
-        challenger: RaceEntry<'_>,
-        undecided: impl Fn(&SpeedupEstimate, &SpeedupEstimate) -> bool,
-    ) -> Result<Duel, AnalyzeError> {
-        let who = format!("node {id}");
-        let label = format!("{who} {what}");
-        let has_base = base.is_some();
-        let names = (
-            base.as_ref().map(|b| b.name.clone()).unwrap_or_default(),
-            challenger.name.clone(),
-        );
-        let entries: Vec<RaceEntry<'_>> = base.into_iter().chain([challenger]).collect();
-        let last = entries.len() - 1;
-        let estimates = |r: &reproj_bench::BenchReport| {
-            (has_base.then(|| r.estimate(0)).flatten(), r.estimate(last))
-        };
-        let mut report = self.race(&label, id, &[], &entries)?;
-        let (mut base, mut challenger) = estimates(&report);
-        if let (Some(b), Some(c)) = (&base, &challenger)
-            && undecided(b, c)
-        {
-            self.progress.note(&format!(
-                "{who}: {} {} against {} {}: undecided, racing again, longer",
-                names.1,
-                c.display(),
-                names.0,
-                b.display()
-            ));
-            report = self.race_as(&label, id, &[], &entries, RaceLength::Long)?;
-            (base, challenger) = estimates(&report);
-        }
-        self.progress.step(&format!("{label} raced"));
-        Ok(Duel {
-            report,
-            base,
-            challenger,
-            last,
-        })
     }
 
     /// [`Replayer::race`] of the given length (journaled apart from the short one).
