@@ -46,6 +46,20 @@ pub(super) fn group_entries<'r>(
     Ok((entries, bind))
 }
 
+/// The bind group entries of resources `rs`, bound to `bind` (in the same order).
+pub(super) fn entries_of<'r>(
+    rs: &[&reflect::Resource],
+    bind: Vec<wgpu::BindingResource<'r>>,
+) -> Vec<wgpu::BindGroupEntry<'r>> {
+    rs.iter()
+        .zip(bind)
+        .map(|(r, resource)| wgpu::BindGroupEntry {
+            binding: r.binding,
+            resource,
+        })
+        .collect()
+}
+
 /// An interface's resources by group.
 pub(super) fn by_group(iface: &Interface) -> BTreeMap<u32, Vec<&reflect::Resource>> {
     let mut by_group: BTreeMap<u32, Vec<&reflect::Resource>> = BTreeMap::new();
@@ -269,14 +283,7 @@ impl Renderer {
                     label: Some(label),
                     entries,
                 });
-            let group_entries: Vec<wgpu::BindGroupEntry<'_>> = rs
-                .iter()
-                .zip(bind)
-                .map(|(r, resource)| wgpu::BindGroupEntry {
-                    binding: r.binding,
-                    resource,
-                })
-                .collect();
+            let group_entries = entries_of(rs, bind);
             let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
                 layout: &layout,

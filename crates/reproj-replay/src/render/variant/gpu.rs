@@ -179,14 +179,7 @@ impl Renderer {
         } else {
             Default::default()
         };
-        let shared_entries: Vec<wgpu::BindGroupEntry<'_>> = shared_rs
-            .iter()
-            .zip(shared_bind)
-            .map(|(r, resource)| wgpu::BindGroupEntry {
-                binding: r.binding,
-                resource,
-            })
-            .collect();
+        let shared_entries = entries_of(&shared_rs, shared_bind);
         let shared = shared.then_some(SharedGroup {
             layout: &shared_layout,
             resources: &shared_entries,
