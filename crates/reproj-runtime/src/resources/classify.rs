@@ -6,7 +6,7 @@ use crate::RuntimeError;
 
 impl VariantResources {
     /// Draw the hit map of the frame [`VariantResources::record`] recorded last into `target`
-    /// (cleared first; of [`Setup::classification`]'s format and the frame's size), depth-tested
+    /// (cleared first; of [`crate::Setup::classification`]'s format and the frame's size), depth-tested
     /// in `depth` (cleared to the manifest's depth clear; the frame's size): the first pass's debug
     /// entry, with that frame's params and textures, the application's `bind_groups` and
     /// `draw`ing its geometry again as for `record`. Record it before the next frame's `record`.
