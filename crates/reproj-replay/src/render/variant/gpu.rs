@@ -150,8 +150,9 @@ impl Renderer {
     }
 
     /// The variant built by the runtime for this scene and frame size: found built by an earlier
-    /// replay under the same key (the passes, the vertex stage, the scene's layouts, the size;
-    /// its motion vectors and shared bindings given again), else built and kept.
+    /// replay under the same key (the passes, the vertex stage, the scene's layouts, the size,
+    /// whether it reads motion and draws the hit map; its motion vectors and shared bindings
+    /// given again), else built and kept.
     fn built_variant(
         &self,
         plan: &VariantPlan,
@@ -161,7 +162,7 @@ impl Renderer {
         let group = runtime.group();
         let shared = b.binds.layouts.contains_key(&group);
         let key = format!(
-            "{}|{:?}|{}|{:?}|{:?}|{}|{:?}|{}",
+            "{}|{:?}|{}|{:?}|{:?}|{}|{:?}|{}|{}",
             plan.manifest_json,
             plan.sources,
             b.vs.0,
@@ -170,6 +171,7 @@ impl Renderer {
             b.vgroup,
             b.size,
             b.motion.is_some(),
+            plan.classify_stage.is_some(),
         );
         // The shared group's resources (a shader on all four groups): the scene's, given to the
         // runtime to bind beside its own.
