@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use crate::RuntimeError;
 use crate::plan::{Attachment, PassPlan, Plan, SamplerPlan};
 use crate::setup::Setup;
+use crate::shared::Shared;
 
 /// A texture of the manifest's `textures`, on the device.
 #[derive(Debug)]
@@ -98,7 +99,7 @@ pub(crate) fn build_pass(
     p: &PassPlan,
     setup: &Setup<'_>,
     user: &BTreeMap<u32, &wgpu::BindGroupLayout>,
-    (shared, classify): (&[wgpu::BindGroupLayoutEntry], Option<wgpu::TextureFormat>),
+    (shared, classify): (&Shared, Option<wgpu::TextureFormat>),
 ) -> Result<PassGpu, RuntimeError> {
     for (g, name) in &p.own_groups {
         if !user.contains_key(g) {
@@ -156,15 +157,7 @@ pub(crate) fn build_pass(
                     ty: b.ty,
                     count: None,
                 })
-                // The application's bindings of a shared group that this pass declares, not the
-                // others (lavapipe 22.3 faults drawing a pass of a shader on all four groups
-                // whose shared group's layout holds a uniform the pass does not declare).
-                .chain(
-                    shared
-                        .iter()
-                        .copied()
-                        .filter(|e| g == plan.group && p.shared_own.contains_key(&e.binding)),
-                )
+                .chain(shared.layout_for(p).filter(|_| g == plan.group))
                 .collect();
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(&p.label),
@@ -197,36 +190,15 @@ pub(crate) fn build_pass(
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let pipelines_of = |entry: &str,
-                            targets: &[Option<wgpu::ColorTargetState>],
-                            depth: wgpu::DepthStencilState| {
-            setup
-                .vertex
-                .iter()
-                .map(|v| {
-                    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some(&p.label),
-                        layout: Some(&layout),
-                        vertex: wgpu::VertexState {
-                            module: v.module,
-                            entry_point: Some(v.entry_point),
-                            compilation_options: Default::default(),
-                            buffers: v.buffers,
-                        },
-                        primitive: v.primitive,
-                        depth_stencil: Some(depth.clone()),
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &fs,
-                            entry_point: Some(entry),
-                            compilation_options: Default::default(),
-                            targets,
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    })
-                })
-                .collect::<Vec<_>>()
+        let pipelines_of = |entry: &str, targets: &[Option<wgpu::ColorTargetState>], depth| {
+            pipelines(
+                device,
+                setup,
+                (&layout, &fs),
+                (&p.label, entry),
+                targets,
+                depth,
+            )
         };
         let pipelines = pipelines_of(&p.entry, &targets, depth.clone());
         // The hit map draws the geometry again into a target of its own, nearest first.
@@ -250,4 +222,43 @@ pub(crate) fn build_pass(
             classify,
         }
     })
+}
+
+/// One pipeline per vertex stage of `setup` drawing fragment entry `entry` of `fs` into `targets`
+/// with `depth`, under `layout` (`label` names them).
+fn pipelines(
+    device: &wgpu::Device,
+    setup: &Setup<'_>,
+    (layout, fs): (&wgpu::PipelineLayout, &wgpu::ShaderModule),
+    (label, entry): (&str, &str),
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: wgpu::DepthStencilState,
+) -> Vec<wgpu::RenderPipeline> {
+    setup
+        .vertex
+        .iter()
+        .map(|v| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: v.module,
+                    entry_point: Some(v.entry_point),
+                    compilation_options: Default::default(),
+                    buffers: v.buffers,
+                },
+                primitive: v.primitive,
+                depth_stencil: Some(depth.clone()),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: fs,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+        .collect()
 }

@@ -77,9 +77,6 @@ pub struct VariantResources {
     frame: u32,
     /// The textures are new: clear them before the next frame reads them.
     fresh: bool,
-    /// The ping-pong entry of the frame [`VariantResources::record`] recorded last, for
-    /// [`VariantResources::record_classification`].
-    recorded: Option<usize>,
 }
 
 impl VariantResources {
@@ -152,7 +149,7 @@ impl VariantResources {
                 p,
                 setup,
                 &user,
-                (&shared.layout, classify),
+                (&shared, classify),
             )?);
         }
         let mut r = VariantResources {
@@ -167,7 +164,6 @@ impl VariantResources {
             shared,
             frame: 0,
             fresh: true,
-            recorded: None,
         };
         r.bind(device)?;
         Ok(r)
@@ -194,7 +190,6 @@ impl VariantResources {
         self.size = size;
         self.frame = 0;
         self.fresh = true;
-        self.recorded = None;
         self.bind(device)
     }
 
@@ -271,11 +266,7 @@ impl VariantResources {
 
     /// The entries of pass `p`'s bind group `g` on ping-pong entry `k`.
     fn entries(&self, p: &PassPlan, g: u32, k: usize) -> Vec<wgpu::BindGroupEntry<'_>> {
-        // Of the application's bindings there, those the pass declares (`Plan::passes`).
-        let own = self
-            .shared
-            .entries()
-            .filter(|e| g == self.plan.group && p.shared_own.contains_key(&e.binding));
+        let own = self.shared.entries_for(p).filter(|_| g == self.plan.group);
         p.added
             .iter()
             .filter(|b| b.group == g)
@@ -350,10 +341,12 @@ impl VariantResources {
             &self.plan.params_bytes(frame, inputs.clock, inputs.delta_n),
         );
         let k = frame as usize % self.plan.ping_pong;
+        let singles: Vec<std::ops::Range<usize>>;
         let render_passes = if inputs.separate_passes {
-            (0..self.plan.passes.len()).map(|i| i..i + 1).collect()
+            singles = (0..self.plan.passes.len()).map(|i| i..i + 1).collect();
+            &singles
         } else {
-            self.plan.render_passes.clone()
+            &self.plan.render_passes
         };
         for (r, passes) in render_passes.iter().enumerate() {
             // Loaded as the first pass loads, stored as the last stores.
@@ -391,13 +384,8 @@ impl VariantResources {
                 occlusion_query_set: inputs.occlusion,
                 multiview_mask: None,
             });
-            for (i, gp) in self
-                .passes
-                .iter()
-                .enumerate()
-                .take(passes.end)
-                .skip(passes.start)
-            {
+            for i in passes.clone() {
+                let gp = &self.passes[i];
                 for (g, bg) in inputs.bind_groups {
                     pass.set_bind_group(*g, *bg, &[]);
                 }
@@ -413,7 +401,6 @@ impl VariantResources {
                 }
             }
         }
-        self.recorded = Some(k);
         // Past u32::MAX the clock goes on at the same ping-pong entry without meaning frame 0.
         let next = u64::from(frame) + 1;
         let len = self.plan.ping_pong as u64;

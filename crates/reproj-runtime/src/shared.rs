@@ -126,9 +126,31 @@ impl Shared {
         })
     }
 
-    /// The application's entries of the shared group (none where the group is the variant's own).
-    pub fn entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
-        self.held.iter().map(|(binding, h)| wgpu::BindGroupEntry {
+    /// The application's layout entries of the shared group that pass `p` declares (none where
+    /// the group is the variant's own). A pass binds only those: lavapipe 22.3 faults drawing a
+    /// pass of a shader on all four groups whose shared group's layout holds a uniform the pass
+    /// does not declare.
+    pub fn layout_for<'s>(
+        &'s self,
+        p: &'s PassPlan,
+    ) -> impl Iterator<Item = wgpu::BindGroupLayoutEntry> + 's {
+        self.layout
+            .iter()
+            .copied()
+            .filter(|e| p.shared_own.contains_key(&e.binding))
+    }
+
+    /// The application's bind group entries of the shared group that pass `p` declares (as
+    /// [`Shared::layout_for`]).
+    pub fn entries_for<'s>(
+        &'s self,
+        p: &PassPlan,
+    ) -> impl Iterator<Item = wgpu::BindGroupEntry<'s>> {
+        let declared = self
+            .held
+            .iter()
+            .filter(|(binding, _)| p.shared_own.contains_key(binding));
+        declared.map(|(binding, h)| wgpu::BindGroupEntry {
             binding: *binding,
             resource: match h {
                 Held::Buffer {

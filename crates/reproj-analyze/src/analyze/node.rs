@@ -112,12 +112,9 @@ fn replay_node(
             })?,
         )
     };
-    let estimates = contest
-        .as_ref()
-        .map(|c| c.estimates.clone())
-        .unwrap_or_default();
+    let (race, estimates) = contest.map(|c| (c.report, c.estimates)).unzip();
+    let estimates = estimates.unwrap_or_default();
     let winner = race_winner(&strategies, &estimates);
-    let race = contest.map(|c| c.report);
     if let Some(w) = winner
         && let Some(best) = estimates[w]
     {

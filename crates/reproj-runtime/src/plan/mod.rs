@@ -297,7 +297,7 @@ fn depth_attachment(
             if *depth.get_or_insert(t) != t {
                 return Err(at.err(
                     format!("passes[{i}].depth.attachment"),
-                    "resolves to another texture than the other passes' or frames' depth: the runtime draws every pass into the application's one depth target",
+                    "resolves to another texture than the other passes' or frames' depth: the runtime draws every pass into the application's one depth target (a variant written before the depth copy reads the previous frame's depth buffer so: write it again with `reproj instance` or `reproj emit`)",
                 ));
             }
         }

@@ -27,7 +27,13 @@ impl VariantResources {
                 "the variant was built without `Setup::classification`",
             ));
         }
-        let Some(k) = self.recorded else {
+        // The clock counts frames recorded since the build, a resize or a restart (past
+        // u32::MAX it stays at the entry's parity, never 0): the last one's entry is the one before.
+        let Some(k) = self
+            .frame
+            .checked_sub(1)
+            .map(|f| f as usize % self.plan.ping_pong)
+        else {
             return Err(RuntimeError::usage(
                 "record_classification",
                 "no frame was recorded since the variant was built or resized",

@@ -107,10 +107,9 @@ impl LowDraw<'_> {
     fn queries(&self) -> (u32, u32) {
         match self {
             LowDraw::Original { .. } => (1, 1),
-            LowDraw::Variant { plan, .. } => (
-                plan.runtime.pass_count() as u32,
-                plan.render_passes.len() as u32,
-            ),
+            LowDraw::Variant { plan, .. } => {
+                (plan.runtime.pass_count() as u32, plan.render_pass_count)
+            }
         }
     }
 }
@@ -347,7 +346,7 @@ impl Renderer {
             LowDraw::Variant { variant, plan, gpu } => {
                 self.write_frame_uniforms(small, &gpu.scene, f, jitter);
                 self.encode_variant_passes_into(&mut enc, gpu, variant, (f, first), q)?;
-                plan.render_passes.len() as u32
+                plan.render_pass_count
             }
         };
         {

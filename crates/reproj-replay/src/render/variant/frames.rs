@@ -94,7 +94,7 @@ impl Renderer {
         let q = QueryKit::new(
             self,
             plan.runtime.pass_count() as u32,
-            plan.render_passes.len() as u32,
+            plan.render_pass_count,
             slots,
         );
         let errors = if opts.timing_only {
@@ -151,7 +151,7 @@ impl Renderer {
                     &gpu.scene_groups(),
                     |pass, pipelines| gpu.draw_objects(pass, pipelines),
                 )
-                .map_err(|e| runtime_error(run.variant, e))?;
+                .map_err(|e| runtime_error(&run.variant.label, e))?;
             cls_rb.copy(&mut enc, &gpu.cls, slot);
         }
         Ok((render, enc))
@@ -182,7 +182,7 @@ impl Renderer {
         };
         let (occ, render_pass_ms, span) = rb.q.read(slot)?;
         // Per pass only where each pass has its own render pass (`VariantInput::pass_times`).
-        let pass_ms = if run.plan.render_passes.len() == run.plan.runtime.pass_count() {
+        let pass_ms = if run.plan.render_pass_count as usize == run.plan.runtime.pass_count() {
             render_pass_ms
         } else {
             Vec::new()
@@ -284,7 +284,7 @@ impl Renderer {
                 },
                 |pass, pipelines| gpu.draw_objects(pass, pipelines),
             )
-            .map_err(|e| runtime_error(variant, e))
+            .map_err(|e| runtime_error(&variant.label, e))
     }
 
     /// The clears an engine's frame starts with, where the variant's passes load instead: the
@@ -324,13 +324,6 @@ impl Renderer {
                 ..Default::default()
             });
         }
-    }
-}
-
-/// A runtime error of drawing `variant`, named.
-fn runtime_error(variant: &VariantInput, e: reproj_runtime::RuntimeError) -> ReplayError {
-    ReplayError::Variant {
-        message: format!("{}: {e}", variant.label),
     }
 }
 

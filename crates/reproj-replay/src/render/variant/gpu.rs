@@ -52,10 +52,12 @@ impl Renderer {
         let cls_depth_view = cls_depth.create_view(&Default::default());
         let scene_iface = scene_interface(plan, m.added_place());
         let binds = self.bindings("scene", &scene_iface, &scene)?;
+        let culls = culls(&scene);
         let built = self.built_variant(
             plan,
             &BuildInputs {
                 scene: &scene,
+                culls: &culls,
                 scene_iface: &scene_iface,
                 binds: &binds,
                 vgroup,
@@ -72,7 +74,7 @@ impl Renderer {
         Ok(VariantGpu {
             runtime: built,
             group: m.group,
-            culls: culls(&scene),
+            culls,
             scene,
             vgroup,
             binds,
@@ -100,25 +102,16 @@ impl Renderer {
         always_motion: bool,
     ) -> Result<VariantShaders, ReplayError> {
         let [w, h] = session.resolution;
-        let (stages, classify_stage) = (&plan.stages, &plan.classify_stage);
-        let mut used: BTreeSet<u32> = [m.group].into_iter().collect();
-        for s in stages {
-            used.extend(s.iface.groups());
-        }
-        if let Some(c) = &classify_stage {
-            used.extend(c.groups());
-        }
+        let ifaces: Vec<&Interface> = plan.interfaces().collect();
+        let used: BTreeSet<u32> = ifaces
+            .iter()
+            .flat_map(|i| i.groups())
+            .chain([m.group])
+            .collect();
         let vgroup = free_group(&used, self.device.limits().max_bind_groups)?;
-        let mut input_sets: Vec<&[reflect::FragInput]> =
-            stages.iter().map(|s| s.iface.inputs.as_slice()).collect();
-        if let Some(c) = &classify_stage {
-            input_sets.push(&c.inputs);
-        }
+        let input_sets: Vec<&[reflect::FragInput]> =
+            ifaces.iter().map(|i| i.inputs.as_slice()).collect();
         let mut inputs = vertex::merge_inputs(&input_sets)?;
-        let mut ifaces: Vec<&Interface> = stages.iter().map(|s| &s.iface).collect();
-        if let Some(c) = &classify_stage {
-            ifaces.push(c);
-        }
         let scene = self.build_scene(session, &ifaces, Some(m.added_place()))?;
         // With motion vectors the passes read no previous clip position; the replay's motion
         // pass (the engine's velocity pass) does, one location past the shader's inputs.
@@ -167,7 +160,7 @@ impl Renderer {
             plan.sources,
             b.vs.0,
             b.binds.layout_keys,
-            culls(b.scene),
+            b.culls,
             b.vgroup,
             b.size,
             b.motion.is_some(),
@@ -198,9 +191,7 @@ impl Renderer {
                 hit.1
             })
         };
-        let gpu_err = |e: reproj_runtime::RuntimeError| ReplayError::Variant {
-            message: format!("{}: {e}", plan.label),
-        };
+        let gpu_err = |e| runtime_error(&plan.label, e);
         if let Some(built) = found {
             self.pipeline_hits.fetch_add(1, Ordering::Relaxed);
             {
@@ -220,7 +211,8 @@ impl Renderer {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &attrs,
         })];
-        let stages: Vec<VertexStage<'_>> = culls(b.scene)
+        let stages: Vec<VertexStage<'_>> = b
+            .culls
             .iter()
             .map(|cull| VertexStage {
                 module: b.vs.1,
@@ -286,13 +278,7 @@ fn culls(scene: &Scene) -> Vec<Cull> {
 fn scene_interface(plan: &VariantPlan, added: reproj_instance::contract::AddedPlace) -> Interface {
     let mut iface = plan.stages[0].iface.clone();
     iface.resources.clear();
-    let all = plan
-        .stages
-        .iter()
-        .map(|s| &s.iface)
-        .chain(plan.classify_stage.as_ref())
-        .flat_map(|i| &i.resources);
-    for r in all {
+    for r in plan.interfaces().flat_map(|i| &i.resources) {
         if !added.holds(r.group, r.binding)
             && !iface
                 .resources
@@ -309,6 +295,8 @@ fn scene_interface(plan: &VariantPlan, added: reproj_instance::contract::AddedPl
 /// What building a variant reads ([`Renderer::built_variant`]).
 struct BuildInputs<'a> {
     scene: &'a Scene,
+    /// The scene's cull modes ([`culls`]): one vertex stage each.
+    culls: &'a [Cull],
     scene_iface: &'a Interface,
     binds: &'a Bindings,
     vgroup: u32,

@@ -72,11 +72,10 @@ impl Renderer {
     /// Render a cached variant of any strategy over the session (see `docs/PASSES.md`) and compare
     /// each frame with `reference` (from [`Renderer::render_original`] on the same session).
     ///
-    /// Per frame, the manifest's passes in order, each with its color targets (frame color, current
-    /// payload, current depth copy: cleared or loaded as listed) and depth state; then the current
-    /// payload and depth copy become the previous ones. (A variant written before the depth copy
-    /// reads the previous frame's depth buffer instead, which then alternates too.) Frame 0 runs with
-    /// Δn = 1; `clock` is the frame index.
+    /// Per frame, the manifest's passes in order as `reproj-runtime` records them, each with its
+    /// color targets (frame color, current payload, current depth copy: cleared or loaded as
+    /// listed) and depth state; then the current payload and depth copy become the previous ones.
+    /// Frame 0 runs with Δn = 1; `clock` is the frame index.
     pub fn render_variant(
         &self,
         shader: &Shader,
@@ -120,5 +119,15 @@ impl Renderer {
         self.variant_frames(&run, &mut report)?;
         report.summarize();
         Ok(report)
+    }
+}
+
+/// A runtime error of drawing the variant `label`, named.
+pub(in crate::render) fn runtime_error(
+    label: &str,
+    e: reproj_runtime::RuntimeError,
+) -> ReplayError {
+    ReplayError::Variant {
+        message: format!("{label}: {e}"),
     }
 }

@@ -30,21 +30,6 @@ impl Renderer {
             });
         }
         check_pass_kinds(m)?;
-        // Written before the depth copy: its lookup reads the previous frame's depth buffer,
-        // which a host cannot give (its one depth target is this frame's).
-        let depth_copy = m
-            .passes
-            .iter()
-            .flat_map(|p| &p.colors)
-            .any(|c| c.attachment == reproj_instance::ROLE_CUR_DEPTH_COPY);
-        if m.depth_channel.is_none() && !depth_copy {
-            return Err(ReplayError::Variant {
-                message: format!(
-                    "{}: written before the depth copy (its lookup reads the previous frame's depth buffer, which reproj-runtime cannot give it): write it again with `reproj instance` or `reproj emit`",
-                    variant.label
-                ),
-            });
-        }
         if variant.sources.len() != m.passes.len() {
             return Err(ReplayError::Variant {
                 message: format!(
@@ -119,15 +104,15 @@ impl Renderer {
         .map_err(|e| ReplayError::Variant {
             message: e.to_string(),
         })?;
-        let render_passes = if variant.pass_times {
-            (0..runtime.pass_count()).map(|i| i..i + 1).collect()
+        let render_pass_count = if variant.pass_times {
+            runtime.pass_count()
         } else {
-            runtime.render_passes()
-        };
+            runtime.render_pass_count()
+        } as u32;
         Ok(VariantPlan {
             frames,
             first,
-            render_passes,
+            render_pass_count,
             stages,
             classify_stage,
             label: variant.label.clone(),
@@ -142,10 +127,10 @@ impl Renderer {
 pub(in crate::render) struct VariantPlan {
     pub(in crate::render) frames: u32,
     pub(in crate::render) first: u32,
-    /// The render passes the passes are drawn in, as ranges of them: the runtime's
+    /// The render passes a frame records: the runtime's
     /// ([`reproj_runtime::Variant::render_passes`]), or one per pass where each is timed
     /// ([`VariantInput::pass_times`]).
-    pub(in crate::render) render_passes: Vec<std::ops::Range<usize>>,
+    pub(in crate::render) render_pass_count: u32,
     /// Each pass's module and interface, in the same order.
     pub(in crate::render) stages: Vec<Stage>,
     /// The first pass's classification entry point, when it is rendered each frame.
@@ -157,6 +142,16 @@ pub(in crate::render) struct VariantPlan {
     pub(in crate::render) sources: Vec<String>,
     /// The variant as `reproj-runtime` reads it, checked: what draws it.
     pub(in crate::render) runtime: reproj_runtime::Variant,
+}
+
+impl VariantPlan {
+    /// The interfaces of the passes and of the classification entry where it is rendered.
+    pub(in crate::render) fn interfaces(&self) -> impl Iterator<Item = &Interface> {
+        self.stages
+            .iter()
+            .map(|s| &s.iface)
+            .chain(self.classify_stage.as_ref())
+    }
 }
 
 /// The passes a strategy has, in order: a manifest listing others is refused by name.
