@@ -9,8 +9,9 @@
 //! maximum difference measured is 0, printed by each test). The PNGs are written from those
 //! values with the same sRGB encoding, so they agree too.
 //!
-//! The `reproj` binary is `REPROJ_BIN` if set, else built here with `cargo build -p reproj-cli`
-//! into this test's target directory (a no-op when it is up to date). The tests need a Vulkan
+//! The `reproj` binary is `REPROJ_BIN` if set, else the workspace's test build of it, brought up
+//! to date here with `cargo test --workspace --no-run` in this test's target directory (a no-op
+//! inside `cargo test --workspace`). The tests need a Vulkan
 //! device (lavapipe without a GPU: `scripts/ensure-vulkan.sh`); set `NODEVICE_SELECT=1` and
 //! `LP_NUM_THREADS` as for the other rendering tests.
 
@@ -48,14 +49,26 @@ fn reproj_bin() -> PathBuf {
             Some(other) => other,
             None => "dev",
         };
-        let out = Command::new(env!("CARGO"))
+        // The workspace's own test build: what `cargo test --workspace` compiled for the CLI's
+        // tests, so nothing is built again when this runs inside it. (`cargo build -p
+        // reproj-cli` would unify features over the CLI alone and compile the binary and its
+        // crates a second time: minutes on two cores.)
+        let mut cargo = Command::new(env!("CARGO"));
+        cargo
             .current_dir(workspace())
-            .args(["build", "-q", "-p", "reproj-cli", "--bin", "reproj"])
-            .args(["--profile", profile])
+            .args(["test", "-q", "--workspace", "--no-run"])
             .arg("--target-dir")
-            .arg(target_dir)
-            .output()
-            .expect("running cargo");
+            .arg(target_dir);
+        match profile {
+            "dev" => {}
+            "release" => {
+                cargo.arg("--release");
+            }
+            other => {
+                cargo.args(["--profile", other]);
+            }
+        }
+        let out = cargo.output().expect("running cargo");
         assert!(
             out.status.success(),
             "building reproj failed:\n{}",

@@ -11,9 +11,9 @@ pub fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// The `reproj` binary: `REPROJ_BIN` if set, else built once per test process with
-/// `cargo build -p reproj-cli` into this test's own target directory and profile (a no-op when it
-/// is up to date).
+/// The `reproj` binary: `REPROJ_BIN` if set, else the workspace's test build of it, brought up to
+/// date once per test process with `cargo test --workspace --no-run` in this test's own target
+/// directory and profile (a no-op inside `cargo test --workspace`).
 pub fn reproj_bin() -> PathBuf {
     static BIN: OnceLock<PathBuf> = OnceLock::new();
     BIN.get_or_init(|| {
@@ -31,14 +31,26 @@ pub fn reproj_bin() -> PathBuf {
             Some("debug") | None => "dev",
             Some(other) => other,
         };
-        let out = Command::new(env!("CARGO"))
+        // The workspace's own test build: what `cargo test --workspace` compiled for the CLI's
+        // tests, so nothing is built again when this runs inside it. (`cargo build -p
+        // reproj-cli` would unify features over the CLI alone and compile the binary and its
+        // crates a second time: minutes on two cores.)
+        let mut cargo = Command::new(env!("CARGO"));
+        cargo
             .current_dir(workspace())
-            .args(["build", "-q", "-p", "reproj-cli", "--bin", "reproj"])
-            .args(["--profile", profile])
+            .args(["test", "-q", "--workspace", "--no-run"])
             .arg("--target-dir")
-            .arg(target_dir)
-            .output()
-            .expect("running cargo");
+            .arg(target_dir);
+        match profile {
+            "dev" => {}
+            "release" => {
+                cargo.arg("--release");
+            }
+            other => {
+                cargo.args(["--profile", other]);
+            }
+        }
+        let out = cargo.output().expect("running cargo");
         assert!(
             out.status.success(),
             "building reproj failed:\n{}",
