@@ -14,11 +14,17 @@ export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
+start=$SECONDS
 cargo test --workspace --locked "$@" 2>&1 | tee "$log" || status=$?
+workspace=$((SECONDS - start))
 # The light build (no GPU crates) still compiles: docs/CI.md's `emit` job installs it.
 bash scripts/check-light.sh || status=$?
+light=$((SECONDS - start - workspace))
 passed=$(grep -Eo 'test result: [A-Za-z]+\. [0-9]+ passed' "$log" | awk '{s += $4} END {print s + 0}')
 failed=$(grep -Eo '[0-9]+ failed' "$log" | awk '{s += $1} END {print s + 0}')
 echo
 echo "reproj: $passed passed, $failed failed"
+printf 'wall time: %dm%02ds (the workspace build and its tests %dm%02ds, the light build %dm%02ds), %s cores\n' \
+    $(((workspace + light) / 60)) $(((workspace + light) % 60)) $((workspace / 60)) $((workspace % 60)) \
+    $((light / 60)) $((light % 60)) "$(nproc)"
 exit "$status"
