@@ -46,9 +46,17 @@ fn analyze(profile: &Path, extra: &[&str]) -> (serde_json::Value, String) {
 fn analyze_replays_pairs_emit_picks_the_pair_of_both_terms_and_no_sets_records_none() {
     let tmp = tempfile::tempdir().unwrap();
     let profile_path = tmp.path().join("two_terms.profile.json");
-    let (profile, log) = analyze(&profile_path, &[]);
+    // Which nodes pay is decided by their timings: on a loaded machine (this binary's other tests
+    // replay beside this one) a term's node can measure as not paying, and no pair is formed.
+    // Measured again once, from scratch, before that fails.
+    let pairs = "sets: 1 pairs among the top 2 nodes";
+    let (mut profile, mut log) = analyze(&profile_path, &[]);
+    if !log.contains(pairs) {
+        eprintln!("no pair on the first analysis; measuring again:\n{log}");
+        (profile, log) = analyze(&profile_path, &["--fresh"]);
+    }
     assert_eq!(profile["version"], 13);
-    assert!(log.contains("sets: 1 pairs among the top 2 nodes"), "{log}");
+    assert!(log.contains(pairs), "{log}");
     let sets = profile["sets"].as_array().expect(&log);
     assert!(!sets.is_empty(), "{profile:#}");
     for s in sets {
