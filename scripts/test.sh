@@ -24,7 +24,6 @@ passed=$(grep -Eo 'test result: [A-Za-z]+\. [0-9]+ passed' "$log" | awk '{s += $
 failed=$(grep -Eo '[0-9]+ failed' "$log" | awk '{s += $1} END {print s + 0}')
 echo
 echo "reproj: $passed passed, $failed failed"
-printf 'wall time: %dm%02ds (the workspace build and its tests %dm%02ds, the light build %dm%02ds), %s cores\n' \
-    $(((workspace + light) / 60)) $(((workspace + light) % 60)) $((workspace / 60)) $((workspace % 60)) \
-    $((light / 60)) $((light % 60)) "$(nproc)"
+mmss() { printf '%dm%02ds' $(($1 / 60)) $(($1 % 60)); }
+echo "wall time: $(mmss $((workspace + light))) (the workspace build and its tests $(mmss $workspace), the light build $(mmss $light)), $(nproc) cores"
 exit "$status"

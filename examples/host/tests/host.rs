@@ -9,15 +9,17 @@
 //! maximum difference measured is 0, printed by each test). The PNGs are written from those
 //! values with the same sRGB encoding, so they agree too.
 //!
-//! The `reproj` binary is `REPROJ_BIN` if set, else the workspace's test build of it, brought up
-//! to date here with `cargo test --workspace --no-run` in this test's target directory (a no-op
-//! inside `cargo test --workspace`). The tests need a Vulkan
-//! device (lavapipe without a GPU: `scripts/ensure-vulkan.sh`); set `NODEVICE_SELECT=1` and
+//! The `reproj` binary is `REPROJ_BIN` if set, else the workspace's test build of it (the
+//! runtime's tests' `common/reproj_bin.rs`, included here). The tests need a Vulkan device
+//! (lavapipe without a GPU: `scripts/ensure-vulkan.sh`); set `NODEVICE_SELECT=1` and
 //! `LP_NUM_THREADS` as for the other rendering tests.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::OnceLock;
+
+#[path = "../../../crates/reproj-runtime/tests/common/reproj_bin.rs"]
+mod reproj_bin;
+use reproj_bin::reproj_bin;
 
 /// Largest allowed difference of any channel of any pixel between two renderers' frames.
 const TOLERANCE: f32 = 1e-4;
@@ -31,52 +33,6 @@ fn workspace() -> PathBuf {
 
 fn host_bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_reproj-host"))
-}
-
-/// The `reproj` binary, built once per test process.
-fn reproj_bin() -> PathBuf {
-    static BIN: OnceLock<PathBuf> = OnceLock::new();
-    BIN.get_or_init(|| {
-        if let Some(p) = std::env::var_os("REPROJ_BIN") {
-            return PathBuf::from(p);
-        }
-        // target/<profile>/reproj-host → build reproj into the same target dir and profile.
-        let host = host_bin();
-        let profile_dir = host.parent().expect("binary directory");
-        let target_dir = profile_dir.parent().expect("target directory");
-        let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
-            Some("debug") => "dev",
-            Some(other) => other,
-            None => "dev",
-        };
-        // The workspace's own test build: what `cargo test --workspace` compiled for the CLI's
-        // tests, so nothing is built again when this runs inside it. (`cargo build -p
-        // reproj-cli` would unify features over the CLI alone and compile the binary and its
-        // crates a second time: minutes on two cores.)
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo
-            .current_dir(workspace())
-            .args(["test", "-q", "--workspace", "--no-run"])
-            .arg("--target-dir")
-            .arg(target_dir);
-        match profile {
-            "dev" => {}
-            "release" => {
-                cargo.arg("--release");
-            }
-            other => {
-                cargo.args(["--profile", other]);
-            }
-        }
-        let out = cargo.output().expect("running cargo");
-        assert!(
-            out.status.success(),
-            "building reproj failed:\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        profile_dir.join(format!("reproj{}", std::env::consts::EXE_SUFFIX))
-    })
-    .clone()
 }
 
 /// Run `bin` with `args` in the workspace root; panic with its output unless it succeeds.
