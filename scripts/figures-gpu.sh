@@ -17,9 +17,10 @@
 #   bash scripts/figures-gpu.sh [OUT]          # on the GPU machine (default OUT: out/gpu)
 #   DRY=1 bash scripts/figures-gpu.sh /tmp/d   # the same steps, shrunk, on a CPU (lavapipe)
 #
-# REPROJ names the binary (default target/release/reproj); BUDGET_S the seconds after which no
-# step starts (480; dry 720); PARTS which parts run (default "marble ao compare corpus envmap");
-# SKIP_ANALYZE=1 reuses OUT's profiles; ANALYZE_ARGS replaces marble's and AO's extra analyze
+# REPROJ names the binary (default target/release/reproj); WORK the working folder (default
+# OUT/work; outside OUT when only figures.tgz should be in OUT); BUDGET_S the seconds after which
+# no step starts (480; dry 720); PARTS which parts run (default "marble ao compare corpus
+# envmap"); SKIP_ANALYZE=1 reuses WORK's profiles; ANALYZE_ARGS replaces marble's and AO's extra analyze
 # options; COMPARE_ARGS compare's search options; CORPUS_FIRST and CORPUS_FILTER the corpus
 # shaders run first and kept. DRY=1 uses the 256×256 sessions cut to 60 frames (corpus: its
 # 128×128 ones), 2-node analyses and small limits: the script checked end to end without a GPU.
@@ -27,7 +28,7 @@ set -uo pipefail
 cd "$(dirname "$0")/.." || exit 2
 R="${REPROJ:-target/release/reproj}"
 OUT="${1:-out/gpu}"
-W="$OUT/work"
+W="${WORK:-$OUT/work}"
 # ONLY_MARBLE=1, the earlier runs' knob, is PARTS="marble compare".
 [ -n "${ONLY_MARBLE:-}" ] && PARTS="${PARTS:-marble compare}"
 PARTS=" ${PARTS:-marble ao compare corpus envmap} "
@@ -58,7 +59,7 @@ read -r -a CMP <<<"${COMPARE_ARGS:-$(g "--max-frames 60 --candidates 3 --max-ste
     "--max-frames 20 --candidates 2 --max-steps 2 --supersample 2 --resize-tries 2 --reproj-tries 2")}"
 T0=$(date +%s)
 left() { echo $((BUDGET_S - ($(date +%s) - T0))); }
-pack() { tar czf "$OUT/figures.tgz.tmp" -C "$W" . && mv "$OUT/figures.tgz.tmp" "$OUT/figures.tgz"; }
+pack() { mkdir -p "$OUT" && tar czf "$OUT/figures.tgz.tmp" -C "$W" . && mv "$OUT/figures.tgz.tmp" "$OUT/figures.tgz"; }
 note() { printf '%-30s %s\n' "$1" "$2" | tee -a "$W/steps.txt"; }
 step() { # step NAME LIMIT_S COMMAND...: run, log, time, pack (skipped past the budget)
     local name="$1" limit="$2"
