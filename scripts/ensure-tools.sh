@@ -13,6 +13,9 @@ missing=()
 command -v c++ >/dev/null 2>&1 || missing+=(g++)
 command -v glslangValidator >/dev/null 2>&1 || missing+=(glslang-tools)
 { command -v spirv-val >/dev/null 2>&1 && command -v spirv-opt >/dev/null 2>&1; } || missing+=(spirv-tools)
+# Khronos' Vulkan validation layer: a test draws every strategy under it (lavapipe draws what
+# Vulkan leaves undefined; the layer names it).
+[ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ] || missing+=(vulkan-validationlayers)
 command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || missing+=(chromium)
 if [ ${#missing[@]} -eq 0 ]; then
     exit 0

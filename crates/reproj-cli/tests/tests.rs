@@ -29,4 +29,5 @@ mod signals;
 mod test_files;
 mod variant;
 mod verify;
+mod vulkan_validation;
 mod writers;

@@ -146,7 +146,7 @@ pub(crate) fn build_pass(
             .map(|b| b.group)
             .chain((!p.shared_own.is_empty()).then_some(plan.group))
             .collect();
-        for g in groups {
+        for g in own_indices(&groups, user) {
             let entries: Vec<wgpu::BindGroupLayoutEntry> = p
                 .added
                 .iter()
@@ -171,6 +171,7 @@ pub(crate) fn build_pass(
             .copied()
             .max()
             .unwrap_or(0);
+        // No gap: `own_indices` gave every index the application leaves free a layout.
         let bgls: Vec<Option<&wgpu::BindGroupLayout>> = (0..=top)
             .map(|g| layouts.get(&g).or_else(|| user.get(&g).copied()))
             .collect();
@@ -222,6 +223,26 @@ pub(crate) fn build_pass(
             classify,
         }
     })
+}
+
+/// The group indices whose layouts (and bind groups) a pass owns: those it declares bindings in
+/// (`declared`), and every index below the highest group of the pipeline that neither it nor the
+/// application uses, with an empty layout. Vulkan keeps a descriptor set bound across pipelines
+/// only while every lower set's layout is identical, and wgpu does not rebind the sets above a
+/// gap (`None` in a pipeline layout) it leaves: a pass that declares nothing in the variant's
+/// group (2pass's second pass) between passes that do would draw with the application's
+/// higher groups bound under the other layout — undefined, nothing drawn on NVIDIA's driver,
+/// ignored by lavapipe. Empty layouts at the gaps make wgpu rebind them.
+pub(crate) fn own_indices(
+    declared: &std::collections::BTreeSet<u32>,
+    user: &BTreeMap<u32, &wgpu::BindGroupLayout>,
+) -> std::collections::BTreeSet<u32> {
+    let top = declared.iter().chain(user.keys()).copied().max();
+    let gaps = top
+        .into_iter()
+        .flat_map(|top| 0..top)
+        .filter(|g| !declared.contains(g) && !user.contains_key(g));
+    declared.iter().copied().chain(gaps).collect()
 }
 
 /// One pipeline per vertex stage of `setup` drawing fragment entry `entry` of `fs` into `targets`
