@@ -24,14 +24,22 @@ fn layer() -> bool {
     found
 }
 
-/// `reproj ARGS` in `cwd` under the validation layer: exit 0 and not one validation message.
+/// `reproj ARGS` in `cwd` under the validation layer: the loader inserted it (its own debug
+/// output says so), exit 0 and not one validation message (the layer prints them to stdout).
 fn renders_clean(cwd: &Path, args: &[&str]) {
     let (code, out, err) = common::run_env(
         cwd,
         args,
-        &[("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")],
+        &[
+            ("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation"),
+            ("VK_LOADER_DEBUG", "layer"),
+        ],
     );
     assert_eq!(code, 0, "{args:?}: {err}");
+    assert!(
+        err.contains(r#"Insert instance layer "VK_LAYER_KHRONOS_validation""#),
+        "{args:?}: the validation layer was not loaded: {err}"
+    );
     for text in [&out, &err] {
         let first = text.lines().find(|l| l.contains("Validation Error"));
         assert!(first.is_none(), "{args:?}: {}", first.unwrap_or_default());

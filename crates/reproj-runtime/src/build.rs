@@ -146,7 +146,8 @@ pub(crate) fn build_pass(
             .map(|b| b.group)
             .chain((!p.shared_own.is_empty()).then_some(plan.group))
             .collect();
-        for g in own_indices(&groups, user) {
+        let app: std::collections::BTreeSet<u32> = user.keys().copied().collect();
+        for g in own_indices(&groups, &app) {
             let entries: Vec<wgpu::BindGroupLayoutEntry> = p
                 .added
                 .iter()
@@ -227,7 +228,7 @@ pub(crate) fn build_pass(
 
 /// The group indices whose layouts (and bind groups) a pass owns: those it declares bindings in
 /// (`declared`), and every index below the highest group of the pipeline that neither it nor the
-/// application uses, with an empty layout. Vulkan keeps a descriptor set bound across pipelines
+/// application (`app`: the indices of `Setup::bind_group_layouts`) uses, with an empty layout. Vulkan keeps a descriptor set bound across pipelines
 /// only while every lower set's layout is identical, and wgpu does not rebind the sets above a
 /// gap (`None` in a pipeline layout) it leaves: a pass that declares nothing in the variant's
 /// group (2pass's second pass) between passes that do would draw with the application's
@@ -235,14 +236,39 @@ pub(crate) fn build_pass(
 /// ignored by lavapipe. Empty layouts at the gaps make wgpu rebind them.
 pub(crate) fn own_indices(
     declared: &std::collections::BTreeSet<u32>,
-    user: &BTreeMap<u32, &wgpu::BindGroupLayout>,
+    app: &std::collections::BTreeSet<u32>,
 ) -> std::collections::BTreeSet<u32> {
-    let top = declared.iter().chain(user.keys()).copied().max();
+    let top = declared.iter().chain(app).copied().max();
     let gaps = top
         .into_iter()
         .flat_map(|top| 0..top)
-        .filter(|g| !declared.contains(g) && !user.contains_key(g));
+        .filter(|g| !declared.contains(g) && !app.contains(g));
     declared.iter().copied().chain(gaps).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use super::own_indices;
+
+    fn set(v: &[u32]) -> BTreeSet<u32> {
+        v.iter().copied().collect()
+    }
+
+    /// 2pass on marble: the first pass declares the variant's group 1, the second nothing; the
+    /// application has 0 (the shader's) and 2 (its vertex transforms). The second pass owns an
+    /// empty group 1, so no pass's pipeline layout has a gap below 2.
+    #[test]
+    fn a_pass_owns_every_index_the_application_leaves_free_below_its_top() {
+        let app = set(&[0, 2]);
+        assert_eq!(own_indices(&set(&[1]), &app), set(&[1]));
+        assert_eq!(own_indices(&set(&[]), &app), set(&[1]));
+        // Above the application's groups, nothing is filled past the pass's own.
+        assert_eq!(own_indices(&set(&[3]), &set(&[0])), set(&[1, 2, 3]));
+        assert_eq!(own_indices(&set(&[]), &set(&[0, 1])), set(&[]));
+        assert_eq!(own_indices(&set(&[]), &set(&[])), set(&[]));
+    }
 }
 
 /// One pipeline per vertex stage of `setup` drawing fragment entry `entry` of `fs` into `targets`
