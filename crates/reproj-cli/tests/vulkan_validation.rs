@@ -88,7 +88,9 @@ fn shaders_on_three_and_four_groups_draw_without_a_validation_error() {
     common::two_terms(dir, "unused.wgsl", "s.json");
     for fixture in ["three_groups.wgsl", "four_groups.wgsl"] {
         std::fs::copy(
-            common::root().join("crates/reproj-cli/tests/data").join(fixture),
+            common::root()
+                .join("crates/reproj-cli/tests/data")
+                .join(fixture),
             dir.join(fixture),
         )
         .unwrap();
