@@ -167,7 +167,7 @@ fn the_runtime_depends_on_no_reproj_crate() {
 /// and `compose`: nodes, instance, emit) compiles neither wgpu nor nv-flip's C++ nor the charts,
 /// nor the image codecs, the glTF reader or naga_oil and its regex engine: checked on the
 /// resolved graph of that feature set (`cargo tree`, offline: no download, no build). That it
-/// builds is `scripts/check-light.sh` (`cargo check -p reproj-cli --no-default-features`, run by
+/// builds is `scripts/check-light.sh` (`cargo build -p reproj-cli --no-default-features`, run by
 /// `scripts/test.sh`); docs/CI.md has the timings.
 #[test]
 fn the_light_build_has_no_gpu_crates() {
@@ -240,6 +240,76 @@ fn the_light_build_has_no_gpu_crates() {
     for heavy in ["wgpu", "nv-flip", "reproj-replay", "reproj-bench"] {
         assert!(full.contains(heavy), "the default build has {heavy}");
     }
+}
+
+/// The light build's dependencies are compiled with the features the full build gives them, so
+/// the light build (`scripts/check-light.sh`) reuses what `cargo test --workspace` compiled and
+/// builds only reproj's own crates again: every package and feature set of the two light
+/// invocations (`cargo tree`, offline) is one the workspace's build has. Where one is not,
+/// `crates/reproj-workspace-hack/Cargo.toml` needs the features the message names.
+#[test]
+fn the_light_build_shares_the_full_builds_dependencies() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let tree = |args: &[&str]| -> BTreeMap<String, BTreeSet<String>> {
+        let out = std::process::Command::new(&cargo)
+            .current_dir(&root)
+            .args(["tree", "--offline", "--locked", "--prefix", "none"])
+            .args(["--format", "{p}|{f}"])
+            .args(args)
+            .output()
+            .expect("run cargo tree");
+        assert!(
+            out.status.success(),
+            "cargo tree: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let mut sets: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for line in String::from_utf8_lossy(&out.stdout).lines() {
+            let line = line.trim_end_matches(" (*)");
+            if let Some((p, f)) = line.split_once('|')
+                && (!p.contains(" (/") || p.contains("/vendor/"))
+            {
+                sets.entry(p.to_owned()).or_default().insert(f.to_owned());
+            }
+        }
+        sets
+    };
+    let full = tree(&["--workspace", "-e", "normal,build,dev"]);
+    let light_tests = [
+        "-p",
+        "reproj-emit",
+        "-p",
+        "reproj-scene",
+        "-p",
+        "reproj-front",
+        "--no-default-features",
+        "-e",
+        "normal,build,dev",
+    ];
+    let light_cli = [
+        "-p",
+        "reproj-cli",
+        "--no-default-features",
+        "-e",
+        "normal,build",
+    ];
+    let mut missing = Vec::new();
+    for light in [tree(&light_tests), tree(&light_cli)] {
+        for (p, sets) in light {
+            for f in sets {
+                if !full.get(&p).is_some_and(|s| s.contains(&f)) {
+                    let have = full.get(&p).map(|s| s.iter().cloned().collect::<Vec<_>>());
+                    missing.push(format!("{p}: light [{f}], full {have:?}"));
+                }
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "the light build compiles these with other features than the full build (add the full \
+         build's to crates/reproj-workspace-hack): {missing:#?}"
+    );
 }
 
 /// Inside the crates split from the replay, a module imports only from the modules below it (no
