@@ -246,31 +246,6 @@ pub(crate) fn own_indices(
     declared.iter().copied().chain(gaps).collect()
 }
 
-#[cfg(test)]
-mod tests {
-    use std::collections::BTreeSet;
-
-    use super::own_indices;
-
-    fn set(v: &[u32]) -> BTreeSet<u32> {
-        v.iter().copied().collect()
-    }
-
-    /// 2pass on marble: the first pass declares the variant's group 1, the second nothing; the
-    /// application has 0 (the shader's) and 2 (its vertex transforms). The second pass owns an
-    /// empty group 1, so no pass's pipeline layout has a gap below 2.
-    #[test]
-    fn a_pass_owns_every_index_the_application_leaves_free_below_its_top() {
-        let app = set(&[0, 2]);
-        assert_eq!(own_indices(&set(&[1]), &app), set(&[1]));
-        assert_eq!(own_indices(&set(&[]), &app), set(&[1]));
-        // Above the application's groups, nothing is filled past the pass's own.
-        assert_eq!(own_indices(&set(&[3]), &set(&[0])), set(&[1, 2, 3]));
-        assert_eq!(own_indices(&set(&[]), &set(&[0, 1])), set(&[]));
-        assert_eq!(own_indices(&set(&[]), &set(&[])), set(&[]));
-    }
-}
-
 /// One pipeline per vertex stage of `setup` drawing fragment entry `entry` of `fs` into `targets`
 /// with `depth`, under `layout` (`label` names them).
 fn pipelines(
@@ -308,4 +283,29 @@ fn pipelines(
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use super::own_indices;
+
+    fn set(v: &[u32]) -> BTreeSet<u32> {
+        v.iter().copied().collect()
+    }
+
+    /// 2pass on marble: the first pass declares the variant's group 1, the second nothing; the
+    /// application has 0 (the shader's) and 2 (its vertex transforms). The second pass owns an
+    /// empty group 1, so no pass's pipeline layout has a gap below 2.
+    #[test]
+    fn a_pass_owns_every_index_the_application_leaves_free_below_its_top() {
+        let app = set(&[0, 2]);
+        assert_eq!(own_indices(&set(&[1]), &app), set(&[1]));
+        assert_eq!(own_indices(&set(&[]), &app), set(&[1]));
+        // Above the application's groups, nothing is filled past the pass's own.
+        assert_eq!(own_indices(&set(&[3]), &set(&[0])), set(&[1, 2, 3]));
+        assert_eq!(own_indices(&set(&[]), &set(&[0, 1])), set(&[]));
+        assert_eq!(own_indices(&set(&[]), &set(&[])), set(&[]));
+    }
 }
