@@ -163,6 +163,23 @@ fn the_runtime_depends_on_no_reproj_crate() {
     assert!(ours.is_empty(), "reproj-runtime depends on {ours:?}");
 }
 
+/// `cargo tree --offline --locked --prefix none ARGS` in the workspace's root: its output.
+fn cargo_tree(args: &[&str]) -> String {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = std::process::Command::new(&cargo)
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+        .args(["tree", "--offline", "--locked", "--prefix", "none"])
+        .args(args)
+        .output()
+        .expect("run cargo tree");
+    assert!(
+        out.status.success(),
+        "cargo tree: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// The light build CI uses to run `emit` (`reproj-cli` without its default features `gpu`, `gltf`
 /// and `compose`: nodes, instance, emit) compiles neither wgpu nor nv-flip's C++ nor the charts,
 /// nor the image codecs, the glTF reader or naga_oil and its regex engine: checked on the
@@ -171,33 +188,10 @@ fn the_runtime_depends_on_no_reproj_crate() {
 /// `scripts/test.sh`); docs/CI.md has the timings.
 #[test]
 fn the_light_build_has_no_gpu_crates() {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let tree = |features: &[&str]| {
-        let out = std::process::Command::new(&cargo)
-            .current_dir(&root)
-            .args([
-                "tree",
-                "--offline",
-                "--locked",
-                "-p",
-                "reproj-cli",
-                "-e",
-                "normal,build",
-                "--prefix",
-                "none",
-                "--format",
-                "{p}",
-            ])
-            .args(features)
-            .output()
-            .expect("run cargo tree");
-        assert!(
-            out.status.success(),
-            "cargo tree: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let names: BTreeSet<String> = String::from_utf8_lossy(&out.stdout)
+        let mut args = vec!["-p", "reproj-cli", "-e", "normal,build", "--format", "{p}"];
+        args.extend_from_slice(features);
+        let names: BTreeSet<String> = cargo_tree(&args)
             .lines()
             .filter_map(|l| l.split_whitespace().next().map(str::to_owned))
             .collect();
@@ -249,23 +243,11 @@ fn the_light_build_has_no_gpu_crates() {
 /// `crates/reproj-workspace-hack/Cargo.toml` needs the features the message names.
 #[test]
 fn the_light_build_shares_the_full_builds_dependencies() {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let tree = |args: &[&str]| -> BTreeMap<String, BTreeSet<String>> {
-        let out = std::process::Command::new(&cargo)
-            .current_dir(&root)
-            .args(["tree", "--offline", "--locked", "--prefix", "none"])
-            .args(["--format", "{p}|{f}"])
-            .args(args)
-            .output()
-            .expect("run cargo tree");
-        assert!(
-            out.status.success(),
-            "cargo tree: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let mut args = args.to_vec();
+        args.extend(["--format", "{p}|{f}"]);
         let mut sets: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-        for line in String::from_utf8_lossy(&out.stdout).lines() {
+        for line in cargo_tree(&args).lines() {
             let line = line.trim_end_matches(" (*)");
             if let Some((p, f)) = line.split_once('|')
                 && (!p.contains(" (/") || p.contains("/vendor/"))
@@ -322,7 +304,7 @@ fn modules_import_only_from_below() {
             "reproj-scene",
             &[
                 "reflect", "session", "geometry", "gltf", "mesh", "textures", "load", "uniforms",
-                "init",
+                "vertex", "init",
             ],
         ),
         (

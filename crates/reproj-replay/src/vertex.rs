@@ -19,8 +19,6 @@
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
-use bytemuck::{Pod, Zeroable};
-
 use crate::error::ReplayError;
 use reproj_scene::reflect::FragInput;
 use reproj_scene::session::Attribute;
@@ -28,69 +26,8 @@ use reproj_scene::session::Attribute;
 /// Entry point name of the generated vertex stage.
 pub const VERTEX_ENTRY: &str = "replay_vs";
 
-/// Uniform data of the vertex stage (one per object), 320 bytes.
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-#[repr(C)]
-pub struct TransformUniform {
-    pub view_proj: [[f32; 4]; 4],
-    pub prev_view_proj: [[f32; 4]; 4],
-    pub model: [[f32; 4]; 4],
-    pub prev_model: [[f32; 4]; 4],
-    pub normal_matrix: [[f32; 4]; 4],
-}
-
-impl TransformUniform {
-    pub fn new(
-        view_proj: glam::Mat4,
-        prev_view_proj: glam::Mat4,
-        model: glam::Mat4,
-        prev_model: glam::Mat4,
-    ) -> Self {
-        let nm = glam::Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
-        TransformUniform {
-            view_proj: view_proj.to_cols_array_2d(),
-            prev_view_proj: prev_view_proj.to_cols_array_2d(),
-            model: model.to_cols_array_2d(),
-            prev_model: prev_model.to_cols_array_2d(),
-            normal_matrix: nm.to_cols_array_2d(),
-        }
-    }
-}
-
-fn vec_ty(n: u32) -> String {
-    if n == 1 {
-        "f32".to_owned()
-    } else {
-        format!("vec{n}<f32>")
-    }
-}
-
-/// WGSL expression of `attr` with `n` components (truncated, or padded with 0 and a final w of
-/// 1 for positions, 0 for directions).
-fn attr_expr(attr: Attribute, n: u32) -> String {
-    let (src, m, w) = match attr {
-        Attribute::Position => ("world.xyz", 3, "1.0"),
-        Attribute::Normal => ("world_normal", 3, "0.0"),
-        Attribute::Uv => ("v.uv", 2, "0.0"),
-        Attribute::Tangent => ("world_tangent", 4, "1.0"),
-        Attribute::ObjectPosition => ("v.position", 3, "1.0"),
-        Attribute::ObjectNormal => ("v.normal", 3, "0.0"),
-    };
-    const SW: [&str; 5] = ["", "x", "xy", "xyz", "xyzw"];
-    if n == m {
-        src.to_owned()
-    } else if n < m {
-        format!("{src}.{}", SW[n as usize])
-    } else {
-        // pad: (src, 0.., w)
-        let mut parts = vec![src.to_owned()];
-        for _ in m..n - 1 {
-            parts.push("0.0".into());
-        }
-        parts.push(w.into());
-        format!("{}({})", vec_ty(n), parts.join(", "))
-    }
-}
+/// Uniform data of the vertex stage (one per object), 320 bytes: the scene's, shared with hosts.
+pub use reproj_scene::vertex::TransformUniform;
 
 /// Write the vertex module.
 ///
@@ -159,15 +96,7 @@ fn write_declarations(s: &mut String, group: u32, inputs: &[FragInput]) {
         "struct ReplayVertexOut {{\n    @builtin(position) @invariant clip: vec4<f32>,"
     );
     for i in inputs {
-        let mut q = String::new();
-        if let Some(interp) = &i.interpolation {
-            q = match &i.sampling {
-                Some(sm) if interp != "flat" || sm == "first" || sm == "either" => {
-                    format!("@interpolate({interp}, {sm}) ")
-                }
-                _ => format!("@interpolate({interp}) "),
-            };
-        }
+        let q = reproj_scene::vertex::interpolation(i);
         let _ = writeln!(
             s,
             "    @location({}) {q}o{}: {},",
@@ -234,7 +163,7 @@ fn write_entry(
                 s,
                 "    out.o{} = {};",
                 i.location,
-                attr_expr(attr, i.components)
+                reproj_scene::vertex::attribute_expr(attr, i.components)
             );
         }
     }

@@ -18,6 +18,8 @@
 //! - `load`: [`Session::load`] and [`Session::from_json`] (parse, expand the glTF scene, sort
 //!   keys, validate).
 //! - [`uniforms`]: the bytes of the shader's own uniform and storage buffers at a frame.
+//! - [`vertex`]: the vertex stage's per-object uniform and the WGSL feeding each fragment input
+//!   from its session attribute, shared by the replay's vertex module and the example host's.
 //! - [`init`]: a starting session from a shader's interface (`reproj session init`).
 
 mod load;
@@ -32,5 +34,6 @@ pub mod reflect;
 pub mod session;
 pub mod textures;
 pub mod uniforms;
+pub mod vertex;
 
 pub use session::{Session, SessionError};

@@ -8,7 +8,7 @@ use reproj_scene::Session;
 use reproj_scene::mesh;
 use reproj_scene::session::{Cull, FrameState};
 
-use super::{DEPTH_FORMAT, Engine, Object, ObjectUniform, Pipelines, VERTEX_ENTRY};
+use super::{DEPTH_FORMAT, Engine, Object, Pipelines, TransformUniform, VERTEX_ENTRY};
 use crate::gpu::Gpu;
 
 /// A depth pass the session declares (a shadow map from a light, a depth pre-pass from the
@@ -57,7 +57,7 @@ impl DepthPass {
             .map(|_| {
                 let buf = dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(name),
-                    size: size_of::<ObjectUniform>() as u64,
+                    size: size_of::<TransformUniform>() as u64,
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
@@ -142,13 +142,7 @@ impl DepthPass {
     pub(super) fn write(&self, gpu: &Gpu, session: &Session, st: &FrameState) {
         let vp = session.depth_view_proj(&session.depth_passes[&self.name], st);
         for ((buf, _), model) in self.transforms.iter().zip(&st.models) {
-            let u = ObjectUniform {
-                view_proj: vp.to_cols_array_2d(),
-                prev_view_proj: vp.to_cols_array_2d(),
-                model: model.to_cols_array_2d(),
-                prev_model: model.to_cols_array_2d(),
-                normal_matrix: glam::Mat4::IDENTITY.to_cols_array_2d(),
-            };
+            let u = TransformUniform::new(vp, vp, *model, *model);
             gpu.queue.write_buffer(buf, 0, bytemuck::bytes_of(&u));
         }
     }

@@ -14,9 +14,9 @@ use std::num::NonZeroU64;
 use std::path::Path;
 
 use anyhow::{Context, anyhow, bail};
-use bytemuck::{Pod, Zeroable};
 use reproj_scene::reflect::{self, Interface, ResourceKind, TexDim};
 use reproj_scene::session::{Address, Compare, Cull, Filter, SamplerSpec, TexFormat};
+use reproj_scene::vertex::TransformUniform;
 use reproj_scene::{Session, mesh, textures, uniforms};
 
 mod depth;
@@ -34,18 +34,6 @@ pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Entry point of the host's vertex stage.
 pub const VERTEX_ENTRY: &str = "host_vs";
-/// Per-object vertex-stage uniform: this frame's and the previous frame's matrices.
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-#[repr(C)]
-struct ObjectUniform {
-    view_proj: [[f32; 4]; 4],
-    prev_view_proj: [[f32; 4]; 4],
-    model: [[f32; 4]; 4],
-    prev_model: [[f32; 4]; 4],
-    /// Inverse transpose of `model` (upper 3×3 used).
-    normal_matrix: [[f32; 4]; 4],
-}
-
 /// A drawable object of the scene.
 struct Object {
     vbuf: wgpu::Buffer,
@@ -180,7 +168,7 @@ impl Engine {
                 ty: wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Uniform,
                     has_dynamic_offset: false,
-                    min_binding_size: NonZeroU64::new(size_of::<ObjectUniform>() as u64),
+                    min_binding_size: NonZeroU64::new(size_of::<TransformUniform>() as u64),
                 },
                 count: None,
             }],
@@ -202,7 +190,7 @@ impl Engine {
             let data = mesh::build(&session, &o.mesh).map_err(|e| anyhow!("object {i}: {e}"))?;
             let uniform = dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("object transforms"),
-                size: size_of::<ObjectUniform>() as u64,
+                size: size_of::<TransformUniform>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
@@ -496,15 +484,12 @@ impl Engine {
         let st = self.session.frame_state(frame);
         let prev = self.session.frame_state(frame.saturating_sub(1));
         for (i, o) in self.objects.iter().enumerate() {
-            let model = st.models[i];
-            let normal = glam::Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
-            let u = ObjectUniform {
-                view_proj: st.camera.view_proj.to_cols_array_2d(),
-                prev_view_proj: prev.camera.view_proj.to_cols_array_2d(),
-                model: model.to_cols_array_2d(),
-                prev_model: prev.models[i].to_cols_array_2d(),
-                normal_matrix: normal.to_cols_array_2d(),
-            };
+            let u = TransformUniform::new(
+                st.camera.view_proj,
+                prev.camera.view_proj,
+                st.models[i],
+                prev.models[i],
+            );
             gpu.queue
                 .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
         }

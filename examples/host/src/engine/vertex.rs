@@ -7,8 +7,7 @@ use std::fmt::Write as _;
 use anyhow::{anyhow, bail};
 use reproj_runtime::manifest::VertexContract;
 use reproj_scene::mesh;
-use reproj_scene::reflect::FragInput;
-use reproj_scene::session::Attribute;
+use reproj_scene::vertex;
 
 use super::{Engine, VERTEX_ENTRY};
 
@@ -21,49 +20,6 @@ pub(super) const VERTEX_BUFFERS: [Option<wgpu::VertexBufferLayout<'static>>; 1] 
         step_mode: wgpu::VertexStepMode::Vertex,
         attributes: &VERTEX_ATTRIBUTES,
     })];
-
-/// WGSL of `attr` with `n` components: truncated, or padded with zeros and a last component of 1
-/// for positions, 0 for directions.
-fn attribute_wgsl(attr: Attribute, n: u32) -> String {
-    let (src, m, w) = match attr {
-        Attribute::Position => ("world.xyz", 3, "1.0"),
-        Attribute::Normal => ("world_normal", 3, "0.0"),
-        Attribute::Uv => ("v.uv", 2, "0.0"),
-        Attribute::Tangent => ("world_tangent", 4, "1.0"),
-        Attribute::ObjectPosition => ("v.position", 3, "1.0"),
-        Attribute::ObjectNormal => ("v.normal", 3, "0.0"),
-    };
-    const SWIZZLE: [&str; 5] = ["", "x", "xy", "xyz", "xyzw"];
-    match n.cmp(&m) {
-        std::cmp::Ordering::Equal => src.to_owned(),
-        std::cmp::Ordering::Less => format!("{src}.{}", SWIZZLE[n as usize]),
-        std::cmp::Ordering::Greater => {
-            let mut parts = vec![src.to_owned()];
-            parts.extend((m..n - 1).map(|_| "0.0".to_owned()));
-            parts.push(w.to_owned());
-            format!("{}({})", wgsl_vec(n), parts.join(", "))
-        }
-    }
-}
-
-fn wgsl_vec(n: u32) -> String {
-    if n == 1 {
-        "f32".to_owned()
-    } else {
-        format!("vec{n}<f32>")
-    }
-}
-
-/// `@interpolate(...)` of a fragment input, as declared.
-fn interpolation(i: &FragInput) -> String {
-    match (&i.interpolation, &i.sampling) {
-        (None, _) => String::new(),
-        (Some(interp), Some(s)) if interp != "flat" || s == "first" || s == "either" => {
-            format!("@interpolate({interp}, {s}) ")
-        }
-        (Some(interp), _) => format!("@interpolate({interp}) "),
-    }
-}
 
 /// The name of the first function a WGSL snippet declares.
 fn first_fn_name(wgsl: &str) -> Option<&str> {
@@ -106,7 +62,7 @@ impl Engine {
                     s,
                     "    @location({}) {}o{}: {ty},",
                     i.location,
-                    interpolation(i),
+                    vertex::interpolation(i),
                     i.location
                 );
                 let _ = writeln!(body, "    out.o{} = {ty}();", i.location);
@@ -120,15 +76,15 @@ impl Engine {
                 s,
                 "    @location({}) {}o{}: {},",
                 i.location,
-                interpolation(i),
+                vertex::interpolation(i),
                 i.location,
-                wgsl_vec(i.components)
+                i.scalar.wgsl_type(i.components)
             );
             let _ = writeln!(
                 body,
                 "    out.o{} = {};",
                 i.location,
-                attribute_wgsl(*attr, i.components)
+                vertex::attribute_expr(*attr, i.components)
             );
         }
         if !missing.is_empty() {
