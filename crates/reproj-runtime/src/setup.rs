@@ -18,7 +18,9 @@ pub struct Setup<'a> {
     /// The layouts of the application's bind groups, by group index: every group of
     /// [`crate::Variant::own_groups`] (the original shader's resources, as the application bound
     /// them for it) and the groups its vertex stage reads. The variant's own group
-    /// ([`crate::Variant::group`]) may not be among them.
+    /// ([`crate::Variant::group`]) may not be among them. An index below the highest that neither
+    /// these nor a pass use gets an empty group from the runtime, so no pipeline layout has a gap
+    /// (Vulkan drivers draw nothing when a set stays bound across such a gap).
     pub bind_group_layouts: &'a [(u32, &'a wgpu::BindGroupLayout)],
     /// The application's motion vectors, for a variant that reads them
     /// ([`crate::Variant::reads_motion_vectors`]; `None` for any other): a float texture of the
