@@ -9,8 +9,8 @@ bash scripts/ensure-vulkan.sh
 bash scripts/ensure-tools.sh || true
 # Headless: keep Mesa's device-select layer from looking for a display.
 export NODEVICE_SELECT="${NODEVICE_SELECT:-1}"
-# Non-incremental, as CI builds: incremental codegen units optimize reproj-metrics (opt-level 3)
-# badly, and the replay's tests took 327 s instead of 68 s with it.
+# Non-incremental, as CI builds: with incremental codegen units reproj-metrics (opt-level 3, the
+# CPU scorers) is most likely what is optimized badly: the replay's tests took 327 s instead of 68 s.
 export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 # lavapipe runs shaders on the CPU: give it the machine's cores.
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
