@@ -227,13 +227,14 @@ pub(crate) fn build_pass(
 }
 
 /// The group indices whose layouts (and bind groups) a pass owns: those it declares bindings in
-/// (`declared`), and every index below the highest group of the pipeline that neither it nor the
-/// application (`app`: the indices of `Setup::bind_group_layouts`) uses, with an empty layout. Vulkan keeps a descriptor set bound across pipelines
-/// only while every lower set's layout is identical, and wgpu does not rebind the sets above a
-/// gap (`None` in a pipeline layout) it leaves: a pass that declares nothing in the variant's
-/// group (2pass's second pass) between passes that do would draw with the application's
-/// higher groups bound under the other layout — undefined, nothing drawn on NVIDIA's driver,
-/// ignored by lavapipe. Empty layouts at the gaps make wgpu rebind them.
+/// (`declared`), and, with an empty layout, every index below the pipeline's highest group that
+/// neither it nor the application (`app`: the indices of `Setup::bind_group_layouts`) uses.
+/// Vulkan keeps a descriptor set bound across pipelines only while every lower set's layout is
+/// identical, and wgpu does not rebind the sets above an index that became a gap (`None` in a
+/// pipeline layout): a pass that declares nothing in the variant's group (2pass's second pass)
+/// after one that does would draw with the application's higher groups bound under the other
+/// layout — undefined; NVIDIA's driver draws nothing, lavapipe draws as meant. Empty layouts at
+/// the gaps are a change of layout there, so wgpu rebinds the sets above.
 pub(crate) fn own_indices(
     declared: &std::collections::BTreeSet<u32>,
     app: &std::collections::BTreeSet<u32>,
