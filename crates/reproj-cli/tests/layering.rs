@@ -1,7 +1,8 @@
 //! The crate layering: the GPU stays in the renderers. Reads the workspace's `Cargo.lock` (the
 //! whole resolved graph, every platform) and checks which workspace crates reach `wgpu`, directly
 //! or through any dependency: only reproj-replay (the renderer), the crates built on it, the
-//! example host, and the runtime crate engines link (which names wgpu and no other reproj crate).
+//! example host, the runtime crate engines link (which names wgpu and no other reproj crate), and
+//! the scene on the device (reproj-scene-gpu), which the replay and the host draw with.
 //! The scene (reproj-scene) and the metrics (reproj-metrics) the replay draws and reports are
 //! GPU-free, so a host, `emit` and the light build use them without wgpu.
 
@@ -95,12 +96,21 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
         "reproj-replay",
         "reproj-report",
         "reproj-runtime",
+        "reproj-scene-gpu",
     ]);
     assert_eq!(with_gpu, expected);
-    // Of the library crates, only the replay and the runtime name wgpu themselves; the others
-    // reach it through the replay (the example host is a host: it renders with wgpu on its own).
+    // Of the library crates, only the replay, the runtime and the scene on the device name wgpu
+    // themselves; the others reach it through the replay (the example host is a host: it renders
+    // with wgpu on its own).
     for p in &with_gpu {
-        if !["reproj-replay", "reproj-host", "reproj-runtime"].contains(p) {
+        if ![
+            "reproj-replay",
+            "reproj-host",
+            "reproj-runtime",
+            "reproj-scene-gpu",
+        ]
+        .contains(p)
+        {
             assert!(
                 !graph[*p].contains("wgpu"),
                 "{p} depends on wgpu directly; use it through reproj-replay"
@@ -116,6 +126,9 @@ fn only_the_replay_and_its_users_depend_on_wgpu() {
 fn the_replay_draws_variants_through_the_runtime() {
     let (graph, _) = lock_graph();
     assert!(graph["reproj-replay"].contains("reproj-runtime"));
+    // One scene on the device: the replay and the example host upload and draw it alike.
+    assert!(graph["reproj-replay"].contains("reproj-scene-gpu"));
+    assert!(graph["reproj-host"].contains("reproj-scene-gpu"));
     let replay = Path::new(env!("CARGO_MANIFEST_DIR")).join("../reproj-replay/src");
     let mut stack = vec![replay];
     while let Some(dir) = stack.pop() {

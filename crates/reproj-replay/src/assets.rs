@@ -12,24 +12,17 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::ReplayError;
-use crate::gpu::{Gpu, tex_dim};
+use crate::gpu::Gpu;
 use reproj_scene::mesh;
 use reproj_scene::reflect::TexDim;
-use reproj_scene::session::{Mesh, Session, TexFormat, TextureSpec};
+use reproj_scene::session::{Mesh, Session, TextureSpec};
 use reproj_scene::textures;
-
-/// A mesh's vertex and index buffers.
-#[derive(Debug, Clone)]
-pub(crate) struct MeshGpu {
-    pub(crate) vbuf: wgpu::Buffer,
-    pub(crate) ibuf: wgpu::Buffer,
-    pub(crate) count: u32,
-}
+use reproj_scene_gpu::MeshBuffers;
 
 /// Meshes and texture views built so far, by key.
 #[derive(Debug, Default)]
 pub(crate) struct Assets {
-    meshes: Mutex<HashMap<String, MeshGpu>>,
+    meshes: Mutex<HashMap<String, MeshBuffers>>,
     textures: Mutex<HashMap<String, wgpu::TextureView>>,
     /// Builds skipped because the asset was already built.
     hits: AtomicU64,
@@ -61,7 +54,7 @@ impl Assets {
         r: &Gpu,
         session: &Session,
         m: &Mesh,
-    ) -> Result<MeshGpu, ReplayError> {
+    ) -> Result<MeshBuffers, ReplayError> {
         let k = key(
             m,
             "mesh",
@@ -74,29 +67,7 @@ impl Assets {
             return Ok(g.clone());
         }
         let data = mesh::build(session, m).map_err(|message| ReplayError::Asset { message })?;
-        let init = |label, contents: &[u8], usage| {
-            wgpu::util::DeviceExt::create_buffer_init(
-                &r.device,
-                &wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage,
-                },
-            )
-        };
-        let g = MeshGpu {
-            vbuf: init(
-                "vertices",
-                bytemuck::cast_slice(&data.vertices),
-                wgpu::BufferUsages::VERTEX,
-            ),
-            ibuf: init(
-                "indices",
-                bytemuck::cast_slice(&data.indices),
-                wgpu::BufferUsages::INDEX,
-            ),
-            count: data.indices.len() as u32,
-        };
+        let g = reproj_scene_gpu::mesh_buffers(&r.device, &data);
         cache.insert(k, g.clone());
         Ok(g)
     }
@@ -127,55 +98,7 @@ impl Assets {
         }
         let data = textures::build(session, name, spec, dim)
             .map_err(|message| ReplayError::Asset { message })?;
-        let format = match data.format {
-            TexFormat::Rgba8unorm => wgpu::TextureFormat::Rgba8Unorm,
-            TexFormat::Rgba8unormSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
-            TexFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
-        };
-        let tex = r.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(name),
-            size: wgpu::Extent3d {
-                width: data.width,
-                height: data.height,
-                depth_or_array_layers: data.layers,
-            },
-            mip_level_count: data.levels.len() as u32,
-            sample_count: 1,
-            dimension: if dim == TexDim::D3 {
-                wgpu::TextureDimension::D3
-            } else {
-                wgpu::TextureDimension::D2
-            },
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        for level in 0..data.levels.len() {
-            let (w, h, l) = data.level_size(level);
-            r.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &tex,
-                    mip_level: level as u32,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &data.encode_level(level),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(w * data.bytes_per_texel()),
-                    rows_per_image: Some(h),
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: l,
-                },
-            );
-        }
-        let view = tex.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(tex_dim(dim)),
-            ..Default::default()
-        });
+        let view = reproj_scene_gpu::texture(&r.device, &r.queue, name, &data, dim);
         cache.insert(k, view.clone());
         Ok(view)
     }

@@ -8,7 +8,6 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use reproj_metrics::AdapterReport;
-use reproj_scene::reflect::TexDim;
 
 use crate::error::ReplayError;
 
@@ -41,15 +40,6 @@ pub(crate) fn gpu_err(what: impl Into<String>, e: impl std::fmt::Display) -> Rep
     ReplayError::Gpu {
         what: what.into(),
         message: e.to_string(),
-    }
-}
-
-pub(crate) fn tex_dim(d: TexDim) -> wgpu::TextureViewDimension {
-    match d {
-        TexDim::D2 => wgpu::TextureViewDimension::D2,
-        TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
-        TexDim::D3 => wgpu::TextureViewDimension::D3,
-        TexDim::Cube => wgpu::TextureViewDimension::Cube,
     }
 }
 

@@ -7,7 +7,7 @@ use std::num::NonZeroU64;
 use crate::error::ReplayError;
 use reproj_scene::reflect::{self, Interface, ResourceKind};
 
-use crate::gpu::tex_dim;
+use reproj_scene_gpu::view_dimension as tex_dim;
 
 use super::*;
 

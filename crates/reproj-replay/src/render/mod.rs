@@ -30,9 +30,7 @@ use crate::readback::*;
 use crate::reduce::{KernelCache, PerceptualCache, Reference};
 
 mod bind;
-mod depth;
 mod device;
-mod object;
 mod original;
 mod pipeline;
 mod scene;
@@ -41,8 +39,8 @@ mod upsample;
 mod variant;
 
 use bind::*;
-use object::ObjectGpu;
 use pipeline::*;
+use reproj_scene_gpu::{DEPTH_FORMAT, SceneObject};
 use scene::*;
 use score::{Scorer, scoring_pool};
 
@@ -51,7 +49,6 @@ pub use reproj_instance::contract::CLASSIFY_ENTRY;
 pub use upsample::{UpsampleSpec, Upsampled};
 
 const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const CLASSIFY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// How to open the GPU.

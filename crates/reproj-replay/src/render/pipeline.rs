@@ -240,10 +240,7 @@ impl Renderer {
             if let Some(p) = pipe.by_cull.get(&o.cull) {
                 pass.set_pipeline(p);
             }
-            pass.set_bind_group(vertex_group, &o.xf_bg, &[]);
-            pass.set_vertex_buffer(0, o.vbuf.slice(..));
-            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..o.count, 0, 0..1);
+            o.draw(pass, vertex_group);
         }
     }
 

@@ -2,19 +2,18 @@
 //! passes) and the per-frame writes.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
-use std::num::NonZeroU64;
 
 use crate::error::ReplayError;
 use crate::vertex::TransformUniform;
 use reproj_scene::reflect::{self, Interface, ResourceKind, TexDim};
-use reproj_scene::session::{Address, Compare, Filter, SamplerSpec, Session};
+use reproj_scene::session::{FrameState, Session};
+use reproj_scene_gpu::{DepthPass, Transforms, sampler_descriptor};
 
-use super::depth::DepthPassGpu;
 use super::*;
 
 /// GPU resources of a session (shared by every pipeline of one render).
 pub(super) struct Scene {
-    pub(super) objects: Vec<ObjectGpu>,
+    pub(super) objects: Vec<SceneObject>,
     pub(super) textures: HashMap<String, wgpu::TextureView>,
     pub(super) samplers: HashMap<String, wgpu::Sampler>,
     /// Uniform buffers by variable name, with their reflected fields.
@@ -22,7 +21,7 @@ pub(super) struct Scene {
     /// Read-only storage buffers by variable name, with their leaves for the session's data.
     pub(super) storage: BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)>,
     /// The session's depth passes, by the depth texture variable they fill.
-    pub(super) depth: BTreeMap<String, DepthPassGpu>,
+    pub(super) depth: BTreeMap<String, DepthPass>,
     pub(super) vertex_bgl: wgpu::BindGroupLayout,
 }
 
@@ -195,63 +194,6 @@ impl SceneNeeds {
     }
 }
 
-/// The sampler the session specifies for `name` (a comparison sampler defaults to clamping), as
-/// wgpu takes it.
-fn sampler_descriptor<'a>(
-    session: &Session,
-    name: &'a str,
-    comparison: bool,
-) -> wgpu::SamplerDescriptor<'a> {
-    let spec = session
-        .samplers
-        .get(name)
-        .cloned()
-        .unwrap_or(if comparison {
-            SamplerSpec {
-                address: Address::Clamp,
-                ..Default::default()
-            }
-        } else {
-            SamplerSpec::default()
-        });
-    let compare = comparison.then(|| match spec.compare.unwrap_or_default() {
-        Compare::Never => wgpu::CompareFunction::Never,
-        Compare::Less => wgpu::CompareFunction::Less,
-        Compare::Equal => wgpu::CompareFunction::Equal,
-        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
-        Compare::Greater => wgpu::CompareFunction::Greater,
-        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
-        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
-        Compare::Always => wgpu::CompareFunction::Always,
-    });
-    let f = |x: Filter| match x {
-        Filter::Linear => wgpu::FilterMode::Linear,
-        Filter::Nearest => wgpu::FilterMode::Nearest,
-    };
-    let mf = match spec.mipmap_filter {
-        Filter::Linear => wgpu::MipmapFilterMode::Linear,
-        Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
-    };
-    let a = match spec.address {
-        Address::Repeat => wgpu::AddressMode::Repeat,
-        Address::Clamp => wgpu::AddressMode::ClampToEdge,
-        Address::Mirror => wgpu::AddressMode::MirrorRepeat,
-    };
-    let all_linear = spec.filter == Filter::Linear && spec.mipmap_filter == Filter::Linear;
-    wgpu::SamplerDescriptor {
-        label: Some(name),
-        address_mode_u: a,
-        address_mode_v: a,
-        address_mode_w: a,
-        mag_filter: f(spec.filter),
-        min_filter: f(spec.filter),
-        mipmap_filter: mf,
-        anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
-        compare,
-        ..Default::default()
-    }
-}
-
 impl Renderer {
     /// Build every session resource the interfaces use (except the variant's own bindings,
     /// `added`). Missing ones are reported together, by name. In phases: what the interfaces need
@@ -268,7 +210,8 @@ impl Renderer {
         self.scoped(
             "creating the session's resources",
             || -> Result<Scene, ReplayError> {
-                let vertex_bgl = self.vertex_layout();
+                let vertex_bgl =
+                    reproj_scene_gpu::transform_layout(&self.device, "replay vertex transforms");
                 let objects = self.scene_objects(session, &vertex_bgl)?;
                 let mut textures = HashMap::new();
                 for (name, dim) in &needs.textures {
@@ -288,7 +231,7 @@ impl Renderer {
                 let storage = self.scene_buffers(needs.storage, wgpu::BufferUsages::STORAGE);
                 let mut depth = BTreeMap::new();
                 for name in needs.depth {
-                    let pass = self.depth_pass(session, &name, &objects, &vertex_bgl)?;
+                    let pass = DepthPass::new(&self.device, session, &name, &objects, &vertex_bgl);
                     depth.insert(name, pass);
                 }
                 Ok(Scene {
@@ -304,79 +247,40 @@ impl Renderer {
         )?
     }
 
-    /// The layout of the per-object transforms the generated vertex stage reads.
-    fn vertex_layout(&self) -> wgpu::BindGroupLayout {
-        self.device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("replay vertex transforms"),
-                entries: &[wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: NonZeroU64::new(
-                            std::mem::size_of::<TransformUniform>() as u64
-                        ),
-                    },
-                    count: None,
-                }],
-            })
-    }
-
     /// The session's objects: their meshes (kept across replays) and transform buffers.
     fn scene_objects(
         &self,
         session: &Session,
         vertex_bgl: &wgpu::BindGroupLayout,
-    ) -> Result<Vec<ObjectGpu>, ReplayError> {
-        let dev = &self.device;
+    ) -> Result<Vec<SceneObject>, ReplayError> {
         let mut objects = Vec::new();
         for (i, o) in session.geometry.objects.iter().enumerate() {
-            let m = self.assets.mesh(self, session, &o.mesh)?;
-            let xf_buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(&format!("object {i} transforms")),
-                size: std::mem::size_of::<TransformUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let xf_bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("object transforms"),
-                layout: vertex_bgl,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: xf_buf.as_entire_binding(),
-                }],
-            });
-            objects.push(ObjectGpu {
-                vbuf: m.vbuf,
-                ibuf: m.ibuf,
-                count: m.count,
+            objects.push(SceneObject {
+                mesh: self.assets.mesh(self, session, &o.mesh)?,
                 cull: o.cull,
-                xf_buf,
-                xf_bg,
+                transforms: Transforms::new(
+                    &self.device,
+                    vertex_bgl,
+                    &format!("object {i} transforms"),
+                ),
             });
         }
         Ok(objects)
     }
 
-    /// One buffer of `usage` (and copy destination) per need, by name: at least 16 bytes.
+    /// One buffer of `usage` per need, by name ([`reproj_scene_gpu::buffer`]).
     fn scene_buffers(
         &self,
         needs: BTreeMap<String, BufferNeed>,
         usage: wgpu::BufferUsages,
     ) -> BTreeMap<String, (wgpu::Buffer, u32, Vec<reflect::UniformField>)> {
-        let mut buffers = BTreeMap::new();
-        for (name, (size, fields)) in needs {
-            let buf = self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(&name),
-                size: size.max(16) as u64,
-                usage: usage | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            buffers.insert(name, (buf, size, fields));
-        }
-        buffers
+        needs
+            .into_iter()
+            .map(|(name, (size, fields))| {
+                let buf = reproj_scene_gpu::buffer(&self.device, &name, u64::from(size), usage);
+                (name, (buf, size, fields))
+            })
+            .collect()
     }
 
     /// Write the frame's uniform values and transforms: this frame's view-projection moved by
@@ -398,8 +302,7 @@ impl Renderer {
             crate::jitter::jittered(prev.camera.view_proj, jitter.offset(before), size);
         for (i, o) in scene.objects.iter().enumerate() {
             let u = TransformUniform::new(view_proj, prev_view_proj, st.models[i], prev.models[i]);
-            self.queue
-                .write_buffer(&o.xf_buf, 0, bytemuck::bytes_of(&u));
+            o.transforms.write(&self.queue, &u);
         }
         for (buf, size, fields) in scene.uniforms.values() {
             let bytes = reproj_scene::uniforms::uniform_bytes(session, &st, *size, fields);
@@ -410,7 +313,18 @@ impl Renderer {
             self.queue.write_buffer(buf, 0, &bytes);
         }
         if !scene.depth.is_empty() {
-            self.render_depth_passes(session, &scene.depth, &scene.objects, &st);
+            self.render_depth_passes(session, scene, &st);
         }
+    }
+
+    /// Draw every depth pass of the frame `st` and submit them (ahead of the frame's own work:
+    /// the frame loops do not change).
+    fn render_depth_passes(&self, session: &Session, scene: &Scene, st: &FrameState) {
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        for pass in scene.depth.values() {
+            pass.write(&self.queue, session, st);
+            pass.encode(&mut enc, &scene.objects);
+        }
+        self.queue.submit([enc.finish()]);
     }
 }

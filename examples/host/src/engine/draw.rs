@@ -7,8 +7,9 @@ use reproj_runtime::VertexStage;
 use reproj_scene::session::Cull;
 
 use super::vertex::VERTEX_BUFFERS;
-use super::{Engine, Object, Pipelines, VERTEX_ENTRY};
+use super::{Engine, Pipelines, VERTEX_ENTRY};
 use crate::gpu::Gpu;
+use reproj_scene_gpu::SceneObject;
 
 impl Engine {
     /// The culling modes of the scene's objects, each once: one pipeline per mode.
@@ -116,10 +117,7 @@ impl Engine {
         }
     }
 
-    fn draw_object(&self, pass: &mut wgpu::RenderPass<'_>, o: &Object) {
-        pass.set_bind_group(self.vertex_group, &o.group, &[]);
-        pass.set_vertex_buffer(0, o.vbuf.slice(..));
-        pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..o.count, 0, 0..1);
+    fn draw_object(&self, pass: &mut wgpu::RenderPass<'_>, o: &SceneObject) {
+        o.draw(pass, self.vertex_group);
     }
 }

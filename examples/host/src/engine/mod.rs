@@ -2,48 +2,35 @@
 //! per-frame camera and object transforms, its vertex stage (`vertex.rs`), pipelines and draw calls
 //! (`draw.rs`), the original shader's own uniforms, storage buffers, textures and samplers and
 //! their bind groups (`original.rs`), the depth passes it draws before the frame (shadow maps,
-//! depth pre-passes, `depth.rs`), and its frame and depth targets.
+//! depth pre-passes), and its frame and depth targets.
 //!
-//! Here all of that is the recorded session, built with reproj-replay's public, GPU-free modules
-//! (session animation, meshes, texels, uniform reflection and packing) so that this host draws
-//! exactly the scene `reproj render` draws and the frames can be compared. An engine replaces this
-//! file with its own scene; the variant itself runs through `reproj-runtime` (`variant.rs`).
+//! Here all of that is the recorded session: its data built by `reproj-scene` (session animation,
+//! meshes, texels, uniform reflection and packing, GPU-free) and put on the device by
+//! `reproj-scene-gpu` (buffers, textures, samplers, depth passes), the code `reproj render` draws
+//! the scene with, so the frames can be compared. An engine replaces this file with its own scene;
+//! the variant itself runs through `reproj-runtime` (`variant.rs`).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
-use std::num::NonZeroU64;
 use std::path::Path;
 
 use anyhow::{Context, anyhow, bail};
 use reproj_scene::reflect::{self, Interface, ResourceKind, TexDim};
-use reproj_scene::session::{Address, Compare, Cull, Filter, SamplerSpec, TexFormat};
+use reproj_scene::session::Cull;
 use reproj_scene::vertex::TransformUniform;
 use reproj_scene::{Session, mesh, textures, uniforms};
+use reproj_scene_gpu::{DEPTH_FORMAT, DepthPass, SceneObject, Transforms};
 
-mod depth;
 mod draw;
 mod original;
 mod vertex;
 
 use crate::gpu::Gpu;
-use depth::DepthPass;
 pub use original::{Original, OwnGroup, own_groups};
 
 /// The engine's frame target format. The manifest's `format: null` means this format.
 pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// The depth format of the engine's depth target (the original shader's pass and the variant's).
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Entry point of the host's vertex stage.
 pub const VERTEX_ENTRY: &str = "host_vs";
-/// A drawable object of the scene.
-struct Object {
-    vbuf: wgpu::Buffer,
-    ibuf: wgpu::Buffer,
-    count: u32,
-    cull: Cull,
-    uniform: wgpu::Buffer,
-    group: wgpu::BindGroup,
-}
-
 /// A resource of the original shader, owned by the engine.
 enum Own {
     Uniform {
@@ -83,7 +70,7 @@ pub struct Engine {
     shader_source: String,
     /// The original shader's fragment interface: inputs and resources by group and binding.
     iface: Interface,
-    objects: Vec<Object>,
+    objects: Vec<SceneObject>,
     own: BTreeMap<(u32, u32), Own>,
     depth_passes: Vec<DepthPass>,
     /// The bind group of the per-object transforms.
@@ -160,63 +147,16 @@ impl Engine {
         let vertex_group = (0..max_groups)
             .find(|g| !used.contains(g))
             .ok_or_else(|| anyhow!("no bind group left for the vertex transforms"))?;
-        let vertex_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("object transforms"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: NonZeroU64::new(size_of::<TransformUniform>() as u64),
-                },
-                count: None,
-            }],
-        });
+        let vertex_layout = reproj_scene_gpu::transform_layout(dev, "object transforms");
 
         // Geometry: one vertex and index buffer per object, and its transform uniform.
-        let init = |label: &str, contents: &[u8], usage| {
-            wgpu::util::DeviceExt::create_buffer_init(
-                dev,
-                &wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage,
-                },
-            )
-        };
         let mut objects = Vec::new();
         for (i, o) in session.geometry.objects.iter().enumerate() {
             let data = mesh::build(&session, &o.mesh).map_err(|e| anyhow!("object {i}: {e}"))?;
-            let uniform = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("object transforms"),
-                size: size_of::<TransformUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("object transforms"),
-                layout: &vertex_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                }],
-            });
-            objects.push(Object {
-                vbuf: init(
-                    "vertices",
-                    bytemuck::cast_slice(&data.vertices),
-                    wgpu::BufferUsages::VERTEX,
-                ),
-                ibuf: init(
-                    "indices",
-                    bytemuck::cast_slice(&data.indices),
-                    wgpu::BufferUsages::INDEX,
-                ),
-                count: data.indices.len() as u32,
+            objects.push(SceneObject {
+                mesh: reproj_scene_gpu::mesh_buffers(dev, &data),
                 cull: o.cull,
-                uniform,
-                group,
+                transforms: Transforms::new(dev, &vertex_layout, "object transforms"),
             });
         }
 
@@ -235,12 +175,12 @@ impl Engine {
                         }
                     }
                     Own::Uniform {
-                        buf: dev.create_buffer(&wgpu::BufferDescriptor {
-                            label: Some(&r.name),
-                            size: u64::from((*size).max(16)),
-                            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                            mapped_at_creation: false,
-                        }),
+                        buf: reproj_scene_gpu::buffer(
+                            dev,
+                            &r.name,
+                            u64::from(*size),
+                            wgpu::BufferUsages::UNIFORM,
+                        ),
                         size: *size,
                         fields: fields.clone(),
                     }
@@ -257,12 +197,12 @@ impl Engine {
                         .map_err(|e| anyhow!("{e}"))?;
                     Own::Storage {
                         name: r.name.clone(),
-                        buf: dev.create_buffer(&wgpu::BufferDescriptor {
-                            label: Some(&r.name),
-                            size: u64::from(size.max(16)),
-                            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                            mapped_at_creation: false,
-                        }),
+                        buf: reproj_scene_gpu::buffer(
+                            dev,
+                            &r.name,
+                            u64::from(size),
+                            wgpu::BufferUsages::STORAGE,
+                        ),
                         size,
                         fields,
                     }
@@ -273,68 +213,24 @@ impl Engine {
                         continue;
                     }
                     depth_passes.push(DepthPass::new(
-                        gpu,
+                        dev,
                         &session,
                         &r.name,
                         &objects,
                         &vertex_layout,
-                    )?);
+                    ));
                     Own::Depth(depth_passes.len() - 1)
                 }
                 ResourceKind::Sampler { comparison } => {
-                    // An unlisted comparison sampler clamps (as the replay's does).
-                    let spec = session.samplers.get(&r.name).cloned().unwrap_or_else(|| {
-                        if *comparison {
-                            SamplerSpec {
-                                address: Address::Clamp,
-                                ..Default::default()
-                            }
-                        } else {
-                            SamplerSpec::default()
-                        }
-                    });
-                    if !*comparison && spec.compare.is_some() {
+                    let compare = session.samplers.get(&r.name).and_then(|s| s.compare);
+                    if !*comparison && compare.is_some() {
                         bail!(
                             "sampler `{}` is a plain `sampler`, but the session gives it a `compare` function",
                             r.name
                         );
                     }
-                    let compare = comparison.then(|| match spec.compare.unwrap_or_default() {
-                        Compare::Never => wgpu::CompareFunction::Never,
-                        Compare::Less => wgpu::CompareFunction::Less,
-                        Compare::Equal => wgpu::CompareFunction::Equal,
-                        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
-                        Compare::Greater => wgpu::CompareFunction::Greater,
-                        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
-                        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
-                        Compare::Always => wgpu::CompareFunction::Always,
-                    });
-                    let filter = |f: Filter| match f {
-                        Filter::Linear => wgpu::FilterMode::Linear,
-                        Filter::Nearest => wgpu::FilterMode::Nearest,
-                    };
-                    let address = match spec.address {
-                        Address::Repeat => wgpu::AddressMode::Repeat,
-                        Address::Clamp => wgpu::AddressMode::ClampToEdge,
-                        Address::Mirror => wgpu::AddressMode::MirrorRepeat,
-                    };
-                    let all_linear =
-                        spec.filter == Filter::Linear && spec.mipmap_filter == Filter::Linear;
-                    Own::Sampler(dev.create_sampler(&wgpu::SamplerDescriptor {
-                        label: Some(&r.name),
-                        address_mode_u: address,
-                        address_mode_v: address,
-                        address_mode_w: address,
-                        mag_filter: filter(spec.filter),
-                        min_filter: filter(spec.filter),
-                        mipmap_filter: match spec.mipmap_filter {
-                            Filter::Linear => wgpu::MipmapFilterMode::Linear,
-                            Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
-                        },
-                        anisotropy_clamp: if all_linear { spec.anisotropy } else { 1 },
-                        compare,
-                        ..Default::default()
-                    }))
+                    let desc = reproj_scene_gpu::sampler_descriptor(&session, &r.name, *comparison);
+                    Own::Sampler(dev.create_sampler(&desc))
                 }
                 other => bail!(
                     "the shader's `{}` ({other:?}) is not something this host provides",
@@ -412,59 +308,13 @@ impl Engine {
     ) -> anyhow::Result<wgpu::TextureView> {
         let data = textures::build(session, name, spec, dim)
             .map_err(|e| anyhow!("texture `{name}`: {e}"))?;
-        let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(name),
-            size: wgpu::Extent3d {
-                width: data.width,
-                height: data.height,
-                depth_or_array_layers: data.layers,
-            },
-            mip_level_count: data.levels.len() as u32,
-            sample_count: 1,
-            dimension: if dim == TexDim::D3 {
-                wgpu::TextureDimension::D3
-            } else {
-                wgpu::TextureDimension::D2
-            },
-            format: match data.format {
-                TexFormat::Rgba8unorm => wgpu::TextureFormat::Rgba8Unorm,
-                TexFormat::Rgba8unormSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
-                TexFormat::Rgba16float => wgpu::TextureFormat::Rgba16Float,
-            },
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        for level in 0..data.levels.len() {
-            let (w, h, l) = data.level_size(level);
-            gpu.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &tex,
-                    mip_level: level as u32,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &data.encode_level(level),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(w * data.bytes_per_texel()),
-                    rows_per_image: Some(h),
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: l,
-                },
-            );
-        }
-        Ok(tex.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(match dim {
-                TexDim::D2 => wgpu::TextureViewDimension::D2,
-                TexDim::D2Array => wgpu::TextureViewDimension::D2Array,
-                TexDim::D3 => wgpu::TextureViewDimension::D3,
-                TexDim::Cube => wgpu::TextureViewDimension::Cube,
-            }),
-            ..Default::default()
-        }))
+        Ok(reproj_scene_gpu::texture(
+            &gpu.device,
+            &gpu.queue,
+            name,
+            &data,
+            dim,
+        ))
     }
 
     /// The engine's resource bound at `@group(group) @binding(binding)` of the original shader.
@@ -490,8 +340,7 @@ impl Engine {
                 st.models[i],
                 prev.models[i],
             );
-            gpu.queue
-                .write_buffer(&o.uniform, 0, bytemuck::bytes_of(&u));
+            o.transforms.write(&gpu.queue, &u);
         }
         for own in self.own.values() {
             match own {
@@ -512,7 +361,7 @@ impl Engine {
             }
         }
         for d in &self.depth_passes {
-            d.write(gpu, &self.session, &st);
+            d.write(&gpu.queue, &self.session, &st);
         }
     }
 

@@ -370,10 +370,7 @@ impl VariantGpu {
             if let Some(i) = self.culls.iter().position(|c| *c == o.cull) {
                 pass.set_pipeline(&pipelines[i]);
             }
-            pass.set_bind_group(self.vgroup, &o.xf_bg, &[]);
-            pass.set_vertex_buffer(0, o.vbuf.slice(..));
-            pass.set_index_buffer(o.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..o.count, 0, 0..1);
+            o.draw(pass, self.vgroup);
         }
     }
 }
