@@ -8,7 +8,7 @@ use reproj_emit::{Budget, EXTENDED_MAX_DELTA_N};
 
 use crate::values::{
     backend_help, block_choice, budget, delta_n_limit, depth_epsilon, output_path, override_value,
-    parse_backend, positive, refresh_period,
+    parse_backend, positive, positive_seconds, refresh_period,
 };
 
 mod analyze;
@@ -38,6 +38,10 @@ pub struct ReportArgs {
     /// Most selections to render frames of (spread over the budget range).
     #[arg(hide = true, long, default_value_t = 8)]
     pub max_rendered: usize,
+    /// Stop timing the rendered selections against the original after this many seconds
+    /// (checked between rounds; as `bench --max-time`).
+    #[arg(hide = true, long, default_value_t = 30.0, value_parser = positive_seconds)]
+    pub max_time: f64,
     /// A `reproj compare` output folder whose table and crops the page shows (repeatable).
     #[arg(long, value_name = "DIR")]
     pub compare: Vec<PathBuf>,

@@ -90,7 +90,7 @@ fn analyze_auto_records_each_node_s_filter_and_emit_writes_it() {
         serde_json::from_str(&std::fs::read_to_string(dir.join(p)).unwrap()).unwrap()
     };
     let profile = read("t.profile.json");
-    assert_eq!(profile["version"], 13);
+    assert_eq!(profile["version"], 14);
     assert_eq!(profile["reconstruct"], "bilinear", "the base filter");
     let nodes = profile["nodes"].as_array().unwrap();
     let probes = profile["filter_probes"]
@@ -273,7 +273,7 @@ fn analyze_block_auto_records_each_node_s_block_and_emit_writes_it() {
         serde_json::from_str(&std::fs::read_to_string(dir.join(p)).unwrap()).unwrap()
     };
     let profile = read("t.profile.json");
-    assert_eq!(profile["version"], 13);
+    assert_eq!(profile["version"], 14);
     let probes = profile["block_probes"]
         .as_array()
         .cloned()

@@ -133,7 +133,7 @@ fn analyze_records_the_input_options_and_emit_reads_the_shader_with_them() {
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(dir.join("t.profile.json")).unwrap();
     let profile: serde_json::Value = serde_json::from_str(&text).unwrap();
-    assert_eq!(profile["version"], 13);
+    assert_eq!(profile["version"], 14);
     assert_eq!(
         profile["shader_input"],
         serde_json::json!({"defs": {"PREPASS_FRAGMENT": "true"}, "import_paths": ["modules"]})

@@ -258,7 +258,7 @@ fn verify_names_a_profile_measured_on_another_driver() {
     let dir = tmp.path();
     let analyzed = two_terms_profiled_in_2pass(dir);
     let mut profile = two_terms_profile(dir);
-    assert_eq!(profile["version"], 13);
+    assert_eq!(profile["version"], 14);
     let driver = profile["machine"]["driver"]
         .as_str()
         .unwrap_or_else(|| panic!("the adapter names its driver: {}", profile["machine"]))
@@ -335,9 +335,9 @@ fn two_terms_profile(dir: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("t.profile.json")).unwrap()).unwrap()
 }
 
-/// A shader whose shading costs less than a variant's own passes: `analyze` races the root cached
-/// and never refreshed against the original first, finds even that slower, profiles no node and
-/// says why with the figures, in seconds; `emit` keeps the original with that reason, and
+/// A shader whose shading costs less than a variant's own passes: `analyze` races the root (and
+/// its narrower node `d`) cached and never refreshed against the original first, finds even that
+/// slower, profiles no node and says why with the figures, in seconds; `emit` keeps the original with that reason, and
 /// `--verify` then reports no speedup and no interval (nothing was raced), only the frame time.
 #[test]
 fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
@@ -388,6 +388,13 @@ fn analyze_stops_at_the_ceiling_where_caching_cannot_pay_and_emit_says_why() {
     assert_eq!(ceiling["pays"], false, "{ceiling}");
     assert!(ceiling["ci95"][1].as_f64().unwrap() < 1.1, "{ceiling}");
     assert!(ceiling["original_ms"].as_f64().unwrap() > 0.0, "{ceiling}");
+    // The root (4 floats) and the narrower node saving the most (`d`, 1 float) were raced: the
+    // payload is the winner's.
+    let payload = ceiling["payload"].as_u64().unwrap();
+    assert!(
+        payload == 4 && ceiling.get("node").is_none() || payload < 4 && ceiling["node"].is_u64(),
+        "{ceiling}"
+    );
     assert_eq!(
         profile["nodes"].as_array().map(Vec::len),
         Some(0),

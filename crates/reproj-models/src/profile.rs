@@ -54,7 +54,8 @@ pub use probes::{BlockProbe, FilterProbe, RaceProbe, StrategyProbe, Timed};
 /// Version 13: `machine.clock`, the device's clock as the first race found it (the original
 /// rendered until two blocks agree before every race is timed), and `period_probes`, each node
 /// raced at a second period so that the time side follows races, not replays.
-pub const PROFILE_VERSION: u32 = 13;
+/// Version 14: `ceiling.node` and `ceiling.payload`, the narrower node raced beside the root.
+pub const PROFILE_VERSION: u32 = 14;
 
 /// What [`reproj_io::read_json`] expects of a profile: any version up to this reproj's (older
 /// profiles lack only optional fields).

@@ -3,7 +3,14 @@
 //! own passes even where it recomputes nothing (two draws, the cache lookup, the depth test); on
 //! ordinary lit shading those cost about what the shading does, and no node can pay. Saying so
 //! in seconds, with the figures, beats a minute of node replays that all lose.
+//!
+//! The root's payload is the widest (four floats a pixel), and on a GPU at high resolution the
+//! cache's bandwidth is much of what a variant costs: on the H200 at 1080p marble's root cached
+//! reached 1.66× while its one-float node 680 reached 2.22×. So where a cacheable node has a
+//! narrower payload than the root, the one of those saving the most is raced beside it, and the
+//! ceiling is the faster of the two.
 
+use reproj_front::{Node, NodeTable};
 use reproj_instance::{InstanceOptions, NodeSelector, instance};
 use reproj_models::profile::Ceiling;
 use reproj_models::speedup::SpeedupEstimate;
@@ -18,28 +25,33 @@ pub const CEILING_DELTA_N: u32 = 100_000;
 /// node could save at best is lost to timing noise and to the refreshes any budget needs.
 pub const USEFUL_SPEEDUP: f64 = 1.1;
 
-/// Race the root, cached and never refreshed, in each of the analysis's strategies against the
-/// original ([`Replayer::race`]), and keep the fastest: the most any node can give here. `None`
-/// where no strategy could be instanced or timed (the nodes are then profiled as before).
+/// Race the root, and the narrower node of [`narrow_node`] where there is one, cached and never
+/// refreshed, in each of the analysis's strategies against the original ([`Replayer::race`]), and
+/// keep the fastest: the most any node can give here. `None` where nothing could be instanced or
+/// timed (the nodes are then profiled as before).
 pub(super) fn measure_ceiling(rp: &mut Replayer<'_, '_>) -> Result<Option<Ceiling>, AnalyzeError> {
     let (input, opts) = (rp.input, rp.opts);
     let root = input.table.root();
+    let subjects: Vec<&Node> = std::iter::once(root)
+        .chain(narrow_node(input.table))
+        .collect();
     let mut built = Vec::new();
-    for &strategy in &opts.strategies {
-        let inst = InstanceOptions {
-            strategy,
-            block: opts.block.unwrap_or(strategy.default_block()),
-            ..opts.instance
-        };
-        if let Ok(v) = instance(
-            input.shader,
-            input.norm,
-            input.table,
-            NodeSelector::Root,
-            &inst,
-        ) {
-            let sources: Vec<String> = v.passes.iter().map(|p| p.wgsl.clone()).collect();
-            built.push((strategy, sources, v));
+    for node in &subjects {
+        for &strategy in &opts.strategies {
+            let inst = InstanceOptions {
+                strategy,
+                block: opts.block.unwrap_or(strategy.default_block()),
+                ..opts.instance
+            };
+            let selector = if node.root {
+                NodeSelector::Root
+            } else {
+                NodeSelector::Id(node.id)
+            };
+            if let Ok(v) = instance(input.shader, input.norm, input.table, selector, &inst) {
+                let sources: Vec<String> = v.passes.iter().map(|p| p.wgsl.clone()).collect();
+                built.push((strategy, *node, sources, v));
+            }
         }
     }
     rp.progress.step("ceiling instanced");
@@ -48,8 +60,12 @@ pub(super) fn measure_ceiling(rp: &mut Replayer<'_, '_>) -> Result<Option<Ceilin
     }
     let entries: Vec<RaceEntry> = built
         .iter()
-        .map(|(s, sources, v)| RaceEntry {
-            name: format!("ceiling {s}"),
+        .map(|(s, node, sources, v)| RaceEntry {
+            name: if node.root {
+                format!("ceiling {s}")
+            } else {
+                format!("ceiling {s} node {}", node.id)
+            },
             sources,
             variant: v,
             delta_n: CEILING_DELTA_N,
@@ -75,8 +91,11 @@ pub(super) fn measure_ceiling(rp: &mut Replayer<'_, '_>) -> Result<Option<Ceilin
         .map(|n| n.saving() / total)
         .fold(0.0_f64, f64::max)
         .min(1.0);
+    let (strategy, node, ..) = &built[i];
     Ok(Some(Ceiling {
-        strategy: built[i].0.name().into(),
+        strategy: strategy.name().into(),
+        node: (!node.root).then_some(node.id),
+        payload: node.components,
         delta_n: CEILING_DELTA_N,
         speedup: e.speedup,
         ci95: e.ci95,
@@ -86,6 +105,21 @@ pub(super) fn measure_ceiling(rp: &mut Replayer<'_, '_>) -> Result<Option<Ceilin
         threshold: USEFUL_SPEEDUP,
         pays: e.ci95[1] >= USEFUL_SPEEDUP,
     }))
+}
+
+/// The cacheable node whose payload is narrower than the root's that saves the most (of equal
+/// savings, the narrower): the variant of a narrow payload most likely to beat the root cached.
+/// `None` where every cacheable node is as wide as the root.
+fn narrow_node(table: &NodeTable) -> Option<&Node> {
+    let width = table.root().components;
+    table
+        .cacheable()
+        .filter(|n| !n.root && n.components > 0 && n.components < width)
+        .max_by(|a, b| {
+            a.saving()
+                .total_cmp(&b.saving())
+                .then(b.components.cmp(&a.components))
+        })
 }
 
 /// The fastest entry with a finite estimate and interval, and its estimate.

@@ -25,7 +25,13 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         session: args.session.clone(),
         shader: args.shader.clone(),
         max_rendered: args.max_rendered,
-        timing: Default::default(),
+        timing: reproj_bench::BenchOptions {
+            stop: reproj_models::speedup::StopRule {
+                max_seconds: args.max_time,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
         compare: args.compare.clone(),
     };
     let start = std::time::Instant::now();

@@ -6,12 +6,19 @@ use serde::{Deserialize, Serialize};
 
 /// The most any cached variant can give on one device: the root (the whole output) cached and
 /// never refreshed, so only pixels that were not visible in the previous frame are shaded; what
-/// is left is the variant's floor (its draws, the lookup, the depth test). Timed interleaved
-/// with the original, each strategy, the fastest kept.
+/// is left is the variant's floor (its draws, the lookup, the depth test). Where a cacheable node
+/// has a narrower payload, the one saving the most is timed too (the cache's bandwidth is much of
+/// a GPU's floor). Timed interleaved with the original, each strategy, the fastest kept.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Ceiling {
     /// The strategy of the fastest floor.
     pub strategy: String,
+    /// The node it cached where that was the narrower node, not the root (absent: the root).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<u32>,
+    /// The floats per pixel of its payload (0 in profiles of version 13 and before).
+    #[serde(default)]
+    pub payload: u32,
     /// The period it was timed at (long enough that nothing is refreshed in the race).
     pub delta_n: u32,
     /// Its speedup over the original (median of interleaved rounds) and 95 % interval.
@@ -32,21 +39,28 @@ pub struct Ceiling {
 
 impl std::fmt::Display for Ceiling {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let what = match self.node {
+            Some(id) => format!(
+                "{}, node {id}'s {}-float payload",
+                self.strategy, self.payload
+            ),
+            None => self.strategy.clone(),
+        };
         let at = format!(
-            "{:.2}x [{:.2}, {:.2}] ({}; original {:.3} ms/frame, variant {:.3} ms with nothing recomputed)",
-            self.speedup,
-            self.ci95[0],
-            self.ci95[1],
-            self.strategy,
-            self.original_ms,
-            self.variant_ms
+            "{:.2}x [{:.2}, {:.2}] ({what}; original {:.3} ms/frame, variant {:.3} ms with nothing recomputed)",
+            self.speedup, self.ci95[0], self.ci95[1], self.original_ms, self.variant_ms
         );
         if self.pays {
             write!(f, "caching can reach at most {at}")
         } else {
             write!(
                 f,
-                "caching cannot pay on this device: even with the whole output cached and never refreshed a variant reaches only {at}, under {:.2}x: its own passes (the draws, the cache lookup, the depth test) cost about what the shading they save does; the best node's share of the shader's static cost is {:.0} %",
+                "caching cannot pay on this device: even with {} cached and never refreshed a variant reaches only {at}, under {:.2}x: its own passes (the draws, the cache lookup, the depth test) cost about what the shading they save does; the best node's share of the shader's static cost is {:.0} %",
+                if self.node.is_some() {
+                    "the whole output, or a node of a narrower payload,"
+                } else {
+                    "the whole output"
+                },
                 self.threshold,
                 self.best_share * 100.0
             )
