@@ -13,39 +13,52 @@ use crate::common::{check_round_trip, load, node_by_text, pass, root, samples};
 
 /// Every cacheable node of every sample, in every strategy: each pass validates (inside
 /// `instance`, before and after compaction) and its WGSL is a fixed point of parse → validate →
-/// write.
+/// write. One thread a strategy (63 s on one core of two).
 #[test]
 fn every_cacheable_node_of_every_sample_instances() {
-    let mut count = 0;
-    for strategy in Strategy::ALL {
-        let opts = InstanceOptions {
-            strategy,
-            block: strategy.default_block(),
-            ..Default::default()
-        };
-        let passes = match strategy {
-            Strategy::ThreePass => 3,
-            Strategy::TwoPass => 2,
-            Strategy::Fused => 1,
-        };
-        for name in samples() {
-            let (shader, norm, table) = load(&name);
-            let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
-            assert!(!ids.is_empty());
-            for id in ids {
-                let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
-                    .unwrap_or_else(|e| panic!("{name} node {id} ({strategy}): {e}"));
-                assert_eq!(v.passes.len(), passes);
-                assert_eq!(v.manifest.passes.len(), passes);
-                assert_eq!(v.manifest.strategy, strategy);
-                check_round_trip(&v);
-                count += 1;
-            }
-            let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
-            check_round_trip(&v);
-        }
-    }
+    let count: usize = std::thread::scope(|scope| {
+        let threads: Vec<_> = Strategy::ALL
+            .into_iter()
+            .map(|strategy| scope.spawn(move || every_node_instances(strategy)))
+            .collect();
+        threads
+            .into_iter()
+            .map(|t| t.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .sum()
+    });
     assert!(count > 300);
+}
+
+/// [`every_cacheable_node_of_every_sample_instances`] in one strategy: how many nodes.
+fn every_node_instances(strategy: Strategy) -> usize {
+    let mut count = 0;
+    let opts = InstanceOptions {
+        strategy,
+        block: strategy.default_block(),
+        ..Default::default()
+    };
+    let passes = match strategy {
+        Strategy::ThreePass => 3,
+        Strategy::TwoPass => 2,
+        Strategy::Fused => 1,
+    };
+    for name in samples() {
+        let (shader, norm, table) = load(&name);
+        let ids: Vec<u32> = table.cacheable().map(|n| n.id).collect();
+        assert!(!ids.is_empty());
+        for id in ids {
+            let v = instance(&shader, &norm, &table, NodeSelector::Id(id), &opts)
+                .unwrap_or_else(|e| panic!("{name} node {id} ({strategy}): {e}"));
+            assert_eq!(v.passes.len(), passes);
+            assert_eq!(v.manifest.passes.len(), passes);
+            assert_eq!(v.manifest.strategy, strategy);
+            check_round_trip(&v);
+            count += 1;
+        }
+        let v = instance(&shader, &norm, &table, NodeSelector::Root, &opts).unwrap();
+        check_round_trip(&v);
+    }
+    count
 }
 
 /// The payload format is the narrowest that holds the node unless one is asked for, and a format
