@@ -6,12 +6,12 @@
 //!
 //! The root's payload is the widest (four floats a pixel), and on a GPU at high resolution the
 //! cache's bandwidth is much of what a variant costs: on the H200 at 1080p marble's root cached
-//! reached 1.66× while its one-float node 680 reached 2.22×. So where a cacheable node has a
-//! narrower payload than the root, the one of those saving the most is raced beside it, and the
+//! reached 1.66× while its one-float node 680 reached 2.22×. So where a cacheable node's cache
+//! texel is narrower than the root's, the narrowest saving the most is raced beside it, and the
 //! ceiling is the faster of the two.
 
 use reproj_front::{Node, NodeTable};
-use reproj_instance::{InstanceOptions, NodeSelector, instance};
+use reproj_instance::{CacheFormat, InstanceOptions, NodeSelector, instance};
 use reproj_models::profile::Ceiling;
 use reproj_models::speedup::SpeedupEstimate;
 
@@ -107,18 +107,21 @@ pub(super) fn measure_ceiling(rp: &mut Replayer<'_, '_>) -> Result<Option<Ceilin
     }))
 }
 
-/// The cacheable node whose payload is narrower than the root's that saves the most (of equal
-/// savings, the narrower): the variant of a narrow payload most likely to beat the root cached.
-/// `None` where every cacheable node is as wide as the root.
+/// The cacheable node of the narrowest cache texel narrower than the root's (one float before
+/// two; there is no three-channel format, so a `vec3` is as wide as the root) that saves the
+/// most: the variant of a narrow payload most likely to beat the root cached (marble: node 680,
+/// one float, 95 % of the root's saving). `None` where every cacheable node is as wide as the
+/// root.
 fn narrow_node(table: &NodeTable) -> Option<&Node> {
-    let width = table.root().components;
+    let channels = |n: &Node| CacheFormat::narrowest(n.components, false).channels();
+    let width = channels(table.root());
     table
         .cacheable()
-        .filter(|n| !n.root && n.components > 0 && n.components < width)
+        .filter(|n| !n.root && n.components > 0 && channels(n) < width)
         .max_by(|a, b| {
-            a.saving()
-                .total_cmp(&b.saving())
-                .then(b.components.cmp(&a.components))
+            channels(b)
+                .cmp(&channels(a))
+                .then(a.saving().total_cmp(&b.saving()))
         })
 }
 

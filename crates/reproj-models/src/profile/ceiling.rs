@@ -7,8 +7,8 @@ use serde::{Deserialize, Serialize};
 /// The most any cached variant can give on one device: the root (the whole output) cached and
 /// never refreshed, so only pixels that were not visible in the previous frame are shaded; what
 /// is left is the variant's floor (its draws, the lookup, the depth test). Where a cacheable node
-/// has a narrower payload, the one saving the most is timed too (the cache's bandwidth is much of
-/// a GPU's floor). Timed interleaved with the original, each strategy, the fastest kept.
+/// has a narrower cache texel, the narrowest saving the most is timed too (the cache's bandwidth
+/// is much of the floor). Timed interleaved with the original, each strategy, the fastest kept.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Ceiling {
     /// The strategy of the fastest floor.
