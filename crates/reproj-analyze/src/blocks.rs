@@ -247,16 +247,7 @@ fn challenger_at(
 mod tests {
     use super::*;
 
-    fn e(speedup: f64, lo: f64, hi: f64) -> SpeedupEstimate {
-        SpeedupEstimate {
-            speedup,
-            ci95: [lo, hi],
-            rounds: 8,
-            outliers: 0,
-            baseline_ms: 6.0,
-            candidate_ms: 6.0 / speedup,
-        }
-    }
+    use crate::replayer::test_estimate as e;
 
     #[test]
     fn the_challenger_is_32_but_leaves_a_frame_at_least_8_blocks_a_side() {

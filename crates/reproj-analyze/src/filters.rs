@@ -312,16 +312,7 @@ fn record(
 mod tests {
     use super::*;
 
-    fn e(speedup: f64, lo: f64, hi: f64) -> SpeedupEstimate {
-        SpeedupEstimate {
-            speedup,
-            ci95: [lo, hi],
-            rounds: 8,
-            outliers: 0,
-            baseline_ms: 6.0,
-            candidate_ms: 6.0 / speedup,
-        }
-    }
+    use crate::replayer::test_estimate as e;
 
     /// Marble's node 680 on lavapipe (docs/PASSES.md): bilinear's error is 0.0102 at Δn 13 and
     /// 0.0158 at Δn 30; Catmull-Rom has 0.0084 at Δn 30, bilinear's error at Δn 9–10.

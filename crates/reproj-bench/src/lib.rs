@@ -472,11 +472,11 @@ impl Runs {
         let target = opts.stop.target_half_width * 100.0;
         if wide && rounds >= opts.stop.max_rounds.max(1) {
             warnings.push(format!(
-                "the interval is wider than ±{target:.0} % after the last of {rounds} rounds (--rounds)"
+                "the interval is wider than ±{target:.0} % after the last of {rounds} rounds"
             ));
         } else if wide {
             warnings.push(format!(
-                "the interval is wider than ±{target:.0} % after {seconds:.0} s (--max-time)"
+                "the interval is wider than ±{target:.0} % after {seconds:.0} s"
             ));
         }
         let finite_median = |v: &[f64]| {

@@ -147,16 +147,7 @@ fn undecided(e: &SpeedupEstimate) -> bool {
 mod tests {
     use super::*;
 
-    fn est(speedup: f64, lo: f64, hi: f64) -> SpeedupEstimate {
-        SpeedupEstimate {
-            speedup,
-            ci95: [lo, hi],
-            rounds: 8,
-            outliers: 0,
-            baseline_ms: 1.0,
-            candidate_ms: 1.0 / speedup,
-        }
-    }
+    use crate::replayer::test_estimate as est;
 
     #[test]
     fn only_a_floor_whose_interval_straddles_the_threshold_is_raced_again() {

@@ -411,6 +411,19 @@ pub(crate) fn fit_session_hit_rate<'a>(
     reproj_models::fit_hit_rate(&samples)
 }
 
+/// An estimate of `speedup` with the interval `[lo, hi]` over 8 rounds, for the decisions' tests.
+#[cfg(test)]
+pub(crate) fn test_estimate(speedup: f64, lo: f64, hi: f64) -> SpeedupEstimate {
+    SpeedupEstimate {
+        speedup,
+        ci95: [lo, hi],
+        rounds: 8,
+        outliers: 0,
+        baseline_ms: 6.0,
+        candidate_ms: 6.0 / speedup,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -93,9 +93,21 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         write_table(&mut out, &report, args)?;
     }
     for w in &report.warnings {
-        crate::ui::warn(w);
+        crate::ui::warn(with_limit_flag(w));
     }
     Ok(())
+}
+
+/// A warning of the timing engine that a limit stopped the run, with the flag of this command
+/// that raises it (the engine's text names no flag: `analyze` and `compare` have none).
+fn with_limit_flag(warning: &str) -> String {
+    if !warning.starts_with("the interval is wider than") {
+        warning.to_owned()
+    } else if warning.ends_with(" rounds") {
+        format!("{warning} (--rounds)")
+    } else {
+        format!("{warning} (--max-time)")
+    }
 }
 
 /// A candidate from the command line: a variant directory or a shader file.
@@ -212,4 +224,18 @@ fn write_table(out: &mut impl Write, r: &BenchReport, args: &BenchArgs) -> anyho
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_limit_warning_names_the_flag_that_raises_it() {
+        let w =
+            super::with_limit_flag("the interval is wider than ±3 % after the last of 48 rounds");
+        assert!(w.ends_with("rounds (--rounds)"), "{w}");
+        let w = super::with_limit_flag("the interval is wider than ±3 % after 30 s");
+        assert!(w.ends_with("30 s (--max-time)"), "{w}");
+        let w = super::with_limit_flag("the machine was busy: a 1.20× [1.00, 1.40]");
+        assert!(!w.contains("(--"), "{w}");
+    }
 }
