@@ -42,6 +42,10 @@ pub struct ReportArgs {
     /// (checked between rounds; as `bench --max-time`).
     #[arg(hide = true, long, default_value_t = 30.0, value_parser = positive_seconds)]
     pub max_time: f64,
+    /// Time them for at least this many rounds (as `bench --min-rounds`: the rounds cycle
+    /// through 4 windows of the session, 8 gives each window two).
+    #[arg(hide = true, long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub min_rounds: u32,
     /// A `reproj compare` output folder whose table and crops the page shows (repeatable).
     #[arg(long, value_name = "DIR")]
     pub compare: Vec<PathBuf>,

@@ -220,8 +220,13 @@ pub fn report(
                 }
             }
         }
+        // One line per kind of condition: with dozens of selections, "the machine was busy"
+        // for each of them says nothing more than once.
+        let mut said = Vec::new();
         for w in &timed.warnings {
-            progress(&format!("warning: {w}"));
+            if reproj_bench::add_warning_once(&mut said, w) {
+                progress(&format!("warning: {w}"));
+            }
         }
     }
     progress("drawing the charts");

@@ -41,8 +41,9 @@ pub struct AnalyzeArgs {
     /// its frame time (at most the session's frames; 50: never past --delta-n).
     #[arg(hide = true, long, default_value_t = EXTENDED_MAX_DELTA_N, value_parser = delta_n_limit)]
     pub max_delta_n: u32,
-    /// Profile the nodes even where the ceiling race (the root cached and never refreshed,
-    /// raced against the original first) says caching cannot pay on this device; skips the race.
+    /// Profile the nodes even where the ceiling race (the root, and the narrowest-texel node
+    /// saving the most, cached and never refreshed, raced against the original first) says
+    /// caching cannot pay on this device; skips the race.
     #[arg(long, hide = true)]
     pub no_ceiling: bool,
     /// Profile these node ids only (the root is always added). Default: pruned by saving.

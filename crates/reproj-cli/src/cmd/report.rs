@@ -28,6 +28,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         timing: reproj_bench::BenchOptions {
             stop: reproj_models::speedup::StopRule {
                 max_seconds: args.max_time,
+                min_rounds: args.min_rounds,
                 ..Default::default()
             },
             ..Default::default()
