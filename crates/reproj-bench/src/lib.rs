@@ -25,7 +25,10 @@ use reproj_replay::{Reference, RenderOptions, Renderer, ReplayError, VariantInpu
 use reproj_scene::Session;
 use serde::{Deserialize, Serialize};
 
+mod limit;
 mod settle;
+
+pub use limit::{Limit, limit_of};
 
 /// Schema name and version of [`BenchReport`] (`docs/SCHEMAS.md`).
 pub const BENCH_SCHEMA: &str = "reproj.bench";
@@ -469,15 +472,14 @@ impl Runs {
             .iter()
             .flatten()
             .any(|e| e.half_width() > opts.stop.target_half_width);
-        let target = opts.stop.target_half_width * 100.0;
-        if wide && rounds >= opts.stop.max_rounds.max(1) {
-            warnings.push(format!(
-                "the interval is wider than ±{target:.0} % after the last of {rounds} rounds"
-            ));
-        } else if wide {
-            warnings.push(format!(
-                "the interval is wider than ±{target:.0} % after {seconds:.0} s"
-            ));
+        if wide {
+            let limit = if rounds >= opts.stop.max_rounds.max(1) {
+                Limit::Rounds
+            } else {
+                Limit::Time
+            };
+            let target = opts.stop.target_half_width * 100.0;
+            warnings.push(limit::wide_warning(limit, target, rounds, seconds));
         }
         let finite_median = |v: &[f64]| {
             let f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();

@@ -98,15 +98,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A warning of the timing engine that a limit stopped the run, with the flag of this command
-/// that raises it (the engine's text names no flag: `analyze` and `compare` have none).
+/// A warning of the timing engine, with the flag of this command that raises the limit it names
+/// (the engine's text names no flag: `analyze` and `compare` have none).
 fn with_limit_flag(warning: &str) -> String {
-    if !warning.starts_with("the interval is wider than") {
-        warning.to_owned()
-    } else if warning.ends_with(" rounds") {
-        format!("{warning} (--rounds)")
-    } else {
-        format!("{warning} (--max-time)")
+    match reproj_bench::limit_of(warning) {
+        Some(reproj_bench::Limit::Rounds) => format!("{warning} (--rounds)"),
+        Some(reproj_bench::Limit::Time) => format!("{warning} (--max-time)"),
+        None => warning.to_owned(),
     }
 }
 

@@ -7,7 +7,7 @@ use std::num::NonZeroU64;
 use crate::error::ReplayError;
 use reproj_scene::reflect::{self, Interface, ResourceKind};
 
-use reproj_scene_gpu::view_dimension as tex_dim;
+use reproj_scene_gpu::view_dimension;
 
 use super::*;
 
@@ -197,7 +197,7 @@ impl<'r> Binding<'_, 'r> {
         Ok((
             wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: tex_dim(dim),
+                view_dimension: view_dimension(dim),
                 multisampled: false,
             },
             wgpu::BindingResource::TextureView(view),
